@@ -1,0 +1,311 @@
+//! The implicit step of the subloading-friction model and its scalar return mapping.
+//!
+//! Over a step with a constant plastic slip rate both evolution laws integrate in closed form:
+//! - Eqs. (27, 29): ṙ = ũ cot(πr/2) λ̇  ⇒  cos(πr/2) = cos(πr₀/2) · exp(−(π/2) ũ Δλ);
+//! - Eq. (24): μ̇ = −κ(μ − μ_k) λ̇ + ξ(μ_s − μ)  ⇒  μ relaxes towards
+//!   μ* = (κΔλ μ_k + ξΔt μ_s)/(κΔλ + ξΔt) as exp(−(κΔλ + ξΔt)).
+//!
+//! The consistency condition ‖f_t‖ = r μ f_n (Eqs. 21–22) with the elastic law f = Ē ū^e
+//! (Eq. 15) then becomes one scalar equation in the plastic slip increment Δλ, solved by a
+//! Newton iteration safeguarded by bisection. A step that does not converge returns an error
+//! value so the caller can retry with substeps.
+
+use crate::extensions::Extensions;
+use crate::params::Params;
+use std::f64::consts::FRAC_PI_2;
+
+/// Why one integration step failed.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum StepError {
+    /// The return mapping did not converge (retry with substeps).
+    #[error("return mapping did not converge after {iterations} iterations (residual {residual:.3e} kPa)")]
+    NoConvergence {
+        /// Iterations spent.
+        iterations: usize,
+        /// Last residual of the consistency condition [kPa].
+        residual: f64,
+    },
+    /// Under traction control the imposed shear exceeds what friction can carry.
+    #[error("imposed shear {target_kpa:.3} kPa exceeds the friction capacity {capacity_kpa:.3} kPa: runaway sliding")]
+    Runaway {
+        /// Imposed shear magnitude [kPa].
+        target_kpa: f64,
+        /// Largest shear the contact can carry in this step [kPa].
+        capacity_kpa: f64,
+    },
+}
+
+const MAX_ITERATIONS: usize = 80;
+
+/// Constants of a model, precomputed once (units: kPa, mm, s).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Consts {
+    pub mu_s: f64,
+    pub mu_k: f64,
+    pub kappa: f64,
+    pub xi: f64,
+    pub u_tilde: f64,
+    /// (π/2) ũ: decay rate of cos(πr/2) with plastic slip.
+    pub kr: f64,
+    /// α_t [kPa/mm].
+    pub alpha: f64,
+    pub ext: Extensions,
+}
+
+impl Consts {
+    pub fn new(p: &Params, ext: &Extensions) -> Self {
+        Consts {
+            mu_s: p.mu_s,
+            mu_k: p.mu_k,
+            kappa: p.kappa,
+            xi: p.xi,
+            u_tilde: p.u_tilde,
+            kr: FRAC_PI_2 * p.u_tilde,
+            alpha: p.alpha_t_kpa_per_mm(),
+            ext: *ext,
+        }
+    }
+
+    /// Recovery exponent of an elastic step: ξΔt, or ξ t_c ln((t_c+θ+Δt)/(t_c+θ)) with log healing.
+    #[inline]
+    pub fn recovery_exponent(&self, age: f64, dt: f64) -> f64 {
+        match self.ext.log_healing {
+            Some(h) => self.xi * h.t_c * ((h.t_c + age + dt) / (h.t_c + age)).ln(),
+            None => self.xi * dt,
+        }
+    }
+
+    /// Slip-hardening term H(s) and its derivative.
+    #[inline]
+    pub fn slip_term(&self, s: f64) -> (f64, f64) {
+        match self.ext.slip_hardening {
+            Some(e) => {
+                let x = (-s / e.s_h).exp();
+                (e.h * (1.0 - x), e.h * x / e.s_h)
+            }
+            None => (0.0, 0.0),
+        }
+    }
+}
+
+/// What the scalar return needs to know about one step.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StepInput {
+    /// μ at the start of the step.
+    pub mu_n: f64,
+    /// cos(π r₀ / 2) of the surface the step starts from.
+    pub c_start: f64,
+    /// r₀ of the surface the step starts from.
+    pub r_start: f64,
+    /// Normal stress [kPa].
+    pub p: f64,
+    /// Time increment [s].
+    pub dt: f64,
+    /// exp(−ξΔt), cached by the caller.
+    pub exp_xi_dt: f64,
+    /// Multiplier P(p)·D(direction) on μ.
+    pub mult: f64,
+    /// Accumulated plastic slip at the start [mm].
+    pub s_acc: f64,
+}
+
+/// State of the evolution laws after a plastic increment λ, with derivatives w.r.t. λ.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Eval {
+    pub r: f64,
+    pub dr: f64,
+    pub c: f64,
+    pub mu: f64,
+    pub dmu: f64,
+    pub mu_eff: f64,
+    pub dmu_eff: f64,
+}
+
+#[inline]
+fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
+    // r from cos(πr/2) = c₀ exp(−kr λ); dr/dλ = ũ cot(πr/2) = ũ c / sin, with sin = √(1−c²).
+    let c = s.c_start * (-k.kr * lam).exp();
+    let sin = ((1.0 - c) * (1.0 + c)).max(0.0).sqrt();
+    let r = sin.atan2(c) * (1.0 / FRAC_PI_2);
+    let dr = if sin > 0.0 {
+        k.u_tilde * c / sin
+    } else {
+        f64::INFINITY
+    };
+
+    // μ = μ_n E + w N with A = κλ + ξΔt, E = e^(−A), w = (1−E)/A, N = κλ μ_k + ξΔt μ_s.
+    let kl = k.kappa * lam;
+    let a = kl + k.xi * s.dt;
+    let e = (-kl).exp() * s.exp_xi_dt;
+    let n = kl * k.mu_k + k.xi * s.dt * k.mu_s;
+    let (w, e_minus_w_over_a) = if a > 1e-5 {
+        let w = (1.0 - e) / a;
+        (w, (e - w) / a)
+    } else {
+        (1.0 - a * (0.5 - a / 6.0), -0.5 + a / 3.0)
+    };
+    let mu = s.mu_n * e + w * n;
+    let dmu = k.kappa * (-s.mu_n * e + e_minus_w_over_a * n + w * k.mu_k);
+
+    let (mut mu_eff, mut dmu_eff) = (mu * s.mult, dmu * s.mult);
+    if let Some(rate) = k.ext.rate {
+        let vdt = rate.v_c * s.dt;
+        mu_eff += rate.a * (lam / vdt).ln_1p();
+        dmu_eff += rate.a / (vdt + lam);
+    }
+    if k.ext.slip_hardening.is_some() {
+        let (h, dh) = k.slip_term(s.s_acc + lam);
+        mu_eff += h;
+        dmu_eff += dh;
+    }
+    Eval {
+        r,
+        dr,
+        c,
+        mu,
+        dmu,
+        mu_eff,
+        dmu_eff,
+    }
+}
+
+/// Result of a plastic return.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Plastic {
+    pub lam: f64,
+    pub r: f64,
+    pub c: f64,
+    pub mu: f64,
+}
+
+impl Plastic {
+    fn at(lam: f64, e: &Eval) -> Self {
+        Plastic {
+            lam,
+            r: e.r,
+            c: e.c,
+            mu: e.mu,
+        }
+    }
+}
+
+/// Slip control: find λ ≥ 0 with T − α λ = r(λ) μ_eff(λ) p, where T = ‖f_trial‖ exceeds the
+/// starting surface (the caller has checked that the step is plastic).
+#[inline]
+pub(crate) fn return_slip(k: &Consts, s: &StepInput, trial: f64) -> Result<Plastic, StepError> {
+    let alpha = k.alpha;
+    // Precision floor: trial is computed as a sum of terms of size `trial`.
+    let tol = 1e-10 * s.p + 8.0 * f64::EPSILON * trial;
+    let mut lo = 0.0;
+    let mut hi = trial / alpha;
+    // Perfectly plastic estimate: the surface does not move.
+    let g0 = trial - s.r_start * eval(k, s, 0.0).mu_eff * s.p;
+    let mut lam = (g0 / alpha).clamp(0.0, hi);
+    if lam <= 0.0 {
+        lam = 0.5 * hi;
+    }
+    let mut g = f64::NAN;
+    for _ in 0..MAX_ITERATIONS {
+        let e = eval(k, s, lam);
+        g = trial - alpha * lam - e.r * e.mu_eff * s.p;
+        if g.abs() <= tol {
+            return Ok(Plastic::at(lam, &e));
+        }
+        if g > 0.0 {
+            lo = lam;
+        } else {
+            hi = lam;
+        }
+        let hard = s.p * (e.dr * e.mu_eff + e.r * e.dmu_eff);
+        let dg = -alpha - hard;
+        let delta = -g / dg;
+        // The correction is so small that a first-order update is exact to round-off:
+        // skip the extra evaluation of the transcendental functions.
+        if hard.is_finite() && (delta * hard).abs() <= tol && delta.abs() <= 1e-3 * lam {
+            return Ok(Plastic {
+                lam: lam + delta,
+                r: (e.r + e.dr * delta).clamp(0.0, 1.0),
+                c: e.c * (1.0 - k.kr * delta),
+                mu: e.mu + e.dmu * delta,
+            });
+        }
+        let next = lam + delta;
+        lam = if dg < 0.0 && next.is_finite() && next > lo && next < hi {
+            next
+        } else {
+            0.5 * (lo + hi)
+        };
+        if hi - lo <= 4.0 * f64::EPSILON * hi {
+            let e = eval(k, s, lam);
+            return Ok(Plastic::at(lam, &e));
+        }
+    }
+    Err(StepError::NoConvergence {
+        iterations: MAX_ITERATIONS,
+        residual: g,
+    })
+}
+
+/// Traction control: find the smallest λ ≥ 0 with r(λ) μ_eff(λ) p = target.
+pub(crate) fn return_shear(
+    k: &Consts,
+    s: &StepInput,
+    target: f64,
+    guess: f64,
+) -> Result<Plastic, StepError> {
+    let tol = 1e-10 * s.p.max(target);
+    let h = |e: &Eval| e.r * e.mu_eff * s.p - target;
+    let dh = |e: &Eval| s.p * (e.dr * e.mu_eff + e.r * e.dmu_eff);
+    // Bracket the first root by marching out from λ = 0, where h < 0.
+    let mut lo = 0.0;
+    let mut lam = if guess.is_finite() && guess > 0.0 {
+        guess
+    } else {
+        1e-6
+    };
+    let mut hi: f64;
+    let mut best_capacity: f64 = 0.0;
+    loop {
+        let e = eval(k, s, lam);
+        let hv = h(&e);
+        best_capacity = best_capacity.max(e.r * e.mu_eff * s.p);
+        if hv >= 0.0 {
+            hi = lam;
+            break;
+        }
+        let slope = dh(&e);
+        if !(slope > 0.0) || lam > 1e6 {
+            return Err(StepError::Runaway {
+                target_kpa: target,
+                capacity_kpa: best_capacity,
+            });
+        }
+        lo = lam;
+        lam = (lam - hv / slope).max(2.0 * lam);
+    }
+    let mut lam = 0.5 * (lo + hi);
+    let mut res = f64::NAN;
+    for _ in 0..MAX_ITERATIONS {
+        let e = eval(k, s, lam);
+        res = h(&e);
+        if res.abs() <= tol || hi - lo <= 4.0 * f64::EPSILON * hi {
+            return Ok(Plastic::at(lam, &e));
+        }
+        if res < 0.0 {
+            lo = lam;
+        } else {
+            hi = lam;
+        }
+        let slope = dh(&e);
+        let next = lam - res / slope;
+        lam = if slope > 0.0 && next > lo && next < hi {
+            next
+        } else {
+            0.5 * (lo + hi)
+        };
+    }
+    Err(StepError::NoConvergence {
+        iterations: MAX_ITERATIONS,
+        residual: res,
+    })
+}

@@ -1,0 +1,304 @@
+//! Driving the model through a test: rows of (time, imposed slip or shear, normal stress).
+
+use crate::contact1::{Contact1, State1};
+use crate::integrator::StepError;
+use crate::Model;
+use serde::{Deserialize, Serialize};
+
+/// Which quantity the apparatus imposed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Control {
+    /// Slip history imposed, shear measured (displacement control).
+    Slip,
+    /// Shear traction imposed, slip measured (stress control).
+    Shear,
+}
+
+/// A test as the model sees it: one row per instant.
+#[derive(Clone, Copy, Debug)]
+pub struct Protocol<'a> {
+    /// Which column is imposed.
+    pub control: Control,
+    /// Time [s], strictly increasing.
+    pub time: &'a [f64],
+    /// The imposed column: slip [mm] or shear [kPa].
+    pub imposed: &'a [f64],
+    /// Normal stress per row [kPa], > 0.
+    pub normal: &'a [f64],
+    /// Slip at the first row for traction control [mm] (ignored under slip control).
+    pub initial_slip: f64,
+}
+
+/// Why a simulation failed, with the row where it happened.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SimError {
+    /// The protocol itself is unusable.
+    #[error("row {row}: field `{field}`: {message}")]
+    Input {
+        /// 0-based row index.
+        row: usize,
+        /// Column name.
+        field: &'static str,
+        /// What is wrong and what was expected.
+        message: String,
+    },
+    /// Under traction control the imposed shear exceeded the friction capacity.
+    #[error("row {row} (t = {time} s): runaway sliding: imposed shear {target_kpa:.3} kPa exceeds the friction capacity {capacity_kpa:.3} kPa")]
+    Runaway {
+        /// 0-based row index.
+        row: usize,
+        /// Time of that row [s].
+        time: f64,
+        /// Imposed shear magnitude [kPa].
+        target_kpa: f64,
+        /// Capacity [kPa].
+        capacity_kpa: f64,
+    },
+    /// A step failed even when split into substeps.
+    #[error("row {row} (t = {time} s): {source}")]
+    Step {
+        /// 0-based row index.
+        row: usize,
+        /// Time of that row [s].
+        time: f64,
+        /// The failure of the last substep tried.
+        source: StepError,
+    },
+}
+
+/// The model's response along a protocol.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Trajectory {
+    /// Slip [mm] (imposed or predicted).
+    pub slip: Vec<f64>,
+    /// Shear [kPa] (imposed or predicted).
+    pub shear: Vec<f64>,
+    /// Friction coefficient μ.
+    pub mu: Vec<f64>,
+    /// Normal-yield ratio r.
+    pub r: Vec<f64>,
+    /// Plastic slip increment of each step [mm], signed.
+    pub plastic_increment: Vec<f64>,
+}
+
+impl Trajectory {
+    /// The predicted (non-imposed) column for `control`.
+    pub fn predicted(&self, control: Control) -> &[f64] {
+        match control {
+            Control::Slip => &self.shear,
+            Control::Shear => &self.slip,
+        }
+    }
+}
+
+/// Most substeps a failing step is split into before giving up.
+pub const MAX_SUBSTEPS: usize = 64;
+
+fn check_protocol(p: &Protocol) -> Result<(), SimError> {
+    let n = p.time.len();
+    for (field, len) in [("imposed", p.imposed.len()), ("normal_kpa", p.normal.len())] {
+        if len != n {
+            return Err(SimError::Input {
+                row: len.min(n),
+                field,
+                message: format!("column has {len} rows but time_s has {n}"),
+            });
+        }
+    }
+    for i in 0..n {
+        if !p.time[i].is_finite() || (i > 0 && p.time[i] <= p.time[i - 1]) {
+            return Err(SimError::Input {
+                row: i,
+                field: "time_s",
+                message: format!(
+                    "expected a finite time greater than the previous row, got {}",
+                    p.time[i]
+                ),
+            });
+        }
+        if !p.imposed[i].is_finite() {
+            return Err(SimError::Input {
+                row: i,
+                field: "imposed",
+                message: format!("expected a finite number, got {}", p.imposed[i]),
+            });
+        }
+        if !(p.normal[i] > 0.0 && p.normal[i].is_finite()) {
+            return Err(SimError::Input {
+                row: i,
+                field: "normal_kpa",
+                message: format!(
+                    "expected a finite normal stress > 0 kPa, got {}",
+                    p.normal[i]
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// One row's step, split into substeps when the return mapping fails.
+#[inline]
+fn advance(
+    c: &mut Contact1,
+    st: &State1,
+    control: Control,
+    target: f64,
+    prev_target: f64,
+    p: f64,
+    prev_p: f64,
+    dt: f64,
+) -> Result<State1, StepError> {
+    let step = |c: &mut Contact1, st: &State1, x: f64, p: f64, dt: f64| match control {
+        Control::Slip => c.step_slip(st, x, p, dt),
+        Control::Shear => c.step_shear(st, x, p, dt),
+    };
+    let err = match step(c, st, target, p, dt) {
+        Ok(s) => return Ok(s),
+        Err(e @ StepError::Runaway { .. }) => return Err(e),
+        Err(e) => e,
+    };
+    let mut last = err;
+    let mut n = 2;
+    while n <= MAX_SUBSTEPS {
+        let mut s = *st;
+        let mut ok = true;
+        for j in 1..=n {
+            let f = j as f64 / n as f64;
+            let x = prev_target + f * (target - prev_target);
+            let pj = prev_p + f * (p - prev_p);
+            match step(c, &s, x, pj, dt / n as f64) {
+                Ok(next) => s = next,
+                Err(e @ StepError::Runaway { .. }) => return Err(e),
+                Err(e) => {
+                    last = e;
+                    ok = false;
+                    break;
+                }
+            }
+        }
+        if ok {
+            return Ok(s);
+        }
+        n *= 2;
+    }
+    Err(last)
+}
+
+fn initial_state(model: &Model, proto: &Protocol) -> Result<State1, SimError> {
+    let mut st = State1::virgin(model, proto.imposed[0]);
+    if proto.control == Control::Shear {
+        let f0 = proto.imposed[0];
+        let cap = model.params.initial_mu() * proto.normal[0];
+        if f0.abs() > cap {
+            return Err(SimError::Runaway {
+                row: 0,
+                time: proto.time[0],
+                target_kpa: f0.abs(),
+                capacity_kpa: cap,
+            });
+        }
+        let r = f0.abs() / cap;
+        st.slip = proto.initial_slip;
+        st.shear = f0;
+        st.r = r;
+        st.cos_r = (std::f64::consts::FRAC_PI_2 * r).cos();
+    }
+    Ok(st)
+}
+
+fn run<F: FnMut(usize, &State1)>(
+    model: &Model,
+    proto: &Protocol,
+    mut sink: F,
+) -> Result<(), SimError> {
+    check_protocol(proto)?;
+    if proto.time.is_empty() {
+        return Ok(());
+    }
+    let mut c = Contact1::new(model);
+    let mut st = initial_state(model, proto)?;
+    sink(0, &st);
+    for i in 1..proto.time.len() {
+        let dt = proto.time[i] - proto.time[i - 1];
+        st = advance(
+            &mut c,
+            &st,
+            proto.control,
+            proto.imposed[i],
+            proto.imposed[i - 1],
+            proto.normal[i],
+            proto.normal[i - 1],
+            dt,
+        )
+        .map_err(|e| match e {
+            StepError::Runaway {
+                target_kpa,
+                capacity_kpa,
+            } => SimError::Runaway {
+                row: i,
+                time: proto.time[i],
+                target_kpa,
+                capacity_kpa,
+            },
+            source => SimError::Step {
+                row: i,
+                time: proto.time[i],
+                source,
+            },
+        })?;
+        sink(i, &st);
+    }
+    Ok(())
+}
+
+/// Simulates a whole protocol and returns every state variable per row.
+///
+/// ```
+/// use subfric_model::{simulate, Control, Model, Params, Protocol};
+/// let model = Model::base(Params::sample()).unwrap();
+/// let time: Vec<f64> = (0..=300).map(|i| i as f64).collect();
+/// let slip: Vec<f64> = time.iter().map(|t| 0.01 * t).collect();
+/// let normal = vec![100.0; time.len()];
+/// let proto = Protocol { control: Control::Slip, time: &time, imposed: &slip, normal: &normal, initial_slip: 0.0 };
+/// let out = simulate(&model, &proto).unwrap();
+/// let peak = out.shear.iter().cloned().fold(0.0, f64::max);
+/// assert!(peak > 40.0 && peak <= 45.0); // below μ_s f_n = 45 kPa
+/// ```
+pub fn simulate(model: &Model, proto: &Protocol) -> Result<Trajectory, SimError> {
+    let n = proto.time.len();
+    let mut out = Trajectory {
+        slip: Vec::with_capacity(n),
+        shear: Vec::with_capacity(n),
+        mu: Vec::with_capacity(n),
+        r: Vec::with_capacity(n),
+        plastic_increment: Vec::with_capacity(n),
+    };
+    run(model, proto, |_, st| {
+        out.slip.push(st.slip);
+        out.shear.push(st.shear);
+        out.mu.push(st.mu);
+        out.r.push(st.r);
+        out.plastic_increment.push(st.last_plastic);
+    })?;
+    Ok(out)
+}
+
+/// Simulates a protocol writing only the predicted column (shear under slip control, slip
+/// under traction control) into `out`, resized to the number of rows. The fast path of fitting.
+pub fn simulate_predicted_into(
+    model: &Model,
+    proto: &Protocol,
+    out: &mut Vec<f64>,
+) -> Result<(), SimError> {
+    out.clear();
+    out.resize(proto.time.len(), 0.0);
+    let control = proto.control;
+    run(model, proto, |i, st| {
+        out[i] = match control {
+            Control::Slip => st.shear,
+            Control::Shear => st.slip,
+        }
+    })
+}
