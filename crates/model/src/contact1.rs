@@ -17,6 +17,8 @@ pub struct State1 {
     pub r: f64,
     /// cos(π r / 2), kept alongside r so the step needs no inverse cosine.
     pub cos_r: f64,
+    /// sin(π r / 2).
+    pub sin_r: f64,
     /// Accumulated plastic slip ∫‖u̇^p‖ dt [mm].
     pub slip_path: f64,
     /// Time since plastic sliding last occurred [s] (used by log healing).
@@ -34,6 +36,7 @@ impl State1 {
             mu: model.params.initial_mu(),
             r: 0.0,
             cos_r: 1.0,
+            sin_r: 0.0,
             slip_path: 0.0,
             age: 0.0,
             last_plastic: 0.0,
@@ -99,11 +102,11 @@ impl Contact1 {
 
     /// Surface the step starts from: a traction passing through zero restarts loading at r = 0.
     #[inline]
-    fn start_surface(st: &State1, new_shear_sign: f64) -> (f64, f64) {
+    fn start_surface(st: &State1, new_shear_sign: f64) -> (f64, f64, f64) {
         if st.shear * new_shear_sign < 0.0 {
-            (0.0, 1.0)
+            (0.0, 1.0, 0.0)
         } else {
-            (st.r, st.cos_r)
+            (st.r, st.cos_r, st.sin_r)
         }
     }
 
@@ -111,16 +114,17 @@ impl Contact1 {
     fn step_input(
         &mut self,
         st: &State1,
-        r0: f64,
-        c0: f64,
+        surface: (f64, f64, f64),
         p: f64,
         dt: f64,
         sign: f64,
     ) -> StepInput {
+        let (r0, c0, s0) = surface;
         let mult = self.pressure_factor(p) * self.k.ext.direction_factor(sign);
         StepInput {
             mu_n: st.mu,
             c_start: c0,
+            s_start: s0,
             r_start: r0,
             p,
             dt,
@@ -146,12 +150,14 @@ impl Contact1 {
         dt: f64,
     ) -> State1 {
         let r = (shear.abs() / (mu_eff * p)).min(1.0);
+        let (sin_r, cos_r) = (FRAC_PI_2 * r).sin_cos();
         State1 {
             slip,
             shear,
             mu: mu_el,
             r,
-            cos_r: (FRAC_PI_2 * r).cos(),
+            cos_r,
+            sin_r,
             slip_path: st.slip_path,
             age: st.age + dt,
             last_plastic: 0.0,
@@ -174,21 +180,22 @@ impl Contact1 {
             return Ok(Self::elastic(st, 0.0, slip, mu_el, 1.0, p, dt));
         }
         let sign = trial.signum();
-        let (r0, c0) = Self::start_surface(st, sign);
-        let input = self.step_input(st, r0, c0, p, dt, sign);
+        let (r0, c0, s0) = Self::start_surface(st, sign);
+        let input = self.step_input(st, (r0, c0, s0), p, dt, sign);
         let mu_el = self.recovered_mu(st, dt);
         let mu_eff0 = self.elastic_mu_eff(mu_el, input.mult, st.slip_path);
         let magnitude = trial.abs();
         if magnitude <= r0 * mu_eff0 * p {
             return Ok(Self::elastic(st, trial, slip, mu_el, mu_eff0, p, dt));
         }
-        let pl = return_slip(&self.k, &input, magnitude)?;
+        let pl = return_slip(&self.k, &input, magnitude, magnitude - r0 * mu_eff0 * p)?;
         Ok(State1 {
             slip,
             shear: sign * (magnitude - self.k.alpha * pl.lam),
             mu: pl.mu.clamp(self.k.mu_k, self.k.mu_s),
             r: pl.r,
             cos_r: pl.c,
+            sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
             age: 0.0,
             last_plastic: sign * pl.lam,
@@ -211,8 +218,8 @@ impl Contact1 {
             return Ok(Self::elastic(st, 0.0, elastic_slip, mu_el, 1.0, p, dt));
         }
         let sign = shear.signum();
-        let (r0, c0) = Self::start_surface(st, sign);
-        let input = self.step_input(st, r0, c0, p, dt, sign);
+        let (r0, c0, s0) = Self::start_surface(st, sign);
+        let input = self.step_input(st, (r0, c0, s0), p, dt, sign);
         let mu_el = self.recovered_mu(st, dt);
         let mu_eff0 = self.elastic_mu_eff(mu_el, input.mult, st.slip_path);
         let magnitude = shear.abs();
@@ -234,6 +241,7 @@ impl Contact1 {
             mu: pl.mu.clamp(self.k.mu_k, self.k.mu_s),
             r: pl.r,
             cos_r: pl.c,
+            sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
             age: 0.0,
             last_plastic: sign * pl.lam,

@@ -40,6 +40,8 @@ pub struct State3 {
     pub r: f64,
     /// cos(π r / 2).
     pub cos_r: f64,
+    /// sin(π r / 2).
+    pub sin_r: f64,
     /// Accumulated plastic slip [mm].
     pub slip_path: f64,
     /// Time since plastic sliding [s].
@@ -55,6 +57,7 @@ impl State3 {
             mu: model.params.initial_mu(),
             r: 0.0,
             cos_r: 1.0,
+            sin_r: 0.0,
             slip_path: 0.0,
             age: 0.0,
         }
@@ -132,6 +135,7 @@ impl Contact3 {
                 mu: mu_el,
                 r: 0.0,
                 cos_r: 1.0,
+                sin_r: 0.0,
                 slip_path: st.slip_path,
                 age: st.age + dt,
             });
@@ -142,7 +146,7 @@ impl Contact3 {
         // surface shrinks to that point, and loading restarts from there.
         let d = axpy(-1.0, &st.shear, &trial);
         let dd = dot(&d, &d);
-        let (mut r0, mut c0) = (st.r, st.cos_r);
+        let (mut r0, mut c0, mut s0) = (st.r, st.cos_r, st.sin_r);
         if dd > 0.0 {
             let s_min = -dot(&st.shear, &d) / dd;
             if s_min > 0.0 && s_min < 1.0 {
@@ -154,7 +158,7 @@ impl Contact3 {
                     1.0
                 };
                 r0 = (fm / (mu_eff * p)).min(st.r);
-                c0 = (FRAC_PI_2 * r0).cos();
+                (s0, c0) = (FRAC_PI_2 * r0).sin_cos();
             }
         }
         let mult =
@@ -162,12 +166,14 @@ impl Contact3 {
         let mu_eff0 = mu_el * mult + self.k.slip_term(st.slip_path).0;
         if magnitude <= r0 * mu_eff0 * p {
             let r = (magnitude / (mu_eff0 * p)).min(1.0);
+            let (sin_r, cos_r) = (FRAC_PI_2 * r).sin_cos();
             return Ok(State3 {
                 slip,
                 shear: trial,
                 mu: mu_el,
                 r,
-                cos_r: (FRAC_PI_2 * r).cos(),
+                cos_r,
+                sin_r,
                 slip_path: st.slip_path,
                 age: st.age + dt,
             });
@@ -175,6 +181,7 @@ impl Contact3 {
         let input = StepInput {
             mu_n: st.mu,
             c_start: c0,
+            s_start: s0,
             r_start: r0,
             p,
             dt,
@@ -182,13 +189,14 @@ impl Contact3 {
             mult,
             s_acc: st.slip_path,
         };
-        let pl = return_slip(&self.k, &input, magnitude)?;
+        let pl = return_slip(&self.k, &input, magnitude, magnitude - r0 * mu_eff0 * p)?;
         Ok(State3 {
             slip,
             shear: scale(magnitude - self.k.alpha * pl.lam, &dir),
             mu: pl.mu.clamp(self.k.mu_k, self.k.mu_s),
             r: pl.r,
             cos_r: pl.c,
+            sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
             age: 0.0,
         })

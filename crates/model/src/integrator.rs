@@ -95,6 +95,8 @@ pub(crate) struct StepInput {
     pub mu_n: f64,
     /// cos(π r₀ / 2) of the surface the step starts from.
     pub c_start: f64,
+    /// sin(π r₀ / 2).
+    pub s_start: f64,
     /// r₀ of the surface the step starts from.
     pub r_start: f64,
     /// Normal stress [kPa].
@@ -115,18 +117,50 @@ pub(crate) struct Eval {
     pub r: f64,
     pub dr: f64,
     pub c: f64,
+    pub sin: f64,
     pub mu: f64,
     pub dmu: f64,
     pub mu_eff: f64,
     pub dmu_eff: f64,
 }
 
+/// e^(−x) for x ≥ 0; a degree-8 Taylor polynomial below 0.01 (error < 1e-20, i.e. exact in
+/// double precision) avoids the library call in the hot loop, where x is usually tiny.
+#[inline]
+pub(crate) fn exp_neg(x: f64) -> f64 {
+    if x.abs() < 0.01 {
+        let x = -x;
+        1.0 + x
+            * (1.0
+                + x * (0.5
+                    + x * (1.0 / 6.0
+                        + x * (1.0 / 24.0
+                            + x * (1.0 / 120.0
+                                + x * (1.0 / 720.0 + x * (1.0 / 5040.0 + x / 40320.0)))))))
+    } else {
+        (-x).exp()
+    }
+}
+
+/// asin(x) for x in [−1, 1]; a Taylor polynomial below 0.01 (error < 1e-20).
+#[inline]
+fn asin_small(x: f64) -> f64 {
+    if x.abs() < 0.01 {
+        let x2 = x * x;
+        x * (1.0 + x2 * (1.0 / 6.0 + x2 * (3.0 / 40.0 + x2 * (5.0 / 112.0 + x2 * (35.0 / 1152.0)))))
+    } else {
+        x.clamp(-1.0, 1.0).asin()
+    }
+}
+
 #[inline]
 fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
-    // r from cos(πr/2) = c₀ exp(−kr λ); dr/dλ = ũ cot(πr/2) = ũ c / sin, with sin = √(1−c²).
-    let c = s.c_start * (-k.kr * lam).exp();
+    // cos θ = cos θ₀ · exp(−kr λ) with θ = πr/2; dr/dλ = ũ cot θ = ũ c / sin θ.
+    // θ − θ₀ = asin(sin θ cos θ₀ − cos θ sin θ₀): small within a step, so no inverse cosine.
+    let c = s.c_start * exp_neg(k.kr * lam);
     let sin = ((1.0 - c) * (1.0 + c)).max(0.0).sqrt();
-    let r = sin.atan2(c) * (1.0 / FRAC_PI_2);
+    let dtheta = asin_small(sin * s.c_start - c * s.s_start);
+    let r = (s.r_start + dtheta * (1.0 / FRAC_PI_2)).min(1.0);
     let dr = if sin > 0.0 {
         k.u_tilde * c / sin
     } else {
@@ -136,7 +170,7 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
     // μ = μ_n E + w N with A = κλ + ξΔt, E = e^(−A), w = (1−E)/A, N = κλ μ_k + ξΔt μ_s.
     let kl = k.kappa * lam;
     let a = kl + k.xi * s.dt;
-    let e = (-kl).exp() * s.exp_xi_dt;
+    let e = exp_neg(kl) * s.exp_xi_dt;
     let n = kl * k.mu_k + k.xi * s.dt * k.mu_s;
     let (w, e_minus_w_over_a) = if a > 1e-5 {
         let w = (1.0 - e) / a;
@@ -162,6 +196,7 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
         r,
         dr,
         c,
+        sin,
         mu,
         dmu,
         mu_eff,
@@ -175,6 +210,7 @@ pub(crate) struct Plastic {
     pub lam: f64,
     pub r: f64,
     pub c: f64,
+    pub s: f64,
     pub mu: f64,
 }
 
@@ -184,6 +220,7 @@ impl Plastic {
             lam,
             r: e.r,
             c: e.c,
+            s: e.sin,
             mu: e.mu,
         }
     }
@@ -192,15 +229,20 @@ impl Plastic {
 /// Slip control: find λ ≥ 0 with T − α λ = r(λ) μ_eff(λ) p, where T = ‖f_trial‖ exceeds the
 /// starting surface (the caller has checked that the step is plastic).
 #[inline]
-pub(crate) fn return_slip(k: &Consts, s: &StepInput, trial: f64) -> Result<Plastic, StepError> {
+/// `excess` is T − r₀ μ_eff(0) p > 0, the trial's distance outside the starting surface.
+pub(crate) fn return_slip(
+    k: &Consts,
+    s: &StepInput,
+    trial: f64,
+    excess: f64,
+) -> Result<Plastic, StepError> {
     let alpha = k.alpha;
     // Precision floor: trial is computed as a sum of terms of size `trial`.
     let tol = 1e-10 * s.p + 8.0 * f64::EPSILON * trial;
     let mut lo = 0.0;
     let mut hi = trial / alpha;
     // Perfectly plastic estimate: the surface does not move.
-    let g0 = trial - s.r_start * eval(k, s, 0.0).mu_eff * s.p;
-    let mut lam = (g0 / alpha).clamp(0.0, hi);
+    let mut lam = (excess / alpha).clamp(0.0, hi);
     if lam <= 0.0 {
         lam = 0.5 * hi;
     }
@@ -226,6 +268,7 @@ pub(crate) fn return_slip(k: &Consts, s: &StepInput, trial: f64) -> Result<Plast
                 lam: lam + delta,
                 r: (e.r + e.dr * delta).clamp(0.0, 1.0),
                 c: e.c * (1.0 - k.kr * delta),
+                s: e.sin + e.c * FRAC_PI_2 * e.dr * delta,
                 mu: e.mu + e.dmu * delta,
             });
         }
@@ -274,7 +317,7 @@ pub(crate) fn return_shear(
             break;
         }
         let slope = dh(&e);
-        if !(slope > 0.0) || lam > 1e6 {
+        if slope.is_nan() || slope <= 0.0 || lam > 1e6 {
             return Err(StepError::Runaway {
                 target_kpa: target,
                 capacity_kpa: best_capacity,

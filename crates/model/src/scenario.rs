@@ -8,7 +8,7 @@
 //!               {"type": "hold", "duration_s": 100},
 //!               {"type": "slide", "rate_mm_s": 0.01, "distance_mm": 1.0} ] }"#).unwrap();
 //! let rows = sc.rows().unwrap();
-//! assert_eq!(rows.time.len(), 401);
+//! assert_eq!(rows.time.len(), 601);
 //! assert!((rows.imposed.last().unwrap() - 2.0).abs() < 1e-12);
 //! ```
 
@@ -311,7 +311,7 @@ impl Builder {
     }
     /// Samples `f(s)` for s in (0, duration] at the scenario's time step (the end included).
     fn function(&mut self, duration: f64, f: impl Fn(f64) -> f64) {
-        if !(duration > 0.0) {
+        if duration.is_nan() || duration <= 0.0 {
             return;
         }
         let t0 = *self.time.last().unwrap_or(&0.0);

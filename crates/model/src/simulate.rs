@@ -140,6 +140,7 @@ fn check_protocol(p: &Protocol) -> Result<(), SimError> {
 
 /// One row's step, split into substeps when the return mapping fails.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 fn advance(
     c: &mut Contact1,
     st: &State1,
@@ -203,7 +204,7 @@ fn initial_state(model: &Model, proto: &Protocol) -> Result<State1, SimError> {
         st.slip = proto.initial_slip;
         st.shear = f0;
         st.r = r;
-        st.cos_r = (std::f64::consts::FRAC_PI_2 * r).cos();
+        (st.sin_r, st.cos_r) = (std::f64::consts::FRAC_PI_2 * r).sin_cos();
     }
     Ok(st)
 }
