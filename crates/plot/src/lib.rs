@@ -1,1 +1,388 @@
+//! Headless, paper-style PNG figures for subfric.
+//!
+//! The crate draws two kinds of figures with the [`plotters`] bitmap backend
+//! and writes them as PNG files:
+//!
+//! * [`Figure`]: curve overlays (measured, published and fitted series) in a
+//!   main panel, with an optional residual panel below it that shares the x
+//!   axis. See [`render_png`].
+//! * [`BarFigure`]: grouped bar charts, e.g. the error of a base model and of
+//!   a model with an extra effect per test, with an optional reference line
+//!   (noise level). See [`render_bars_png`].
+//!
+//! Text is rendered with a bundled DejaVu Sans font (see `assets/`), so no
+//! system fonts are needed. Non-finite values (and values whose magnitude
+//! exceeds [`MAX_ABS_VALUE`]) are skipped; lines are broken at such points.
+//! Axis ranges are computed from all remaining data with 5 % padding, very
+//! long series are decimated per pixel column keeping the extremes, and all
+//! curves are clipped to the plotting area.
+//!
+//! [`inspect_png`], [`read_rgb`] and [`figure_layout`] help tests (here and
+//! in other crates) check what was drawn.
 
+mod bars;
+mod canvas;
+mod colors;
+mod figure;
+mod fonts;
+mod geom;
+mod png_io;
+mod scale;
+
+use std::path::PathBuf;
+
+pub use bars::{bar_layout, render_bars_png, BarLayout};
+pub use colors::{cycle_rgb, style_rgb, FITTED_RGB, MEASURED_RGB, PUBLISHED_RGB};
+pub use figure::{figure_layout, render_png, series_inside, FigureLayout};
+pub use geom::PixelRect;
+pub use png_io::{inspect_png, read_rgb, PngCheck, RgbImage};
+pub use scale::MAX_ABS_VALUE;
+
+/// Smallest accepted figure width in pixels.
+pub const MIN_WIDTH: u32 = 200;
+/// Smallest accepted figure height in pixels.
+pub const MIN_HEIGHT: u32 = 150;
+/// Largest accepted figure width or height in pixels.
+pub const MAX_SIDE: u32 = 8192;
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Style {
+    /// Laboratory data: a thin grey line; small markers are added when the
+    /// series has few points (at most 60 finite points).
+    Measured,
+    /// A curve taken from a publication: a dashed blue line.
+    Published,
+    /// The model fitted by subfric: a solid red line, drawn on top.
+    Fitted,
+    /// Any other curve: a solid line with the given index into a palette
+    /// (orange, green, purple, brown, pink, olive, cyan; wraps around).
+    Other(usize),
+}
+
+/// One curve of a panel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    /// Legend label; an empty label keeps the series out of the legend.
+    pub label: String,
+    /// X values (same length as `y`).
+    pub x: Vec<f64>,
+    /// Y values (same length as `x`).
+    pub y: Vec<f64>,
+    /// Line style.
+    pub style: Style,
+    /// Optional cycle number per point (same length as `x`). When present the
+    /// curve is coloured by cycle with a sequential colormap (viridis for
+    /// measured and other series, reds for fitted, blues for published) and
+    /// the legend says "cycle a..b".
+    pub cycle: Option<Vec<u32>>,
+}
+
+impl Series {
+    /// A series without cycle colouring.
+    pub fn new(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>, style: Style) -> Self {
+        Self {
+            label: label.into(),
+            x,
+            y,
+            style,
+            cycle: None,
+        }
+    }
+
+    /// The same series coloured by the given per-point cycle numbers.
+    pub fn with_cycles(mut self, cycle: Vec<u32>) -> Self {
+        self.cycle = Some(cycle);
+        self
+    }
+}
+
+/// A set of series sharing one y axis.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Panel {
+    /// Y axis label, with units (e.g. "shear stress τ (kPa)").
+    pub y_label: String,
+    /// Curves, drawn measured first and fitted last; the legend keeps this order.
+    pub series: Vec<Series>,
+    /// Draw a dashed horizontal line at y = 0 (and make sure 0 is in range).
+    pub zero_line: bool,
+}
+
+impl Panel {
+    /// A panel without a zero line.
+    pub fn new(y_label: impl Into<String>, series: Vec<Series>) -> Self {
+        Self {
+            y_label: y_label.into(),
+            series,
+            zero_line: false,
+        }
+    }
+
+    /// The same panel with a dashed line at y = 0.
+    pub fn with_zero_line(mut self) -> Self {
+        self.zero_line = true;
+        self
+    }
+}
+
+/// A curve figure: a main panel and an optional residual panel below it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Figure {
+    /// Title drawn above the main panel (may be empty).
+    pub title: String,
+    /// X axis label, with units (e.g. "displacement (mm)").
+    pub x_label: String,
+    /// The main panel.
+    pub main: Panel,
+    /// Optional residual panel, drawn below the main panel with the same x
+    /// axis and about a third of the plotting height.
+    pub residual: Option<Panel>,
+    /// Image width in pixels ([`MIN_WIDTH`]..=[`MAX_SIDE`]).
+    pub width: u32,
+    /// Image height in pixels ([`MIN_HEIGHT`]..=[`MAX_SIDE`]).
+    pub height: u32,
+}
+
+impl Figure {
+    /// A 1000x750 figure without residual panel.
+    pub fn new(title: impl Into<String>, x_label: impl Into<String>, main: Panel) -> Self {
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            main,
+            residual: None,
+            width: 1000,
+            height: 750,
+        }
+    }
+
+    /// The same figure with a residual panel.
+    pub fn with_residual(mut self, residual: Panel) -> Self {
+        self.residual = Some(residual);
+        self
+    }
+
+    /// The same figure with another size in pixels.
+    pub fn with_size(mut self, width: u32, height: u32) -> Self {
+        self.width = width;
+        self.height = height;
+        self
+    }
+}
+
+/// A grouped bar chart: one group of bars per category.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BarFigure {
+    /// Title drawn above the chart (may be empty).
+    pub title: String,
+    /// Y axis label, with units.
+    pub y_label: String,
+    /// Category names along the x axis.
+    pub categories: Vec<String>,
+    /// Named groups, each with one value per category (NaN: no bar, "n/a").
+    pub groups: Vec<(String, Vec<f64>)>,
+    /// Optional labelled horizontal dashed line, e.g. the noise level.
+    pub reference_line: Option<(String, f64)>,
+    /// Image width in pixels ([`MIN_WIDTH`]..=[`MAX_SIDE`]).
+    pub width: u32,
+    /// Image height in pixels ([`MIN_HEIGHT`]..=[`MAX_SIDE`]).
+    pub height: u32,
+}
+
+impl BarFigure {
+    /// A 1000x750 bar chart without groups or reference line.
+    pub fn new(
+        title: impl Into<String>,
+        y_label: impl Into<String>,
+        categories: Vec<String>,
+    ) -> Self {
+        Self {
+            title: title.into(),
+            y_label: y_label.into(),
+            categories,
+            groups: Vec::new(),
+            reference_line: None,
+            width: 1000,
+            height: 750,
+        }
+    }
+
+    /// The same chart with one more group of bars.
+    pub fn with_group(mut self, name: impl Into<String>, values: Vec<f64>) -> Self {
+        self.groups.push((name.into(), values));
+        self
+    }
+
+    /// The same chart with a labelled horizontal reference line.
+    pub fn with_reference_line(mut self, label: impl Into<String>, value: f64) -> Self {
+        self.reference_line = Some((label.into(), value));
+        self
+    }
+
+    /// The same chart with another size in pixels.
+    pub fn with_size(mut self, width: u32, height: u32) -> Self {
+        self.width = width;
+        self.height = height;
+        self
+    }
+}
+
+/// Errors of rendering and inspecting figures; each names the file concerned.
+#[derive(thiserror::Error, Debug)]
+pub enum PlotError {
+    /// The requested image size is outside the accepted bounds.
+    #[error(
+        "figure {path}: size {width}x{height} is outside {MIN_WIDTH}x{MIN_HEIGHT}..={MAX_SIDE}x{MAX_SIDE}"
+    )]
+    InvalidSize {
+        /// Output path.
+        path: PathBuf,
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+    },
+    /// A series has different numbers of x and y values.
+    #[error("figure {path}: series '{label}' has {x_len} x values but {y_len} y values")]
+    LengthMismatch {
+        /// Output path.
+        path: PathBuf,
+        /// Series label.
+        label: String,
+        /// Number of x values.
+        x_len: usize,
+        /// Number of y values.
+        y_len: usize,
+    },
+    /// A series' cycle vector does not have one entry per point.
+    #[error("figure {path}: series '{label}' has {points} points but {cycles} cycle numbers")]
+    CycleLengthMismatch {
+        /// Output path.
+        path: PathBuf,
+        /// Series label.
+        label: String,
+        /// Number of points.
+        points: usize,
+        /// Number of cycle numbers.
+        cycles: usize,
+    },
+    /// A bar group does not have one value per category.
+    #[error("bar chart {path}: group '{group}' has {values} values for {categories} categories")]
+    GroupLengthMismatch {
+        /// Output path.
+        path: PathBuf,
+        /// Group name.
+        group: String,
+        /// Number of values in the group.
+        values: usize,
+        /// Number of categories.
+        categories: usize,
+    },
+    /// Drawing failed (font or backend error).
+    #[error("figure {path}: drawing failed: {message}")]
+    Draw {
+        /// Output path.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// The file could not be created, written or read.
+    #[error("cannot access {path}: {source}")]
+    Io {
+        /// File path.
+        path: PathBuf,
+        /// Underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// PNG encoding failed.
+    #[error("cannot encode PNG {path}: {message}")]
+    Encode {
+        /// Output path.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// The file is not a PNG image this crate can decode.
+    #[error("cannot decode PNG {path}: {message}")]
+    Decode {
+        /// Input path.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// Problems found before a path is known; turned into [`PlotError`] later.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Invalid {
+    Size(u32, u32),
+    Length {
+        label: String,
+        x_len: usize,
+        y_len: usize,
+    },
+    Cycles {
+        label: String,
+        points: usize,
+        cycles: usize,
+    },
+    Group {
+        group: String,
+        values: usize,
+        categories: usize,
+    },
+    Draw(String),
+}
+
+impl Invalid {
+    pub(crate) fn with_path(self, path: &std::path::Path) -> PlotError {
+        let path = path.to_path_buf();
+        match self {
+            Invalid::Size(width, height) => PlotError::InvalidSize {
+                path,
+                width,
+                height,
+            },
+            Invalid::Length {
+                label,
+                x_len,
+                y_len,
+            } => PlotError::LengthMismatch {
+                path,
+                label,
+                x_len,
+                y_len,
+            },
+            Invalid::Cycles {
+                label,
+                points,
+                cycles,
+            } => PlotError::CycleLengthMismatch {
+                path,
+                label,
+                points,
+                cycles,
+            },
+            Invalid::Group {
+                group,
+                values,
+                categories,
+            } => PlotError::GroupLengthMismatch {
+                path,
+                group,
+                values,
+                categories,
+            },
+            Invalid::Draw(message) => PlotError::Draw { path, message },
+        }
+    }
+}
+
+pub(crate) fn check_size(width: u32, height: u32) -> Result<(), Invalid> {
+    if (MIN_WIDTH..=MAX_SIDE).contains(&width) && (MIN_HEIGHT..=MAX_SIDE).contains(&height) {
+        Ok(())
+    } else {
+        Err(Invalid::Size(width, height))
+    }
+}

@@ -1,0 +1,615 @@
+//! Grouped bar charts.
+
+use std::path::Path;
+
+use crate::canvas::{Canvas, HAlign, VAlign};
+use crate::colors::{BAR_PALETTE, INK_RGB, ZERO_RGB};
+use crate::figure::{
+    dash_pattern, draw_axes, draw_grid, draw_legend, place_legend, tick_px, tick_py, AxisDraw,
+    Legend, LegendEntry, Metrics, Swatch,
+};
+use crate::fonts::{self, CAP_HEIGHT, DESCENT};
+use crate::geom::{Occupancy, PixelRect, Pt};
+use crate::scale::{plottable, ticks, AxisRange, Extent, Ticks};
+use crate::{check_size, png_io, BarFigure, Invalid, PlotError};
+
+/// Where the parts of a [`BarFigure`] are drawn, in pixels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BarLayout {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Plotting area (frame on its edge pixels); all bars are inside it.
+    pub plot: PixelRect,
+    /// Legend box, if any (inside `plot`).
+    pub legend: Option<PixelRect>,
+    /// Y axis range.
+    pub y_range: (f64, f64),
+    /// Rectangles of the drawn bars: (category index, group index, rect).
+    pub bars: Vec<(usize, usize, PixelRect)>,
+}
+
+struct CategoryLabel {
+    lines: Vec<String>,
+    size: f64,
+    cx: f64,
+}
+
+struct BarPlan {
+    width: u32,
+    height: u32,
+    m: Metrics,
+    plot: PixelRect,
+    y: AxisRange,
+    yticks: Ticks,
+    title: String,
+    title_size: f64,
+    title_center: Pt,
+    y_label: String,
+    y_label_size: f64,
+    categories: Vec<CategoryLabel>,
+    bars: Vec<(usize, usize, PixelRect, [u8; 3])>,
+    value_labels: Vec<(String, Pt, VAlign)>,
+    value_size: f64,
+    missing: Vec<Pt>,
+    reference: Option<i32>,
+    legend: Option<Legend>,
+    has_data: bool,
+}
+
+fn validate(fig: &BarFigure) -> Result<(), Invalid> {
+    check_size(fig.width, fig.height)?;
+    for (name, values) in &fig.groups {
+        if values.len() != fig.categories.len() {
+            return Err(Invalid::Group {
+                group: name.clone(),
+                values: values.len(),
+                categories: fig.categories.len(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Value label with three significant digits.
+fn format_value(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".to_string()
+    } else if !(1e-3..1e5).contains(&a) {
+        format!("{v:.2e}")
+    } else {
+        let d = (2 - a.log10().floor() as i32).max(0) as usize;
+        format!("{v:.d$}")
+    }
+}
+
+/// Splits a label into two lines at the space nearest its middle.
+fn split_two(text: &str) -> Option<(String, String)> {
+    let mid = text.chars().count() / 2;
+    let best = text
+        .char_indices()
+        .filter(|(_, c)| *c == ' ')
+        .map(|(i, _)| i)
+        .min_by_key(|&i| (text[..i].chars().count() as i64 - mid as i64).abs())?;
+    Some((
+        text[..best].trim().to_string(),
+        text[best..].trim().to_string(),
+    ))
+}
+
+/// Fits a category label into `width`, on at most `max_lines` lines.
+fn fit_category(text: &str, size: f64, width: f64, max_lines: usize) -> (Vec<String>, f64) {
+    let min_size = size * 0.75;
+    if fonts::text_width(text, size) <= width {
+        return (vec![text.to_string()], size);
+    }
+    if max_lines >= 2 {
+        if let Some((a, b)) = split_two(text) {
+            let mut s = size;
+            while s > min_size && fonts::text_width(&a, s).max(fonts::text_width(&b, s)) > width {
+                s = (s * 0.95).max(min_size);
+            }
+            return (
+                vec![fonts::fit_text(&a, s, width), fonts::fit_text(&b, s, width)],
+                s,
+            );
+        }
+    }
+    let (t, s) = fonts::shrink_to_fit(text, size, min_size, width);
+    (vec![t], s)
+}
+
+fn y_range(fig: &BarFigure, min_hi: f64) -> AxisRange {
+    let mut e = Extent::default();
+    e.add(0.0);
+    for (_, values) in &fig.groups {
+        for &v in values {
+            e.add(v);
+        }
+    }
+    if let Some((_, r)) = &fig.reference_line {
+        e.add(*r);
+    }
+    let (lo, hi) = e.bounds.unwrap_or((0.0, 0.0));
+    let span = hi - lo;
+    if !(span > lo.abs().max(hi.abs()) * 1e-12 && span > 0.0) {
+        return AxisRange {
+            min: 0.0,
+            max: 1.0f64.max(min_hi),
+        };
+    }
+    let min = if lo < 0.0 { lo - 0.05 * span } else { 0.0 };
+    let max = if hi > 0.0 { hi + 0.05 * span } else { 0.0 };
+    AxisRange {
+        min,
+        max: max.max(min_hi),
+    }
+}
+
+fn plan_pass(fig: &BarFigure, min_hi: f64) -> Result<BarPlan, Invalid> {
+    let (w, h) = (fig.width, fig.height);
+    let m = Metrics::new(w, h);
+    let y = y_range(fig, min_hi);
+    let n = fig.categories.len();
+
+    let has_title = !fig.title.trim().is_empty();
+    let title_block = if has_title {
+        (m.title * 1.5).round()
+    } else {
+        0.0
+    };
+    let top = m.pad + title_block + m.px(8.0);
+    let line_h = (CAP_HEIGHT + DESCENT) * m.tick * 1.25;
+    let right = m.px(30.0);
+    let has_ylabel = !fig.y_label.trim().is_empty();
+    let ylabel_col = if has_ylabel {
+        (CAP_HEIGHT + DESCENT) * m.label + m.px(10.0)
+    } else {
+        0.0
+    };
+
+    // Try category labels on one line, then on two.
+    let mut attempt = None;
+    for lines in 1..=2usize {
+        let bottom = m.tick_len + m.gap + line_h * lines as f64 + m.pad;
+        let plot_h = (f64::from(h) - top - bottom).floor();
+        if plot_h < 20.0 {
+            return Err(Invalid::Draw(format!(
+                "{w}x{h} is too small for this bar chart"
+            )));
+        }
+        let target = ((plot_h / (65.0 * m.s)).round() as usize).clamp(2, 10);
+        let yticks = ticks(y, target);
+        let tick_w = yticks
+            .labels
+            .iter()
+            .map(|l| fonts::text_width(l, m.tick))
+            .fold(0.0, f64::max);
+        let left = (m.pad + ylabel_col + tick_w + m.gap + m.tick_len)
+            .ceil()
+            .min(f64::from(w) * 0.45);
+        let plot_w = f64::from(w) - left - right;
+        if plot_w < 40.0 {
+            return Err(Invalid::Draw(format!(
+                "{w}x{h} is too narrow for this bar chart"
+            )));
+        }
+        let slot = plot_w / n.max(1) as f64;
+        let fits = fig
+            .categories
+            .iter()
+            .all(|c| fonts::text_width(c, m.tick * 0.8) <= slot * 0.95);
+        if fits || lines == 2 {
+            attempt = Some((lines, plot_h, yticks, left, plot_w));
+            break;
+        }
+    }
+    let Some((lines, plot_h, yticks, left, plot_w)) = attempt else {
+        return Err(Invalid::Draw("bar chart layout failed".into()));
+    };
+    let plot = PixelRect {
+        left: left as i32,
+        top: top as i32,
+        right: left as i32 + plot_w as i32 - 1,
+        bottom: top as i32 + plot_h as i32 - 1,
+    };
+    let slot = f64::from(plot.right - plot.left) / n.max(1) as f64;
+    let categories: Vec<CategoryLabel> = fig
+        .categories
+        .iter()
+        .enumerate()
+        .map(|(j, c)| {
+            let (lines, size) = fit_category(c.trim(), m.tick, slot * 0.95, lines);
+            CategoryLabel {
+                lines,
+                size,
+                cx: f64::from(plot.left) + slot * (j as f64 + 0.5),
+            }
+        })
+        .collect();
+
+    // Bars.
+    let g = fig.groups.len();
+    let group_w = slot * 0.8;
+    let bar_w = group_w / g.max(1) as f64;
+    let y0 = tick_py(y, 0.0_f64.clamp(y.min, y.max), plot);
+    let value_size = m.tick * 0.8;
+    let mut bars = Vec::new();
+    let mut value_labels = Vec::new();
+    let mut missing = Vec::new();
+    let mut occupancy = Occupancy::new(plot, m.px(6.0).max(3.0) as i32);
+    for (gi, (_, values)) in fig.groups.iter().enumerate() {
+        let color = BAR_PALETTE[gi % BAR_PALETTE.len()];
+        for (j, &v) in values.iter().enumerate().take(n) {
+            let x0 = f64::from(plot.left) + slot * j as f64 + 0.1 * slot + bar_w * gi as f64;
+            let (l, r) = (x0.round() as i32, (x0 + bar_w).round() as i32 - 1);
+            let cx = 0.5 * (x0 + x0 + bar_w);
+            if !plottable(v) {
+                missing.push((cx, f64::from(y0)));
+                continue;
+            }
+            let yv = tick_py(y, v, plot).clamp(plot.top + 1, plot.bottom - 1);
+            let rect = PixelRect {
+                left: l.max(plot.left + 1),
+                right: r.min(plot.right - 1).max(l),
+                top: yv.min(y0),
+                bottom: yv.max(y0),
+            };
+            occupancy.mark_rect(rect);
+            bars.push((j, gi, rect, color));
+            let text = format_value(v);
+            if fonts::text_width(&text, value_size) + 2.0 <= f64::from(rect.width()) {
+                let (at, va) = if v >= 0.0 {
+                    ((cx, f64::from(rect.top) - m.px(3.0)), VAlign::Bottom)
+                } else {
+                    ((cx, f64::from(rect.bottom) + m.px(3.0)), VAlign::Top)
+                };
+                let text_h = (CAP_HEIGHT + DESCENT) * value_size;
+                let inside = if v >= 0.0 {
+                    at.1 - text_h > f64::from(plot.top)
+                } else {
+                    at.1 + text_h < f64::from(plot.bottom)
+                };
+                if inside {
+                    let band = if v >= 0.0 {
+                        (at.1 - text_h, at.1)
+                    } else {
+                        (at.1, at.1 + text_h)
+                    };
+                    occupancy.mark_rect(PixelRect {
+                        left: rect.left,
+                        right: rect.right,
+                        top: band.0 as i32,
+                        bottom: band.1 as i32,
+                    });
+                    value_labels.push((text, at, va));
+                }
+            }
+        }
+    }
+    let reference = fig
+        .reference_line
+        .as_ref()
+        .filter(|(_, v)| plottable(*v) && y.contains(*v))
+        .map(|(_, v)| tick_py(y, *v, plot));
+    if let Some(py) = reference {
+        occupancy.mark_polyline(&[
+            (f64::from(plot.left), f64::from(py)),
+            (f64::from(plot.right), f64::from(py)),
+        ]);
+    }
+
+    let mut entries: Vec<LegendEntry> = fig
+        .groups
+        .iter()
+        .enumerate()
+        .filter(|(_, (name, _))| !name.trim().is_empty())
+        .map(|(gi, (name, _))| LegendEntry {
+            label: name.clone(),
+            swatch: Swatch::Patch {
+                color: BAR_PALETTE[gi % BAR_PALETTE.len()],
+            },
+        })
+        .collect();
+    if let Some((label, v)) = &fig.reference_line {
+        if !label.trim().is_empty() {
+            entries.push(LegendEntry {
+                label: if plottable(*v) {
+                    format!("{label} ({})", format_value(*v))
+                } else {
+                    format!("{label} (no data)")
+                },
+                swatch: Swatch::Line {
+                    color: ZERO_RGB,
+                    width: m.width(1.5),
+                    dashed: true,
+                    marker: None,
+                },
+            });
+        }
+    }
+    let legend = place_legend(entries, plot, &occupancy, &m);
+
+    let (y_label, y_label_size) = fonts::shrink_to_fit(
+        fig.y_label.trim(),
+        m.label,
+        m.label * 0.7,
+        f64::from(plot.height()),
+    );
+    let title_w_max = f64::from(w) - 2.0 * m.pad;
+    let (title, title_size) =
+        fonts::shrink_to_fit(fig.title.trim(), m.title, m.title * 0.6, title_w_max);
+    let title_w = fonts::text_width(&title, title_size);
+    let title_cx = (0.5 * f64::from(plot.left + plot.right))
+        .max(m.pad + 0.5 * title_w)
+        .min(f64::from(w) - m.pad - 0.5 * title_w);
+    Ok(BarPlan {
+        width: w,
+        height: h,
+        m,
+        plot,
+        y,
+        yticks,
+        title,
+        title_size,
+        title_center: (title_cx, m.pad + 0.5 * title_block),
+        y_label,
+        y_label_size,
+        categories,
+        has_data: !bars.is_empty(),
+        bars,
+        value_labels,
+        value_size,
+        missing,
+        reference,
+        legend,
+    })
+}
+
+/// The y maximum needed so that nothing drawn under the legend's columns
+/// reaches into the legend box (None if no raise is needed or possible).
+fn headroom(fig: &BarFigure, p: &BarPlan) -> Option<f64> {
+    let legend = p.legend.as_ref()?;
+    let lr = legend.rect;
+    let margin = 2.0 * p.value_size;
+    let free = f64::from(p.plot.bottom - lr.bottom) - margin;
+    let plot_h = f64::from(p.plot.bottom - p.plot.top);
+    if free < plot_h * 0.3 {
+        return None;
+    }
+    let n = fig.categories.len().max(1) as f64;
+    let slot = f64::from(p.plot.right - p.plot.left) / n;
+    let mut vmax = f64::NEG_INFINITY;
+    for (_, values) in &fig.groups {
+        for (j, &v) in values.iter().enumerate() {
+            let (l, r) = (
+                f64::from(p.plot.left) + slot * j as f64,
+                f64::from(p.plot.left) + slot * (j as f64 + 1.0),
+            );
+            if plottable(v) && r >= f64::from(lr.left) && l <= f64::from(lr.right) {
+                vmax = vmax.max(v);
+            }
+        }
+    }
+    if let Some((_, v)) = &fig.reference_line {
+        if plottable(*v) {
+            vmax = vmax.max(*v);
+        }
+    }
+    if vmax.is_nan() || vmax <= 0.0 {
+        return None;
+    }
+    let need = p.y.min + (vmax - p.y.min) * plot_h / free;
+    (need > p.y.max * (1.0 + 1e-9) && need.is_finite()).then_some(need)
+}
+
+fn plan(fig: &BarFigure) -> Result<BarPlan, Invalid> {
+    validate(fig)?;
+    fonts::ensure_fonts().map_err(Invalid::Draw)?;
+    let mut p = plan_pass(fig, f64::NEG_INFINITY)?;
+    // Raise the top of the axis so that the legend does not cover bars.
+    for _ in 0..3 {
+        match headroom(fig, &p) {
+            Some(hi) => p = plan_pass(fig, hi)?,
+            None => break,
+        }
+    }
+    Ok(p)
+}
+
+/// Where the parts of `fig` would be drawn, or `None` if `fig` is invalid
+/// (see [`render_bars_png`] for the checks).
+pub fn bar_layout(fig: &BarFigure) -> Option<BarLayout> {
+    let p = plan(fig).ok()?;
+    Some(BarLayout {
+        width: p.width,
+        height: p.height,
+        plot: p.plot,
+        legend: p.legend.as_ref().map(|l| l.rect),
+        y_range: (p.y.min, p.y.max),
+        bars: p.bars.iter().map(|&(j, g, r, _)| (j, g, r)).collect(),
+    })
+}
+
+fn draw(p: &BarPlan, buf: &mut [u8]) -> Result<(), String> {
+    let m = &p.m;
+    let mut c = Canvas::new(buf, p.width, p.height)?;
+    let axes = AxisDraw {
+        rect: p.plot,
+        x: None,
+        x_labels: false,
+        y: p.y,
+        yticks: &p.yticks,
+    };
+    draw_grid(&mut c, &axes)?;
+    for &(_, _, r, color) in &p.bars {
+        c.fill(r, color)?;
+        c.outline(r, INK_RGB)?;
+    }
+    if p.y.min < 0.0 && p.y.max > 0.0 {
+        let y0 = tick_py(p.y, 0.0, p.plot);
+        c.fill(
+            PixelRect {
+                top: y0,
+                bottom: y0,
+                ..p.plot
+            },
+            INK_RGB,
+        )?;
+    }
+    if let Some(py) = p.reference {
+        let (dash, gap) = dash_pattern(m);
+        let line = [
+            (f64::from(p.plot.left + 2), f64::from(py)),
+            (f64::from(p.plot.right - 2), f64::from(py)),
+        ];
+        for d in crate::geom::dashes(&line, dash, gap) {
+            c.polyline(&d, ZERO_RGB, m.width(1.5))?;
+        }
+    }
+    for (text, at, va) in &p.value_labels {
+        c.text(text, p.value_size, INK_RGB, *at, HAlign::Center, *va)?;
+    }
+    for at in &p.missing {
+        let at = (at.0, at.1 - m.px(3.0));
+        c.text(
+            "n/a",
+            p.value_size,
+            ZERO_RGB,
+            at,
+            HAlign::Center,
+            VAlign::Bottom,
+        )?;
+    }
+    draw_axes(&mut c, &axes, m, p.width)?;
+    let tl = m.tick_len as i32;
+    let n = p.categories.len().max(1);
+    let x_range = AxisRange {
+        min: 0.0,
+        max: n as f64,
+    };
+    for (j, cat) in p.categories.iter().enumerate() {
+        let x = tick_px(x_range, j as f64 + 0.5, p.plot);
+        c.fill(
+            PixelRect {
+                left: x,
+                right: x,
+                top: p.plot.bottom + 1,
+                bottom: p.plot.bottom + tl,
+            },
+            INK_RGB,
+        )?;
+        for (k, line) in cat.lines.iter().enumerate() {
+            let y = f64::from(p.plot.bottom + tl)
+                + m.gap
+                + k as f64 * (CAP_HEIGHT + DESCENT) * cat.size * 1.25;
+            c.text(
+                line,
+                cat.size,
+                INK_RGB,
+                (cat.cx, y),
+                HAlign::Center,
+                VAlign::Top,
+            )?;
+        }
+    }
+    if !p.has_data {
+        let center = (
+            0.5 * f64::from(p.plot.left + p.plot.right),
+            0.5 * f64::from(p.plot.top + p.plot.bottom),
+        );
+        c.text(
+            "no data",
+            m.label,
+            ZERO_RGB,
+            center,
+            HAlign::Center,
+            VAlign::Center,
+        )?;
+    }
+    if let Some(l) = &p.legend {
+        draw_legend(&mut c, l, m)?;
+    }
+    let cx = m.pad + 0.5 * CAP_HEIGHT * p.y_label_size;
+    let cy = 0.5 * f64::from(p.plot.top + p.plot.bottom);
+    c.text_vertical(&p.y_label, p.y_label_size, INK_RGB, (cx, cy))?;
+    c.text(
+        &p.title,
+        p.title_size,
+        INK_RGB,
+        p.title_center,
+        HAlign::Center,
+        VAlign::Center,
+    )?;
+    c.finish()
+}
+
+/// Draws a grouped bar chart and writes it to `path` as an RGB PNG.
+///
+/// Bars start at zero; the y range covers all finite values, zero and the
+/// reference line with 5 % padding, raised if needed so that the legend
+/// (upper right if free, otherwise another free corner) does not cover
+/// bars. Errors (each naming `path`): a size outside the accepted bounds, a
+/// group without exactly one value per category, a file that cannot be
+/// written. Non-finite values are shown as "n/a".
+pub fn render_bars_png(fig: &BarFigure, path: &Path) -> Result<(), PlotError> {
+    let p = plan(fig).map_err(|e| e.with_path(path))?;
+    let mut buf = vec![255u8; p.width as usize * p.height as usize * 3];
+    draw(&p, &mut buf).map_err(|e| Invalid::Draw(e).with_path(path))?;
+    png_io::write_rgb_png(path, p.width, p.height, &buf)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn value_formatting() {
+        assert_eq!(format_value(0.0), "0");
+        assert_eq!(format_value(0.01234), "0.0123");
+        assert_eq!(format_value(12.345), "12.3");
+        assert_eq!(format_value(1234.0), "1234");
+        assert_eq!(format_value(1.5e-5), "1.50e-5");
+        assert_eq!(
+            split_two("dense sand test"),
+            Some(("dense".into(), "sand test".into()))
+        );
+        assert_eq!(split_two("nospace"), None);
+    }
+
+    #[test]
+    fn ranges_include_zero_and_reference() {
+        let f = BarFigure::new("", "", vec!["a".into(), "b".into()])
+            .with_group("g", vec![1.0, 2.0])
+            .with_reference_line("noise", 3.0);
+        let r = y_range(&f, f64::NEG_INFINITY);
+        assert_eq!(r.min, 0.0);
+        assert!(r.max > 3.0);
+        let empty = BarFigure::new("", "", vec![]);
+        assert_eq!(
+            y_range(&empty, f64::NEG_INFINITY),
+            AxisRange { min: 0.0, max: 1.0 }
+        );
+        let neg = BarFigure::new("", "", vec!["a".into()]).with_group("g", vec![-2.0]);
+        let r = y_range(&neg, f64::NEG_INFINITY);
+        assert!(r.min < -2.0 && r.max == 0.0);
+    }
+
+    #[test]
+    fn bars_stay_inside_and_legend_avoids_them() {
+        let cats: Vec<String> = (1..=6).map(|i| format!("test {i}")).collect();
+        let f = BarFigure::new("RMSE", "RMSE (kPa)", cats)
+            .with_group("base model", vec![5.0, 6.0, 4.0, 7.0, 8.0, 9.0])
+            .with_group("with effect", vec![3.0, 4.0, 3.5, 5.0, 5.5, 6.0])
+            .with_reference_line("noise level", 2.0);
+        let l = bar_layout(&f).unwrap();
+        assert_eq!(l.bars.len(), 12);
+        let legend = l.legend.unwrap();
+        for (_, _, r) in &l.bars {
+            assert!(l.plot.contains(r.left, r.top) && l.plot.contains(r.right, r.bottom));
+            assert!(!r.intersects(&legend), "bar {r:?} under legend {legend:?}");
+        }
+    }
+}
