@@ -74,6 +74,10 @@ fn validate(fig: &BarFigure) -> Result<(), Invalid> {
 
 /// Value label with three significant digits.
 fn format_value(v: f64) -> String {
+    crate::scale::typographic_minus(format_value_ascii(v))
+}
+
+fn format_value_ascii(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 {
         "0".to_string()
@@ -99,26 +103,43 @@ fn split_two(text: &str) -> Option<(String, String)> {
     ))
 }
 
-/// Fits a category label into `width`, on at most `max_lines` lines.
-fn fit_category(text: &str, size: f64, width: f64, max_lines: usize) -> (Vec<String>, f64) {
-    let min_size = size * 0.75;
-    if fonts::text_width(text, size) <= width {
-        return (vec![text.to_string()], size);
+/// Largest size in `[min_size, size]` (5 % steps) at which all `lines` fit `width`.
+fn common_size(lines: &[&str], size: f64, min_size: f64, width: f64) -> f64 {
+    let mut s = size;
+    while s > min_size && lines.iter().any(|l| fonts::text_width(l, s) > width) {
+        s = (s * 0.95).max(min_size);
     }
-    if max_lines >= 2 {
-        if let Some((a, b)) = split_two(text) {
-            let mut s = size;
-            while s > min_size && fonts::text_width(&a, s).max(fonts::text_width(&b, s)) > width {
-                s = (s * 0.95).max(min_size);
+    s
+}
+
+/// Splits category labels into at most `max_lines` lines each and finds one
+/// font size for all of them that fits `width` (shortening labels that do
+/// not fit even at the smallest size).
+fn fit_categories(
+    texts: &[String],
+    size: f64,
+    width: f64,
+    max_lines: usize,
+) -> (Vec<Vec<String>>, f64) {
+    let split: Vec<Vec<String>> = texts
+        .iter()
+        .map(|t| {
+            let t = t.trim();
+            if max_lines >= 2 && fonts::text_width(t, size) > width {
+                if let Some((a, b)) = split_two(t) {
+                    return vec![a, b];
+                }
             }
-            return (
-                vec![fonts::fit_text(&a, s, width), fonts::fit_text(&b, s, width)],
-                s,
-            );
-        }
-    }
-    let (t, s) = fonts::shrink_to_fit(text, size, min_size, width);
-    (vec![t], s)
+            vec![t.to_string()]
+        })
+        .collect();
+    let all: Vec<&str> = split.iter().flatten().map(String::as_str).collect();
+    let s = common_size(&all, size, size * 0.75, width);
+    let fitted = split
+        .into_iter()
+        .map(|lines| lines.iter().map(|l| fonts::fit_text(l, s, width)).collect())
+        .collect();
+    (fitted, s)
 }
 
 fn y_range(fig: &BarFigure, min_hi: f64) -> AxisRange {
@@ -180,7 +201,7 @@ fn plan_pass(fig: &BarFigure, min_hi: f64) -> Result<BarPlan, Invalid> {
                 "{w}x{h} is too small for this bar chart"
             )));
         }
-        let target = ((plot_h / (65.0 * m.s)).round() as usize).clamp(2, 10);
+        let target = ((plot_h / (75.0 * m.s)).round() as usize).clamp(2, 8);
         let yticks = ticks(y, target);
         let tick_w = yticks
             .labels
@@ -200,7 +221,7 @@ fn plan_pass(fig: &BarFigure, min_hi: f64) -> Result<BarPlan, Invalid> {
         let fits = fig
             .categories
             .iter()
-            .all(|c| fonts::text_width(c, m.tick * 0.8) <= slot * 0.95);
+            .all(|c| fonts::text_width(c.trim(), m.tick * 0.9) <= slot * 0.9);
         if fits || lines == 2 {
             attempt = Some((lines, plot_h, yticks, left, plot_w));
             break;
@@ -216,17 +237,14 @@ fn plan_pass(fig: &BarFigure, min_hi: f64) -> Result<BarPlan, Invalid> {
         bottom: top as i32 + plot_h as i32 - 1,
     };
     let slot = f64::from(plot.right - plot.left) / n.max(1) as f64;
-    let categories: Vec<CategoryLabel> = fig
-        .categories
-        .iter()
+    let (label_lines, label_size) = fit_categories(&fig.categories, m.tick, slot * 0.9, lines);
+    let categories: Vec<CategoryLabel> = label_lines
+        .into_iter()
         .enumerate()
-        .map(|(j, c)| {
-            let (lines, size) = fit_category(c.trim(), m.tick, slot * 0.95, lines);
-            CategoryLabel {
-                lines,
-                size,
-                cx: f64::from(plot.left) + slot * (j as f64 + 0.5),
-            }
+        .map(|(j, lines)| CategoryLabel {
+            lines,
+            size: label_size,
+            cx: f64::from(plot.left) + slot * (j as f64 + 0.5),
         })
         .collect();
 

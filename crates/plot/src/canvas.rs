@@ -1,8 +1,8 @@
-//! A thin drawing layer over plotters' in-memory bitmap backend.
+//! A thin drawing layer over plotters' in-memory bitmap backend: crisp
+//! rectangles, anti-aliased lines of any width and anti-aliased text.
 
 use plotters::backend::{BitMapBackend, DrawingBackend, RGBPixel};
-use plotters::style::text_anchor::{HPos, Pos, VPos};
-use plotters::style::{Color, FontTransform, RGBColor, ShapeStyle};
+use plotters::style::{Color, RGBColor, ShapeStyle};
 
 use crate::fonts::{self, CAP_HEIGHT, DESCENT};
 use crate::geom::{PixelRect, Pt};
@@ -55,40 +55,69 @@ impl<'a> Canvas<'a> {
         self.backend.present().map_err(|e| e.to_string())
     }
 
-    /// A straight line with anti-aliased edges; widths above one pixel are
-    /// drawn as parallel one-pixel lines.
-    pub fn line(&mut self, a: Pt, b: Pt, color: [u8; 3], width: u32) -> Result<(), String> {
-        let (ax, ay, bx, by) = (coord(a.0), coord(a.1), coord(b.0), coord(b.1));
-        let style = rgb(color);
-        let width = width.max(1) as i32;
-        let mostly_horizontal = (bx - ax).abs() >= (by - ay).abs();
-        for k in 0..width {
-            let o = k - (width - 1) / 2;
-            let (dx, dy) = if mostly_horizontal { (0, o) } else { (o, 0) };
-            self.backend
-                .draw_line((ax + dx, ay + dy), (bx + dx, by + dy), &style)
-                .map_err(|e| e.to_string())?;
+    /// Blends `color` over pixel (x, y) with the given coverage.
+    fn blend(&mut self, x: i32, y: i32, color: [u8; 3], coverage: f64) -> Result<(), String> {
+        if coverage < 0.02 {
+            return Ok(());
+        }
+        let c = rgb(color).mix(coverage.min(1.0)).to_backend_color();
+        self.backend
+            .draw_pixel((x, y), c)
+            .map_err(|e| e.to_string())
+    }
+
+    /// A straight line of `width` pixels (measured across the line) with
+    /// anti-aliased edges. Coordinates are pixel centres.
+    pub fn line(&mut self, a: Pt, b: Pt, color: [u8; 3], width: f64) -> Result<(), String> {
+        let finite = [a.0, a.1, b.0, b.1]
+            .iter()
+            .all(|v| v.is_finite() && v.abs() < 1e6);
+        if !finite {
+            return Ok(());
+        }
+        let width = width.max(0.5);
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let x_major = dx.abs() >= dy.abs();
+        // Walk the major axis one pixel at a time, covering a span across it.
+        let (a, b) = if x_major {
+            (a, b)
+        } else {
+            ((a.1, a.0), (b.1, b.0))
+        };
+        let (a, b) = if a.0 <= b.0 { (a, b) } else { (b, a) };
+        let grad = if b.0 > a.0 {
+            (b.1 - a.1) / (b.0 - a.0)
+        } else {
+            0.0
+        };
+        let hw = 0.5 * width * (1.0 + grad * grad).sqrt();
+        let (i0, i1) = (a.0.round() as i32, b.0.round() as i32);
+        for i in i0..=i1 {
+            let t = f64::from(i).clamp(a.0, b.0);
+            let c = a.1 + grad * (t - a.0);
+            let (lo, hi) = (c - hw, c + hw);
+            let j0 = (lo + 0.5).floor() as i32;
+            let j1 = (hi + 0.5).floor() as i32;
+            for j in j0..=j1 {
+                let cov = (hi.min(f64::from(j) + 0.5) - lo.max(f64::from(j) - 0.5)).clamp(0.0, 1.0);
+                if x_major {
+                    self.blend(i, j, color, cov)?;
+                } else {
+                    self.blend(j, i, color, cov)?;
+                }
+            }
         }
         Ok(())
     }
 
     /// A polyline; a single point is drawn as a dot of the line width.
-    pub fn polyline(&mut self, pts: &[Pt], color: [u8; 3], width: u32) -> Result<(), String> {
+    pub fn polyline(&mut self, pts: &[Pt], color: [u8; 3], width: f64) -> Result<(), String> {
         match pts {
             [] => Ok(()),
-            [p] => self.dot(*p, width.max(2) / 2, color),
+            [p] => self.dot(*p, (0.5 * width).round().max(1.0) as u32, color),
             _ => {
-                let mut prev = pts[0];
-                for &p in &pts[1..] {
-                    if coord(p.0) == coord(prev.0) && coord(p.1) == coord(prev.1) {
-                        continue;
-                    }
-                    self.line(prev, p, color, width)?;
-                    prev = p;
-                }
-                if coord(prev.0) == coord(pts[0].0) && coord(prev.1) == coord(pts[0].1) {
-                    // Everything fell onto one pixel.
-                    self.dot(pts[0], width.max(2) / 2, color)?;
+                for w in pts.windows(2) {
+                    self.line(w[0], w[1], color, width)?;
                 }
                 Ok(())
             }
@@ -160,14 +189,14 @@ impl<'a> Canvas<'a> {
             VAlign::Center => at.1 + 0.5 * CAP_HEIGHT * size,
             VAlign::Bottom => at.1 - DESCENT * size,
         };
-        // plotters' ab_glyph text puts the baseline half a size below the
-        // top-left anchor.
-        let style = fonts::font(size)
-            .color(&rgb(color))
-            .pos(Pos::new(HPos::Left, VPos::Top));
-        self.backend
-            .draw_text(text, &style, (coord(left), coord(baseline - 0.5 * size)))
-            .map_err(|e| e.to_string())
+        let mut result = Ok(());
+        // Whole-pixel baseline keeps horizontal strokes crisp.
+        fonts::rasterize(text, size, (left, baseline.round()), |x, y, c| {
+            if result.is_ok() {
+                result = self.blend(x, y, color, f64::from(c));
+            }
+        });
+        result
     }
 
     /// Text reading upwards, centred on `center` (for y axis labels).
@@ -182,15 +211,16 @@ impl<'a> Canvas<'a> {
             return Ok(());
         }
         let w = fonts::text_width(text, size);
-        // Rotated by 270°: a glyph pixel at (x, y) lands at pos + (y, -x).
-        let pos_x = center.0 - 0.5 * size + 0.5 * CAP_HEIGHT * size;
-        let pos_y = center.1 + 0.5 * w;
-        let style = fonts::font(size)
-            .transform(FontTransform::Rotate270)
-            .color(&rgb(color))
-            .pos(Pos::new(HPos::Left, VPos::Top));
-        self.backend
-            .draw_text(text, &style, (coord(pos_x), coord(pos_y)))
-            .map_err(|e| e.to_string())
+        // Rotated by 90° counter-clockwise: the text's local (x, y), with
+        // the origin at the start of the baseline, lands at (bx + y, by - x).
+        let bx = (center.0 + 0.5 * CAP_HEIGHT * size).round() as i32;
+        let by = (center.1 + 0.5 * w).round() as i32;
+        let mut result = Ok(());
+        fonts::rasterize(text, size, (0.0, 0.0), |x, y, c| {
+            if result.is_ok() {
+                result = self.blend(bx + y, by - x, color, f64::from(c));
+            }
+        });
+        result
     }
 }

@@ -94,7 +94,11 @@ fn interpolate(stops: &[[u8; 3]], t: f64) -> [u8; 3] {
 /// viridis (without its palest yellow) for measured and other series, reds
 /// for fitted and blues for published series.
 pub fn cycle_rgb(style: Style, t: f64) -> [u8; 3] {
-    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     match style {
         Style::Measured | Style::Other(_) => interpolate(&VIRIDIS, t * 0.9),
         Style::Fitted => interpolate(&REDS, t),

@@ -44,8 +44,9 @@ impl Metrics {
         (v * self.s).round()
     }
 
-    pub fn width(&self, v: f64) -> u32 {
-        (v * self.s).round().max(1.0) as u32
+    /// A line width in pixels (at least one pixel).
+    pub fn width(&self, v: f64) -> f64 {
+        (v * self.s).max(1.0)
     }
 }
 
@@ -78,7 +79,7 @@ pub struct FigureLayout {
 struct Stroke {
     pts: Vec<Pt>,
     color: [u8; 3],
-    width: u32,
+    width: f64,
     dashed: bool,
 }
 
@@ -86,13 +87,13 @@ struct Stroke {
 pub(crate) enum Swatch {
     Line {
         color: [u8; 3],
-        width: u32,
+        width: f64,
         dashed: bool,
         marker: Option<u32>,
     },
     Gradient {
         style: Style,
-        width: u32,
+        width: f64,
         dashed: bool,
     },
     Patch {
@@ -220,7 +221,7 @@ fn z_order(style: Style) -> u8 {
     }
 }
 
-fn line_width(style: Style, m: &Metrics, cycled: bool) -> u32 {
+fn line_width(style: Style, m: &Metrics, cycled: bool) -> f64 {
     match style {
         Style::Measured if cycled => m.width(1.6),
         Style::Measured => m.width(1.0),
@@ -303,7 +304,7 @@ fn series_strokes(
 ) {
     let cycled = s.cycle.is_some();
     let width = line_width(s.style, m, cycled);
-    let clip = ClipBox::inside(mapper.rect, f64::from(width) + 1.0);
+    let clip = ClipBox::inside(mapper.rect, width + 1.0);
     let dashed = s.style == Style::Published;
     let decimate_above = mapper.rect.width().max(16) as usize;
     let bounds = cycle_bounds(s);
@@ -525,7 +526,7 @@ fn plan(fig: &Figure) -> Result<Plan, Invalid> {
     }
     let y_target =
         |height: f64, per: f64, max: usize| ((height / (per * m.s)).round() as usize).clamp(2, max);
-    let main_ticks = ticks(main_y, y_target(main_h, 65.0, 10));
+    let main_ticks = ticks(main_y, y_target(main_h, 75.0, 8));
     let res_ticks = res_y.map(|r| ticks(r, y_target(res_h, 45.0, 5)));
 
     // Horizontal layout: room for the rotated y label and the tick labels.
@@ -871,7 +872,7 @@ fn draw_panel(
         {
             let (dash, gap) = dash_pattern(m);
             for d in crate::geom::dashes(&[a, b], dash, gap) {
-                c.polyline(&d, ZERO_RGB, 1)?;
+                c.polyline(&d, ZERO_RGB, 1.0)?;
             }
         }
     }

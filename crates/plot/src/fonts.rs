@@ -1,48 +1,99 @@
-//! The bundled font and text metrics.
+//! The bundled font: registration, metrics and rasterisation.
 
 use std::sync::OnceLock;
 
-use plotters::style::{register_font, FontDesc, FontFamily, FontStyle};
+use ab_glyph::{point, Font, FontRef, PxScale, ScaleFont};
+use plotters::style::{register_font, FontStyle};
 
 /// DejaVu Sans (Bitstream Vera licence, see assets/DejaVuSans-LICENSE.txt).
 static FONT_BYTES: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
-/// Family name under which this crate draws; private so that other code
-/// registering fonts cannot change our metrics.
-pub(crate) const FAMILY: &str = "subfric-dejavu-sans";
-
 static REGISTERED: OnceLock<Result<(), String>> = OnceLock::new();
+static FACE: OnceLock<Option<FontRef<'static>>> = OnceLock::new();
 
-/// Registers the bundled font once per process, under [`FAMILY`] and under
-/// "sans-serif" (so plotters' defaults work without system fonts too).
+/// Registers the bundled font once per process with plotters' ab_glyph
+/// support as "sans-serif" (so plotters' own text works without system
+/// fonts) and checks that this crate can use it.
 pub(crate) fn ensure_fonts() -> Result<(), String> {
     REGISTERED
         .get_or_init(|| {
-            for name in [FAMILY, "sans-serif"] {
-                register_font(name, FontStyle::Normal, FONT_BYTES)
-                    .map_err(|_| format!("bundled font could not be registered as {name}"))?;
-            }
-            Ok(())
+            register_font("sans-serif", FontStyle::Normal, FONT_BYTES)
+                .map_err(|_| "bundled font could not be registered".to_string())?;
+            face()
+                .map(|_| ())
+                .ok_or_else(|| "bundled font could not be parsed".to_string())
         })
         .clone()
 }
 
-/// The font at a size in pixels (the size is the font's full line height,
-/// ascent plus descent, as ab_glyph scales it).
-pub(crate) fn font(size: f64) -> FontDesc<'static> {
-    FontDesc::new(FontFamily::Name(FAMILY), size, FontStyle::Normal)
+/// The bundled font face. This crate lays out and rasterises text itself
+/// with ab_glyph (the engine behind plotters' font support) so that glyph
+/// bearings and sub-pixel positions are honoured.
+fn face() -> Option<&'static FontRef<'static>> {
+    FACE.get_or_init(|| FontRef::try_from_slice(FONT_BYTES).ok())
+        .as_ref()
 }
 
-/// Height of capital letters as a fraction of the font size (DejaVu Sans).
+/// Height of capital letters as a fraction of the font size (DejaVu Sans;
+/// the size is the font's full line height, ascent plus descent).
 pub(crate) const CAP_HEIGHT: f64 = 0.626;
 /// Depth of descenders as a fraction of the font size (DejaVu Sans).
 pub(crate) const DESCENT: f64 = 0.203;
 
+fn scale(size: f64) -> PxScale {
+    PxScale::from(size.clamp(0.0, 4096.0) as f32)
+}
+
 /// Advance width of `text` in pixels.
 pub(crate) fn text_width(text: &str, size: f64) -> f64 {
-    match font(size).layout_box(text) {
-        Ok(((x0, _), (x1, _))) => f64::from(x1 - x0).max(0.0),
-        Err(_) => 0.6 * size * text.chars().count() as f64,
+    let Some(font) = face() else {
+        return 0.6 * size * text.chars().count() as f64;
+    };
+    let font = font.as_scaled(scale(size));
+    let mut x = 0.0f32;
+    let mut prev = None;
+    for c in text.chars() {
+        let id = font.glyph_id(c);
+        if let Some(p) = prev {
+            x += font.kern(p, id);
+        }
+        x += font.h_advance(id);
+        prev = Some(id);
+    }
+    f64::from(x.max(0.0))
+}
+
+/// Rasterises `text` with its baseline starting at `origin` (sub-pixel
+/// precise) and calls `put(x, y, coverage)` for every touched pixel.
+pub(crate) fn rasterize(
+    text: &str,
+    size: f64,
+    origin: (f64, f64),
+    mut put: impl FnMut(i32, i32, f32),
+) {
+    let Some(font) = face() else {
+        return;
+    };
+    let px = scale(size);
+    let scaled = font.as_scaled(px);
+    let (ox, oy) = (origin.0.floor(), origin.1.floor());
+    let (fx, fy) = ((origin.0 - ox) as f32, (origin.1 - oy) as f32);
+    let (ox, oy) = (ox.clamp(-1e6, 1e6) as i32, oy.clamp(-1e6, 1e6) as i32);
+    let mut x = 0.0f32;
+    let mut prev = None;
+    for c in text.chars() {
+        let id = scaled.glyph_id(c);
+        if let Some(p) = prev {
+            x += scaled.kern(p, id);
+        }
+        let glyph = id.with_scale_and_position(px, point(fx + x, fy));
+        if let Some(outline) = font.outline_glyph(glyph) {
+            let b = outline.px_bounds();
+            let (bx, by) = (b.min.x as i32, b.min.y as i32);
+            outline.draw(|gx, gy, cov| put(ox + bx + gx as i32, oy + by + gy as i32, cov));
+        }
+        x += scaled.h_advance(id);
+        prev = Some(id);
     }
 }
 

@@ -147,9 +147,25 @@ fn decimals_for(step: f64) -> usize {
     d.min(12)
 }
 
+/// Uses a typographic minus sign (U+2212) for negative numbers.
+pub(crate) fn typographic_minus(s: String) -> String {
+    match s.strip_prefix('-') {
+        Some(rest) => format!("\u{2212}{rest}"),
+        None => s,
+    }
+}
+
 /// Labels for tick values that are multiples of `step`: plain decimals, or
-/// scientific notation for very large or very small magnitudes.
+/// scientific notation for very large or very small magnitudes; negative
+/// values get a typographic minus sign.
 pub(crate) fn format_ticks(values: &[f64], step: f64) -> Vec<String> {
+    format_ticks_ascii(values, step)
+        .into_iter()
+        .map(typographic_minus)
+        .collect()
+}
+
+fn format_ticks_ascii(values: &[f64], step: f64) -> Vec<String> {
     let max_abs = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let scientific = max_abs >= 1e5 || (max_abs > 0.0 && max_abs < 1e-3);
     if !scientific {
@@ -231,9 +247,12 @@ mod tests {
         assert_eq!(t.labels, vec!["0", "2", "4", "6", "8", "10"]);
         let t = ticks(range(-0.13, 0.13), 5);
         assert!(t.labels.contains(&"0.00".to_string()) || t.labels.contains(&"0.0".to_string()));
-        assert!(!t.labels.iter().any(
-            |l| l.starts_with("-0.0") && l.trim_start_matches("-0.").chars().all(|c| c == '0')
-        ));
+        assert!(t.labels[0].starts_with('\u{2212}'), "{:?}", t.labels);
+        // No negative zero.
+        assert!(!t
+            .labels
+            .iter()
+            .any(|l| l.starts_with('\u{2212}') && l.chars().skip(1).all(|c| c == '0' || c == '.')));
         let t = ticks(range(0.0, 2.5e-4), 5);
         assert!(
             t.labels.iter().all(|l| l == "0" || l.contains('e')),
