@@ -7,7 +7,7 @@ mod common;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use subfric_plot::{render_bars_png, render_png, Figure, Panel, Series, Style};
+use subfric_plot::{render_bars_png, render_png, BarFigure, Figure, Panel, Series, Style};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dir = PathBuf::from(
@@ -59,6 +59,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ),
         ),
         ("small.png", common::cyclic_figure(500).with_size(500, 375)),
+        ("tiny.png", common::cyclic_figure(300).with_size(200, 150)),
+        ("tall.png", common::monotonic_figure().with_size(300, 900)),
+        ("long_labels.png", Figure::new(
+            "A title that is far too long to fit on one line of a figure even at a reduced font size, really far too long",
+            "an x label that is also much longer than it should ever be for a figure axis (mm)",
+            Panel::new(
+                "a y label much longer than the panel is high, so it must shrink and be shortened (kPa)",
+                vec![Series::new("a legend label that is far too long for any legend box, so it is shortened", vec![0.0, 1.0], vec![0.0, 1.0], Style::Fitted)],
+            ),
+        )
+        .with_residual(Panel::new("residual label longer than the panel (kPa)", vec![]).with_zero_line())),
+        ("big_numbers.png", Figure::new("large and small magnitudes", "time (s)", Panel::new("stiffness (Pa/m)", vec![
+            Series::new("k", (0..50).map(|i| i as f64 * 2e-5).collect(), (0..50).map(|i| 1e6 + 3e5 * (i as f64 * 0.2).sin()).collect(), Style::Other(0)),
+            Series::new("k2", (0..50).map(|i| i as f64 * 2e-5).collect(), (0..50).map(|i| -2e5 + 1e4 * i as f64).collect(), Style::Other(1)),
+        ]))),
     ];
     for (name, fig) in &figures {
         let path = dir.join(name);
@@ -70,13 +85,33 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             t.elapsed().as_secs_f64() * 1e3
         );
     }
-    let path = dir.join("bars.png");
-    let t = Instant::now();
-    render_bars_png(&common::bar_figure(), &path)?;
-    println!(
-        "{} ({:.1} ms)",
-        path.display(),
-        t.elapsed().as_secs_f64() * 1e3
-    );
+    let cats = |n: usize| (1..=n).map(|i| format!("test {i}")).collect::<Vec<_>>();
+    let bars = vec![
+        ("bars.png", common::bar_figure()),
+        ("bars_small.png", common::bar_figure().with_size(400, 300)),
+        (
+            "bars_negative.png",
+            BarFigure::new("Bias per test", "mean residual (kPa)", cats(4))
+                .with_group("base model", vec![-1.5, 2.0, f64::NAN, 0.7])
+                .with_group("with effect", vec![-0.4, 0.6, 0.2, -0.1])
+                .with_reference_line("tolerance", 1.0),
+        ),
+        (
+            "bars_many.png",
+            BarFigure::new("Many categories", "RMSE (kPa)", cats(30))
+                .with_group("a", (0..30).map(|i| 1.0 + (i % 7) as f64).collect())
+                .with_group("b", (0..30).map(|i| 0.5 + (i % 5) as f64).collect()),
+        ),
+    ];
+    for (name, fig) in &bars {
+        let path = dir.join(name);
+        let t = Instant::now();
+        render_bars_png(fig, &path)?;
+        println!(
+            "{} ({:.1} ms)",
+            path.display(),
+            t.elapsed().as_secs_f64() * 1e3
+        );
+    }
     Ok(())
 }

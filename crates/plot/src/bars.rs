@@ -72,21 +72,41 @@ fn validate(fig: &BarFigure) -> Result<(), Invalid> {
     Ok(())
 }
 
-/// Value label with three significant digits.
-fn format_value(v: f64) -> String {
-    crate::scale::typographic_minus(format_value_ascii(v))
+/// Number format for bar value labels: three significant digits for the
+/// largest magnitude and the same number of decimals for all labels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ValueFormat {
+    Fixed(usize),
+    Scientific,
 }
 
-fn format_value_ascii(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 {
-        "0".to_string()
-    } else if !(1e-3..1e5).contains(&a) {
-        format!("{v:.2e}")
-    } else {
-        let d = (2 - a.log10().floor() as i32).max(0) as usize;
-        format!("{v:.d$}")
+impl ValueFormat {
+    fn for_values<'a>(values: impl Iterator<Item = &'a f64>) -> Self {
+        let max_abs = values
+            .filter(|v| plottable(**v))
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        if max_abs == 0.0 {
+            ValueFormat::Fixed(0)
+        } else if !(1e-3..1e5).contains(&max_abs) {
+            ValueFormat::Scientific
+        } else {
+            ValueFormat::Fixed((2 - max_abs.log10().floor() as i32).clamp(0, 6) as usize)
+        }
     }
+
+    fn format(self, v: f64) -> String {
+        let s = match self {
+            _ if v == 0.0 => "0".to_string(),
+            ValueFormat::Fixed(d) => format!("{v:.d$}"),
+            ValueFormat::Scientific => format!("{v:.2e}"),
+        };
+        crate::scale::typographic_minus(s)
+    }
+}
+
+/// A single value with three significant digits.
+fn format_value(v: f64) -> String {
+    ValueFormat::for_values(std::iter::once(&v)).format(v)
 }
 
 /// Splits a label into two lines at the space nearest its middle.
@@ -254,6 +274,7 @@ fn plan_pass(fig: &BarFigure, min_hi: f64) -> Result<BarPlan, Invalid> {
     let bar_w = group_w / g.max(1) as f64;
     let y0 = tick_py(y, 0.0_f64.clamp(y.min, y.max), plot);
     let value_size = m.tick * 0.8;
+    let value_format = ValueFormat::for_values(fig.groups.iter().flat_map(|(_, v)| v.iter()));
     let mut bars = Vec::new();
     let mut value_labels = Vec::new();
     let mut missing = Vec::new();
@@ -277,7 +298,7 @@ fn plan_pass(fig: &BarFigure, min_hi: f64) -> Result<BarPlan, Invalid> {
             };
             occupancy.mark_rect(rect);
             bars.push((j, gi, rect, color));
-            let text = format_value(v);
+            let text = value_format.format(v);
             if fonts::text_width(&text, value_size) + 2.0 <= f64::from(rect.width()) {
                 let (at, va) = if v >= 0.0 {
                     ((cx, f64::from(rect.top) - m.px(3.0)), VAlign::Bottom)
@@ -589,6 +610,10 @@ mod tests {
         assert_eq!(format_value(0.01234), "0.0123");
         assert_eq!(format_value(12.345), "12.3");
         assert_eq!(format_value(1234.0), "1234");
+        assert_eq!(format_value(-0.5), "\u{2212}0.500");
+        let f = ValueFormat::for_values([9.4, 0.7, f64::NAN].iter());
+        assert_eq!(f, ValueFormat::Fixed(2));
+        assert_eq!(f.format(0.7), "0.70");
         assert_eq!(format_value(1.5e-5), "1.50e-5");
         assert_eq!(
             split_two("dense sand test"),

@@ -418,6 +418,10 @@ pub(crate) fn place_legend(
     let (t, b) = (area.top + inset, area.bottom - inset - h + 1);
     let candidates = [(r, t), (r, b), (l, t), (l, b)];
     let margin = m.px(3.0) as i32;
+    // A legend that would hide a large part of a small plot is left out.
+    if f64::from(w) * f64::from(h) > 0.4 * f64::from(area.width()) * f64::from(area.height()) {
+        return None;
+    }
     let rect = candidates
         .iter()
         .map(|&(x, y)| PixelRect {
@@ -469,12 +473,15 @@ fn plan_panel(
     for (p, _, _) in &markers {
         occupancy.mark_point(*p);
     }
-    let entries: Vec<LegendEntry> = panel
-        .series
-        .iter()
-        .filter_map(|s| legend_entry(s, m))
-        .filter(|e| !skip_labels.contains(&e.label))
-        .collect();
+    // One entry per label: series repeated under the same label (e.g. one
+    // per test) are listed once; labels already in the main legend are not
+    // repeated in the residual panel.
+    let mut entries: Vec<LegendEntry> = Vec::new();
+    for e in panel.series.iter().filter_map(|s| legend_entry(s, m)) {
+        if !skip_labels.contains(&e.label) && !entries.iter().any(|x| x.label == e.label) {
+            entries.push(e);
+        }
+    }
     let legend = place_legend(entries, rect, &occupancy, m);
     PanelPlan {
         rect,

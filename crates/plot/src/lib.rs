@@ -20,6 +20,8 @@
 //! [`inspect_png`], [`read_rgb`] and [`figure_layout`] help tests (here and
 //! in other crates) check what was drawn.
 
+#![warn(missing_docs)]
+
 mod bars;
 mod canvas;
 mod colors;

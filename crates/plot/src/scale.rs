@@ -44,10 +44,12 @@ impl Extent {
     }
 
     /// The padded axis range: 5 % of the span on each side; an all-equal
-    /// extent gets ±5 % of its value (±1 around 0); no data gives 0..1.
+    /// extent gets ±5 % of its value (±1 around 0); no data gives 0..1
+    /// (−1..1 when zero must be inside).
     pub fn padded(&self, include_zero: bool) -> AxisRange {
         let Some((mut lo, mut hi)) = self.bounds else {
-            return AxisRange { min: 0.0, max: 1.0 };
+            let min = if include_zero { -1.0 } else { 0.0 };
+            return AxisRange { min, max: 1.0 };
         };
         if include_zero {
             lo = lo.min(0.0);
@@ -214,6 +216,7 @@ mod tests {
     fn padded_ranges() {
         let mut e = Extent::default();
         assert_eq!(e.padded(false), range(0.0, 1.0));
+        assert_eq!(e.padded(true), range(-1.0, 1.0));
         e.add(f64::NAN);
         e.add(f64::INFINITY);
         e.add(1e308);
