@@ -296,7 +296,8 @@ pub(crate) fn return_shear(
     target: f64,
     guess: f64,
 ) -> Result<Plastic, StepError> {
-    let tol = 1e-10 * s.p.max(target);
+    // Tight: the slip is accumulated over thousands of steps and differentiated by fitting.
+    let tol = 1e-13 * s.p.max(target);
     let h = |e: &Eval| e.r * e.mu_eff * s.p - target;
     let dh = |e: &Eval| s.p * (e.dr * e.mu_eff + e.r * e.dmu_eff);
     // Bracket the first root by marching out from λ = 0, where h < 0.

@@ -1,0 +1,237 @@
+//! Tests as the objective sees them, and the residual vector.
+
+use serde::Serialize;
+use subfric_model::{simulate_predicted_into, Control, Model, Protocol, SimError};
+
+/// One test prepared for fitting.
+#[derive(Clone, Debug)]
+pub struct FitTest {
+    /// Test name (set name prefixed in joint fits of several sets).
+    pub name: String,
+    /// Imposed quantity.
+    pub control: Control,
+    /// Time [s].
+    pub time: Vec<f64>,
+    /// Imposed column (conditioned: measurement jitter removed).
+    pub imposed: Vec<f64>,
+    /// Measured column: shear [kPa] under slip control, slip [mm] under traction control.
+    pub measured: Vec<f64>,
+    /// Normal stress per row [kPa].
+    pub normal: Vec<f64>,
+    /// Slip at the first row (traction control).
+    pub initial_slip: f64,
+    /// User weight of the test (1 by default).
+    pub weight: f64,
+    /// Noise standard deviation of the measured column, estimated from the data itself.
+    pub noise_sd: f64,
+    /// Scale of the measured column (peak |shear|, or slip range) for relative errors.
+    pub scale: f64,
+}
+
+/// Noise standard deviation of a sampled signal: the MAD of second differences, which
+/// ignores the smooth part of the signal and the few rows of sharp changes.
+///
+/// ```
+/// let y: Vec<f64> = (0..1000).map(|i| (i as f64 * 0.01).sin() + if i % 2 == 0 { 0.01 } else { -0.01 }).collect();
+/// let sd = subfric_fit::noise_sd(&y);
+/// assert!((sd - 0.01).abs() < 0.003, "{sd}");
+/// ```
+pub fn noise_sd(y: &[f64]) -> f64 {
+    if y.len() < 5 {
+        return 0.0;
+    }
+    let mut d: Vec<f64> = y.windows(3).map(|w| w[2] - 2.0 * w[1] + w[0]).collect();
+    let med = median(&mut d);
+    let mut dev: Vec<f64> = d.iter().map(|v| (v - med).abs()).collect();
+    1.4826 * median(&mut dev) / 6f64.sqrt()
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(|a, b| a.total_cmp(b));
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+impl FitTest {
+    /// Builds a test and estimates its noise and scale.
+    pub fn new(
+        name: impl Into<String>,
+        control: Control,
+        time: Vec<f64>,
+        imposed: Vec<f64>,
+        measured: Vec<f64>,
+        normal: Vec<f64>,
+    ) -> FitTest {
+        let scale = match control {
+            Control::Slip => measured.iter().fold(0.0f64, |m, v| m.max(v.abs())),
+            Control::Shear => {
+                let (lo, hi) = measured
+                    .iter()
+                    .fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+                hi - lo
+            }
+        }
+        .max(1e-12);
+        // A floor keeps noise-free (synthetic) data from getting infinite weight.
+        let noise = noise_sd(&measured).max(1e-4 * scale);
+        FitTest {
+            name: name.into(),
+            control,
+            initial_slip: match control {
+                Control::Slip => 0.0,
+                Control::Shear => measured.first().copied().unwrap_or(0.0),
+            },
+            time,
+            imposed,
+            measured,
+            normal,
+            weight: 1.0,
+            noise_sd: noise,
+            scale,
+        }
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.time.len()
+    }
+
+    /// True when the test has no rows.
+    pub fn is_empty(&self) -> bool {
+        self.time.is_empty()
+    }
+
+    /// The protocol driving the model.
+    pub fn protocol(&self) -> Protocol<'_> {
+        Protocol {
+            control: self.control,
+            time: &self.time,
+            imposed: &self.imposed,
+            normal: &self.normal,
+            initial_slip: self.initial_slip,
+        }
+    }
+
+    /// The model's prediction of the measured column.
+    pub fn predict(&self, m: &Model) -> Result<Vec<f64>, SimError> {
+        let mut out = Vec::new();
+        simulate_predicted_into(m, &self.protocol(), &mut out)?;
+        Ok(out)
+    }
+}
+
+/// Typical slip rate of the tests [mm/s]: the median imposed rate while sliding under slip
+/// control, or the mean slip rate under traction control.
+pub fn typical_rate(tests: &[FitTest]) -> f64 {
+    let mut rates = Vec::new();
+    for t in tests {
+        match t.control {
+            Control::Slip => {
+                let r: Vec<f64> = t
+                    .imposed
+                    .windows(2)
+                    .zip(t.time.windows(2))
+                    .map(|(u, tt)| ((u[1] - u[0]) / (tt[1] - tt[0])).abs())
+                    .collect();
+                let max = r.iter().cloned().fold(0.0, f64::max);
+                rates.extend(r.into_iter().filter(|v| *v > 0.01 * max));
+            }
+            Control::Shear => {
+                let span = t.time.last().unwrap_or(&0.0) - t.time.first().unwrap_or(&0.0);
+                if span > 0.0 {
+                    rates.push(t.scale / span);
+                }
+            }
+        }
+    }
+    let r = median(&mut rates);
+    if r > 0.0 && r.is_finite() {
+        r
+    } else {
+        0.01
+    }
+}
+
+/// Residual assigned to every row of a test the model cannot simulate (e.g. runaway under
+/// traction control), in noise units: large, finite, so optimisers move away.
+pub const FAILED_RESIDUAL: f64 = 1e3;
+
+/// Writes the weighted, noise-normalised residuals (prediction − measurement)·√w/σ of all
+/// tests into `out`; returns how many tests failed to simulate.
+pub fn residuals_into(
+    tests: &[FitTest],
+    m: &Model,
+    out: &mut Vec<f64>,
+    scratch: &mut Vec<f64>,
+) -> usize {
+    out.clear();
+    let mut failed = 0;
+    for t in tests {
+        let k = t.weight.sqrt() / t.noise_sd;
+        match simulate_predicted_into(m, &t.protocol(), scratch) {
+            Ok(()) => out.extend(scratch.iter().zip(&t.measured).map(|(p, y)| k * (p - y))),
+            Err(_) => {
+                failed += 1;
+                out.extend(std::iter::repeat_n(FAILED_RESIDUAL, t.len()));
+            }
+        }
+    }
+    failed
+}
+
+/// Misfit of one test.
+#[derive(Clone, Debug, Serialize)]
+pub struct TestMisfit {
+    /// Test name.
+    pub name: String,
+    /// Rows.
+    pub rows: usize,
+    /// RMS error in the measured column's unit (kPa or mm).
+    pub rms: f64,
+    /// RMS error relative to the test's scale [%].
+    pub rms_percent: f64,
+    /// Estimated noise SD of the measured column.
+    pub noise_sd: f64,
+    /// RMS error / noise SD (1 = at the noise level).
+    pub rms_over_noise: f64,
+    /// Unit of `rms`.
+    pub unit: &'static str,
+}
+
+/// Per-test misfit of a model.
+pub fn misfits(tests: &[FitTest], m: &Model) -> Vec<TestMisfit> {
+    tests
+        .iter()
+        .map(|t| {
+            let rms = match t.predict(m) {
+                Ok(p) => (p
+                    .iter()
+                    .zip(&t.measured)
+                    .map(|(a, b)| (a - b).powi(2))
+                    .sum::<f64>()
+                    / t.len().max(1) as f64)
+                    .sqrt(),
+                Err(_) => f64::INFINITY,
+            };
+            TestMisfit {
+                name: t.name.clone(),
+                rows: t.len(),
+                rms,
+                rms_percent: 100.0 * rms / t.scale,
+                noise_sd: t.noise_sd,
+                rms_over_noise: rms / t.noise_sd,
+                unit: match t.control {
+                    Control::Slip => "kPa",
+                    Control::Shear => "mm",
+                },
+            }
+        })
+        .collect()
+}

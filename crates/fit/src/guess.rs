@@ -1,0 +1,199 @@
+//! Physically informed first guesses read off the curves: the peak gives μ_s, the plateau the
+//! steady friction (μ_k with ξ), the decay length κ + ξ/v, the rise ũ, hold recoveries ξ.
+
+use crate::dataset::FitTest;
+use subfric_model::{Control, Model};
+
+/// Features of the first monotonic loading of a slip-controlled test.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurveFeatures {
+    /// Peak friction (shear/normal).
+    pub peak: f64,
+    /// Slip from the start to 90 % of the peak [mm].
+    pub rise_mm: f64,
+    /// Friction at the end of the first loading.
+    pub plateau: f64,
+    /// Slip over which the post-peak excess falls by e [mm]; `None` without softening.
+    pub decay_mm: Option<f64>,
+    /// Mean slip rate of the loading [mm/s].
+    pub rate: f64,
+    /// Recovery after holds: (hold duration [s], friction before, peak after).
+    pub holds: [Option<(f64, f64, f64)>; 1],
+}
+
+/// Reads the features of the first monotonic loading of a slip-controlled test.
+pub fn features(t: &FitTest) -> Option<CurveFeatures> {
+    if t.control != Control::Slip || t.len() < 10 {
+        return None;
+    }
+    let u0 = t.imposed[0];
+    let sign = {
+        let far = t.imposed.iter().skip(1).find(|u| (**u - u0).abs() > 1e-9)?;
+        (far - u0).signum()
+    };
+    // First loading: until the slip reverses or stops for a while.
+    let mut end = 1;
+    let mut still = 0;
+    while end < t.len() {
+        let du = sign * (t.imposed[end] - t.imposed[end - 1]);
+        if du < -1e-12 {
+            break;
+        }
+        still = if du <= 1e-12 { still + 1 } else { 0 };
+        if still >= 3 {
+            end -= still - 1;
+            break;
+        }
+        end += 1;
+    }
+    if end < 8 {
+        return None;
+    }
+    let f: Vec<f64> = (0..end)
+        .map(|i| sign * t.measured[i] / t.normal[i])
+        .collect();
+    let (ip, &peak) = f.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1))?;
+    if peak <= 0.0 {
+        return None;
+    }
+    let i90 = f.iter().position(|&v| v >= 0.9 * peak)?;
+    let rise_mm = (sign * (t.imposed[i90] - u0)).max(1e-6);
+    let tail = ((end - ip) / 10).max(1);
+    let plateau = f[end - tail..end].iter().sum::<f64>() / tail as f64;
+    let target = plateau + (peak - plateau) / std::f64::consts::E;
+    let decay_mm = if peak - plateau > 0.02 * peak {
+        f[ip..end]
+            .iter()
+            .position(|&v| v <= target)
+            .map(|k| (sign * (t.imposed[ip + k] - t.imposed[ip])).max(1e-6))
+    } else {
+        None
+    };
+    let dt = t.time[end - 1] - t.time[0];
+    let rate = (sign * (t.imposed[end - 1] - u0) / dt.max(1e-12)).max(1e-12);
+    // A hold right after the first loading: recovery of friction on reloading.
+    let mut holds = [None];
+    if end + 2 < t.len() {
+        let h0 = end - 1;
+        let mut h1 = h0;
+        while h1 + 1 < t.len() && (t.imposed[h1 + 1] - t.imposed[h0]).abs() <= 1e-9 {
+            h1 += 1;
+        }
+        let duration = t.time[h1] - t.time[h0];
+        if h1 > h0 && duration > 0.0 {
+            let look = (h1 + 1..t.len()).take(40);
+            let after = look
+                .map(|i| sign * t.measured[i] / t.normal[i])
+                .fold(f64::MIN, f64::max);
+            if after.is_finite() {
+                holds[0] = Some((duration, f[end - 1], after));
+            }
+        }
+    }
+    Some(CurveFeatures {
+        peak,
+        rise_mm,
+        plateau,
+        decay_mm,
+        rate,
+        holds,
+    })
+}
+
+/// First guesses from traction-controlled tests: μ_s somewhat above the largest imposed
+/// friction, ũ from the slip of the first loading (r rises from 0 to F/(μ_s p) over it, Eq. 29),
+/// and a coarse grid of μ_k/μ_s, κ and ξ, which the ratcheting of later cycles sorts out.
+pub fn traction_guesses(t: &FitTest, template: &Model) -> Vec<Model> {
+    let mut out = Vec::new();
+    if t.control != Control::Shear || t.len() < 5 {
+        return out;
+    }
+    let f: Vec<f64> = (0..t.len())
+        .map(|i| (t.imposed[i] / t.normal[i]).abs())
+        .collect();
+    let peak = f.iter().cloned().fold(0.0, f64::max);
+    if peak <= 0.0 {
+        return out;
+    }
+    // End of the first loading: the first row after which |shear| falls.
+    let i1 = (1..t.len()).find(|&i| f[i] < f[i - 1]).unwrap_or(t.len()) - 1;
+    let first_slip = (t.measured[i1] - t.measured[0]).abs().max(1e-6);
+    for &factor in &[1.05, 1.2, 1.4, 1.7, 2.2] {
+        let mu_s = peak * factor;
+        let r = f[i1] / mu_s;
+        let u_tilde = (-(std::f64::consts::FRAC_PI_2 * r).cos().ln()
+            / (std::f64::consts::FRAC_PI_2 * first_slip))
+            .max(0.2);
+        for &q in &[0.5, 0.75, 0.9] {
+            for &kappa in &[0.3, 1.5, 5.0] {
+                for &xi in &[1e-4, 1e-3, 1e-2] {
+                    let mut m = *template;
+                    m.params.mu_s = mu_s;
+                    m.params.mu_k = q * mu_s;
+                    m.params.kappa = kappa;
+                    m.params.xi = xi;
+                    m.params.u_tilde = u_tilde;
+                    m.params.mu_0 = None;
+                    out.push(m);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// First guesses for the base parameters from the slip-controlled tests (several splits of
+/// the decay between κ and ξ, which one rate cannot tell apart). Others come from `template`.
+pub fn first_guesses(tests: &[FitTest], template: &Model) -> Vec<Model> {
+    let mut out = Vec::new();
+    for t in tests {
+        out.extend(traction_guesses(t, template));
+        let Some(c) = features(t) else { continue };
+        let u_tilde = 1.181 / c.rise_mm;
+        let decay = c.decay_mm.map(|l| 1.0 / l);
+        for &mu_s_factor in &[1.02, 1.15] {
+            let mu_s = c.peak * mu_s_factor;
+            let mu_ss = c.plateau.min(mu_s);
+            let lambdas: Vec<f64> = match decay {
+                Some(l) => vec![l],
+                None => vec![1.0, 30.0],
+            };
+            let mut xis: Vec<f64> = Vec::new();
+            if let Some((dur, before, after)) = c.holds[0] {
+                let gap = (mu_s - before).max(1e-6);
+                let frac = ((after - before) / gap).clamp(1e-4, 0.999);
+                xis.push(-(1.0 - frac).ln() / dur);
+            }
+            for &lam in &lambdas {
+                for &phi in &[0.02, 0.3, 0.7] {
+                    let xi = phi * lam * c.rate;
+                    let kappa = (1.0 - phi) * lam;
+                    let kv = kappa * c.rate;
+                    let mu_k = ((mu_ss * (kv + xi) - xi * mu_s) / kv).clamp(0.02 * mu_s, mu_ss);
+                    let mut m = *template;
+                    m.params.mu_s = mu_s;
+                    m.params.mu_k = mu_k;
+                    m.params.kappa = kappa;
+                    m.params.xi = xi;
+                    m.params.u_tilde = u_tilde;
+                    m.params.mu_0 = None;
+                    out.push(m);
+                }
+                for &xi in &xis {
+                    let kappa = (lam - xi / c.rate).max(0.05 * lam);
+                    let kv = kappa * c.rate;
+                    let mu_k = ((mu_ss * (kv + xi) - xi * mu_s) / kv).clamp(0.02 * mu_s, mu_ss);
+                    let mut m = *template;
+                    m.params.mu_s = mu_s;
+                    m.params.mu_k = mu_k;
+                    m.params.kappa = kappa;
+                    m.params.xi = xi;
+                    m.params.u_tilde = u_tilde;
+                    m.params.mu_0 = None;
+                    out.push(m);
+                }
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,85 @@
+//! The calibration problem: tests, the parameter space, and evaluation counting.
+
+use crate::dataset::{residuals_into, FitTest};
+use crate::space::Space;
+use argmin::core::{CostFunction, Error as ArgminError};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use subfric_model::Model;
+
+/// A least-squares problem over a [`Space`]: residuals are the noise-normalised errors of
+/// every row of every test.
+#[derive(Debug)]
+pub struct Problem<'a> {
+    /// Tests fitted jointly.
+    pub tests: &'a [FitTest],
+    /// Free parameters and their boxes.
+    pub space: Space,
+    evaluations: AtomicUsize,
+}
+
+impl<'a> Problem<'a> {
+    /// A problem fitting `tests` over `space`.
+    pub fn new(tests: &'a [FitTest], space: Space) -> Self {
+        Problem {
+            tests,
+            space,
+            evaluations: AtomicUsize::new(0),
+        }
+    }
+
+    /// Total number of rows (residuals).
+    pub fn rows(&self) -> usize {
+        self.tests.iter().map(|t| t.len()).sum()
+    }
+
+    /// Model runs so far (one run = all tests simulated once).
+    pub fn evaluations(&self) -> usize {
+        self.evaluations.load(Ordering::Relaxed)
+    }
+
+    /// Residual vector at `x` (transformed coordinates).
+    pub fn residuals(&self, x: &[f64], out: &mut Vec<f64>, scratch: &mut Vec<f64>) {
+        self.evaluations.fetch_add(1, Ordering::Relaxed);
+        let m = self.space.model_at(x);
+        residuals_into(self.tests, &m, out, scratch);
+    }
+
+    /// Sum of squared residuals at `x`.
+    pub fn ssr(&self, x: &[f64]) -> f64 {
+        let mut r = Vec::with_capacity(self.rows());
+        let mut s = Vec::new();
+        self.residuals(x, &mut r, &mut s);
+        r.iter().map(|v| v * v).sum()
+    }
+
+    /// Model at `x`.
+    pub fn model_at(&self, x: &[f64]) -> Model {
+        self.space.model_at(x)
+    }
+}
+
+/// Nelder–Mead (argmin) sees the SSR of the point folded back into the box.
+impl CostFunction for &Problem<'_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+
+    fn cost(&self, x: &Self::Param) -> Result<f64, ArgminError> {
+        let mut y = x.clone();
+        fold_into_box(&mut y, &self.space.lo, &self.space.hi);
+        Ok(self.ssr(&y))
+    }
+}
+
+/// Reflects each coordinate back into [lo, hi] (a triangle wave), so unconstrained methods
+/// can work in a box without flat regions at its walls.
+pub fn fold_into_box(x: &mut [f64], lo: &[f64], hi: &[f64]) {
+    for i in 0..x.len() {
+        let w = hi[i] - lo[i];
+        if !(w > 0.0) || !x[i].is_finite() {
+            x[i] = lo[i];
+            continue;
+        }
+        let t = (x[i] - lo[i]).rem_euclid(2.0 * w);
+        x[i] = lo[i] + if t <= w { t } else { 2.0 * w - t };
+    }
+}

@@ -1,0 +1,472 @@
+//! The parameter space seen by the optimisers: which parameters are free, and a transformed
+//! coordinate for each that keeps the model valid (logarithms for rates and moduli, a logit of
+//! μ_k/μ_s so that μ_k ≤ μ_s always holds).
+
+use serde::{Deserialize, Serialize};
+use subfric_model::{
+    DirectionEffect, LogHealing, Model, PressureEffect, RateEffect, SlipHardening,
+};
+
+/// A parameter of the model or of one of its extensions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Param {
+    /// μ_s.
+    MuS,
+    /// μ_k.
+    MuK,
+    /// κ [1/mm].
+    Kappa,
+    /// ξ [1/s].
+    Xi,
+    /// ũ [1/mm].
+    UTilde,
+    /// α_t [kN/mm³] (α_n follows it).
+    AlphaT,
+    /// Rate effect: a.
+    RateA,
+    /// Rate effect: v_c [mm/s].
+    RateVc,
+    /// Pressure effect: β.
+    PressureBeta,
+    /// Slip hardening: h.
+    SlipH,
+    /// Slip hardening: s_h [mm].
+    SlipSh,
+    /// Log healing: t_c [s].
+    HealTc,
+    /// Direction effect: d.
+    DirectionD,
+}
+
+/// How a parameter is mapped to the optimiser's coordinate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scale {
+    /// x = ln(value).
+    Log,
+    /// x = value.
+    Linear,
+    /// x = logit(μ_k / μ_s).
+    RatioToMuS,
+}
+
+impl Param {
+    /// The five parameters of the paper that a calibration frees by default.
+    pub const BASE: [Param; 5] = [
+        Param::MuS,
+        Param::MuK,
+        Param::Kappa,
+        Param::Xi,
+        Param::UTilde,
+    ];
+
+    /// Every parameter.
+    pub const ALL: [Param; 13] = [
+        Param::MuS,
+        Param::MuK,
+        Param::Kappa,
+        Param::Xi,
+        Param::UTilde,
+        Param::AlphaT,
+        Param::RateA,
+        Param::RateVc,
+        Param::PressureBeta,
+        Param::SlipH,
+        Param::SlipSh,
+        Param::HealTc,
+        Param::DirectionD,
+    ];
+
+    /// Key as in `params.json` (extension parameters as `effect.name`).
+    pub fn key(self) -> &'static str {
+        match self {
+            Param::MuS => "mu_s",
+            Param::MuK => "mu_k",
+            Param::Kappa => "kappa",
+            Param::Xi => "xi",
+            Param::UTilde => "u_tilde",
+            Param::AlphaT => "alpha_t",
+            Param::RateA => "rate.a",
+            Param::RateVc => "rate.v_c",
+            Param::PressureBeta => "pressure.beta",
+            Param::SlipH => "slip_hardening.h",
+            Param::SlipSh => "slip_hardening.s_h",
+            Param::HealTc => "log_healing.t_c",
+            Param::DirectionD => "direction.d",
+        }
+    }
+
+    /// Unit for display.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Param::Kappa | Param::UTilde => "1/mm",
+            Param::Xi => "1/s",
+            Param::AlphaT => "kN/mm³",
+            Param::RateVc => "mm/s",
+            Param::SlipSh => "mm",
+            Param::HealTc => "s",
+            _ => "",
+        }
+    }
+
+    /// Parses a key (as printed by [`Param::key`]).
+    pub fn from_key(s: &str) -> Option<Param> {
+        Param::ALL.iter().copied().find(|p| p.key() == s)
+    }
+
+    /// The coordinate transform.
+    pub fn scale(self) -> Scale {
+        match self {
+            Param::MuK => Scale::RatioToMuS,
+            Param::RateA | Param::PressureBeta | Param::SlipH | Param::DirectionD => Scale::Linear,
+            _ => Scale::Log,
+        }
+    }
+
+    /// Default bounds in natural units (for μ_k: bounds of the ratio μ_k/μ_s).
+    pub fn default_bounds(self) -> (f64, f64) {
+        match self {
+            Param::MuS => (0.02, 3.0),
+            Param::MuK => (1e-3, 1.0 - 1e-6),
+            Param::Kappa => (1e-3, 1e4),
+            Param::Xi => (1e-7, 10.0),
+            Param::UTilde => (0.1, 1e5),
+            Param::AlphaT => (1e-3, 1e6),
+            Param::RateA => (-0.2, 0.2),
+            Param::RateVc => (1e-7, 10.0),
+            Param::PressureBeta => (-1.0, 1.0),
+            Param::SlipH => (-1.0, 1.0),
+            Param::SlipSh => (0.01, 100.0),
+            Param::HealTc => (1e-3, 1e6),
+            Param::DirectionD => (-0.9, 0.9),
+        }
+    }
+
+    /// The value of this parameter in a model (μ_k itself, not the ratio). `None` when the
+    /// extension it belongs to is inactive.
+    pub fn get(self, m: &Model) -> Option<f64> {
+        let e = &m.ext;
+        Some(match self {
+            Param::MuS => m.params.mu_s,
+            Param::MuK => m.params.mu_k,
+            Param::Kappa => m.params.kappa,
+            Param::Xi => m.params.xi,
+            Param::UTilde => m.params.u_tilde,
+            Param::AlphaT => m.params.alpha_t,
+            Param::RateA => e.rate?.a,
+            Param::RateVc => e.rate?.v_c,
+            Param::PressureBeta => e.pressure?.beta,
+            Param::SlipH => e.slip_hardening?.h,
+            Param::SlipSh => e.slip_hardening?.s_h,
+            Param::HealTc => e.log_healing?.t_c,
+            Param::DirectionD => e.direction?.d,
+        })
+    }
+
+    /// Sets this parameter in a model, activating its extension if needed (α_n follows α_t).
+    pub fn set(self, m: &mut Model, v: f64) {
+        let e = &mut m.ext;
+        match self {
+            Param::MuS => m.params.mu_s = v,
+            Param::MuK => m.params.mu_k = v,
+            Param::Kappa => m.params.kappa = v,
+            Param::Xi => m.params.xi = v,
+            Param::UTilde => m.params.u_tilde = v,
+            Param::AlphaT => {
+                m.params.alpha_t = v;
+                m.params.alpha_n = v;
+            }
+            Param::RateA => e.rate.get_or_insert(RateEffect { a: 0.0, v_c: 1e-4 }).a = v,
+            Param::RateVc => e.rate.get_or_insert(RateEffect { a: 0.0, v_c: 1e-4 }).v_c = v,
+            Param::PressureBeta => e.pressure.get_or_insert(PressureEffect { beta: 0.0 }).beta = v,
+            Param::SlipH => {
+                e.slip_hardening
+                    .get_or_insert(SlipHardening { h: 0.0, s_h: 1.0 })
+                    .h = v
+            }
+            Param::SlipSh => {
+                e.slip_hardening
+                    .get_or_insert(SlipHardening { h: 0.0, s_h: 1.0 })
+                    .s_h = v
+            }
+            Param::HealTc => e.log_healing.get_or_insert(LogHealing { t_c: 10.0 }).t_c = v,
+            Param::DirectionD => e.direction.get_or_insert(DirectionEffect { d: 0.0 }).d = v,
+        }
+    }
+}
+
+/// One coordinate of the optimiser.
+///
+/// When μ_k, κ and ξ are all free they are charted as identifiable combinations at a reference
+/// slip rate v (the typical rate of the data): μ_ss/μ_s (steady friction), λ = κ + ξ/v (decay
+/// rate with slip) and ψ, the share of λ due to recovery (scaled so that μ_k stays in [0, μ_ss]).
+/// A single sliding rate determines the first two and leaves ψ flat, so the degeneracy the paper
+/// points out lies along one axis instead of a curved valley.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Coord {
+    /// A parameter in its own transformed scale.
+    Natural(Param),
+    /// logit(μ_ss(v)/μ_s).
+    SteadyRatio,
+    /// ln(κ + ξ/v).
+    DecayRate,
+    /// logit(ψ), ψ = φ/m with φ = ξ/(κv + ξ) and m = μ_ss/μ_s.
+    RecoveryShare,
+}
+
+impl Coord {
+    /// Display name.
+    pub fn name(&self) -> String {
+        match self {
+            Coord::Natural(p) => p.key().to_string(),
+            Coord::SteadyRatio => "mu_ss/mu_s".into(),
+            Coord::DecayRate => "kappa+xi/v".into(),
+            Coord::RecoveryShare => "recovery share".into(),
+        }
+    }
+}
+
+/// Free parameters, the optimiser's coordinates with their boxes, and the model supplying the
+/// fixed parameters.
+#[derive(Clone, Debug)]
+pub struct Space {
+    /// Model providing every fixed parameter (and the extensions that are active).
+    pub base: Model,
+    /// Free parameters (natural), sorted.
+    pub free: Vec<Param>,
+    /// The optimiser's coordinates.
+    pub coords: Vec<Coord>,
+    /// Reference slip rate of the combined chart [mm/s].
+    pub v_ref: f64,
+    /// Lower bounds in the optimiser's coordinates.
+    pub lo: Vec<f64>,
+    /// Upper bounds in the optimiser's coordinates.
+    pub hi: Vec<f64>,
+}
+
+fn forward(scale: Scale, v: f64) -> f64 {
+    match scale {
+        Scale::Log => v.ln(),
+        Scale::Linear => v,
+        Scale::RatioToMuS => logit(v),
+    }
+}
+
+fn backward(scale: Scale, x: f64) -> f64 {
+    match scale {
+        Scale::Log => x.exp(),
+        Scale::Linear => x,
+        Scale::RatioToMuS => sigmoid(x),
+    }
+}
+
+fn logit(v: f64) -> f64 {
+    (v / (1.0 - v)).ln()
+}
+
+fn sigmoid(x: f64) -> f64 {
+    1.0 / (1.0 + (-x).exp())
+}
+
+const SHARE_BOUNDS: (f64, f64) = (1e-7, 1.0 - 1e-4);
+const RATIO_BOUNDS: (f64, f64) = (1e-3, 1.0 - 1e-6);
+
+impl Space {
+    /// A space freeing `free` (duplicates removed, sorted) with default or given natural bounds.
+    /// `v_ref` > 0 selects the combined chart when μ_k, κ and ξ are all free.
+    pub fn new(base: Model, free: &[Param], bounds: &[(Param, f64, f64)]) -> Space {
+        Space::with_rate(base, free, bounds, 0.0)
+    }
+
+    /// As [`Space::new`], charting μ_k, κ, ξ as combinations at slip rate `v_ref` [mm/s].
+    pub fn with_rate(
+        base: Model,
+        free: &[Param],
+        bounds: &[(Param, f64, f64)],
+        v_ref: f64,
+    ) -> Space {
+        let mut free: Vec<Param> = free.to_vec();
+        free.sort();
+        free.dedup();
+        let combined = v_ref > 0.0
+            && [Param::MuK, Param::Kappa, Param::Xi]
+                .iter()
+                .all(|p| free.contains(p));
+        let mut coords = Vec::new();
+        let mut lo = Vec::new();
+        let mut hi = Vec::new();
+        let nat_bounds = |p: Param| {
+            bounds
+                .iter()
+                .find(|(q, _, _)| *q == p)
+                .map(|&(_, a, b)| (a, b))
+                .unwrap_or_else(|| p.default_bounds())
+        };
+        for &p in &free {
+            if combined && matches!(p, Param::MuK | Param::Kappa | Param::Xi) {
+                continue;
+            }
+            let (a, b) = nat_bounds(p);
+            coords.push(Coord::Natural(p));
+            lo.push(forward(p.scale(), a));
+            hi.push(forward(p.scale(), b));
+        }
+        if combined {
+            let (ka, kb) = nat_bounds(Param::Kappa);
+            let (xa, xb) = nat_bounds(Param::Xi);
+            for (c, a, b) in [
+                (
+                    Coord::SteadyRatio,
+                    logit(RATIO_BOUNDS.0),
+                    logit(RATIO_BOUNDS.1),
+                ),
+                (
+                    Coord::DecayRate,
+                    (ka + xa / v_ref).ln(),
+                    (kb + xb / v_ref).ln(),
+                ),
+                (
+                    Coord::RecoveryShare,
+                    logit(SHARE_BOUNDS.0),
+                    logit(SHARE_BOUNDS.1),
+                ),
+            ] {
+                coords.push(c);
+                lo.push(a);
+                hi.push(b);
+            }
+        }
+        Space {
+            base,
+            free,
+            coords,
+            v_ref: if combined { v_ref } else { 0.0 },
+            lo,
+            hi,
+        }
+    }
+
+    /// Number of optimiser coordinates.
+    pub fn dim(&self) -> usize {
+        self.coords.len()
+    }
+
+    /// The model at a point of the optimiser's space.
+    pub fn model_at(&self, x: &[f64]) -> Model {
+        let mut m = self.base;
+        for (i, c) in self.coords.iter().enumerate() {
+            if let Coord::Natural(p) = *c {
+                if p != Param::MuK {
+                    p.set(&mut m, backward(p.scale(), x[i]));
+                }
+            }
+        }
+        if let Some(i) = self
+            .coords
+            .iter()
+            .position(|c| *c == Coord::Natural(Param::MuK))
+        {
+            m.params.mu_k = m.params.mu_s * sigmoid(x[i]);
+        }
+        if self.v_ref > 0.0 {
+            let get = |c: Coord| {
+                self.coords
+                    .iter()
+                    .position(|d| *d == c)
+                    .map(|i| x[i])
+                    .unwrap_or(0.0)
+            };
+            let ratio = sigmoid(get(Coord::SteadyRatio));
+            let lambda = get(Coord::DecayRate).exp();
+            let psi = sigmoid(get(Coord::RecoveryShare));
+            let phi = psi * ratio;
+            m.params.kappa = (1.0 - phi) * lambda;
+            m.params.xi = phi * lambda * self.v_ref;
+            // μ_ss = (1 − φ) μ_k + φ μ_s  ⇒  μ_k / μ_s = m (1 − ψ) / (1 − φ).
+            m.params.mu_k = m.params.mu_s * ratio * (1.0 - psi) / (1.0 - phi);
+        }
+        if m.params.mu_k > m.params.mu_s {
+            m.params.mu_k = m.params.mu_s;
+        }
+        if let Some(m0) = m.params.mu_0 {
+            m.params.mu_0 = Some(m0.clamp(m.params.mu_k, m.params.mu_s));
+        }
+        m
+    }
+
+    /// The optimiser's coordinates of a model, clamped into the box.
+    pub fn point_of(&self, m: &Model) -> Vec<f64> {
+        let mu_s = m.params.mu_s;
+        let q = (m.params.mu_k / mu_s).clamp(1e-12, 1.0 - 1e-12);
+        let (kappa, xi, v) = (
+            m.params.kappa.max(1e-12),
+            m.params.xi.max(1e-15),
+            self.v_ref,
+        );
+        let phi = xi / (kappa * v + xi);
+        let ratio = ((1.0 - phi) * q + phi).clamp(RATIO_BOUNDS.0, RATIO_BOUNDS.1);
+        let mut x: Vec<f64> = self
+            .coords
+            .iter()
+            .map(|c| match *c {
+                Coord::Natural(Param::MuK) => logit(q),
+                Coord::Natural(p) => forward(p.scale(), p.get(m).unwrap_or_else(|| neutral(p))),
+                Coord::SteadyRatio => logit(ratio),
+                Coord::DecayRate => (kappa + xi / v).ln(),
+                Coord::RecoveryShare => logit((phi / ratio).clamp(SHARE_BOUNDS.0, SHARE_BOUNDS.1)),
+            })
+            .collect();
+        self.clamp(&mut x);
+        x
+    }
+
+    /// Natural values of the free parameters at `x`, in the order of `free`.
+    pub fn natural(&self, x: &[f64]) -> Vec<f64> {
+        let m = self.model_at(x);
+        self.free
+            .iter()
+            .map(|p| p.get(&m).unwrap_or(f64::NAN))
+            .collect()
+    }
+
+    /// Display value of coordinate `k` at `x`: the parameter itself, μ_ss at v_ref, λ, or ψ.
+    pub fn coord_value(&self, k: usize, x: &[f64]) -> f64 {
+        match self.coords[k] {
+            Coord::Natural(p) => {
+                let m = self.model_at(x);
+                p.get(&m).unwrap_or(f64::NAN)
+            }
+            Coord::SteadyRatio => sigmoid(x[k]) * self.model_at(x).params.mu_s,
+            Coord::DecayRate => x[k].exp(),
+            Coord::RecoveryShare => sigmoid(x[k]),
+        }
+    }
+
+    /// Natural box of a free parameter.
+    pub fn natural_bounds(&self, p: Param) -> (f64, f64) {
+        match p {
+            Param::MuK => (0.0, self.base.params.mu_s.max(3.0)),
+            _ => p.default_bounds(),
+        }
+    }
+
+    /// Clamps a point into the box.
+    pub fn clamp(&self, x: &mut [f64]) {
+        for (i, v) in x.iter_mut().enumerate() {
+            *v = if v.is_nan() {
+                0.5 * (self.lo[i] + self.hi[i])
+            } else {
+                v.clamp(self.lo[i], self.hi[i])
+            };
+        }
+    }
+}
+
+/// A neutral value for an extension parameter not yet in the model.
+fn neutral(p: Param) -> f64 {
+    let (a, b) = p.default_bounds();
+    match p.scale() {
+        Scale::Linear => 0.0f64.clamp(a, b),
+        _ => (a * b).sqrt(),
+    }
+}
