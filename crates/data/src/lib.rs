@@ -1,1 +1,45 @@
+//! # subfric-data
+//!
+//! Experiment data of the subloading-friction calibration: one folder per experiment set,
+//! holding `experiment.json` and one CSV per test (see `DATA-FORMAT.md`).
+//!
+//! - [`load_set`], [`load_test`], [`write_set`]: read and write sets; every problem of every
+//!   file is reported at once, naming the file, line and field ([`DataError`], [`Problem`]).
+//! - [`condition_imposed`]: the imposed column with measurement noise removed where it would
+//!   create spurious reversals (isotonic fit per monotone run, flat holds).
+//! - [`segment`]: loading phases (initial loading, steady sliding, velocity steps, holds,
+//!   unloading, reversals) and cycles, for fitting, plots and diagnosis.
+//! - [`summary`]: a readable table for `subfric check`.
+//! - [`import`]: lab files in other delimiters, units and column names.
+//!
+//! ```
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! use subfric_data::{load_set, segment, SegmentOptions};
+//! let dir = tempfile::tempdir()?;
+//! std::fs::write(dir.path().join("experiment.json"), r#"{"name": "demo", "title": "Demo", "source": "doc",
+//!   "tests": [{"name": "bad", "file": "bad.csv", "control": "slip", "normal_stress_kpa": 100}]}"#)?;
+//! std::fs::write(dir.path().join("bad.csv"), "time_s,slip_mm,shear_kpa\n0,0,0\n0,0.1,abc\n")?;
+//! let err = load_set(dir.path()).unwrap_err();
+//! let text = err.to_string();
+//! assert!(text.contains("bad.csv:3: field `shear_kpa`: `abc` is not a number"));
+//! # Ok(()) }
+//! ```
 
+#![warn(missing_docs)]
+
+pub mod condition;
+mod error;
+pub mod import;
+mod jsonpos;
+pub mod meta;
+pub mod segment;
+pub mod set;
+pub mod summary;
+
+pub use condition::{condition_imposed, condition_imposed_with, Conditioned};
+pub use error::{DataError, Problem};
+pub use import::{import, ColumnRef, Delimiter, ImportSpec, LengthUnit, StressUnit, TimeUnit};
+pub use meta::{parse_meta, Control, ExperimentMeta, Interface, TestSpec};
+pub use segment::{segment, RateLevel, Segment, SegmentKind, SegmentOptions, Segmentation};
+pub use set::{load_set, load_test, write_set, ExperimentSet, TestData, ACCEPTED_COLUMNS, EXPERIMENT_JSON};
+pub use summary::{summary, summary_with, HoldSummary, SetSummary, StepSummary, TestSummary};

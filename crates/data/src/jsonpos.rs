@@ -1,0 +1,182 @@
+//! Positions of the values of a JSON text, by JSON path, so that problems found after parsing
+//! can name the line they come from.
+
+use std::collections::HashMap;
+
+/// Maps a JSON path (`""` for the root, `tests[0].control`, ...) to the 1-based line and column
+/// where its value starts. Never panics; on malformed input it returns what it found so far.
+pub(crate) fn value_positions(text: &str) -> HashMap<String, (usize, usize)> {
+    let mut s = Scanner {
+        chars: text.chars().collect(),
+        pos: 0,
+        line: 1,
+        col: 1,
+        out: HashMap::new(),
+    };
+    s.skip_ws();
+    s.value(String::new(), 0);
+    s.out
+}
+
+struct Scanner {
+    chars: Vec<char>,
+    pos: usize,
+    line: usize,
+    col: usize,
+    out: HashMap<String, (usize, usize)>,
+}
+
+const MAX_DEPTH: usize = 200;
+
+impl Scanner {
+    fn peek(&self) -> Option<char> {
+        self.chars.get(self.pos).copied()
+    }
+
+    fn bump(&mut self) -> Option<char> {
+        let c = self.peek()?;
+        self.pos += 1;
+        if c == '\n' {
+            self.line += 1;
+            self.col = 1;
+        } else {
+            self.col += 1;
+        }
+        Some(c)
+    }
+
+    fn skip_ws(&mut self) {
+        while matches!(self.peek(), Some(c) if c.is_whitespace()) {
+            self.bump();
+        }
+    }
+
+    /// Parses one value at the current position; returns false on malformed input.
+    fn value(&mut self, path: String, depth: usize) -> bool {
+        if depth > MAX_DEPTH {
+            return false;
+        }
+        self.out.insert(path.clone(), (self.line, self.col));
+        match self.peek() {
+            Some('{') => {
+                self.bump();
+                self.skip_ws();
+                if self.peek() == Some('}') {
+                    self.bump();
+                    return true;
+                }
+                loop {
+                    self.skip_ws();
+                    let Some(key) = self.string() else {
+                        return false;
+                    };
+                    self.skip_ws();
+                    if self.bump() != Some(':') {
+                        return false;
+                    }
+                    self.skip_ws();
+                    let child = if path.is_empty() {
+                        key
+                    } else {
+                        format!("{path}.{key}")
+                    };
+                    if !self.value(child, depth + 1) {
+                        return false;
+                    }
+                    self.skip_ws();
+                    match self.bump() {
+                        Some(',') => continue,
+                        Some('}') => return true,
+                        _ => return false,
+                    }
+                }
+            }
+            Some('[') => {
+                self.bump();
+                self.skip_ws();
+                if self.peek() == Some(']') {
+                    self.bump();
+                    return true;
+                }
+                let mut i = 0usize;
+                loop {
+                    self.skip_ws();
+                    if !self.value(format!("{path}[{i}]"), depth + 1) {
+                        return false;
+                    }
+                    i += 1;
+                    self.skip_ws();
+                    match self.bump() {
+                        Some(',') => continue,
+                        Some(']') => return true,
+                        _ => return false,
+                    }
+                }
+            }
+            Some('"') => self.string().is_some(),
+            Some(_) => {
+                // number, true, false, null
+                let mut any = false;
+                while matches!(self.peek(), Some(c) if !c.is_whitespace() && !matches!(c, ',' | ']' | '}'))
+                {
+                    self.bump();
+                    any = true;
+                }
+                any
+            }
+            None => false,
+        }
+    }
+
+    fn string(&mut self) -> Option<String> {
+        if self.bump() != Some('"') {
+            return None;
+        }
+        let mut s = String::new();
+        loop {
+            match self.bump()? {
+                '"' => return Some(s),
+                '\\' => {
+                    let c = self.bump()?;
+                    match c {
+                        'n' => s.push('\n'),
+                        't' => s.push('\t'),
+                        'r' => s.push('\r'),
+                        'b' => s.push('\u{8}'),
+                        'f' => s.push('\u{c}'),
+                        'u' => {
+                            let mut code = 0u32;
+                            for _ in 0..4 {
+                                code = code * 16 + self.bump()?.to_digit(16)?;
+                            }
+                            s.push(char::from_u32(code).unwrap_or('\u{fffd}'));
+                        }
+                        other => s.push(other),
+                    }
+                }
+                c => s.push(c),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_nested_paths() {
+        let text = "{\n  \"a\": 1,\n  \"tests\": [\n    {\"name\": \"x\",\n     \"control\": \"slip\"}\n  ]\n}";
+        let p = value_positions(text);
+        assert_eq!(p["a"], (2, 8));
+        assert_eq!(p["tests[0].name"].0, 4);
+        assert_eq!(p["tests[0].control"].0, 5);
+    }
+
+    #[test]
+    fn malformed_input_does_not_panic() {
+        for t in ["", "{", "{\"a\"", "[1,", "\"\\u12", "{\"a\":[{]}", "}}}"] {
+            let _ = value_positions(t);
+        }
+    }
+}

@@ -1,0 +1,448 @@
+//! The experiment description `experiment.json`: types and validation.
+
+use std::collections::HashMap;
+use std::fmt;
+use std::path::{Component, Path};
+use std::str::FromStr;
+
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+
+use crate::error::{DataError, Problems};
+use crate::jsonpos::value_positions;
+
+/// Which column the apparatus imposed.
+///
+/// ```
+/// use subfric_data::Control;
+/// let c: Control = serde_json::from_str("\"shear\"").unwrap();
+/// assert_eq!(c, Control::Shear);
+/// assert_eq!("slip".parse::<Control>().unwrap(), Control::Slip);
+/// assert_eq!(Control::Slip.to_string(), "slip");
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Control {
+    /// Slip history imposed, shear measured (displacement control).
+    Slip,
+    /// Shear traction imposed, slip measured (stress control: pulsating loading, creep).
+    Shear,
+}
+
+impl Control {
+    /// `"slip"` or `"shear"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Control::Slip => "slip",
+            Control::Shear => "shear",
+        }
+    }
+}
+
+impl fmt::Display for Control {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Control {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "slip" => Ok(Control::Slip),
+            "shear" => Ok(Control::Shear),
+            other => Err(format!("unknown control `{other}` (expected `slip` or `shear`)")),
+        }
+    }
+}
+
+/// The sand–metal interface tested.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Interface {
+    /// Soil, e.g. "Toyoura sand".
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub soil: Option<String>,
+    /// Metal surface, e.g. "A36 steel".
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface: Option<String>,
+    /// Maximum roughness R_max of the surface, µm.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub roughness_rmax_um: Option<f64>,
+    /// Any other fields, kept as they are.
+    #[serde(flatten)]
+    pub extra: Map<String, Value>,
+}
+
+/// One test of an experiment set, as described in `experiment.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TestSpec {
+    /// Test name, unique within the set.
+    pub name: String,
+    /// CSV file name, relative to the set's folder.
+    pub file: String,
+    /// Which column the apparatus imposed.
+    pub control: Control,
+    /// Constant normal stress, kPa (a `normal_kpa` CSV column overrides it per row).
+    pub normal_stress_kpa: f64,
+    /// Any other fields, kept as they are.
+    #[serde(flatten)]
+    pub extra: Map<String, Value>,
+}
+
+impl TestSpec {
+    /// A test spec without extra fields.
+    pub fn new(name: &str, file: &str, control: Control, normal_stress_kpa: f64) -> Self {
+        TestSpec {
+            name: name.to_string(),
+            file: file.to_string(),
+            control,
+            normal_stress_kpa,
+            extra: Map::new(),
+        }
+    }
+}
+
+/// The contents of `experiment.json`.
+///
+/// Optional fields and unknown fields round-trip through serialisation.
+///
+/// ```
+/// use subfric_data::ExperimentMeta;
+/// let text = r#"{"name": "s", "title": "t", "source": "src", "custom": 1,
+///   "interface": {"soil": "sand"},
+///   "tests": [{"name": "a", "file": "a.csv", "control": "slip", "normal_stress_kpa": 100}]}"#;
+/// let meta: ExperimentMeta = serde_json::from_str(text).unwrap();
+/// assert_eq!(meta.tests[0].normal_stress_kpa, 100.0);
+/// let back: ExperimentMeta = serde_json::from_str(&serde_json::to_string(&meta).unwrap()).unwrap();
+/// assert_eq!(back, meta);
+/// assert_eq!(back.extra["custom"], 1);
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExperimentMeta {
+    /// Short name of the set (usually the folder name).
+    pub name: String,
+    /// Human-readable title.
+    pub title: String,
+    /// Where the data come from.
+    pub source: String,
+    /// How the curves were obtained (measured, digitised, reconstructed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub provenance: Option<String>,
+    /// The interface tested.
+    #[serde(default)]
+    pub interface: Interface,
+    /// The tests, one CSV each.
+    pub tests: Vec<TestSpec>,
+    /// Published parameter values to compare a fit against.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference_parameters: Option<Value>,
+    /// Any other fields, kept as they are.
+    #[serde(flatten)]
+    pub extra: Map<String, Value>,
+}
+
+/// What a JSON value is, for messages.
+fn kind_of(v: &Value) -> &'static str {
+    match v {
+        Value::Null => "null",
+        Value::Bool(_) => "a boolean",
+        Value::Number(_) => "a number",
+        Value::String(_) => "a string",
+        Value::Array(_) => "an array",
+        Value::Object(_) => "an object",
+    }
+}
+
+/// Checks a relative file name: no absolute path, no `..`, not empty.
+pub(crate) fn file_name_problem(file: &str) -> Option<String> {
+    if file.trim().is_empty() {
+        return Some("empty file name (expected a CSV file name such as `test.csv`)".into());
+    }
+    let p = Path::new(file);
+    let ok = p
+        .components()
+        .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
+    if !ok {
+        return Some(format!(
+            "file `{file}` is not a plain relative path (expected a file inside the set's folder, without `..` or a leading `/`)"
+        ));
+    }
+    None
+}
+
+/// Parses and validates the text of an `experiment.json`; `path` is used in messages.
+///
+/// All shape problems are collected (missing or mistyped fields, unknown control, duplicate
+/// test names, non-positive normal stress) before an error is returned.
+pub fn parse_meta(text: &str, path: &Path) -> Result<ExperimentMeta, DataError> {
+    let value: Value = serde_json::from_str(text).map_err(|e| DataError::Json {
+        path: path.to_path_buf(),
+        line: e.line(),
+        column: e.column(),
+        field: None,
+        message: format!("{e} (expected valid JSON)"),
+    })?;
+    let pos = value_positions(text);
+    let mut problems = Problems::default();
+    check_shape(&value, path, &pos, &mut problems);
+    if !problems.is_empty() {
+        return Err(DataError::Problems(problems.into_vec()));
+    }
+    serde_json::from_str::<ExperimentMeta>(text).map_err(|e| DataError::Json {
+        path: path.to_path_buf(),
+        line: e.line(),
+        column: e.column(),
+        field: None,
+        message: e.to_string(),
+    })
+}
+
+struct Ctx<'a> {
+    path: &'a Path,
+    pos: &'a HashMap<String, (usize, usize)>,
+}
+
+impl Ctx<'_> {
+    fn line(&self, field: &str) -> Option<usize> {
+        // the field itself, else the closest enclosing value
+        let mut f = field.to_string();
+        loop {
+            if let Some((l, _)) = self.pos.get(&f) {
+                return Some(*l);
+            }
+            match f.rfind(['.', '[']) {
+                Some(i) => f.truncate(i),
+                None => return self.pos.get("").map(|p| p.0),
+            }
+        }
+    }
+
+    fn problem(&self, problems: &mut Problems, field: &str, message: String) {
+        problems.add(self.path, self.line(field), Some(field), message);
+    }
+
+    /// Required (or optional) string field.
+    fn string<'v>(
+        &self,
+        obj: &'v Map<String, Value>,
+        prefix: &str,
+        key: &str,
+        required: bool,
+        problems: &mut Problems,
+    ) -> Option<&'v str> {
+        let field = join(prefix, key);
+        match obj.get(key) {
+            Some(Value::String(s)) => Some(s),
+            Some(Value::Null) | None if !required => None,
+            None => {
+                problems.add(
+                    self.path,
+                    self.line(prefix),
+                    Some(&field),
+                    format!("missing required field `{key}` (expected a string)"),
+                );
+                None
+            }
+            Some(v) => {
+                self.problem(
+                    problems,
+                    &field,
+                    format!("found {} (expected a string)", kind_of(v)),
+                );
+                None
+            }
+        }
+    }
+}
+
+fn join(prefix: &str, key: &str) -> String {
+    if prefix.is_empty() {
+        key.to_string()
+    } else {
+        format!("{prefix}.{key}")
+    }
+}
+
+fn check_shape(v: &Value, path: &Path, pos: &HashMap<String, (usize, usize)>, pr: &mut Problems) {
+    let cx = Ctx { path, pos };
+    let Value::Object(root) = v else {
+        pr.add(
+            path,
+            Some(1),
+            None,
+            format!("found {} (expected a JSON object with name, title, source and tests)", kind_of(v)),
+        );
+        return;
+    };
+    if let Some(name) = cx.string(root, "", "name", true, pr) {
+        if name.trim().is_empty() {
+            cx.problem(pr, "name", "empty name (expected a short name for the set)".into());
+        }
+    }
+    cx.string(root, "", "title", true, pr);
+    cx.string(root, "", "source", true, pr);
+    cx.string(root, "", "provenance", false, pr);
+    match root.get("interface") {
+        None | Some(Value::Null) => {}
+        Some(Value::Object(iface)) => {
+            cx.string(iface, "interface", "soil", false, pr);
+            cx.string(iface, "interface", "surface", false, pr);
+            match iface.get("roughness_rmax_um") {
+                None | Some(Value::Null) | Some(Value::Number(_)) => {}
+                Some(v) => cx.problem(
+                    pr,
+                    "interface.roughness_rmax_um",
+                    format!("found {} (expected a number, µm)", kind_of(v)),
+                ),
+            }
+        }
+        Some(v) => cx.problem(
+            pr,
+            "interface",
+            format!("found {} (expected an object with soil, surface, roughness_rmax_um)", kind_of(v)),
+        ),
+    }
+    let tests = match root.get("tests") {
+        Some(Value::Array(t)) => t,
+        None => {
+            pr.add(
+                path,
+                cx.line(""),
+                Some("tests"),
+                "missing required field `tests` (expected an array of tests)",
+            );
+            return;
+        }
+        Some(v) => {
+            cx.problem(pr, "tests", format!("found {} (expected an array of tests)", kind_of(v)));
+            return;
+        }
+    };
+    if tests.is_empty() {
+        cx.problem(pr, "tests", "no tests (expected at least one test)".into());
+    }
+    let mut names: HashMap<String, usize> = HashMap::new();
+    let mut files: HashMap<String, usize> = HashMap::new();
+    for (i, t) in tests.iter().enumerate() {
+        let prefix = format!("tests[{i}]");
+        let Value::Object(t) = t else {
+            cx.problem(
+                pr,
+                &prefix,
+                format!("found {} (expected an object with name, file, control, normal_stress_kpa)", kind_of(t)),
+            );
+            continue;
+        };
+        if let Some(name) = cx.string(t, &prefix, "name", true, pr) {
+            let field = format!("{prefix}.name");
+            if name.trim().is_empty() {
+                cx.problem(pr, &field, "empty test name (expected a unique name)".into());
+            } else if let Some(first) = names.get(name) {
+                cx.problem(
+                    pr,
+                    &field,
+                    format!("duplicate test name `{name}`, already used by tests[{first}] (expected unique test names)"),
+                );
+            } else {
+                names.insert(name.to_string(), i);
+            }
+        }
+        if let Some(file) = cx.string(t, &prefix, "file", true, pr) {
+            let field = format!("{prefix}.file");
+            if let Some(msg) = file_name_problem(file) {
+                cx.problem(pr, &field, msg);
+            } else if let Some(first) = files.get(file) {
+                cx.problem(
+                    pr,
+                    &field,
+                    format!("file `{file}` is already used by tests[{first}] (expected one CSV per test)"),
+                );
+            } else {
+                files.insert(file.to_string(), i);
+            }
+        }
+        let field = format!("{prefix}.control");
+        match t.get("control") {
+            Some(Value::String(s)) if s == "slip" || s == "shear" => {}
+            Some(Value::String(s)) => cx.problem(
+                pr,
+                &field,
+                format!("unknown control `{s}` (expected \"slip\" or \"shear\")"),
+            ),
+            Some(v) => cx.problem(
+                pr,
+                &field,
+                format!("found {} (expected \"slip\" or \"shear\")", kind_of(v)),
+            ),
+            None => pr.add(
+                path,
+                cx.line(&prefix),
+                Some(&field),
+                "missing required field `control` (expected \"slip\" or \"shear\")",
+            ),
+        }
+        let field = format!("{prefix}.normal_stress_kpa");
+        match t.get("normal_stress_kpa") {
+            Some(Value::Number(n)) => match n.as_f64() {
+                Some(x) if x > 0.0 && x.is_finite() => {}
+                _ => cx.problem(
+                    pr,
+                    &field,
+                    format!("normal stress {n} kPa is not positive (expected a normal stress > 0 kPa)"),
+                ),
+            },
+            Some(v) => cx.problem(
+                pr,
+                &field,
+                format!("found {} (expected a number, kPa)", kind_of(v)),
+            ),
+            None => pr.add(
+                path,
+                cx.line(&prefix),
+                Some(&field),
+                "missing required field `normal_stress_kpa` (expected a number, kPa)",
+            ),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn problems(text: &str) -> Vec<String> {
+        match parse_meta(text, Path::new("x/experiment.json")) {
+            Err(DataError::Problems(p)) => p.iter().map(|p| p.to_string()).collect(),
+            Err(e) => vec![e.to_string()],
+            Ok(_) => vec![],
+        }
+    }
+
+    #[test]
+    fn reports_all_shape_problems_with_lines() {
+        let text = "{\n\"name\": \"s\",\n\"source\": 3,\n\"tests\": [\n {\"name\": \"a\", \"file\": \"a.csv\", \"control\": \"slide\", \"normal_stress_kpa\": 100},\n {\"name\": \"a\", \"file\": \"../b.csv\", \"control\": \"slip\", \"normal_stress_kpa\": -1}\n]}";
+        let p = problems(text);
+        let all = p.join("\n");
+        assert!(all.contains("x/experiment.json:1: field `title`: missing required field"), "{all}");
+        assert!(all.contains("x/experiment.json:3: field `source`: found a number (expected a string)"), "{all}");
+        assert!(all.contains(":5: field `tests[0].control`: unknown control `slide`"), "{all}");
+        assert!(all.contains(":6: field `tests[1].name`: duplicate test name `a`"), "{all}");
+        assert!(all.contains(":6: field `tests[1].file`"), "{all}");
+        assert!(all.contains(":6: field `tests[1].normal_stress_kpa`: normal stress -1 kPa"), "{all}");
+        assert_eq!(p.len(), 6, "{all}");
+    }
+
+    #[test]
+    fn syntax_error_has_line_and_column() {
+        let e = parse_meta("{\n \"name\": \"s\",\n \"title\" \"t\"\n}", Path::new("e.json")).unwrap_err();
+        match e {
+            DataError::Json { line, column, ref path, .. } => {
+                assert_eq!(line, 3);
+                assert!(column > 1);
+                assert_eq!(path, Path::new("e.json"));
+            }
+            other => panic!("unexpected {other}"),
+        }
+        assert!(e.to_string().starts_with("e.json:3:"));
+    }
+}

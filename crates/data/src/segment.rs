@@ -1,0 +1,542 @@
+//! Segmentation of a test into loading phases: initial loading, steady sliding, velocity
+//! steps, holds, unloading and reversals, with cycle numbers.
+//!
+//! # Conventions
+//!
+//! - Row `i` (for `i ≥ 1`) belongs to the interval from row `i-1` to row `i`: its kind is the
+//!   kind of the motion that led to it. Row 0 takes the kind of row 1.
+//! - Event rows are the rows at the instant of the event: the row at the extreme for a
+//!   reversal, the last row at the old rate for a velocity step. The first row of the new phase
+//!   is the next row.
+//! - Holds are half-open row ranges `[start, end)`: the rows reached while the imposed column
+//!   stays constant. The hold starts at time `time_s[start - 1]` (the last moving row) and lasts
+//!   until `time_s[end - 1]`. A rest at the beginning or the end of a test is a hold too.
+//! - Cycles: cycle 0 is everything up to and including the first reversal (the virgin
+//!   loading). Cycle `k ≥ 1` starts after reversal `2k-1` (1-based) and ends with reversal
+//!   `2k+1`, so each cycle holds two half-cycles and begins with the unloading from a peak.
+//!   For a slip-controlled triangle `0 → +a → −a → +a …` cycle `k` is `+a → −a → +a`. For
+//!   shear-controlled pulsating loading `0 → τ → 0 → τ …` cycle `k` runs from peak `k` to
+//!   peak `k+1`; it contains exactly one return of the shear to its minimum, so the number of
+//!   cycles (`cycles()`) is the number of returns to the minimum (the final one included).
+//! - Slip control: after a start, a hold, a velocity step or a reversal the rows until the
+//!   imposed slip has moved `transient_mm` are labelled with the transient kind, then
+//!   [`SegmentKind::SteadySliding`]. [`SegmentKind::Unloading`] is not used.
+//! - Shear control: rows where |shear| decreases are [`SegmentKind::Unloading`]; other moving
+//!   rows carry the transient kind of the last event until the *measured* slip has moved
+//!   `transient_mm`, then [`SegmentKind::SteadySliding`].
+
+use serde::{Deserialize, Serialize};
+
+use crate::condition::{analyze, Conditioned};
+use crate::meta::Control;
+use crate::set::TestData;
+
+/// Kind of a loading phase.
+///
+/// ```
+/// use subfric_data::SegmentKind;
+/// assert_eq!(SegmentKind::AfterVelocityStep.name(), "after-velocity-step");
+/// assert_eq!(serde_json::to_string(&SegmentKind::Hold).unwrap(), "\"hold\"");
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SegmentKind {
+    /// The transient at the start of the test (virgin loading).
+    InitialLoading,
+    /// Sliding at a steady imposed rate, away from any transient.
+    SteadySliding,
+    /// The transient after a change of the sliding rate.
+    AfterVelocityStep,
+    /// The imposed column is constant (slip hold, or creep at constant shear).
+    Hold,
+    /// The transient after a hold.
+    AfterHold,
+    /// Shear control: |shear| decreasing.
+    Unloading,
+    /// The transient after a reversal of the imposed direction.
+    AfterReversal,
+}
+
+impl SegmentKind {
+    /// All kinds.
+    pub const ALL: [SegmentKind; 7] = [
+        SegmentKind::InitialLoading,
+        SegmentKind::SteadySliding,
+        SegmentKind::AfterVelocityStep,
+        SegmentKind::Hold,
+        SegmentKind::AfterHold,
+        SegmentKind::Unloading,
+        SegmentKind::AfterReversal,
+    ];
+
+    /// Kebab-case name, as in JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            SegmentKind::InitialLoading => "initial-loading",
+            SegmentKind::SteadySliding => "steady-sliding",
+            SegmentKind::AfterVelocityStep => "after-velocity-step",
+            SegmentKind::Hold => "hold",
+            SegmentKind::AfterHold => "after-hold",
+            SegmentKind::Unloading => "unloading",
+            SegmentKind::AfterReversal => "after-reversal",
+        }
+    }
+}
+
+impl std::fmt::Display for SegmentKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Options of [`segment`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct SegmentOptions {
+    /// Slip (mm) after a start, step, hold or reversal labelled as a transient. Default 0.2.
+    pub transient_mm: f64,
+    /// A sliding-rate change by at least this factor is a velocity step. Default 2.0.
+    pub rate_ratio: f64,
+    /// |rate| below this fraction of the typical sliding rate is a hold. Default 0.02.
+    pub hold_rate_fraction: f64,
+}
+
+impl Default for SegmentOptions {
+    fn default() -> Self {
+        SegmentOptions {
+            transient_mm: 0.2,
+            rate_ratio: 2.0,
+            hold_rate_fraction: 0.02,
+        }
+    }
+}
+
+/// A run of consecutive rows of one kind.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Segment {
+    /// Kind of the phase.
+    pub kind: SegmentKind,
+    /// First row.
+    pub start: usize,
+    /// One past the last row.
+    pub end: usize,
+    /// Mean imposed rate over the segment, per s (mm/s or kPa/s), signed.
+    pub rate: f64,
+    /// Cycle number (see the module documentation).
+    pub cycle: u32,
+}
+
+/// A stretch of sliding at one rate, between holds, reversals and velocity steps.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RateLevel {
+    /// First row.
+    pub start: usize,
+    /// One past the last row.
+    pub end: usize,
+    /// Mean imposed rate, per s, signed.
+    pub rate: f64,
+}
+
+/// Result of [`segment`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Segmentation {
+    /// Consecutive segments covering all rows.
+    pub segments: Vec<Segment>,
+    /// Kind of each row.
+    pub row_kind: Vec<SegmentKind>,
+    /// Cycle of each row.
+    pub cycle_of_row: Vec<u32>,
+    /// Rows at the reversals of the imposed direction.
+    pub reversals: Vec<usize>,
+    /// Holds as half-open row ranges.
+    pub holds: Vec<(usize, usize)>,
+    /// Rows of the velocity steps (last row at the old rate).
+    pub rate_changes: Vec<usize>,
+    /// Sliding stretches at one rate.
+    pub levels: Vec<RateLevel>,
+    /// Typical sliding rate (distance-weighted median |rate|), per s.
+    pub reference_rate: f64,
+    /// The conditioned imposed column the segmentation works on.
+    pub conditioned: Conditioned,
+}
+
+impl Segmentation {
+    /// Number of cycles: the largest cycle number.
+    pub fn cycles(&self) -> u32 {
+        self.cycle_of_row.iter().copied().max().unwrap_or(0)
+    }
+
+    /// Duration (s) of each hold of `test`, in the order of `holds`.
+    pub fn hold_durations(&self, test: &TestData) -> Vec<f64> {
+        self.holds
+            .iter()
+            .map(|&(s, e)| {
+                let t = &test.time_s;
+                match (t.get(s.saturating_sub(1)), t.get(e.saturating_sub(1))) {
+                    (Some(a), Some(b)) => b - a,
+                    _ => 0.0,
+                }
+            })
+            .collect()
+    }
+
+    /// Segments of one kind.
+    pub fn of_kind(&self, kind: SegmentKind) -> impl Iterator<Item = &Segment> + '_ {
+        self.segments.iter().filter(move |s| s.kind == kind)
+    }
+
+    /// Mean rates (per s, signed) just before and just after each velocity step.
+    pub fn step_rates(&self) -> Vec<(f64, f64)> {
+        self.rate_changes
+            .iter()
+            .map(|&c| {
+                let before = self
+                    .levels
+                    .iter()
+                    .find(|l| l.end == c + 1)
+                    .map_or(f64::NAN, |l| l.rate);
+                let after = self
+                    .levels
+                    .iter()
+                    .find(|l| l.start == c + 1)
+                    .map_or(f64::NAN, |l| l.rate);
+                (before, after)
+            })
+            .collect()
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Event {
+    Start,
+    HoldEnd,
+    Step,
+    Reversal,
+}
+
+fn rate_between(t: &[f64], y: &[f64], a: usize, b: usize) -> f64 {
+    let dt = t[b] - t[a];
+    if dt > 0.0 {
+        (y[b] - y[a]) / dt
+    } else {
+        0.0
+    }
+}
+
+/// Finds velocity steps in the sliding stretch of rows `p..=q` (all in one monotone run, no
+/// hold). Returns the rows of the steps.
+fn steps_in_stretch(t: &[f64], y: &[f64], p: usize, q: usize, ratio: f64) -> Vec<usize> {
+    let len = q - p;
+    let w = (len / 4).min(8);
+    if w < 2 {
+        return Vec::new();
+    }
+    let h2 = (w / 2).max(1);
+    let lr = ratio.max(1.0 + 1e-9).ln();
+    let mut scores: Vec<(usize, f64)> = Vec::new();
+    for j in (p + w)..=(q - w) {
+        let b = rate_between(t, y, j - w, j).abs();
+        let a = rate_between(t, y, j, j + w).abs();
+        if !(a > 0.0 && b > 0.0 && a.is_finite() && b.is_finite()) {
+            continue;
+        }
+        let score = (a / b).ln().abs();
+        if score < lr {
+            continue;
+        }
+        let b1 = rate_between(t, y, j - w, j - h2).abs();
+        let b2 = rate_between(t, y, j - h2, j).abs();
+        let a1 = rate_between(t, y, j, j + h2).abs();
+        let a2 = rate_between(t, y, j + h2, j + w).abs();
+        let consistent = |x: f64, z: f64| x > 0.0 && z > 0.0 && (x / z).ln().abs() < 0.5 * lr;
+        if consistent(b1, b2) && consistent(a1, a2) {
+            scores.push((j, score));
+        }
+    }
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < scores.len() {
+        let mut best = scores[k];
+        let mut m = k + 1;
+        while m < scores.len() && scores[m].0 <= scores[m - 1].0 + w {
+            if scores[m].1 > best.1 {
+                best = scores[m];
+            }
+            m += 1;
+        }
+        out.push(best.0);
+        k = m;
+    }
+    out
+}
+
+/// Segments a test into loading phases (see the module documentation for the conventions).
+///
+/// Works on the conditioned imposed column ([`crate::condition_imposed`]) and time, with
+/// windowed rate estimates so that noise does not create segments.
+///
+/// ```
+/// use subfric_data::{segment, Control, SegmentKind, SegmentOptions, TestData, TestSpec};
+/// // slip-controlled triangle 0 → 1 → -1 → 1 mm at 0.01 mm/s
+/// let time: Vec<f64> = (0..=500).map(|i| i as f64).collect();
+/// let slip: Vec<f64> = time.iter().map(|&t| {
+///     if t <= 100.0 { 0.01 * t } else if t <= 300.0 { 1.0 - 0.01 * (t - 100.0) } else { -1.0 + 0.01 * (t - 300.0) }
+/// }).collect();
+/// let n = time.len();
+/// let test = TestData {
+///     spec: TestSpec::new("cyc", "cyc.csv", Control::Slip, 100.0), path: "cyc.csv".into(),
+///     time_s: time, slip_mm: slip, shear_kpa: vec![0.0; n], normal_kpa: vec![100.0; n],
+///     friction_given: false, line_of_row: (2..n + 2).collect(), comments: vec![],
+/// };
+/// let seg = segment(&test, &SegmentOptions::default());
+/// assert_eq!(seg.reversals, vec![100, 300]);
+/// assert_eq!(seg.cycles(), 1);
+/// assert_eq!(seg.row_kind[10], SegmentKind::InitialLoading);
+/// assert_eq!(seg.row_kind[110], SegmentKind::AfterReversal);
+/// assert_eq!(seg.row_kind[200], SegmentKind::SteadySliding);
+/// ```
+pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
+    let n = test.time_s.len().min(test.imposed().len());
+    let t = &test.time_s[..n];
+    let an = analyze(t, &test.imposed()[..n], opts);
+    let y = an.conditioned.values.clone();
+    let reversals = an.reversals.clone();
+    let holds = an.holds.clone();
+    let mut seg = Segmentation {
+        segments: Vec::new(),
+        row_kind: vec![SegmentKind::InitialLoading; n],
+        cycle_of_row: vec![0; n],
+        reversals,
+        holds,
+        rate_changes: Vec::new(),
+        levels: Vec::new(),
+        reference_rate: an.ref_rate,
+        conditioned: an.conditioned,
+    };
+    if n == 0 {
+        return seg;
+    }
+    let mut in_hold = vec![false; n];
+    for &(s, e) in &seg.holds {
+        for v in &mut in_hold[s..e.min(n)] {
+            *v = true;
+        }
+    }
+    // run index of each row (row i in run k when k reversals lie before i)
+    let mut run_of = vec![0usize; n];
+    {
+        let mut k = 0;
+        for (i, r) in run_of.iter_mut().enumerate() {
+            while k < seg.reversals.len() && seg.reversals[k] < i {
+                k += 1;
+            }
+            *r = k;
+        }
+    }
+    // sliding stretches: maximal ranges of rows (intervals) in one run, outside holds
+    let finite = y.iter().chain(t).all(|v| v.is_finite());
+    let mut i = 1;
+    while finite && i < n {
+        if in_hold[i] {
+            i += 1;
+            continue;
+        }
+        let s = i;
+        while i < n && !in_hold[i] && run_of[i] == run_of[s] {
+            i += 1;
+        }
+        // intervals s..i (rows s-1 ..= i-1)
+        let (p, q) = (s - 1, i - 1);
+        let steps = steps_in_stretch(t, &y, p, q, opts.rate_ratio);
+        let mut a = p;
+        for &c in steps.iter().chain(std::iter::once(&q)) {
+            if c > a {
+                seg.levels.push(RateLevel {
+                    start: a + 1,
+                    end: c + 1,
+                    rate: rate_between(t, &y, a, c),
+                });
+            }
+            a = c;
+        }
+        seg.rate_changes.extend(steps);
+    }
+    seg.rate_changes.sort_unstable();
+
+    // events at rows, the most significant one kept when several coincide
+    let mut event_at: Vec<Option<Event>> = vec![None; n];
+    let set_event = |row: usize, e: Event, event_at: &mut Vec<Option<Event>>| {
+        if row < n {
+            let rank = |e: Event| match e {
+                Event::Start => 0,
+                Event::Step => 1,
+                Event::HoldEnd => 2,
+                Event::Reversal => 3,
+            };
+            if event_at[row].map_or(true, |old| rank(e) > rank(old)) {
+                event_at[row] = Some(e);
+            }
+        }
+    };
+    for &(s, e) in &seg.holds {
+        // a rest before any motion ends in the start of the test, not in an after-hold phase
+        let ev = if s <= 1 { Event::Start } else { Event::HoldEnd };
+        set_event(e - 1, ev, &mut event_at);
+    }
+    for &c in &seg.rate_changes {
+        set_event(c, Event::Step, &mut event_at);
+    }
+    for &r in &seg.reversals {
+        set_event(r, Event::Reversal, &mut event_at);
+    }
+
+    let control = test.spec.control;
+    let measured_slip = &test.slip_mm;
+    let mut current = (0usize, Event::Start);
+    let mut travel = 0.0f64;
+    let mut reversals_before = 0usize;
+    for i in 1..n {
+        if let Some(e) = event_at[i - 1] {
+            current = (i - 1, e);
+            travel = 0.0;
+        }
+        while reversals_before < seg.reversals.len() && seg.reversals[reversals_before] < i {
+            reversals_before += 1;
+        }
+        seg.cycle_of_row[i] = reversals_before.div_ceil(2) as u32;
+        let e = current.0;
+        travel = match control {
+            Control::Slip => (y[i] - y[e]).abs(),
+            Control::Shear => {
+                let d = match (measured_slip.get(i), measured_slip.get(e)) {
+                    (Some(a), Some(b)) if (a - b).is_finite() => (a - b).abs(),
+                    _ => 0.0,
+                };
+                travel.max(d)
+            }
+        };
+        let kind = if in_hold[i] {
+            SegmentKind::Hold
+        } else if control == Control::Shear && unloading(&y, i) {
+            SegmentKind::Unloading
+        } else if travel <= opts.transient_mm {
+            match current.1 {
+                Event::Start => SegmentKind::InitialLoading,
+                Event::HoldEnd => SegmentKind::AfterHold,
+                Event::Step => SegmentKind::AfterVelocityStep,
+                Event::Reversal => SegmentKind::AfterReversal,
+            }
+        } else {
+            SegmentKind::SteadySliding
+        };
+        seg.row_kind[i] = kind;
+    }
+    if n > 1 {
+        seg.row_kind[0] = seg.row_kind[1];
+    }
+
+    // segments
+    let mut start = 0usize;
+    for i in 1..=n {
+        let boundary = i == n
+            || seg.row_kind[i] != seg.row_kind[start]
+            || seg.cycle_of_row[i] != seg.cycle_of_row[start]
+            || event_at[i - 1].is_some();
+        if boundary {
+            let from = start.saturating_sub(1);
+            let to = i - 1;
+            seg.segments.push(Segment {
+                kind: seg.row_kind[start],
+                start,
+                end: i,
+                rate: if to > from { rate_between(t, &y, from, to) } else { 0.0 },
+                cycle: seg.cycle_of_row[start],
+            });
+            start = i;
+        }
+    }
+    seg
+}
+
+/// Shear control: is |shear| decreasing over the interval ending at row `i`?
+fn unloading(y: &[f64], i: usize) -> bool {
+    let d = y[i] - y[i - 1];
+    let mid = 0.5 * (y[i] + y[i - 1]);
+    d * mid < 0.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::meta::TestSpec;
+
+    pub(crate) fn data(control: Control, t: Vec<f64>, imposed: Vec<f64>) -> TestData {
+        let n = t.len();
+        let (slip, shear) = match control {
+            Control::Slip => (imposed, vec![0.0; n]),
+            Control::Shear => (vec![0.0; n], imposed),
+        };
+        TestData {
+            spec: TestSpec::new("x", "x.csv", control, 100.0),
+            path: "x.csv".into(),
+            time_s: t,
+            slip_mm: slip,
+            shear_kpa: shear,
+            normal_kpa: vec![100.0; n],
+            friction_given: false,
+            line_of_row: (2..n + 2).collect(),
+            comments: vec![],
+        }
+    }
+
+    #[test]
+    fn clean_velocity_steps() {
+        // 0.01 mm/s for 100 s, 0.1 mm/s for 10 s, 0.01 mm/s for 100 s, dt 1 s / 0.1 s
+        let mut t = vec![0.0];
+        let mut y = vec![0.0];
+        let mut add = |dt: f64, rate: f64, steps: usize| {
+            for _ in 0..steps {
+                let (lt, ly) = (*t.last().unwrap(), *y.last().unwrap());
+                t.push(lt + dt);
+                y.push(ly + rate * dt);
+            }
+        };
+        add(1.0, 0.01, 100);
+        add(0.1, 0.1, 100);
+        add(1.0, 0.01, 100);
+        let d = data(Control::Slip, t, y);
+        let s = segment(&d, &SegmentOptions::default());
+        assert_eq!(s.rate_changes, vec![100, 200]);
+        assert!(s.holds.is_empty());
+        assert!(s.reversals.is_empty());
+        assert_eq!(s.row_kind[110], SegmentKind::AfterVelocityStep);
+        assert_eq!(s.row_kind[150], SegmentKind::SteadySliding);
+        let rates = s.step_rates();
+        assert!((rates[0].0 - 0.01).abs() < 1e-9 && (rates[0].1 - 0.1).abs() < 1e-9);
+        assert!(!s.conditioned.changed);
+    }
+
+    #[test]
+    fn segments_cover_all_rows() {
+        let t: Vec<f64> = (0..50).map(|i| i as f64).collect();
+        let y: Vec<f64> = t.iter().map(|t| (t * 0.3).sin()).collect();
+        let s = segment(&data(Control::Slip, t, y), &SegmentOptions::default());
+        let mut next = 0;
+        for sg in &s.segments {
+            assert_eq!(sg.start, next);
+            assert!(sg.end > sg.start);
+            next = sg.end;
+        }
+        assert_eq!(next, 50);
+    }
+
+    #[test]
+    fn tiny_inputs() {
+        for n in 0..4 {
+            let t: Vec<f64> = (0..n).map(|i| i as f64).collect();
+            let y = vec![1.0; n];
+            let s = segment(&data(Control::Shear, t, y), &SegmentOptions::default());
+            assert_eq!(s.row_kind.len(), n);
+        }
+    }
+}

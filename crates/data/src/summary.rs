@@ -1,0 +1,325 @@
+//! A readable summary of an experiment set, for `subfric check`.
+
+use std::fmt;
+
+use serde::Serialize;
+
+use crate::meta::Control;
+use crate::segment::{segment, SegmentOptions};
+use crate::set::{ExperimentSet, TestData};
+
+/// Summary of one hold.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct HoldSummary {
+    /// First row of the hold.
+    pub start_row: usize,
+    /// One past the last row.
+    pub end_row: usize,
+    /// Time the hold began, s.
+    pub start_time_s: f64,
+    /// Duration, s.
+    pub duration_s: f64,
+}
+
+/// Summary of one velocity step.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StepSummary {
+    /// Row of the step (last row at the old rate).
+    pub row: usize,
+    /// Time of the step, s.
+    pub time_s: f64,
+    /// Imposed rate before, per s.
+    pub from_rate: f64,
+    /// Imposed rate after, per s.
+    pub to_rate: f64,
+}
+
+/// Summary of one test.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TestSummary {
+    /// Test name.
+    pub name: String,
+    /// CSV file name.
+    pub file: String,
+    /// Imposed column.
+    pub control: Control,
+    /// Number of rows.
+    pub rows: usize,
+    /// First and last time, s.
+    pub time_span_s: (f64, f64),
+    /// Smallest and largest slip, mm.
+    pub slip_range_mm: (f64, f64),
+    /// Smallest and largest shear, kPa.
+    pub shear_range_kpa: (f64, f64),
+    /// Smallest and largest normal stress, kPa (equal when constant).
+    pub normal_range_kpa: (f64, f64),
+    /// True when the CSV gave friction instead of shear.
+    pub friction_given: bool,
+    /// Estimated noise SD of the imposed column (mm or kPa).
+    pub imposed_noise_sd: f64,
+    /// True when conditioning changed the imposed column.
+    pub imposed_conditioned: bool,
+    /// Distinct |sliding rates| found, ascending (mm/s or kPa/s).
+    pub sliding_rates: Vec<f64>,
+    /// Holds.
+    pub holds: Vec<HoldSummary>,
+    /// Velocity steps.
+    pub velocity_steps: Vec<StepSummary>,
+    /// Number of reversals of the imposed direction.
+    pub reversals: usize,
+    /// Number of cycles.
+    pub cycles: u32,
+}
+
+/// Summary of an experiment set.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SetSummary {
+    /// Set name.
+    pub name: String,
+    /// Title.
+    pub title: String,
+    /// Provenance text, if any.
+    pub provenance: Option<String>,
+    /// One entry per test.
+    pub tests: Vec<TestSummary>,
+}
+
+fn range(v: &[f64]) -> (f64, f64) {
+    if v.is_empty() {
+        return (f64::NAN, f64::NAN);
+    }
+    v.iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)))
+}
+
+/// Groups rates that differ by less than 30 % and returns one (the median) per group.
+fn distinct_rates(mut rates: Vec<f64>) -> Vec<f64> {
+    rates.retain(|r| r.is_finite() && *r > 0.0);
+    rates.sort_by(f64::total_cmp);
+    let mut out = Vec::new();
+    let mut group: Vec<f64> = Vec::new();
+    for r in rates {
+        if let Some(&first) = group.first() {
+            if r > first * 1.3 {
+                out.push(group[group.len() / 2]);
+                group.clear();
+            }
+        }
+        group.push(r);
+    }
+    if !group.is_empty() {
+        out.push(group[group.len() / 2]);
+    }
+    out
+}
+
+/// Summarises one test with the given segmentation options.
+pub fn summarize_test(test: &TestData, opts: &SegmentOptions) -> TestSummary {
+    let seg = segment(test, opts);
+    let t = &test.time_s;
+    let at = |i: usize| t.get(i).copied().unwrap_or(f64::NAN);
+    let holds = seg
+        .holds
+        .iter()
+        .zip(seg.hold_durations(test))
+        .map(|(&(s, e), d)| HoldSummary {
+            start_row: s,
+            end_row: e,
+            start_time_s: at(s.saturating_sub(1)),
+            duration_s: d,
+        })
+        .collect();
+    let velocity_steps = seg
+        .rate_changes
+        .iter()
+        .zip(seg.step_rates())
+        .map(|(&row, (from_rate, to_rate))| StepSummary {
+            row,
+            time_s: at(row),
+            from_rate,
+            to_rate,
+        })
+        .collect();
+    // rates of levels long enough to be meaningful
+    let rates = seg
+        .levels
+        .iter()
+        .filter(|l| l.end - l.start >= 3)
+        .map(|l| l.rate.abs())
+        .collect();
+    TestSummary {
+        name: test.spec.name.clone(),
+        file: test.spec.file.clone(),
+        control: test.spec.control,
+        rows: test.len(),
+        time_span_s: (at(0), at(test.len().saturating_sub(1))),
+        slip_range_mm: range(&test.slip_mm),
+        shear_range_kpa: range(&test.shear_kpa),
+        normal_range_kpa: range(&test.normal_kpa),
+        friction_given: test.friction_given,
+        imposed_noise_sd: seg.conditioned.noise_sd,
+        imposed_conditioned: seg.conditioned.changed,
+        sliding_rates: distinct_rates(rates),
+        holds,
+        velocity_steps,
+        reversals: seg.reversals.len(),
+        cycles: seg.cycles(),
+    }
+}
+
+/// Summarises every test of a set with the default segmentation options.
+///
+/// ```
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let dir = tempfile::tempdir()?;
+/// std::fs::write(dir.path().join("experiment.json"), r#"{"name": "demo", "title": "Demo", "source": "doc",
+///   "tests": [{"name": "a", "file": "a.csv", "control": "slip", "normal_stress_kpa": 100}]}"#)?;
+/// let mut csv = String::from("time_s,slip_mm,shear_kpa\n");
+/// for i in 0..100 { csv.push_str(&format!("{},{},{}\n", i, 0.01 * i as f64, 30.0)); }
+/// std::fs::write(dir.path().join("a.csv"), csv)?;
+/// let set = subfric_data::load_set(dir.path())?;
+/// let s = subfric_data::summary(&set);
+/// assert_eq!(s.tests[0].rows, 100);
+/// assert!((s.tests[0].sliding_rates[0] - 0.01).abs() < 1e-12);
+/// assert!(s.to_string().contains("demo"));
+/// # Ok(()) }
+/// ```
+pub fn summary(set: &ExperimentSet) -> SetSummary {
+    summary_with(set, &SegmentOptions::default())
+}
+
+/// Summarises every test of a set.
+pub fn summary_with(set: &ExperimentSet, opts: &SegmentOptions) -> SetSummary {
+    SetSummary {
+        name: set.meta.name.clone(),
+        title: set.meta.title.clone(),
+        provenance: set.meta.provenance.clone(),
+        tests: set.tests.iter().map(|t| summarize_test(t, opts)).collect(),
+    }
+}
+
+/// Formats a number with about 4 significant digits, without exponent for usual magnitudes.
+fn num(x: f64) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let a = x.abs();
+    if !(1e-4..1e6).contains(&a) {
+        return format!("{x:.3e}");
+    }
+    let decimals = (3 - a.log10().floor() as i32).clamp(0, 8) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+fn pair(p: (f64, f64)) -> String {
+    if p.0 == p.1 {
+        num(p.0)
+    } else {
+        format!("{}..{}", num(p.0), num(p.1))
+    }
+}
+
+impl fmt::Display for SetSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "{}: {}", self.name, self.title)?;
+        if let Some(p) = &self.provenance {
+            writeln!(f, "  provenance: {p}")?;
+        }
+        let header = [
+            "test", "control", "rows", "time s", "slip mm", "shear kPa", "normal kPa", "noise sd",
+            "rates /s", "holds", "steps", "revs", "cycles",
+        ];
+        let rows: Vec<[String; 13]> = self
+            .tests
+            .iter()
+            .map(|t| {
+                let unit = if t.control == Control::Slip { "mm" } else { "kPa" };
+                [
+                    t.name.clone(),
+                    t.control.to_string(),
+                    t.rows.to_string(),
+                    pair(t.time_span_s),
+                    pair(t.slip_range_mm),
+                    pair(t.shear_range_kpa),
+                    pair(t.normal_range_kpa),
+                    format!(
+                        "{} {unit}{}",
+                        num(t.imposed_noise_sd),
+                        if t.imposed_conditioned { "*" } else { "" }
+                    ),
+                    t.sliding_rates.iter().map(|r| num(*r)).collect::<Vec<_>>().join(","),
+                    t.holds.len().to_string(),
+                    t.velocity_steps.len().to_string(),
+                    t.reversals.to_string(),
+                    t.cycles.to_string(),
+                ]
+            })
+            .collect();
+        let mut widths: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
+        for r in &rows {
+            for (w, c) in widths.iter_mut().zip(r) {
+                *w = (*w).max(c.chars().count());
+            }
+        }
+        let line = |f: &mut fmt::Formatter<'_>, cells: &[String]| -> fmt::Result {
+            write!(f, " ")?;
+            for (c, w) in cells.iter().zip(&widths) {
+                write!(f, " {c:<w$}")?;
+            }
+            writeln!(f)
+        };
+        line(f, &header.map(str::to_string))?;
+        line(f, &widths.iter().map(|w| "-".repeat(*w)).collect::<Vec<_>>())?;
+        for r in &rows {
+            line(f, r)?;
+        }
+        for t in &self.tests {
+            if !t.holds.is_empty() {
+                let hs: Vec<String> = t
+                    .holds
+                    .iter()
+                    .map(|h| format!("{} s at t={}", num(h.duration_s), num(h.start_time_s)))
+                    .collect();
+                writeln!(f, "  {}: holds {}", t.name, hs.join(", "))?;
+            }
+            if !t.velocity_steps.is_empty() {
+                let ss: Vec<String> = t
+                    .velocity_steps
+                    .iter()
+                    .map(|s| format!("{}→{} at t={}", num(s.from_rate.abs()), num(s.to_rate.abs()), num(s.time_s)))
+                    .collect();
+                writeln!(f, "  {}: velocity steps {}", t.name, ss.join(", "))?;
+            }
+        }
+        if self.tests.iter().any(|t| t.imposed_conditioned) {
+            writeln!(f, "  * noisy imposed column: conditioned (isotonic per monotone run, flat holds)")?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn number_format() {
+        assert_eq!(num(0.01), "0.01");
+        assert_eq!(num(123.456), "123.5");
+        assert_eq!(num(2.0), "2");
+        assert_eq!(num(0.000012), "1.200e-5");
+    }
+
+    #[test]
+    fn rate_groups() {
+        assert_eq!(distinct_rates(vec![0.01, 0.0101, 0.1, 0.0099, 0.001]), vec![0.001, 0.01, 0.1]);
+    }
+}
