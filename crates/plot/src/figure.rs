@@ -1001,6 +1001,28 @@ mod tests {
     }
 
     #[test]
+    fn legend_labels() {
+        let m = Metrics::new(1000, 750);
+        let cycled = Series::new(
+            "measured",
+            vec![0.0, 1.0, 2.0, f64::NAN],
+            vec![1.0; 4],
+            Style::Measured,
+        )
+        .with_cycles(vec![1, 2, 5, 9]);
+        assert_eq!(
+            legend_entry(&cycled, &m).unwrap().label,
+            "measured, cycle 1..5"
+        );
+        let one = Series::new("fit", vec![0.0], vec![1.0], Style::Fitted).with_cycles(vec![3]);
+        assert_eq!(legend_entry(&one, &m).unwrap().label, "fit, cycle 3");
+        let empty = Series::new("pub", vec![f64::NAN], vec![1.0], Style::Published);
+        assert_eq!(legend_entry(&empty, &m).unwrap().label, "pub (no data)");
+        let unlabelled = Series::new("  ", vec![0.0], vec![1.0], Style::Published);
+        assert!(legend_entry(&unlabelled, &m).is_none());
+    }
+
+    #[test]
     fn invalid_figures_are_errors() {
         let mut f = fig();
         f.main.series[0].y.pop();

@@ -19,6 +19,33 @@
 //!
 //! [`inspect_png`], [`read_rgb`] and [`figure_layout`] help tests (here and
 //! in other crates) check what was drawn.
+//!
+//! ```
+//! use subfric_plot::{render_png, inspect_png, Figure, Panel, Series, Style};
+//!
+//! let x: Vec<f64> = (0..100).map(|i| i as f64 * 0.05).collect();
+//! let measured: Vec<f64> = x.iter().map(|d| 60.0 * (1.0 - (-d / 0.5).exp())).collect();
+//! let fitted: Vec<f64> = x.iter().map(|d| 58.0 * (1.0 - (-d / 0.45).exp())).collect();
+//! let residual: Vec<f64> = fitted.iter().zip(&measured).map(|(f, m)| f - m).collect();
+//! let fig = Figure::new(
+//!     "Interface shear test",
+//!     "displacement (mm)",
+//!     Panel::new(
+//!         "shear stress (kPa)",
+//!         vec![
+//!             Series::new("measured", x.clone(), measured, Style::Measured),
+//!             Series::new("fitted", x.clone(), fitted, Style::Fitted),
+//!         ],
+//!     ),
+//! )
+//! .with_residual(Panel::new("residual (kPa)", vec![Series::new("", x, residual, Style::Fitted)]).with_zero_line());
+//! let path = std::env::temp_dir().join(format!("subfric-plot-doc-{}.png", std::process::id()));
+//! render_png(&fig, &path)?;
+//! let check = inspect_png(&path)?;
+//! assert_eq!((check.width, check.height), (1000, 750));
+//! # std::fs::remove_file(&path).ok();
+//! # Ok::<(), subfric_plot::PlotError>(())
+//! ```
 
 #![warn(missing_docs)]
 

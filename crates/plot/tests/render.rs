@@ -206,7 +206,10 @@ fn very_long_series_is_decimated_without_losing_extremes() {
 fn degenerate_figures() -> Vec<(&'static str, Figure)> {
     let nan = f64::NAN;
     let inf = f64::INFINITY;
-    let fig = |main: Vec<Series>| Figure::new("degenerate", "x (mm)", Panel::new("y (kPa)", main));
+    // Half size keeps the pixel checks quick in unoptimised builds.
+    let fig = |main: Vec<Series>| {
+        Figure::new("degenerate", "x (mm)", Panel::new("y (kPa)", main)).with_size(500, 375)
+    };
     let s = |x: Vec<f64>, y: Vec<f64>, style| Series::new("s", x, y, style);
     vec![
         ("no_series", fig(vec![])),
@@ -263,13 +266,14 @@ fn degenerate_input_gives_valid_plots_not_panics() {
         let result = std::panic::catch_unwind(|| render_png(&fig, &path));
         let result = result.unwrap_or_else(|_| panic!("{name}: panicked"));
         result.unwrap_or_else(|e| panic!("{name}: {e}"));
-        let check = inspect_png(&path).unwrap();
-        assert_eq!(
-            (check.width, check.height),
-            (fig.width, fig.height),
-            "{name}"
-        );
-        assert!(check.inked_fraction > 0.005, "{name}: blank");
+        let img = read_rgb(&path).unwrap();
+        assert_eq!((img.width, img.height), (fig.width, fig.height), "{name}");
+        let inked = img
+            .data
+            .chunks_exact(3)
+            .filter(|c| c.iter().any(|&v| v < 245))
+            .count();
+        assert!(inked * 200 > img.data.len() / 3, "{name}: blank");
         assert!(series_inside(&fig), "{name}: points outside the ranges");
         let layout = figure_layout(&fig).unwrap();
         for (lo, hi) in [layout.x_range, layout.main_y_range] {
@@ -279,7 +283,6 @@ fn degenerate_input_gives_valid_plots_not_panics() {
             );
         }
         // Fitted red stays inside the axes here too.
-        let img = read_rgb(&path).unwrap();
         let rects: Vec<PixelRect> = std::iter::once(layout.main)
             .chain(layout.residual)
             .collect();
