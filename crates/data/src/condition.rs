@@ -304,7 +304,8 @@ pub(crate) fn analyze(t: &[f64], x: &[f64], opts: &SegmentOptions) -> Analysis {
     }
 
     // 3. holds from a robust rate estimate
-    let (holds, ref_rate) = find_holds(t, &values, &reversals, opts);
+    let (mut holds, ref_rate) = find_holds(t, &values, &reversals, opts);
+    refine_holds(t, &values, &mut holds, ref_rate * opts.hold_rate_fraction, 3.0 * sd);
 
     // 4. flatten holds whose jitter stays within the hysteresis threshold
     if sd > 0.0 {
@@ -359,6 +360,34 @@ pub(crate) fn analyze(t: &[f64], x: &[f64], opts: &SegmentOptions) -> Analysis {
         reversals,
         holds,
         ref_rate,
+    }
+}
+
+/// Moves hold boundaries over the adjacent intervals (at most [`RATE_HALF_WINDOW`] on each
+/// side) whose motion is at noise level (`|Δy| ≤ noise_move`) or slower than `threshold`: the
+/// windowed rate estimate can shift a boundary by a row when the noise is large.
+fn refine_holds(t: &[f64], y: &[f64], holds: &mut [(usize, usize)], threshold: f64, noise_move: f64) {
+    let n = y.len();
+    let still = |i: usize| {
+        let dy = (y[i] - y[i - 1]).abs();
+        let dt = t[i] - t[i - 1];
+        dy <= noise_move || (dt > 0.0 && dy / dt < threshold)
+    };
+    for k in 0..holds.len() {
+        let prev_end = if k > 0 { holds[k - 1].1 } else { 1 };
+        let next_start = holds.get(k + 1).map_or(n, |h| h.0);
+        let (mut s, mut e) = holds[k];
+        let mut steps = 0;
+        while s > prev_end.max(1) && steps < RATE_HALF_WINDOW && still(s - 1) {
+            s -= 1;
+            steps += 1;
+        }
+        steps = 0;
+        while e < next_start && e < n && steps < RATE_HALF_WINDOW && still(e) {
+            e += 1;
+            steps += 1;
+        }
+        holds[k] = (s, e);
     }
 }
 
