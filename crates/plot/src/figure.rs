@@ -128,6 +128,9 @@ struct PanelPlan {
     zero_line: bool,
     strokes: Vec<Stroke>,
     markers: Vec<(Pt, u32, [u8; 3])>,
+    /// Legend entries before fitting into the box.
+    entries: Vec<LegendEntry>,
+    occupancy: Occupancy,
     legend: Option<Legend>,
     has_data: bool,
 }
@@ -482,7 +485,7 @@ fn plan_panel(
             entries.push(e);
         }
     }
-    let legend = place_legend(entries, rect, &occupancy, m);
+    let legend = place_legend(entries.clone(), rect, &occupancy, m);
     PanelPlan {
         rect,
         y,
@@ -492,6 +495,8 @@ fn plan_panel(
         zero_line: panel.zero_line,
         strokes,
         markers,
+        entries,
+        occupancy,
         legend,
         has_data: panel.series.iter().any(|s| points(s).next().is_some()),
     }
@@ -601,11 +606,7 @@ fn plan(fig: &Figure) -> Result<Plan, Invalid> {
                 right: main_rect.right,
                 bottom: main_rect.bottom + panel_gap as i32 + res_h as i32,
             };
-            let skip: Vec<String> = main
-                .legend
-                .iter()
-                .flat_map(|l| l.entries.iter().map(|e| e.label.clone()))
-                .collect();
+            let skip: Vec<String> = main.entries.iter().map(|e| e.label.clone()).collect();
             Some(plan_panel(p, rect, x, y, t, &m, &skip))
         }
         _ => None,
@@ -623,8 +624,22 @@ fn plan(fig: &Figure) -> Result<Plan, Invalid> {
         p.y_label_size = size;
     };
     let mut main = main;
-    fit_ylabel(&mut main);
     let mut residual = residual;
+    // The short residual panel rarely has a free corner: if its legend
+    // would cover much data, its entries join the main legend instead.
+    if let Some(r) = residual.as_mut() {
+        let crowded = r
+            .legend
+            .as_ref()
+            .is_some_and(|l| r.occupancy.fraction(l.rect) > 0.15);
+        if crowded {
+            r.legend = None;
+            let mut all = main.entries.clone();
+            all.extend(r.entries.iter().cloned());
+            main.legend = place_legend(all, main.rect, &main.occupancy, &m);
+        }
+    }
+    fit_ylabel(&mut main);
     if let Some(r) = residual.as_mut() {
         fit_ylabel(r);
     }
@@ -998,6 +1013,38 @@ mod tests {
         let legend = l.main_legend.unwrap();
         assert!(legend.left >= l.main.left && legend.right <= l.main.right);
         assert!(series_inside(&f));
+    }
+
+    #[test]
+    fn crowded_residual_legend_joins_the_main_legend() {
+        // A residual that zig-zags over the whole panel height.
+        let x: Vec<f64> = (0..2000).map(|i| i as f64 * 0.005).collect();
+        let r: Vec<f64> = (0..2000)
+            .map(|i| if i % 2 == 0 { 1.0 } else { -1.0 })
+            .collect();
+        let f = fig().with_residual(Panel::new(
+            "r (kPa)",
+            vec![Series::new("fit − data", x.clone(), r, Style::Other(1))],
+        ));
+        let p = plan(&f).unwrap();
+        assert!(p.residual.as_ref().unwrap().legend.is_none());
+        let labels: Vec<&str> = p
+            .main
+            .legend
+            .as_ref()
+            .unwrap()
+            .entries
+            .iter()
+            .map(|e| e.label.as_str())
+            .collect();
+        assert_eq!(labels, vec!["fit", "fit − data"]);
+        // A quiet residual keeps its own legend.
+        let quiet: Vec<f64> = x.iter().map(|v| -v).collect();
+        let f = fig().with_residual(Panel::new(
+            "r (kPa)",
+            vec![Series::new("fit − data", x, quiet, Style::Other(1))],
+        ));
+        assert!(figure_layout(&f).unwrap().residual_legend.is_some());
     }
 
     #[test]

@@ -317,6 +317,16 @@ impl Occupancy {
         }
     }
 
+    /// Fraction of the cells touching the rectangle that are marked.
+    pub fn fraction(&self, r: PixelRect) -> f64 {
+        let cols = (r.right.min(self.rect.right) - r.left.max(self.rect.left)) / self.cell + 1;
+        let rows = (r.bottom.min(self.rect.bottom) - r.top.max(self.rect.top)) / self.cell + 1;
+        if cols <= 0 || rows <= 0 {
+            return 0.0;
+        }
+        self.count(r) as f64 / f64::from(cols * rows)
+    }
+
     /// Number of marked cells touching the rectangle.
     pub fn count(&self, r: PixelRect) -> usize {
         let c0 = ((r.left - self.rect.left) / self.cell).max(0) as usize;
@@ -409,6 +419,8 @@ mod tests {
             bottom: 20,
         };
         assert_eq!(o.count(corner), 0);
+        assert_eq!(o.fraction(corner), 0.0);
         assert!(o.count(rect) > 10);
+        assert!(o.fraction(rect) > 0.0 && o.fraction(rect) < 0.2);
     }
 }
