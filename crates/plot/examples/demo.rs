@@ -70,6 +70,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ),
         )
         .with_residual(Panel::new("residual label longer than the panel (kPa)", vec![]).with_zero_line())),
+        ("styles.png", {
+            let (x, y, c) = common::cyclic(1500, 3, 50.0, 0.2, 0.0, 1);
+            let shifted: Vec<f64> = y.iter().map(|v| v + 30.0).collect();
+            let mut series = vec![
+                Series::new("fitted per cycle", x.clone(), y, Style::Fitted).with_cycles(c.clone()),
+                Series::new("published per cycle", x.clone(), shifted, Style::Published).with_cycles(c),
+            ];
+            for k in 0..8 {
+                let xs: Vec<f64> = (0..20).map(|i| -1.5 + i as f64 * 0.15).collect();
+                let ys: Vec<f64> = xs.iter().map(|v| -90.0 + 8.0 * k as f64 + 5.0 * v).collect();
+                series.push(Series::new(format!("other {k}"), xs, ys, Style::Other(k)));
+            }
+            Figure::new("All styles", "δ (mm)", Panel::new("τ (kPa)", series))
+        }),
         ("big_numbers.png", Figure::new("large and small magnitudes", "time (s)", Panel::new("stiffness (Pa/m)", vec![
             Series::new("k", (0..50).map(|i| i as f64 * 2e-5).collect(), (0..50).map(|i| 1e6 + 3e5 * (i as f64 * 0.2).sin()).collect(), Style::Other(0)),
             Series::new("k2", (0..50).map(|i| i as f64 * 2e-5).collect(), (0..50).map(|i| -2e5 + 1e4 * i as f64).collect(), Style::Other(1)),

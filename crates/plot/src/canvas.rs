@@ -39,6 +39,12 @@ fn coord(v: f64) -> i32 {
 /// Drawing target: an RGB buffer wrapped by plotters' bitmap backend.
 pub(crate) struct Canvas<'a> {
     backend: BitMapBackend<'a, RGBPixel>,
+    width: u32,
+    height: u32,
+    /// Coverage of the stroke being drawn, per pixel (allocated on first use).
+    coverage: Vec<f32>,
+    /// Pixels with non-zero coverage in `coverage`.
+    touched: Vec<u32>,
 }
 
 impl<'a> Canvas<'a> {
@@ -47,7 +53,13 @@ impl<'a> Canvas<'a> {
     pub fn new(buf: &'a mut [u8], width: u32, height: u32) -> Result<Self, String> {
         let backend = BitMapBackend::<RGBPixel>::with_buffer_and_format(buf, (width, height))
             .map_err(|e| e.to_string())?;
-        Ok(Canvas { backend })
+        Ok(Canvas {
+            backend,
+            width,
+            height,
+            coverage: Vec::new(),
+            touched: Vec::new(),
+        })
     }
 
     /// Flushes the backend.
@@ -66,14 +78,28 @@ impl<'a> Canvas<'a> {
             .map_err(|e| e.to_string())
     }
 
-    /// A straight line of `width` pixels (measured across the line) with
-    /// anti-aliased edges. Coordinates are pixel centres.
-    pub fn line(&mut self, a: Pt, b: Pt, color: [u8; 3], width: f64) -> Result<(), String> {
+    /// Adds coverage for pixel (x, y) to the current stroke (maximum, not
+    /// sum, so that joints and self-overlaps are not darker).
+    fn cover(&mut self, x: i32, y: i32, cov: f64) {
+        if cov < 0.02 || x < 0 || y < 0 || x >= self.width as i32 || y >= self.height as i32 {
+            return;
+        }
+        let i = y as usize * self.width as usize + x as usize;
+        let c = &mut self.coverage[i];
+        if *c == 0.0 {
+            self.touched.push(i as u32);
+        }
+        *c = c.max(cov.min(1.0) as f32);
+    }
+
+    /// Accumulates a straight segment of `width` pixels (measured across the
+    /// line) with anti-aliased edges. Coordinates are pixel centres.
+    fn cover_segment(&mut self, a: Pt, b: Pt, width: f64) {
         let finite = [a.0, a.1, b.0, b.1]
             .iter()
             .all(|v| v.is_finite() && v.abs() < 1e6);
         if !finite {
-            return Ok(());
+            return;
         }
         let width = width.max(0.5);
         let (dx, dy) = (b.0 - a.0, b.1 - a.1);
@@ -101,27 +127,47 @@ impl<'a> Canvas<'a> {
             for j in j0..=j1 {
                 let cov = (hi.min(f64::from(j) + 0.5) - lo.max(f64::from(j) - 0.5)).clamp(0.0, 1.0);
                 if x_major {
-                    self.blend(i, j, color, cov)?;
+                    self.cover(i, j, cov);
                 } else {
-                    self.blend(j, i, color, cov)?;
+                    self.cover(j, i, cov);
                 }
             }
         }
-        Ok(())
     }
 
-    /// A polyline; a single point is drawn as a dot of the line width.
+    /// A polyline of `width` pixels with anti-aliased edges, composited once
+    /// so that joints look like the rest of the line; a single point is
+    /// drawn as a dot of the line width.
     pub fn polyline(&mut self, pts: &[Pt], color: [u8; 3], width: f64) -> Result<(), String> {
         match pts {
             [] => Ok(()),
             [p] => self.dot(*p, (0.5 * width).round().max(1.0) as u32, color),
             _ => {
-                for w in pts.windows(2) {
-                    self.line(w[0], w[1], color, width)?;
+                if self.coverage.is_empty() {
+                    self.coverage = vec![0.0; self.width as usize * self.height as usize];
                 }
-                Ok(())
+                for w in pts.windows(2) {
+                    self.cover_segment(w[0], w[1], width);
+                }
+                let touched = std::mem::take(&mut self.touched);
+                let mut result = Ok(());
+                for &i in &touched {
+                    let cov = std::mem::replace(&mut self.coverage[i as usize], 0.0);
+                    if result.is_ok() {
+                        let (x, y) = (i % self.width, i / self.width);
+                        result = self.blend(x as i32, y as i32, color, f64::from(cov));
+                    }
+                }
+                self.touched = touched;
+                self.touched.clear();
+                result
             }
         }
+    }
+
+    /// A straight line; see [`Canvas::polyline`].
+    pub fn line(&mut self, a: Pt, b: Pt, color: [u8; 3], width: f64) -> Result<(), String> {
+        self.polyline(&[a, b], color, width)
     }
 
     /// A filled circle.
