@@ -221,7 +221,7 @@ fn plan_pass(fig: &BarFigure, min_hi: f64) -> Result<BarPlan, Invalid> {
                 "{w}x{h} is too small for this bar chart"
             )));
         }
-        let target = ((plot_h / (75.0 * m.s)).round() as usize).clamp(2, 8);
+        let target = ((plot_h / (60.0 * m.s)).round() as usize).clamp(2, 9);
         let yticks = ticks(y, target);
         let tick_w = yticks
             .labels

@@ -538,7 +538,7 @@ fn plan(fig: &Figure) -> Result<Plan, Invalid> {
     }
     let y_target =
         |height: f64, per: f64, max: usize| ((height / (per * m.s)).round() as usize).clamp(2, max);
-    let main_ticks = ticks(main_y, y_target(main_h, 75.0, 8));
+    let main_ticks = ticks(main_y, y_target(main_h, 60.0, 9));
     let res_ticks = res_y.map(|r| ticks(r, y_target(res_h, 45.0, 5)));
 
     // Horizontal layout: room for the rotated y label and the tick labels.

@@ -106,11 +106,39 @@ pub(crate) fn nice_step(raw: f64) -> f64 {
     m * mag
 }
 
+/// The "nice" step (1, 2, 2.5 or 5 times a power of ten, 2.5 only when
+/// clearly better) giving the number of intervals closest to `target`,
+/// never more than `target` + 2.
+fn step_near(span: f64, target: usize) -> f64 {
+    let raw = span / target as f64;
+    if !(raw.is_finite() && raw > 0.0) {
+        return 1.0;
+    }
+    let k = raw.log10().floor();
+    let target = target as f64;
+    let mut best = (f64::INFINITY, nice_step(raw));
+    for e in [k - 1.0, k, k + 1.0] {
+        let mag = 10f64.powf(e);
+        for (m, penalty) in [(1.0, 0.0), (2.0, 0.0), (2.5, 0.6), (5.0, 0.0)] {
+            let step = m * mag;
+            let n = span / step;
+            if !step.is_finite() || step <= 0.0 || n > target + 2.0 {
+                continue;
+            }
+            let cost = (n - target).abs() + penalty;
+            if cost < best.0 {
+                best = (cost, step);
+            }
+        }
+    }
+    best.1
+}
+
 /// Ticks inside `range` with about `target` intervals.
 pub(crate) fn ticks(range: AxisRange, target: usize) -> Ticks {
     let target = target.clamp(1, 20);
     let span = range.span();
-    let mut step = nice_step(span / target as f64);
+    let mut step = step_near(span, target);
     // Guard against float trouble: never more than 50 ticks.
     while span / step > 50.0 {
         step = nice_step(step * 1.01);
@@ -244,7 +272,10 @@ mod tests {
     #[test]
     fn nice_ticks() {
         let t = ticks(range(-0.5, 10.5), 5);
-        assert_eq!(t.values, vec![0.0, 2.5, 5.0, 7.5, 10.0]);
+        assert_eq!(t.values, vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
+        let t = ticks(range(-88.0, 88.0), 7);
+        assert_eq!(t.labels[0], "\u{2212}75");
+        let t = ticks(range(-0.5, 10.5), 4);
         assert_eq!(t.labels, vec!["0.0", "2.5", "5.0", "7.5", "10.0"]);
         let t = ticks(range(-0.5, 10.5), 6);
         assert_eq!(t.labels, vec!["0", "2", "4", "6", "8", "10"]);
