@@ -528,3 +528,88 @@ fn inspect_rejects_non_png() {
     assert!(matches!(e, PlotError::Decode { .. }));
     assert!(e.to_string().contains("fake.png"));
 }
+
+#[test]
+fn random_messy_input_never_panics() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut rng = common::Lcg::new(42);
+    let value = |rng: &mut common::Lcg| {
+        let r = rng.next();
+        match ((r + 1.0) * 10.0) as u32 {
+            0 => f64::NAN,
+            1 => f64::INFINITY,
+            2 => -f64::INFINITY,
+            3 => 1e305 * rng.next(),
+            4 => 1e-305 * rng.next(),
+            5 => 0.0,
+            _ => 1e3 * rng.next(),
+        }
+    };
+    for k in 0..30 {
+        let mut panels = Vec::new();
+        for _ in 0..2 {
+            let n_series = ((rng.next() + 1.0) * 2.5) as usize;
+            let mut series = Vec::new();
+            for j in 0..n_series {
+                let n = ((rng.next() + 1.0) * 250.0) as usize;
+                let x: Vec<f64> = (0..n).map(|_| value(&mut rng)).collect();
+                let y: Vec<f64> = (0..n).map(|_| value(&mut rng)).collect();
+                let style = match j % 4 {
+                    0 => Style::Measured,
+                    1 => Style::Published,
+                    2 => Style::Fitted,
+                    _ => Style::Other(k),
+                };
+                let mut s = Series::new(format!("series {j}"), x, y, style);
+                if rng.next() > 0.3 {
+                    s = s.with_cycles((0..n).map(|i| (i / 7) as u32 * 3).collect());
+                }
+                series.push(s);
+            }
+            let mut p = Panel::new("y (kPa)", series);
+            p.zero_line = rng.next() > 0.0;
+            panels.push(p);
+        }
+        let residual = panels.pop().unwrap();
+        let mut fig = Figure::new(format!("random {k}"), "x (mm)", panels.pop().unwrap())
+            .with_size(200 + (k as u32 * 37) % 400, 150 + (k as u32 * 53) % 300);
+        if k % 2 == 0 {
+            fig = fig.with_residual(residual);
+        }
+        let path = dir.path().join(format!("random{k}.png"));
+        render_png(&fig, &path).unwrap_or_else(|e| panic!("figure {k}: {e}"));
+        assert!(series_inside(&fig), "figure {k}");
+        let check = inspect_png(&path).unwrap();
+        assert_eq!((check.width, check.height), (fig.width, fig.height));
+    }
+}
+
+#[test]
+fn random_messy_bar_charts_never_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut rng = common::Lcg::new(7);
+    for k in 0..20 {
+        let n = ((rng.next() + 1.0) * 6.0) as usize;
+        let cats: Vec<String> = (0..n).map(|i| "word ".repeat(i % 5 + 1)).collect();
+        let mut fig = BarFigure::new(format!("bars {k}"), "value (kPa)", cats)
+            .with_size(200 + (k as u32 * 71) % 600, 150 + (k as u32 * 29) % 400);
+        for g in 0..(k % 4) {
+            let values = (0..n)
+                .map(|_| match ((rng.next() + 1.0) * 5.0) as u32 {
+                    0 => f64::NAN,
+                    1 => 1e300 * rng.next(),
+                    2 => 1e-300 * rng.next(),
+                    _ => 10.0 * rng.next(),
+                })
+                .collect();
+            fig = fig.with_group(format!("group {g}"), values);
+        }
+        if k % 3 == 0 {
+            fig = fig.with_reference_line("ref", 5.0 * rng.next());
+        }
+        let path = dir.path().join(format!("bars{k}.png"));
+        render_bars_png(&fig, &path).unwrap_or_else(|e| panic!("chart {k}: {e}"));
+        let check = inspect_png(&path).unwrap();
+        assert_eq!((check.width, check.height), (fig.width, fig.height));
+    }
+}
