@@ -304,8 +304,12 @@ pub(crate) fn analyze(t: &[f64], x: &[f64], opts: &SegmentOptions) -> Analysis {
     }
 
     // 3. holds from a robust rate estimate
-    let (mut holds, ref_rate) = find_holds(t, &values, &reversals, opts);
+    let (mut holds, ref_rate) = find_holds(t, &values, &reversals, opts, sd);
     refine_holds(t, &values, &mut holds, ref_rate * opts.hold_rate_fraction, 3.0 * sd);
+    merge_holds(&values, &reversals, &mut holds, h);
+    holds.retain(|&(s, e)| {
+        still_in_raw_data(t, &raw, s - 1, e - 1, ref_rate * opts.hold_rate_fraction, ref_rate, sd)
+    });
 
     // 4. flatten holds whose jitter stays within the hysteresis threshold
     if sd > 0.0 {
@@ -391,6 +395,57 @@ fn refine_holds(t: &[f64], y: &[f64], holds: &mut [(usize, usize)], threshold: f
     }
 }
 
+/// Confirms a hold on the raw data of rows `a..=b`: the least-squares slope must be below
+/// `threshold` or not significantly different from zero (4 standard errors, noise `sd`), and
+/// significantly below half the sliding rate `ref_rate`. Isotonic fits of a noisy slow ramp
+/// have flat blocks that a windowed rate takes for a hold.
+fn still_in_raw_data(
+    t: &[f64],
+    x: &[f64],
+    a: usize,
+    b: usize,
+    threshold: f64,
+    ref_rate: f64,
+    sd: f64,
+) -> bool {
+    if b <= a + 1 {
+        return true;
+    }
+    let n = (b - a + 1) as f64;
+    let tm = t[a..=b].iter().sum::<f64>() / n;
+    let xm = x[a..=b].iter().sum::<f64>() / n;
+    let (mut sxx, mut sxy) = (0.0, 0.0);
+    for i in a..=b {
+        sxx += (t[i] - tm) * (t[i] - tm);
+        sxy += (t[i] - tm) * (x[i] - xm);
+    }
+    if !(sxx > 0.0) {
+        return true;
+    }
+    let slope = (sxy / sxx).abs();
+    let se = sd / sxx.sqrt();
+    (slope <= threshold || slope <= 4.0 * se) && (ref_rate <= 0.0 || slope + 4.0 * se < 0.5 * ref_rate)
+}
+
+/// Merges holds that touch, or that are separated only by a motion smaller than the
+/// hysteresis threshold `h` within one monotone run.
+fn merge_holds(y: &[f64], reversals: &[usize], holds: &mut Vec<(usize, usize)>, h: f64) {
+    let mut out: Vec<(usize, usize)> = Vec::with_capacity(holds.len());
+    for &(s, e) in holds.iter() {
+        if let Some(last) = out.last_mut() {
+            let gap_from = last.1 - 1;
+            let gap_to = s - 1;
+            let reversal_between = reversals.iter().any(|&r| r > gap_from && r < gap_to);
+            if s <= last.1 || (!reversal_between && (y[gap_to] - y[gap_from]).abs() <= h) {
+                last.1 = last.1.max(e);
+                continue;
+            }
+        }
+        out.push((s, e));
+    }
+    *holds = out;
+}
+
 /// Replaces `values` by the isotonic fit of `raw` within each monotone run.
 fn fit_runs(raw: &[f64], reversals: &[usize], values: &mut [f64]) {
     let n = raw.len();
@@ -429,6 +484,7 @@ fn find_holds(
     y: &[f64],
     reversals: &[usize],
     opts: &SegmentOptions,
+    sd: f64,
 ) -> (Vec<(usize, usize)>, f64) {
     let n = t.len();
     // rates[i] for the interval (i-1, i]; rates[0] unused
@@ -479,10 +535,18 @@ fn find_holds(
         }
         let m = window_rate(&rates, lo, hi);
         let dt = t[i] - t[i - 1];
+        // net motion over the window at noise level, and slow: noise, not sliding
+        let net = (y[hi] - y[lo - 1]).abs();
+        let span = t[hi] - t[lo - 1];
+        let noise_only = sd > 0.0
+            && hi > lo
+            && net <= 4.0 * sd
+            && span > 0.0
+            && net / span < 0.1 * ref_rate;
         hold_like[i] = if ref_rate <= 0.0 {
             true
         } else {
-            m < threshold || (rates[i].abs() < threshold && dt > 5.0 * median_dt)
+            m < threshold || noise_only || (rates[i].abs() < threshold && dt > 5.0 * median_dt)
         };
     }
     let mut holds = Vec::new();

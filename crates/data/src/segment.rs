@@ -225,9 +225,19 @@ fn rate_between(t: &[f64], y: &[f64], a: usize, b: usize) -> f64 {
 
 /// Finds velocity steps in the sliding stretch of rows `p..=q` (all in one monotone run, no
 /// hold). Returns the rows of the steps.
-fn steps_in_stretch(t: &[f64], y: &[f64], p: usize, q: usize, ratio: f64) -> Vec<usize> {
+fn steps_in_stretch(t: &[f64], y: &[f64], p: usize, q: usize, ratio: f64, sd: f64) -> Vec<usize> {
     let len = q - p;
-    let w = (len / 4).min(8);
+    // window: at least 8 intervals, more when the motion per row is small against the noise,
+    // so that a window moves ~30 noise SDs
+    let mut steps: Vec<f64> = (p + 1..=q).map(|i| (y[i] - y[i - 1]).abs()).collect();
+    steps.sort_by(f64::total_cmp);
+    let small_step = steps.get(steps.len() / 4).copied().unwrap_or(0.0);
+    let wanted = if sd > 0.0 && small_step > 0.0 {
+        (30.0 * sd / small_step).ceil().clamp(8.0, 64.0) as usize
+    } else {
+        8
+    };
+    let w = (len / 4).min(wanted);
     if w < 2 {
         return Vec::new();
     }
@@ -347,7 +357,7 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         }
         // intervals s..i (rows s-1 ..= i-1)
         let (p, q) = (s - 1, i - 1);
-        let steps = steps_in_stretch(t, &y, p, q, opts.rate_ratio);
+        let steps = steps_in_stretch(t, &y, p, q, opts.rate_ratio, seg.conditioned.noise_sd);
         let mut a = p;
         for &c in steps.iter().chain(std::iter::once(&q)) {
             if c > a {

@@ -160,14 +160,15 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
     };
     let meta = parse_meta(&text, &json_path)?;
     let positions = crate::jsonpos::value_positions(&text);
-    let mut problems = Problems::default();
+    // each file's problems are capped on their own; the set keeps them all
+    let mut problems: Vec<Problem> = Vec::new();
     let mut tests = Vec::with_capacity(meta.tests.len());
     for (i, spec) in meta.tests.iter().enumerate() {
         let csv_path = dir.join(&spec.file);
         if !csv_path.is_file() {
             let field = format!("tests[{i}].file");
             let line = positions.get(&field).map(|p| p.0);
-            problems.add(
+            problems.push(Problem::new(
                 &json_path,
                 line,
                 Some(&field),
@@ -177,7 +178,7 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
                     spec.name,
                     csv_path.display()
                 ),
-            );
+            ));
             continue;
         }
         match load_test_inner(dir, spec, false) {
@@ -186,7 +187,10 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
             Err(e) => return Err(e),
         }
     }
-    problems.into_result(ExperimentSet {
+    if !problems.is_empty() {
+        return Err(DataError::Problems(problems));
+    }
+    Ok(ExperimentSet {
         dir: dir.to_path_buf(),
         meta,
         tests,
@@ -238,8 +242,9 @@ fn load_test_inner(dir: &Path, spec: &TestSpec, check_spec: bool) -> Result<Test
     match result {
         Ok(t) => problems.into_result(t),
         Err(ps) => {
-            problems.extend(ps);
-            Err(DataError::Problems(problems.into_vec()))
+            let mut all = problems.into_vec();
+            all.extend(ps);
+            Err(DataError::Problems(all))
         }
     }
 }
@@ -419,13 +424,15 @@ pub(crate) fn parse_test_csv(text: &str, path: &Path, spec: &TestSpec) -> Result
         return Err(pr.into_vec());
     }
     let normal_idx = idx(Col::Normal);
-    if rows.is_empty() && pr.is_empty() {
-        pr.add(
-            path,
-            Some(header_line),
-            None,
-            "the test has a header but no data rows (expected at least one row of numbers)",
-        );
+    if rows.is_empty() {
+        if pr.is_empty() {
+            pr.add(
+                path,
+                Some(header_line),
+                None,
+                "the test has a header but no data rows (expected at least one row of numbers)",
+            );
+        }
         return Err(pr.into_vec());
     }
     let n = rows.len();
