@@ -212,7 +212,7 @@ pub fn pava_increasing(y: &[f64]) -> Vec<f64> {
     let mut out = Vec::with_capacity(y.len());
     for (s, c) in sums.iter().zip(&counts) {
         let m = s / *c as f64;
-        out.extend(std::iter::repeat(m).take(*c));
+        out.extend(std::iter::repeat_n(m, *c));
     }
     out
 }
@@ -283,12 +283,16 @@ pub(crate) fn analyze(t: &[f64], x: &[f64], opts: &SegmentOptions) -> Analysis {
             let hi = (r + 1).min(n - 1);
             let mut best = r;
             for i in lo..=hi {
-                let better = if dirs[k] > 0 { raw[i] > raw[best] } else { raw[i] < raw[best] };
+                let better = if dirs[k] > 0 {
+                    raw[i] > raw[best]
+                } else {
+                    raw[i] < raw[best]
+                };
                 if better {
                     best = i;
                 }
             }
-            if best > 0 && best < n - 1 && out.last().map_or(true, |&p| best > p) {
+            if best > 0 && best < n - 1 && out.last().is_none_or(|&p| best > p) {
                 out.push(best);
             }
         }
@@ -298,60 +302,98 @@ pub(crate) fn analyze(t: &[f64], x: &[f64], opts: &SegmentOptions) -> Analysis {
     };
 
     // 2. isotonic fit per run, the reversal rows shared by both runs
+    //    (identity on runs that are already monotone, as in clean data)
     let mut values = raw.clone();
-    if sd > 0.0 {
-        fit_runs(&raw, &reversals, &mut values);
-    }
+    fit_runs(&raw, &reversals, &mut values);
 
     // 3. holds from a robust rate estimate
     let (mut holds, ref_rate) = find_holds(t, &values, &reversals, opts, sd);
-    refine_holds(t, &values, &mut holds, ref_rate * opts.hold_rate_fraction, 3.0 * sd);
+    refine_holds(
+        t,
+        &values,
+        &mut holds,
+        ref_rate * opts.hold_rate_fraction,
+        3.0 * sd,
+    );
     merge_holds(&values, &reversals, &mut holds, h);
     holds.retain(|&(s, e)| {
-        still_in_raw_data(t, &raw, s - 1, e - 1, ref_rate * opts.hold_rate_fraction, ref_rate, sd)
+        still_in_raw_data(
+            t,
+            &raw,
+            s - 1,
+            e - 1,
+            ref_rate * opts.hold_rate_fraction,
+            ref_rate,
+            sd,
+        )
     });
 
     // 4. flatten holds whose jitter stays within the hysteresis threshold
     if sd > 0.0 {
+        // direction of the run holding the interval (i-1, i], from the runs as fitted
+        let mut bounds: Vec<usize> = vec![0];
+        bounds.extend(&reversals);
+        bounds.push(n - 1);
+        let dirs = run_directions(&values, &bounds);
+        let dir_of_interval = |i: usize| -> i8 {
+            let k = bounds.partition_point(|&b| b < i).saturating_sub(1);
+            dirs.get(k).copied().unwrap_or(1)
+        };
+        let mut moved: Vec<usize> = Vec::with_capacity(reversals.len());
+        let mut ri = 0;
         for &(s, e) in &holds {
             let a = s - 1; // the row where the hold begins (last moving row)
             let b = e - 1; // last row of the hold
+            while ri < reversals.len() && reversals[ri] < a {
+                moved.push(reversals[ri]);
+                ri += 1;
+            }
+            let first_inside = ri;
+            while ri < reversals.len() && reversals[ri] <= b {
+                ri += 1;
+            }
+            let inside = ri - first_inside;
             let (lo, hi) = values[a..=b]
                 .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), &v| (l.min(v), u.max(v)));
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), &v| {
+                    (l.min(v), u.max(v))
+                });
             if hi - lo > h || hi == lo {
+                moved.extend(&reversals[first_inside..ri]);
                 continue;
             }
             let mut c = values[a..=b].iter().sum::<f64>() / (b - a + 1) as f64;
-            // keep the neighbours monotone
+            // keep the neighbours monotone: the motion into the hold ends at c, the motion out
+            // of it starts from c
             if a > 0 {
                 let before = values[a - 1];
-                if values[a] >= before {
-                    c = c.max(before);
+                c = if dir_of_interval(a) > 0 {
+                    c.max(before)
                 } else {
-                    c = c.min(before);
-                }
+                    c.min(before)
+                };
             }
             if b + 1 < n {
                 let after = values[b + 1];
-                if after >= values[b] {
-                    c = c.min(after);
+                c = if dir_of_interval(b + 1) > 0 {
+                    c.min(after)
                 } else {
-                    c = c.max(after);
-                }
+                    c.max(after)
+                };
             }
             for v in &mut values[a..=b] {
                 *v = c;
             }
-            // a reversal inside a hold happens when the motion resumes
-            for r in reversals.iter_mut() {
-                if *r >= a && *r <= b {
-                    *r = b;
-                }
+            // reversals inside a hold: the direction changes when the motion resumes (an even
+            // number of them cancel out)
+            if inside % 2 == 1 {
+                moved.push(b);
             }
         }
-        reversals.dedup();
-        reversals.retain(|&r| r > 0 && r + 1 < n);
+        moved.extend(&reversals[ri..]);
+        moved.dedup();
+        moved.retain(|&r| r > 0 && r + 1 < n);
+        reversals = moved;
     }
 
     let changed = values.iter().zip(&raw).any(|(a, b)| a != b);
@@ -370,7 +412,13 @@ pub(crate) fn analyze(t: &[f64], x: &[f64], opts: &SegmentOptions) -> Analysis {
 /// Moves hold boundaries over the adjacent intervals (at most [`RATE_HALF_WINDOW`] on each
 /// side) whose motion is at noise level (`|Δy| ≤ noise_move`) or slower than `threshold`: the
 /// windowed rate estimate can shift a boundary by a row when the noise is large.
-fn refine_holds(t: &[f64], y: &[f64], holds: &mut [(usize, usize)], threshold: f64, noise_move: f64) {
+fn refine_holds(
+    t: &[f64],
+    y: &[f64],
+    holds: &mut [(usize, usize)],
+    threshold: f64,
+    noise_move: f64,
+) {
     let n = y.len();
     let still = |i: usize| {
         let dy = (y[i] - y[i - 1]).abs();
@@ -419,12 +467,13 @@ fn still_in_raw_data(
         sxx += (t[i] - tm) * (t[i] - tm);
         sxy += (t[i] - tm) * (x[i] - xm);
     }
-    if !(sxx > 0.0) {
+    if sxx <= 0.0 || sxx.is_nan() {
         return true;
     }
     let slope = (sxy / sxx).abs();
     let se = sd / sxx.sqrt();
-    (slope <= threshold || slope <= 4.0 * se) && (ref_rate <= 0.0 || slope + 4.0 * se < 0.5 * ref_rate)
+    (slope <= threshold || slope <= 4.0 * se)
+        && (ref_rate <= 0.0 || slope + 4.0 * se < 0.5 * ref_rate)
 }
 
 /// Merges holds that touch, or that are separated only by a motion smaller than the
@@ -465,7 +514,11 @@ fn fit_runs(raw: &[f64], reversals: &[usize], values: &mut [f64]) {
         if let Some(prev) = shared[k] {
             let first = fit[0];
             // a peak keeps the larger of the two fits, a valley the smaller
-            values[s] = if dirs[k] < 0 { prev.max(first) } else { prev.min(first) };
+            values[s] = if dirs[k] < 0 {
+                prev.max(first)
+            } else {
+                prev.min(first)
+            };
         }
         shared[k + 1] = fit.last().copied();
     }
@@ -491,7 +544,11 @@ fn find_holds(
     let mut rates = vec![0.0; n];
     for i in 1..n {
         let dt = t[i] - t[i - 1];
-        rates[i] = if dt > 0.0 { (y[i] - y[i - 1]) / dt } else { 0.0 };
+        rates[i] = if dt > 0.0 {
+            (y[i] - y[i - 1]) / dt
+        } else {
+            0.0
+        };
     }
     // distance-weighted median of |rate|
     let mut pairs: Vec<(f64, f64)> = (1..n)
@@ -538,11 +595,8 @@ fn find_holds(
         // net motion over the window at noise level, and slow: noise, not sliding
         let net = (y[hi] - y[lo - 1]).abs();
         let span = t[hi] - t[lo - 1];
-        let noise_only = sd > 0.0
-            && hi > lo
-            && net <= 4.0 * sd
-            && span > 0.0
-            && net / span < 0.1 * ref_rate;
+        let noise_only =
+            sd > 0.0 && hi > lo && net <= 4.0 * sd && span > 0.0 && net / span < 0.1 * ref_rate;
         hold_like[i] = if ref_rate <= 0.0 {
             true
         } else {
@@ -575,7 +629,10 @@ mod tests {
 
     #[test]
     fn pava_pools_violators() {
-        assert_eq!(pava_increasing(&[1.0, 3.0, 2.0, 4.0]), vec![1.0, 2.5, 2.5, 4.0]);
+        assert_eq!(
+            pava_increasing(&[1.0, 3.0, 2.0, 4.0]),
+            vec![1.0, 2.5, 2.5, 4.0]
+        );
         assert_eq!(pava(&[3.0, 1.0, 2.0, 0.0], -1), vec![3.0, 1.5, 1.5, 0.0]);
         assert!(pava_increasing(&[]).is_empty());
     }

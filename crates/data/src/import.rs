@@ -9,8 +9,8 @@ use serde_json::Map;
 use crate::error::{DataError, Problem, Problems};
 use crate::meta::{Control, ExperimentMeta, Interface, TestSpec};
 use crate::set::{
-    comment_text, load_set, meta_json_text, test_csv_text, validate_data, write_file, ExperimentSet,
-    TestData, EXPERIMENT_JSON,
+    comment_text, load_set, meta_json_text, test_csv_text, validate_data, write_file,
+    ExperimentSet, TestData, EXPERIMENT_JSON,
 };
 
 /// Cell delimiter of a lab file.
@@ -65,11 +65,15 @@ impl FromStr for ColumnRef {
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         let s = s.trim();
         if s.is_empty() {
-            return Err("empty column reference (expected a header name or a 1-based index)".into());
+            return Err(
+                "empty column reference (expected a header name or a 1-based index)".into(),
+            );
         }
         if s.chars().all(|c| c.is_ascii_digit()) {
             match s.parse::<usize>() {
-                Ok(0) | Err(_) => Err(format!("column index `{s}` is invalid (expected 1, 2, 3, …)")),
+                Ok(0) | Err(_) => Err(format!(
+                    "column index `{s}` is invalid (expected 1, 2, 3, …)"
+                )),
                 Ok(i) => Ok(ColumnRef::Index(i)),
             }
         } else {
@@ -126,7 +130,9 @@ impl FromStr for TimeUnit {
             "min" | "minute" | "minutes" => Ok(TimeUnit::Min),
             "h" | "hr" | "hour" | "hours" => Ok(TimeUnit::H),
             "ms" | "millisecond" | "milliseconds" => Ok(TimeUnit::Ms),
-            other => Err(format!("unknown time unit `{other}` (expected s, min, h or ms)")),
+            other => Err(format!(
+                "unknown time unit `{other}` (expected s, min, h or ms)"
+            )),
         }
     }
 }
@@ -164,7 +170,9 @@ impl FromStr for LengthUnit {
             "um" | "µm" | "μm" | "micron" | "microns" => Ok(LengthUnit::Um),
             "m" => Ok(LengthUnit::M),
             "in" | "inch" | "inches" => Ok(LengthUnit::In),
-            other => Err(format!("unknown length unit `{other}` (expected mm, um, m or in)")),
+            other => Err(format!(
+                "unknown length unit `{other}` (expected mm, um, m or in)"
+            )),
         }
     }
 }
@@ -202,7 +210,9 @@ impl FromStr for StressUnit {
             "mpa" => Ok(StressUnit::MPa),
             "pa" => Ok(StressUnit::Pa),
             "psi" => Ok(StressUnit::Psi),
-            other => Err(format!("unknown stress unit `{other}` (expected kPa, MPa, Pa or psi)")),
+            other => Err(format!(
+                "unknown stress unit `{other}` (expected kPa, MPa, Pa or psi)"
+            )),
         }
     }
 }
@@ -319,7 +329,13 @@ pub fn file_name_for(test_name: &str) -> String {
     let mut s: String = test_name
         .trim()
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-') { c } else { '-' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-') {
+                c
+            } else {
+                '-'
+            }
+        })
         .collect();
     while s.starts_with('.') {
         s.remove(0);
@@ -332,14 +348,23 @@ pub fn file_name_for(test_name: &str) -> String {
 }
 
 /// Reads a lab file into a test (not yet written); problems name the lab file and its lines.
-pub fn read_lab_file(lab_file: &Path, spec: &ImportSpec, target: &Path) -> Result<TestData, DataError> {
+pub fn read_lab_file(
+    lab_file: &Path,
+    spec: &ImportSpec,
+    target: &Path,
+) -> Result<TestData, DataError> {
     let bytes = std::fs::read(lab_file).map_err(|e| DataError::io(lab_file, e))?;
     let text = decode(bytes);
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let mut pr = Problems::default();
     let lf = lab_file;
     if spec.test_name.trim().is_empty() {
-        pr.add(lf, None, Some("test_name"), "empty test name (expected a name for the test)");
+        pr.add(
+            lf,
+            None,
+            Some("test_name"),
+            "empty test name (expected a name for the test)",
+        );
     }
     if spec.shear.is_none() && spec.friction.is_none() {
         pr.add(
@@ -421,14 +446,20 @@ pub fn read_lab_file(lab_file: &Path, spec: &ImportSpec, target: &Path) -> Resul
                     );
                     return None;
                 }
-                match names.iter().position(|h| h.trim().eq_ignore_ascii_case(n.trim())) {
+                match names
+                    .iter()
+                    .position(|h| h.trim().eq_ignore_ascii_case(n.trim()))
+                {
                     Some(k) => Some((k, names[k].clone())),
                     None => {
                         pr.add(
                             lf,
                             Some(first_line),
                             Some(what),
-                            format!("no column `{n}` in the header (expected one of: {})", names.join(", ")),
+                            format!(
+                                "no column `{n}` in the header (expected one of: {})",
+                                names.join(", ")
+                            ),
                         );
                         None
                     }
@@ -443,7 +474,9 @@ pub fn read_lab_file(lab_file: &Path, spec: &ImportSpec, target: &Path) -> Resul
         .as_ref()
         .map(|(c, u)| (resolve(c, "shear", &mut pr), *u));
     let friction = if spec.shear.is_none() {
-        spec.friction.as_ref().map(|c| resolve(c, "friction", &mut pr))
+        spec.friction
+            .as_ref()
+            .map(|c| resolve(c, "friction", &mut pr))
     } else {
         None
     };
@@ -530,7 +563,11 @@ pub fn read_lab_file(lab_file: &Path, spec: &ImportSpec, target: &Path) -> Resul
     let spec_normal = match (&normal, spec.normal_stress_kpa) {
         (_, Some(x)) => x,
         (Some(_), None) => {
-            let mut v: Vec<f64> = normal_kpa.iter().copied().filter(|x| x.is_finite()).collect();
+            let mut v: Vec<f64> = normal_kpa
+                .iter()
+                .copied()
+                .filter(|x| x.is_finite())
+                .collect();
             v.sort_by(f64::total_cmp);
             v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
         }
@@ -573,7 +610,11 @@ pub fn read_lab_file(lab_file: &Path, spec: &ImportSpec, target: &Path) -> Resul
 /// holds an `experiment.json`, the test is appended to that set (a duplicate test name or an
 /// existing file of the same name is refused); otherwise a new set is created. Returns the set
 /// as loaded back from `out_dir`.
-pub fn import(lab_file: &Path, spec: &ImportSpec, out_dir: &Path) -> Result<ExperimentSet, DataError> {
+pub fn import(
+    lab_file: &Path,
+    spec: &ImportSpec,
+    out_dir: &Path,
+) -> Result<ExperimentSet, DataError> {
     let test = read_lab_file(lab_file, spec, out_dir)?;
     let json_path = out_dir.join(EXPERIMENT_JSON);
     let csv_path: PathBuf = out_dir.join(&test.spec.file);

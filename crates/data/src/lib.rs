@@ -41,5 +41,7 @@ pub use error::{DataError, Problem};
 pub use import::{import, ColumnRef, Delimiter, ImportSpec, LengthUnit, StressUnit, TimeUnit};
 pub use meta::{parse_meta, Control, ExperimentMeta, Interface, TestSpec};
 pub use segment::{segment, RateLevel, Segment, SegmentKind, SegmentOptions, Segmentation};
-pub use set::{load_set, load_test, write_set, ExperimentSet, TestData, ACCEPTED_COLUMNS, EXPERIMENT_JSON};
+pub use set::{
+    load_set, load_test, write_set, ExperimentSet, TestData, ACCEPTED_COLUMNS, EXPERIMENT_JSON,
+};
 pub use summary::{summary, summary_with, HoldSummary, SetSummary, StepSummary, TestSummary};

@@ -51,7 +51,9 @@ impl FromStr for Control {
         match s.trim().to_ascii_lowercase().as_str() {
             "slip" => Ok(Control::Slip),
             "shear" => Ok(Control::Shear),
-            other => Err(format!("unknown control `{other}` (expected `slip` or `shear`)")),
+            other => Err(format!(
+                "unknown control `{other}` (expected `slip` or `shear`)"
+            )),
         }
     }
 }
@@ -270,13 +272,20 @@ fn check_shape(v: &Value, path: &Path, pos: &HashMap<String, (usize, usize)>, pr
             path,
             Some(1),
             None,
-            format!("found {} (expected a JSON object with name, title, source and tests)", kind_of(v)),
+            format!(
+                "found {} (expected a JSON object with name, title, source and tests)",
+                kind_of(v)
+            ),
         );
         return;
     };
     if let Some(name) = cx.string(root, "", "name", true, pr) {
         if name.trim().is_empty() {
-            cx.problem(pr, "name", "empty name (expected a short name for the set)".into());
+            cx.problem(
+                pr,
+                "name",
+                "empty name (expected a short name for the set)".into(),
+            );
         }
     }
     cx.string(root, "", "title", true, pr);
@@ -299,7 +308,10 @@ fn check_shape(v: &Value, path: &Path, pos: &HashMap<String, (usize, usize)>, pr
         Some(v) => cx.problem(
             pr,
             "interface",
-            format!("found {} (expected an object with soil, surface, roughness_rmax_um)", kind_of(v)),
+            format!(
+                "found {} (expected an object with soil, surface, roughness_rmax_um)",
+                kind_of(v)
+            ),
         ),
     }
     let tests = match root.get("tests") {
@@ -314,7 +326,11 @@ fn check_shape(v: &Value, path: &Path, pos: &HashMap<String, (usize, usize)>, pr
             return;
         }
         Some(v) => {
-            cx.problem(pr, "tests", format!("found {} (expected an array of tests)", kind_of(v)));
+            cx.problem(
+                pr,
+                "tests",
+                format!("found {} (expected an array of tests)", kind_of(v)),
+            );
             return;
         }
     };
@@ -329,14 +345,21 @@ fn check_shape(v: &Value, path: &Path, pos: &HashMap<String, (usize, usize)>, pr
             cx.problem(
                 pr,
                 &prefix,
-                format!("found {} (expected an object with name, file, control, normal_stress_kpa)", kind_of(t)),
+                format!(
+                    "found {} (expected an object with name, file, control, normal_stress_kpa)",
+                    kind_of(t)
+                ),
             );
             continue;
         };
         if let Some(name) = cx.string(t, &prefix, "name", true, pr) {
             let field = format!("{prefix}.name");
             if name.trim().is_empty() {
-                cx.problem(pr, &field, "empty test name (expected a unique name)".into());
+                cx.problem(
+                    pr,
+                    &field,
+                    "empty test name (expected a unique name)".into(),
+                );
             } else if let Some(first) = names.get(name) {
                 cx.problem(
                     pr,
@@ -388,7 +411,9 @@ fn check_shape(v: &Value, path: &Path, pos: &HashMap<String, (usize, usize)>, pr
                 _ => cx.problem(
                     pr,
                     &field,
-                    format!("normal stress {n} kPa is not positive (expected a normal stress > 0 kPa)"),
+                    format!(
+                        "normal stress {n} kPa is not positive (expected a normal stress > 0 kPa)"
+                    ),
                 ),
             },
             Some(v) => cx.problem(
@@ -423,20 +448,44 @@ mod tests {
         let text = "{\n\"name\": \"s\",\n\"source\": 3,\n\"tests\": [\n {\"name\": \"a\", \"file\": \"a.csv\", \"control\": \"slide\", \"normal_stress_kpa\": 100},\n {\"name\": \"a\", \"file\": \"../b.csv\", \"control\": \"slip\", \"normal_stress_kpa\": -1}\n]}";
         let p = problems(text);
         let all = p.join("\n");
-        assert!(all.contains("x/experiment.json:1: field `title`: missing required field"), "{all}");
-        assert!(all.contains("x/experiment.json:3: field `source`: found a number (expected a string)"), "{all}");
-        assert!(all.contains(":5: field `tests[0].control`: unknown control `slide`"), "{all}");
-        assert!(all.contains(":6: field `tests[1].name`: duplicate test name `a`"), "{all}");
+        assert!(
+            all.contains("x/experiment.json:1: field `title`: missing required field"),
+            "{all}"
+        );
+        assert!(
+            all.contains("x/experiment.json:3: field `source`: found a number (expected a string)"),
+            "{all}"
+        );
+        assert!(
+            all.contains(":5: field `tests[0].control`: unknown control `slide`"),
+            "{all}"
+        );
+        assert!(
+            all.contains(":6: field `tests[1].name`: duplicate test name `a`"),
+            "{all}"
+        );
         assert!(all.contains(":6: field `tests[1].file`"), "{all}");
-        assert!(all.contains(":6: field `tests[1].normal_stress_kpa`: normal stress -1 kPa"), "{all}");
+        assert!(
+            all.contains(":6: field `tests[1].normal_stress_kpa`: normal stress -1 kPa"),
+            "{all}"
+        );
         assert_eq!(p.len(), 6, "{all}");
     }
 
     #[test]
     fn syntax_error_has_line_and_column() {
-        let e = parse_meta("{\n \"name\": \"s\",\n \"title\" \"t\"\n}", Path::new("e.json")).unwrap_err();
+        let e = parse_meta(
+            "{\n \"name\": \"s\",\n \"title\" \"t\"\n}",
+            Path::new("e.json"),
+        )
+        .unwrap_err();
         match e {
-            DataError::Json { line, column, ref path, .. } => {
+            DataError::Json {
+                line,
+                column,
+                ref path,
+                ..
+            } => {
                 assert_eq!(line, 3);
                 assert!(column > 1);
                 assert_eq!(path, Path::new("e.json"));

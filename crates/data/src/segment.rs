@@ -383,7 +383,7 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
                 Event::HoldEnd => 2,
                 Event::Reversal => 3,
             };
-            if event_at[row].map_or(true, |old| rank(e) > rank(old)) {
+            if event_at[row].is_none_or(|old| rank(e) > rank(old)) {
                 event_at[row] = Some(e);
             }
         }
@@ -459,7 +459,11 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
                 kind: seg.row_kind[start],
                 start,
                 end: i,
-                rate: if to > from { rate_between(t, &y, from, to) } else { 0.0 },
+                rate: if to > from {
+                    rate_between(t, &y, from, to)
+                } else {
+                    0.0
+                },
                 cycle: seg.cycle_of_row[start],
             });
             start = i;

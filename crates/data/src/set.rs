@@ -11,7 +11,8 @@ use crate::meta::{file_name_problem, parse_meta, Control, ExperimentMeta, TestSp
 pub const EXPERIMENT_JSON: &str = "experiment.json";
 
 /// Column names accepted in a test CSV.
-pub const ACCEPTED_COLUMNS: [&str; 5] = ["time_s", "slip_mm", "shear_kpa", "friction", "normal_kpa"];
+pub const ACCEPTED_COLUMNS: [&str; 5] =
+    ["time_s", "slip_mm", "shear_kpa", "friction", "normal_kpa"];
 
 /// The data of one test, validated.
 ///
@@ -209,7 +210,12 @@ fn load_test_inner(dir: &Path, spec: &TestSpec, check_spec: bool) -> Result<Test
     if check_spec {
         let json = dir.join(EXPERIMENT_JSON);
         if let Some(msg) = file_name_problem(&spec.file) {
-            problems.add(&json, None, Some("file"), format!("test `{}`: {msg}", spec.name));
+            problems.add(
+                &json,
+                None,
+                Some("file"),
+                format!("test `{}`: {msg}", spec.name),
+            );
             return Err(DataError::Problems(problems.into_vec()));
         }
         if !(spec.normal_stress_kpa > 0.0 && spec.normal_stress_kpa.is_finite()) {
@@ -287,7 +293,9 @@ pub(crate) fn parse_number(cell: &str) -> Result<f64, String> {
     }
     match c.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
-        Ok(_) => Err(format!("`{c}` is not a finite number (expected a finite decimal number)")),
+        Ok(_) => Err(format!(
+            "`{c}` is not a finite number (expected a finite decimal number)"
+        )),
         Err(_) => Err(format!("`{c}` is not a number (expected a decimal number)")),
     }
 }
@@ -295,11 +303,33 @@ pub(crate) fn parse_number(cell: &str) -> Result<f64, String> {
 /// Text of a comment line without the `#` and one following space.
 pub(crate) fn comment_text(trimmed: &str) -> String {
     let body = trimmed.strip_prefix('#').unwrap_or(trimmed);
-    body.strip_prefix(' ').unwrap_or(body).trim_end().to_string()
+    body.strip_prefix(' ')
+        .unwrap_or(body)
+        .trim_end()
+        .to_string()
+}
+
+/// Parses and validates the text of a test CSV, as [`load_test`] does for a file; problems
+/// name `path`.
+///
+/// ```
+/// use subfric_data::{set::parse_test, Control, TestSpec};
+/// let spec = TestSpec::new("a", "a.csv", Control::Slip, 50.0);
+/// let t = parse_test("time_s,slip_mm,shear_kpa\n0,0,0\n1,0.5,20\n", "a.csv".as_ref(), &spec).unwrap();
+/// assert_eq!(t.normal_kpa, vec![50.0, 50.0]);
+/// let e = parse_test("time_s,slip_mm,shear_kpa\n1,0,0\n1,0.5,20\n", "a.csv".as_ref(), &spec).unwrap_err();
+/// assert!(e.to_string().contains("a.csv:3: field `time_s`: time 1 is not after time 1 on line 2"));
+/// ```
+pub fn parse_test(text: &str, path: &Path, spec: &TestSpec) -> Result<TestData, DataError> {
+    parse_test_csv(text, path, spec).map_err(DataError::Problems)
 }
 
 /// Parses and validates the text of a test CSV. Problems name `path`.
-pub(crate) fn parse_test_csv(text: &str, path: &Path, spec: &TestSpec) -> Result<TestData, Vec<Problem>> {
+pub(crate) fn parse_test_csv(
+    text: &str,
+    path: &Path,
+    spec: &TestSpec,
+) -> Result<TestData, Vec<Problem>> {
     let mut pr = Problems::default();
     let mut comments = Vec::new();
     let mut header: Option<(usize, Vec<Option<Col>>, Vec<String>)> = None;
@@ -318,7 +348,8 @@ pub(crate) fn parse_test_csv(text: &str, path: &Path, spec: &TestSpec) -> Result
         }
         match &header {
             None => {
-                let names: Vec<String> = trimmed.split(',').map(|c| unquote(c).to_string()).collect();
+                let names: Vec<String> =
+                    trimmed.split(',').map(|c| unquote(c).to_string()).collect();
                 let mut cols = Vec::with_capacity(names.len());
                 let mut seen = HashSet::new();
                 for name in &names {
@@ -328,14 +359,20 @@ pub(crate) fn parse_test_csv(text: &str, path: &Path, spec: &TestSpec) -> Result
                             path,
                             Some(line_no),
                             None,
-                            format!("empty column name in the header (expected one of {})", ACCEPTED_COLUMNS.join(", ")),
+                            format!(
+                                "empty column name in the header (expected one of {})",
+                                ACCEPTED_COLUMNS.join(", ")
+                            ),
                         );
                     } else if col.is_none() {
                         pr.add(
                             path,
                             Some(line_no),
                             Some(name),
-                            format!("unknown column `{name}` (expected one of {})", ACCEPTED_COLUMNS.join(", ")),
+                            format!(
+                                "unknown column `{name}` (expected one of {})",
+                                ACCEPTED_COLUMNS.join(", ")
+                            ),
                         );
                     } else if !seen.insert(col) {
                         pr.add(
@@ -497,7 +534,11 @@ pub(crate) fn validate_data(td: &TestData, normal_from_column: bool) -> Vec<Prob
         );
         return pr.into_vec();
     }
-    let shear_name = if td.friction_given { "friction" } else { "shear_kpa" };
+    let shear_name = if td.friction_given {
+        "friction"
+    } else {
+        "shear_kpa"
+    };
     for i in 0..n {
         let line = Some(td.line(i));
         for (name, x) in [
@@ -507,7 +548,12 @@ pub(crate) fn validate_data(td: &TestData, normal_from_column: bool) -> Vec<Prob
             ("normal_kpa", td.normal_kpa[i]),
         ] {
             if !x.is_finite() {
-                pr.add(path, line, Some(name), format!("value {x} is not finite (expected a finite number)"));
+                pr.add(
+                    path,
+                    line,
+                    Some(name),
+                    format!("value {x} is not finite (expected a finite number)"),
+                );
             }
         }
         if i > 0 {
@@ -565,7 +611,11 @@ pub fn test_csv_text(test: &TestData) -> String {
             test.shear_kpa.get(i).copied().unwrap_or(f64::NAN)
         );
         if with_normal {
-            let _ = write!(s, ",{}", test.normal_kpa.get(i).copied().unwrap_or(f64::NAN));
+            let _ = write!(
+                s,
+                ",{}",
+                test.normal_kpa.get(i).copied().unwrap_or(f64::NAN)
+            );
         }
         s.push('\n');
     }
@@ -604,13 +654,21 @@ pub fn write_set(set: &ExperimentSet, dir: &Path) -> Result<(), DataError> {
     let mut files = HashSet::new();
     for t in &set.tests {
         if let Some(msg) = file_name_problem(&t.spec.file) {
-            pr.add(&json, None, Some("file"), format!("test `{}`: {msg}", t.spec.name));
+            pr.add(
+                &json,
+                None,
+                Some("file"),
+                format!("test `{}`: {msg}", t.spec.name),
+            );
         } else if !files.insert(t.spec.file.clone()) {
             pr.add(
                 &json,
                 None,
                 Some("file"),
-                format!("file `{}` is used by two tests (expected one CSV per test)", t.spec.file),
+                format!(
+                    "file `{}` is used by two tests (expected one CSV per test)",
+                    t.spec.file
+                ),
             );
         }
     }

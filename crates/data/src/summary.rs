@@ -89,7 +89,9 @@ fn range(v: &[f64]) -> (f64, f64) {
         return (f64::NAN, f64::NAN);
     }
     v.iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        })
 }
 
 /// Groups rates that differ by less than 30 % and returns one (the median) per group.
@@ -234,14 +236,29 @@ impl fmt::Display for SetSummary {
             writeln!(f, "  provenance: {p}")?;
         }
         let header = [
-            "test", "control", "rows", "time s", "slip mm", "shear kPa", "normal kPa", "noise sd",
-            "rates /s", "holds", "steps", "revs", "cycles",
+            "test",
+            "control",
+            "rows",
+            "time s",
+            "slip mm",
+            "shear kPa",
+            "normal kPa",
+            "noise sd",
+            "rates /s",
+            "holds",
+            "steps",
+            "revs",
+            "cycles",
         ];
         let rows: Vec<[String; 13]> = self
             .tests
             .iter()
             .map(|t| {
-                let unit = if t.control == Control::Slip { "mm" } else { "kPa" };
+                let unit = if t.control == Control::Slip {
+                    "mm"
+                } else {
+                    "kPa"
+                };
                 [
                     t.name.clone(),
                     t.control.to_string(),
@@ -255,7 +272,11 @@ impl fmt::Display for SetSummary {
                         num(t.imposed_noise_sd),
                         if t.imposed_conditioned { "*" } else { "" }
                     ),
-                    t.sliding_rates.iter().map(|r| num(*r)).collect::<Vec<_>>().join(","),
+                    t.sliding_rates
+                        .iter()
+                        .map(|r| num(*r))
+                        .collect::<Vec<_>>()
+                        .join(","),
                     t.holds.len().to_string(),
                     t.velocity_steps.len().to_string(),
                     t.reversals.to_string(),
@@ -277,7 +298,10 @@ impl fmt::Display for SetSummary {
             writeln!(f)
         };
         line(f, &header.map(str::to_string))?;
-        line(f, &widths.iter().map(|w| "-".repeat(*w)).collect::<Vec<_>>())?;
+        line(
+            f,
+            &widths.iter().map(|w| "-".repeat(*w)).collect::<Vec<_>>(),
+        )?;
         for r in &rows {
             line(f, r)?;
         }
@@ -294,13 +318,23 @@ impl fmt::Display for SetSummary {
                 let ss: Vec<String> = t
                     .velocity_steps
                     .iter()
-                    .map(|s| format!("{}→{} at t={}", num(s.from_rate.abs()), num(s.to_rate.abs()), num(s.time_s)))
+                    .map(|s| {
+                        format!(
+                            "{}→{} at t={}",
+                            num(s.from_rate.abs()),
+                            num(s.to_rate.abs()),
+                            num(s.time_s)
+                        )
+                    })
                     .collect();
                 writeln!(f, "  {}: velocity steps {}", t.name, ss.join(", "))?;
             }
         }
         if self.tests.iter().any(|t| t.imposed_conditioned) {
-            writeln!(f, "  * noisy imposed column: conditioned (isotonic per monotone run, flat holds)")?;
+            writeln!(
+                f,
+                "  * noisy imposed column: conditioned (isotonic per monotone run, flat holds)"
+            )?;
         }
         Ok(())
     }
@@ -320,6 +354,9 @@ mod tests {
 
     #[test]
     fn rate_groups() {
-        assert_eq!(distinct_rates(vec![0.01, 0.0101, 0.1, 0.0099, 0.001]), vec![0.001, 0.01, 0.1]);
+        assert_eq!(
+            distinct_rates(vec![0.01, 0.0101, 0.1, 0.0099, 0.001]),
+            vec![0.001, 0.01, 0.1]
+        );
     }
 }

@@ -30,7 +30,10 @@ fn every_bundled_set_loads() {
         ("table3-pulsating", "pulsating", 2401, Control::Shear),
         ("table4-two-way", "two-way-cyclic", 3151, Control::Slip),
     ];
-    assert_eq!(names, expected.iter().map(|e| e.0.to_string()).collect::<Vec<_>>());
+    assert_eq!(
+        names,
+        expected.iter().map(|e| e.0.to_string()).collect::<Vec<_>>()
+    );
     for (set_name, test, rows, control) in expected {
         let set = load(set_name);
         assert_eq!(set.meta.name, set_name);
@@ -45,14 +48,20 @@ fn every_bundled_set_loads() {
         assert!(prov.contains("NOT the original measurements"), "{set_name}");
         assert_eq!(
             t.comments,
-            vec!["reconstructed curve (reference model + noise), not an original measurement".to_string()]
+            vec![
+                "reconstructed curve (reference model + noise), not an original measurement"
+                    .to_string()
+            ]
         );
         assert!(set.meta.reference_parameters.is_some());
         assert_eq!(t.line_of_row[0], 3);
         // clean imposed column: conditioning leaves it alone
         let seg = segment(t, &SegmentOptions::default());
         assert!(!seg.conditioned.changed, "{set_name}");
-        assert!(seg.holds.is_empty() && seg.rate_changes.is_empty(), "{set_name}");
+        assert!(
+            seg.holds.is_empty() && seg.rate_changes.is_empty(),
+            "{set_name}"
+        );
     }
 }
 

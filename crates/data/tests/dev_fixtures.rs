@@ -27,10 +27,18 @@ fn velocity_steps_found_at_the_rate_changes() {
     let times: Vec<f64> = seg.rate_changes.iter().map(|&r| t.time_s[r]).collect();
     // rates 0.01 → 0.1 → 0.01 → 0.001 → 0.01 mm/s; in this file the steps are at 200, 210, 310
     // and 810 s (the row spacing changes with the rate there too)
-    assert_eq!(times, vec![200.0, 210.0, 310.0, 810.0], "{:?}", seg.rate_changes);
+    assert_eq!(
+        times,
+        vec![200.0, 210.0, 310.0, 810.0],
+        "{:?}",
+        seg.rate_changes
+    );
     let expected = [(0.01, 0.1), (0.1, 0.01), (0.01, 0.001), (0.001, 0.01)];
     for ((a, b), (ea, eb)) in seg.step_rates().into_iter().zip(expected) {
-        assert!((a / ea - 1.0).abs() < 0.02 && (b / eb - 1.0).abs() < 0.02, "{a} {b}");
+        assert!(
+            (a / ea - 1.0).abs() < 0.02 && (b / eb - 1.0).abs() < 0.02,
+            "{a} {b}"
+        );
     }
     assert!(seg.holds.is_empty() && seg.reversals.is_empty());
     assert_eq!(seg.cycles(), 0);
@@ -54,7 +62,11 @@ fn slide_hold_slide_holds_are_found_and_flat() {
     }
     let starts: Vec<f64> = seg.holds.iter().map(|h| t.time_s[h.0 - 1]).collect();
     assert_eq!(starts, vec![200.0, 330.0, 730.0]);
-    assert!(seg.reversals.is_empty(), "jitter is not a reversal: {:?}", seg.reversals);
+    assert!(
+        seg.reversals.is_empty(),
+        "jitter is not a reversal: {:?}",
+        seg.reversals
+    );
     assert!(seg.rate_changes.is_empty(), "{:?}", seg.rate_changes);
     for &(s, e) in &seg.holds {
         assert!(seg.row_kind[s..e].iter().all(|k| *k == SegmentKind::Hold));
@@ -90,7 +102,10 @@ fn two_way_cyclic_reversals_and_cycles() {
     assert_eq!(times.len(), 8, "{times:?}");
     for (k, &tr) in times.iter().enumerate() {
         let expect = 100.0 + 200.0 * k as f64;
-        assert!((tr - expect).abs() <= 1.0, "reversal {k} at {tr}, expected {expect}");
+        assert!(
+            (tr - expect).abs() <= 1.0,
+            "reversal {k} at {tr}, expected {expect}"
+        );
     }
     assert_eq!(seg.cycles(), 4);
     assert_eq!(seg.cycle_of_row[0], 0);
@@ -110,7 +125,9 @@ fn two_way_cyclic_reversals_and_cycles() {
     for w in bounds.windows(2) {
         let run = &c.values[w[0]..=w[1]];
         let up = run[run.len() - 1] > run[0];
-        assert!(run.windows(2).all(|p| if up { p[1] >= p[0] } else { p[1] <= p[0] }));
+        assert!(run
+            .windows(2)
+            .all(|p| if up { p[1] >= p[0] } else { p[1] <= p[0] }));
     }
 }
 
@@ -121,7 +138,10 @@ fn monotonic_has_nothing_but_sliding() {
     let seg = segment(t, &SegmentOptions::default());
     assert!(seg.holds.is_empty() && seg.reversals.is_empty() && seg.rate_changes.is_empty());
     let kinds: Vec<SegmentKind> = seg.segments.iter().map(|s| s.kind).collect();
-    assert_eq!(kinds, vec![SegmentKind::InitialLoading, SegmentKind::SteadySliding]);
+    assert_eq!(
+        kinds,
+        vec![SegmentKind::InitialLoading, SegmentKind::SteadySliding]
+    );
     assert!((seg.segments[1].rate - 0.01).abs() < 1e-4);
 }
 
@@ -129,7 +149,13 @@ fn monotonic_has_nothing_but_sliding() {
 fn summary_table_mentions_everything() {
     let s = summary(&fixture());
     let text = s.to_string();
-    for needle in ["velocity-steps", "slide-hold-slide", "two-way-cyclic", "3000 s at t=730", "at t=810"] {
+    for needle in [
+        "velocity-steps",
+        "slide-hold-slide",
+        "two-way-cyclic",
+        "3000 s at t=730",
+        "at t=810",
+    ] {
         assert!(text.contains(needle), "{needle} missing in\n{text}");
     }
     let shs = &s.tests[1];

@@ -34,18 +34,35 @@ fn assert_problem(problems: &[Problem], line: Option<usize>, field: Option<&str>
             && words.iter().all(|w| p.message.contains(w))
     });
     let all: Vec<String> = problems.iter().map(|p| p.to_string()).collect();
-    assert!(found, "no problem at line {line:?} field {field:?} with {words:?} in:\n{}", all.join("\n"));
+    assert!(
+        found,
+        "no problem at line {line:?} field {field:?} with {words:?} in:\n{}",
+        all.join("\n")
+    );
     for p in problems {
-        assert!(p.message.contains("expected"), "message without expectation: {p}");
+        assert!(
+            p.message.contains("expected"),
+            "message without expectation: {p}"
+        );
     }
 }
 
 #[test]
 fn missing_required_column() {
     let (_d, p) = set_with_csv("# c\ntime_s,shear_kpa\n0,1\n");
-    assert_problem(&p, Some(2), Some("slip_mm"), &["missing required column `slip_mm`"]);
+    assert_problem(
+        &p,
+        Some(2),
+        Some("slip_mm"),
+        &["missing required column `slip_mm`"],
+    );
     let (_d, p) = set_with_csv("time_s,slip_mm\n0,1\n");
-    assert_problem(&p, Some(1), Some("shear_kpa"), &["missing required column", "friction"]);
+    assert_problem(
+        &p,
+        Some(1),
+        Some("shear_kpa"),
+        &["missing required column", "friction"],
+    );
 }
 
 #[test]
@@ -55,10 +72,16 @@ fn unknown_column_lists_the_accepted_ones() {
         &p,
         Some(1),
         Some("temperature"),
-        &["unknown column `temperature`", "time_s, slip_mm, shear_kpa, friction, normal_kpa"],
+        &[
+            "unknown column `temperature`",
+            "time_s, slip_mm, shear_kpa, friction, normal_kpa",
+        ],
     );
     let text = DataError::Problems(p).to_string();
-    assert!(text.contains("a.csv:1: field `temperature`: unknown column"), "{text}");
+    assert!(
+        text.contains("a.csv:1: field `temperature`: unknown column"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -70,31 +93,72 @@ fn duplicate_column() {
 #[test]
 fn wrong_number_of_cells() {
     let (_d, p) = set_with_csv("time_s,slip_mm,shear_kpa\n0,0,0\n1,0.1\n2,0.2,3,4\n");
-    assert_problem(&p, Some(3), None, &["row has 2 cells", "expected 3: time_s,slip_mm,shear_kpa"]);
+    assert_problem(
+        &p,
+        Some(3),
+        None,
+        &["row has 2 cells", "expected 3: time_s,slip_mm,shear_kpa"],
+    );
     assert_problem(&p, Some(4), None, &["row has 4 cells"]);
 }
 
 #[test]
 fn non_numeric_and_non_finite_cells() {
-    let (_d, p) = set_with_csv("time_s,slip_mm,shear_kpa\n0,0,0\n1,abc,1\n2,0.2,NaN\n3,inf,1\n4,0.4,\n");
-    assert_problem(&p, Some(3), Some("slip_mm"), &["`abc` is not a number", "decimal number"]);
-    assert_problem(&p, Some(4), Some("shear_kpa"), &["`NaN` is not a finite number"]);
-    assert_problem(&p, Some(5), Some("slip_mm"), &["`inf` is not a finite number"]);
+    let (_d, p) =
+        set_with_csv("time_s,slip_mm,shear_kpa\n0,0,0\n1,abc,1\n2,0.2,NaN\n3,inf,1\n4,0.4,\n");
+    assert_problem(
+        &p,
+        Some(3),
+        Some("slip_mm"),
+        &["`abc` is not a number", "decimal number"],
+    );
+    assert_problem(
+        &p,
+        Some(4),
+        Some("shear_kpa"),
+        &["`NaN` is not a finite number"],
+    );
+    assert_problem(
+        &p,
+        Some(5),
+        Some("slip_mm"),
+        &["`inf` is not a finite number"],
+    );
     assert_problem(&p, Some(6), Some("shear_kpa"), &["empty cell"]);
     assert_eq!(p.len(), 4, "all problems collected");
 }
 
 #[test]
 fn time_not_increasing_names_both_values() {
-    let (_d, p) = set_with_csv("time_s,slip_mm,shear_kpa\n0,0,0\n# note\n1.5,0.1,1\n1.5,0.2,1\n1.2,0.3,1\n");
-    assert_problem(&p, Some(5), Some("time_s"), &["time 1.5 is not after time 1.5 on line 4", "strictly increasing"]);
-    assert_problem(&p, Some(6), Some("time_s"), &["time 1.2 is not after time 1.5 on line 5"]);
+    let (_d, p) =
+        set_with_csv("time_s,slip_mm,shear_kpa\n0,0,0\n# note\n1.5,0.1,1\n1.5,0.2,1\n1.2,0.3,1\n");
+    assert_problem(
+        &p,
+        Some(5),
+        Some("time_s"),
+        &[
+            "time 1.5 is not after time 1.5 on line 4",
+            "strictly increasing",
+        ],
+    );
+    assert_problem(
+        &p,
+        Some(6),
+        Some("time_s"),
+        &["time 1.2 is not after time 1.5 on line 5"],
+    );
 }
 
 #[test]
 fn non_positive_normal_stress_from_column() {
-    let (_d, p) = set_with_csv("time_s,slip_mm,shear_kpa,normal_kpa\n0,0,0,100\n1,0.1,1,0\n2,0.2,1,-5\n");
-    assert_problem(&p, Some(3), Some("normal_kpa"), &["normal stress 0 kPa is not positive", "> 0"]);
+    let (_d, p) =
+        set_with_csv("time_s,slip_mm,shear_kpa,normal_kpa\n0,0,0,100\n1,0.1,1,0\n2,0.2,1,-5\n");
+    assert_problem(
+        &p,
+        Some(3),
+        Some("normal_kpa"),
+        &["normal stress 0 kPa is not positive", "> 0"],
+    );
     assert_problem(&p, Some(4), Some("normal_kpa"), &["normal stress -5 kPa"]);
 }
 
@@ -106,7 +170,11 @@ fn non_positive_normal_stress_from_spec() {
         JSON_ONE.replace("\"normal_stress_kpa\": 100", "\"normal_stress_kpa\": 0"),
     )
     .unwrap();
-    std::fs::write(dir.path().join("a.csv"), "time_s,slip_mm,shear_kpa\n0,0,0\n").unwrap();
+    std::fs::write(
+        dir.path().join("a.csv"),
+        "time_s,slip_mm,shear_kpa\n0,0,0\n",
+    )
+    .unwrap();
     let e = load_set(dir.path()).unwrap_err();
     let p = &e.problems()[0];
     assert!(p.file.ends_with("experiment.json"));
@@ -125,7 +193,12 @@ fn absent_file() {
     std::fs::write(dir.path().join("experiment.json"), JSON_ONE).unwrap();
     let e = load_set(dir.path()).unwrap_err();
     let text = e.to_string();
-    assert!(text.contains("experiment.json:6: field `tests[0].file`: file `a.csv` of test `a` is absent"), "{text}");
+    assert!(
+        text.contains(
+            "experiment.json:6: field `tests[0].file`: file `a.csv` of test `a` is absent"
+        ),
+        "{text}"
+    );
     let spec = TestSpec::new("b", "b.csv", Control::Shear, 50.0);
     let e = load_test(dir.path(), &spec).unwrap_err();
     assert!(e.to_string().contains("b.csv: field `file`"), "{e}");
@@ -152,7 +225,10 @@ fn duplicate_test_names_and_bad_control() {
     std::fs::write(dir.path().join("experiment.json"), json).unwrap();
     let e = load_set(dir.path()).unwrap_err();
     let text = e.to_string();
-    assert!(text.contains("experiment.json:5: field `tests[1].name`: duplicate test name `a`"), "{text}");
+    assert!(
+        text.contains("experiment.json:5: field `tests[1].name`: duplicate test name `a`"),
+        "{text}"
+    );
     assert!(
         text.contains("experiment.json:5: field `tests[1].control`: unknown control `displacement` (expected \"slip\" or \"shear\")"),
         "{text}"
@@ -166,9 +242,18 @@ fn missing_and_mistyped_json_fields() {
     std::fs::write(dir.path().join("experiment.json"), json).unwrap();
     let e = load_set(dir.path()).unwrap_err();
     let text = e.to_string();
-    assert!(text.contains("experiment.json:1: field `title`: missing required field `title`"), "{text}");
-    assert!(text.contains("experiment.json:3: field `source`: found an array (expected a string)"), "{text}");
-    assert!(text.contains("experiment.json:5: field `tests[0].file`: missing required field"), "{text}");
+    assert!(
+        text.contains("experiment.json:1: field `title`: missing required field `title`"),
+        "{text}"
+    );
+    assert!(
+        text.contains("experiment.json:3: field `source`: found an array (expected a string)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("experiment.json:5: field `tests[0].file`: missing required field"),
+        "{text}"
+    );
     assert!(
         text.contains("experiment.json:5: field `tests[0].normal_stress_kpa`: found a string (expected a number, kPa)"),
         "{text}"
@@ -178,9 +263,19 @@ fn missing_and_mistyped_json_fields() {
 #[test]
 fn json_syntax_error_has_file_line_column() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("experiment.json"), "{\n  \"name\": \"s\",\n  \"title\": \"t\"\n  \"source\": \"x\"\n}").unwrap();
+    std::fs::write(
+        dir.path().join("experiment.json"),
+        "{\n  \"name\": \"s\",\n  \"title\": \"t\"\n  \"source\": \"x\"\n}",
+    )
+    .unwrap();
     match load_set(dir.path()) {
-        Err(DataError::Json { path, line, column, message, .. }) => {
+        Err(DataError::Json {
+            path,
+            line,
+            column,
+            message,
+            ..
+        }) => {
             assert!(path.ends_with("experiment.json"));
             assert_eq!(line, 4);
             assert!(column >= 3);
@@ -207,8 +302,16 @@ fn problems_of_all_files_are_collected() {
       {"name": "b", "file": "b.csv", "control": "shear", "normal_stress_kpa": 100},
       {"name": "c", "file": "c.csv", "control": "shear", "normal_stress_kpa": 100}]}"#;
     std::fs::write(dir.path().join("experiment.json"), json).unwrap();
-    std::fs::write(dir.path().join("a.csv"), "time_s,slip_mm,shear_kpa\n0,x,0\n").unwrap();
-    std::fs::write(dir.path().join("b.csv"), "time_s,slip_mm,shear_kpa\n1,0,0\n0,0,0\n").unwrap();
+    std::fs::write(
+        dir.path().join("a.csv"),
+        "time_s,slip_mm,shear_kpa\n0,x,0\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("b.csv"),
+        "time_s,slip_mm,shear_kpa\n1,0,0\n0,0,0\n",
+    )
+    .unwrap();
     let e = load_set(dir.path()).unwrap_err();
     let files: Vec<String> = e
         .problems()
@@ -226,16 +329,28 @@ fn many_bad_rows_are_capped() {
     }
     let (_d, p) = set_with_csv(&csv);
     assert!(p.len() <= 61);
-    assert!(p.last().unwrap().message.contains("more problems not shown"));
+    assert!(p
+        .last()
+        .unwrap()
+        .message
+        .contains("more problems not shown"));
 }
 
 #[test]
 fn not_utf8() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("experiment.json"), JSON_ONE).unwrap();
-    std::fs::write(dir.path().join("a.csv"), b"time_s,slip_mm,shear_kpa\n0,0,\xff\n").unwrap();
+    std::fs::write(
+        dir.path().join("a.csv"),
+        b"time_s,slip_mm,shear_kpa\n0,0,\xff\n",
+    )
+    .unwrap();
     let e = load_set(dir.path()).unwrap_err();
-    assert!(e.to_string().contains("a.csv:2: the file is not valid UTF-8"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("a.csv:2: the file is not valid UTF-8"),
+        "{e}"
+    );
 }
 
 #[test]

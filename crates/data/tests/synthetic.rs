@@ -1,7 +1,9 @@
 //! Conditioning and segmentation on synthetic signals with known answers.
 
 use rand::{Rng, SeedableRng};
-use subfric_data::{condition_imposed, segment, Control, SegmentKind, SegmentOptions, TestData, TestSpec};
+use subfric_data::{
+    condition_imposed, segment, Control, SegmentKind, SegmentOptions, TestData, TestSpec,
+};
 
 fn gauss(rng: &mut impl Rng) -> f64 {
     let u1: f64 = rng.gen::<f64>().max(1e-12);
@@ -28,13 +30,13 @@ fn data(control: Control, time: Vec<f64>, imposed: Vec<f64>) -> TestData {
     }
 }
 
-/// Triangle 0 → +a → −a → … with `legs` legs after the first, `rows_per_mm` rows per mm.
+/// Triangle 0 → +a → −a → … with `legs` legs after the first, sampled every `dt` s at `rate` mm/s.
 fn triangle(a: f64, legs: usize, dt: f64, rate: f64) -> (Vec<f64>, Vec<f64>, Vec<usize>) {
     let mut t = vec![0.0];
     let mut y = vec![0.0];
     let mut revs = Vec::new();
     let step = rate * dt;
-    let mut push_to = |target: f64, t: &mut Vec<f64>, y: &mut Vec<f64>| {
+    let push_to = |target: f64, t: &mut Vec<f64>, y: &mut Vec<f64>| {
         let start = *y.last().unwrap();
         let n = ((target - start).abs() / step).round() as usize;
         for k in 1..=n {
@@ -60,7 +62,10 @@ fn assert_monotone_runs(values: &[f64], reversals: &[usize]) {
         let run = &values[w[0]..=w[1]];
         let up = run[run.len() - 1] >= run[0];
         for p in run.windows(2) {
-            assert!(if up { p[1] >= p[0] } else { p[1] <= p[0] }, "spurious reversal in run {w:?}");
+            assert!(
+                if up { p[1] >= p[0] } else { p[1] <= p[0] },
+                "spurious reversal in run {w:?}"
+            );
         }
     }
 }
@@ -75,14 +80,31 @@ fn noisy_triangle_keeps_real_reversals_only() {
     let seg = segment(&d, &SegmentOptions::default());
     assert_eq!(seg.reversals.len(), revs.len());
     for (found, want) in seg.reversals.iter().zip(&revs) {
-        assert!(found.abs_diff(*want) <= 2, "reversal at {found}, expected {want}");
+        assert!(
+            found.abs_diff(*want) <= 2,
+            "reversal at {found}, expected {want}"
+        );
     }
     assert_eq!(seg.cycles(), 4);
-    assert!(seg.holds.is_empty() && seg.rate_changes.is_empty(), "{:?} {:?}", seg.holds, seg.rate_changes);
+    assert!(
+        seg.holds.is_empty() && seg.rate_changes.is_empty(),
+        "{:?} {:?}",
+        seg.holds,
+        seg.rate_changes
+    );
     let c = condition_imposed(&d);
-    assert!((c.noise_sd / sd - 1.0).abs() < 0.2, "noise sd {}", c.noise_sd);
+    assert!(
+        (c.noise_sd / sd - 1.0).abs() < 0.2,
+        "noise sd {}",
+        c.noise_sd
+    );
     assert_monotone_runs(&c.values, &seg.reversals);
-    let err = c.values.iter().zip(&truth).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    let err = c
+        .values
+        .iter()
+        .zip(&truth)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
     assert!(err < 6.0 * sd, "max error {err}");
     // the raw signal has no spurious reversal at this sampling either, so it is kept as is
     assert_eq!(c.changed, c.values != noisy);
@@ -100,7 +122,10 @@ fn oversampled_noisy_triangle_is_made_monotone() {
     let seg = segment(&d, &SegmentOptions::default());
     assert_eq!(seg.reversals.len(), revs.len());
     for (found, want) in seg.reversals.iter().zip(&revs) {
-        assert!(found.abs_diff(*want) <= 15, "reversal at {found}, expected {want}");
+        assert!(
+            found.abs_diff(*want) <= 15,
+            "reversal at {found}, expected {want}"
+        );
     }
     assert!(seg.conditioned.changed);
     assert_monotone_runs(&seg.conditioned.values, &seg.reversals);
@@ -117,7 +142,13 @@ fn noisy_ramp_hold_ramp() {
     for i in 0..=600 {
         let ti = i as f64 * dt;
         t.push(ti);
-        truth.push(if ti <= 100.0 { 0.01 * ti } else if ti <= 200.0 { 1.0 } else { 1.0 + 0.01 * (ti - 200.0) });
+        truth.push(if ti <= 100.0 {
+            0.01 * ti
+        } else if ti <= 200.0 {
+            1.0
+        } else {
+            1.0 + 0.01 * (ti - 200.0)
+        });
     }
     let sd = 0.0003;
     let noisy: Vec<f64> = truth.iter().map(|y| y + sd * gauss(&mut rng)).collect();
@@ -126,11 +157,18 @@ fn noisy_ramp_hold_ramp() {
     assert!(seg.reversals.is_empty(), "{:?}", seg.reversals);
     assert_eq!(seg.holds.len(), 1);
     let (s, e) = seg.holds[0];
-    assert!((t[s - 1] - 100.0).abs() <= 1.0 && (t[e - 1] - 200.0).abs() <= 1.0, "{:?}", (t[s - 1], t[e - 1]));
+    assert!(
+        (t[s - 1] - 100.0).abs() <= 1.0 && (t[e - 1] - 200.0).abs() <= 1.0,
+        "{:?}",
+        (t[s - 1], t[e - 1])
+    );
     let c = &seg.conditioned;
     assert!(c.changed);
     assert!(c.values.windows(2).all(|w| w[1] >= w[0]));
-    assert!(c.values[s..e].iter().all(|v| *v == c.values[s]), "hold flat");
+    assert!(
+        c.values[s..e].iter().all(|v| *v == c.values[s]),
+        "hold flat"
+    );
     assert!((c.values[s] - 1.0).abs() < 3.0 * sd);
     let kinds: Vec<SegmentKind> = seg.segments.iter().map(|s| s.kind).collect();
     assert_eq!(
@@ -144,7 +182,10 @@ fn noisy_ramp_hold_ramp() {
         ]
     );
     let after = &seg.segments[3];
-    assert!((t[after.end - 1] - 220.0).abs() <= 1.0, "after-hold covers 0.2 mm");
+    assert!(
+        (t[after.end - 1] - 220.0).abs() <= 1.0,
+        "after-hold covers 0.2 mm"
+    );
 }
 
 #[test]
@@ -162,7 +203,10 @@ fn clean_signals_are_not_changed() {
 fn a_single_spike_is_not_a_reversal() {
     let t: Vec<f64> = (0..400).map(|i| i as f64).collect();
     let mut rng = rand::rngs::StdRng::seed_from_u64(4);
-    let mut y: Vec<f64> = t.iter().map(|t| 0.005 * t + 0.0002 * gauss(&mut rng)).collect();
+    let mut y: Vec<f64> = t
+        .iter()
+        .map(|t| 0.005 * t + 0.0002 * gauss(&mut rng))
+        .collect();
     y[200] += 0.05;
     let d = data(Control::Slip, t, y);
     let seg = segment(&d, &SegmentOptions::default());
@@ -180,9 +224,19 @@ fn shear_controlled_creep_hold_and_unloading() {
     for i in 0..=1200 {
         let ti = i as f64 * 0.5;
         t.push(ti);
-        let s = if ti <= 50.0 { ti } else if ti <= 550.0 { 50.0 } else { (50.0 - (ti - 550.0)).max(0.0) };
+        let s = if ti <= 50.0 {
+            ti
+        } else if ti <= 550.0 {
+            50.0
+        } else {
+            (50.0 - (ti - 550.0)).max(0.0)
+        };
         tau.push(s + 0.02 * gauss(&mut rng));
-        slip.push(if ti <= 50.0 { 0.001 * ti } else { 0.05 + 0.0005 * (ti.min(550.0) - 50.0) });
+        slip.push(if ti <= 50.0 {
+            0.001 * ti
+        } else {
+            0.05 + 0.0005 * (ti.min(550.0) - 50.0)
+        });
     }
     // end at rest at zero shear for a while
     let n = t.len();
@@ -196,7 +250,12 @@ fn shear_controlled_creep_hold_and_unloading() {
         .iter()
         .find(|h| (t[h.0 - 1] - 50.0).abs() <= 1.5)
         .unwrap_or_else(|| panic!("creep hold not found in {:?}", seg.holds));
-    assert!((t[creep.1 - 1] - 550.0).abs() <= 1.5, "{:?} {:?}", seg.holds, seg.reversals);
+    assert!(
+        (t[creep.1 - 1] - 550.0).abs() <= 1.5,
+        "{:?} {:?}",
+        seg.holds,
+        seg.reversals
+    );
     assert_eq!(seg.row_kind[50], SegmentKind::InitialLoading);
     assert_eq!(seg.row_kind[600], SegmentKind::Hold);
     assert_eq!(seg.row_kind[1120], SegmentKind::Unloading);
@@ -229,7 +288,12 @@ fn velocity_steps_with_noise() {
     let mut rng = rand::rngs::StdRng::seed_from_u64(7);
     let mut t = vec![0.0];
     let mut y = vec![0.0];
-    let plan = [(0.5, 0.01, 200), (0.5, 0.03, 200), (0.5, 0.01, 200), (0.5, 0.003, 200)];
+    let plan = [
+        (0.5, 0.01, 200),
+        (0.5, 0.03, 200),
+        (0.5, 0.01, 200),
+        (0.5, 0.003, 200),
+    ];
     let mut steps = Vec::new();
     for (k, (dt, rate, rows)) in plan.iter().enumerate() {
         if k > 0 {
@@ -248,7 +312,22 @@ fn velocity_steps_with_noise() {
         assert!(f.abs_diff(*w) <= 2, "{f} vs {w}");
     }
     // a factor below rate_ratio is not a step
-    let opts = SegmentOptions { rate_ratio: 4.0, ..SegmentOptions::default() };
-    let seg4 = segment(&data(Control::Slip, seg.conditioned.values.iter().enumerate().map(|(i, _)| i as f64 * 0.5).collect(), seg.conditioned.values.clone()), &opts);
+    let opts = SegmentOptions {
+        rate_ratio: 4.0,
+        ..SegmentOptions::default()
+    };
+    let seg4 = segment(
+        &data(
+            Control::Slip,
+            seg.conditioned
+                .values
+                .iter()
+                .enumerate()
+                .map(|(i, _)| i as f64 * 0.5)
+                .collect(),
+            seg.conditioned.values.clone(),
+        ),
+        &opts,
+    );
     assert!(seg4.rate_changes.is_empty(), "{:?}", seg4.rate_changes);
 }
