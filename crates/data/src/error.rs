@@ -82,7 +82,10 @@ pub enum DataError {
         source: std::io::Error,
     },
     /// `experiment.json` is not valid JSON or does not have the expected shape.
-    #[error("{}:{line}:{column}: {}{message}", path.display(), field.as_deref().map(|f| format!("field `{f}`: ")).unwrap_or_default())]
+    ///
+    /// Shape problems (missing or mistyped fields) are reported as [`DataError::Problems`]
+    /// naming the JSON path of each field; this variant is for text that is not JSON at all.
+    #[error("{}:{line}:{column}: {message}", path.display())]
     Json {
         /// The JSON file.
         path: PathBuf,
@@ -90,8 +93,6 @@ pub enum DataError {
         line: usize,
         /// 1-based column of the error.
         column: usize,
-        /// JSON path of the field concerned, when known (e.g. `tests[1].control`).
-        field: Option<String>,
         /// What is wrong and what was expected.
         message: String,
     },

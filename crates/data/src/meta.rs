@@ -181,7 +181,6 @@ pub fn parse_meta(text: &str, path: &Path) -> Result<ExperimentMeta, DataError> 
         path: path.to_path_buf(),
         line: e.line(),
         column: e.column(),
-        field: None,
         message: format!("{e} (expected valid JSON)"),
     })?;
     let pos = value_positions(text);
@@ -194,7 +193,6 @@ pub fn parse_meta(text: &str, path: &Path) -> Result<ExperimentMeta, DataError> 
         path: path.to_path_buf(),
         line: e.line(),
         column: e.column(),
-        field: None,
         message: e.to_string(),
     })
 }
