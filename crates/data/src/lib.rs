@@ -7,10 +7,10 @@
 //!   file is reported at once, naming the file, line and field ([`DataError`], [`Problem`]).
 //! - [`condition_imposed`]: the imposed column with measurement noise removed where it would
 //!   create spurious reversals (isotonic fit per monotone run, flat holds).
-//! - [`segment`]: loading phases (initial loading, steady sliding, velocity steps, holds,
+//! - [`segment()`]: loading phases (initial loading, steady sliding, velocity steps, holds,
 //!   unloading, reversals) and cycles, for fitting, plots and diagnosis.
-//! - [`summary`]: a readable table for `subfric check`.
-//! - [`import`]: lab files in other delimiters, units and column names.
+//! - [`summary()`]: a readable table for `subfric check`.
+//! - [`import()`]: lab files in other delimiters, units and column names.
 //!
 //! ```
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {

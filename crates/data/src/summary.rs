@@ -291,11 +291,11 @@ impl fmt::Display for SetSummary {
             }
         }
         let line = |f: &mut fmt::Formatter<'_>, cells: &[String]| -> fmt::Result {
-            write!(f, " ")?;
+            let mut s = String::from(" ");
             for (c, w) in cells.iter().zip(&widths) {
-                write!(f, " {c:<w$}")?;
+                s.push_str(&format!(" {c:<w$}"));
             }
-            writeln!(f)
+            writeln!(f, "{}", s.trim_end())
         };
         line(f, &header.map(str::to_string))?;
         line(
