@@ -2,46 +2,12 @@ use subfric_fit::*;
 use subfric_model::{Control, Model, Params};
 
 fn load(dir: &std::path::Path) -> (Vec<FitTest>, Option<Params>) {
-    let meta: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("experiment.json")).unwrap())
-            .unwrap();
-    let p: Option<Params> = meta
-        .get("reference_parameters")
-        .and_then(|v| serde_json::from_value(v.clone()).ok());
-    let mut tests = vec![];
-    for t in meta["tests"].as_array().unwrap() {
-        let control = if t["control"] == "slip" {
-            Control::Slip
-        } else {
-            Control::Shear
-        };
-        let fnorm = t["normal_stress_kpa"].as_f64().unwrap();
-        let mut rdr = csv::ReaderBuilder::new()
-            .comment(Some(b'#'))
-            .from_path(dir.join(t["file"].as_str().unwrap()))
-            .unwrap();
-        let (mut tm, mut u, mut s) = (vec![], vec![], vec![]);
-        for rec in rdr.records() {
-            let r = rec.unwrap();
-            tm.push(r[0].parse::<f64>().unwrap());
-            u.push(r[1].parse::<f64>().unwrap());
-            s.push(r[2].parse::<f64>().unwrap());
-        }
-        let normal = vec![fnorm; tm.len()];
-        let (imp, meas) = match control {
-            Control::Slip => (u, s),
-            Control::Shear => (s, u),
-        };
-        tests.push(FitTest::new(
-            t["name"].as_str().unwrap(),
-            control,
-            tm,
-            imp,
-            meas,
-            normal,
-        ));
-    }
-    (tests, p)
+    let set = subfric_data::load_set(dir).unwrap();
+    let tests = prepare_set(&set, false)
+        .into_iter()
+        .map(|p| p.fit)
+        .collect();
+    (tests, reference_model(&set).map(|m| m.params))
 }
 
 fn main() {

@@ -26,6 +26,8 @@ pub struct FitTest {
     pub noise_sd: f64,
     /// Scale of the measured column (peak |shear|, or slip range) for relative errors.
     pub scale: f64,
+    /// Rows whose residuals count; the others get residual 0 (held out). All rows by default.
+    pub fit_rows: std::ops::Range<usize>,
 }
 
 /// Noise standard deviation of a sampled signal: the MAD of second differences, which
@@ -95,6 +97,7 @@ impl FitTest {
             weight: 1.0,
             noise_sd: noise,
             scale,
+            fit_rows: 0..usize::MAX,
         }
     }
 
@@ -110,13 +113,25 @@ impl FitTest {
 
     /// The protocol driving the model.
     pub fn protocol(&self) -> Protocol<'_> {
+        self.protocol_until(self.len())
+    }
+
+    /// The protocol of the first `end` rows.
+    pub fn protocol_until(&self, end: usize) -> Protocol<'_> {
+        let end = end.min(self.len());
         Protocol {
             control: self.control,
-            time: &self.time,
-            imposed: &self.imposed,
-            normal: &self.normal,
+            time: &self.time[..end],
+            imposed: &self.imposed[..end],
+            normal: &self.normal[..end],
             initial_slip: self.initial_slip,
         }
+    }
+
+    /// The rows that count in the residuals, clipped to the test.
+    pub fn counted_rows(&self) -> std::ops::Range<usize> {
+        let end = self.fit_rows.end.min(self.len());
+        self.fit_rows.start.min(end)..end
     }
 
     /// The model's prediction of the measured column.
@@ -175,11 +190,24 @@ pub fn residuals_into(
     let mut failed = 0;
     for t in tests {
         let k = t.weight.sqrt() / t.noise_sd;
-        match simulate_predicted_into(m, &t.protocol(), scratch) {
-            Ok(()) => out.extend(scratch.iter().zip(&t.measured).map(|(p, y)| k * (p - y))),
+        let rows = t.counted_rows();
+        let start = out.len();
+        out.resize(start + t.len(), 0.0);
+        if rows.is_empty() {
+            continue;
+        }
+        // The state at a row depends on the whole history: simulate from the start.
+        match simulate_predicted_into(m, &t.protocol_until(rows.end), scratch) {
+            Ok(()) => {
+                for i in rows {
+                    out[start + i] = k * (scratch[i] - t.measured[i]);
+                }
+            }
             Err(_) => {
                 failed += 1;
-                out.extend(std::iter::repeat_n(FAILED_RESIDUAL, t.len()));
+                for i in rows {
+                    out[start + i] = FAILED_RESIDUAL;
+                }
             }
         }
     }

@@ -14,6 +14,7 @@ pub mod dataset;
 pub mod global;
 pub mod guess;
 pub mod lm;
+pub mod prepare;
 pub mod problem;
 pub mod space;
 pub mod uncertainty;
@@ -23,5 +24,6 @@ pub use calibrate::{
     Status,
 };
 pub use dataset::{misfits, noise_sd, typical_rate, FitTest, TestMisfit};
+pub use prepare::{control_of, prepare_set, prepare_test, reference_model, PreparedTest};
 pub use problem::Problem;
 pub use space::{Coord, Param, Space};

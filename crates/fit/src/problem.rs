@@ -27,9 +27,9 @@ impl<'a> Problem<'a> {
         }
     }
 
-    /// Total number of rows (residuals).
+    /// Number of rows that count in the fit (held-out rows excluded).
     pub fn rows(&self) -> usize {
-        self.tests.iter().map(|t| t.len()).sum()
+        self.tests.iter().map(|t| t.counted_rows().len()).sum()
     }
 
     /// Model runs so far (one run = all tests simulated once).
@@ -46,7 +46,7 @@ impl<'a> Problem<'a> {
 
     /// Sum of squared residuals at `x`.
     pub fn ssr(&self, x: &[f64]) -> f64 {
-        let mut r = Vec::with_capacity(self.rows());
+        let mut r = Vec::new();
         let mut s = Vec::new();
         self.residuals(x, &mut r, &mut s);
         r.iter().map(|v| v * v).sum()

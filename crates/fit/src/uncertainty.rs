@@ -48,7 +48,7 @@ pub fn linearise(p: &Problem, x: &[f64], ssr: f64) -> Linearised {
     p.residuals(x, &mut r, &mut s);
     let j = jacobian(p, x, &r, None);
     let jtj = j.transpose() * &j;
-    let s2 = variance_scale(ssr, r.len(), m);
+    let s2 = variance_scale(ssr, p.rows(), m);
     // Natural = T(x): its Jacobian by differences (μ_k depends on μ_s and its ratio).
     let nat0 = p.space.natural(x);
     let mut t = DMatrix::zeros(m, m);

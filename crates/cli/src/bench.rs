@@ -1,0 +1,158 @@
+//! `subfric bench`: speed of the model step, of fitting each paper table, and of multi-start
+//! fitting on 1 core versus all cores.
+
+use crate::fit_cmd::{run_fit, FitRequest};
+use anyhow::{bail, Result};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use subfric_fit::{FitOptions, Param};
+use subfric_model::{simulate, Contact1, Control, Model, Params, Protocol, State1};
+
+/// Results.
+#[derive(Debug, Serialize)]
+pub struct BenchReport {
+    /// The step benchmark case.
+    pub step_case: String,
+    /// Steps per second on one core (best of repeats).
+    pub steps_per_second: f64,
+    /// Whether the hot loop gave bit-identical results to the general simulate path.
+    pub identical_to_simulate: bool,
+    /// Seconds for one full fit of each paper set.
+    pub fit_seconds: Vec<(String, f64)>,
+    /// Multi-start fitting: seconds with 1 thread, with all threads, threads, speed-up.
+    pub multistart: MultiStart,
+}
+
+/// Multi-start scaling.
+#[derive(Debug, Serialize)]
+pub struct MultiStart {
+    /// Set used.
+    pub set: String,
+    /// Seconds on one thread.
+    pub one_thread_s: f64,
+    /// Seconds on all threads.
+    pub all_threads_s: f64,
+    /// Threads.
+    pub threads: usize,
+    /// Speed-up.
+    pub speedup: f64,
+}
+
+/// The benchmark history: u(t) = 1 mm sin(2π t / 200 s), 10 cycles in 200 000 equal steps.
+pub fn step_case() -> (Model, Vec<f64>, Vec<f64>) {
+    let model = Model::base(Params::sample()).expect("sample parameters are valid");
+    let n = 200_000;
+    let dt = 2000.0 / n as f64;
+    let time: Vec<f64> = (0..=n).map(|i| i as f64 * dt).collect();
+    let slip: Vec<f64> = time
+        .iter()
+        .map(|t| (2.0 * std::f64::consts::PI * t / 200.0).sin())
+        .collect();
+    (model, time, slip)
+}
+
+/// Steps per second of the 1-D slip-controlled step, and whether it matches `simulate` exactly.
+pub fn steps_per_second(repeats: usize) -> (f64, bool) {
+    let (model, time, slip) = step_case();
+    let dt = time[1] - time[0];
+    let mut best = f64::MAX;
+    let mut shear = vec![0.0; slip.len()];
+    for _ in 0..repeats.max(1) {
+        let t0 = Instant::now();
+        let mut c = Contact1::new(&model);
+        let mut s = State1::virgin(&model, 0.0);
+        for (u, out) in slip.iter().zip(shear.iter_mut()).skip(1) {
+            s = match c.step_slip(&s, *u, 100.0, dt) {
+                Ok(n) => n,
+                Err(_) => return (0.0, false),
+            };
+            *out = s.shear;
+        }
+        best = best.min(t0.elapsed().as_secs_f64());
+    }
+    let normal = vec![100.0; time.len()];
+    let proto = Protocol {
+        control: Control::Slip,
+        time: &time,
+        imposed: &slip,
+        normal: &normal,
+        initial_slip: 0.0,
+    };
+    let identical = match simulate(&model, &proto) {
+        Ok(t) => t
+            .shear
+            .iter()
+            .zip(&shear)
+            .all(|(a, b)| a.to_bits() == b.to_bits()),
+        Err(_) => false,
+    };
+    ((slip.len() - 1) as f64 / best, identical)
+}
+
+fn request(dir: PathBuf) -> FitRequest {
+    FitRequest {
+        dirs: vec![dir],
+        tests: vec![],
+        free: Param::BASE.to_vec(),
+        fix: vec![],
+        bounds: vec![],
+        weights: vec![],
+        options: FitOptions::default(),
+        progress: false,
+    }
+}
+
+/// Runs every benchmark.
+pub fn run(experiments: &Path) -> Result<BenchReport> {
+    let (sps, identical) = steps_per_second(10);
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(experiments)?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.join("experiment.json").is_file())
+        .collect();
+    dirs.sort();
+    if dirs.is_empty() {
+        bail!("{}: no experiment set found", experiments.display());
+    }
+    let mut fit_seconds = Vec::new();
+    for d in &dirs {
+        let t0 = Instant::now();
+        run_fit(&request(d.clone()))?;
+        fit_seconds.push((
+            d.file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .to_string(),
+            t0.elapsed().as_secs_f64(),
+        ));
+    }
+    let probe = dirs
+        .iter()
+        .find(|d| d.ends_with("table4-two-way"))
+        .unwrap_or(&dirs[0])
+        .clone();
+    let time_with = |threads: usize| -> Result<f64> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()?;
+        let t0 = Instant::now();
+        pool.install(|| run_fit(&request(probe.clone())))?;
+        Ok(t0.elapsed().as_secs_f64())
+    };
+    let threads = rayon::current_num_threads();
+    let one = time_with(1)?;
+    let all = time_with(threads)?;
+    Ok(BenchReport {
+        step_case: "1-D slip control, u = 1 mm sin(2πt/200 s), 10 cycles in 200 000 steps, Params::sample(), 100 kPa".into(),
+        steps_per_second: sps,
+        identical_to_simulate: identical,
+        fit_seconds,
+        multistart: MultiStart {
+            set: probe.file_name().unwrap_or_default().to_string_lossy().to_string(),
+            one_thread_s: one,
+            all_threads_s: all,
+            threads,
+            speedup: one / all,
+        },
+    })
+}

@@ -1,0 +1,106 @@
+//! Overlay figures of a set: measured curve, published curve, fitted curve, residual below.
+
+use anyhow::Result;
+use std::path::{Path, PathBuf};
+use subfric_fit::PreparedTest;
+use subfric_model::{Control, Model};
+use subfric_plot::{render_png, Figure, Panel, Series, Style};
+
+/// Renders one PNG per test under `out`; returns the files written.
+pub fn plot_set(
+    set_name: &str,
+    tests: &[PreparedTest],
+    published: Option<&Model>,
+    fitted: Option<&Model>,
+    out: &Path,
+) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(out)?;
+    let mut files = Vec::new();
+    for p in tests {
+        let t = &p.fit;
+        let cycles = p.segmentation.cycles();
+        let cycle = (cycles >= 1).then(|| {
+            p.segmentation
+                .cycle_of_row
+                .iter()
+                .map(|c| c + 1)
+                .collect::<Vec<u32>>()
+        });
+        // Slip control: friction against slip. Traction control: slip against time.
+        let (x, to_y, x_label, y_label, res_label): (
+            Vec<f64>,
+            Box<dyn Fn(usize, f64) -> f64>,
+            &str,
+            &str,
+            &str,
+        ) = match t.control {
+            Control::Slip => (
+                t.imposed.clone(),
+                Box::new(|i, v| v / t.normal[i]),
+                "slip u [mm]",
+                "friction τ/σ_n [-]",
+                "fit − measured [-]",
+            ),
+            Control::Shear => (
+                t.time.clone(),
+                Box::new(|_, v| v),
+                "time t [s]",
+                "slip u [mm]",
+                "fit − measured [mm]",
+            ),
+        };
+        let measured: Vec<f64> = t
+            .measured
+            .iter()
+            .enumerate()
+            .map(|(i, v)| to_y(i, *v))
+            .collect();
+        let mut m = Series::new("measured", x.clone(), measured.clone(), Style::Measured);
+        if let (Some(c), true) = (&cycle, cycles >= 2) {
+            m = m.with_cycles(c.clone());
+        }
+        let mut main = vec![m];
+        let mut residual = Vec::new();
+        for (model, label, style) in [
+            (published, "published parameters", Style::Published),
+            (fitted, "fitted", Style::Fitted),
+        ] {
+            let Some(model) = model else { continue };
+            let Ok(pred) = t.predict(model) else { continue };
+            let y: Vec<f64> = pred.iter().enumerate().map(|(i, v)| to_y(i, *v)).collect();
+            residual.push(Series::new(
+                label,
+                x.clone(),
+                y.iter().zip(&measured).map(|(a, b)| a - b).collect(),
+                style,
+            ));
+            main.push(Series::new(label, x.clone(), y, style));
+        }
+        let title = format!("{set_name}: {} ({} kPa)", t.name, mean(&t.normal).round());
+        let mut fig = Figure::new(title, x_label, Panel::new(y_label, main));
+        if !residual.is_empty() {
+            fig = fig.with_residual(Panel::new(res_label, residual).with_zero_line());
+        }
+        let file = out.join(format!("{}.png", sanitize(&t.name)));
+        render_png(&fig, &file)?;
+        files.push(file);
+    }
+    Ok(files)
+}
+
+fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+/// A file-name-safe version of a test name.
+pub fn sanitize(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,75 @@
+//! Reading parameter files and writing results.
+
+use anyhow::{anyhow, bail, Context, Result};
+use serde::Serialize;
+use std::path::Path;
+use subfric_model::{Extensions, Model, Params};
+
+/// Reads a model from `params.json` (keys of `reference_parameters`), a `fit.json` written by
+/// `subfric fit` (its `model`), or an `experiment.json` (its `reference_parameters`).
+pub fn load_model(path: &Path) -> Result<Model> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read the parameter file", path.display()))?;
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+        anyhow!(
+            "{}:{}:{}: not valid JSON: {} (expected an object with mu_s, mu_k, kappa, xi, u_tilde, alpha_t)",
+            path.display(),
+            e.line(),
+            e.column(),
+            e
+        )
+    })?;
+    let (obj, ext) = if let Some(m) = v.get("model") {
+        (
+            m.get("params").cloned().unwrap_or_default(),
+            m.get("ext").cloned(),
+        )
+    } else if let Some(r) = v.get("reference_parameters") {
+        (r.clone(), None)
+    } else {
+        (v.clone(), None)
+    };
+    if !obj.is_object() {
+        bail!("{}: expected a JSON object of parameters (mu_s, mu_k, kappa, xi, u_tilde, alpha_t, ...)", path.display());
+    }
+    for key in ["mu_s", "mu_k", "kappa", "xi", "u_tilde", "alpha_t"] {
+        match obj.get(key) {
+            None => bail!(
+                "{}: field `{key}` is missing (expected a number)",
+                path.display()
+            ),
+            Some(x) if !x.is_number() => bail!(
+                "{}: field `{key}` is {x} (expected a number)",
+                path.display()
+            ),
+            _ => {}
+        }
+    }
+    let params: Params =
+        serde_json::from_value(obj).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let ext: Extensions = match ext {
+        Some(e) => serde_json::from_value(e)
+            .map_err(|e| anyhow!("{}: field `model.ext`: {e}", path.display()))?,
+        None => Extensions::default(),
+    };
+    Model::new(params, ext).map_err(|e| anyhow!("{}: {e}", path.display()))
+}
+
+/// Writes pretty JSON, creating the folder.
+pub fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<()> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create the folder", dir.display()))?;
+    }
+    let text = serde_json::to_string_pretty(value)?;
+    std::fs::write(path, text + "\n").with_context(|| format!("{}: cannot write", path.display()))
+}
+
+/// Writes a text file, creating the folder.
+pub fn write_text(path: &Path, text: &str) -> Result<()> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create the folder", dir.display()))?;
+    }
+    std::fs::write(path, text).with_context(|| format!("{}: cannot write", path.display()))
+}
