@@ -60,8 +60,8 @@ impl Effect {
             Effect::None => "no effect beyond the base model: the remaining gap is noise",
             Effect::Rate => "direct rate dependence: friction rises with log slip rate (a ln(1 + v/v_c))",
             Effect::Pressure => "pressure dependence: μ_s and μ_k scale as (p / 100 kPa)^(-β)",
-            Effect::SlipHardening => "slip hardening/softening: friction changes by h (1 − exp(−s/s_h)) with accumulated slip",
-            Effect::LogHealing => "logarithmic healing: recovery during holds grows like ln(1 + t/t_c)",
+            Effect::SlipHardening => "slip hardening/softening: friction changes by h s_h (1 − exp(−s/s_h)) with accumulated slip s",
+            Effect::LogHealing => "logarithmic healing: recovery slows as ξ t_c/(t_c + θ) with contact age θ (aging law, memory slip d_c)",
             Effect::Direction => "direction dependence: backward sliding friction scaled by (1 − d)",
             Effect::Unexplained => "a real gap none of the candidates explains",
         }
@@ -109,14 +109,14 @@ pub fn library(v_ref: f64) -> Vec<Candidate> {
         Candidate {
             effect: Effect::SlipHardening,
             params: vec![Param::SlipH, Param::SlipSh],
-            starts: vec![vec![0.05, 2.0], vec![-0.05, 2.0], vec![0.05, 10.0]],
+            starts: vec![vec![0.02, 2.0], vec![-0.02, 2.0], vec![0.01, 100.0], vec![-0.01, 100.0]],
             neutral: vec![0.0, 2.0],
         },
         Candidate {
             effect: Effect::LogHealing,
-            params: vec![Param::HealTc],
-            starts: vec![vec![1.0], vec![30.0], vec![1000.0]],
-            neutral: vec![1e6],
+            params: vec![Param::HealTc, Param::HealDc],
+            starts: vec![vec![1.0, 0.01], vec![30.0, 0.01], vec![30.0, 0.1], vec![1000.0, 0.001]],
+            neutral: vec![1e6, 0.01],
         },
         Candidate {
             effect: Effect::Direction,

@@ -28,7 +28,7 @@ pub struct Thresholds {
 impl Default for Thresholds {
     fn default() -> Self {
         Thresholds {
-            min_shrink: 0.5,
+            min_shrink: 0.7,
             min_delta_bic: 20.0,
             gap_chi2: 1.3,
         }

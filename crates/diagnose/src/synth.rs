@@ -135,14 +135,18 @@ pub fn random_truth(effect: Effect, rng: &mut ChaCha8Rng) -> Truth {
             })
         }
         Effect::SlipHardening => {
-            ext.slip_hardening = Some(SlipHardening {
-                h: signed(rng, 0.05, 0.12),
-                s_h: 1.0 + 3.0 * rng.gen::<f64>(),
-            })
+            {
+                let s_h = 1.0 + 3.0 * rng.gen::<f64>();
+                ext.slip_hardening = Some(SlipHardening {
+                    h: signed(rng, 0.05, 0.12) / s_h,
+                    s_h,
+                })
+            }
         }
         Effect::LogHealing => {
             ext.log_healing = Some(LogHealing {
                 t_c: log_uniform(rng, 2.0, 50.0),
+                d_c: log_uniform(rng, 0.002, 0.05),
             })
         }
         Effect::Direction => {

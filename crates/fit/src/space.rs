@@ -35,6 +35,8 @@ pub enum Param {
     SlipSh,
     /// Log healing: t_c [s].
     HealTc,
+    /// Log healing: d_c [mm].
+    HealDc,
     /// Direction effect: d.
     DirectionD,
 }
@@ -61,7 +63,7 @@ impl Param {
     ];
 
     /// Every parameter.
-    pub const ALL: [Param; 13] = [
+    pub const ALL: [Param; 14] = [
         Param::MuS,
         Param::MuK,
         Param::Kappa,
@@ -74,6 +76,7 @@ impl Param {
         Param::SlipH,
         Param::SlipSh,
         Param::HealTc,
+        Param::HealDc,
         Param::DirectionD,
     ];
 
@@ -92,6 +95,7 @@ impl Param {
             Param::SlipH => "slip_hardening.h",
             Param::SlipSh => "slip_hardening.s_h",
             Param::HealTc => "log_healing.t_c",
+            Param::HealDc => "log_healing.d_c",
             Param::DirectionD => "direction.d",
         }
     }
@@ -103,7 +107,8 @@ impl Param {
             Param::Xi => "1/s",
             Param::AlphaT => "kN/mm³",
             Param::RateVc => "mm/s",
-            Param::SlipSh => "mm",
+            Param::SlipSh | Param::HealDc => "mm",
+            Param::SlipH => "1/mm",
             Param::HealTc => "s",
             _ => "",
         }
@@ -136,8 +141,9 @@ impl Param {
             Param::RateVc => (1e-7, 10.0),
             Param::PressureBeta => (-1.0, 1.0),
             Param::SlipH => (-1.0, 1.0),
-            Param::SlipSh => (0.01, 100.0),
+            Param::SlipSh => (0.01, 1000.0),
             Param::HealTc => (1e-3, 1e6),
+            Param::HealDc => (1e-5, 10.0),
             Param::DirectionD => (-0.9, 0.9),
         }
     }
@@ -159,6 +165,7 @@ impl Param {
             Param::SlipH => e.slip_hardening?.h,
             Param::SlipSh => e.slip_hardening?.s_h,
             Param::HealTc => e.log_healing?.t_c,
+            Param::HealDc => e.log_healing?.d_c,
             Param::DirectionD => e.direction?.d,
         })
     }
@@ -189,7 +196,8 @@ impl Param {
                     .get_or_insert(SlipHardening { h: 0.0, s_h: 1.0 })
                     .s_h = v
             }
-            Param::HealTc => e.log_healing.get_or_insert(LogHealing { t_c: 10.0 }).t_c = v,
+            Param::HealTc => e.log_healing.get_or_insert(LogHealing { t_c: 10.0, d_c: 0.0 }).t_c = v,
+            Param::HealDc => e.log_healing.get_or_insert(LogHealing { t_c: 10.0, d_c: 0.0 }).d_c = v,
             Param::DirectionD => e.direction.get_or_insert(DirectionEffect { d: 0.0 }).d = v,
         }
     }

@@ -121,6 +121,12 @@ impl Contact1 {
     ) -> StepInput {
         let (r0, c0, s0) = surface;
         let mult = self.pressure_factor(p) * self.k.ext.direction_factor(sign);
+        let (xi_dt, exp_xi_dt) = if self.k.ext.log_healing.is_some() {
+            let x = self.k.plastic_recovery(st.age, dt);
+            (x, (-x).exp())
+        } else {
+            (self.k.xi * dt, self.exp_xi_dt(dt))
+        };
         StepInput {
             mu_n: st.mu,
             c_start: c0,
@@ -128,7 +134,8 @@ impl Contact1 {
             r_start: r0,
             p,
             dt,
-            exp_xi_dt: self.exp_xi_dt(dt),
+            xi_dt,
+            exp_xi_dt,
             mult,
             s_acc: st.slip_path,
         }
@@ -197,7 +204,7 @@ impl Contact1 {
             cos_r: pl.c,
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
-            age: 0.0,
+            age: self.k.next_age(st.age, pl.lam, dt),
             last_plastic: sign * pl.lam,
         })
     }
@@ -243,7 +250,7 @@ impl Contact1 {
             cos_r: pl.c,
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
-            age: 0.0,
+            age: self.k.next_age(st.age, pl.lam, dt),
             last_plastic: sign * pl.lam,
         })
     }

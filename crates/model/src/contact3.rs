@@ -185,7 +185,8 @@ impl Contact3 {
             r_start: r0,
             p,
             dt,
-            exp_xi_dt: (-self.k.xi * dt).exp(),
+            xi_dt: self.k.plastic_recovery(st.age, dt),
+            exp_xi_dt: (-self.k.plastic_recovery(st.age, dt)).exp(),
             mult,
             s_acc: st.slip_path,
         };
@@ -198,7 +199,7 @@ impl Contact3 {
             cos_r: pl.c,
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
-            age: 0.0,
+            age: self.k.next_age(st.age, pl.lam, dt),
         })
     }
 }

@@ -28,21 +28,27 @@ pub struct PressureEffect {
 }
 
 /// Slip hardening (h > 0) or softening (h < 0) with accumulated plastic slip s:
-/// H(s) = h (1 − exp(−s / s_h)).
+/// H(s) = h s_h (1 − exp(−s / s_h)): initial slope h per mm, saturating after a few s_h
+/// (linear hardening as s_h → ∞).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SlipHardening {
-    /// Asymptotic change of friction coefficient h.
+    /// Initial rate of change of the friction coefficient with slip h [1/mm].
     pub h: f64,
-    /// Characteristic accumulated slip s_h [mm].
+    /// Saturation slip s_h [mm].
     pub s_h: f64,
 }
 
-/// Logarithmic time healing: during a hold of age θ the recovery rate of Eq. (24) becomes
-/// ξ t_c / (t_c + θ), so recovery grows like ln(1 + θ/t_c) instead of saturating exponentially.
+/// Logarithmic time healing: the recovery rate of Eq. (24) becomes ξ t_c / (t_c + θ), where the
+/// contact age θ grows with time and is renewed by slip (θ̇ = 1 − θ v / d_c, Dieterich's aging
+/// law; d_c = 0 renews it at once). Recovery during a hold then grows like ln(1 + θ/t_c) instead
+/// of saturating exponentially, and slow sliding heals less.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LogHealing {
     /// Cut-off time t_c [s].
     pub t_c: f64,
+    /// Memory slip d_c [mm] over which sliding renews the contact age.
+    #[serde(default)]
+    pub d_c: f64,
 }
 
 /// Forward/backward asymmetry: D = 1 for forward sliding, 1 − d for backward
@@ -106,6 +112,9 @@ impl Extensions {
         if let Some(e) = self.log_healing {
             if !(e.t_c > 0.0 && e.t_c.is_finite()) {
                 v.push(("log_healing.t_c", e.t_c, "a finite time > 0 [s]"));
+            }
+            if !(e.d_c >= 0.0 && e.d_c.is_finite()) {
+                v.push(("log_healing.d_c", e.d_c, "a finite slip >= 0 [mm]"));
             }
         }
         if let Some(e) = self.direction {

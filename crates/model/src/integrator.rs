@@ -75,15 +75,39 @@ impl Consts {
         }
     }
 
-    /// Slip-hardening term H(s) and its derivative.
+    /// Slip-hardening term H(s) = h s_h (1 − e^(−s/s_h)) and its derivative h e^(−s/s_h).
     #[inline]
     pub fn slip_term(&self, s: f64) -> (f64, f64) {
         match self.ext.slip_hardening {
             Some(e) => {
                 let x = (-s / e.s_h).exp();
-                (e.h * (1.0 - x), e.h * x / e.s_h)
+                (e.h * e.s_h * (1.0 - x), e.h * x)
             }
             None => (0.0, 0.0),
+        }
+    }
+
+    /// ξΔt of a plastic step starting at contact age θ (log healing slows recovery of old contacts).
+    #[inline]
+    pub fn plastic_recovery(&self, age: f64, dt: f64) -> f64 {
+        match self.ext.log_healing {
+            Some(h) => self.xi * dt * h.t_c / (h.t_c + age),
+            None => self.xi * dt,
+        }
+    }
+
+    /// Contact age after a step of `dt` with plastic slip `lam` (aging law θ̇ = 1 − θ v/d_c).
+    #[inline]
+    pub fn next_age(&self, age: f64, lam: f64, dt: f64) -> f64 {
+        match self.ext.log_healing {
+            Some(h) if lam > 0.0 => {
+                if h.d_c <= 0.0 {
+                    return 0.0;
+                }
+                let steady = h.d_c * dt / lam;
+                steady + (age - steady) * (-lam / h.d_c).exp()
+            }
+            _ => age + dt,
         }
     }
 }
@@ -103,6 +127,8 @@ pub(crate) struct StepInput {
     pub p: f64,
     /// Time increment [s].
     pub dt: f64,
+    /// ξΔt of recovery over the step (reduced by log healing).
+    pub xi_dt: f64,
     /// exp(−ξΔt), cached by the caller.
     pub exp_xi_dt: f64,
     /// Multiplier P(p)·D(direction) on μ.
@@ -169,9 +195,9 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
 
     // μ = μ_n E + w N with A = κλ + ξΔt, E = e^(−A), w = (1−E)/A, N = κλ μ_k + ξΔt μ_s.
     let kl = k.kappa * lam;
-    let a = kl + k.xi * s.dt;
+    let a = kl + s.xi_dt;
     let e = exp_neg(kl) * s.exp_xi_dt;
-    let n = kl * k.mu_k + k.xi * s.dt * k.mu_s;
+    let n = kl * k.mu_k + s.xi_dt * k.mu_s;
     let (w, e_minus_w_over_a) = if a > 1e-5 {
         let w = (1.0 - e) / a;
         (w, (e - w) / a)
