@@ -35,7 +35,20 @@ fn main() {
             diag.base.reduced_chi2,
             diag.elapsed_s
         );
-        if std::env::var("FOLDS").is_ok() { for c in diag.candidates.iter().take(1) { for f in &c.folds { println!("      fold {:50} n {:5} base {:7.2} cand {:7.2}", f.fold, f.rows, f.base_rms_over_noise, f.candidate_rms_over_noise); } } }
+        if std::env::var("FOLDS").is_ok() {
+            for c in diag.candidates.iter().take(1) {
+                for f in &c.folds {
+                    println!(
+                        "      fold {:50} n {:5} base {:7.2} cand {:7.2}",
+                        f.fold, f.rows, f.base_rms_over_noise, f.candidate_rms_over_noise
+                    );
+                }
+            }
+        }
+        println!(
+            "    drift alt: shrink {:.3} dBIC {:.1}",
+            diag.drift.held_out_shrink, diag.drift.delta_bic
+        );
         for c in &diag.candidates {
             println!(
                 "    {:15} shrink {:.3} dBIC {:9.1} fit chi2 {:.3} {:?}",

@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 use subfric_fit::Param;
+use subfric_model::{Extensions, LogHealing, SlipHardening};
 
 /// An effect the diagnosis can name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -61,7 +62,7 @@ impl Effect {
             Effect::Rate => "direct rate dependence: friction rises with log slip rate (a ln(1 + v/v_c))",
             Effect::Pressure => "pressure dependence: μ_s and μ_k scale as (p / 100 kPa)^(-β)",
             Effect::SlipHardening => "slip hardening/softening: friction changes by h s_h (1 − exp(−s/s_h)) with accumulated slip s",
-            Effect::LogHealing => "logarithmic healing: recovery slows as ξ t_c/(t_c + θ) with contact age θ (aging law, memory slip d_c)",
+            Effect::LogHealing => "logarithmic healing: at rest friction regains b ln(1 + t/t_c), and none while sliding",
             Effect::Direction => "direction dependence: backward sliding friction scaled by (1 − d)",
             Effect::Unexplained => "a real gap none of the candidates explains",
         }
@@ -79,6 +80,10 @@ impl std::fmt::Display for Effect {
 pub struct Candidate {
     /// The effect it models.
     pub effect: Effect,
+    /// Which form of the effect (several forms may stand for one effect).
+    pub variant: &'static str,
+    /// The extension switched on with its shape (parameters are then set from `params`).
+    pub template: Extensions,
     /// Extra free parameters.
     pub params: Vec<Param>,
     /// Starting values of the extra parameters (natural units), one vector per start.
@@ -89,9 +94,19 @@ pub struct Candidate {
 
 /// The candidate library; `v_ref` is the typical slip rate of the data [mm/s].
 pub fn library(v_ref: f64) -> Vec<Candidate> {
+    let hardening = |capped: bool| Extensions {
+        slip_hardening: Some(SlipHardening {
+            h: 0.0,
+            s_h: 2.0,
+            capped,
+        }),
+        ..Extensions::default()
+    };
     vec![
         Candidate {
             effect: Effect::Rate,
+            variant: "a ln(1 + v/v_c)",
+            template: Extensions::default(),
             params: vec![Param::RateA, Param::RateVc],
             starts: vec![
                 vec![0.01, 0.01 * v_ref],
@@ -102,24 +117,53 @@ pub fn library(v_ref: f64) -> Vec<Candidate> {
         },
         Candidate {
             effect: Effect::Pressure,
+            variant: "(p/100 kPa)^-beta",
+            template: Extensions::default(),
             params: vec![Param::PressureBeta],
             starts: vec![vec![0.1], vec![-0.1]],
             neutral: vec![0.0],
         },
         Candidate {
             effect: Effect::SlipHardening,
+            variant: "h s_h (1 - exp(-s/s_h))",
+            template: hardening(false),
             params: vec![Param::SlipH, Param::SlipSh],
-            starts: vec![vec![0.02, 2.0], vec![-0.02, 2.0], vec![0.01, 100.0], vec![-0.01, 100.0]],
+            starts: vec![
+                vec![0.02, 2.0],
+                vec![-0.02, 2.0],
+                vec![0.01, 100.0],
+                vec![-0.01, 100.0],
+            ],
             neutral: vec![0.0, 2.0],
         },
         Candidate {
+            effect: Effect::SlipHardening,
+            variant: "h min(s, s_h)",
+            template: hardening(true),
+            params: vec![Param::SlipH, Param::SlipSh],
+            starts: vec![
+                vec![0.01, 5.0],
+                vec![-0.01, 5.0],
+                vec![0.01, 15.0],
+                vec![-0.01, 15.0],
+            ],
+            neutral: vec![0.0, 5.0],
+        },
+        Candidate {
             effect: Effect::LogHealing,
-            params: vec![Param::HealTc, Param::HealDc],
-            starts: vec![vec![1.0, 0.01], vec![30.0, 0.01], vec![30.0, 0.1], vec![1000.0, 0.001]],
-            neutral: vec![1e6, 0.01],
+            variant: "b ln(1 + t/t_c) at rest",
+            template: Extensions {
+                log_healing: Some(LogHealing { b: 0.0, t_c: 10.0 }),
+                ..Extensions::default()
+            },
+            params: vec![Param::HealB, Param::HealTc],
+            starts: vec![vec![0.01, 1.0], vec![0.01, 30.0], vec![0.03, 10.0]],
+            neutral: vec![0.0, 10.0],
         },
         Candidate {
             effect: Effect::Direction,
+            variant: "backward x (1 - d)",
+            template: Extensions::default(),
             params: vec![Param::DirectionD],
             starts: vec![vec![0.1], vec![-0.1]],
             neutral: vec![0.0],

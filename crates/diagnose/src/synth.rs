@@ -135,18 +135,22 @@ pub fn random_truth(effect: Effect, rng: &mut ChaCha8Rng) -> Truth {
             })
         }
         Effect::SlipHardening => {
-            {
-                let s_h = 1.0 + 3.0 * rng.gen::<f64>();
-                ext.slip_hardening = Some(SlipHardening {
-                    h: signed(rng, 0.05, 0.12) / s_h,
-                    s_h,
-                })
-            }
+            let capped = rng.gen::<bool>();
+            let s_h = if capped {
+                4.0 + 8.0 * rng.gen::<f64>()
+            } else {
+                1.0 + 3.0 * rng.gen::<f64>()
+            };
+            ext.slip_hardening = Some(SlipHardening {
+                h: signed(rng, 0.05, 0.12) / s_h,
+                s_h,
+                capped,
+            })
         }
         Effect::LogHealing => {
             ext.log_healing = Some(LogHealing {
+                b: 0.008 + 0.012 * rng.gen::<f64>(),
                 t_c: log_uniform(rng, 2.0, 50.0),
-                d_c: log_uniform(rng, 0.002, 0.05),
             })
         }
         Effect::Direction => {

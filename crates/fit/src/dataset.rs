@@ -28,6 +28,8 @@ pub struct FitTest {
     pub scale: f64,
     /// Rows whose residuals count; the others get residual 0 (held out). All rows by default.
     pub fit_rows: std::ops::Range<usize>,
+    /// Project a drift linear in time out of the residuals (a measurement-drift alternative).
+    pub detrend: bool,
 }
 
 /// Noise standard deviation of a sampled signal: the MAD of second differences, which
@@ -98,6 +100,7 @@ impl FitTest {
             noise_sd: noise,
             scale,
             fit_rows: 0..usize::MAX,
+            detrend: false,
         }
     }
 
@@ -125,6 +128,23 @@ impl FitTest {
             imposed: &self.imposed[..end],
             normal: &self.normal[..end],
             initial_slip: self.initial_slip,
+        }
+    }
+
+    /// Least-squares slope c of residuals r ≈ c (t − t₀) over `rows` (a drift starting at zero).
+    pub fn drift_coefficient(&self, r: &[f64], rows: std::ops::Range<usize>) -> f64 {
+        let (mut num, mut den) = (0.0, 0.0);
+        for i in rows {
+            let tau = self.time[i] - self.time[0];
+            if r[i].is_finite() {
+                num += r[i] * tau;
+                den += tau * tau;
+            }
+        }
+        if den > 0.0 {
+            num / den
+        } else {
+            0.0
         }
     }
 
@@ -199,8 +219,14 @@ pub fn residuals_into(
         // The state at a row depends on the whole history: simulate from the start.
         match simulate_predicted_into(m, &t.protocol_until(rows.end), scratch) {
             Ok(()) => {
-                for i in rows {
+                for i in rows.clone() {
                     out[start + i] = k * (scratch[i] - t.measured[i]);
+                }
+                if t.detrend {
+                    let c = t.drift_coefficient(&out[start..start + t.len()], rows.clone());
+                    for i in rows {
+                        out[start + i] -= c * (t.time[i] - t.time[0]);
+                    }
                 }
             }
             Err(_) => {

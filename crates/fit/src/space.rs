@@ -35,8 +35,8 @@ pub enum Param {
     SlipSh,
     /// Log healing: t_c [s].
     HealTc,
-    /// Log healing: d_c [mm].
-    HealDc,
+    /// Log healing: b.
+    HealB,
     /// Direction effect: d.
     DirectionD,
 }
@@ -76,7 +76,7 @@ impl Param {
         Param::SlipH,
         Param::SlipSh,
         Param::HealTc,
-        Param::HealDc,
+        Param::HealB,
         Param::DirectionD,
     ];
 
@@ -95,7 +95,7 @@ impl Param {
             Param::SlipH => "slip_hardening.h",
             Param::SlipSh => "slip_hardening.s_h",
             Param::HealTc => "log_healing.t_c",
-            Param::HealDc => "log_healing.d_c",
+            Param::HealB => "log_healing.b",
             Param::DirectionD => "direction.d",
         }
     }
@@ -107,7 +107,7 @@ impl Param {
             Param::Xi => "1/s",
             Param::AlphaT => "kN/mm³",
             Param::RateVc => "mm/s",
-            Param::SlipSh | Param::HealDc => "mm",
+            Param::SlipSh => "mm",
             Param::SlipH => "1/mm",
             Param::HealTc => "s",
             _ => "",
@@ -123,7 +123,11 @@ impl Param {
     pub fn scale(self) -> Scale {
         match self {
             Param::MuK => Scale::RatioToMuS,
-            Param::RateA | Param::PressureBeta | Param::SlipH | Param::DirectionD => Scale::Linear,
+            Param::RateA
+            | Param::PressureBeta
+            | Param::SlipH
+            | Param::DirectionD
+            | Param::HealB => Scale::Linear,
             _ => Scale::Log,
         }
     }
@@ -143,7 +147,7 @@ impl Param {
             Param::SlipH => (-1.0, 1.0),
             Param::SlipSh => (0.01, 1000.0),
             Param::HealTc => (1e-3, 1e6),
-            Param::HealDc => (1e-5, 10.0),
+            Param::HealB => (0.0, 0.3),
             Param::DirectionD => (-0.9, 0.9),
         }
     }
@@ -165,7 +169,7 @@ impl Param {
             Param::SlipH => e.slip_hardening?.h,
             Param::SlipSh => e.slip_hardening?.s_h,
             Param::HealTc => e.log_healing?.t_c,
-            Param::HealDc => e.log_healing?.d_c,
+            Param::HealB => e.log_healing?.b,
             Param::DirectionD => e.direction?.d,
         })
     }
@@ -188,16 +192,32 @@ impl Param {
             Param::PressureBeta => e.pressure.get_or_insert(PressureEffect { beta: 0.0 }).beta = v,
             Param::SlipH => {
                 e.slip_hardening
-                    .get_or_insert(SlipHardening { h: 0.0, s_h: 1.0 })
+                    .get_or_insert(SlipHardening {
+                        h: 0.0,
+                        s_h: 1.0,
+                        capped: false,
+                    })
                     .h = v
             }
             Param::SlipSh => {
                 e.slip_hardening
-                    .get_or_insert(SlipHardening { h: 0.0, s_h: 1.0 })
+                    .get_or_insert(SlipHardening {
+                        h: 0.0,
+                        s_h: 1.0,
+                        capped: false,
+                    })
                     .s_h = v
             }
-            Param::HealTc => e.log_healing.get_or_insert(LogHealing { t_c: 10.0, d_c: 0.0 }).t_c = v,
-            Param::HealDc => e.log_healing.get_or_insert(LogHealing { t_c: 10.0, d_c: 0.0 }).d_c = v,
+            Param::HealTc => {
+                e.log_healing
+                    .get_or_insert(LogHealing { b: 0.0, t_c: 10.0 })
+                    .t_c = v
+            }
+            Param::HealB => {
+                e.log_healing
+                    .get_or_insert(LogHealing { b: 0.0, t_c: 10.0 })
+                    .b = v
+            }
             Param::DirectionD => e.direction.get_or_insert(DirectionEffect { d: 0.0 }).d = v,
         }
     }

@@ -92,12 +92,8 @@ impl Contact1 {
     /// μ after an elastic step of `dt`: exponential (or logarithmic) recovery towards μ_s.
     #[inline]
     fn recovered_mu(&mut self, st: &State1, dt: f64) -> f64 {
-        let decay = if self.k.ext.log_healing.is_some() {
-            (-self.k.recovery_exponent(st.age, dt)).exp()
-        } else {
-            self.exp_xi_dt(dt)
-        };
-        self.k.mu_s - (self.k.mu_s - st.mu) * decay
+        let e = self.exp_xi_dt(dt);
+        self.k.rest_mu(st.mu, st.age, dt, e)
     }
 
     /// Surface the step starts from: a traction passing through zero restarts loading at r = 0.
@@ -122,8 +118,7 @@ impl Contact1 {
         let (r0, c0, s0) = surface;
         let mult = self.pressure_factor(p) * self.k.ext.direction_factor(sign);
         let (xi_dt, exp_xi_dt) = if self.k.ext.log_healing.is_some() {
-            let x = self.k.plastic_recovery(st.age, dt);
-            (x, (-x).exp())
+            (0.0, 1.0)
         } else {
             (self.k.xi * dt, self.exp_xi_dt(dt))
         };
@@ -204,7 +199,7 @@ impl Contact1 {
             cos_r: pl.c,
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
-            age: self.k.next_age(st.age, pl.lam, dt),
+            age: 0.0,
             last_plastic: sign * pl.lam,
         })
     }
@@ -250,7 +245,7 @@ impl Contact1 {
             cos_r: pl.c,
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
-            age: self.k.next_age(st.age, pl.lam, dt),
+            age: 0.0,
             last_plastic: sign * pl.lam,
         })
     }

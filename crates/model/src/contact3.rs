@@ -125,8 +125,7 @@ impl Contact3 {
         let slip = self.tangential(slip);
         let du = axpy(-1.0, &st.slip, &slip);
         let trial = axpy(self.k.alpha, &du, &st.shear);
-        let decay = (-self.k.recovery_exponent(st.age, dt)).exp();
-        let mu_el = self.k.mu_s - (self.k.mu_s - st.mu) * decay;
+        let mu_el = self.k.rest_mu(st.mu, st.age, dt, (-self.k.xi * dt).exp());
         let magnitude = norm(&trial);
         if magnitude == 0.0 {
             return Ok(State3 {
@@ -185,8 +184,8 @@ impl Contact3 {
             r_start: r0,
             p,
             dt,
-            xi_dt: self.k.plastic_recovery(st.age, dt),
-            exp_xi_dt: (-self.k.plastic_recovery(st.age, dt)).exp(),
+            xi_dt: self.k.plastic_recovery(dt),
+            exp_xi_dt: (-self.k.plastic_recovery(dt)).exp(),
             mult,
             s_acc: st.slip_path,
         };
@@ -199,7 +198,7 @@ impl Contact3 {
             cos_r: pl.c,
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
-            age: self.k.next_age(st.age, pl.lam, dt),
+            age: 0.0,
         })
     }
 }

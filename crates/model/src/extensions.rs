@@ -27,28 +27,30 @@ pub struct PressureEffect {
     pub beta: f64,
 }
 
-/// Slip hardening (h > 0) or softening (h < 0) with accumulated plastic slip s:
-/// H(s) = h s_h (1 − exp(−s / s_h)): initial slope h per mm, saturating after a few s_h
-/// (linear hardening as s_h → ∞).
+/// Slip hardening (h > 0) or softening (h < 0) with accumulated plastic slip s: an initial slope
+/// h per mm that saturates after the slip s_h, either gradually, H(s) = h s_h (1 − exp(−s/s_h)),
+/// or at once (`capped`), H(s) = h min(s, s_h).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SlipHardening {
     /// Initial rate of change of the friction coefficient with slip h [1/mm].
     pub h: f64,
     /// Saturation slip s_h [mm].
     pub s_h: f64,
+    /// Linear up to s_h, then constant (instead of an exponential approach).
+    #[serde(default)]
+    pub capped: bool,
 }
 
-/// Logarithmic time healing: the recovery rate of Eq. (24) becomes ξ t_c / (t_c + θ), where the
-/// contact age θ grows with time and is renewed by slip (θ̇ = 1 − θ v / d_c, Dieterich's aging
-/// law; d_c = 0 renews it at once). Recovery during a hold then grows like ln(1 + θ/t_c) instead
-/// of saturating exponentially, and slow sliding heals less.
+/// Logarithmic time healing instead of the exponential recovery ξ(μ_s − μ) of Eq. (24): a
+/// contact at rest for a time θ (since sliding last stopped) regains
+/// Δμ = b ln(1 + θ/t_c), up to μ_s; while it slides it does not heal, so steady friction no
+/// longer depends on the sliding rate through ξ.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LogHealing {
+    /// Healing per e-fold of time b.
+    pub b: f64,
     /// Cut-off time t_c [s].
     pub t_c: f64,
-    /// Memory slip d_c [mm] over which sliding renews the contact age.
-    #[serde(default)]
-    pub d_c: f64,
 }
 
 /// Forward/backward asymmetry: D = 1 for forward sliding, 1 − d for backward
@@ -110,11 +112,11 @@ impl Extensions {
             }
         }
         if let Some(e) = self.log_healing {
+            if !(e.b >= 0.0 && e.b.is_finite()) {
+                v.push(("log_healing.b", e.b, "a finite number >= 0"));
+            }
             if !(e.t_c > 0.0 && e.t_c.is_finite()) {
                 v.push(("log_healing.t_c", e.t_c, "a finite time > 0 [s]"));
-            }
-            if !(e.d_c >= 0.0 && e.d_c.is_finite()) {
-                v.push(("log_healing.d_c", e.d_c, "a finite slip >= 0 [mm]"));
             }
         }
         if let Some(e) = self.direction {

@@ -66,19 +66,27 @@ impl Consts {
         }
     }
 
-    /// Recovery exponent of an elastic step: ξΔt, or ξ t_c ln((t_c+θ+Δt)/(t_c+θ)) with log healing.
+    /// μ after an elastic step (no sliding) of `dt` at contact age θ: exponential recovery
+    /// towards μ_s (Eq. 24), or logarithmic healing.
     #[inline]
-    pub fn recovery_exponent(&self, age: f64, dt: f64) -> f64 {
+    pub fn rest_mu(&self, mu: f64, age: f64, dt: f64, exp_xi_dt: f64) -> f64 {
         match self.ext.log_healing {
-            Some(h) => self.xi * h.t_c * ((h.t_c + age + dt) / (h.t_c + age)).ln(),
-            None => self.xi * dt,
+            Some(h) => (mu + h.b * ((h.t_c + age + dt) / (h.t_c + age)).ln()).min(self.mu_s),
+            None => self.mu_s - (self.mu_s - mu) * exp_xi_dt,
         }
     }
 
-    /// Slip-hardening term H(s) = h s_h (1 − e^(−s/s_h)) and its derivative h e^(−s/s_h).
+    /// Slip-hardening term H(s) and its derivative.
     #[inline]
     pub fn slip_term(&self, s: f64) -> (f64, f64) {
         match self.ext.slip_hardening {
+            Some(e) if e.capped => {
+                if s < e.s_h {
+                    (e.h * s, e.h)
+                } else {
+                    (e.h * e.s_h, 0.0)
+                }
+            }
             Some(e) => {
                 let x = (-s / e.s_h).exp();
                 (e.h * e.s_h * (1.0 - x), e.h * x)
@@ -87,27 +95,12 @@ impl Consts {
         }
     }
 
-    /// ξΔt of a plastic step starting at contact age θ (log healing slows recovery of old contacts).
+    /// ξΔt of a plastic step: no recovery while sliding under log healing.
     #[inline]
-    pub fn plastic_recovery(&self, age: f64, dt: f64) -> f64 {
+    pub fn plastic_recovery(&self, dt: f64) -> f64 {
         match self.ext.log_healing {
-            Some(h) => self.xi * dt * h.t_c / (h.t_c + age),
+            Some(_) => 0.0,
             None => self.xi * dt,
-        }
-    }
-
-    /// Contact age after a step of `dt` with plastic slip `lam` (aging law θ̇ = 1 − θ v/d_c).
-    #[inline]
-    pub fn next_age(&self, age: f64, lam: f64, dt: f64) -> f64 {
-        match self.ext.log_healing {
-            Some(h) if lam > 0.0 => {
-                if h.d_c <= 0.0 {
-                    return 0.0;
-                }
-                let steady = h.d_c * dt / lam;
-                steady + (age - steady) * (-lam / h.d_c).exp()
-            }
-            _ => age + dt,
         }
     }
 }
