@@ -32,24 +32,6 @@ pub struct FitTest {
     pub detrend: bool,
 }
 
-/// Noise standard deviation of a sampled signal: the MAD of second differences, which
-/// ignores the smooth part of the signal and the few rows of sharp changes.
-///
-/// ```
-/// let y: Vec<f64> = (0..1000).map(|i| (i as f64 * 0.01).sin() + if i % 2 == 0 { 0.01 } else { -0.01 }).collect();
-/// let sd = subfric_fit::noise_sd(&y);
-/// assert!((sd - 0.01).abs() < 0.003, "{sd}");
-/// ```
-pub fn noise_sd(y: &[f64]) -> f64 {
-    if y.len() < 5 {
-        return 0.0;
-    }
-    let mut d: Vec<f64> = y.windows(3).map(|w| w[2] - 2.0 * w[1] + w[0]).collect();
-    let med = median(&mut d);
-    let mut dev: Vec<f64> = d.iter().map(|v| (v - med).abs()).collect();
-    1.4826 * median(&mut dev) / 6f64.sqrt()
-}
-
 fn median(v: &mut [f64]) -> f64 {
     if v.is_empty() {
         return 0.0;
@@ -84,7 +66,7 @@ impl FitTest {
         }
         .max(1e-12);
         // A floor keeps noise-free (synthetic) data from getting infinite weight.
-        let noise = noise_sd(&measured).max(1e-4 * scale);
+        let noise = subfric_data::condition::noise_sd(&time, &measured).max(1e-4 * scale);
         FitTest {
             name: name.into(),
             control,

@@ -23,7 +23,7 @@ pub use calibrate::{
     calibrate, compare_with_published, FitError, FitOptions, FitReport, Method, ParamReport, Stage,
     Status,
 };
-pub use dataset::{misfits, noise_sd, typical_rate, FitTest, TestMisfit};
+pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
 pub use prepare::{control_of, prepare_set, prepare_test, reference_model, PreparedTest};
 pub use problem::Problem;
 pub use space::{Coord, Param, Space};
