@@ -172,7 +172,7 @@ fn asin_small(x: f64) -> f64 {
     }
 }
 
-#[inline]
+#[inline(always)]
 fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
     // cos θ = cos θ₀ · exp(−kr λ) with θ = πr/2; dr/dλ = ũ cot θ = ũ c / sin θ.
     // θ − θ₀ = asin(sin θ cos θ₀ − cos θ sin θ₀): small within a step, so no inverse cosine.
