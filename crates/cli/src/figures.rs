@@ -27,28 +27,23 @@ pub fn plot_set(
                 .collect::<Vec<u32>>()
         });
         // Slip control: friction against slip. Traction control: slip against time.
-        let (x, to_y, x_label, y_label, res_label): (
-            Vec<f64>,
-            Box<dyn Fn(usize, f64) -> f64>,
-            &str,
-            &str,
-            &str,
-        ) = match t.control {
-            Control::Slip => (
+        let slip_control = t.control == Control::Slip;
+        let (x, x_label, y_label, res_label) = if slip_control {
+            (
                 t.imposed.clone(),
-                Box::new(|i, v| v / t.normal[i]),
                 "slip u [mm]",
                 "friction τ/σ_n [-]",
                 "fit − measured [-]",
-            ),
-            Control::Shear => (
+            )
+        } else {
+            (
                 t.time.clone(),
-                Box::new(|_, v| v),
                 "time t [s]",
                 "slip u [mm]",
                 "fit − measured [mm]",
-            ),
+            )
         };
+        let to_y = |i: usize, v: f64| if slip_control { v / t.normal[i] } else { v };
         let measured: Vec<f64> = t
             .measured
             .iter()

@@ -36,6 +36,8 @@ enum ControlArg {
     Shear,
 }
 
+// Parsed once per run: the size of the import variant does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 enum Command {
     /// Fit every set of experiments/ and write Tables 1–4, plots and a summary under fits/.

@@ -16,9 +16,9 @@ pub fn latin_hypercube(p: &Problem, n: usize, rng: &mut ChaCha8Rng) -> Vec<Vec<f
             let j = rng.gen_range(0..=i);
             perm.swap(i, j);
         }
-        for i in 0..n {
-            let u = (perm[i] as f64 + rng.gen::<f64>()) / n as f64;
-            pts[i][k] = p.space.lo[k] + u * (p.space.hi[k] - p.space.lo[k]);
+        for (pt, slot) in pts.iter_mut().zip(&perm) {
+            let u = (*slot as f64 + rng.gen::<f64>()) / n as f64;
+            pt[k] = p.space.lo[k] + u * (p.space.hi[k] - p.space.lo[k]);
         }
     }
     pts

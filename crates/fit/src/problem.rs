@@ -75,7 +75,7 @@ impl CostFunction for &Problem<'_> {
 pub fn fold_into_box(x: &mut [f64], lo: &[f64], hi: &[f64]) {
     for i in 0..x.len() {
         let w = hi[i] - lo[i];
-        if !(w > 0.0) || !x[i].is_finite() {
+        if w.is_nan() || w <= 0.0 || !x[i].is_finite() {
             x[i] = lo[i];
             continue;
         }
