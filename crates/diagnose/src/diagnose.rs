@@ -528,15 +528,6 @@ fn held_out(
             let mut best: Option<(Vec<f64>, f64)> = None;
             for m in starts {
                 let (x, ssr) = lm(&p, &space.point_of(m), 30);
-                if std::env::var("SUBFRIC_DEBUG_FOLDS").is_ok() {
-                    eprintln!(
-                        "fold {} start ssr {:.1} -> {:.1} ext {:?}",
-                        f.name,
-                        p.ssr(&space.point_of(m)),
-                        ssr,
-                        space.model_at(&x).ext
-                    );
-                }
                 if best.as_ref().is_none_or(|b| ssr <= b.1 + 1.0) {
                     best = Some((x, ssr));
                 }

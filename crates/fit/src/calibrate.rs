@@ -250,19 +250,6 @@ fn local(p: &Problem, x0: &[f64], opts: &FitOptions) -> (Vec<f64>, f64, String) 
     match opts.method {
         Method::Lsq => {
             let r = levenberg_marquardt(p, x0, None, &opts.lm);
-            if std::env::var("SUBFRIC_DEBUG_LM").is_ok() {
-                eprintln!(
-                    "LM: start ssr {:.1} -> {:.1} in {} its, {:?} at {:?}",
-                    p.ssr(x0),
-                    r.ssr,
-                    r.iterations,
-                    r.termination,
-                    p.space
-                        .natural(&r.x)
-                        .iter()
-                        .map(|v| format!("{v:.4}"))
-                        .collect::<Vec<_>>()
-                );
             }
             (r.x, r.ssr, format!("{:?}", r.termination))
         }
