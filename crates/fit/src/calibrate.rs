@@ -250,7 +250,6 @@ fn local(p: &Problem, x0: &[f64], opts: &FitOptions) -> (Vec<f64>, f64, String) 
     match opts.method {
         Method::Lsq => {
             let r = levenberg_marquardt(p, x0, None, &opts.lm);
-            }
             (r.x, r.ssr, format!("{:?}", r.termination))
         }
         Method::NelderMead => {
