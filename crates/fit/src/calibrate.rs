@@ -283,6 +283,28 @@ fn local(p: &Problem, x0: &[f64], opts: &FitOptions) -> (Vec<f64>, f64, String) 
 }
 
 /// Calibrates the free parameters of `space` against `tests`.
+///
+/// ```
+/// use subfric_fit::{calibrate, FitOptions, FitTest, Param, Space};
+/// use subfric_model::{simulate, Control, Model, Params, Protocol};
+/// // A monotonic test from known parameters.
+/// let truth = Model::base(Params::sample()).unwrap();
+/// let time: Vec<f64> = (0..=300).map(|i| i as f64).collect();
+/// let slip: Vec<f64> = time.iter().map(|t| 0.01 * t).collect();
+/// let normal = vec![100.0; time.len()];
+/// let proto = Protocol { control: Control::Slip, time: &time, imposed: &slip, normal: &normal, initial_slip: 0.0 };
+/// let shear = simulate(&truth, &proto).unwrap().shear;
+/// let test = FitTest::new("mono", Control::Slip, time, slip, shear, normal);
+/// // Free only μ_s and ũ, starting away from the truth.
+/// let mut start = truth;
+/// start.params.mu_s = 0.7;
+/// start.params.u_tilde = 50.0;
+/// let space = Space::new(start, &[Param::MuS, Param::UTilde], &[]);
+/// let opts = FitOptions { global_evaluations: 200, starts: 2, profiles: false, ..FitOptions::default() };
+/// let report = calibrate(&[test], space, &opts, &|_| {}).unwrap();
+/// assert!((report.model.params.mu_s - 0.45).abs() < 1e-3);
+/// assert!((report.model.params.u_tilde - 15.0).abs() < 0.1);
+/// ```
 pub fn calibrate(
     tests: &[FitTest],
     space: Space,

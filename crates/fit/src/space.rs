@@ -307,6 +307,19 @@ impl Space {
     }
 
     /// As [`Space::new`], charting μ_k, κ, ξ as combinations at slip rate `v_ref` [mm/s].
+    ///
+    /// ```
+    /// use subfric_fit::{Param, Space};
+    /// use subfric_model::{Model, Params};
+    /// let m = Model::base(Params::sample()).unwrap();
+    /// let space = Space::with_rate(m, &Param::BASE, &[], 0.01);
+    /// assert_eq!(space.dim(), 5);
+    /// // The chart is one-to-one: a model maps to a point and back.
+    /// let back = space.model_at(&space.point_of(&m));
+    /// assert!((back.params.mu_k - m.params.mu_k).abs() < 1e-12);
+    /// assert!((back.params.xi - m.params.xi).abs() < 1e-12);
+    /// assert!((back.params.kappa - m.params.kappa).abs() < 1e-12);
+    /// ```
     pub fn with_rate(
         base: Model,
         free: &[Param],
