@@ -142,6 +142,13 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
         s,
         "\n1. where the base model misses (share of the excess over noise):"
     );
+    // The excess of a sum of n squared unit normals has an SD of √(2n).
+    if d.localisation.total_excess < 3.0 * (2.0 * d.base.rows as f64).sqrt() {
+        let _ = writeln!(
+            s,
+            "   (the total excess over the noise is within its scatter: the shares below are of nothing significant)"
+        );
+    }
     let mut g = d.localisation.by_test_segment.clone();
     g.sort_by(|a, b| b.share_of_gap.total_cmp(&a.share_of_gap));
     for x in g.iter().take(8) {
