@@ -100,6 +100,18 @@ pub fn features(t: &FitTest) -> Option<CurveFeatures> {
     })
 }
 
+/// The template with the five base parameters [μ_s, μ_k, κ, ξ, ũ] set (μ₀ = μ_s).
+fn guess(template: &Model, p: [f64; 5]) -> Model {
+    let mut m = *template;
+    m.params.mu_s = p[0];
+    m.params.mu_k = p[1];
+    m.params.kappa = p[2];
+    m.params.xi = p[3];
+    m.params.u_tilde = p[4];
+    m.params.mu_0 = None;
+    m
+}
+
 /// First guesses from traction-controlled tests: μ_s somewhat above the largest imposed
 /// friction, ũ from the slip of the first loading (r rises from 0 to F/(μ_s p) over it, Eq. 29),
 /// and a coarse grid of μ_k/μ_s, κ and ξ, which the ratcheting of later cycles sorts out.
@@ -127,14 +139,7 @@ pub fn traction_guesses(t: &FitTest, template: &Model) -> Vec<Model> {
         for &q in &[0.5, 0.75, 0.9] {
             for &kappa in &[0.3, 1.5, 5.0] {
                 for &xi in &[1e-4, 1e-3, 1e-2] {
-                    let mut m = *template;
-                    m.params.mu_s = mu_s;
-                    m.params.mu_k = q * mu_s;
-                    m.params.kappa = kappa;
-                    m.params.xi = xi;
-                    m.params.u_tilde = u_tilde;
-                    m.params.mu_0 = None;
-                    out.push(m);
+                    out.push(guess(template, [mu_s, q * mu_s, kappa, xi, u_tilde]));
                 }
             }
         }
@@ -165,32 +170,19 @@ pub fn first_guesses(tests: &[FitTest], template: &Model) -> Vec<Model> {
                 xis.push(-(1.0 - frac).ln() / dur);
             }
             for &lam in &lambdas {
-                for &phi in &[0.02, 0.3, 0.7] {
-                    let xi = phi * lam * c.rate;
-                    let kappa = (1.0 - phi) * lam;
+                // Splits of the decay rate λ = κ + ξ/v: fixed shares, and ξ from a hold recovery.
+                let splits = [0.02, 0.3, 0.7]
+                    .iter()
+                    .map(|phi| ((1.0 - phi) * lam, phi * lam * c.rate))
+                    .chain(
+                        xis.iter()
+                            .map(|&xi| ((lam - xi / c.rate).max(0.05 * lam), xi)),
+                    );
+                for (kappa, xi) in splits {
+                    // μ_k that gives the plateau: μ_ss = (κv μ_k + ξ μ_s)/(κv + ξ).
                     let kv = kappa * c.rate;
                     let mu_k = ((mu_ss * (kv + xi) - xi * mu_s) / kv).clamp(0.02 * mu_s, mu_ss);
-                    let mut m = *template;
-                    m.params.mu_s = mu_s;
-                    m.params.mu_k = mu_k;
-                    m.params.kappa = kappa;
-                    m.params.xi = xi;
-                    m.params.u_tilde = u_tilde;
-                    m.params.mu_0 = None;
-                    out.push(m);
-                }
-                for &xi in &xis {
-                    let kappa = (lam - xi / c.rate).max(0.05 * lam);
-                    let kv = kappa * c.rate;
-                    let mu_k = ((mu_ss * (kv + xi) - xi * mu_s) / kv).clamp(0.02 * mu_s, mu_ss);
-                    let mut m = *template;
-                    m.params.mu_s = mu_s;
-                    m.params.mu_k = mu_k;
-                    m.params.kappa = kappa;
-                    m.params.xi = xi;
-                    m.params.u_tilde = u_tilde;
-                    m.params.mu_0 = None;
-                    out.push(m);
+                    out.push(guess(template, [mu_s, mu_k, kappa, xi, u_tilde]));
                 }
             }
         }

@@ -1,6 +1,6 @@
 //! One-dimensional contact: the paper's tests (direct shear, ring torsion, cyclic shear).
 
-use crate::integrator::{return_shear, return_slip, Consts, StepError, StepInput};
+use crate::integrator::{return_shear, return_slip, Consts, Plastic, StepError, StepInput};
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
 
@@ -167,6 +167,62 @@ impl Contact1 {
         }
     }
 
+    /// The part both controls share: from the traction the step would reach elastically,
+    /// either the elastic end state, or what the plastic return starts from.
+    #[inline]
+    fn begin(
+        &mut self,
+        st: &State1,
+        traction: f64,
+        slip_if_elastic: f64,
+        p: f64,
+        dt: f64,
+    ) -> Begin {
+        let mu_el = self.recovered_mu(st, dt);
+        if traction == 0.0 {
+            return Begin::Elastic(Self::elastic(st, 0.0, slip_if_elastic, mu_el, 1.0, p, dt));
+        }
+        let sign = traction.signum();
+        let (r0, c0, s0) = Self::start_surface(st, sign);
+        let input = self.step_input(st, (r0, c0, s0), p, dt, sign);
+        let mu_eff0 = self.elastic_mu_eff(mu_el, input.mult, st.slip_path);
+        let magnitude = traction.abs();
+        let excess = magnitude - r0 * mu_eff0 * p;
+        if excess <= 0.0 {
+            return Begin::Elastic(Self::elastic(
+                st,
+                traction,
+                slip_if_elastic,
+                mu_el,
+                mu_eff0,
+                p,
+                dt,
+            ));
+        }
+        Begin::Plastic {
+            sign,
+            magnitude,
+            excess,
+            input,
+        }
+    }
+
+    /// End state of a plastic step.
+    #[inline]
+    fn plastic(&self, st: &State1, slip: f64, shear: f64, sign: f64, pl: &Plastic) -> State1 {
+        State1 {
+            slip,
+            shear,
+            mu: pl.mu.clamp(self.k.mu_k, self.k.mu_s),
+            r: pl.r,
+            cos_r: pl.c,
+            sin_r: pl.s,
+            slip_path: st.slip_path + pl.lam,
+            age: 0.0,
+            last_plastic: sign * pl.lam,
+        }
+    }
+
     /// One step under slip control: impose the total slip `slip` at normal stress `p` [kPa]
     /// after `dt` seconds. Returns the end state, or an error value (retry with substeps).
     #[inline]
@@ -178,31 +234,19 @@ impl Contact1 {
         dt: f64,
     ) -> Result<State1, StepError> {
         let trial = st.shear + self.k.alpha * (slip - st.slip);
-        if trial == 0.0 {
-            let mu_el = self.recovered_mu(st, dt);
-            return Ok(Self::elastic(st, 0.0, slip, mu_el, 1.0, p, dt));
+        match self.begin(st, trial, slip, p, dt) {
+            Begin::Elastic(end) => Ok(end),
+            Begin::Plastic {
+                sign,
+                magnitude,
+                excess,
+                input,
+            } => {
+                let pl = return_slip(&self.k, &input, magnitude, excess)?;
+                let shear = sign * (magnitude - self.k.alpha * pl.lam);
+                Ok(self.plastic(st, slip, shear, sign, &pl))
+            }
         }
-        let sign = trial.signum();
-        let (r0, c0, s0) = Self::start_surface(st, sign);
-        let input = self.step_input(st, (r0, c0, s0), p, dt, sign);
-        let mu_el = self.recovered_mu(st, dt);
-        let mu_eff0 = self.elastic_mu_eff(mu_el, input.mult, st.slip_path);
-        let magnitude = trial.abs();
-        if magnitude <= r0 * mu_eff0 * p {
-            return Ok(Self::elastic(st, trial, slip, mu_el, mu_eff0, p, dt));
-        }
-        let pl = return_slip(&self.k, &input, magnitude, magnitude - r0 * mu_eff0 * p)?;
-        Ok(State1 {
-            slip,
-            shear: sign * (magnitude - self.k.alpha * pl.lam),
-            mu: pl.mu.clamp(self.k.mu_k, self.k.mu_s),
-            r: pl.r,
-            cos_r: pl.c,
-            sin_r: pl.s,
-            slip_path: st.slip_path + pl.lam,
-            age: 0.0,
-            last_plastic: sign * pl.lam,
-        })
     }
 
     /// One step under traction control: impose the shear `shear` [kPa] at normal stress `p`
@@ -216,38 +260,28 @@ impl Contact1 {
         dt: f64,
     ) -> Result<State1, StepError> {
         let elastic_slip = st.slip + (shear - st.shear) / self.k.alpha;
-        if shear == 0.0 {
-            let mu_el = self.recovered_mu(st, dt);
-            return Ok(Self::elastic(st, 0.0, elastic_slip, mu_el, 1.0, p, dt));
+        match self.begin(st, shear, elastic_slip, p, dt) {
+            Begin::Elastic(end) => Ok(end),
+            Begin::Plastic {
+                sign,
+                magnitude,
+                input,
+                ..
+            } => {
+                let pl = return_shear(&self.k, &input, magnitude, st.last_plastic.abs())?;
+                Ok(self.plastic(st, elastic_slip + sign * pl.lam, shear, sign, &pl))
+            }
         }
-        let sign = shear.signum();
-        let (r0, c0, s0) = Self::start_surface(st, sign);
-        let input = self.step_input(st, (r0, c0, s0), p, dt, sign);
-        let mu_el = self.recovered_mu(st, dt);
-        let mu_eff0 = self.elastic_mu_eff(mu_el, input.mult, st.slip_path);
-        let magnitude = shear.abs();
-        if magnitude <= r0 * mu_eff0 * p {
-            return Ok(Self::elastic(
-                st,
-                shear,
-                elastic_slip,
-                mu_el,
-                mu_eff0,
-                p,
-                dt,
-            ));
-        }
-        let pl = return_shear(&self.k, &input, magnitude, st.last_plastic.abs())?;
-        Ok(State1 {
-            slip: elastic_slip + sign * pl.lam,
-            shear,
-            mu: pl.mu.clamp(self.k.mu_k, self.k.mu_s),
-            r: pl.r,
-            cos_r: pl.c,
-            sin_r: pl.s,
-            slip_path: st.slip_path + pl.lam,
-            age: 0.0,
-            last_plastic: sign * pl.lam,
-        })
     }
+}
+
+/// How a step begins: elastic all the way, or plastic from a surface.
+enum Begin {
+    Elastic(State1),
+    Plastic {
+        sign: f64,
+        magnitude: f64,
+        excess: f64,
+        input: StepInput,
+    },
 }
