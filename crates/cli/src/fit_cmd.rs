@@ -97,6 +97,7 @@ pub fn run_fit(req: &FitRequest) -> Result<FitOutcome> {
             bail!("--weight {name}={w}: expected a finite weight > 0");
         }
         t.fit.weight = *w;
+        t.full.weight = *w;
     }
     // Template: the published α (which lab data rarely determine), else the sample values.
     let mut template = Model::base(Params::sample())?;
@@ -132,6 +133,9 @@ pub fn run_fit(req: &FitRequest) -> Result<FitOutcome> {
         }
     };
     let mut report = calibrate(&fits, space, &req.options, &progress)?;
+    // Fitted on bins of a long record: the misfit is reported on every row.
+    let fulls: Vec<_> = tests.iter().map(|t| t.full.clone()).collect();
+    report.tests = subfric_fit::misfits(&fulls, &report.model);
     if let Some(b) = bar {
         b.finish_and_clear();
     }

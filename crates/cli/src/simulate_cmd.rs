@@ -16,14 +16,14 @@ pub fn simulate_set(dir: &Path, model: &Model, out: &Path) -> Result<Vec<String>
     let prepared = prepare_set(&set, false);
     let mut written = Vec::new();
     for (t, p) in set.tests.iter_mut().zip(&prepared) {
-        let pred = p.fit.predict(model).map_err(|e| {
+        let pred = p.full.predict(model).map_err(|e| {
             anyhow!(
                 "{}: test `{}`: {e} (row numbers count data rows from 0)",
                 t.path.display(),
                 t.spec.name
             )
         })?;
-        match p.fit.control {
+        match p.full.control {
             Control::Slip => t.shear_kpa = pred,
             Control::Shear => t.slip_mm = pred,
         }

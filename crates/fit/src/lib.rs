@@ -17,6 +17,8 @@ pub mod lm;
 pub mod prepare;
 pub mod problem;
 pub mod space;
+pub mod stiffness;
+pub mod thin;
 pub mod uncertainty;
 
 pub use calibrate::{
@@ -24,6 +26,10 @@ pub use calibrate::{
     Status,
 };
 pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
-pub use prepare::{control_of, prepare_set, prepare_test, reference_model, PreparedTest};
+pub use prepare::{
+    control_of, prepare_set, prepare_set_with, prepare_test, reference_model, thin_prepared,
+    PrepareOptions, PreparedTest,
+};
 pub use problem::Problem;
 pub use space::{Coord, Param, Space};
+pub use stiffness::{resolved_stiffness, Stiffness};
