@@ -1,7 +1,9 @@
 //! Headless, paper-style PNG figures for subfric.
 //!
-//! The crate draws two kinds of figures with the [`plotters`] bitmap backend
-//! and writes them as PNG files:
+//! The crate lays out two kinds of figures itself, draws them with
+//! [tiny-skia](https://docs.rs/tiny-skia) (anti-aliased strokes, dashes,
+//! discs, rectangles) and [ab_glyph](https://docs.rs/ab_glyph) (text), and
+//! writes them as PNG files with the `png` crate:
 //!
 //! * [`Figure`]: curve overlays (measured, published and fitted series) in a
 //!   main panel, with an optional residual panel below it that shares the x
@@ -51,6 +53,7 @@
 
 mod bars;
 mod canvas;
+mod chrome;
 mod colors;
 mod figure;
 mod fonts;
@@ -307,13 +310,13 @@ pub enum PlotError {
         /// Number of categories.
         categories: usize,
     },
-    /// Drawing failed (font or backend error).
-    #[error("figure {path}: drawing failed: {message}")]
+    /// The figure could not be drawn; see [`DrawError`].
+    #[error("figure {path}: drawing failed: {reason}")]
     Draw {
         /// Output path.
         path: PathBuf,
         /// What went wrong.
-        message: String,
+        reason: DrawError,
     },
     /// The file could not be created, written or read.
     #[error("cannot access {path}: {source}")]
@@ -342,6 +345,40 @@ pub enum PlotError {
     },
 }
 
+/// Why a valid figure could not be drawn (inside [`PlotError::Draw`]).
+#[derive(thiserror::Error, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DrawError {
+    /// The bundled font could not be parsed.
+    #[error("the bundled font could not be parsed")]
+    Font,
+    /// No pixel buffer of this size could be made.
+    #[error("cannot make a {width}x{height} pixel buffer")]
+    Canvas {
+        /// Image width.
+        width: u32,
+        /// Image height.
+        height: u32,
+    },
+    /// Title, axis labels and tick labels leave no room for the plotting
+    /// area (below about 20 pixels high).
+    #[error("{width}x{height} is too low for the labels of this figure")]
+    TooLow {
+        /// Image width.
+        width: u32,
+        /// Image height.
+        height: u32,
+    },
+    /// The y label and tick labels leave no room for the plotting area
+    /// (below about 40 pixels wide).
+    #[error("{width}x{height} is too narrow for the labels of this figure")]
+    TooNarrow {
+        /// Image width.
+        width: u32,
+        /// Image height.
+        height: u32,
+    },
+}
+
 /// Problems found before a path is known; turned into [`PlotError`] later.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum Invalid {
@@ -361,7 +398,7 @@ pub(crate) enum Invalid {
         values: usize,
         categories: usize,
     },
-    Draw(String),
+    Draw(DrawError),
 }
 
 impl Invalid {
@@ -403,7 +440,7 @@ impl Invalid {
                 values,
                 categories,
             },
-            Invalid::Draw(message) => PlotError::Draw { path, message },
+            Invalid::Draw(reason) => PlotError::Draw { path, reason },
         }
     }
 }
