@@ -655,6 +655,28 @@ fn draw(p: &BarPlan) -> Result<Canvas, DrawError> {
 /// bars. Errors (each naming `path`): a size outside the accepted bounds, a
 /// group without exactly one value per category, a file that cannot be
 /// written. Non-finite values are shown as "n/a".
+///
+/// ```
+/// use subfric_plot::{bar_layout, read_rgb, render_bars_png, BarFigure};
+///
+/// let tests = vec!["dense".to_string(), "loose".to_string(), "cyclic".to_string()];
+/// let fig = BarFigure::new("Fit error per test", "RMSE (kPa)", tests)
+///     .with_group("base model", vec![4.2, 3.3, f64::NAN])
+///     .with_group("with dilatancy", vec![2.9, 3.1, 4.4])
+///     .with_reference_line("noise level", 2.5);
+/// let path = std::env::temp_dir().join(format!("subfric-bars-doc-{}.png", std::process::id()));
+/// render_bars_png(&fig, &path)?;
+/// // Five bars (the NaN is shown as "n/a"), each filled with its group's colour.
+/// let layout = bar_layout(&fig).expect("a valid chart");
+/// assert_eq!(layout.bars.len(), 5);
+/// let img = read_rgb(&path)?;
+/// let (_, group, r) = layout.bars[0];
+/// assert_eq!(group, 0);
+/// let mid = ((r.left + r.right) / 2) as u32;
+/// assert_eq!(img.pixel(mid, (r.bottom - 2) as u32), Some([31, 119, 180]));
+/// # std::fs::remove_file(&path).ok();
+/// # Ok::<(), subfric_plot::PlotError>(())
+/// ```
 pub fn render_bars_png(fig: &BarFigure, path: &Path) -> Result<(), PlotError> {
     let p = plan(fig).map_err(|e| e.with_path(path))?;
     let canvas = draw(&p).map_err(|e| Invalid::Draw(e).with_path(path))?;
