@@ -150,10 +150,14 @@ impl Canvas {
             .iter()
             .filter_map(|&(x, y)| Some((centre(x)?, centre(y)?)))
             .collect();
-        if let [p] = pts[..] {
-            let r = (0.5 * width).round().max(1.0) as f32;
-            self.disc(p, r, color);
-            return;
+        match pts[..] {
+            [] => return,
+            [p] => {
+                let r = (0.5 * width).round().max(1.0) as f32;
+                self.disc(p, r, color);
+                return;
+            }
+            _ => {}
         }
         let mut stroke = Stroke {
             width: width.max(0.5) as f32,
@@ -326,6 +330,14 @@ mod tests {
         assert!(grey > 20, "{grey} anti-aliased pixels");
         // Non-finite points are skipped, not drawn at the origin.
         c.line((f64::NAN, 0.0), (f64::INFINITY, 0.0), [0, 0, 0], 3.0, None);
+        c.line(
+            (f64::NAN, 0.0),
+            (f64::NAN, 0.0),
+            [0, 0, 0],
+            3.0,
+            Some((9.0, 5.0)),
+        );
+        c.polyline(&[], [0, 0, 0], 3.0, Some((9.0, 5.0)));
         assert_eq!(pixel(&c, 0, 0), [255, 255, 255]);
     }
 
