@@ -50,6 +50,7 @@ impl Metrics {
     }
 }
 
+/// What a legend entry shows left of its label.
 #[derive(Debug, Clone)]
 pub(crate) enum Swatch {
     Line {
@@ -68,6 +69,7 @@ pub(crate) enum Swatch {
     },
 }
 
+/// One row of a legend.
 #[derive(Debug, Clone)]
 pub(crate) struct LegendEntry {
     pub label: String,
