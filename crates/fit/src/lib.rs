@@ -16,14 +16,20 @@ pub mod guess;
 pub mod lm;
 pub mod prepare;
 pub mod problem;
+pub mod residuals;
 pub mod space;
 pub mod uncertainty;
+
+#[cfg(test)]
+mod test_problems;
 
 pub use calibrate::{
     calibrate, compare_with_published, FitError, FitOptions, FitReport, Method, ParamReport, Stage,
     Status,
 };
 pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
+pub use lm::Termination;
 pub use prepare::{control_of, prepare_set, prepare_test, reference_model, PreparedTest};
 pub use problem::Problem;
+pub use residuals::Residuals;
 pub use space::{Coord, Param, Space};
