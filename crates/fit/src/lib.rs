@@ -13,6 +13,7 @@ pub mod calibrate;
 pub mod dataset;
 pub mod global;
 pub mod guess;
+pub mod interval;
 pub mod lm;
 pub mod prepare;
 pub mod problem;
@@ -24,10 +25,11 @@ pub mod uncertainty;
 mod test_problems;
 
 pub use calibrate::{
-    calibrate, compare_with_published, FitError, FitOptions, FitReport, Method, ParamReport, Stage,
-    Status,
+    calibrate, compare_with_published, Combination, FitError, FitOptions, FitReport, LocalRun,
+    Method, ParamReport, Stage, Status,
 };
 pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
+pub use interval::Interval;
 pub use lm::Termination;
 pub use prepare::{control_of, prepare_set, prepare_test, reference_model, PreparedTest};
 pub use problem::Problem;

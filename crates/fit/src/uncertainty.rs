@@ -1,6 +1,7 @@
 //! Uncertainty and identifiability: standard errors and correlations from the Jacobian at the
 //! optimum, flat directions of JᵀJ, and profile intervals that do not assume a quadratic cost.
 
+use crate::interval::Interval;
 use crate::lm::{jacobian, levenberg_marquardt, LmOptions};
 use crate::problem::Problem;
 use crate::residuals::Residuals;
@@ -396,10 +397,21 @@ impl ProfileWalk<'_> {
     }
 }
 
+/// 95 % interval of coordinate `k` itself, from its profile's ends.
+pub fn coordinate_interval(profile: &Profile, k: usize) -> Interval {
+    Interval {
+        lo: profile.lower.x[k],
+        hi: profile.upper.x[k],
+        lo_open: profile.lower.open,
+        hi_open: profile.upper.open,
+    }
+}
+
 /// 95 % interval of a natural parameter: the range of its value over every profile point
 /// inside the threshold (the projection of the confidence region traced by the profiles), and
-/// whether each end lies on a wall the data did not bound.
-pub fn natural_interval(p: &Problem, profiles: &[Profile], index: usize) -> (f64, f64, bool, bool) {
+/// whether each end lies on a wall the data did not bound. `None` when no profile point gives a
+/// finite value.
+pub fn natural_interval(p: &Problem, profiles: &[Profile], index: usize) -> Option<Interval> {
     let limit = CHI2_1_95 + 1e-9;
     let mut lo = (f64::INFINITY, false);
     let mut hi = (f64::NEG_INFINITY, false);
@@ -418,7 +430,12 @@ pub fn natural_interval(p: &Problem, profiles: &[Profile], index: usize) -> (f64
             hi = (v, tp.open_wall);
         }
     }
-    (lo.0, hi.0, lo.1, hi.1)
+    (lo.0 <= hi.0).then_some(Interval {
+        lo: lo.0,
+        hi: hi.0,
+        lo_open: lo.1,
+        hi_open: hi.1,
+    })
 }
 
 fn with(x: &[f64], k: usize, v: f64) -> Vec<f64> {
