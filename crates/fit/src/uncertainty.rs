@@ -408,13 +408,13 @@ pub fn coordinate_interval(profile: &Profile, k: usize) -> Interval {
 }
 
 /// 95 % interval of a natural parameter: the range of its value over every profile point
-/// inside the threshold (the projection of the confidence region traced by the profiles), and
-/// whether each end lies on a wall the data did not bound. `None` when no profile point gives a
-/// finite value.
+/// inside the threshold (the projection of the confidence region traced by the profiles).
+/// An end is open when the box, not the data, stopped the parameter there: see
+/// [`stopped_by_open_wall`]. `None` when no profile point gives a finite value.
 pub fn natural_interval(p: &Problem, profiles: &[Profile], index: usize) -> Option<Interval> {
     let limit = CHI2_1_95 + 1e-9;
-    let mut lo = (f64::INFINITY, false);
-    let mut hi = (f64::NEG_INFINITY, false);
+    let mut lo: Option<(f64, &[f64])> = None;
+    let mut hi: Option<(f64, &[f64])> = None;
     for tp in profiles.iter().flat_map(|pr| pr.trace.iter()) {
         if tp.delta > limit {
             continue;
@@ -423,18 +423,62 @@ pub fn natural_interval(p: &Problem, profiles: &[Profile], index: usize) -> Opti
         if !v.is_finite() {
             continue;
         }
-        if v < lo.0 {
-            lo = (v, tp.open_wall);
+        if lo.is_none_or(|(l, _)| v < l) {
+            lo = Some((v, &tp.x));
         }
-        if v > hi.0 {
-            hi = (v, tp.open_wall);
+        if hi.is_none_or(|(h, _)| v > h) {
+            hi = Some((v, &tp.x));
         }
     }
-    (lo.0 <= hi.0).then_some(Interval {
-        lo: lo.0,
-        hi: hi.0,
-        lo_open: lo.1,
-        hi_open: hi.1,
+    let ((a, xa), (b, xb)) = (lo?, hi?);
+    Some(Interval {
+        lo: a,
+        hi: b,
+        lo_open: stopped_by_open_wall(p, profiles, xa, index, -1.0),
+        hi_open: stopped_by_open_wall(p, profiles, xb, index, 1.0),
+    })
+}
+
+/// How close (transformed units) a coordinate must be to a wall for the point to count as
+/// stopped by it, and how far beyond the wall it is pushed to see whether the parameter would
+/// go on: one e-fold for logarithmic and logit coordinates.
+const WALL_PUSH: f64 = 1.0;
+
+/// Relative change of the parameter under that push above which the wall, not the physics,
+/// limits it. The logit walls of μ_k/μ_s and of the recovery share sit next to hard limits
+/// (μ_k ≤ μ_s, μ_k ≥ 0): pushing through those moves a parameter by about the gap (1e-4 or
+/// less), while pushing through a wall the physics would cross moves it by tens of percent.
+const WALL_MOVES: f64 = 0.01;
+
+/// Whether natural parameter `index`, at its extreme `x` (direction `sign`), was stopped by
+/// the box: some coordinate lies within [`WALL_PUSH`] of a wall its profile found open (the data
+/// set no bound there), and pushing that coordinate [`WALL_PUSH`] beyond the wall moves the
+/// parameter further in direction `sign` by more than [`WALL_MOVES`] of its value. This reads
+/// the answer off the chart rather than off which of several equal trace points (the optimum,
+/// a wall point) happened to attain the extreme.
+fn stopped_by_open_wall(
+    p: &Problem,
+    profiles: &[Profile],
+    x: &[f64],
+    index: usize,
+    sign: f64,
+) -> bool {
+    let v0 = p.space.natural(x)[index];
+    profiles.iter().enumerate().any(|(j, pr)| {
+        [
+            (pr.lower.open, p.space.lo[j], -1.0),
+            (pr.upper.open, p.space.hi[j], 1.0),
+        ]
+        .into_iter()
+        .any(|(open, wall, outward)| {
+            if !open || (x[j] - wall).abs() > WALL_PUSH {
+                return false;
+            }
+            let mut y = x.to_vec();
+            y[j] = wall + outward * WALL_PUSH;
+            let dv = p.space.natural(&y)[index] - v0;
+            sign * dv > WALL_MOVES * v0.abs()
+        })
     })
 }
 
