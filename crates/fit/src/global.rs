@@ -202,3 +202,107 @@ pub fn differential_evolution<R: Residuals + ?Sized>(
         evaluations: evals,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_problems::sphere;
+
+    /// The sphere centred at (0.3, −0.7, 2.5, 0.1) in the box [−1, 1]⁴: the minimum is on the
+    /// wall x₃ = 1, at (0.3, −0.7, 1, 0.1), with cost 1.5² = 2.25.
+    fn walled_sphere() -> crate::test_problems::TestProblem {
+        sphere(vec![0.3, -0.7, 2.5, 0.1], vec![-1.0; 4], vec![1.0; 4])
+    }
+
+    fn opts(tolerance: f64) -> DeOptions {
+        DeOptions {
+            population: 30,
+            max_evaluations: 6000,
+            f: 0.7,
+            cr: 0.9,
+            tolerance,
+        }
+    }
+
+    #[test]
+    fn the_same_seed_gives_the_same_population() {
+        let p = walled_sphere();
+        let a = differential_evolution(&p, &[], &opts(0.0), 7);
+        let b = differential_evolution(&p, &[], &opts(0.0), 7);
+        assert_eq!(a.members, b.members);
+        assert_eq!(a.costs, b.costs);
+        assert_eq!(
+            (a.generations, a.evaluations),
+            (b.generations, b.evaluations)
+        );
+        let c = differential_evolution(&p, &[], &opts(0.0), 8);
+        assert_ne!(a.members, c.members, "the seed should matter");
+    }
+
+    #[test]
+    fn the_result_does_not_depend_on_the_number_of_threads() {
+        let p = walled_sphere();
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| differential_evolution(&p, &[], &opts(0.0), 3));
+        let many = rayon::ThreadPoolBuilder::new()
+            .num_threads(4)
+            .build()
+            .unwrap()
+            .install(|| differential_evolution(&p, &[], &opts(0.0), 3));
+        assert_eq!(one.members, many.members);
+        assert_eq!(one.costs, many.costs);
+    }
+
+    #[test]
+    fn a_sphere_in_a_box_is_minimised_on_the_wall() {
+        let p = walled_sphere();
+        let pop = differential_evolution(&p, &[], &opts(0.0), 11);
+        let best = &pop.members[0];
+        for (k, want) in [0.3, -0.7, 1.0, 0.1].iter().enumerate() {
+            assert!((best[k] - want).abs() < 1e-4, "x[{k}] = {}", best[k]);
+        }
+        assert!((pop.costs[0] - 2.25).abs() < 1e-7, "{}", pop.costs[0]);
+        assert!(
+            pop.costs.windows(2).all(|w| w[0] <= w[1]),
+            "sorted, best first"
+        );
+        for x in &pop.members {
+            assert!(
+                x.iter().all(|v| (-1.0..=1.0).contains(v)),
+                "left the box: {x:?}"
+            );
+        }
+        assert_eq!(pop.evaluations, 6000);
+    }
+
+    #[test]
+    fn seeds_are_members_and_the_best_cost_is_never_lost() {
+        let p = walled_sphere();
+        let optimum = vec![0.3, -0.7, 1.0, 0.1];
+        let exact = p.sum_of_squares(&optimum);
+        // No generation: the population is the seed plus Latin-hypercube points.
+        let start = DeOptions {
+            max_evaluations: 30,
+            ..opts(0.0)
+        };
+        let pop = differential_evolution(&p, std::slice::from_ref(&optimum), &start, 5);
+        assert_eq!(pop.generations, 0);
+        assert_eq!(pop.members[0], optimum);
+        // Selection only replaces a member by a trial at least as good: the exact optimum's
+        // cost survives every generation (possibly held by an equal-cost neighbour).
+        let pop = differential_evolution(&p, &[optimum], &opts(0.0), 5);
+        assert_eq!(pop.costs[0], exact);
+    }
+
+    #[test]
+    fn a_collapsed_population_stops_before_the_budget() {
+        let p = walled_sphere();
+        let pop = differential_evolution(&p, &[], &opts(1e-6), 2);
+        assert!(pop.evaluations < 6000, "{} runs", pop.evaluations);
+        let (best, worst) = (pop.costs[0], pop.costs[pop.costs.len() - 1]);
+        assert!(worst - best <= 1e-6 * best, "spread {best} .. {worst}");
+    }
+}

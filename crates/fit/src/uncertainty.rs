@@ -487,3 +487,90 @@ fn with(x: &[f64], k: usize, v: f64) -> Vec<f64> {
     y[k] = v;
     y
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_problems::{linear, TestProblem};
+
+    /// A straight line a + b t through 20 points with a deterministic scatter of SD about 1
+    /// (residuals in noise units), and a third coordinate c the data do not see.
+    fn line_fit() -> (TestProblem, Vec<f64>, DMatrix<f64>) {
+        let n = 20;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 / (n - 1) as f64).collect();
+        let y: Vec<f64> = t
+            .iter()
+            .enumerate()
+            .map(|(i, ti)| 1.0 + 2.0 * ti + 1.3 * (2.7 * i as f64).sin())
+            .collect();
+        let a: Vec<Vec<f64>> = t.iter().map(|ti| vec![1.0, *ti, 0.0]).collect();
+        let am = DMatrix::from_fn(n, 2, |i, j| a[i][j]);
+        // Normal equations are fine here (cond ≈ 10): the exact answer to compare with.
+        let ata_inv = (am.transpose() * &am).try_inverse().unwrap();
+        let x_hat = &ata_inv * am.transpose() * DVector::from_vec(y.clone());
+        let p = linear(a, y, vec![-10.0, -10.0, -1.0], vec![10.0, 10.0, 1.0]);
+        (p, vec![x_hat[0], x_hat[1], 0.0], ata_inv)
+    }
+
+    #[test]
+    fn standard_errors_of_a_linear_model_are_the_textbook_ones() {
+        let (p, x, ata_inv) = line_fit();
+        let ssr = p.sum_of_squares(&x);
+        let s2 = variance_scale(ssr, p.observations(), 3);
+        assert!(
+            s2 > 1.0,
+            "the scatter should widen the intervals: s² = {s2}"
+        );
+        let st = coordinate_stats(&p, &x, ssr);
+        for k in 0..2 {
+            let want = (s2 * ata_inv[(k, k)]).sqrt();
+            assert!(
+                (st.std_errors[k] - want).abs() < 1e-6 * want,
+                "se[{k}] = {} vs {want}",
+                st.std_errors[k]
+            );
+        }
+        assert!(st.std_errors[2].is_infinite(), "c has no curvature");
+        assert_eq!(st.flat.len(), 1);
+        assert!(st.flat[0].1[2].abs() > 0.999, "the flat direction is c");
+    }
+
+    #[test]
+    fn profile_intervals_of_a_linear_model_are_plus_minus_1_96_se() {
+        let (p, x, _) = line_fit();
+        let ssr = p.sum_of_squares(&x);
+        let st = coordinate_stats(&p, &x, ssr);
+        let prof = profiles(&p, &x, ssr, &st.std_errors);
+        for k in 0..2 {
+            let i = coordinate_interval(&prof[k], k);
+            let half = 1.96 * st.std_errors[k];
+            assert!(i.is_closed(), "{k}: {i:?}");
+            // 1.96 vs √3.841 = 1.95985: 8e-5 relative.
+            assert!(
+                (i.lo - (x[k] - half)).abs() < 2e-4 * half,
+                "{k}: {i:?} vs ±{half}"
+            );
+            assert!(
+                (i.hi - (x[k] + half)).abs() < 2e-4 * half,
+                "{k}: {i:?} vs ±{half}"
+            );
+            assert!(prof[k].better.is_none(), "already at the optimum");
+        }
+        // The coordinate the data do not see: both profile ends reach the walls, open.
+        let c = coordinate_interval(&prof[2], 2);
+        assert_eq!((c.lo, c.hi, c.lo_open, c.hi_open), (-1.0, 1.0, true, true));
+    }
+
+    #[test]
+    fn a_profile_reports_a_better_optimum_it_walks_into() {
+        // Start the profiles off the optimum: re-minimising the other coordinates finds SSRs
+        // below the given one, which the caller must hear of.
+        let (p, x, _) = line_fit();
+        let off = vec![x[0] + 0.5, x[1], 0.0];
+        let ssr = p.sum_of_squares(&off);
+        let st = coordinate_stats(&p, &x, p.sum_of_squares(&x));
+        let prof = profiles(&p, &off, ssr, &st.std_errors);
+        let (_, better) = prof[1].better.clone().expect("a better point");
+        assert!(better < ssr - 1.0, "{better} vs {ssr}");
+    }
+}
