@@ -59,6 +59,7 @@ pub fn simulate_scenario(path: &Path, model: &Model, out: &Path) -> Result<Strin
         imposed: &rows.imposed,
         normal: &rows.normal,
         initial_slip: 0.0,
+        initial: Default::default(),
     };
     let traj = simulate(model, &proto).map_err(|e| anyhow!("{}: {e}", path.display()))?;
     let control = match sc.control {

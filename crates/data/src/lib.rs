@@ -29,9 +29,11 @@
 
 pub mod condition;
 mod error;
+pub mod events;
 pub mod import;
 mod jsonpos;
 pub mod meta;
+pub mod noise;
 pub mod segment;
 pub mod set;
 pub mod summary;
@@ -39,8 +41,11 @@ pub mod summary;
 pub use condition::{condition_imposed, condition_imposed_with, Conditioned};
 pub use error::{DataError, Problem};
 pub use import::{import, ColumnRef, Delimiter, ImportSpec, LengthUnit, StressUnit, TimeUnit};
-pub use meta::{parse_meta, Control, ExperimentMeta, Interface, TestSpec};
-pub use segment::{segment, RateLevel, Segment, SegmentKind, SegmentOptions, Segmentation};
+pub use meta::{parse_meta, Control, ExperimentMeta, InitialSpec, Interface, TestSpec};
+pub use noise::{estimate_noise, NoiseEstimate};
+pub use segment::{
+    segment, RateLevel, Segment, SegmentKind, SegmentOptions, Segmentation, Start, StartKind,
+};
 pub use set::{
     load_set, load_test, write_set, ExperimentSet, TestData, ACCEPTED_COLUMNS, EXPERIMENT_JSON,
 };

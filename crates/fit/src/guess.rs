@@ -253,6 +253,7 @@ mod tests {
             imposed: &slip,
             normal: &normal,
             initial_slip: 0.0,
+            initial: Default::default(),
         };
         let shear = simulate(&truth, &proto).unwrap().shear;
         FitTest::new("shs", Control::Slip, time, slip, shear, normal)

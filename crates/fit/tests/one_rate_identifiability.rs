@@ -20,6 +20,7 @@ fn a_single_rate_bounds_kappa_xi_and_mu_k_as_the_chart_says() {
         imposed: &slip,
         normal: &normal,
         initial_slip: 0.0,
+        initial: Default::default(),
     };
     let clean = simulate(&truth, &proto).unwrap().shear;
     // A deterministic scatter of 0.3 % of the peak.
