@@ -81,6 +81,20 @@ proptest! {
         prop_assert_eq!(space.dim(), 10);
         assert_round_trip(&space, &point_at(&space, &u))?;
     }
+
+    #[test]
+    fn rate_and_state_and_power_law_parameters_round_trip(u in fractions(6)) {
+        let free = [
+            Param::MuS,
+            Param::RateB,
+            Param::RateDc,
+            Param::RateN,
+            Param::HealN,
+            Param::Kappa,
+        ];
+        let space = Space::new(base(), &free, &[]);
+        assert_round_trip(&space, &point_at(&space, &u))?;
+    }
 }
 
 /// Fails today: at the corner of the combined chart where μ_ss/μ_s, κ + ξ/v and ψ are all at
