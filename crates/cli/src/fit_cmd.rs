@@ -4,6 +4,7 @@ use anyhow::{anyhow, bail, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use subfric_data::load_set;
+use subfric_fit::interval::short_number as fmt_num;
 use subfric_fit::{
     calibrate, compare_with_published, prepare_set, reference_model, typical_rate, FitOptions,
     FitReport, Method, Param, PreparedTest, Space, Stage, Status,
@@ -150,28 +151,9 @@ pub fn run_fit(req: &FitRequest) -> Result<FitOutcome> {
     })
 }
 
-fn fmt_num(v: f64) -> String {
-    if v == 0.0 {
-        "0".into()
-    } else if v.abs() >= 1e4 || v.abs() < 1e-3 {
-        format!("{v:.3e}")
-    } else {
-        format!("{v:.4}")
-    }
-}
-
-/// Interval text with open ends marked.
+/// Interval text with open ends marked (empty for a fixed or unprofiled parameter).
 pub fn interval_text(p: &subfric_fit::ParamReport) -> String {
-    match (p.interval, p.interval_open) {
-        (Some((a, b)), Some((oa, ob))) => format!(
-            "{}{}, {}{}",
-            if oa { "(≤" } else { "[" },
-            fmt_num(a),
-            fmt_num(b),
-            if ob { "≥)" } else { "]" }
-        ),
-        _ => String::new(),
-    }
+    p.interval.map(|i| i.to_string()).unwrap_or_default()
 }
 
 /// The readable table printed by `subfric fit`.
@@ -225,16 +207,7 @@ pub fn report_table(name: &str, r: &FitReport) -> String {
     if !r.combinations.is_empty() {
         let _ = writeln!(s, "combinations the data determine:");
         for c in &r.combinations {
-            let iv = match (c.interval, c.interval_open) {
-                (Some((a, b)), Some((oa, ob))) => format!(
-                    "{}{}, {}{}",
-                    if oa { "(≤" } else { "[" },
-                    fmt_num(a),
-                    fmt_num(b),
-                    if ob { "≥)" } else { "]" }
-                ),
-                _ => String::new(),
-            };
+            let iv = c.interval.map(|i| i.to_string()).unwrap_or_default();
             let _ = writeln!(
                 s,
                 "  {:<58} {:>11} {:>26}  {}",

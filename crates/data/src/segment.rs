@@ -441,8 +441,10 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
 fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
     let n = test.len();
     let measured_shear = &test.shear_kpa;
-    // The traction at the start: over the first rows that have not yet moved (at most five).
-    let band = seg.conditioned.band;
+    // The traction at the start: over the first rows that have not moved beyond the noise of the
+    // imposed column (at most five).
+    let noise = &seg.conditioned.noise;
+    let band = (3.0 * noise.sd).max(0.5 * noise.quantum);
     let imposed = test.imposed();
     let still = imposed
         .iter()
