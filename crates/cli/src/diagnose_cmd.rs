@@ -217,7 +217,7 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
     let _ = writeln!(
         s,
         "   {:<15} {:<44} {:>10}  {:<10} parameters",
-        "family", "form", "ΔBIC", "fit"
+        "family", "form", "score", "fit"
     );
     for f in &d.forms {
         let extra: Vec<String> = f
@@ -230,7 +230,7 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
             "   {:<15} {:<44} {:>10.1}  {:<10} {}{}",
             f.effect.name(),
             f.form,
-            f.delta_bic,
+            f.in_sample_score,
             if f.converged {
                 "converged"
             } else {

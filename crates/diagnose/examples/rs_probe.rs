@@ -56,7 +56,7 @@ fn main() {
         .map(|s| with_values(&base.model, &spec, std::slice::from_ref(s)))
         .collect();
     let t1 = std::time::Instant::now();
-    let r = fit(&tests, &sp, &starts, iters);
+    let r = fit(&tests, &sp, &starts, 2, iters);
     eprintln!(
         "{} ssr {:.4e} conv {} {} in {:.1}s\n{:?}\n{:?}",
         which,
@@ -67,6 +67,40 @@ fn main() {
         r.model.params,
         r.model.ext
     );
+    {
+        use subfric_diagnose::fits::{cross_validate, residuals};
+        use subfric_diagnose::folds::{piece_folds, pieces};
+        use subfric_diagnose::score::compare;
+        let all = pieces(&prepared);
+        let folds = piece_folds(&tests, &all, 4);
+        let w: Vec<Vec<f64>> = tests
+            .iter()
+            .map(|t| (0..t.len()).map(|i| t.weight_of(i)).collect())
+            .collect();
+        let rb = residuals(&tests, &base.model, None);
+        let rr = residuals(&tests, &r.model, None);
+        let c = compare(&all, &w, &rb, &rr);
+        eprintln!(
+            "in-sample on pieces: D {:.1} shape {:.1} level {:.1} rel {:.3} typical {:.3}",
+            c.score, c.shape_score, c.level_score, c.relative_shrink, c.typical_shrink
+        );
+        let bsp = space_of(&base.model, &free, &Spec::base(), f.v_ref);
+        for it in [0usize, 8, 30] {
+            let t2 = std::time::Instant::now();
+            let hb = cross_validate(&tests, &folds, &bsp, &[base.model], it, false);
+            let hr = cross_validate(&tests, &folds, &sp, &[r.model, base.model], it, false);
+            let c = compare(&all, &w, &hb, &hr);
+            eprintln!(
+                "CV iters {it}: D {:.1} shape {:.1} level {:.1} rel {:.3} typical {:.3} ({:.1}s)",
+                c.score,
+                c.shape_score,
+                c.level_score,
+                c.relative_shrink,
+                c.typical_shrink,
+                t2.elapsed().as_secs_f64()
+            );
+        }
+    }
     for p in &prepared {
         let t = &p.full;
         let b = t.predict(&base.model).unwrap();
