@@ -26,8 +26,8 @@ pub use extensions::{
     DirectionEffect, Extensions, LogHealing, PressureEffect, RateEffect, SlipHardening,
 };
 pub use integrator::StepError;
-pub use params::{ParamError, ParamIssue, Params};
-pub use scenario::{Scenario, ScenarioError, Stage};
+pub use params::{ParamError, ParamIssue, Params, MAX_ALPHA};
+pub use scenario::{Scenario, ScenarioError, Stage, MAX_SCENARIO_ROWS};
 pub use simulate::{simulate, simulate_predicted_into, Control, Protocol, SimError, Trajectory};
 
 /// A validated model: the paper's parameters plus optional extensions.
