@@ -25,5 +25,5 @@ pub use calibrate::{
 };
 pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
 pub use prepare::{control_of, prepare_set, prepare_test, reference_model, PreparedTest};
-pub use problem::Problem;
+pub use problem::{model_runs, Problem};
 pub use space::{Coord, Param, Space};
