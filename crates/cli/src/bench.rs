@@ -80,6 +80,7 @@ pub fn steps_per_second(repeats: usize) -> (f64, bool) {
         imposed: &slip,
         normal: &normal,
         initial_slip: 0.0,
+        initial: Default::default(),
     };
     let identical = match simulate(&model, &proto) {
         Ok(t) => t

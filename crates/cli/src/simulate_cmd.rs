@@ -131,6 +131,7 @@ pub fn simulate_scenario(
         imposed: &rows.imposed,
         normal: &rows.normal,
         initial_slip: 0.0,
+        initial: Default::default(),
     };
     let traj = simulate(model, &proto).map_err(|e| anyhow!("{}: {e}", path.display()))?;
     let n = rows.time.len();

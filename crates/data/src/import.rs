@@ -675,6 +675,7 @@ pub fn read_lab_file(
             file: file_name_for(&spec.test_name),
             control: spec.control,
             normal_stress_kpa: spec_normal(spec, &cols, &rows.normal_kpa),
+            initial: None,
             extra: Map::new(),
         },
         path: lab_file.to_path_buf(),

@@ -31,10 +31,12 @@
 
 pub mod condition;
 mod error;
+pub mod events;
 pub mod fsio;
 pub mod import;
 mod jsonpos;
 pub mod meta;
+pub mod noise;
 pub mod plausible;
 pub mod segment;
 pub mod set;
@@ -44,9 +46,12 @@ pub use condition::{condition_imposed, condition_imposed_with, Conditioned};
 pub use error::{DataError, Problem};
 pub use fsio::{write_atomic, PathKind};
 pub use import::{import, ColumnRef, Delimiter, ImportSpec, LengthUnit, StressUnit, TimeUnit};
-pub use meta::{parse_meta, Control, ExperimentMeta, Interface, TestSpec};
+pub use meta::{parse_meta, Control, ExperimentMeta, InitialSpec, Interface, TestSpec};
+pub use noise::{estimate_noise, NoiseEstimate};
 pub use plausible::{plausibility, Warning};
-pub use segment::{segment, RateLevel, Segment, SegmentKind, SegmentOptions, Segmentation};
+pub use segment::{
+    segment, RateLevel, Segment, SegmentKind, SegmentOptions, Segmentation, Start, StartKind,
+};
 pub use set::{
     load_set, load_test, write_set, ExperimentSet, TestData, ACCEPTED_COLUMNS, EXPERIMENT_JSON,
 };

@@ -86,9 +86,24 @@ pub struct TestSpec {
     pub control: Control,
     /// Constant normal stress, kPa (a `normal_kpa` CSV column overrides it per row).
     pub normal_stress_kpa: f64,
+    /// How the test starts: from rest, or already sliding (a segment cut out of a longer run).
+    /// `None`: decided from the data.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial: Option<InitialSpec>,
     /// Any other fields, kept as they are.
     #[serde(flatten)]
     pub extra: Map<String, Value>,
+}
+
+/// The optional `initial` field of a test.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum InitialSpec {
+    /// The test starts from an unloaded interface at rest.
+    Rest,
+    /// The file is a segment cut out of a longer run: the interface is already sliding (or
+    /// loaded) at its first row.
+    Sliding,
 }
 
 impl TestSpec {
@@ -99,6 +114,7 @@ impl TestSpec {
             file: file.to_string(),
             control,
             normal_stress_kpa,
+            initial: None,
             extra: Map::new(),
         }
     }
@@ -402,6 +418,21 @@ fn check_shape(v: &Value, path: &Path, pos: &HashMap<String, (usize, usize)>, pr
                 "missing required field `control` (expected \"slip\" or \"shear\")",
             ),
         }
+        let field = format!("{prefix}.initial");
+        match t.get("initial") {
+            None | Some(Value::Null) => {}
+            Some(Value::String(s)) if s == "rest" || s == "sliding" => {}
+            Some(Value::String(s)) => cx.problem(
+                pr,
+                &field,
+                format!("unknown initial state `{s}` (expected \"rest\" or \"sliding\")"),
+            ),
+            Some(v) => cx.problem(
+                pr,
+                &field,
+                format!("found {} (expected \"rest\" or \"sliding\")", kind_of(v)),
+            ),
+        }
         let field = format!("{prefix}.normal_stress_kpa");
         match t.get("normal_stress_kpa") {
             Some(Value::Number(n)) => match n.as_f64() {
@@ -468,6 +499,22 @@ mod tests {
             "{all}"
         );
         assert_eq!(p.len(), 6, "{all}");
+    }
+
+    #[test]
+    fn initial_field_is_rest_or_sliding() {
+        let ok = r#"{"name": "s", "title": "t", "source": "x", "tests": [
+            {"name": "a", "file": "a.csv", "control": "slip", "normal_stress_kpa": 100, "initial": "sliding"},
+            {"name": "b", "file": "b.csv", "control": "slip", "normal_stress_kpa": 100}]}"#;
+        let meta = parse_meta(ok, Path::new("e.json")).unwrap();
+        assert_eq!(meta.tests[0].initial, Some(InitialSpec::Sliding));
+        assert_eq!(meta.tests[1].initial, None);
+        let bad = "{\"name\": \"s\", \"title\": \"t\", \"source\": \"x\", \"tests\": [\n{\"name\": \"a\", \"file\": \"a.csv\", \"control\": \"slip\", \"normal_stress_kpa\": 100, \"initial\": \"moving\"}]}";
+        let all = problems(bad).join("\n");
+        assert!(
+            all.contains(":2: field `tests[0].initial`: unknown initial state `moving` (expected \"rest\" or \"sliding\")"),
+            "{all}"
+        );
     }
 
     #[test]

@@ -28,7 +28,10 @@
 use serde::{Deserialize, Serialize};
 
 use crate::condition::{analyze, Conditioned};
-use crate::meta::Control;
+use crate::events::velocity_steps;
+pub use crate::events::SegmentOptions;
+use crate::meta::{Control, InitialSpec};
+use crate::noise::{estimate_noise, median};
 use crate::set::TestData;
 
 /// Kind of a loading phase.
@@ -89,28 +92,6 @@ impl std::fmt::Display for SegmentKind {
     }
 }
 
-/// Options of [`segment`].
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
-pub struct SegmentOptions {
-    /// Slip (mm) after a start, step, hold or reversal labelled as a transient. Default 0.2.
-    pub transient_mm: f64,
-    /// A sliding-rate change by at least this factor is a velocity step. Default 2.0.
-    pub rate_ratio: f64,
-    /// |rate| below this fraction of the typical sliding rate is a hold. Default 0.02.
-    pub hold_rate_fraction: f64,
-}
-
-impl Default for SegmentOptions {
-    fn default() -> Self {
-        SegmentOptions {
-            transient_mm: 0.2,
-            rate_ratio: 2.0,
-            hold_rate_fraction: 0.02,
-        }
-    }
-}
-
 /// A run of consecutive rows of one kind.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Segment {
@@ -158,6 +139,36 @@ pub struct Segmentation {
     pub reference_rate: f64,
     /// The conditioned imposed column the segmentation works on.
     pub conditioned: Conditioned,
+    /// How the test starts, and why that was decided.
+    pub start: Start,
+}
+
+/// How a test starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StartKind {
+    /// An unloaded interface at rest.
+    Rest,
+    /// At rest, or not yet sliding, under a traction well away from zero.
+    Loaded,
+    /// Already sliding at the first row (a segment cut out of a longer run).
+    Sliding,
+}
+
+/// The initial state of a test, from the `initial` field or decided from the data.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Start {
+    /// The state.
+    pub kind: StartKind,
+    /// Measured traction at the start [kPa] (slip control; the imposed one under traction
+    /// control).
+    pub shear_kpa: f64,
+    /// Imposed rate at the start (mm/s or kPa/s), signed; 0 in a hold.
+    pub rate: f64,
+    /// True when the `initial` field of `experiment.json` said it, false when decided here.
+    pub from_spec: bool,
+    /// Why, in words.
+    pub reason: String,
 }
 
 impl Segmentation {
@@ -223,63 +234,6 @@ fn rate_between(t: &[f64], y: &[f64], a: usize, b: usize) -> f64 {
     }
 }
 
-/// Finds velocity steps in the sliding stretch of rows `p..=q` (all in one monotone run, no
-/// hold). Returns the rows of the steps.
-fn steps_in_stretch(t: &[f64], y: &[f64], p: usize, q: usize, ratio: f64, sd: f64) -> Vec<usize> {
-    let len = q - p;
-    // window: at least 8 intervals, more when the motion per row is small against the noise,
-    // so that a window moves ~30 noise SDs
-    let mut steps: Vec<f64> = (p + 1..=q).map(|i| (y[i] - y[i - 1]).abs()).collect();
-    steps.sort_by(f64::total_cmp);
-    let small_step = steps.get(steps.len() / 4).copied().unwrap_or(0.0);
-    let wanted = if sd > 0.0 && small_step > 0.0 {
-        (30.0 * sd / small_step).ceil().clamp(8.0, 64.0) as usize
-    } else {
-        8
-    };
-    let w = (len / 4).min(wanted);
-    if w < 2 {
-        return Vec::new();
-    }
-    let h2 = (w / 2).max(1);
-    let lr = ratio.max(1.0 + 1e-9).ln();
-    let mut scores: Vec<(usize, f64)> = Vec::new();
-    for j in (p + w)..=(q - w) {
-        let b = rate_between(t, y, j - w, j).abs();
-        let a = rate_between(t, y, j, j + w).abs();
-        if !(a > 0.0 && b > 0.0 && a.is_finite() && b.is_finite()) {
-            continue;
-        }
-        let score = (a / b).ln().abs();
-        if score < lr {
-            continue;
-        }
-        let b1 = rate_between(t, y, j - w, j - h2).abs();
-        let b2 = rate_between(t, y, j - h2, j).abs();
-        let a1 = rate_between(t, y, j, j + h2).abs();
-        let a2 = rate_between(t, y, j + h2, j + w).abs();
-        let consistent = |x: f64, z: f64| x > 0.0 && z > 0.0 && (x / z).ln().abs() < 0.5 * lr;
-        if consistent(b1, b2) && consistent(a1, a2) {
-            scores.push((j, score));
-        }
-    }
-    let mut out = Vec::new();
-    let mut k = 0;
-    while k < scores.len() {
-        let mut best = scores[k];
-        let mut m = k + 1;
-        while m < scores.len() && scores[m].0 <= scores[m - 1].0 + w {
-            if scores[m].1 > best.1 {
-                best = scores[m];
-            }
-            m += 1;
-        }
-        out.push(best.0);
-        k = m;
-    }
-    out
-}
-
 /// Segments a test into loading phases (see the module documentation for the conventions).
 ///
 /// Works on the conditioned imposed column ([`crate::condition_imposed`]) and time, with
@@ -321,7 +275,14 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         rate_changes: Vec::new(),
         levels: Vec::new(),
         reference_rate: an.ref_rate,
-        conditioned: an.conditioned,
+        conditioned: an.conditioned.clone(),
+        start: Start {
+            kind: StartKind::Rest,
+            shear_kpa: 0.0,
+            rate: 0.0,
+            from_spec: false,
+            reason: String::new(),
+        },
     };
     if n == 0 {
         return seg;
@@ -357,7 +318,7 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         }
         // intervals s..i (rows s-1 ..= i-1)
         let (p, q) = (s - 1, i - 1);
-        let steps = steps_in_stretch(t, &y, p, q, opts.rate_ratio, seg.conditioned.noise_sd);
+        let steps = velocity_steps(t, &y, p, q, an.chunk_travel, opts);
         let mut a = p;
         for &c in steps.iter().chain(std::iter::once(&q)) {
             if c > a {
@@ -469,7 +430,96 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
             start = i;
         }
     }
+    seg.start = decide_start(test, &seg);
     seg
+}
+
+/// The initial state: the `initial` field when given, else from the first rows — a traction
+/// within the noise of zero is rest; a traction well below the sliding level, or a file that
+/// starts in a hold, is loaded; a file that starts moving at about the sliding level is a
+/// segment of a run that was already sliding.
+fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
+    let n = test.len();
+    let measured_shear = &test.shear_kpa;
+    let k = n.min(5);
+    let shear0 = {
+        let mut v: Vec<f64> = measured_shear[..k].to_vec();
+        median(&mut v)
+    };
+    let rate0 = seg
+        .levels
+        .first()
+        .filter(|l| l.start <= 2)
+        .map_or(0.0, |l| l.rate);
+    let in_hold = seg.holds.first().is_some_and(|h| h.0 <= 1);
+    let control = test.spec.control;
+    let shear_at_start = match control {
+        Control::Slip => shear0,
+        Control::Shear => test.shear_kpa.first().copied().unwrap_or(0.0),
+    };
+    let make = |kind, from_spec, reason: String| Start {
+        kind,
+        shear_kpa: shear_at_start,
+        rate: if in_hold { 0.0 } else { rate0 },
+        from_spec,
+        reason,
+    };
+    match test.spec.initial {
+        Some(InitialSpec::Rest) => {
+            return make(StartKind::Rest, true, "`initial`: rest".into());
+        }
+        Some(InitialSpec::Sliding) if control == Control::Slip && in_hold => {
+            return make(
+                StartKind::Loaded,
+                true,
+                format!(
+                    "`initial`: sliding, but the file starts in a hold: loaded at {shear0:.4} kPa"
+                ),
+            );
+        }
+        Some(InitialSpec::Sliding) => {
+            return make(StartKind::Sliding, true, "`initial`: sliding".into());
+        }
+        None => {}
+    }
+    if control == Control::Shear || n < 3 {
+        return make(StartKind::Rest, false, "from rest".into());
+    }
+    let noise = estimate_noise(&test.time_s, measured_shear).sd;
+    let mut mags: Vec<f64> = measured_shear.iter().map(|v| v.abs()).collect();
+    let level = median(&mut mags);
+    if shear0.abs() <= (5.0 * noise).max(0.05 * level) {
+        return make(
+            StartKind::Rest,
+            false,
+            format!("first traction {shear0:.4} kPa is within the noise of zero: from rest"),
+        );
+    }
+    if in_hold {
+        return make(
+            StartKind::Loaded,
+            false,
+            format!("starts still under a traction of {shear0:.4} kPa: loaded at rest"),
+        );
+    }
+    if shear0.abs() < 0.8 * level {
+        return make(
+            StartKind::Loaded,
+            false,
+            format!(
+                "starts moving at {shear0:.4} kPa, {:.0}% of the typical traction: loaded, not yet sliding",
+                100.0 * shear0.abs() / level
+            ),
+        );
+    }
+    make(
+        StartKind::Sliding,
+        false,
+        format!(
+            "starts moving at {shear0:.4} kPa, {:.0}% of the typical traction: already sliding (a segment of a longer run)",
+            100.0 * shear0.abs() / level
+        ),
+    )
 }
 
 /// Shear control: is |shear| decreasing over the interval ending at row `i`?

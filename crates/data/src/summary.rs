@@ -5,7 +5,8 @@ use std::fmt;
 use serde::Serialize;
 
 use crate::meta::Control;
-use crate::segment::{segment, SegmentOptions};
+use crate::noise::{estimate_noise, NoiseEstimate};
+use crate::segment::{segment, SegmentOptions, Start, StartKind};
 use crate::set::{ExperimentSet, TestData};
 
 /// Summary of one hold.
@@ -69,6 +70,13 @@ pub struct TestSummary {
     pub reversals: usize,
     /// Number of cycles.
     pub cycles: u32,
+    /// How the test starts, and why.
+    pub start: Start,
+    /// Noise of the imposed column.
+    pub imposed_noise: NoiseEstimate,
+    /// Noise of the measured column (shear kPa under slip control, slip mm under traction
+    /// control): what the residuals of a fit are compared with.
+    pub measured_noise: NoiseEstimate,
 }
 
 /// Summary of an experiment set.
@@ -166,7 +174,23 @@ pub fn summarize_test(test: &TestData, opts: &SegmentOptions) -> TestSummary {
         velocity_steps,
         reversals: seg.reversals.len(),
         cycles: seg.cycles(),
+        start: seg.start.clone(),
+        imposed_noise: seg.conditioned.noise,
+        measured_noise: estimate_noise(&test.time_s, test.measured()),
     }
+}
+
+fn start_name(k: StartKind) -> &'static str {
+    match k {
+        StartKind::Rest => "rest",
+        StartKind::Loaded => "loaded",
+        StartKind::Sliding => "sliding",
+    }
+}
+
+/// A noise SD with `≤` when it is only the quantisation floor.
+fn noise_text(n: &NoiseEstimate, unit: &str) -> String {
+    format!("{}{} {unit}", if n.floor { "≤" } else { "" }, num(n.sd))
 }
 
 /// Summarises every test of a set with the default segmentation options.
@@ -243,21 +267,23 @@ impl fmt::Display for SetSummary {
             "slip mm",
             "shear kPa",
             "normal kPa",
-            "noise sd",
+            "start",
+            "imposed noise",
+            "measured noise",
             "rates /s",
             "holds",
             "steps",
             "revs",
             "cycles",
         ];
-        let rows: Vec<[String; 13]> = self
+        let rows: Vec<[String; 15]> = self
             .tests
             .iter()
             .map(|t| {
-                let unit = if t.control == Control::Slip {
-                    "mm"
+                let (unit, measured_unit) = if t.control == Control::Slip {
+                    ("mm", "kPa")
                 } else {
-                    "kPa"
+                    ("kPa", "mm")
                 };
                 [
                     t.name.clone(),
@@ -268,10 +294,16 @@ impl fmt::Display for SetSummary {
                     pair(t.shear_range_kpa),
                     pair(t.normal_range_kpa),
                     format!(
-                        "{} {unit}{}",
-                        num(t.imposed_noise_sd),
+                        "{}{}",
+                        start_name(t.start.kind),
+                        if t.start.from_spec { "" } else { "†" }
+                    ),
+                    format!(
+                        "{}{}",
+                        noise_text(&t.imposed_noise, unit),
                         if t.imposed_conditioned { "*" } else { "" }
                     ),
+                    noise_text(&t.measured_noise, measured_unit),
                     t.sliding_rates
                         .iter()
                         .map(|r| num(*r))
@@ -306,6 +338,9 @@ impl fmt::Display for SetSummary {
             line(f, r)?;
         }
         for t in &self.tests {
+            if !t.start.from_spec && t.start.kind != StartKind::Rest {
+                writeln!(f, "  {}: {}", t.name, t.start.reason)?;
+            }
             if !t.holds.is_empty() {
                 let hs: Vec<String> = t
                     .holds
@@ -329,6 +364,22 @@ impl fmt::Display for SetSummary {
                     .collect();
                 writeln!(f, "  {}: velocity steps {}", t.name, ss.join(", "))?;
             }
+        }
+        if self.tests.iter().any(|t| !t.start.from_spec) {
+            writeln!(
+                f,
+                "  † start decided from the data (set \"initial\": \"rest\" or \"sliding\" per test in experiment.json to say it)"
+            )?;
+        }
+        if self
+            .tests
+            .iter()
+            .any(|t| t.imposed_noise.floor || t.measured_noise.floor)
+        {
+            writeln!(
+                f,
+                "  ≤ noise at the quantisation floor q/√12: the data scatter no more than their resolution"
+            )?;
         }
         if self.tests.iter().any(|t| t.imposed_conditioned) {
             writeln!(

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 use subfric_fit::Param;
-use subfric_model::{Extensions, LogHealing, SlipHardening};
+use subfric_model::{Extensions, Healing, HealingForm, SlipForm, SlipHardening};
 
 /// An effect the diagnosis can name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -98,7 +98,11 @@ pub fn library(v_ref: f64) -> Vec<Candidate> {
         slip_hardening: Some(SlipHardening {
             h: 0.0,
             s_h: 2.0,
-            capped,
+            form: if capped {
+                SlipForm::Capped
+            } else {
+                SlipForm::Exponential
+            },
         }),
         ..Extensions::default()
     };
@@ -153,7 +157,12 @@ pub fn library(v_ref: f64) -> Vec<Candidate> {
             effect: Effect::LogHealing,
             variant: "b ln(1 + t/t_c) at rest",
             template: Extensions {
-                log_healing: Some(LogHealing { b: 0.0, t_c: 10.0 }),
+                healing: Some(Healing {
+                    b: 0.0,
+                    t_c: 10.0,
+                    n: 0.5,
+                    form: HealingForm::Log,
+                }),
                 ..Extensions::default()
             },
             params: vec![Param::HealB, Param::HealTc],

@@ -477,7 +477,7 @@ fn merge(
         rate: b.rate.or(a.rate),
         pressure: b.pressure.or(a.pressure),
         slip_hardening: b.slip_hardening.or(a.slip_hardening),
-        log_healing: b.log_healing.or(a.log_healing),
+        healing: b.healing.or(a.healing),
         direction: b.direction.or(a.direction),
     }
 }

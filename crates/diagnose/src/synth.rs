@@ -11,8 +11,8 @@ use subfric_data::{
     Control as DataControl, ExperimentMeta, ExperimentSet, Interface, TestData, TestSpec,
 };
 use subfric_model::{
-    simulate, Control, DirectionEffect, Extensions, LogHealing, Model, Params, PressureEffect,
-    Protocol, RateEffect, SlipHardening,
+    simulate, Control, DirectionEffect, Extensions, Healing, HealingForm, Model, Params,
+    PressureEffect, PressureForm, Protocol, RateEffect, SlipForm, SlipHardening, Target,
 };
 
 /// What a generated set holds (kept from the diagnosis, used to score it).
@@ -124,14 +124,17 @@ pub fn random_truth(effect: Effect, rng: &mut ChaCha8Rng) -> Truth {
     let mut drift = 0.0;
     match effect {
         Effect::Rate => {
-            ext.rate = Some(RateEffect {
-                a: 0.01 + 0.015 * rng.gen::<f64>(),
-                v_c: log_uniform(rng, 1e-5, 1e-4),
-            })
+            ext.rate = Some(RateEffect::log_direct(
+                0.01 + 0.015 * rng.gen::<f64>(),
+                log_uniform(rng, 1e-5, 1e-4),
+            ))
         }
         Effect::Pressure => {
             ext.pressure = Some(PressureEffect {
                 beta: signed(rng, 0.06, 0.15),
+                form: PressureForm::Power,
+                target: Target::Friction,
+                p_ref: subfric_model::extensions::PRESSURE_REF_KPA,
             })
         }
         Effect::SlipHardening => {
@@ -144,18 +147,25 @@ pub fn random_truth(effect: Effect, rng: &mut ChaCha8Rng) -> Truth {
             ext.slip_hardening = Some(SlipHardening {
                 h: signed(rng, 0.05, 0.12) / s_h,
                 s_h,
-                capped,
+                form: if capped {
+                    SlipForm::Capped
+                } else {
+                    SlipForm::Exponential
+                },
             })
         }
         Effect::LogHealing => {
-            ext.log_healing = Some(LogHealing {
+            ext.healing = Some(Healing {
                 b: 0.008 + 0.012 * rng.gen::<f64>(),
                 t_c: log_uniform(rng, 2.0, 50.0),
+                n: 0.5,
+                form: HealingForm::Log,
             })
         }
         Effect::Direction => {
             ext.direction = Some(DirectionEffect {
                 d: signed(rng, 0.08, 0.2),
+                target: Target::Friction,
             })
         }
         Effect::Unexplained => drift = signed(rng, 2.0, 5.0) / 2000.0,
@@ -216,6 +226,7 @@ pub fn generate_set(
             imposed: &rows.u,
             normal: &normal_col,
             initial_slip: 0.0,
+            initial: Default::default(),
         };
         let shear = match simulate(&truth.model, &proto) {
             Ok(out) => out.shear,

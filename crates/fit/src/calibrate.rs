@@ -292,7 +292,7 @@ fn local(p: &Problem, x0: &[f64], opts: &FitOptions) -> (Vec<f64>, f64, String) 
 /// let time: Vec<f64> = (0..=300).map(|i| i as f64).collect();
 /// let slip: Vec<f64> = time.iter().map(|t| 0.01 * t).collect();
 /// let normal = vec![100.0; time.len()];
-/// let proto = Protocol { control: Control::Slip, time: &time, imposed: &slip, normal: &normal, initial_slip: 0.0 };
+/// let proto = Protocol { control: Control::Slip, time: &time, imposed: &slip, normal: &normal, initial_slip: 0.0, initial: Default::default() };
 /// let shear = simulate(&truth, &proto).unwrap().shear;
 /// let test = FitTest::new("mono", Control::Slip, time, slip, shear, normal);
 /// // Free only μ_s and ũ, starting away from the truth.

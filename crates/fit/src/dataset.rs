@@ -110,6 +110,7 @@ impl FitTest {
             imposed: &self.imposed[..end],
             normal: &self.normal[..end],
             initial_slip: self.initial_slip,
+            initial: Default::default(),
         }
     }
 

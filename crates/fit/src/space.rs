@@ -4,7 +4,8 @@
 
 use serde::{Deserialize, Serialize};
 use subfric_model::{
-    DirectionEffect, LogHealing, Model, PressureEffect, RateEffect, SlipHardening,
+    DirectionEffect, Healing, HealingForm, Model, PressureEffect, PressureForm, RateEffect,
+    SlipForm, SlipHardening, Target,
 };
 
 /// A parameter of the model or of one of its extensions.
@@ -23,20 +24,28 @@ pub enum Param {
     UTilde,
     /// α_t [kN/mm³] (α_n follows it).
     AlphaT,
-    /// Rate effect: a.
+    /// Rate effect: a (direct effect, or the μ_k slope of the steady-state form).
     RateA,
     /// Rate effect: v_c [mm/s].
     RateVc,
+    /// Rate and state: b.
+    RateB,
+    /// Rate and state: D_c [mm].
+    RateDc,
+    /// Power law in rate: n.
+    RateN,
     /// Pressure effect: β.
     PressureBeta,
     /// Slip hardening: h.
     SlipH,
     /// Slip hardening: s_h [mm].
     SlipSh,
-    /// Log healing: t_c [s].
+    /// Time healing: t_c [s] (log form).
     HealTc,
-    /// Log healing: b.
+    /// Time healing: b.
     HealB,
+    /// Time healing: n (power form).
+    HealN,
     /// Direction effect: d.
     DirectionD,
 }
@@ -63,7 +72,7 @@ impl Param {
     ];
 
     /// Every parameter.
-    pub const ALL: [Param; 14] = [
+    pub const ALL: [Param; 18] = [
         Param::MuS,
         Param::MuK,
         Param::Kappa,
@@ -72,11 +81,15 @@ impl Param {
         Param::AlphaT,
         Param::RateA,
         Param::RateVc,
+        Param::RateB,
+        Param::RateDc,
+        Param::RateN,
         Param::PressureBeta,
         Param::SlipH,
         Param::SlipSh,
         Param::HealTc,
         Param::HealB,
+        Param::HealN,
         Param::DirectionD,
     ];
 
@@ -91,11 +104,15 @@ impl Param {
             Param::AlphaT => "alpha_t",
             Param::RateA => "rate.a",
             Param::RateVc => "rate.v_c",
+            Param::RateB => "rate.b",
+            Param::RateDc => "rate.d_c",
+            Param::RateN => "rate.n",
             Param::PressureBeta => "pressure.beta",
             Param::SlipH => "slip_hardening.h",
             Param::SlipSh => "slip_hardening.s_h",
-            Param::HealTc => "log_healing.t_c",
-            Param::HealB => "log_healing.b",
+            Param::HealTc => "healing.t_c",
+            Param::HealB => "healing.b",
+            Param::HealN => "healing.n",
             Param::DirectionD => "direction.d",
         }
     }
@@ -107,7 +124,7 @@ impl Param {
             Param::Xi => "1/s",
             Param::AlphaT => "kN/mm³",
             Param::RateVc => "mm/s",
-            Param::SlipSh => "mm",
+            Param::RateDc | Param::SlipSh => "mm",
             Param::SlipH => "1/mm",
             Param::HealTc => "s",
             _ => "",
@@ -161,10 +178,13 @@ impl Param {
         match self {
             Param::MuK => Scale::RatioToMuS,
             Param::RateA
+            | Param::RateB
+            | Param::RateN
             | Param::PressureBeta
             | Param::SlipH
             | Param::DirectionD
-            | Param::HealB => Scale::Linear,
+            | Param::HealB
+            | Param::HealN => Scale::Linear,
             _ => Scale::Log,
         }
     }
@@ -179,12 +199,16 @@ impl Param {
             Param::UTilde => (0.1, 1e5),
             Param::AlphaT => (1e-3, 1e6),
             Param::RateA => (-0.2, 0.2),
-            Param::RateVc => (1e-7, 10.0),
+            Param::RateVc => (1e-9, 10.0),
+            Param::RateB => (-0.2, 0.2),
+            Param::RateDc => (1e-4, 10.0),
+            Param::RateN => (-0.5, 0.5),
             Param::PressureBeta => (-1.0, 1.0),
             Param::SlipH => (-1.0, 1.0),
             Param::SlipSh => (0.01, 1000.0),
             Param::HealTc => (1e-3, 1e6),
             Param::HealB => (0.0, 0.3),
+            Param::HealN => (0.05, 1.0),
             Param::DirectionD => (-0.9, 0.9),
         }
     }
@@ -202,11 +226,15 @@ impl Param {
             Param::AlphaT => m.params.alpha_t,
             Param::RateA => e.rate?.a,
             Param::RateVc => e.rate?.v_c,
+            Param::RateB => e.rate?.b,
+            Param::RateDc => e.rate?.d_c,
+            Param::RateN => e.rate?.n,
             Param::PressureBeta => e.pressure?.beta,
             Param::SlipH => e.slip_hardening?.h,
             Param::SlipSh => e.slip_hardening?.s_h,
-            Param::HealTc => e.log_healing?.t_c,
-            Param::HealB => e.log_healing?.b,
+            Param::HealTc => e.healing?.t_c,
+            Param::HealB => e.healing?.b,
+            Param::HealN => e.healing?.n,
             Param::DirectionD => e.direction?.d,
         })
     }
@@ -224,40 +252,58 @@ impl Param {
                 m.params.alpha_t = v;
                 m.params.alpha_n = v;
             }
-            Param::RateA => e.rate.get_or_insert(RateEffect { a: 0.0, v_c: 1e-4 }).a = v,
-            Param::RateVc => e.rate.get_or_insert(RateEffect { a: 0.0, v_c: 1e-4 }).v_c = v,
-            Param::PressureBeta => e.pressure.get_or_insert(PressureEffect { beta: 0.0 }).beta = v,
-            Param::SlipH => {
-                e.slip_hardening
-                    .get_or_insert(SlipHardening {
-                        h: 0.0,
-                        s_h: 1.0,
-                        capped: false,
+            Param::RateA => rate(e).a = v,
+            Param::RateVc => rate(e).v_c = v,
+            Param::RateB => rate(e).b = v,
+            Param::RateDc => rate(e).d_c = v,
+            Param::RateN => rate(e).n = v,
+            Param::PressureBeta => {
+                e.pressure
+                    .get_or_insert(PressureEffect {
+                        beta: 0.0,
+                        form: PressureForm::Power,
+                        target: Target::Friction,
+                        p_ref: subfric_model::extensions::PRESSURE_REF_KPA,
                     })
-                    .h = v
+                    .beta = v
             }
-            Param::SlipSh => {
-                e.slip_hardening
-                    .get_or_insert(SlipHardening {
-                        h: 0.0,
-                        s_h: 1.0,
-                        capped: false,
+            Param::SlipH => hardening(e).h = v,
+            Param::SlipSh => hardening(e).s_h = v,
+            Param::HealTc => healing(e).t_c = v,
+            Param::HealB => healing(e).b = v,
+            Param::HealN => healing(e).n = v,
+            Param::DirectionD => {
+                e.direction
+                    .get_or_insert(DirectionEffect {
+                        d: 0.0,
+                        target: Target::Friction,
                     })
-                    .s_h = v
+                    .d = v
             }
-            Param::HealTc => {
-                e.log_healing
-                    .get_or_insert(LogHealing { b: 0.0, t_c: 10.0 })
-                    .t_c = v
-            }
-            Param::HealB => {
-                e.log_healing
-                    .get_or_insert(LogHealing { b: 0.0, t_c: 10.0 })
-                    .b = v
-            }
-            Param::DirectionD => e.direction.get_or_insert(DirectionEffect { d: 0.0 }).d = v,
         }
     }
+}
+
+// An extension switched on by setting one of its parameters starts in its first form.
+fn rate(e: &mut subfric_model::Extensions) -> &mut RateEffect {
+    e.rate.get_or_insert(RateEffect::log_direct(0.0, 1e-4))
+}
+
+fn hardening(e: &mut subfric_model::Extensions) -> &mut SlipHardening {
+    e.slip_hardening.get_or_insert(SlipHardening {
+        h: 0.0,
+        s_h: 1.0,
+        form: SlipForm::Exponential,
+    })
+}
+
+fn healing(e: &mut subfric_model::Extensions) -> &mut Healing {
+    e.healing.get_or_insert(Healing {
+        b: 0.0,
+        t_c: 10.0,
+        n: 0.5,
+        form: HealingForm::Log,
+    })
 }
 
 /// One coordinate of the optimiser.

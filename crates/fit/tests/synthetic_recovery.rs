@@ -92,6 +92,7 @@ fn campaign(model: &Model, seed: u64) -> Vec<FitTest> {
                 imposed: &rows.imposed,
                 normal: &rows.normal,
                 initial_slip: 0.0,
+                initial: Default::default(),
             };
             let clean = simulate(model, &proto).unwrap().shear;
             // 0.2 % of the peak shear as noise.

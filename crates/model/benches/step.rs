@@ -56,6 +56,7 @@ fn step(c: &mut Criterion) {
             imposed: &slip,
             normal: &normal,
             initial_slip: 0.0,
+            initial: Default::default(),
         },
     )
     .expect("the sine case simulates");
@@ -121,6 +122,7 @@ fn simulate_table4(c: &mut Criterion) {
         imposed: &slip,
         normal: &normal,
         initial_slip: 0.0,
+        initial: Default::default(),
     };
     // The published parameters reproduce the curve (0.3 % noise): the bench runs a sane case.
     let out = simulate(&model, &proto).expect("table4 simulates");

@@ -1,6 +1,6 @@
 //! One-dimensional contact: the paper's tests (direct shear, ring torsion, cyclic shear).
 
-use crate::integrator::{return_shear, return_slip, Consts, Plastic, StepError, StepInput};
+use crate::integrator::{return_shear, return_slip, Consts, Local, Plastic, StepError, StepInput};
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
 
@@ -21,10 +21,12 @@ pub struct State1 {
     pub sin_r: f64,
     /// Accumulated plastic slip ∫‖u̇^p‖ dt [mm].
     pub slip_path: f64,
-    /// Time since plastic sliding last occurred [s] (used by log healing).
+    /// Time since plastic sliding last occurred [s] (used by time healing).
     pub age: f64,
     /// Plastic slip increment of the last step [mm] (signed).
     pub last_plastic: f64,
+    /// State variable θ of the rate-and-state forms [s] (unused otherwise).
+    pub theta: f64,
 }
 
 impl State1 {
@@ -40,7 +42,19 @@ impl State1 {
             slip_path: 0.0,
             age: 0.0,
             last_plastic: 0.0,
+            theta: model.ext.rate.map_or(0.0, |r| r.neutral_theta()),
         }
+    }
+
+    /// Virgin state at normal stress `p`: μ₀ = μ_s as moved by a pressure effect on μ_s.
+    pub fn virgin_at(model: &Model, slip: f64, p: f64) -> Self {
+        let mut st = State1::virgin(model, slip);
+        let l = Consts::new(&model.params, &model.ext).local(p, 1.0);
+        st.mu = match model.params.mu_0 {
+            Some(m0) => m0.clamp(l.mu_k, l.mu_s),
+            None => l.mu_s,
+        };
+        st
     }
 
     /// Friction mobilised, shear / normal stress.
@@ -55,19 +69,20 @@ pub struct Contact1 {
     k: Consts,
     cached_dt: f64,
     cached_exp_xi_dt: f64,
-    cached_p: f64,
-    cached_pressure_factor: f64,
+    cached_key: (f64, f64),
+    cached_local: Local,
 }
 
 impl Contact1 {
     /// A new integrator for `model` (parameters are assumed validated by [`Model::new`]).
     pub fn new(model: &Model) -> Self {
+        let k = Consts::new(&model.params, &model.ext);
         Contact1 {
-            k: Consts::new(&model.params, &model.ext),
+            cached_local: k.local(f64::NAN, 1.0),
+            k,
             cached_dt: f64::NAN,
             cached_exp_xi_dt: 1.0,
-            cached_p: f64::NAN,
-            cached_pressure_factor: 1.0,
+            cached_key: (f64::NAN, 1.0),
         }
     }
 
@@ -81,20 +96,14 @@ impl Contact1 {
         self.cached_exp_xi_dt
     }
 
+    /// The step constants at normal stress `p` for sliding in direction `sign`.
     #[inline]
-    fn pressure_factor(&mut self, p: f64) -> f64 {
-        if p != self.cached_p {
-            self.cached_p = p;
-            self.cached_pressure_factor = self.k.ext.pressure_factor(p);
+    fn local(&mut self, p: f64, sign: f64) -> Local {
+        if (p, sign) != self.cached_key {
+            self.cached_key = (p, sign);
+            self.cached_local = self.k.local(p, sign);
         }
-        self.cached_pressure_factor
-    }
-
-    /// μ after an elastic step of `dt`: exponential (or logarithmic) recovery towards μ_s.
-    #[inline]
-    fn recovered_mu(&mut self, st: &State1, dt: f64) -> f64 {
-        let e = self.exp_xi_dt(dt);
-        self.k.rest_mu(st.mu, st.age, dt, e)
+        self.cached_local
     }
 
     /// Surface the step starts from: a traction passing through zero restarts loading at r = 0.
@@ -107,42 +116,7 @@ impl Contact1 {
         }
     }
 
-    #[inline]
-    fn step_input(
-        &mut self,
-        st: &State1,
-        surface: (f64, f64, f64),
-        p: f64,
-        dt: f64,
-        sign: f64,
-    ) -> StepInput {
-        let (r0, c0, s0) = surface;
-        let mult = self.pressure_factor(p) * self.k.ext.direction_factor(sign);
-        let (xi_dt, exp_xi_dt) = if self.k.ext.log_healing.is_some() {
-            (0.0, 1.0)
-        } else {
-            (self.k.xi * dt, self.exp_xi_dt(dt))
-        };
-        StepInput {
-            mu_n: st.mu,
-            c_start: c0,
-            s_start: s0,
-            r_start: r0,
-            p,
-            dt,
-            xi_dt,
-            exp_xi_dt,
-            mult,
-            s_acc: st.slip_path,
-        }
-    }
-
-    /// μ_eff of an elastic step (slip rate zero).
-    #[inline]
-    fn elastic_mu_eff(&self, mu_el: f64, mult: f64, slip_path: f64) -> f64 {
-        mu_el * mult + self.k.slip_term(slip_path).0
-    }
-
+    #[allow(clippy::too_many_arguments)]
     fn elastic(
         st: &State1,
         shear: f64,
@@ -151,6 +125,7 @@ impl Contact1 {
         mu_eff: f64,
         p: f64,
         dt: f64,
+        theta: f64,
     ) -> State1 {
         let r = (shear.abs() / (mu_eff * p)).min(1.0);
         let (sin_r, cos_r) = (FRAC_PI_2 * r).sin_cos();
@@ -164,6 +139,7 @@ impl Contact1 {
             slip_path: st.slip_path,
             age: st.age + dt,
             last_plastic: 0.0,
+            theta,
         }
     }
 
@@ -178,14 +154,33 @@ impl Contact1 {
         p: f64,
         dt: f64,
     ) -> Begin {
-        let mu_el = self.recovered_mu(st, dt);
+        // The direction of the step decides the constants (direction effects); at zero
+        // traction the contact keeps the direction it had.
+        let sign = if traction != 0.0 {
+            traction.signum()
+        } else if st.shear < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        let local = self.local(p, sign);
+        let exp_xi_dt = self.exp_xi_dt(dt);
+        let mu_el = self.k.rest_mu(&local, st.mu, st.age, dt, exp_xi_dt);
+        let theta_el = self.k.rest_theta(st.theta, dt);
         if traction == 0.0 {
-            return Begin::Elastic(Self::elastic(st, 0.0, slip_if_elastic, mu_el, 1.0, p, dt));
+            return Begin::Elastic(Self::elastic(
+                st,
+                0.0,
+                slip_if_elastic,
+                mu_el,
+                1.0,
+                p,
+                dt,
+                theta_el,
+            ));
         }
-        let sign = traction.signum();
         let (r0, c0, s0) = Self::start_surface(st, sign);
-        let input = self.step_input(st, (r0, c0, s0), p, dt, sign);
-        let mu_eff0 = self.elastic_mu_eff(mu_el, input.mult, st.slip_path);
+        let mu_eff0 = self.k.elastic_mu_eff(&local, mu_el, theta_el, st.slip_path);
         let magnitude = traction.abs();
         let excess = magnitude - r0 * mu_eff0 * p;
         if excess <= 0.0 {
@@ -197,29 +192,56 @@ impl Contact1 {
                 mu_eff0,
                 p,
                 dt,
+                theta_el,
             ));
         }
+        let (xi_dt, exp_xi_dt) = if self.k.ext.healing.is_some() {
+            (0.0, 1.0)
+        } else {
+            (self.k.xi * dt, exp_xi_dt)
+        };
         Begin::Plastic {
             sign,
             magnitude,
             excess,
-            input,
+            input: StepInput {
+                mu_n: st.mu,
+                c_start: c0,
+                s_start: s0,
+                r_start: r0,
+                p,
+                dt,
+                xi_dt,
+                exp_xi_dt,
+                s_acc: st.slip_path,
+                theta: st.theta,
+                local,
+            },
         }
     }
 
     /// End state of a plastic step.
     #[inline]
-    fn plastic(&self, st: &State1, slip: f64, shear: f64, sign: f64, pl: &Plastic) -> State1 {
+    fn plastic(
+        &self,
+        st: &State1,
+        slip: f64,
+        shear: f64,
+        sign: f64,
+        local: &Local,
+        pl: &Plastic,
+    ) -> State1 {
         State1 {
             slip,
             shear,
-            mu: pl.mu.clamp(self.k.mu_k, self.k.mu_s),
+            mu: pl.mu.clamp(self.k.mu_floor(local), local.mu_s),
             r: pl.r,
             cos_r: pl.c,
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
             age: 0.0,
             last_plastic: sign * pl.lam,
+            theta: pl.theta,
         }
     }
 
@@ -244,7 +266,7 @@ impl Contact1 {
             } => {
                 let pl = return_slip(&self.k, &input, magnitude, excess)?;
                 let shear = sign * (magnitude - self.k.alpha * pl.lam);
-                Ok(self.plastic(st, slip, shear, sign, &pl))
+                Ok(self.plastic(st, slip, shear, sign, &input.local, &pl))
             }
         }
     }
@@ -269,7 +291,14 @@ impl Contact1 {
                 ..
             } => {
                 let pl = return_shear(&self.k, &input, magnitude, st.last_plastic.abs())?;
-                Ok(self.plastic(st, elastic_slip + sign * pl.lam, shear, sign, &pl))
+                Ok(self.plastic(
+                    st,
+                    elastic_slip + sign * pl.lam,
+                    shear,
+                    sign,
+                    &input.local,
+                    &pl,
+                ))
             }
         }
     }

@@ -46,6 +46,8 @@ pub struct State3 {
     pub slip_path: f64,
     /// Time since plastic sliding [s].
     pub age: f64,
+    /// State variable θ of the rate-and-state forms [s] (unused otherwise).
+    pub theta: f64,
 }
 
 impl State3 {
@@ -60,6 +62,7 @@ impl State3 {
             sin_r: 0.0,
             slip_path: 0.0,
             age: 0.0,
+            theta: model.ext.rate.map_or(0.0, |r| r.neutral_theta()),
         }
     }
 }
@@ -108,10 +111,13 @@ impl Contact3 {
         -p / self.alpha_n
     }
 
-    fn mu_eff_elastic(&self, mu: f64, p: f64, dir: &Vec3, slip_path: f64) -> f64 {
-        let cosf = dot(dir, &self.forward);
-        mu * self.k.ext.pressure_factor(p) * self.k.ext.direction_factor(cosf)
-            + self.k.slip_term(slip_path).0
+    /// Cosine of a tangential direction with the forward axis (1 when there is none).
+    fn cos_forward(&self, dir: &Vec3) -> f64 {
+        if self.forward == [0.0; 3] {
+            1.0
+        } else {
+            dot(dir, &self.forward)
+        }
     }
 
     /// One step under slip control: impose the slip vector `slip` (its tangential part is used).
@@ -125,21 +131,34 @@ impl Contact3 {
         let slip = self.tangential(slip);
         let du = axpy(-1.0, &st.slip, &slip);
         let trial = axpy(self.k.alpha, &du, &st.shear);
-        let mu_el = self.k.rest_mu(st.mu, st.age, dt, (-self.k.xi * dt).exp());
         let magnitude = norm(&trial);
-        if magnitude == 0.0 {
-            return Ok(State3 {
+        let theta_el = self.k.rest_theta(st.theta, dt);
+        let exp_xi_dt = (-self.k.xi * dt).exp();
+        let elastic_end = |shear: Vec3, mu: f64, r: f64| {
+            let (sin_r, cos_r) = (FRAC_PI_2 * r).sin_cos();
+            State3 {
                 slip,
-                shear: [0.0; 3],
-                mu: mu_el,
-                r: 0.0,
-                cos_r: 1.0,
-                sin_r: 0.0,
+                shear,
+                mu,
+                r,
+                cos_r,
+                sin_r,
                 slip_path: st.slip_path,
                 age: st.age + dt,
-            });
+                theta: theta_el,
+            }
+        };
+        if magnitude == 0.0 {
+            let l = self.k.local(p, 1.0);
+            return Ok(elastic_end(
+                [0.0; 3],
+                self.k.rest_mu(&l, st.mu, st.age, dt, exp_xi_dt),
+                0.0,
+            ));
         }
         let dir = scale(1.0 / magnitude, &trial);
+        let local = self.k.local(p, self.cos_forward(&dir));
+        let mu_el = self.k.rest_mu(&local, st.mu, st.age, dt, exp_xi_dt);
         // The elastic path from the current to the trial traction may pass closer to the
         // origin than both ends (unloading then reloading, e.g. a reversal): the subloading
         // surface shrinks to that point, and loading restarts from there.
@@ -152,7 +171,8 @@ impl Contact3 {
                 let f_min = axpy(s_min, &d, &st.shear);
                 let fm = norm(&f_min);
                 let mu_eff = if fm > 0.0 {
-                    self.mu_eff_elastic(mu_el, p, &scale(1.0 / fm, &f_min), st.slip_path)
+                    let l = self.k.local(p, self.cos_forward(&scale(1.0 / fm, &f_min)));
+                    self.k.elastic_mu_eff(&l, mu_el, theta_el, st.slip_path)
                 } else {
                     1.0
                 };
@@ -160,23 +180,12 @@ impl Contact3 {
                 (s0, c0) = (FRAC_PI_2 * r0).sin_cos();
             }
         }
-        let mult =
-            self.k.ext.pressure_factor(p) * self.k.ext.direction_factor(dot(&dir, &self.forward));
-        let mu_eff0 = mu_el * mult + self.k.slip_term(st.slip_path).0;
+        let mu_eff0 = self.k.elastic_mu_eff(&local, mu_el, theta_el, st.slip_path);
         if magnitude <= r0 * mu_eff0 * p {
             let r = (magnitude / (mu_eff0 * p)).min(1.0);
-            let (sin_r, cos_r) = (FRAC_PI_2 * r).sin_cos();
-            return Ok(State3 {
-                slip,
-                shear: trial,
-                mu: mu_el,
-                r,
-                cos_r,
-                sin_r,
-                slip_path: st.slip_path,
-                age: st.age + dt,
-            });
+            return Ok(elastic_end(trial, mu_el, r));
         }
+        let xi_dt = self.k.plastic_recovery(dt);
         let input = StepInput {
             mu_n: st.mu,
             c_start: c0,
@@ -184,21 +193,23 @@ impl Contact3 {
             r_start: r0,
             p,
             dt,
-            xi_dt: self.k.plastic_recovery(dt),
-            exp_xi_dt: (-self.k.plastic_recovery(dt)).exp(),
-            mult,
+            xi_dt,
+            exp_xi_dt: (-xi_dt).exp(),
             s_acc: st.slip_path,
+            theta: st.theta,
+            local,
         };
         let pl = return_slip(&self.k, &input, magnitude, magnitude - r0 * mu_eff0 * p)?;
         Ok(State3 {
             slip,
             shear: scale(magnitude - self.k.alpha * pl.lam, &dir),
-            mu: pl.mu.clamp(self.k.mu_k, self.k.mu_s),
+            mu: pl.mu.clamp(self.k.mu_floor(&local), local.mu_s),
             r: pl.r,
             cos_r: pl.c,
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
             age: 0.0,
+            theta: pl.theta,
         })
     }
 }

@@ -1,70 +1,309 @@
-//! Extensions of the base model: effects the paper's model lacks, each a small piece with one
-//! or two parameters. The diagnosis refits the model with each in turn.
+//! Extensions of the base model: effects the paper's model lacks, each a family with the forms
+//! used in the friction literature. The diagnosis refits the model with each form in turn.
 //!
-//! All act on the friction coefficient in the Coulomb cone ‖f_t‖ = r μ_eff f_n:
-//! μ_eff = μ · P(p) · D(direction) + R(v) + H(s), and [`LogHealing`] replaces the exponential
-//! recovery of Eq. (24) during holds.
+//! All act on the friction in the Coulomb cone ‖f_t‖ = r μ_eff f_n (Eqs. 21–22):
+//!
+//! μ_eff = μ · P(p) · D(dir) · V(v) + R(v, θ) + H(s)
+//!
+//! with μ from Eq. (24) between bounds μ_s′, μ_k′ that a pressure or direction effect may move,
+//! P a pressure factor, D a direction factor, V a power law in the plastic slip rate v, R the
+//! log-rate and rate-and-state terms (θ the state variable), H slip hardening in the accumulated
+//! plastic slip s. [`Healing`] replaces the exponential recovery ξ(μ_s − μ) of Eq. (24) at rest.
+//! Every term is zero (or one) at its reference, so μ_s and μ_k keep their meaning.
 
 use serde::{Deserialize, Serialize};
 
-/// Reference normal stress of the pressure effect [kPa].
+/// Reference normal stress of the pressure effect when none is given [kPa].
 pub const PRESSURE_REF_KPA: f64 = 100.0;
 
-/// Direct rate dependence: R(v) = a ln(1 + v / v_c), v the plastic slip rate [mm/s].
-/// Friction rises with the log of the slip rate above v_c and vanishes when sliding stops.
+/// Lowest μ_eff as a fraction of μ_s: additive terms may not make friction vanish or turn
+/// negative (the return mapping needs a positive surface).
+pub const MIN_MU_EFF_FRACTION: f64 = 1e-3;
+
+/// How the friction depends on the plastic slip rate v.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RateForm {
+    /// Direct effect only: R = a [ln(1 + v/v_c) − ln(1 + v_ref/v_c)].
+    LogDirect,
+    /// Rate and state, ageing law θ̇ = 1 − vθ/D_c: R = direct + b ln(θ v_ref/D_c).
+    StateAgeing,
+    /// Rate and state, slip law θ̇ = −(vθ/D_c) ln(vθ/D_c): R = direct + b ln(θ v_ref/D_c).
+    StateSlip,
+    /// Power law: V = ((v + v_c)/(v_ref + v_c))^n multiplies μ.
+    Power,
+    /// Steady-state only: the kinetic bound of Eq. (24) becomes
+    /// μ_k(v) = μ_k + a ln((v + v_c)/(v_ref + v_c)); transients follow κ, not a direct effect.
+    SteadyState,
+}
+
+/// Rate dependence of friction (one of [`RateForm`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RateEffect {
-    /// Rate sensitivity a (dimensionless, per e-fold of rate).
+    /// The form.
+    pub form: RateForm,
+    /// Direct-effect coefficient a (per e-fold of rate); the μ_k slope for `SteadyState`.
+    #[serde(default)]
     pub a: f64,
-    /// Cut-off rate v_c [mm/s].
+    /// Cut-off rate v_c [mm/s]: below it the direct effect fades (creep at rest is finite).
     pub v_c: f64,
+    /// Evolution-effect coefficient b (rate and state).
+    #[serde(default)]
+    pub b: f64,
+    /// Characteristic slip distance D_c of the state evolution [mm].
+    #[serde(default = "one")]
+    pub d_c: f64,
+    /// Power-law exponent n.
+    #[serde(default)]
+    pub n: f64,
+    /// Reference rate v_ref where every rate term vanishes [mm/s]; 0 means "not centred"
+    /// (the direct effect is then a ln(1 + v/v_c)).
+    #[serde(default)]
+    pub v_ref: f64,
 }
 
-/// Pressure dependence: P(p) = (p / 100 kPa)^(−β), scaling μ_s, μ_k and μ alike.
+fn one() -> f64 {
+    1.0
+}
+
+impl RateEffect {
+    /// A log-rate direct effect a ln(1 + v/v_c), not centred.
+    pub fn log_direct(a: f64, v_c: f64) -> Self {
+        RateEffect {
+            form: RateForm::LogDirect,
+            a,
+            v_c,
+            b: 0.0,
+            d_c: 1.0,
+            n: 0.0,
+            v_ref: 0.0,
+        }
+    }
+
+    /// True for the forms with a state variable.
+    pub fn has_state(&self) -> bool {
+        matches!(self.form, RateForm::StateAgeing | RateForm::StateSlip)
+    }
+
+    /// ln(1 + v_ref/v_c): the direct term at the reference rate.
+    #[inline]
+    pub(crate) fn direct_at_ref(&self) -> f64 {
+        (self.v_ref / self.v_c).ln_1p()
+    }
+
+    /// The reference rate used for the state variable (v_ref, or v_c when not centred).
+    #[inline]
+    pub(crate) fn state_ref(&self) -> f64 {
+        if self.v_ref > 0.0 {
+            self.v_ref
+        } else {
+            self.v_c
+        }
+    }
+
+    /// Steady-state value of θ at slip rate v [s] (the initial state of a sliding start).
+    pub fn steady_theta(&self, v: f64) -> f64 {
+        self.d_c / v.abs().max(1e-12 * self.state_ref())
+    }
+
+    /// θ of a contact with no slip history: steady at the reference rate.
+    pub fn neutral_theta(&self) -> f64 {
+        self.d_c / self.state_ref()
+    }
+}
+
+/// Which friction bound a pressure or direction effect scales.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Target {
+    /// μ as a whole (μ_s, μ_k and the current μ alike).
+    Friction,
+    /// μ_s only.
+    MuS,
+    /// μ_k only.
+    MuK,
+    /// κ only (direction effect).
+    Kappa,
+    /// ũ only (direction effect).
+    UTilde,
+}
+
+/// How friction depends on the normal stress p.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PressureForm {
+    /// P = (p/p_ref)^(−β).
+    Power,
+    /// P = 1 − β (p/p_ref − 1) (kept above 0.05).
+    Linear,
+    /// P = exp(−β (p/p_ref − 1)).
+    Exponential,
+}
+
+/// Pressure dependence: a factor P(p) on μ, μ_s or μ_k (β > 0: friction falls with pressure).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PressureEffect {
-    /// Exponent β: positive when friction falls with normal stress.
+    /// Exponent or slope β.
     pub beta: f64,
+    /// The form of P.
+    #[serde(default = "power_form")]
+    pub form: PressureForm,
+    /// What P scales: `Friction` (all of μ), `MuS` or `MuK`.
+    #[serde(default = "friction_target")]
+    pub target: Target,
+    /// Reference normal stress p_ref where P = 1 [kPa].
+    #[serde(default = "pressure_ref")]
+    pub p_ref: f64,
 }
 
-/// Slip hardening (h > 0) or softening (h < 0) with accumulated plastic slip s: an initial slope
-/// h per mm that saturates after the slip s_h, either gradually, H(s) = h s_h (1 − exp(−s/s_h)),
-/// or at once (`capped`), H(s) = h min(s, s_h).
+fn power_form() -> PressureForm {
+    PressureForm::Power
+}
+fn friction_target() -> Target {
+    Target::Friction
+}
+fn pressure_ref() -> f64 {
+    PRESSURE_REF_KPA
+}
+
+impl PressureEffect {
+    /// The factor P(p).
+    #[inline]
+    pub fn factor(&self, p: f64) -> f64 {
+        let x = p / self.p_ref;
+        match self.form {
+            PressureForm::Power => x.powf(-self.beta),
+            PressureForm::Linear => (1.0 - self.beta * (x - 1.0)).max(0.05),
+            PressureForm::Exponential => (-self.beta * (x - 1.0)).exp(),
+        }
+    }
+}
+
+/// How friction changes with accumulated plastic slip s.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SlipForm {
+    /// H = h s_h (1 − exp(−s/s_h)).
+    Exponential,
+    /// H = h min(s, s_h).
+    Capped,
+    /// H = h s / (1 + s/s_h).
+    Hyperbolic,
+}
+
+/// Slip hardening (h > 0) or softening (h < 0): an initial slope h per mm that saturates
+/// after a slip of the order of s_h, in one of the [`SlipForm`]s.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SlipHardening {
     /// Initial rate of change of the friction coefficient with slip h [1/mm].
     pub h: f64,
     /// Saturation slip s_h [mm].
     pub s_h: f64,
-    /// Linear up to s_h, then constant (instead of an exponential approach).
-    #[serde(default)]
-    pub capped: bool,
+    /// The form.
+    #[serde(default = "exponential_form")]
+    pub form: SlipForm,
 }
 
-/// Logarithmic time healing instead of the exponential recovery ξ(μ_s − μ) of Eq. (24): a
-/// contact at rest for a time θ (since sliding last stopped) regains
-/// Δμ = b ln(1 + θ/t_c), up to μ_s; while it slides it does not heal, so steady friction no
-/// longer depends on the sliding rate through ξ.
+fn exponential_form() -> SlipForm {
+    SlipForm::Exponential
+}
+
+impl SlipHardening {
+    /// H(s) and dH/ds.
+    #[inline]
+    pub fn term(&self, s: f64) -> (f64, f64) {
+        match self.form {
+            SlipForm::Capped => {
+                if s < self.s_h {
+                    (self.h * s, self.h)
+                } else {
+                    (self.h * self.s_h, 0.0)
+                }
+            }
+            SlipForm::Exponential => {
+                let x = (-s / self.s_h).exp();
+                (self.h * self.s_h * (1.0 - x), self.h * x)
+            }
+            SlipForm::Hyperbolic => {
+                let q = 1.0 / (1.0 + s / self.s_h);
+                (self.h * s * q, self.h * q * q)
+            }
+        }
+    }
+}
+
+/// How friction heals at rest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HealingForm {
+    /// Δμ = b ln(1 + θ/t_c) after a time θ at rest.
+    Log,
+    /// Δμ = b (θ / 1 s)^n after a time θ at rest.
+    Power,
+}
+
+/// Time healing at rest instead of the exponential recovery ξ(μ_s − μ) of Eq. (24): a contact
+/// at rest for a time θ (since sliding last stopped) regains Δμ(θ), up to μ_s; while it slides
+/// it does not heal, so steady friction no longer depends on the sliding rate through ξ.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct LogHealing {
-    /// Healing per e-fold of time b.
+pub struct Healing {
+    /// Healing amplitude b.
     pub b: f64,
-    /// Cut-off time t_c [s].
+    /// Cut-off time t_c of the log form [s].
+    #[serde(default = "ten")]
     pub t_c: f64,
+    /// Exponent n of the power form.
+    #[serde(default = "half")]
+    pub n: f64,
+    /// The form.
+    #[serde(default = "log_form")]
+    pub form: HealingForm,
 }
 
-/// Forward/backward asymmetry: D = 1 for forward sliding, 1 − d for backward
-/// (smoothly in 3-D: D = 1 − d (1 − t̂·e₁)/2).
+fn ten() -> f64 {
+    10.0
+}
+fn half() -> f64 {
+    0.5
+}
+fn log_form() -> HealingForm {
+    HealingForm::Log
+}
+
+impl Healing {
+    /// Healing gained between contact ages `age` and `age + dt` [s].
+    #[inline]
+    pub fn gain(&self, age: f64, dt: f64) -> f64 {
+        match self.form {
+            HealingForm::Log => self.b * ((self.t_c + age + dt) / (self.t_c + age)).ln(),
+            HealingForm::Power => self.b * ((age + dt).powf(self.n) - age.max(0.0).powf(self.n)),
+        }
+    }
+}
+
+/// Forward/backward asymmetry: backward sliding scales the target by (1 − d) (in 3-D by
+/// 1 − d (1 − t̂·e₁)/2, smoothly with the sliding direction).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DirectionEffect {
     /// Relative weakening d of backward sliding (negative: backward is stronger).
     pub d: f64,
+    /// What is scaled: `Friction` (μ as a whole), `MuS`, `MuK`, `Kappa` or `UTilde`.
+    #[serde(default = "friction_target")]
+    pub target: Target,
+}
+
+impl DirectionEffect {
+    /// The factor for a sliding direction whose cosine with the forward axis is `cos_forward`.
+    #[inline]
+    pub fn factor(&self, cos_forward: f64) -> f64 {
+        1.0 - self.d * 0.5 * (1.0 - cos_forward)
+    }
 }
 
 /// The set of active extensions; the default is the base model of the paper.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Extensions {
-    /// Direct rate dependence.
+    /// Rate dependence.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rate: Option<RateEffect>,
     /// Pressure dependence.
@@ -73,12 +312,16 @@ pub struct Extensions {
     /// Slip hardening or softening.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub slip_hardening: Option<SlipHardening>,
-    /// Logarithmic healing.
+    /// Time healing at rest.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub log_healing: Option<LogHealing>,
+    pub healing: Option<Healing>,
     /// Forward/backward asymmetry.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub direction: Option<DirectionEffect>,
+}
+
+fn finite_positive(v: f64) -> bool {
+    v > 0.0 && v.is_finite()
 }
 
 impl Extensions {
@@ -91,32 +334,52 @@ impl Extensions {
     pub fn issues(&self) -> Vec<(&'static str, f64, &'static str)> {
         let mut v = Vec::new();
         if let Some(e) = self.rate {
-            if !e.a.is_finite() {
-                v.push(("rate.a", e.a, "a finite number"));
+            for (name, x) in [("rate.a", e.a), ("rate.b", e.b), ("rate.n", e.n)] {
+                if !x.is_finite() {
+                    v.push((name, x, "a finite number"));
+                }
             }
-            if !(e.v_c > 0.0 && e.v_c.is_finite()) {
+            if !finite_positive(e.v_c) {
                 v.push(("rate.v_c", e.v_c, "a finite rate > 0 [mm/s]"));
+            }
+            if !finite_positive(e.d_c) {
+                v.push(("rate.d_c", e.d_c, "a finite slip distance > 0 [mm]"));
+            }
+            if !(e.v_ref >= 0.0 && e.v_ref.is_finite()) {
+                v.push(("rate.v_ref", e.v_ref, "a finite rate >= 0 [mm/s]"));
+            }
+            if e.n.abs() >= 2.0 {
+                v.push(("rate.n", e.n, "an exponent in (-2, 2)"));
             }
         }
         if let Some(e) = self.pressure {
             if !(e.beta.is_finite() && e.beta.abs() < 5.0) {
-                v.push(("pressure.beta", e.beta, "a finite exponent in (-5, 5)"));
+                v.push(("pressure.beta", e.beta, "a finite number in (-5, 5)"));
+            }
+            if !finite_positive(e.p_ref) {
+                v.push(("pressure.p_ref", e.p_ref, "a finite stress > 0 [kPa]"));
+            }
+            if matches!(e.target, Target::Kappa | Target::UTilde) {
+                v.push(("pressure.target", f64::NAN, "friction, mu-s or mu-k"));
             }
         }
         if let Some(e) = self.slip_hardening {
             if !e.h.is_finite() {
                 v.push(("slip_hardening.h", e.h, "a finite number"));
             }
-            if !(e.s_h > 0.0 && e.s_h.is_finite()) {
+            if !finite_positive(e.s_h) {
                 v.push(("slip_hardening.s_h", e.s_h, "a finite slip > 0 [mm]"));
             }
         }
-        if let Some(e) = self.log_healing {
+        if let Some(e) = self.healing {
             if !(e.b >= 0.0 && e.b.is_finite()) {
-                v.push(("log_healing.b", e.b, "a finite number >= 0"));
+                v.push(("healing.b", e.b, "a finite number >= 0"));
             }
-            if !(e.t_c > 0.0 && e.t_c.is_finite()) {
-                v.push(("log_healing.t_c", e.t_c, "a finite time > 0 [s]"));
+            if !finite_positive(e.t_c) {
+                v.push(("healing.t_c", e.t_c, "a finite time > 0 [s]"));
+            }
+            if !(e.n > 0.0 && e.n <= 1.0) {
+                v.push(("healing.n", e.n, "an exponent in (0, 1]"));
             }
         }
         if let Some(e) = self.direction {
@@ -127,22 +390,127 @@ impl Extensions {
         v
     }
 
-    /// Multiplier P(p) of the pressure effect at normal stress `p` [kPa].
+    /// True when μ_s, μ_k, κ or ũ change with the normal stress or the sliding direction, so the
+    /// integrator must build its constants per step.
     #[inline]
-    pub fn pressure_factor(&self, p: f64) -> f64 {
-        match self.pressure {
-            Some(e) if e.beta != 0.0 => (p / PRESSURE_REF_KPA).powf(-e.beta),
-            _ => 1.0,
+    pub fn varies_bounds(&self) -> bool {
+        self.pressure.is_some_and(|e| e.target != Target::Friction)
+            || self.direction.is_some_and(|e| e.target != Target::Friction)
+    }
+
+    /// Multiplier of μ as a whole at normal stress `p` [kPa] and a sliding direction whose cosine
+    /// with the forward axis is `cos_forward` (±1 in 1-D).
+    #[inline]
+    pub fn friction_factor(&self, p: f64, cos_forward: f64) -> f64 {
+        let mut f = 1.0;
+        if let Some(e) = self.pressure {
+            if e.target == Target::Friction && e.beta != 0.0 {
+                f *= e.factor(p);
+            }
+        }
+        if let Some(e) = self.direction {
+            if e.target == Target::Friction {
+                f *= e.factor(cos_forward);
+            }
+        }
+        f
+    }
+
+    /// Factor on `target` (μ_s, μ_k, κ or ũ) at normal stress `p` and direction `cos_forward`.
+    #[inline]
+    pub fn bound_factor(&self, target: Target, p: f64, cos_forward: f64) -> f64 {
+        let mut f = 1.0;
+        if let Some(e) = self.pressure {
+            if e.target == target {
+                f *= e.factor(p);
+            }
+        }
+        if let Some(e) = self.direction {
+            if e.target == target {
+                f *= e.factor(cos_forward);
+            }
+        }
+        f
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slip_forms_start_with_slope_h_and_saturate() {
+        for form in [
+            SlipForm::Exponential,
+            SlipForm::Capped,
+            SlipForm::Hyperbolic,
+        ] {
+            let e = SlipHardening {
+                h: 0.02,
+                s_h: 2.0,
+                form,
+            };
+            let (h0, d0) = e.term(0.0);
+            assert_eq!(h0, 0.0);
+            assert!((d0 - 0.02).abs() < 1e-12, "{form:?}");
+            let (h_far, d_far) = e.term(1e4);
+            assert!(h_far > 0.0 && h_far <= 0.04 + 1e-9, "{form:?}: {h_far}");
+            assert!(d_far.abs() < 1e-6, "{form:?}: {d_far}");
+            // dH/ds by a central difference.
+            let (a, _) = e.term(0.9);
+            let (b, _) = e.term(1.1);
+            let (_, d) = e.term(1.0);
+            assert!(((b - a) / 0.2 - d).abs() < 1e-4, "{form:?}");
         }
     }
 
-    /// Multiplier D of the direction effect for a sliding direction whose cosine with the
-    /// forward axis is `cos_forward` (±1 in 1-D).
-    #[inline]
-    pub fn direction_factor(&self, cos_forward: f64) -> f64 {
-        match self.direction {
-            Some(e) => 1.0 - e.d * 0.5 * (1.0 - cos_forward),
-            None => 1.0,
+    #[test]
+    fn pressure_forms_are_one_at_the_reference() {
+        for form in [
+            PressureForm::Power,
+            PressureForm::Linear,
+            PressureForm::Exponential,
+        ] {
+            let e = PressureEffect {
+                beta: 0.1,
+                form,
+                target: Target::Friction,
+                p_ref: 250.0,
+            };
+            assert!((e.factor(250.0) - 1.0).abs() < 1e-15);
+            assert!(e.factor(500.0) < 1.0 && e.factor(100.0) > 1.0, "{form:?}");
         }
+    }
+
+    #[test]
+    fn healing_gains_add_up_over_split_steps() {
+        for form in [HealingForm::Log, HealingForm::Power] {
+            let h = Healing {
+                b: 0.01,
+                t_c: 5.0,
+                n: 0.4,
+                form,
+            };
+            let whole = h.gain(3.0, 100.0);
+            let split = h.gain(3.0, 40.0) + h.gain(43.0, 60.0);
+            assert!((whole - split).abs() < 1e-14, "{form:?}");
+            assert!(whole > 0.0);
+        }
+    }
+
+    #[test]
+    fn factors_apply_only_to_their_target() {
+        let ext = Extensions {
+            direction: Some(DirectionEffect {
+                d: 0.2,
+                target: Target::MuK,
+            }),
+            ..Extensions::default()
+        };
+        assert!(ext.varies_bounds());
+        assert_eq!(ext.friction_factor(100.0, -1.0), 1.0);
+        assert!((ext.bound_factor(Target::MuK, 100.0, -1.0) - 0.8).abs() < 1e-15);
+        assert_eq!(ext.bound_factor(Target::MuK, 100.0, 1.0), 1.0);
+        assert_eq!(ext.bound_factor(Target::MuS, 100.0, -1.0), 1.0);
     }
 }

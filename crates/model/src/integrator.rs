@@ -10,7 +10,7 @@
 //! Newton iteration safeguarded by bisection. A step that does not converge returns an error
 //! value so the caller can retry with substeps.
 
-use crate::extensions::Extensions;
+use crate::extensions::{Extensions, RateForm, Target, MIN_MU_EFF_FRACTION};
 use crate::params::Params;
 use std::f64::consts::FRAC_PI_2;
 
@@ -45,11 +45,23 @@ pub(crate) struct Consts {
     pub kappa: f64,
     pub xi: f64,
     pub u_tilde: f64,
-    /// (π/2) ũ: decay rate of cos(πr/2) with plastic slip.
-    pub kr: f64,
     /// α_t [kPa/mm].
     pub alpha: f64,
     pub ext: Extensions,
+}
+
+/// The constants of one step: μ_s, μ_k, κ, ũ after the pressure and direction effects that act
+/// on them, and the multiplier on μ as a whole.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Local {
+    pub mu_s: f64,
+    pub mu_k: f64,
+    pub kappa: f64,
+    pub u_tilde: f64,
+    /// (π/2) ũ: decay rate of cos(πr/2) with plastic slip.
+    pub kr: f64,
+    /// Multiplier P(p)·D(direction) on μ.
+    pub mult: f64,
 }
 
 impl Consts {
@@ -60,19 +72,46 @@ impl Consts {
             kappa: p.kappa,
             xi: p.xi,
             u_tilde: p.u_tilde,
-            kr: FRAC_PI_2 * p.u_tilde,
             alpha: p.alpha_t_kpa_per_mm(),
             ext: *ext,
         }
     }
 
-    /// μ after an elastic step (no sliding) of `dt` at contact age θ: exponential recovery
-    /// towards μ_s (Eq. 24), or logarithmic healing.
+    /// The step constants at normal stress `p` for a sliding direction whose cosine with the
+    /// forward axis is `cos_forward`.
     #[inline]
-    pub fn rest_mu(&self, mu: f64, age: f64, dt: f64, exp_xi_dt: f64) -> f64 {
-        match self.ext.log_healing {
-            Some(h) => (mu + h.b * ((h.t_c + age + dt) / (h.t_c + age)).ln()).min(self.mu_s),
-            None => self.mu_s - (self.mu_s - mu) * exp_xi_dt,
+    pub fn local(&self, p: f64, cos_forward: f64) -> Local {
+        let mult = self.ext.friction_factor(p, cos_forward);
+        if !self.ext.varies_bounds() {
+            return Local {
+                mu_s: self.mu_s,
+                mu_k: self.mu_k,
+                kappa: self.kappa,
+                u_tilde: self.u_tilde,
+                kr: FRAC_PI_2 * self.u_tilde,
+                mult,
+            };
+        }
+        let f = |t: Target| self.ext.bound_factor(t, p, cos_forward);
+        let mu_s = self.mu_s * f(Target::MuS);
+        let u_tilde = self.u_tilde * f(Target::UTilde);
+        Local {
+            mu_s,
+            mu_k: (self.mu_k * f(Target::MuK)).min(mu_s),
+            kappa: self.kappa * f(Target::Kappa),
+            u_tilde,
+            kr: FRAC_PI_2 * u_tilde,
+            mult,
+        }
+    }
+
+    /// μ after an elastic step (no sliding) of `dt` at contact age `age`: exponential recovery
+    /// towards μ_s (Eq. 24), or time healing.
+    #[inline]
+    pub fn rest_mu(&self, l: &Local, mu: f64, age: f64, dt: f64, exp_xi_dt: f64) -> f64 {
+        match self.ext.healing {
+            Some(h) => (mu + h.gain(age, dt)).min(l.mu_s),
+            None => l.mu_s - (l.mu_s - mu) * exp_xi_dt,
         }
     }
 
@@ -80,28 +119,79 @@ impl Consts {
     #[inline]
     pub fn slip_term(&self, s: f64) -> (f64, f64) {
         match self.ext.slip_hardening {
-            Some(e) if e.capped => {
-                if s < e.s_h {
-                    (e.h * s, e.h)
-                } else {
-                    (e.h * e.s_h, 0.0)
-                }
-            }
-            Some(e) => {
-                let x = (-s / e.s_h).exp();
-                (e.h * e.s_h * (1.0 - x), e.h * x)
-            }
+            Some(e) => e.term(s),
             None => (0.0, 0.0),
         }
     }
 
-    /// ξΔt of a plastic step: no recovery while sliding under log healing.
+    /// ξΔt of a plastic step: no recovery while sliding under time healing.
     #[inline]
     pub fn plastic_recovery(&self, dt: f64) -> f64 {
-        match self.ext.log_healing {
+        match self.ext.healing {
             Some(_) => 0.0,
             None => self.xi * dt,
         }
+    }
+
+    /// Lowest bound of μ after a plastic step (the steady-state rate form moves μ_k with v).
+    #[inline]
+    pub fn mu_floor(&self, l: &Local) -> f64 {
+        match self.ext.rate {
+            Some(r) if r.form == RateForm::SteadyState => 0.0,
+            _ => l.mu_k,
+        }
+    }
+
+    /// The state variable θ after an elastic step of `dt` (ageing law: the contact ages).
+    #[inline]
+    pub fn rest_theta(&self, theta: f64, dt: f64) -> f64 {
+        match self.ext.rate {
+            Some(r) if r.form == RateForm::StateAgeing => theta + dt,
+            _ => theta,
+        }
+    }
+
+    /// μ that puts a contact sliding steadily at rate `v` with θ = θ_ss(v) on a surface of
+    /// friction `mu_eff` (the inverse of μ_eff(μ) at that rate), within [μ floor, μ_s].
+    pub fn sliding_mu(&self, l: &Local, mu_eff: f64, v: f64) -> f64 {
+        let mut add = self.slip_term(0.0).0;
+        let mut factor = l.mult;
+        if let Some(rate) = self.ext.rate {
+            match rate.form {
+                RateForm::LogDirect | RateForm::StateAgeing | RateForm::StateSlip => {
+                    add += rate.a * ((v / rate.v_c).ln_1p() - rate.direct_at_ref());
+                    if rate.has_state() {
+                        add += rate.b * (rate.steady_theta(v) * rate.state_ref() / rate.d_c).ln();
+                    }
+                }
+                RateForm::Power => {
+                    factor *= ((v + rate.v_c) / (rate.v_ref + rate.v_c)).powf(rate.n);
+                }
+                RateForm::SteadyState => {}
+            }
+        }
+        ((mu_eff - add) / factor).clamp(self.mu_floor(l), l.mu_s)
+    }
+
+    /// μ_eff of an elastic step (plastic slip rate zero) from μ at the step's end.
+    #[inline]
+    pub fn elastic_mu_eff(&self, l: &Local, mu: f64, theta: f64, slip_path: f64) -> f64 {
+        let mut mu_eff = mu * l.mult;
+        if let Some(rate) = self.ext.rate {
+            match rate.form {
+                RateForm::LogDirect => mu_eff -= rate.a * rate.direct_at_ref(),
+                RateForm::StateAgeing | RateForm::StateSlip => {
+                    mu_eff += -rate.a * rate.direct_at_ref()
+                        + rate.b * (theta * rate.state_ref() / rate.d_c).ln();
+                }
+                RateForm::Power => {
+                    mu_eff *= (rate.v_c / (rate.v_ref + rate.v_c)).powf(rate.n);
+                }
+                RateForm::SteadyState => {}
+            }
+        }
+        mu_eff += self.slip_term(slip_path).0;
+        mu_eff.max(MIN_MU_EFF_FRACTION * l.mu_s)
     }
 }
 
@@ -120,14 +210,16 @@ pub(crate) struct StepInput {
     pub p: f64,
     /// Time increment [s].
     pub dt: f64,
-    /// ξΔt of recovery over the step (reduced by log healing).
+    /// ξΔt of recovery over the step (zero under time healing).
     pub xi_dt: f64,
     /// exp(−ξΔt), cached by the caller.
     pub exp_xi_dt: f64,
-    /// Multiplier P(p)·D(direction) on μ.
-    pub mult: f64,
     /// Accumulated plastic slip at the start [mm].
     pub s_acc: f64,
+    /// State variable θ at the start [s] (rate and state).
+    pub theta: f64,
+    /// The step's constants.
+    pub local: Local,
 }
 
 /// State of the evolution laws after a plastic increment λ, with derivatives w.r.t. λ.
@@ -141,6 +233,7 @@ pub(crate) struct Eval {
     pub dmu: f64,
     pub mu_eff: f64,
     pub dmu_eff: f64,
+    pub theta: f64,
 }
 
 /// e^(−x) for x ≥ 0; a degree-8 Taylor polynomial below 0.01 (error < 1e-20, i.e. exact in
@@ -172,25 +265,113 @@ fn asin_small(x: f64) -> f64 {
     }
 }
 
+/// (1 − e^(−x))/x and its derivative, with series near 0.
+#[inline]
+fn relax_weight(x: f64, e: f64) -> (f64, f64) {
+    if x > 1e-4 {
+        let g = (1.0 - e) / x;
+        (g, (e * (1.0 + x) - 1.0) / (x * x))
+    } else {
+        (1.0 - x * (0.5 - x / 6.0), -0.5 + x * (1.0 / 3.0 - x / 8.0))
+    }
+}
+
+/// Rate terms at plastic increment `lam`: the additive term R and its derivative, the factor V
+/// on μ and its derivative, μ_k(v) and its derivative, and θ at the end of the step.
+#[inline]
+fn rate_terms(rate: &crate::extensions::RateEffect, s: &StepInput, lam: f64) -> RateTerms {
+    let vdt = rate.v_c * s.dt;
+    let mut t = RateTerms {
+        add: 0.0,
+        dadd: 0.0,
+        factor: 1.0,
+        dfactor: 0.0,
+        mu_k_shift: 0.0,
+        dmu_k: 0.0,
+        theta: s.theta,
+    };
+    match rate.form {
+        RateForm::LogDirect | RateForm::StateAgeing | RateForm::StateSlip => {
+            t.add = rate.a * ((lam / vdt).ln_1p() - rate.direct_at_ref());
+            t.dadd = rate.a / (vdt + lam);
+            if rate.has_state() {
+                // Constant v = λ/Δt over the step: both laws integrate in closed form.
+                let x = lam / rate.d_c;
+                let e = exp_neg(x);
+                let (g, dg) = relax_weight(x, e);
+                let (ln_theta, dln_theta) = if rate.form == RateForm::StateAgeing {
+                    let theta = s.theta * e + s.dt * g;
+                    (theta.ln(), (-s.theta * e + s.dt * dg) / (rate.d_c * theta))
+                } else {
+                    let lam = lam.max(1e-30 * rate.d_c);
+                    let ln_ss = (rate.d_c * s.dt / lam).ln();
+                    let ln0 = s.theta.ln();
+                    (
+                        e * ln0 + (1.0 - e) * ln_ss,
+                        (e * (ln_ss - ln0) - g) / rate.d_c,
+                    )
+                };
+                t.theta = ln_theta.exp();
+                t.add += rate.b * (ln_theta + (rate.state_ref() / rate.d_c).ln());
+                t.dadd += rate.b * dln_theta;
+            }
+        }
+        RateForm::Power => {
+            t.factor = ((lam / s.dt + rate.v_c) / (rate.v_ref + rate.v_c)).powf(rate.n);
+            t.dfactor = rate.n * t.factor / (lam + vdt);
+        }
+        RateForm::SteadyState => {
+            t.mu_k_shift = rate.a * ((lam / s.dt + rate.v_c) / (rate.v_ref + rate.v_c)).ln();
+            t.dmu_k = rate.a / (lam + vdt);
+        }
+    }
+    t
+}
+
+struct RateTerms {
+    add: f64,
+    dadd: f64,
+    factor: f64,
+    dfactor: f64,
+    mu_k_shift: f64,
+    dmu_k: f64,
+    theta: f64,
+}
+
 #[inline(always)]
 fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
+    let l = &s.local;
     // cos θ = cos θ₀ · exp(−kr λ) with θ = πr/2; dr/dλ = ũ cot θ = ũ c / sin θ.
     // θ − θ₀ = asin(sin θ cos θ₀ − cos θ sin θ₀): small within a step, so no inverse cosine.
-    let c = s.c_start * exp_neg(k.kr * lam);
+    let c = s.c_start * exp_neg(l.kr * lam);
     let sin = ((1.0 - c) * (1.0 + c)).max(0.0).sqrt();
     let dtheta = asin_small(sin * s.c_start - c * s.s_start);
     let r = (s.r_start + dtheta * (1.0 / FRAC_PI_2)).min(1.0);
     let dr = if sin > 0.0 {
-        k.u_tilde * c / sin
+        l.u_tilde * c / sin
     } else {
         f64::INFINITY
     };
 
+    let rate = k.ext.rate.map(|rate| rate_terms(&rate, s, lam));
+    // The kinetic bound; the steady-state rate form moves it with v = λ/Δt.
+    let (mu_k, dmu_k) = match &rate {
+        Some(t) if t.dmu_k != 0.0 => {
+            let m = l.mu_k + t.mu_k_shift;
+            if m > 0.0 && m < l.mu_s {
+                (m, t.dmu_k)
+            } else {
+                (m.clamp(0.0, l.mu_s), 0.0)
+            }
+        }
+        _ => (l.mu_k, 0.0),
+    };
+
     // μ = μ_n E + w N with A = κλ + ξΔt, E = e^(−A), w = (1−E)/A, N = κλ μ_k + ξΔt μ_s.
-    let kl = k.kappa * lam;
+    let kl = l.kappa * lam;
     let a = kl + s.xi_dt;
     let e = exp_neg(kl) * s.exp_xi_dt;
-    let n = kl * k.mu_k + s.xi_dt * k.mu_s;
+    let n = kl * mu_k + s.xi_dt * l.mu_s;
     let (w, e_minus_w_over_a) = if a > 1e-5 {
         let w = (1.0 - e) / a;
         (w, (e - w) / a)
@@ -198,18 +379,25 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
         (1.0 - a * (0.5 - a / 6.0), -0.5 + a / 3.0)
     };
     let mu = s.mu_n * e + w * n;
-    let dmu = k.kappa * (-s.mu_n * e + e_minus_w_over_a * n + w * k.mu_k);
+    let dmu = l.kappa * (-s.mu_n * e + e_minus_w_over_a * n + w * (mu_k + lam * dmu_k));
 
-    let (mut mu_eff, mut dmu_eff) = (mu * s.mult, dmu * s.mult);
-    if let Some(rate) = k.ext.rate {
-        let vdt = rate.v_c * s.dt;
-        mu_eff += rate.a * (lam / vdt).ln_1p();
-        dmu_eff += rate.a / (vdt + lam);
+    let (mut mu_eff, mut dmu_eff) = (mu * l.mult, dmu * l.mult);
+    let mut theta = s.theta;
+    if let Some(t) = rate {
+        (mu_eff, dmu_eff) = (
+            mu_eff * t.factor + t.add,
+            dmu_eff * t.factor + mu * l.mult * t.dfactor + t.dadd,
+        );
+        theta = t.theta;
     }
     if k.ext.slip_hardening.is_some() {
         let (h, dh) = k.slip_term(s.s_acc + lam);
         mu_eff += h;
         dmu_eff += dh;
+    }
+    let floor = MIN_MU_EFF_FRACTION * l.mu_s;
+    if mu_eff < floor {
+        (mu_eff, dmu_eff) = (floor, 0.0);
     }
     Eval {
         r,
@@ -220,6 +408,7 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
         dmu,
         mu_eff,
         dmu_eff,
+        theta,
     }
 }
 
@@ -231,6 +420,7 @@ pub(crate) struct Plastic {
     pub c: f64,
     pub s: f64,
     pub mu: f64,
+    pub theta: f64,
 }
 
 impl Plastic {
@@ -241,6 +431,7 @@ impl Plastic {
             c: e.c,
             s: e.sin,
             mu: e.mu,
+            theta: e.theta,
         }
     }
 }
@@ -286,9 +477,11 @@ pub(crate) fn return_slip(
             return Ok(Plastic {
                 lam: lam + delta,
                 r: (e.r + e.dr * delta).clamp(0.0, 1.0),
-                c: e.c * (1.0 - k.kr * delta),
+                c: e.c * (1.0 - s.local.kr * delta),
                 s: e.sin + e.c * FRAC_PI_2 * e.dr * delta,
                 mu: e.mu + e.dmu * delta,
+                // θ moves by O(δ) ≪ its own scale: kept at λ.
+                theta: e.theta,
             });
         }
         let next = lam + delta;

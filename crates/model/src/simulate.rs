@@ -1,7 +1,7 @@
 //! Driving the model through a test: rows of (time, imposed slip or shear, normal stress).
 
 use crate::contact1::{Contact1, State1};
-use crate::integrator::StepError;
+use crate::integrator::{Consts, StepError};
 use crate::Model;
 use serde::{Deserialize, Serialize};
 
@@ -13,6 +13,38 @@ pub enum Control {
     Slip,
     /// Shear traction imposed, slip measured (stress control).
     Shear,
+}
+
+/// How a test starts.
+///
+/// ```
+/// use subfric_model::Initial;
+/// let i: Initial = serde_json::from_str(r#"{"kind": "sliding", "shear_kpa": 60, "rate_mm_s": 0.01}"#).unwrap();
+/// assert_eq!(i, Initial::Sliding { shear_kpa: 60.0, rate_mm_s: 0.01 });
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Initial {
+    /// An interface at rest: under slip control unloaded (zero traction, r = 0, μ = μ₀), under
+    /// traction control at the imposed traction, inside the surface.
+    #[default]
+    Rest,
+    /// At rest under a traction (a file that starts in a hold, e.g. while the normal stress is
+    /// raised): elastic, r = |τ|/(μ_eff p) with μ = μ₀. Under traction control the imposed
+    /// first value is used instead of `shear_kpa`.
+    Loaded {
+        /// Traction at the first row [kPa], signed.
+        shear_kpa: f64,
+    },
+    /// Already sliding at the first row (a segment cut out of a longer run): on the loading
+    /// surface (r = 1) at the traction, μ from the traction at that slip rate (within
+    /// [μ_k, μ_s]), the rate-and-state variable steady at that rate.
+    Sliding {
+        /// Traction at the first row [kPa], signed.
+        shear_kpa: f64,
+        /// Slip rate at the first row [mm/s].
+        rate_mm_s: f64,
+    },
 }
 
 /// A test as the model sees it: one row per instant.
@@ -28,6 +60,8 @@ pub struct Protocol<'a> {
     pub normal: &'a [f64],
     /// Slip at the first row for traction control [mm] (ignored under slip control).
     pub initial_slip: f64,
+    /// How the test starts.
+    pub initial: Initial,
 }
 
 /// Why a simulation failed, with the row where it happened.
@@ -188,24 +222,65 @@ fn advance(
 }
 
 fn initial_state(model: &Model, proto: &Protocol) -> Result<State1, SimError> {
-    let mut st = State1::virgin(model, proto.imposed[0]);
-    if proto.control == Control::Shear {
-        let f0 = proto.imposed[0];
-        let cap = model.params.initial_mu() * proto.normal[0];
-        if f0.abs() > cap {
-            return Err(SimError::Runaway {
-                row: 0,
-                time: proto.time[0],
-                target_kpa: f0.abs(),
-                capacity_kpa: cap,
-            });
-        }
-        let r = f0.abs() / cap;
+    let p = proto.normal[0];
+    let mut st = State1::virgin_at(model, proto.imposed[0], p);
+    let control = proto.control;
+    if control == Control::Shear {
         st.slip = proto.initial_slip;
-        st.shear = f0;
-        st.r = r;
-        (st.sin_r, st.cos_r) = (std::f64::consts::FRAC_PI_2 * r).sin_cos();
     }
+    let shear = match (control, proto.initial) {
+        (Control::Shear, _) => proto.imposed[0],
+        (Control::Slip, Initial::Rest) => return Ok(st),
+        (Control::Slip, Initial::Loaded { shear_kpa })
+        | (Control::Slip, Initial::Sliding { shear_kpa, .. }) => shear_kpa,
+    };
+    if !shear.is_finite() {
+        return Err(SimError::Input {
+            row: 0,
+            field: "initial",
+            message: format!("expected a finite initial traction, got {shear}"),
+        });
+    }
+    let k = Consts::new(&model.params, &model.ext);
+    let sign = if shear < 0.0 { -1.0 } else { 1.0 };
+    let l = k.local(p, sign);
+    st.shear = shear;
+    let r = match proto.initial {
+        Initial::Sliding { rate_mm_s, .. } => {
+            let v = rate_mm_s.abs();
+            st.mu = k.sliding_mu(&l, shear.abs() / p, v);
+            if let Some(rate) = model.ext.rate {
+                if rate.has_state() && v > 0.0 {
+                    st.theta = rate.steady_theta(v);
+                }
+            }
+            let cap = k.elastic_mu_eff(&l, st.mu, st.theta, 0.0) * p;
+            // On the surface; above it, the first step returns the traction onto it.
+            if shear.abs() >= 0.999 * cap {
+                1.0
+            } else {
+                shear.abs() / cap
+            }
+        }
+        _ => {
+            let cap = k.elastic_mu_eff(&l, st.mu, st.theta, 0.0) * p;
+            if shear.abs() > cap {
+                if control == Control::Shear {
+                    return Err(SimError::Runaway {
+                        row: 0,
+                        time: proto.time[0],
+                        target_kpa: shear.abs(),
+                        capacity_kpa: cap,
+                    });
+                }
+                1.0
+            } else {
+                shear.abs() / cap
+            }
+        }
+    };
+    st.r = r;
+    (st.sin_r, st.cos_r) = (std::f64::consts::FRAC_PI_2 * r).sin_cos();
     Ok(st)
 }
 
@@ -262,7 +337,7 @@ fn run<F: FnMut(usize, &State1)>(
 /// let time: Vec<f64> = (0..=300).map(|i| i as f64).collect();
 /// let slip: Vec<f64> = time.iter().map(|t| 0.01 * t).collect();
 /// let normal = vec![100.0; time.len()];
-/// let proto = Protocol { control: Control::Slip, time: &time, imposed: &slip, normal: &normal, initial_slip: 0.0 };
+/// let proto = Protocol { control: Control::Slip, time: &time, imposed: &slip, normal: &normal, initial_slip: 0.0, initial: Default::default() };
 /// let out = simulate(&model, &proto).unwrap();
 /// let peak = out.shear.iter().cloned().fold(0.0, f64::max);
 /// assert!(peak > 40.0 && peak <= 45.0); // below μ_s f_n = 45 kPa

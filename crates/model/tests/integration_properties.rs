@@ -25,6 +25,7 @@ fn slide(params: Params, rate: f64, distance: f64, dt: f64) -> (Vec<f64>, Vec<f6
         imposed: &rows.imposed,
         normal: &rows.normal,
         initial_slip: 0.0,
+        initial: Default::default(),
     };
     let out = simulate(&Model::base(params).unwrap(), &proto).unwrap();
     (out.shear, out.mu)
@@ -71,6 +72,7 @@ fn two_way(steps_per_quarter: usize) -> (Vec<f64>, Vec<f64>) {
         imposed: &rows.imposed,
         normal: &rows.normal,
         initial_slip: 0.0,
+        initial: Default::default(),
     };
     let out = simulate(&Model::base(Params::sample()).unwrap(), &proto).unwrap();
     (rows.time, out.shear.iter().map(|s| s / 100.0).collect())
@@ -116,6 +118,7 @@ fn traction_above_capacity_is_runaway_at_its_row() {
         imposed: &shear,
         normal: &normal,
         initial_slip: 0.0,
+        initial: Default::default(),
     };
     match simulate(&Model::base(p).unwrap(), &proto) {
         Err(SimError::Runaway {
@@ -153,6 +156,7 @@ fn non_increasing_time_is_an_input_error_with_its_row() {
         imposed: &slip,
         normal: &normal,
         initial_slip: 0.0,
+        initial: Default::default(),
     };
     let err = simulate(&Model::base(Params::sample()).unwrap(), &proto).unwrap_err();
     assert!(

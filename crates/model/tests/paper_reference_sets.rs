@@ -60,6 +60,7 @@ fn relative_rms_percent(set: &str) -> f64 {
         imposed,
         normal: &normal,
         initial_slip: c.slip[0],
+        initial: Default::default(),
     };
     let out = simulate(&Model::base(c.params).unwrap(), &proto).unwrap();
     let pred = out.predicted(c.control);
@@ -124,6 +125,7 @@ fn wrong_parameters_do_not_reproduce_table1() {
         imposed: &c.slip,
         normal: &normal,
         initial_slip: 0.0,
+        initial: Default::default(),
     };
     let out = simulate(&Model::base(c.params).unwrap(), &proto).unwrap();
     let peak = c.shear.iter().fold(0.0f64, |m, v| m.max(*v));

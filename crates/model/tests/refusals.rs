@@ -17,6 +17,7 @@ fn two_way(model: &Model) -> Vec<f64> {
         imposed: &slip,
         normal: &normal,
         initial_slip: 0.0,
+        initial: Default::default(),
     };
     simulate(model, &p).unwrap().shear
 }

@@ -1,0 +1,243 @@
+//! Noise of a sampled signal, estimated from the data itself so that it survives real sensors:
+//! quantised values, flat stretches (a logger repeating its last reading), slow drift, and bursts
+//! of denser, noisier sampling.
+//!
+//! Runs of exactly repeated values (a logger repeating its last reading, a still quantised
+//! signal) are first collapsed to one reading each: repeats carry no information about the
+//! noise. The estimate is then the scatter of each reading about the line through its two
+//! neighbours (a time-aware second difference, blind to any locally linear signal, drift
+//! included), measured robustly (MAD) in blocks of readings, and the median over blocks: a
+//! burst of noisy rows moves it no more than its share of blocks. When the data are quantised
+//! the estimate is never below the quantisation noise q/√12, and is then reported as a floor,
+//! not a measurement.
+
+use serde::Serialize;
+
+/// Rows per block of the robust estimate.
+const BLOCK: usize = 256;
+
+/// What is known about the noise of one column.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct NoiseEstimate {
+    /// Noise standard deviation, in the column's unit.
+    pub sd: f64,
+    /// Quantisation step of the column (0 when the values are not on a regular grid).
+    pub quantum: f64,
+    /// True when `sd` is the quantisation floor q/√12 (or zero), not a measured scatter.
+    pub floor: bool,
+    /// Smallest and largest block estimate: a wide range means the noise changes along the
+    /// record (e.g. with the sampling rate).
+    pub block_range: (f64, f64),
+}
+
+pub(crate) fn median(v: &mut [f64]) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    let m = v.len() / 2;
+    if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        0.5 * (v[m - 1] + v[m])
+    }
+}
+
+/// Scaled residuals of each reading from the linear interpolation of its two neighbours (white
+/// noise of SD σ gives residuals of SD σ), after collapsing runs of repeated values.
+fn second_differences(t: &[f64], x: &[f64]) -> Vec<f64> {
+    let n = t.len().min(x.len());
+    let mut tt = Vec::with_capacity(n);
+    let mut xx = Vec::with_capacity(n);
+    for i in 0..n {
+        if i > 0 && x[i] == x[i - 1] {
+            continue;
+        }
+        tt.push(t[i]);
+        xx.push(x[i]);
+    }
+    let mut r = Vec::with_capacity(xx.len().saturating_sub(2));
+    for i in 1..xx.len().saturating_sub(1) {
+        let (d1, d2) = (tt[i] - tt[i - 1], tt[i + 1] - tt[i]);
+        if !(d1 > 0.0 && d2 > 0.0) {
+            continue;
+        }
+        let a = d2 / (d1 + d2);
+        let b = d1 / (d1 + d2);
+        let res = (xx[i] - (a * xx[i - 1] + b * xx[i + 1])) / (1.0 + a * a + b * b).sqrt();
+        if res.is_finite() {
+            r.push(res);
+        }
+    }
+    r
+}
+
+fn mad_sd(r: &[f64]) -> f64 {
+    let mut v = r.to_vec();
+    let med = median(&mut v);
+    let mut dev: Vec<f64> = r.iter().map(|v| (v - med).abs()).collect();
+    1.4826 * median(&mut dev)
+}
+
+/// Quantisation step of `x`: the smallest step of which most changes between consecutive rows
+/// are whole multiples; 0 when the values are not on a regular grid.
+///
+/// ```
+/// let x: Vec<f64> = (0..500).map(|i| ((i as f64 * 0.37).sin() * 40.0).round() * 0.1).collect();
+/// let q = subfric_data::noise::quantum(&x);
+/// assert!((q - 0.1).abs() < 1e-9, "{q}");
+/// let smooth: Vec<f64> = (0..500).map(|i| (i as f64 * 0.37).sin()).collect();
+/// assert_eq!(subfric_data::noise::quantum(&smooth), 0.0);
+/// ```
+pub fn quantum(x: &[f64]) -> f64 {
+    let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-300);
+    let all: Vec<f64> = x
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .filter(|d| d.is_finite())
+        .collect();
+    let mut steps: Vec<f64> = all.iter().copied().filter(|d| *d > 1e-12 * scale).collect();
+    if steps.len() < 20 {
+        return 0.0;
+    }
+    steps.sort_by(f64::total_cmp);
+    // The smallest steps are one quantum; print rounding makes them differ in the last digits.
+    let q = steps[steps.len() / 50];
+    if q <= 1e-9 * scale {
+        return 0.0;
+    }
+    let mut multiples: std::collections::BTreeMap<u64, usize> = Default::default();
+    let mut on_grid = 0;
+    for &d in &steps {
+        let k = (d / q).round();
+        if k >= 1.0 && (d - k * q).abs() <= 0.1 * q + 1e-9 * d {
+            on_grid += 1;
+            *multiples.entry(k as u64).or_default() += 1;
+        }
+    }
+    // A grid shows as repeats or as several multiples of the step: a clean ramp whose every
+    // step is equal is not quantised.
+    let repeats = all.len() - steps.len();
+    let mut counts: Vec<usize> = multiples.values().copied().collect();
+    counts.sort_unstable_by(|a, b| b.cmp(a));
+    let varied = counts.get(1).is_some_and(|&c| c * 20 >= steps.len());
+    if on_grid as f64 >= 0.9 * steps.len() as f64 && (varied || repeats * 20 >= all.len()) {
+        q
+    } else {
+        0.0
+    }
+}
+
+/// Estimates the noise of `x` sampled at `t` (see the module documentation).
+///
+/// ```
+/// use subfric_data::noise::estimate_noise;
+/// let t: Vec<f64> = (0..30_000).map(|i| i as f64 * 0.1).collect();
+/// // A slowly drifting signal read by a 0.01-step converter: no scatter beyond quantisation.
+/// let x: Vec<f64> = t.iter().map(|t| (0.0003 * t / 0.01).round() * 0.01).collect();
+/// let e = estimate_noise(&t, &x);
+/// assert!(e.floor);
+/// assert!((e.sd - e.quantum / 12f64.sqrt()).abs() < 1e-12);
+/// ```
+pub fn estimate_noise(t: &[f64], x: &[f64]) -> NoiseEstimate {
+    let r = second_differences(t, x);
+    let q = quantum(x);
+    let floor_sd = q / 12f64.sqrt();
+    let mut blocks: Vec<f64> = r
+        .chunks(BLOCK)
+        .filter(|c| c.len() >= BLOCK / 4 || r.len() < BLOCK / 4)
+        .map(mad_sd)
+        .collect();
+    if blocks.is_empty() && !r.is_empty() {
+        blocks.push(mad_sd(&r));
+    }
+    let lo = blocks.iter().cloned().fold(f64::INFINITY, f64::min);
+    let hi = blocks.iter().cloned().fold(0.0, f64::max);
+    let measured = median(&mut blocks);
+    let (sd, floor) = if measured > floor_sd {
+        (measured, false)
+    } else {
+        (floor_sd, true)
+    };
+    NoiseEstimate {
+        sd: if sd.is_finite() { sd } else { 0.0 },
+        quantum: q,
+        floor,
+        block_range: if lo.is_finite() { (lo, hi) } else { (0.0, 0.0) },
+    }
+}
+
+/// Robust noise SD of a sampled signal ([`estimate_noise`]'s `sd`).
+///
+/// ```
+/// let t: Vec<f64> = (0..200).map(|i| i as f64 * 0.5).collect();
+/// let x: Vec<f64> = t.iter().map(|t| 0.01 * t).collect();
+/// assert!(subfric_data::noise::noise_sd(&t, &x) < 1e-12);
+/// ```
+pub fn noise_sd(t: &[f64], x: &[f64]) -> f64 {
+    estimate_noise(t, x).sd
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    fn gauss(rng: &mut rand::rngs::StdRng) -> f64 {
+        let (u1, u2): (f64, f64) = (rng.gen::<f64>().max(1e-12), rng.gen());
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    }
+
+    #[test]
+    fn white_noise_on_a_ramp_is_measured() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+        let t: Vec<f64> = (0..4000).map(|i| i as f64).collect();
+        let x: Vec<f64> = t
+            .iter()
+            .map(|t| 0.01 * t + 0.002 * gauss(&mut rng))
+            .collect();
+        let e = estimate_noise(&t, &x);
+        assert!((e.sd - 0.002).abs() < 0.0002, "{e:?}");
+        assert!(!e.floor);
+    }
+
+    #[test]
+    fn quantised_noise_with_repeated_readings_is_not_near_zero() {
+        // A logger at 1 kHz repeats a 10 Hz converter's reading: 99 of 100 rows are repeats,
+        // the readings are quantised at 0.5 and carry noise of SD 1.
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        let n = 20_000;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-3).collect();
+        let mut x = Vec::with_capacity(n);
+        let mut held = 0.0;
+        for (i, ti) in t.iter().enumerate() {
+            if i % 100 == 0 {
+                held = ((5.0 * ti + gauss(&mut rng)) / 0.5).round() * 0.5;
+            }
+            x.push(held);
+        }
+        let e = estimate_noise(&t, &x);
+        assert!(e.sd > 0.5, "{e:?}");
+        assert!((e.quantum - 0.5).abs() < 1e-9, "{e:?}");
+    }
+
+    #[test]
+    fn a_noisy_burst_does_not_set_the_estimate() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(11);
+        let n = 10_000;
+        let t: Vec<f64> = (0..n).map(|i| i as f64).collect();
+        let x: Vec<f64> = (0..n)
+            .map(|i| {
+                let sd = if (4000..5000).contains(&i) {
+                    0.05
+                } else {
+                    0.01
+                };
+                sd * gauss(&mut rng)
+            })
+            .collect();
+        let e = estimate_noise(&t, &x);
+        assert!((e.sd - 0.01).abs() < 0.0015, "{e:?}");
+        assert!(e.block_range.1 > 3.0 * e.block_range.0, "{e:?}");
+    }
+}

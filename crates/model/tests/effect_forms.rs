@@ -1,0 +1,511 @@
+//! The forms of each effect family, checked against what each form means physically, and the
+//! initial states of tests that do not start from rest.
+
+use subfric_model::{
+    simulate, Contact1, Contact3, Control, DirectionEffect, Extensions, Healing, HealingForm,
+    Initial, Model, Params, PressureEffect, PressureForm, Protocol, RateEffect, RateForm, SlipForm,
+    SlipHardening, State1, State3, Target,
+};
+
+/// A slip-controlled history built stage by stage at a fixed slip per row.
+struct History {
+    t: Vec<f64>,
+    u: Vec<f64>,
+}
+
+impl History {
+    fn new() -> Self {
+        History {
+            t: vec![0.0],
+            u: vec![0.0],
+        }
+    }
+    fn slide(mut self, rate: f64, distance: f64, du: f64) -> Self {
+        let (t0, u0) = (*self.t.last().unwrap(), *self.u.last().unwrap());
+        let n = (distance.abs() / du).round().max(1.0) as usize;
+        for j in 1..=n {
+            let f = j as f64 / n as f64;
+            self.t.push(t0 + f * distance.abs() / rate);
+            self.u.push(u0 + f * distance);
+        }
+        self
+    }
+    fn hold(mut self, duration: f64, rows: usize) -> Self {
+        let (t0, u0) = (*self.t.last().unwrap(), *self.u.last().unwrap());
+        for j in 1..=rows {
+            self.t.push(t0 + duration * j as f64 / rows as f64);
+            self.u.push(u0);
+        }
+        self
+    }
+    fn len(&self) -> usize {
+        self.t.len()
+    }
+}
+
+fn run(model: &Model, h: &History, p: f64, initial: Initial) -> Vec<f64> {
+    let normal = vec![p; h.len()];
+    let proto = Protocol {
+        control: Control::Slip,
+        time: &h.t,
+        imposed: &h.u,
+        normal: &normal,
+        initial_slip: 0.0,
+        initial,
+    };
+    simulate(model, &proto)
+        .expect("the history simulates")
+        .shear
+        .iter()
+        .map(|s| s / p)
+        .collect()
+}
+
+/// A base model without slip softening or recovery, so that every change of friction comes from
+/// the effect under test.
+fn flat_base() -> Params {
+    Params {
+        mu_s: 0.5,
+        mu_k: 0.5,
+        kappa: 1.0,
+        xi: 0.0,
+        u_tilde: 200.0,
+        alpha_t: 1000.0,
+        alpha_n: 1000.0,
+        mu_0: None,
+    }
+}
+
+fn rate_state(form: RateForm) -> RateEffect {
+    RateEffect {
+        form,
+        a: 0.01,
+        v_c: 1e-6,
+        b: 0.008,
+        d_c: 0.02,
+        n: 0.0,
+        v_ref: 0.001,
+    }
+}
+
+fn model(params: Params, ext: Extensions) -> Model {
+    Model::new(params, ext).expect("valid model")
+}
+
+#[test]
+fn rate_and_state_velocity_step_jumps_by_a_then_evolves_over_d_c() {
+    for form in [RateForm::StateAgeing, RateForm::StateSlip] {
+        let rate = rate_state(form);
+        let m = model(
+            flat_base(),
+            Extensions {
+                rate: Some(rate),
+                ..Extensions::default()
+            },
+        );
+        let du = 0.0005;
+        let h = History::new().slide(0.001, 1.0, du).slide(0.01, 0.4, du);
+        let f = run(&m, &h, 100.0, Initial::Rest);
+        let i_step = (1.0 / du).round() as usize;
+        let before = f[i_step];
+        let peak = f[i_step..].iter().cloned().fold(f64::MIN, f64::max);
+        let after = *f.last().unwrap();
+        let ln10 = 10f64.ln();
+        // Direct effect: a ln(10) within the first rows (the machine is stiff).
+        assert!(
+            ((peak - before) - rate.a * ln10).abs() < 0.1 * rate.a * ln10,
+            "{form:?}: jump {} expected {}",
+            peak - before,
+            rate.a * ln10
+        );
+        // Steady state: (a − b) ln(10).
+        assert!(
+            ((after - before) - (rate.a - rate.b) * ln10).abs() < 0.05 * rate.a * ln10,
+            "{form:?}: steady change {} expected {}",
+            after - before,
+            (rate.a - rate.b) * ln10
+        );
+        // Evolution over D_c: one D_c after the step the excess over steady has decayed by
+        // about e (between e^-0.5 and e^-2 for both laws), and is gone after 10 D_c.
+        let excess = |i: usize| f[i] - after;
+        let at_dc = i_step + (rate.d_c / du).round() as usize;
+        let ratio = excess(at_dc) / (peak - after);
+        assert!(
+            ratio > (-2.5f64).exp() && ratio < (-0.4f64).exp(),
+            "{form:?}: after D_c the excess is {ratio} of the peak's"
+        );
+        let at_10dc = i_step + (10.0 * rate.d_c / du).round() as usize;
+        assert!(excess(at_10dc).abs() < 0.03 * (peak - after), "{form:?}");
+    }
+}
+
+/// Peak friction on reloading after holds of each duration, minus the friction before the hold.
+fn hold_gains(m: &Model, holds: &[f64]) -> Vec<f64> {
+    holds
+        .iter()
+        .map(|&th| {
+            let du = 0.0005;
+            let h = History::new()
+                .slide(0.001, 0.6, du)
+                .hold(th, 200)
+                .slide(0.001, 0.2, du);
+            let f = run(m, &h, 100.0, Initial::Rest);
+            let i_hold = (0.6 / du).round() as usize;
+            let peak = f[i_hold + 200..].iter().cloned().fold(f64::MIN, f64::max);
+            peak - f[i_hold]
+        })
+        .collect()
+}
+
+#[test]
+fn ageing_law_heals_at_rest_log_linearly_and_slip_law_heals_less() {
+    let ageing = model(
+        flat_base(),
+        Extensions {
+            rate: Some(rate_state(RateForm::StateAgeing)),
+            ..Extensions::default()
+        },
+    );
+    let slip = model(
+        flat_base(),
+        Extensions {
+            rate: Some(rate_state(RateForm::StateSlip)),
+            ..Extensions::default()
+        },
+    );
+    let g_age = hold_gains(&ageing, &[100.0, 1000.0]);
+    let g_slip = hold_gains(&slip, &[100.0, 1000.0]);
+    let b = rate_state(RateForm::StateAgeing).b;
+    // Ageing law: θ grows like the hold time, the peak like b ln(t_hold) per decade.
+    let per_decade = g_age[1] - g_age[0];
+    assert!(
+        (per_decade - b * 10f64.ln()).abs() < 0.35 * b * 10f64.ln(),
+        "ageing: {per_decade} per decade, expected about {}",
+        b * 10f64.ln()
+    );
+    assert!(
+        g_slip[1] < 0.5 * g_age[1],
+        "slip law gain {} vs ageing {}",
+        g_slip[1],
+        g_age[1]
+    );
+}
+
+#[test]
+fn time_healing_forms_grow_with_the_hold_as_their_law_says() {
+    let base = Params {
+        mu_k: 0.35,
+        kappa: 20.0,
+        ..flat_base()
+    };
+    for (form, expected_ratio) in [
+        // Log: b ln(1 + t/t_c) with t_c = 1 s: gain(1000)/gain(100) = ln 1001 / ln 101.
+        (HealingForm::Log, 1001f64.ln() / 101f64.ln()),
+        // Power: b t^n with n = 0.3: 10^0.3.
+        (HealingForm::Power, 10f64.powf(0.3)),
+    ] {
+        let m = model(
+            base,
+            Extensions {
+                healing: Some(Healing {
+                    b: 0.005,
+                    t_c: 1.0,
+                    n: 0.3,
+                    form,
+                }),
+                ..Extensions::default()
+            },
+        );
+        let g = hold_gains(&m, &[100.0, 1000.0]);
+        let ratio = g[1] / g[0];
+        assert!(
+            (ratio - expected_ratio).abs() < 0.08 * expected_ratio,
+            "{form:?}: ratio {ratio} expected {expected_ratio}"
+        );
+    }
+}
+
+#[test]
+fn power_law_and_steady_state_rate_forms_change_steady_friction_as_stated() {
+    let du = 0.002;
+    let h = History::new().slide(0.001, 2.0, du).slide(0.1, 2.0, du);
+    let i_step = (2.0 / du).round() as usize;
+    // Power law on μ: friction ratio (v2/v1)^n when v ≫ v_c.
+    let n = 0.02;
+    let m = model(
+        flat_base(),
+        Extensions {
+            rate: Some(RateEffect {
+                form: RateForm::Power,
+                n,
+                v_c: 1e-7,
+                v_ref: 0.001,
+                ..RateEffect::log_direct(0.0, 1e-7)
+            }),
+            ..Extensions::default()
+        },
+    );
+    let f = run(&m, &h, 100.0, Initial::Rest);
+    let ratio = f.last().unwrap() / f[i_step];
+    assert!((ratio - 100f64.powf(n)).abs() < 1e-3, "power: {ratio}");
+    // Steady-state only: μ_k(v) = μ_k + a ln(v/v_ref) reached through κ, with no jump at the
+    // step itself.
+    let base = Params {
+        mu_k: 0.4,
+        kappa: 5.0,
+        ..flat_base()
+    };
+    let a = 0.01;
+    let m = model(
+        base,
+        Extensions {
+            rate: Some(RateEffect {
+                form: RateForm::SteadyState,
+                a,
+                v_c: 1e-7,
+                v_ref: 0.001,
+                ..RateEffect::log_direct(0.0, 1e-7)
+            }),
+            ..Extensions::default()
+        },
+    );
+    let f = run(&m, &h, 100.0, Initial::Rest);
+    let change = f.last().unwrap() - f[i_step];
+    assert!((change - a * 100f64.ln()).abs() < 2e-4, "steady: {change}");
+    let first = f[i_step + 1] - f[i_step];
+    assert!(first.abs() < 0.1 * change.abs(), "no direct jump: {first}");
+}
+
+#[test]
+fn direction_on_mu_k_weakens_backward_sliding_but_not_the_peak() {
+    let base = Params {
+        mu_s: 0.6,
+        mu_k: 0.4,
+        kappa: 3.0,
+        xi: 0.0,
+        u_tilde: 50.0,
+        ..flat_base()
+    };
+    let d = 0.2;
+    let m = model(
+        base,
+        Extensions {
+            direction: Some(DirectionEffect {
+                d,
+                target: Target::MuK,
+            }),
+            ..Extensions::default()
+        },
+    );
+    let du = 0.002;
+    let h = History::new().slide(0.01, 3.0, du).slide(0.01, -6.0, du);
+    let f = run(&m, &h, 100.0, Initial::Rest);
+    let forward_end = f[(3.0 / du).round() as usize];
+    let backward_end = -f.last().unwrap();
+    assert!((forward_end - 0.4).abs() < 1e-3, "forward {forward_end}");
+    assert!(
+        (backward_end - 0.4 * (1.0 - d)).abs() < 1e-3,
+        "backward {backward_end}"
+    );
+    // Forward sliding, peak included, is the base model's.
+    let plain = run(
+        &model(base, Extensions::default()),
+        &h,
+        100.0,
+        Initial::Rest,
+    );
+    let i_rev = (3.0 / du).round() as usize;
+    assert_eq!(f[..=i_rev], plain[..=i_rev]);
+    assert!(f.last() != plain.last());
+}
+
+#[test]
+fn pressure_on_mu_k_only_keeps_the_peak_and_lowers_residual_friction() {
+    let base = Params {
+        mu_s: 0.6,
+        mu_k: 0.4,
+        kappa: 3.0,
+        xi: 0.0,
+        u_tilde: 50.0,
+        ..flat_base()
+    };
+    for form in [
+        PressureForm::Power,
+        PressureForm::Linear,
+        PressureForm::Exponential,
+    ] {
+        let eff = PressureEffect {
+            beta: 0.1,
+            form,
+            target: Target::MuK,
+            p_ref: 100.0,
+        };
+        let m = model(
+            base,
+            Extensions {
+                pressure: Some(eff),
+                ..Extensions::default()
+            },
+        );
+        let h = History::new().slide(0.01, 4.0, 0.002);
+        let low = run(&m, &h, 100.0, Initial::Rest);
+        let high = run(&m, &h, 400.0, Initial::Rest);
+        let peak = |f: &[f64]| f.iter().cloned().fold(f64::MIN, f64::max);
+        assert!((peak(&low) - peak(&high)).abs() < 0.02, "{form:?}");
+        let ratio = high.last().unwrap() / low.last().unwrap();
+        assert!(
+            (ratio - eff.factor(400.0)).abs() < 2e-3,
+            "{form:?}: residual ratio {ratio} expected {}",
+            eff.factor(400.0)
+        );
+    }
+}
+
+#[test]
+fn hyperbolic_slip_hardening_follows_h_s_over_one_plus_s_over_s_h() {
+    let m = model(
+        flat_base(),
+        Extensions {
+            slip_hardening: Some(SlipHardening {
+                h: 0.01,
+                s_h: 2.0,
+                form: SlipForm::Hyperbolic,
+            }),
+            ..Extensions::default()
+        },
+    );
+    let du = 0.002;
+    let h = History::new().slide(0.01, 6.0, du);
+    let f = run(&m, &h, 100.0, Initial::Rest);
+    for s in [2.0, 6.0] {
+        let i = (s / du).round() as usize;
+        // Plastic slip lags the imposed slip by the elastic part and the initial loading.
+        let expected = 0.5 + 0.01 * s / (1.0 + s / 2.0);
+        assert!(
+            (f[i] - expected).abs() < 2e-3,
+            "s={s}: {} vs {expected}",
+            f[i]
+        );
+    }
+}
+
+#[test]
+fn sliding_start_continues_a_run_without_a_new_initial_loading() {
+    let base = Params::sample();
+    for ext in [
+        Extensions::default(),
+        Extensions {
+            rate: Some(rate_state(RateForm::StateAgeing)),
+            ..Extensions::default()
+        },
+    ] {
+        let m = model(base, ext);
+        let du = 0.002;
+        let full = History::new().slide(0.01, 6.0, du).slide(0.003, 1.0, du);
+        let f = run(&m, &full, 100.0, Initial::Rest);
+        // Cut the history at 4 mm, well into steady sliding.
+        let c = (4.0 / du).round() as usize;
+        let cut = History {
+            t: full.t[c..].to_vec(),
+            u: full.u[c..].to_vec(),
+        };
+        let g = run(
+            &m,
+            &cut,
+            100.0,
+            Initial::Sliding {
+                shear_kpa: f[c] * 100.0,
+                rate_mm_s: 0.01,
+            },
+        );
+        let worst = g
+            .iter()
+            .zip(&f[c..])
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 2e-3, "{ext:?}: largest difference {worst}");
+        // From rest the same cut would load from zero: far off at its start.
+        let from_rest = run(&m, &cut, 100.0, Initial::Rest);
+        assert!((from_rest[0] - f[c]).abs() > 0.1);
+    }
+}
+
+#[test]
+fn loaded_start_holds_its_traction_and_reloads_from_it() {
+    let m = model(Params::sample(), Extensions::default());
+    let h = History::new().hold(100.0, 20).slide(0.01, 1.0, 0.002);
+    let tau0 = 0.2 * 100.0;
+    let f = run(&m, &h, 100.0, Initial::Loaded { shear_kpa: tau0 });
+    for v in &f[..=20] {
+        assert!((v - 0.2).abs() < 1e-12, "the hold keeps the traction: {v}");
+    }
+    // Reloading starts from 0.2, not from zero, and is monotone at first.
+    assert!(f[21] >= 0.2 && f[21] < 0.3, "{}", f[21]);
+}
+
+/// Every form gives the same answer in 1-D and on a collinear 3-D path (two-way, so that the
+/// direction effect acts).
+#[test]
+fn collinear_3d_equals_1d_for_every_form() {
+    let forms: Vec<Extensions> = vec![
+        Extensions {
+            rate: Some(rate_state(RateForm::StateAgeing)),
+            ..Extensions::default()
+        },
+        Extensions {
+            rate: Some(rate_state(RateForm::StateSlip)),
+            ..Extensions::default()
+        },
+        Extensions {
+            direction: Some(DirectionEffect {
+                d: 0.15,
+                target: Target::Kappa,
+            }),
+            ..Extensions::default()
+        },
+        Extensions {
+            direction: Some(DirectionEffect {
+                d: 0.15,
+                target: Target::UTilde,
+            }),
+            pressure: Some(PressureEffect {
+                beta: 0.1,
+                form: PressureForm::Exponential,
+                target: Target::MuS,
+                p_ref: 50.0,
+            }),
+            healing: Some(Healing {
+                b: 0.01,
+                t_c: 3.0,
+                n: 0.5,
+                form: HealingForm::Power,
+            }),
+            ..Extensions::default()
+        },
+    ];
+    for ext in forms {
+        let m = model(Params::sample(), ext);
+        let h = History::new()
+            .slide(0.01, 1.0, 0.005)
+            .hold(50.0, 10)
+            .slide(0.01, -2.0, 0.005)
+            .slide(0.01, 1.0, 0.005);
+        let mut c1 = Contact1::new(&m);
+        let c3 = Contact3::new(&m, [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]);
+        let p = 100.0;
+        let mut s1 = State1::virgin_at(&m, 0.0, p);
+        let mut s3 = State3::virgin(&m, [0.0; 3]);
+        s3.mu = s1.mu;
+        for i in 1..h.len() {
+            let dt = h.t[i] - h.t[i - 1];
+            s1 = c1.step_slip(&s1, h.u[i], p, dt).unwrap();
+            s3 = c3.step_slip(&s3, &[h.u[i], 0.0, 0.0], p, dt).unwrap();
+            assert!(
+                (s1.shear - s3.shear[0]).abs() < 1e-8 * p,
+                "{ext:?} row {i}: {} vs {}",
+                s1.shear,
+                s3.shear[0]
+            );
+        }
+    }
+}
