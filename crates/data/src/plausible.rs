@@ -45,6 +45,18 @@ pub const MAX_PLAUSIBLE_RATE_MM_S: f64 = 100.0;
 /// Fewest rows of a test that can show a curve.
 pub const MIN_PLAUSIBLE_ROWS: usize = 10;
 
+/// A number with about 4 significant digits, with an exponent when very large or small.
+fn num(x: f64) -> String {
+    let a = x.abs();
+    if a != 0.0 && !(1e-3..1e6).contains(&a) {
+        format!("{x:.3e}")
+    } else {
+        let s = format!("{x:.4}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        s.to_string()
+    }
+}
+
 fn span(v: &[f64]) -> f64 {
     let (lo, hi) = v
         .iter()
@@ -102,14 +114,16 @@ pub fn test_warnings(t: &TestData) -> Vec<Warning> {
         warn(
             shear_field,
             format!(
-                "the shear reaches {peak_friction:.4} times the normal stress (expected |shear|/normal below {MAX_PLAUSIBLE_FRICTION} for a sand–metal interface): is the shear in Pa rather than kPa, or the normal stress in MPa?"
+                "the shear reaches {} times the normal stress (expected |shear|/normal below {MAX_PLAUSIBLE_FRICTION} for a sand–metal interface): is the shear in Pa rather than kPa, or the normal stress in MPa?",
+                num(peak_friction)
             ),
         );
     } else if peak_friction < MIN_PLAUSIBLE_PEAK_FRICTION {
         warn(
             shear_field,
             format!(
-                "the shear never exceeds {peak_friction:.3e} times the normal stress (expected a peak |shear|/normal above {MIN_PLAUSIBLE_PEAK_FRICTION}): is the shear in MPa rather than kPa, or the normal stress in Pa?"
+                "the shear never exceeds {} times the normal stress (expected a peak |shear|/normal above {MIN_PLAUSIBLE_PEAK_FRICTION}): is the shear in MPa rather than kPa, or the normal stress in Pa?",
+                num(peak_friction)
             ),
         );
     }
@@ -119,7 +133,8 @@ pub fn test_warnings(t: &TestData) -> Vec<Warning> {
         warn(
             "normal_kpa",
             format!(
-                "the normal stress is {normal} kPa (expected {lo}–{hi:e} kPa for a laboratory test): is it in {}?",
+                "the normal stress is {} kPa (expected {lo}–{hi:e} kPa for a laboratory test): is it in {}?",
+                num(normal),
                 if normal > hi { "Pa rather than kPa" } else { "MPa rather than kPa" }
             ),
         );
@@ -135,7 +150,9 @@ pub fn test_warnings(t: &TestData) -> Vec<Warning> {
         warn(
             "slip_mm",
             format!(
-                "the slip reaches {slip} mm at a mean rate of {rate:.4} mm/s (expected below {MAX_PLAUSIBLE_SLIP_MM:e} mm and {MAX_PLAUSIBLE_RATE_MM_S} mm/s): is the slip in µm rather than mm, or the time in ms rather than s?"
+                "the slip reaches {} mm at a mean rate of {} mm/s (expected below {MAX_PLAUSIBLE_SLIP_MM:e} mm and {MAX_PLAUSIBLE_RATE_MM_S} mm/s): is the slip in µm rather than mm, or the time in ms rather than s?",
+                num(slip),
+                num(rate)
             ),
         );
     } else if t.spec.control == Control::Slip && t.len() > 1 && span(&t.slip_mm) == 0.0 {

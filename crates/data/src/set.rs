@@ -11,6 +11,11 @@ use crate::meta::{file_name_problem, parse_meta, Control, ExperimentMeta, TestSp
 /// Name of the description file inside a set's folder.
 pub const EXPERIMENT_JSON: &str = "experiment.json";
 
+/// Largest magnitude accepted in any column (s, mm, kPa): 10¹² s is 30 000 years, 10¹² mm a
+/// million kilometres. Beyond it a value is no measurement, and the model's arithmetic on it
+/// would overflow.
+pub const MAX_MAGNITUDE: f64 = 1e12;
+
 /// Column names accepted in a test CSV.
 pub const ACCEPTED_COLUMNS: [&str; 5] =
     ["time_s", "slip_mm", "shear_kpa", "friction", "normal_kpa"];
@@ -673,6 +678,15 @@ pub(crate) fn validate_data(td: &TestData, normal_from_column: bool) -> Vec<Prob
                     line,
                     Some(name),
                     format!("value {x} is not finite (expected a finite number)"),
+                );
+            } else if x.abs() > MAX_MAGNITUDE {
+                pr.add(
+                    path,
+                    line,
+                    Some(name),
+                    format!(
+                        "value {x:e} is beyond ±{MAX_MAGNITUDE:e} (expected a measurement in s, mm or kPa: a corrupt cell?)"
+                    ),
                 );
             }
         }

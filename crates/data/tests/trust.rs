@@ -55,6 +55,25 @@ fn friction_and_shear_must_agree_within_their_rounding() {
     load_set(tmp.path()).unwrap();
 }
 
+#[test]
+fn a_value_no_measurement_can_have_is_an_error_at_its_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut rows: Vec<String> = (0..10)
+        .map(|i| format!("{i},{},20", 0.01 * i as f64))
+        .collect();
+    rows[4] = "4,1e300,20".into();
+    small_set(tmp.path(), "time_s,slip_mm,shear_kpa", &rows);
+    let e = error_of(tmp.path());
+    assert!(
+        e.contains("a.csv:6: field `slip_mm`: value 1e300 is beyond"),
+        "{e}"
+    );
+    // Large but possible values pass.
+    rows[4] = "4,1e9,20".into();
+    small_set(tmp.path(), "time_s,slip_mm,shear_kpa", &rows);
+    load_set(tmp.path()).unwrap();
+}
+
 #[cfg(unix)]
 #[test]
 fn files_are_named_for_what_they_are_and_links_stay_inside_the_set() {
