@@ -566,7 +566,8 @@ fn options_with_values(help: &str) -> Vec<(String, String)> {
             continue;
         }
         let t = line.trim_start();
-        if t.starts_with('-') {
+        // An option line starts with `-x` or `--x`; a listed possible value with `- `.
+        if t.starts_with('-') && !t.starts_with("- ") {
             let head = t.split("  ").next().unwrap_or(t);
             let takes_value = head.contains('<');
             out.push((

@@ -63,6 +63,8 @@ pub struct FitOutcome {
 /// Sets loaded, checked and charted, ready for the long work.
 pub struct FitSetup {
     tests: Vec<PreparedTest>,
+    /// The CSV file of each test, by test name (for messages).
+    files: Vec<(String, PathBuf)>,
     fits: Vec<FitTest>,
     space: Space,
     published: Option<Model>,
@@ -89,6 +91,7 @@ pub fn setup_fit(req: &FitRequest, progress: &Progress) -> Result<FitSetup> {
     let mut published = None;
     let mut names = Vec::new();
     let mut warnings = Vec::new();
+    let mut files = Vec::new();
     for d in &req.dirs {
         progress.stage(format!("reading {}", d.display()), None);
         let set = load_set(d)?;
@@ -97,6 +100,14 @@ pub fn setup_fit(req: &FitRequest, progress: &Progress) -> Result<FitSetup> {
         }
         warnings.extend(plausibility(&set));
         names.push(set.meta.name.clone());
+        for t in &set.tests {
+            let name = if joint {
+                format!("{}/{}", set.meta.name, t.spec.name)
+            } else {
+                t.spec.name.clone()
+            };
+            files.push((name, t.path.clone()));
+        }
         let rows: usize = set.tests.iter().map(|t| t.len()).sum();
         progress.stage(
             format!("segmenting {} tests ({rows} rows)", set.tests.len()),
@@ -140,6 +151,7 @@ pub fn setup_fit(req: &FitRequest, progress: &Progress) -> Result<FitSetup> {
     }
     Ok(FitSetup {
         tests,
+        files,
         fits,
         space,
         published,
@@ -184,7 +196,7 @@ pub fn fit_setup(req: &FitRequest, setup: FitSetup, progress: &Progress) -> Resu
     let budget = req.options.global_evaluations;
     let stage = |s| progress.fit_stage(s, budget);
     let name = setup.name();
-    let mut report = calibrate(&setup.fits, setup.space, &req.options, &stage)?;
+    let mut report = calibrate(&setup.fits, setup.space.clone(), &req.options, &stage)?;
     for &(p, lo, hi) in &req.bounds {
         let v = p.get(&report.model).unwrap_or(f64::NAN);
         let slack = 1e-9 * lo.abs().max(hi.abs());
@@ -196,6 +208,7 @@ pub fn fit_setup(req: &FitRequest, setup: FitSetup, progress: &Progress) -> Resu
             );
         }
     }
+    check_finite(&report, &setup)?;
     if let Some(p) = &setup.published {
         compare_with_published(&mut report, p);
     }
@@ -205,6 +218,55 @@ pub fn fit_setup(req: &FitRequest, setup: FitSetup, progress: &Progress) -> Resu
         tests: setup.tests,
         published: setup.published,
     })
+}
+
+/// A result with a number that is not finite is withheld: the error names the test's file and
+/// why the fitted model cannot follow it.
+fn check_finite(report: &FitReport, setup: &FitSetup) -> Result<()> {
+    let file_of = |name: &str| {
+        setup
+            .files
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, p)| p.display().to_string())
+            .unwrap_or_else(|| name.to_string())
+    };
+    for (t, m) in setup.fits.iter().zip(&report.tests) {
+        if m.rms.is_finite() {
+            continue;
+        }
+        let why = match t.predict(&report.model) {
+            Err(e) => format!("{e} (row numbers count data rows from 0)"),
+            Ok(_) => "its misfit is not a finite number".into(),
+        };
+        bail!(
+            "{}: test `{}`: the best fit found cannot follow this test: {why} (expected data the model can simulate; check the units and the control column; the result is withheld)",
+            file_of(&t.name),
+            t.name
+        );
+    }
+    let params = &report.model.params;
+    if !(report.ssr.is_finite()
+        && report.reduced_chi2.is_finite()
+        && [
+            params.mu_s,
+            params.mu_k,
+            params.kappa,
+            params.xi,
+            params.u_tilde,
+            params.alpha_t,
+        ]
+        .iter()
+        .all(|v| v.is_finite()))
+    {
+        let files: Vec<String> = setup.files.iter().map(|(n, _)| file_of(n)).collect();
+        bail!(
+            "{}: the fit ended with a number that is not finite (misfit {}, parameters {params:?}); the result is withheld",
+            files.join(", "),
+            report.ssr
+        );
+    }
+    Ok(())
 }
 
 /// Loads, checks and calibrates in one go.

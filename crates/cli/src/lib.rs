@@ -66,6 +66,17 @@ pub fn error_text(e: &anyhow::Error) -> String {
     text
 }
 
+/// An error that names `place` (a set folder): as it is when its text already does, else with
+/// `place` in front.
+pub(crate) fn located(e: anyhow::Error, place: &std::path::Path) -> anyhow::Error {
+    let p = place.display().to_string();
+    if error_text(&e).contains(&p) {
+        e
+    } else {
+        anyhow::anyhow!("{p}: {}", error_text(&e))
+    }
+}
+
 /// Prints plausibility warnings on stderr.
 pub(crate) fn print_warnings(warnings: &[Warning]) {
     for w in warnings {
@@ -107,7 +118,10 @@ fn fit(a: FitArgs) -> Result<()> {
     }
     let dir = a.out.unwrap_or_else(|| default_results_dir(&setup.name()));
     let claim = ResultsDir::claim(&dir, &req.dirs, &["fit.json".into()], a.force)?;
-    let outcome = fit_cmd::fit_setup(&req, setup, &progress)?;
+    let outcome = fit_cmd::fit_setup(&req, setup, &progress).map_err(|e| match &req.dirs[..] {
+        [one] => located(e, one),
+        _ => e,
+    })?;
     progress.finish();
     println!(
         "{}",
@@ -174,8 +188,19 @@ fn diagnose(a: DiagnoseArgs) -> Result<()> {
         "diagnosing: base fit, candidate effects, held-out folds",
         None,
     );
-    let (d, plots) = diagnose_cmd::run_diagnose(&a.set, claim.path(), &opts)?;
+    let (d, plots) =
+        diagnose_cmd::run_diagnose(&a.set, claim.path(), &opts).map_err(|e| located(e, &a.set))?;
     progress.finish();
+    if !(d.base.reduced_chi2.is_finite() && d.verdict.held_out_shrink.is_finite()) {
+        // Not left for a script to read as a result.
+        let _ = std::fs::remove_file(claim.path().join("diagnosis.json"));
+        bail!(
+            "{}: the diagnosis ended with a number that is not finite (base misfit {}, held-out shrink {}); its result is not to be trusted",
+            a.set.display(),
+            d.base.reduced_chi2,
+            d.verdict.held_out_shrink
+        );
+    }
     println!("{}", diagnose_cmd::report_text(&name, &d));
     claim.commit()?;
     println!("wrote {}", dir.join("diagnosis.json").display());
