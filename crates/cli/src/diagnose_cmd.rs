@@ -6,8 +6,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use subfric_data::load_set;
 use subfric_diagnose::selfcheck::{score, selfcheck, Case, SelfcheckOptions};
-use subfric_diagnose::{diagnose, DiagnoseOptions, Diagnosis, Effect};
-use subfric_fit::prepare_set;
+use subfric_diagnose::{diagnose, prepare_for_diagnosis, DiagnoseOptions, Diagnosis, Effect};
 use subfric_plot::{render_bars_png, BarFigure};
 
 /// Diagnoses the set in `dir`; writes diagnosis.json and the plots under `out`.
@@ -17,7 +16,7 @@ pub fn run_diagnose(
     opts: &DiagnoseOptions,
 ) -> Result<(Diagnosis, Vec<PathBuf>)> {
     let set = load_set(dir)?;
-    let prepared = prepare_set(&set, false);
+    let prepared = prepare_for_diagnosis(&set);
     let d = diagnose(&prepared, opts)?;
     let v = serde_json::json!({
         "set": set.meta.name,
@@ -35,6 +34,20 @@ pub fn run_diagnose(
         &(report_text(&set.meta.name, &d) + "\n"),
     )?;
     let mut plots = Vec::new();
+    let label = d
+        .verdict
+        .effects
+        .iter()
+        .map(|e| e.effect.to_string())
+        .collect::<Vec<_>>()
+        .join(" + ");
+    plots.extend(crate::figures::diagnosis_figures(
+        &set.meta.name,
+        &prepared,
+        &d.base.model,
+        (!d.verdict.effects.is_empty()).then_some((&d.final_model, label.as_str())),
+        &out.join("figures"),
+    )?);
     // Residual by segment: base model, and with the named effect on held-out rows.
     let cats: Vec<String> = d
         .localisation
@@ -67,19 +80,14 @@ pub fn run_diagnose(
                 .unwrap_or(f64::NAN)
         })
         .collect();
-    if d.verdict.effect != Effect::None && d.verdict.effect != Effect::Unexplained {
-        fig = fig.with_group(format!("with {} (all rows)", d.verdict.effect), after);
-        let held: Vec<f64> = cats
+    if !d.verdict.effects.is_empty() {
+        let names: Vec<String> = d
+            .verdict
+            .effects
             .iter()
-            .map(|c| {
-                d.shrink_by_segment
-                    .iter()
-                    .find(|g| &g.group == c)
-                    .map(|g| g.effect_rms_over_noise)
-                    .unwrap_or(f64::NAN)
-            })
+            .map(|e| e.effect.to_string())
             .collect();
-        fig = fig.with_group(format!("with {} (held-out rows)", d.verdict.effect), held);
+        fig = fig.with_group(format!("with {} (all rows)", names.join(" + ")), after);
     }
     fig = fig.with_reference_line("noise level", 1.0);
     let f = out.join("residual-by-segment.png");
@@ -104,13 +112,14 @@ pub fn run_diagnose(
             .map(|g| g.rms_over_noise)
             .collect(),
     );
-    if let Some(c) = d.candidates.iter().find(|c| c.effect == d.verdict.effect) {
+    if !d.verdict.effects.is_empty() {
+        let c = &d.final_model;
         let m = subfric_fit::misfits(
             &prepared.iter().map(|p| p.fit.clone()).collect::<Vec<_>>(),
-            &c.model,
+            c,
         );
         fig = fig.with_group(
-            format!("with {}", c.effect),
+            "with the named effects",
             tests
                 .iter()
                 .map(|t| {
@@ -129,18 +138,57 @@ pub fn run_diagnose(
     Ok((d, plots))
 }
 
+fn row(s: &mut String, x: &subfric_diagnose::localise::GroupMisfit) {
+    let _ = writeln!(
+        s,
+        "   {:<48} {:>6} rows  {:8.2}× noise  {:5.1}% of the gap",
+        x.group,
+        x.rows,
+        x.rms_over_noise,
+        100.0 * x.share_of_gap
+    );
+}
+
 /// The terminal report.
 pub fn report_text(name: &str, d: &Diagnosis) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "diagnosis of {name}");
+    let p = &d.base.model.params;
     let _ = writeln!(
         s,
-        "base model: misfit {:.2}× the noise variance over {} rows (μ_s {:.3}, μ_k {:.3}, κ {:.3}, ξ {:.2e}, ũ {:.2})",
-        d.base.reduced_chi2, d.base.rows, d.base.model.params.mu_s, d.base.model.params.mu_k, d.base.model.params.kappa, d.base.model.params.xi, d.base.model.params.u_tilde
+        "diagnosis of {name}: {} rows{}",
+        d.base.rows,
+        if d.base.fitted_rows < d.base.rows {
+            format!(
+                ", fitted on {} bins (dense where the data change, thin in steady sliding)",
+                d.base.fitted_rows
+            )
+        } else {
+            String::new()
+        }
+    );
+    for st in &d.starts {
+        if !st.from_spec && st.start != subfric_data::StartKind::Rest {
+            let _ = writeln!(s, "   {}: {}", st.test, st.reason);
+        }
+        if st.noise_floor {
+            let _ = writeln!(
+                s,
+                "   {}: the noise estimate {:.3e} is the quantisation floor, not a measurement",
+                st.test, st.noise_sd
+            );
+        }
+    }
+    if let Some(k) = &d.stiffness {
+        let _ = writeln!(s, "   α_t fitted: {}", k.evidence);
+    }
+    let _ = writeln!(
+        s,
+        "base model: misfit {:.2}× the noise variance on all rows (μ_s {:.3}, μ_k {:.3}, κ {:.4}, ξ {:.3e}, ũ {:.3}, α_t {:.4})",
+        d.base.reduced_chi2, p.mu_s, p.mu_k, p.kappa, p.xi, p.u_tilde, p.alpha_t
     );
     let _ = writeln!(
         s,
-        "\n1. where the base model misses (share of the excess over noise):"
+        "\n1. where the base model misses (all rows; share of the excess over the noise):"
     );
     // The excess of a sum of n squared unit normals has an SD of √(2n).
     if d.localisation.total_excess < 3.0 * (2.0 * d.base.rows as f64).sqrt() {
@@ -152,14 +200,7 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
     let mut g = d.localisation.by_test_segment.clone();
     g.sort_by(|a, b| b.share_of_gap.total_cmp(&a.share_of_gap));
     for x in g.iter().take(8) {
-        let _ = writeln!(
-            s,
-            "   {:<48} {:>5} rows  {:6.2}× noise  {:5.1}% of the gap",
-            x.group,
-            x.rows,
-            x.rms_over_noise,
-            100.0 * x.share_of_gap
-        );
+        row(&mut s, x);
     }
     for x in d
         .localisation
@@ -167,60 +208,125 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
         .iter()
         .chain(&d.localisation.by_normal_stress)
     {
-        let _ = writeln!(
-            s,
-            "   {:<48} {:>5} rows  {:6.2}× noise  {:5.1}% of the gap",
-            x.group,
-            x.rows,
-            x.rms_over_noise,
-            100.0 * x.share_of_gap
-        );
+        row(&mut s, x);
     }
-    let _ = writeln!(s, "\n2. candidate effects (refitted; held-out = last 40% of each test predicted after fitting the rest):");
     let _ = writeln!(
         s,
-        "   {:<15} {:>10} {:>12} {:>14} {:>16}  extra parameters",
-        "effect", "fit χ²", "ΔBIC", "held-out shrink", "leave-test-out"
+        "\n2. every form of every candidate family, fitted to all data (in-sample):"
     );
-    for c in &d.candidates {
-        let extra: Vec<String> = c
-            .extra_parameters
+    let _ = writeln!(
+        s,
+        "   {:<15} {:<44} {:>10}  {:<10} parameters",
+        "family", "form", "ΔBIC", "fit"
+    );
+    for f in &d.forms {
+        let extra: Vec<String> = f
+            .parameters
             .iter()
-            .map(|(k, v)| format!("{k}={v:.4}"))
+            .map(|(k, v)| format!("{k}={v:.4e}"))
             .collect();
         let _ = writeln!(
             s,
-            "   {:<15} {:>10.3} {:>12.1} {:>13.0}% {:>15.0}%  {}",
-            c.effect.name(),
-            c.fit_reduced_chi2,
-            c.delta_bic,
-            100.0 * c.held_out_shrink,
-            100.0 * c.leave_one_test_out_shrink,
-            extra.join(" ")
+            "   {:<15} {:<44} {:>10.1}  {:<10} {}{}",
+            f.effect.name(),
+            f.form,
+            f.delta_bic,
+            if f.converged {
+                "converged"
+            } else {
+                "NOT conv."
+            },
+            extra.join(" "),
+            if f.chosen {
+                "  ← best of its family"
+            } else {
+                ""
+            }
         );
     }
-    let _ = writeln!(s, "\n3. verdict: {}", d.verdict.effect);
-    let _ = writeln!(s, "   {}", d.verdict.explanation);
-    if !d.shrink_by_segment.is_empty() {
+    let counts: Vec<String> = d.pieces.iter().map(|(k, n)| format!("{n} {k}")).collect();
+    let _ = writeln!(
+        s,
+        "\n3. held out: pieces ({}) left out in {} folds, each predicted after refitting without it",
+        counts.join(", "),
+        d.folds.len()
+    );
+    for (k, st) in d.selection.iter().enumerate() {
         let _ = writeln!(
             s,
-            "   held-out misfit per segment, base → with {}:",
-            d.verdict.effect
+            "   stage {}: added to {} (held-out misfit {:.2}× noise)",
+            k + 1,
+            st.reference,
+            st.reference_chi2
         );
-        for x in &d.shrink_by_segment {
+        let _ = writeln!(
+            s,
+            "     {:<58} {:>10} {:>9} {:>9} {:>9}",
+            "candidate", "evidence D", "excess", "relative", "typical"
+        );
+        for c in st.candidates.iter().chain(&st.drift) {
             let _ = writeln!(
                 s,
-                "   {:<24} {:>5} rows  {:6.2} → {:6.2}× noise  ({:+.0}% of the excess removed)",
-                x.group,
-                x.rows,
-                x.base_rms_over_noise,
-                x.effect_rms_over_noise,
-                100.0 * x.shrink
+                "     {:<58} {:>10.1} {:>8.0}% {:>8.0}% {:>8.0}%",
+                truncate(&c.spec, 58),
+                c.held_out.score,
+                100.0 * c.held_out.excess_shrink.max(-9.99),
+                100.0 * c.held_out.relative_shrink.max(-9.99),
+                100.0 * c.held_out.typical_shrink.max(-9.99),
+            );
+        }
+        let _ = writeln!(s, "     → {:?}", st.decision);
+    }
+    let _ = writeln!(
+        s,
+        "\n4. what the held-out residual of the base model follows:"
+    );
+    let _ = writeln!(s, "   {}", d.evidence.summary);
+    let _ = writeln!(s, "\n5. verdict: {}", d.verdict.effect);
+    for e in &d.verdict.effects {
+        let extra: Vec<String> = e
+            .parameters
+            .iter()
+            .map(|(k, v)| format!("{k}={v:.4e}"))
+            .collect();
+        let _ = writeln!(s, "   {} — {}: {}", e.effect, e.form, extra.join(" "));
+        let checks: Vec<String> = [
+            ("tail of each test", e.tail_shrink),
+            ("each test left out", e.leave_one_test_out_shrink),
+        ]
+        .iter()
+        .filter_map(|(n, v)| v.map(|v| format!("{n}: {:.0}%", 100.0 * v)))
+        .collect();
+        if !checks.is_empty() {
+            let _ = writeln!(
+                s,
+                "     extra held-out checks (share of the excess removed) — {}",
+                checks.join(", ")
             );
         }
     }
+    let _ = writeln!(s, "   {}", d.verdict.explanation);
+    if let Some(sup) = d.verdict.evidence_supports {
+        let _ = writeln!(
+            s,
+            "   the residual evidence {} this",
+            if sup {
+                "supports"
+            } else {
+                "does not single out"
+            }
+        );
+    }
     let _ = write!(s, "({:.1} s)", d.elapsed_s);
     s
+}
+
+fn truncate(s: &str, n: usize) -> String {
+    if s.chars().count() <= n {
+        s.to_string()
+    } else {
+        format!("{}…", s.chars().take(n - 1).collect::<String>())
+    }
 }
 
 /// Diagnoses every set under `root` and scores against its truth.json.
@@ -256,7 +362,7 @@ pub fn score_folder(
         // An effect outside the library counts as "unexplained".
         let t = Effect::from_name(effect).unwrap_or(Effect::Unexplained);
         let set = load_set(&d)?;
-        let diag = diagnose(&prepare_set(&set, false), opts)?;
+        let diag = diagnose(&prepare_for_diagnosis(&set), opts)?;
         let c = Case::new(&name, t, &diag);
         println!(
             "{name:<24} truth {:<15} verdict {:<15} shrink {:>4.0}%  ({:.1} s)",

@@ -26,7 +26,7 @@ pub fn plot_set(
     let mut files = Vec::new();
     let mut notes = Vec::new();
     for p in tests {
-        let t = &p.fit;
+        let t = &p.full;
         let cycles = p.segmentation.cycles();
         let cycle = (cycles >= 1).then(|| {
             p.segmentation
@@ -123,4 +123,127 @@ pub fn sanitize(s: &str) -> String {
             }
         })
         .collect()
+}
+
+/// The figures of a diagnosis: per test the measured curve, the base model and the model with
+/// the named effects (against time, where velocity steps and holds are visible), and one zoom
+/// per velocity step and per hold, against slip from the event, so that a specialist can read
+/// the transients.
+pub fn diagnosis_figures(
+    set_name: &str,
+    tests: &[PreparedTest],
+    base: &Model,
+    with_effects: Option<(&Model, &str)>,
+    out: &Path,
+) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(out)?;
+    let mut files = Vec::new();
+    for p in tests {
+        let t = &p.full;
+        if t.control != Control::Slip {
+            continue;
+        }
+        let friction =
+            |v: &[f64]| -> Vec<f64> { v.iter().zip(&t.normal).map(|(a, n)| a / n).collect() };
+        let measured = friction(&t.measured);
+        let base_pred = t.predict(base).ok().map(|v| friction(&v));
+        let eff_pred = with_effects.and_then(|(m, _)| t.predict(m).ok().map(|v| friction(&v)));
+        let label = with_effects.map_or("", |(_, l)| l).to_string();
+        let series = |x: &[f64], range: std::ops::Range<usize>| {
+            let mut v = vec![Series::new(
+                "measured",
+                x[range.clone()].to_vec(),
+                measured[range.clone()].to_vec(),
+                Style::Measured,
+            )];
+            if let Some(b) = &base_pred {
+                v.push(Series::new(
+                    "base model",
+                    x[range.clone()].to_vec(),
+                    b[range.clone()].to_vec(),
+                    Style::Published,
+                ));
+            }
+            if let Some(e) = &eff_pred {
+                v.push(Series::new(
+                    format!("with {label}"),
+                    x[range.clone()].to_vec(),
+                    e[range.clone()].to_vec(),
+                    Style::Fitted,
+                ));
+            }
+            v
+        };
+        let all = 0..t.len();
+        let fig = Figure::new(
+            format!("{set_name}: {} ({} kPa)", t.name, mean(&t.normal).round()),
+            "time t [s]",
+            Panel::new("friction τ/σ_n [-]", series(&t.time, all)),
+        );
+        let file = out.join(format!("{}.png", sanitize(&t.name)));
+        render_png(&fig, &file)?;
+        files.push(file);
+        let seg = &p.segmentation;
+        let mut events: Vec<(usize, String)> = seg
+            .rate_changes
+            .iter()
+            .zip(seg.step_rates())
+            .map(|(&c, (a, b))| {
+                (
+                    c,
+                    format!("velocity step {} → {} µm/s", rate_text(a), rate_text(b)),
+                )
+            })
+            .collect();
+        for &(s, e) in &seg.holds {
+            if s > 1 {
+                let d = t.time[(e - 1).min(t.len() - 1)] - t.time[s - 1];
+                events.push((s - 1, format!("hold of {d:.0} s")));
+            }
+        }
+        events.sort_by_key(|e| e.0);
+        for (k, (row, what)) in events.iter().enumerate() {
+            // From 0.1 mm of slip before the event to 0.3 mm after (or the next event).
+            let u0 = t.imposed[*row];
+            let next = events.get(k + 1).map_or(t.len(), |e| e.0 + 1);
+            let mut a = *row;
+            while a > 0 && (u0 - t.imposed[a - 1]).abs() <= 0.1 {
+                a -= 1;
+            }
+            let mut b = *row + 1;
+            while b < next.min(t.len()) && (t.imposed[b] - u0).abs() <= 0.3 {
+                b += 1;
+            }
+            if b <= *row + 2 {
+                continue;
+            }
+            let x: Vec<f64> = t.imposed.iter().map(|u| 1e3 * (u - u0)).collect();
+            let is_hold = what.starts_with("hold");
+            let (xs, xlabel) = if is_hold {
+                // A hold has no slip: against time from its start.
+                (
+                    t.time.iter().map(|v| v - t.time[*row]).collect::<Vec<_>>(),
+                    "time from the start of the hold [s]",
+                )
+            } else {
+                (x, "slip from the step [µm]")
+            };
+            let fig = Figure::new(
+                format!("{}: {} at t = {:.0} s", t.name, what, t.time[*row]),
+                xlabel,
+                Panel::new("friction τ/σ_n [-]", series(&xs, a..b)),
+            );
+            let file = out.join(format!("{}-event-{:02}.png", sanitize(&t.name), k + 1));
+            render_png(&fig, &file)?;
+            files.push(file);
+        }
+    }
+    Ok(files)
+}
+
+/// A rate in µm/s with three significant digits.
+fn rate_text(mm_per_s: f64) -> String {
+    let v = 1e3 * mm_per_s.abs();
+    let decimals = (2 - v.log10().floor() as i32).clamp(0, 6) as usize;
+    format!("{v:.decimals$}")
 }

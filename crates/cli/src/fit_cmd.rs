@@ -5,6 +5,7 @@ use anyhow::{anyhow, bail, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use subfric_data::{load_set, plausibility, Warning};
+use subfric_fit::interval::short_number as fmt_num;
 use subfric_fit::{
     calibrate, compare_with_published, prepare_set, reference_model, typical_rate, FitOptions,
     FitReport, FitTest, Param, PreparedTest, Space, Status,
@@ -124,6 +125,7 @@ pub fn setup_fit(req: &FitRequest, progress: &Progress) -> Result<FitSetup> {
             );
         };
         t.fit.weight = *w;
+        t.full.weight = *w;
     }
     // Template: the published α (which lab data rarely determine), else the sample values.
     let mut template = Model::base(Params::sample())?;
@@ -197,6 +199,9 @@ pub fn fit_setup(req: &FitRequest, setup: FitSetup, progress: &Progress) -> Resu
     let stage = |s| progress.fit_stage(s, budget);
     let name = setup.name();
     let mut report = calibrate(&setup.fits, setup.space.clone(), &req.options, &stage)?;
+    // Fitted on bins of a long record: the misfit is reported on every row.
+    let fulls: Vec<FitTest> = setup.tests.iter().map(|t| t.full.clone()).collect();
+    report.tests = subfric_fit::misfits(&fulls, &report.model);
     for &(p, lo, hi) in &req.bounds {
         let v = p.get(&report.model).unwrap_or(f64::NAN);
         let slack = 1e-9 * lo.abs().max(hi.abs());
@@ -208,7 +213,7 @@ pub fn fit_setup(req: &FitRequest, setup: FitSetup, progress: &Progress) -> Resu
             );
         }
     }
-    check_finite(&report, &setup)?;
+    check_finite(&report, &setup, &fulls)?;
     if let Some(p) = &setup.published {
         compare_with_published(&mut report, p);
     }
@@ -222,7 +227,7 @@ pub fn fit_setup(req: &FitRequest, setup: FitSetup, progress: &Progress) -> Resu
 
 /// A result with a number that is not finite is withheld: the error names the test's file and
 /// why the fitted model cannot follow it.
-fn check_finite(report: &FitReport, setup: &FitSetup) -> Result<()> {
+fn check_finite(report: &FitReport, setup: &FitSetup, fulls: &[FitTest]) -> Result<()> {
     let file_of = |name: &str| {
         setup
             .files
@@ -231,7 +236,7 @@ fn check_finite(report: &FitReport, setup: &FitSetup) -> Result<()> {
             .map(|(_, p)| p.display().to_string())
             .unwrap_or_else(|| name.to_string())
     };
-    for (t, m) in setup.fits.iter().zip(&report.tests) {
+    for (t, m) in fulls.iter().zip(&report.tests) {
         if m.rms.is_finite() {
             continue;
         }
@@ -278,28 +283,9 @@ pub fn run_fit(req: &FitRequest) -> Result<FitOutcome> {
     out
 }
 
-fn fmt_num(v: f64) -> String {
-    if v == 0.0 {
-        "0".into()
-    } else if v.abs() >= 1e4 || v.abs() < 1e-3 {
-        format!("{v:.3e}")
-    } else {
-        format!("{v:.4}")
-    }
-}
-
-/// Interval text with open ends marked.
+/// Interval text with open ends marked (empty for a fixed or unprofiled parameter).
 pub fn interval_text(p: &subfric_fit::ParamReport) -> String {
-    match (p.interval, p.interval_open) {
-        (Some((a, b)), Some((oa, ob))) => format!(
-            "{}{}, {}{}",
-            if oa { "(≤" } else { "[" },
-            fmt_num(a),
-            fmt_num(b),
-            if ob { "≥)" } else { "]" }
-        ),
-        _ => String::new(),
-    }
+    p.interval.map(|i| i.to_string()).unwrap_or_default()
 }
 
 /// The readable table printed by `subfric fit`.
@@ -353,16 +339,7 @@ pub fn report_table(name: &str, r: &FitReport) -> String {
     if !r.combinations.is_empty() {
         let _ = writeln!(s, "combinations the data determine:");
         for c in &r.combinations {
-            let iv = match (c.interval, c.interval_open) {
-                (Some((a, b)), Some((oa, ob))) => format!(
-                    "{}{}, {}{}",
-                    if oa { "(≤" } else { "[" },
-                    fmt_num(a),
-                    fmt_num(b),
-                    if ob { "≥)" } else { "]" }
-                ),
-                _ => String::new(),
-            };
+            let iv = c.interval.map(|i| i.to_string()).unwrap_or_default();
             let _ = writeln!(
                 s,
                 "  {:<58} {:>11} {:>26}  {}",

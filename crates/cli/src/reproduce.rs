@@ -300,8 +300,9 @@ fn table_files(table: &str, sets: &[&SetResult]) -> (String, String) {
                     .map(|d| format!("{d:+.1}%"))
                     .unwrap_or_default()
             );
-            let (lo, hi) = p.interval.unwrap_or((f64::NAN, f64::NAN));
-            let (lo_o, hi_o) = p.interval_open.unwrap_or((false, false));
+            let (lo, hi, lo_o, hi_o) = p.interval.map_or((f64::NAN, f64::NAN, false, false), |i| {
+                (i.lo, i.hi, i.lo_open, i.hi_open)
+            });
             let _ = writeln!(
                 csv,
                 "{},{},{},{},{},{},{},{},{},{},{},{},{}",
@@ -338,9 +339,7 @@ fn table_files(table: &str, sets: &[&SetResult]) -> (String, String) {
                     "- {}: {:.4} {} ({})",
                     c.name,
                     c.value,
-                    c.interval
-                        .map(|(a, b)| format!("[{a:.4}, {b:.4}]"))
-                        .unwrap_or_default(),
+                    c.interval.map(|i| i.to_string()).unwrap_or_default(),
                     if c.determined {
                         "determined"
                     } else {

@@ -58,14 +58,14 @@ pub fn simulate_set(dir: &Path, model: &Model, out: &Path, force: bool) -> Resul
     let claim = SetDir::claim(out, Some(dir), &set_files(&set.meta.tests), force)?;
     let prepared = prepare_set(&set, false);
     for (t, p) in set.tests.iter_mut().zip(&prepared) {
-        let pred = p.fit.predict(model).map_err(|e| {
+        let pred = p.full.predict(model).map_err(|e| {
             anyhow!(
                 "{}: test `{}`: {e} (row numbers count data rows from 0)",
                 t.path.display(),
                 t.spec.name
             )
         })?;
-        match p.fit.control {
+        match p.full.control {
             Control::Slip => t.shear_kpa = pred,
             Control::Shear => t.slip_mm = pred,
         }

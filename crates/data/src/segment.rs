@@ -441,9 +441,19 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
 fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
     let n = test.len();
     let measured_shear = &test.shear_kpa;
-    let k = n.min(5);
+    // The traction at the start: over the first rows that have not moved beyond the noise of the
+    // imposed column (at most five).
+    let noise = &seg.conditioned.noise;
+    let band = (3.0 * noise.sd).max(0.5 * noise.quantum);
+    let imposed = test.imposed();
+    let still = imposed
+        .iter()
+        .take(5)
+        .take_while(|v| (*v - imposed[0]).abs() <= band)
+        .count()
+        .max(1);
     let shear0 = {
-        let mut v: Vec<f64> = measured_shear[..k].to_vec();
+        let mut v: Vec<f64> = measured_shear[..still.min(n)].to_vec();
         median(&mut v)
     };
     let rate0 = seg

@@ -212,3 +212,36 @@ fn the_initial_field_overrides_the_decision() {
     assert_eq!(seg.start.kind, StartKind::Rest);
     assert!(seg.start.from_spec);
 }
+
+#[test]
+fn a_stiff_curve_printed_to_five_decimals_starts_at_rest() {
+    // The shear jumps within the first row (a stiff contact) and the slip column, printed to
+    // 1e-5 mm, looks like a grid: the start is still the first row's traction, zero.
+    let n = 400;
+    let time: Vec<f64> = (0..n).map(|i| i as f64 * 0.06).collect();
+    let slip: Vec<f64> = (0..n)
+        .map(|i| ((i as f64 / 60.0 * 0.06) * 1e5).round() / 1e5)
+        .collect();
+    let shear: Vec<f64> = (0..n)
+        .map(|i| {
+            if i == 0 {
+                -0.02
+            } else {
+                28.6 + 0.01 * i as f64
+            }
+        })
+        .collect();
+    let test = TestData {
+        spec: TestSpec::new("mono", "mono.csv", Control::Slip, 78.4),
+        path: "mono.csv".into(),
+        time_s: time,
+        slip_mm: slip,
+        shear_kpa: shear,
+        normal_kpa: vec![78.4; n],
+        friction_given: false,
+        line_of_row: (2..n + 2).collect(),
+        comments: vec![],
+    };
+    let seg = segment(&test, &SegmentOptions::default());
+    assert_eq!(seg.start.kind, StartKind::Rest, "{}", seg.start.reason);
+}

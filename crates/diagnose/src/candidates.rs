@@ -1,23 +1,28 @@
-//! The library of candidate effects: each a small extension of the model with one or two
-//! parameters and a physical name.
+//! The library of candidate effects: each family (rate, pressure, slip, healing, direction) in
+//! the forms used in the field, each form a small extension of the model with its extra
+//! parameters, first guesses read off the curves, and the values that switch it off.
 
+use crate::features::DataFeatures;
 use serde::{Deserialize, Serialize};
 use subfric_fit::Param;
-use subfric_model::{Extensions, Healing, HealingForm, SlipForm, SlipHardening};
+use subfric_model::{
+    DirectionEffect, Extensions, Healing, HealingForm, PressureEffect, PressureForm, RateEffect,
+    RateForm, SlipForm, SlipHardening, Target,
+};
 
-/// An effect the diagnosis can name.
+/// An effect the diagnosis can name (a family of forms).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Effect {
     /// The base model explains the data: the gap is noise.
     None,
-    /// Direct rate dependence: friction rises with the log of the slip rate.
+    /// Rate dependence: direct effect, rate and state, power law, steady state only.
     Rate,
-    /// Pressure dependence of μ_s and μ_k.
+    /// Pressure dependence of μ, μ_s or μ_k.
     Pressure,
     /// Slip hardening or softening with accumulated slip.
     SlipHardening,
-    /// Logarithmic time healing instead of exponential recovery.
+    /// Time healing at rest (log or power law) instead of exponential recovery.
     LogHealing,
     /// Forward and backward sliding differ.
     Direction,
@@ -37,6 +42,15 @@ impl Effect {
         Effect::Unexplained,
     ];
 
+    /// The physical families (what a candidate can be).
+    pub const FAMILIES: [Effect; 5] = [
+        Effect::Rate,
+        Effect::Pressure,
+        Effect::SlipHardening,
+        Effect::LogHealing,
+        Effect::Direction,
+    ];
+
     /// Name as in `diagnosis.json`.
     pub fn name(self) -> &'static str {
         match self {
@@ -50,20 +64,25 @@ impl Effect {
         }
     }
 
-    /// Parses a name.
+    /// Parses a name (also `healing`, and `drift` for a gap outside the library).
     pub fn from_name(s: &str) -> Option<Effect> {
-        Effect::ALL.iter().copied().find(|e| e.name() == s)
+        match s {
+            "healing" | "time-healing" => Some(Effect::LogHealing),
+            "drift" => Some(Effect::Unexplained),
+            "slip" | "slip-softening" => Some(Effect::SlipHardening),
+            _ => Effect::ALL.iter().copied().find(|e| e.name() == s),
+        }
     }
 
     /// One-line physical description.
     pub fn describe(self) -> &'static str {
         match self {
             Effect::None => "no effect beyond the base model: the remaining gap is noise",
-            Effect::Rate => "direct rate dependence: friction rises with log slip rate (a ln(1 + v/v_c))",
-            Effect::Pressure => "pressure dependence: μ_s and μ_k scale as (p / 100 kPa)^(-β)",
-            Effect::SlipHardening => "slip hardening/softening: friction changes by h s_h (1 − exp(−s/s_h)) with accumulated slip s",
-            Effect::LogHealing => "logarithmic healing: at rest friction regains b ln(1 + t/t_c), and none while sliding",
-            Effect::Direction => "direction dependence: backward sliding friction scaled by (1 − d)",
+            Effect::Rate => "rate dependence: friction changes with the slip rate",
+            Effect::Pressure => "pressure dependence: friction changes with the normal stress",
+            Effect::SlipHardening => "slip hardening/softening: friction changes with accumulated slip",
+            Effect::LogHealing => "time healing: friction regains strength at rest as a law of time, not by exponential recovery",
+            Effect::Direction => "direction dependence: backward sliding differs from forward sliding",
             Effect::Unexplained => "a real gap none of the candidates explains",
         }
     }
@@ -75,107 +94,252 @@ impl std::fmt::Display for Effect {
     }
 }
 
-/// A candidate extension: its extra parameters and starting values to try.
+/// One form of an effect family.
 #[derive(Clone, Debug)]
-pub struct Candidate {
-    /// The effect it models.
+pub struct Form {
+    /// The family.
     pub effect: Effect,
-    /// Which form of the effect (several forms may stand for one effect).
-    pub variant: &'static str,
-    /// The extension switched on with its shape (parameters are then set from `params`).
+    /// The form, in words (e.g. "rate and state, ageing law").
+    pub name: &'static str,
+    /// The extension switched on with its shape (form, target, references); parameters are set
+    /// from `params`.
     pub template: Extensions,
     /// Extra free parameters.
     pub params: Vec<Param>,
     /// Starting values of the extra parameters (natural units), one vector per start.
     pub starts: Vec<Vec<f64>>,
-    /// Values that switch the effect off (the base model).
+    /// Values that switch the effect off.
     pub neutral: Vec<f64>,
+    /// Bounds of the extra parameters tighter than the defaults.
+    pub bounds: Vec<(Param, f64, f64)>,
 }
 
-/// The candidate library; `v_ref` is the typical slip rate of the data [mm/s].
-pub fn library(v_ref: f64) -> Vec<Candidate> {
-    let hardening = |capped: bool| Extensions {
-        slip_hardening: Some(SlipHardening {
-            h: 0.0,
-            s_h: 2.0,
-            form: if capped {
-                SlipForm::Capped
-            } else {
-                SlipForm::Exponential
-            },
+fn ext_rate(form: RateForm, v_ref: f64) -> Extensions {
+    Extensions {
+        rate: Some(RateEffect {
+            form,
+            a: 0.0,
+            v_c: 1e-3 * v_ref,
+            b: 0.0,
+            d_c: 0.01,
+            n: 0.0,
+            v_ref,
         }),
         ..Extensions::default()
+    }
+}
+
+fn ext_pressure(form: PressureForm, target: Target, p_ref: f64) -> Extensions {
+    Extensions {
+        pressure: Some(PressureEffect {
+            beta: 0.0,
+            form,
+            target,
+            p_ref,
+        }),
+        ..Extensions::default()
+    }
+}
+
+fn ext_slip(form: SlipForm) -> Extensions {
+    Extensions {
+        slip_hardening: Some(SlipHardening {
+            h: 0.0,
+            s_h: 1.0,
+            form,
+        }),
+        ..Extensions::default()
+    }
+}
+
+fn ext_healing(form: HealingForm) -> Extensions {
+    Extensions {
+        healing: Some(Healing {
+            b: 0.0,
+            t_c: 10.0,
+            n: 0.3,
+            form,
+        }),
+        ..Extensions::default()
+    }
+}
+
+fn ext_direction(target: Target) -> Extensions {
+    Extensions {
+        direction: Some(DirectionEffect { d: 0.0, target }),
+        ..Extensions::default()
+    }
+}
+
+/// The rate forms, with first guesses from the velocity steps of the data (their jump gives a,
+/// their decay length D_c, the steady change a − b).
+fn rate_forms(f: &DataFeatures) -> Vec<Form> {
+    let v = f.v_ref;
+    let g = &f.steps;
+    let a0 = g.direct.clamp(0.002, 0.05);
+    let b0 = (g.direct - g.steady).clamp(0.0, 0.05);
+    let dc0 = g.decay_mm.clamp(1e-3, 1.0);
+    let ss0 = g.steady.clamp(-0.03, 0.03);
+    let cut = [1e-4 * v, 1e-2 * v];
+    let state = |form, name| Form {
+        effect: Effect::Rate,
+        name,
+        template: ext_rate(form, v),
+        params: vec![Param::RateA, Param::RateB, Param::RateDc, Param::RateVc],
+        starts: vec![
+            vec![a0, b0, dc0, cut[0]],
+            vec![a0, b0, dc0, cut[1]],
+            vec![0.01, 0.008, 0.05, cut[0]],
+            vec![0.5 * a0, 0.0, dc0, cut[1]],
+        ],
+        neutral: vec![0.0, 0.0, dc0, cut[1]],
+        bounds: vec![(Param::RateVc, 1e-7 * v, 0.3 * v)],
     };
     vec![
-        Candidate {
+        Form {
             effect: Effect::Rate,
-            variant: "a ln(1 + v/v_c)",
-            template: Extensions::default(),
+            name: "direct effect a ln(1 + v/v_c)",
+            template: ext_rate(RateForm::LogDirect, v),
             params: vec![Param::RateA, Param::RateVc],
             starts: vec![
-                vec![0.01, 0.01 * v_ref],
-                vec![0.01, v_ref],
-                vec![-0.01, 0.1 * v_ref],
+                vec![a0, cut[0]],
+                vec![a0, cut[1]],
+                vec![ss0, cut[1]],
+                vec![-0.01, 0.1 * v],
             ],
-            neutral: vec![0.0, 0.1 * v_ref],
+            neutral: vec![0.0, cut[1]],
+            bounds: vec![(Param::RateVc, 1e-7 * v, 10.0 * v)],
         },
-        Candidate {
-            effect: Effect::Pressure,
-            variant: "(p/100 kPa)^-beta",
-            template: Extensions::default(),
-            params: vec![Param::PressureBeta],
-            starts: vec![vec![0.1], vec![-0.1]],
-            neutral: vec![0.0],
+        state(RateForm::StateAgeing, "rate and state, ageing law"),
+        state(RateForm::StateSlip, "rate and state, slip law"),
+        Form {
+            effect: Effect::Rate,
+            name: "power law ((v + v_c)/v_ref)^n",
+            template: ext_rate(RateForm::Power, v),
+            params: vec![Param::RateN, Param::RateVc],
+            starts: vec![
+                vec![(a0 / 0.6).min(0.1), cut[0]],
+                vec![(ss0 / 0.6).clamp(-0.1, 0.1), cut[1]],
+                vec![-0.02, cut[1]],
+            ],
+            neutral: vec![0.0, cut[1]],
+            bounds: vec![(Param::RateVc, 1e-7 * v, 10.0 * v)],
         },
-        Candidate {
+        Form {
+            effect: Effect::Rate,
+            name: "steady state only, mu_k + a ln(v/v_ref)",
+            template: ext_rate(RateForm::SteadyState, v),
+            params: vec![Param::RateA, Param::RateVc],
+            starts: vec![vec![ss0, cut[0]], vec![0.01, cut[0]], vec![-0.01, cut[0]]],
+            neutral: vec![0.0, cut[0]],
+            bounds: vec![(Param::RateVc, 1e-7 * v, 0.3 * v)],
+        },
+    ]
+}
+
+/// The candidate forms that the data can tell anything about (no pressure forms with one normal
+/// stress, no direction without reversals, no healing without holds).
+pub fn library(f: &DataFeatures) -> Vec<Form> {
+    let mut out = Vec::new();
+    if f.sliding_rates > 1 || f.holds > 0 {
+        out.extend(rate_forms(f));
+    }
+    if f.pressure_levels > 1 {
+        let p = f.p_ref;
+        for (form, target, name) in [
+            (
+                PressureForm::Power,
+                Target::Friction,
+                "power law on mu, (p/p_ref)^-beta",
+            ),
+            (
+                PressureForm::Linear,
+                Target::Friction,
+                "linear on mu, 1 - beta (p/p_ref - 1)",
+            ),
+            (
+                PressureForm::Exponential,
+                Target::Friction,
+                "exponential on mu, exp(-beta (p/p_ref - 1))",
+            ),
+            (PressureForm::Power, Target::MuS, "power law on mu_s only"),
+            (PressureForm::Power, Target::MuK, "power law on mu_k only"),
+            (PressureForm::Linear, Target::MuS, "linear on mu_s only"),
+            (PressureForm::Linear, Target::MuK, "linear on mu_k only"),
+        ] {
+            out.push(Form {
+                effect: Effect::Pressure,
+                name,
+                template: ext_pressure(form, target, p),
+                params: vec![Param::PressureBeta],
+                starts: vec![vec![0.1], vec![-0.1]],
+                neutral: vec![0.0],
+                bounds: vec![],
+            });
+        }
+    }
+    let s = f.slip_span_mm.max(0.1);
+    for (form, name) in [
+        (
+            SlipForm::Exponential,
+            "exponential, h s_h (1 - exp(-s/s_h))",
+        ),
+        (SlipForm::Capped, "capped linear, h min(s, s_h)"),
+        (SlipForm::Hyperbolic, "hyperbolic, h s / (1 + s/s_h)"),
+    ] {
+        out.push(Form {
             effect: Effect::SlipHardening,
-            variant: "h s_h (1 - exp(-s/s_h))",
-            template: hardening(false),
+            name,
+            template: ext_slip(form),
             params: vec![Param::SlipH, Param::SlipSh],
             starts: vec![
-                vec![0.02, 2.0],
-                vec![-0.02, 2.0],
-                vec![0.01, 100.0],
-                vec![-0.01, 100.0],
+                vec![0.05 / s, 0.3 * s],
+                vec![-0.05 / s, 0.3 * s],
+                vec![0.02 / s, 3.0 * s],
+                vec![-0.02 / s, 3.0 * s],
             ],
-            neutral: vec![0.0, 2.0],
-        },
-        Candidate {
-            effect: Effect::SlipHardening,
-            variant: "h min(s, s_h)",
-            template: hardening(true),
-            params: vec![Param::SlipH, Param::SlipSh],
-            starts: vec![
-                vec![0.01, 5.0],
-                vec![-0.01, 5.0],
-                vec![0.01, 15.0],
-                vec![-0.01, 15.0],
-            ],
-            neutral: vec![0.0, 5.0],
-        },
-        Candidate {
+            neutral: vec![0.0, s],
+            bounds: vec![],
+        });
+    }
+    if f.holds > 0 {
+        out.push(Form {
             effect: Effect::LogHealing,
-            variant: "b ln(1 + t/t_c) at rest",
-            template: Extensions {
-                healing: Some(Healing {
-                    b: 0.0,
-                    t_c: 10.0,
-                    n: 0.5,
-                    form: HealingForm::Log,
-                }),
-                ..Extensions::default()
-            },
+            name: "log time, b ln(1 + t/t_c) at rest",
+            template: ext_healing(HealingForm::Log),
             params: vec![Param::HealB, Param::HealTc],
             starts: vec![vec![0.01, 1.0], vec![0.01, 30.0], vec![0.03, 10.0]],
             neutral: vec![0.0, 10.0],
-        },
-        Candidate {
-            effect: Effect::Direction,
-            variant: "backward x (1 - d)",
-            template: Extensions::default(),
-            params: vec![Param::DirectionD],
-            starts: vec![vec![0.1], vec![-0.1]],
-            neutral: vec![0.0],
-        },
-    ]
+            bounds: vec![],
+        });
+        out.push(Form {
+            effect: Effect::LogHealing,
+            name: "power-law time, b t^n at rest",
+            template: ext_healing(HealingForm::Power),
+            params: vec![Param::HealB, Param::HealN],
+            starts: vec![vec![0.005, 0.3], vec![0.002, 0.6], vec![0.01, 0.15]],
+            neutral: vec![0.0, 0.3],
+            bounds: vec![],
+        });
+    }
+    if f.reversals > 0 {
+        for (target, name) in [
+            (Target::Friction, "backward mu x (1 - d)"),
+            (Target::MuS, "backward mu_s x (1 - d)"),
+            (Target::MuK, "backward mu_k x (1 - d)"),
+            (Target::Kappa, "backward kappa x (1 - d)"),
+            (Target::UTilde, "backward u_tilde x (1 - d)"),
+        ] {
+            out.push(Form {
+                effect: Effect::Direction,
+                name,
+                template: ext_direction(target),
+                params: vec![Param::DirectionD],
+                starts: vec![vec![0.15], vec![-0.15]],
+                neutral: vec![0.0],
+                bounds: vec![],
+            });
+        }
+    }
+    out
 }

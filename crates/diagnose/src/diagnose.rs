@@ -1,38 +1,41 @@
-//! The diagnosis: fit the base model to all tests, localise the residual, refit every candidate
-//! effect, compare them on held-out data, name the effect (or none, or unexplained), and say how
-//! much of the held-out gap it removes.
+//! The diagnosis: fit the base model, localise its residual, fit every form of every candidate
+//! family, compare the best form of each family with the base on held-out pieces, name the
+//! effects one after the other by forward selection, read the residual for supporting
+//! evidence, and say how much of the held-out gap the named effects remove.
 
-use crate::candidates::{library, Candidate, Effect};
+use crate::candidates::{library, Effect, Form};
+use crate::evidence::{residual_evidence, ResidualEvidence};
+use crate::features::{data_features, DataFeatures};
+use crate::fits::{cross_validate, fit, residuals, space_of, with_values, FitResult, Spec};
+use crate::folds::{extra_folds, piece_folds, pieces, Fold, Piece};
+use crate::localise::{localise, GroupMisfit, Localisation};
+use crate::score::{by_kind, compare, Comparison, HeldOut, Weights};
+use crate::verdict::{decide, Decision, Thresholds};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::Instant;
-use subfric_fit::lm::{levenberg_marquardt, LmOptions};
 use subfric_fit::{
-    calibrate, misfits, typical_rate, FitError, FitOptions, FitTest, Param, PreparedTest, Problem,
-    Space, TestMisfit,
+    calibrate, misfits, resolved_stiffness, FitError, FitOptions, FitTest, Param, PreparedTest,
+    Space, Stiffness, TestMisfit,
 };
 use subfric_model::Model;
 
-/// Thresholds of the verdict.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct Thresholds {
-    /// A candidate must remove at least this fraction of the held-out gap.
-    pub min_shrink: f64,
-    /// ... and improve the in-sample BIC by at least this much.
-    pub min_delta_bic: f64,
-    /// Base misfit (reduced χ², noise units) above which a gap is real.
-    pub gap_chi2: f64,
-}
+/// Rows a diagnosis fits a set on: longer sets are thinned to about this many (it refits many
+/// candidate models many times; the misfit is always reported on all rows).
+pub const DIAGNOSIS_BUDGET_ROWS: usize = 3000;
 
-impl Default for Thresholds {
-    fn default() -> Self {
-        Thresholds {
-            min_shrink: 0.7,
-            min_delta_bic: 20.0,
-            gap_chi2: 1.3,
-        }
-    }
+/// Prepares a set for a diagnosis (conditioned, segmented, thinned to
+/// [`DIAGNOSIS_BUDGET_ROWS`]).
+pub fn prepare_for_diagnosis(set: &subfric_data::ExperimentSet) -> Vec<PreparedTest> {
+    subfric_fit::prepare_set_with(
+        set,
+        false,
+        &subfric_fit::PrepareOptions {
+            budget_rows: DIAGNOSIS_BUDGET_ROWS,
+            ..Default::default()
+        },
+    )
 }
 
 /// Options of a diagnosis.
@@ -40,12 +43,18 @@ impl Default for Thresholds {
 pub struct DiagnoseOptions {
     /// Seed of the base fit.
     pub seed: u64,
-    /// Global-stage budget of the base fit.
+    /// Global-stage budget of the base fit (model runs).
     pub global_evaluations: usize,
     /// Local starts of the base fit.
     pub starts: usize,
-    /// Fraction of each test held out at its end in the tail folds.
+    /// Held-out folds of pieces.
+    pub folds: usize,
+    /// Fraction of each test held out at its end in the extra tail folds.
     pub tail_fraction: f64,
+    /// Least-squares iterations of a candidate fit on all data.
+    pub candidate_iterations: usize,
+    /// Least-squares iterations of a refit in a fold (warm-started).
+    pub fold_iterations: usize,
     /// Model supplying fixed parameters (α) and the first template.
     pub template: Model,
     /// Verdict thresholds.
@@ -56,172 +65,17 @@ impl Default for DiagnoseOptions {
     fn default() -> Self {
         DiagnoseOptions {
             seed: 1,
-            global_evaluations: 2000,
+            global_evaluations: 1500,
             starts: 4,
+            folds: 4,
             tail_fraction: 0.4,
+            candidate_iterations: 40,
+            fold_iterations: 12,
             template: Model::base(subfric_model::Params::sample())
                 .expect("sample parameters are valid"),
             thresholds: Thresholds::default(),
         }
     }
-}
-
-/// Misfit of a group of rows.
-#[derive(Clone, Debug, Serialize)]
-pub struct GroupMisfit {
-    /// Group label.
-    pub group: String,
-    /// Rows in the group.
-    pub rows: usize,
-    /// RMS residual / noise SD (1 = noise level).
-    pub rms_over_noise: f64,
-    /// Share of the total excess misfit (SSR − rows, in noise units) in this group.
-    pub share_of_gap: f64,
-}
-
-/// Where the base model's residual lies.
-#[derive(Clone, Debug, Serialize)]
-pub struct Localisation {
-    /// Per test.
-    pub by_test: Vec<GroupMisfit>,
-    /// Per kind of segment, all tests together.
-    pub by_segment: Vec<GroupMisfit>,
-    /// Per test and kind of segment.
-    pub by_test_segment: Vec<GroupMisfit>,
-    /// Early vs late cycles (tests with cycles).
-    pub by_cycle: Vec<GroupMisfit>,
-    /// Per normal stress level.
-    pub by_normal_stress: Vec<GroupMisfit>,
-    /// Total excess misfit over the noise, in noise units.
-    pub total_excess: f64,
-}
-
-/// Scores of one candidate.
-#[derive(Clone, Debug, Serialize)]
-pub struct CandidateScore {
-    /// The effect.
-    pub effect: Effect,
-    /// Its form.
-    pub variant: String,
-    /// Fitted extra parameters.
-    pub extra_parameters: BTreeMap<String, f64>,
-    /// The fitted model.
-    pub model: Model,
-    /// In-sample SSR (noise units).
-    pub fit_ssr: f64,
-    /// In-sample reduced χ².
-    pub fit_reduced_chi2: f64,
-    /// BIC improvement over the base, n ln(SSR_base/SSR) − k ln n.
-    pub delta_bic: f64,
-    /// Held-out SSR over all folds (noise units).
-    pub held_out_ssr: f64,
-    /// Fraction of the base model's held-out excess misfit this candidate removes (0..1), on
-    /// the tail folds (the last part of each test predicted after fitting everything else).
-    pub held_out_shrink: f64,
-    /// The same on leave-one-test-out folds (an extrapolation check: an effect seen in one
-    /// test only cannot be learned without it).
-    pub leave_one_test_out_shrink: f64,
-    /// Held-out misfit per fold.
-    pub folds: Vec<FoldScore>,
-}
-
-/// Held-out misfit of the base model and a candidate on one fold.
-#[derive(Clone, Debug, Serialize)]
-pub struct FoldScore {
-    /// Fold description.
-    pub fold: String,
-    /// Held-out rows.
-    pub rows: usize,
-    /// Base RMS/noise.
-    pub base_rms_over_noise: f64,
-    /// Candidate RMS/noise.
-    pub candidate_rms_over_noise: f64,
-}
-
-/// Scores of the measurement-drift alternative: the base model plus, for each test, an offset
-/// of the measured column growing linearly with time.
-#[derive(Clone, Debug, Serialize)]
-pub struct DriftScore {
-    /// In-sample SSR.
-    pub fit_ssr: f64,
-    /// BIC improvement over the base (one slope per test).
-    pub delta_bic: f64,
-    /// Held-out shrink on the tail folds.
-    pub held_out_shrink: f64,
-}
-
-/// The answer for scripts.
-#[derive(Clone, Debug, Serialize)]
-pub struct Verdict {
-    /// The effect named.
-    pub effect: Effect,
-    /// Fraction of the held-out misfit removed by that effect (0 for none/unexplained).
-    pub held_out_shrink: f64,
-    /// Plain-language reason.
-    pub explanation: String,
-    /// Fitted extra parameters of the named effect.
-    pub extra_parameters: BTreeMap<String, f64>,
-}
-
-/// How much of the held-out gap the named effect removes, per group of rows.
-#[derive(Clone, Debug, Serialize)]
-pub struct GroupShrink {
-    /// Group label.
-    pub group: String,
-    /// Held-out rows in it.
-    pub rows: usize,
-    /// RMS/noise of the base model on them.
-    pub base_rms_over_noise: f64,
-    /// RMS/noise with the effect.
-    pub effect_rms_over_noise: f64,
-    /// Fraction of the excess removed (may be negative where the effect hurts).
-    pub shrink: f64,
-}
-
-/// The base model's fit.
-#[derive(Clone, Debug, Serialize)]
-pub struct BaseFit {
-    /// Fitted model.
-    pub model: Model,
-    /// SSR in noise units.
-    pub ssr: f64,
-    /// Rows.
-    pub rows: usize,
-    /// Reduced χ².
-    pub reduced_chi2: f64,
-    /// Per-test misfit.
-    pub tests: Vec<TestMisfit>,
-}
-
-/// A complete diagnosis.
-#[derive(Clone, Debug, Serialize)]
-pub struct Diagnosis {
-    /// The verdict (first, for scripts).
-    pub verdict: Verdict,
-    /// Base fit.
-    pub base: BaseFit,
-    /// Where the base residual lies.
-    pub localisation: Localisation,
-    /// Every candidate's scores.
-    pub candidates: Vec<CandidateScore>,
-    /// Held-out folds used.
-    pub folds: Vec<String>,
-    /// Held-out rows of the tail folds.
-    pub held_out_rows: usize,
-    /// Held-out SSR of the base model on the tail folds.
-    pub held_out_base_ssr: f64,
-    /// Shrink of the named effect per kind of segment on held-out rows.
-    pub shrink_by_segment: Vec<GroupShrink>,
-    /// Shrink of the named effect per test on held-out rows.
-    pub shrink_by_test: Vec<GroupShrink>,
-    /// Where the remaining residual lies after the named effect (or the base when none).
-    pub remaining_by_segment: Vec<GroupMisfit>,
-    /// The measurement-drift alternative (not a friction effect).
-    pub drift: DriftScore,
-    /// Thresholds used.
-    pub thresholds: Thresholds,
-    /// Wall time [s].
-    pub elapsed_s: f64,
 }
 
 /// Why a diagnosis could not run.
@@ -235,359 +89,476 @@ pub enum DiagnoseError {
     TooLittleData,
 }
 
-/// A held-out fold: which test is left out whole, or whose tail is held out.
-#[derive(Clone, Debug)]
-struct Fold {
-    name: String,
-    /// True for a tail fold (the end of one test held out), false for leave-one-test-out.
-    tail: bool,
-    /// Per test: rows used for training.
-    train: Vec<std::ops::Range<usize>>,
-    /// Per test: held-out rows.
-    held: Vec<std::ops::Range<usize>>,
+/// One form fitted to all data.
+#[derive(Clone, Debug, Serialize)]
+pub struct FormReport {
+    /// Family.
+    pub effect: Effect,
+    /// Form.
+    pub form: String,
+    /// Fitted extra parameters.
+    pub parameters: BTreeMap<String, f64>,
+    /// In-sample SSR (noise units, fitted rows).
+    pub ssr: f64,
+    /// In-sample BIC improvement over the base.
+    pub delta_bic: f64,
+    /// The fit converged (a form that did not is reported, and only chosen if it still wins).
+    pub converged: bool,
+    /// How the best start stopped.
+    pub termination: String,
+    /// The best form of its family (the one compared on held-out data).
+    pub chosen: bool,
+    /// The fitted model.
+    pub model: Model,
 }
 
-fn folds(tests: &[FitTest], tail_fraction: f64) -> Vec<Fold> {
-    let n = tests.len();
-    let mut out = Vec::new();
-    if n >= 2 {
-        for k in 0..n {
-            out.push(Fold {
-                name: format!("leave out {}", tests[k].name),
-                tail: false,
-                train: (0..n)
-                    .map(|i| if i == k { 0..0 } else { 0..tests[i].len() })
-                    .collect(),
-                held: (0..n)
-                    .map(|i| if i == k { 0..tests[i].len() } else { 0..0 })
-                    .collect(),
-            });
-        }
-    }
-    for k in 0..n {
-        let len = tests[k].len();
-        let cut = ((1.0 - tail_fraction) * len as f64).round() as usize;
-        if cut < 10 || cut >= len {
-            continue;
-        }
-        out.push(Fold {
-            name: format!(
-                "hold out the last {:.0}% of {}",
-                100.0 * tail_fraction,
-                tests[k].name
-            ),
-            tail: true,
-            train: (0..n)
-                .map(|i| if i == k { 0..cut } else { 0..tests[i].len() })
-                .collect(),
-            held: (0..n)
-                .map(|i| if i == k { cut..len } else { 0..0 })
-                .collect(),
-        });
-    }
-    out
+/// A candidate (the best form of a family, or the drift) against a reference model.
+#[derive(Clone, Debug, Serialize)]
+pub struct CandidateScore {
+    /// Family (`unexplained` for the drift alternative).
+    pub effect: Effect,
+    /// The model compared, in words.
+    pub spec: String,
+    /// Fitted extra parameters.
+    pub extra_parameters: BTreeMap<String, f64>,
+    /// The fitted model.
+    pub model: Model,
+    /// Held-out comparison with the reference.
+    pub held_out: Comparison,
+    /// Fraction of the held-out excess removed (= `held_out.excess_shrink`), for scripts.
+    pub held_out_shrink: f64,
+    /// Shrink per kind of piece: (kind, reference χ², candidate χ²).
+    pub by_kind: Vec<KindShrink>,
 }
 
-fn with_rows(tests: &[FitTest], rows: &[std::ops::Range<usize>]) -> Vec<FitTest> {
-    tests
+/// Held-out misfit of the reference and a candidate on one kind of piece.
+#[derive(Clone, Debug, Serialize)]
+pub struct KindShrink {
+    /// Kind of piece.
+    pub kind: String,
+    /// Held-out rows.
+    pub rows: usize,
+    /// Reference RMS / noise.
+    pub reference_rms_over_noise: f64,
+    /// Candidate RMS / noise.
+    pub candidate_rms_over_noise: f64,
+    /// Fraction of the reference's SSR removed.
+    pub shrink: f64,
+}
+
+/// One stage of the forward selection.
+#[derive(Clone, Debug, Serialize)]
+pub struct Stage {
+    /// The model every candidate is added to.
+    pub reference: String,
+    /// Held-out reduced χ² of the reference.
+    pub reference_chi2: f64,
+    /// Each family added to it.
+    pub candidates: Vec<CandidateScore>,
+    /// The drift alternative (first stage only).
+    pub drift: Option<CandidateScore>,
+    /// What was decided.
+    pub decision: Decision,
+}
+
+/// An effect the diagnosis names.
+#[derive(Clone, Debug, Serialize)]
+pub struct NamedEffect {
+    /// Family.
+    pub effect: Effect,
+    /// Best form.
+    pub form: String,
+    /// Fitted parameters of the form.
+    pub parameters: BTreeMap<String, f64>,
+    /// Fraction of the held-out excess misfit (over the noise) of the model before it that it
+    /// removes.
+    pub held_out_shrink: f64,
+    /// Fraction of the held-out misfit of the model before it that it removes.
+    pub relative_shrink: f64,
+    /// How much the misfit of a typical held-out piece falls.
+    pub typical_shrink: f64,
+    /// Held-out evidence D (deviance units).
+    pub score: f64,
+    /// Extra checks: shrink on the tail of each test, and on each test left out.
+    pub tail_shrink: Option<f64>,
+    /// Shrink with each test left out in turn (an effect seen in one test cannot be learned
+    /// without it).
+    pub leave_one_test_out_shrink: Option<f64>,
+}
+
+/// The answer for scripts.
+#[derive(Clone, Debug, Serialize)]
+pub struct Verdict {
+    /// The first effect named, or `none`, or `unexplained`.
+    pub effect: Effect,
+    /// Held-out shrink of that effect (0 for none/unexplained).
+    pub held_out_shrink: f64,
+    /// Every named effect, in the order named.
+    pub effects: Vec<NamedEffect>,
+    /// Plain-language reason.
+    pub explanation: String,
+    /// Fitted extra parameters of the first effect.
+    pub extra_parameters: BTreeMap<String, f64>,
+    /// Held-out misfit with every named effect, reduced χ² in noise units: how far from the
+    /// noise the final model still is.
+    pub final_chi2: f64,
+    /// Whether the residual evidence supports the first family named.
+    pub evidence_supports: Option<bool>,
+}
+
+/// The base model's fit.
+#[derive(Clone, Debug, Serialize)]
+pub struct BaseFit {
+    /// Fitted model.
+    pub model: Model,
+    /// Free parameters.
+    pub free: Vec<String>,
+    /// SSR on the fitted rows (noise units).
+    pub ssr: f64,
+    /// Rows of the record.
+    pub rows: usize,
+    /// Rows fitted (bins of a thinned record).
+    pub fitted_rows: usize,
+    /// Reduced χ² on all rows.
+    pub reduced_chi2: f64,
+    /// Per-test misfit on all rows.
+    pub tests: Vec<TestMisfit>,
+}
+
+/// How each test starts.
+#[derive(Clone, Debug, Serialize)]
+pub struct TestStart {
+    /// Test.
+    pub test: String,
+    /// The state.
+    pub start: subfric_data::StartKind,
+    /// From `experiment.json`, or decided from the data.
+    pub from_spec: bool,
+    /// Why.
+    pub reason: String,
+    /// Noise SD of the measured column, and whether it is only a quantisation floor.
+    pub noise_sd: f64,
+    /// Noise is a floor.
+    pub noise_floor: bool,
+}
+
+/// A complete diagnosis.
+#[derive(Clone, Debug, Serialize)]
+pub struct Diagnosis {
+    /// The verdict (first, for scripts).
+    pub verdict: Verdict,
+    /// Base fit.
+    pub base: BaseFit,
+    /// What the data contain.
+    pub data: DataFeatures,
+    /// Starts and noise of each test.
+    pub starts: Vec<TestStart>,
+    /// The elastic stiffness, when the data resolve it (then α_t is fitted).
+    pub stiffness: Option<Stiffness>,
+    /// Where the base residual lies (all rows).
+    pub localisation: Localisation,
+    /// Every form fitted to all data.
+    pub forms: Vec<FormReport>,
+    /// The best form of each family against the base, and the drift alternative.
+    pub candidates: Vec<CandidateScore>,
+    /// The forward selection, stage by stage.
+    pub selection: Vec<Stage>,
+    /// What the base model's held-out residual follows.
+    pub evidence: ResidualEvidence,
+    /// Where the residual lies with every named effect (all rows).
+    pub remaining_by_segment: Vec<GroupMisfit>,
+    /// The model with every named effect.
+    pub final_model: Model,
+    /// Held-out folds used.
+    pub folds: Vec<String>,
+    /// Pieces per kind.
+    pub pieces: BTreeMap<String, usize>,
+    /// Thresholds used.
+    pub thresholds: Thresholds,
+    /// Wall time [s].
+    pub elapsed_s: f64,
+}
+
+/// Prints the time of each stage to stderr when `SUBFRIC_TRACE` is set (for tuning).
+fn trace(t0: Instant, what: &str) {
+    if std::env::var_os("SUBFRIC_TRACE").is_some() {
+        eprintln!("[{:7.2} s] {what}", t0.elapsed().as_secs_f64());
+    }
+}
+
+/// The fitted tests and everything derived once from them.
+struct Context<'a> {
+    tests: Vec<FitTest>,
+    features: DataFeatures,
+    base_free: Vec<Param>,
+    pieces: Vec<Piece>,
+    folds: Vec<Fold>,
+    /// Rows of the record each fitted row stands for.
+    weights: Weights,
+    opts: &'a DiagnoseOptions,
+}
+
+impl Context<'_> {
+    fn space(&self, template: &Model, spec: &Spec) -> Space {
+        space_of(template, &self.base_free, spec, self.features.v_ref)
+    }
+
+    /// Held-out residuals of `spec`, refitted in each fold from `starts`.
+    fn held_out(&self, template: &Model, spec: &Spec, starts: &[Model]) -> HeldOut {
+        cross_validate(
+            &self.tests,
+            &self.folds,
+            &self.space(template, spec),
+            starts,
+            self.opts.fold_iterations,
+            spec.drift,
+        )
+    }
+
+    fn rows(&self) -> usize {
+        self.tests.iter().map(|t| t.len()).sum()
+    }
+}
+
+/// `model` with the forms of `spec` switched off (their neutral values): a start for refits
+/// that lets an effect the training rows cannot see stay off.
+fn switched_off(model: &Model, spec: &Spec) -> Model {
+    let values: Vec<Vec<f64>> = spec.forms.iter().map(|f| f.neutral.clone()).collect();
+    with_values(model, spec, &values)
+}
+
+fn parameters_of(model: &Model, forms: &[Form]) -> BTreeMap<String, f64> {
+    forms
         .iter()
-        .zip(rows)
-        .map(|(t, r)| {
-            let mut t = t.clone();
-            t.fit_rows = r.clone();
-            t
-        })
+        .flat_map(|f| f.params.iter())
+        .map(|p| (p.key().to_string(), p.get(model).unwrap_or(f64::NAN)))
         .collect()
 }
 
-/// Per-row residuals (noise units) of a model on every test; NaN where it cannot simulate.
-fn row_residuals(tests: &[FitTest], m: &Model) -> Vec<Vec<f64>> {
-    tests
-        .iter()
-        .map(|t| match t.predict(m) {
-            Ok(p) => p
-                .iter()
-                .zip(&t.measured)
-                .map(|(a, b)| (a - b) / t.noise_sd)
-                .collect(),
-            Err(_) => vec![f64::NAN; t.len()],
-        })
-        .collect()
-}
-
-fn ssr_of(r: &[f64]) -> f64 {
-    r.iter()
-        .map(|v| if v.is_finite() { v * v } else { 1e6 })
-        .sum()
-}
-
-/// Row labels used to group residuals.
-struct Labels {
-    test: Vec<String>,
-    segment: Vec<Vec<&'static str>>,
-    cycle: Vec<Vec<Option<&'static str>>>,
-    stress: Vec<String>,
-}
-
-fn labels(prepared: &[PreparedTest]) -> Labels {
-    Labels {
-        test: prepared.iter().map(|p| p.fit.name.clone()).collect(),
-        segment: prepared
-            .iter()
-            .map(|p| p.segmentation.row_kind.iter().map(|k| k.name()).collect())
-            .collect(),
-        cycle: prepared
-            .iter()
-            .map(|p| {
-                let n = p.segmentation.cycles();
-                p.segmentation
-                    .cycle_of_row
-                    .iter()
-                    .map(|&c| {
-                        if n < 2 {
-                            None
-                        } else if c <= n / 2 {
-                            Some("early cycles")
-                        } else {
-                            Some("late cycles")
-                        }
-                    })
-                    .collect()
-            })
-            .collect(),
-        stress: prepared
-            .iter()
-            .map(|p| {
-                let t = &p.fit;
-                let mean = t.normal.iter().sum::<f64>() / t.normal.len().max(1) as f64;
-                format!("{:.0} kPa", mean)
-            })
-            .collect(),
-    }
-}
-
-fn group_misfit<F: Fn(usize, usize) -> Option<String>>(
-    res: &[Vec<f64>],
-    key: F,
-) -> Vec<GroupMisfit> {
-    let mut acc: BTreeMap<String, (usize, f64)> = BTreeMap::new();
-    for (t, r) in res.iter().enumerate() {
-        for (i, v) in r.iter().enumerate() {
-            if let Some(k) = key(t, i) {
-                let e = acc.entry(k).or_insert((0, 0.0));
-                e.0 += 1;
-                e.1 += if v.is_finite() { v * v } else { 1e6 };
-            }
-        }
-    }
-    let total: f64 = acc.values().map(|(n, s)| (s - *n as f64).max(0.0)).sum();
-    acc.into_iter()
-        .map(|(group, (rows, ssr))| GroupMisfit {
-            group,
-            rows,
-            rms_over_noise: (ssr / rows.max(1) as f64).sqrt(),
-            share_of_gap: if total > 0.0 {
-                (ssr - rows as f64).max(0.0) / total
-            } else {
-                0.0
-            },
-        })
-        .collect()
-}
-
-fn localise(prepared: &[PreparedTest], res: &[Vec<f64>]) -> Localisation {
-    let l = labels(prepared);
-    let seg = |t: usize, i: usize| l.segment[t].get(i).map(|s| s.to_string());
-    Localisation {
-        by_test: group_misfit(res, |t, _| Some(l.test[t].clone())),
-        by_segment: group_misfit(res, seg),
-        by_test_segment: group_misfit(res, |t, i| {
-            l.segment[t]
-                .get(i)
-                .map(|s| format!("{} / {}", l.test[t], s))
-        }),
-        by_cycle: group_misfit(res, |t, i| {
-            l.cycle[t].get(i).copied().flatten().map(String::from)
-        }),
-        by_normal_stress: group_misfit(res, |t, _| Some(l.stress[t].clone())),
-        total_excess: res
-            .iter()
-            .map(|r| ssr_of(r) - r.len() as f64)
-            .sum::<f64>()
-            .max(0.0),
-    }
-}
-
-fn shrink_groups<F: Fn(usize, usize) -> Option<String>>(
-    base: &[Vec<f64>],
-    eff: &[Vec<f64>],
-    key: F,
-) -> Vec<GroupShrink> {
-    let mut acc: BTreeMap<String, (usize, f64, f64)> = BTreeMap::new();
-    for t in 0..base.len() {
-        for i in 0..base[t].len() {
-            let (b, e) = (base[t][i], eff[t][i]);
-            if b.is_nan() || e.is_nan() {
-                continue;
-            }
-            if let Some(k) = key(t, i) {
-                let a = acc.entry(k).or_insert((0, 0.0, 0.0));
-                a.0 += 1;
-                a.1 += b * b;
-                a.2 += e * e;
-            }
-        }
-    }
-    acc.into_iter()
-        .map(|(group, (rows, sb, se))| {
-            let gap = sb - rows as f64;
-            GroupShrink {
-                group,
-                rows,
-                base_rms_over_noise: (sb / rows.max(1) as f64).sqrt(),
-                effect_rms_over_noise: (se / rows.max(1) as f64).sqrt(),
-                shrink: if gap > 0.0 { (sb - se) / gap } else { 0.0 },
-            }
-        })
-        .collect()
-}
-
-/// Space of base + candidate parameters.
-fn candidate_space(template: &Model, cand: Option<&Candidate>, v_ref: f64) -> Space {
-    let mut free: Vec<Param> = Param::BASE.to_vec();
-    if let Some(c) = cand {
-        free.extend(c.params.iter().copied());
-    }
-    let mut base = *template;
-    if let Some(c) = cand {
-        base.ext = merge(&base.ext, &c.template);
-        for (p, v) in c.params.iter().zip(&c.neutral) {
-            p.set(&mut base, *v);
-        }
-    }
-    Space::with_rate(base, &free, &[], v_ref)
-}
-
-/// Extensions of `a` with those set in `b` switched on.
-fn merge(
-    a: &subfric_model::Extensions,
-    b: &subfric_model::Extensions,
-) -> subfric_model::Extensions {
-    subfric_model::Extensions {
-        rate: b.rate.or(a.rate),
-        pressure: b.pressure.or(a.pressure),
-        slip_hardening: b.slip_hardening.or(a.slip_hardening),
-        healing: b.healing.or(a.healing),
-        direction: b.direction.or(a.direction),
-    }
-}
-
-fn start_point(
-    space: &Space,
-    base_model: &Model,
-    cand: Option<&Candidate>,
-    extra: &[f64],
-) -> Vec<f64> {
-    let mut m = *base_model;
-    if let Some(c) = cand {
-        for (p, v) in c.params.iter().zip(extra) {
-            p.set(&mut m, *v);
-        }
-    }
-    space.point_of(&m)
-}
-
-fn lm(p: &Problem, x0: &[f64], iters: usize) -> (Vec<f64>, f64) {
-    let r = levenberg_marquardt(
-        p,
-        x0,
-        None,
-        &LmOptions {
-            max_iterations: iters,
-            ..LmOptions::default()
+/// 1. The base fit (global stage and polish), with α_t free when the data resolve it.
+fn base_fit(cx: &Context, template: &Model) -> Result<Model, FitError> {
+    let space = cx.space(template, &Spec::base());
+    let report = calibrate(
+        &cx.tests,
+        space,
+        &FitOptions {
+            seed: cx.opts.seed,
+            global_evaluations: cx.opts.global_evaluations,
+            starts: cx.opts.starts,
+            profiles: false,
+            ..FitOptions::default()
         },
-    );
-    (r.x, r.ssr)
+        &|_| {},
+    )?;
+    Ok(report.model)
 }
 
-/// Held-out residuals (per test, NaN outside the held rows) of a model refitted on each fold.
-fn held_out(
-    tests: &[FitTest],
-    folds: &[Fold],
-    space: &Space,
-    starts: &[Model],
-) -> Vec<Vec<Vec<f64>>> {
-    folds
+/// 2. Every form fitted to all data from its starts.
+fn fit_forms(cx: &Context, base: &Model, base_ssr: f64, forms: &[Form]) -> Vec<FormReport> {
+    let n = cx.rows() as f64;
+    forms
         .par_iter()
         .map(|f| {
-            let train = with_rows(tests, &f.train);
-            let detrend = tests.iter().any(|t| t.detrend);
-            let p = Problem::new(&train, space.clone());
-            // Several starts (the full-data fit, and the effect switched off); on a tie the
-            // later one (switched off) wins, so effects the training rows cannot see stay off.
-            let mut best: Option<(Vec<f64>, f64)> = None;
-            for m in starts {
-                let (x, ssr) = lm(&p, &space.point_of(m), 30);
-                if best.as_ref().is_none_or(|b| ssr <= b.1 + 1.0) {
-                    best = Some((x, ssr));
-                }
+            let spec = Spec::with(f);
+            let space = cx.space(base, &spec);
+            let starts: Vec<Model> = f
+                .starts
+                .iter()
+                .map(|s| with_values(base, &spec, std::slice::from_ref(s)))
+                .collect();
+            let r: FitResult = fit(&cx.tests, &space, &starts, cx.opts.candidate_iterations);
+            let k = f.params.len() as f64;
+            FormReport {
+                effect: f.effect,
+                form: f.name.to_string(),
+                parameters: parameters_of(&r.model, std::slice::from_ref(f)),
+                ssr: r.ssr,
+                delta_bic: n * (base_ssr / r.ssr.max(1e-300)).ln() - k * n.ln(),
+                converged: r.converged && r.ssr.is_finite(),
+                termination: r.termination,
+                chosen: false,
+                model: r.model,
             }
-            let model = space.model_at(&best.map(|b| b.0).unwrap_or_default());
-            let mut res = row_residuals(tests, &model);
-            if detrend {
-                // The drift of each test is learned from its training rows only.
-                for ((r, t), rows) in res.iter_mut().zip(tests).zip(&f.train) {
-                    let c = t.drift_coefficient(r, rows.clone());
-                    for (i, v) in r.iter_mut().enumerate() {
-                        *v -= c * (t.time[i] - t.time[0]);
-                    }
-                }
-            }
-            res.into_iter()
-                .zip(&f.held)
-                .map(|(r, h)| {
-                    r.into_iter()
-                        .enumerate()
-                        .map(|(i, v)| if h.contains(&i) { v } else { f64::NAN })
-                        .collect()
-                })
-                .collect()
         })
         .collect()
 }
 
-/// Sum over the selected folds of held-out squared residuals (NaN rows skipped), and rows.
-fn held_ssr_where(res: &[Vec<Vec<f64>>], keep: impl Fn(usize) -> bool) -> (f64, usize) {
-    let mut s = 0.0;
-    let mut n = 0;
-    for (fi, f) in res.iter().enumerate() {
-        if !keep(fi) {
+/// The best form of each family (largest in-sample ΔBIC), marked `chosen`.
+fn choose_forms(reports: &mut [FormReport]) -> Vec<usize> {
+    let mut best: BTreeMap<Effect, usize> = BTreeMap::new();
+    for (i, r) in reports.iter().enumerate() {
+        if !r.ssr.is_finite() {
             continue;
         }
-        for t in f {
-            for v in t {
-                if !v.is_nan() {
-                    s += if v.is_finite() { v * v } else { 1e6 };
-                    n += 1;
-                }
+        match best.get(&r.effect) {
+            Some(&j) if reports[j].delta_bic >= r.delta_bic => {}
+            _ => {
+                best.insert(r.effect, i);
             }
         }
     }
-    (s, n)
-}
-
-fn held_ssr(res: &[Vec<Vec<f64>>]) -> (f64, usize) {
-    held_ssr_where(res, |_| true)
-}
-
-/// Fraction of the base model's held-out excess misfit removed.
-fn shrink_of(base: f64, cand: f64, rows: usize) -> f64 {
-    let gap = base - rows as f64;
-    if gap > 0.0 {
-        ((base - cand) / gap).clamp(0.0, 1.0)
-    } else {
-        0.0
+    for &i in best.values() {
+        reports[i].chosen = true;
     }
+    best.into_values().collect()
+}
+
+fn kind_shrinks(c: &Comparison) -> Vec<KindShrink> {
+    by_kind(c)
+        .into_iter()
+        .map(|(k, b, cc, n)| KindShrink {
+            kind: k.name().into(),
+            rows: n,
+            reference_rms_over_noise: (b / n.max(1) as f64).sqrt(),
+            candidate_rms_over_noise: (cc / n.max(1) as f64).sqrt(),
+            shrink: if b > 0.0 { (b - cc) / b } else { 0.0 },
+        })
+        .collect()
+}
+
+fn candidate_score(
+    cx: &Context,
+    effect: Effect,
+    spec: &Spec,
+    model: Model,
+    reference: &HeldOut,
+    held: &HeldOut,
+) -> CandidateScore {
+    let c = compare(&cx.pieces, &cx.weights, reference, held);
+    CandidateScore {
+        effect,
+        spec: spec.describe(),
+        extra_parameters: parameters_of(&model, &spec.forms),
+        model,
+        held_out_shrink: c.excess_shrink,
+        by_kind: kind_shrinks(&c),
+        held_out: c,
+    }
+}
+
+/// The current model of the selection: its spec, fitted model and held-out residuals.
+struct Current {
+    spec: Spec,
+    model: Model,
+    held: HeldOut,
+}
+
+/// 3. One stage of the forward selection: every remaining family added to the current model,
+/// fitted on all data and compared on held-out pieces.
+fn selection_stage(
+    cx: &Context,
+    current: &Current,
+    families: &[(Effect, Form, Model)],
+    with_drift: bool,
+) -> (Stage, Vec<(Spec, Model, HeldOut)>) {
+    let reference_chi2 =
+        compare(&cx.pieces, &cx.weights, &current.held, &current.held).reference_chi2;
+    let results: Vec<(Effect, Spec, Model, HeldOut)> = families
+        .par_iter()
+        .filter(|(e, _, _)| !current.spec.forms.iter().any(|f| f.effect == *e))
+        .map(|(e, form, alone)| {
+            let spec = current.spec.plus(form);
+            let space = cx.space(&current.model, &spec);
+            // Starts: the current model with the form as fitted alone, and switched off.
+            let own: Vec<f64> = form
+                .params
+                .iter()
+                .map(|p| p.get(alone).unwrap_or(0.0))
+                .collect();
+            let with_form = with_values(&current.model, &Spec::with(form), &[own]);
+            let starts = [with_form, switched_off(&with_form, &Spec::with(form))];
+            let r = fit(&cx.tests, &space, &starts, cx.opts.candidate_iterations);
+            let held = cx.held_out(&current.model, &spec, &[r.model, current.model]);
+            (*e, spec, r.model, held)
+        })
+        .collect();
+    let mut candidates = Vec::new();
+    let mut kept = Vec::new();
+    for (e, spec, model, held) in results {
+        candidates.push(candidate_score(cx, e, &spec, model, &current.held, &held));
+        kept.push((spec, model, held));
+    }
+    let drift = with_drift.then(|| {
+        let spec = Spec {
+            forms: current.spec.forms.clone(),
+            drift: true,
+        };
+        let space = cx.space(&current.model, &spec);
+        let mut dt = cx.tests.clone();
+        for t in dt.iter_mut() {
+            t.detrend = true;
+        }
+        let r = fit(&dt, &space, &[current.model], cx.opts.candidate_iterations);
+        let held = cx.held_out(&current.model, &spec, &[r.model, current.model]);
+        candidate_score(
+            cx,
+            Effect::Unexplained,
+            &spec,
+            r.model,
+            &current.held,
+            &held,
+        )
+    });
+    let pairs: Vec<(Effect, Comparison)> = candidates
+        .iter()
+        .map(|c| (c.effect, c.held_out.clone()))
+        .collect();
+    let decision = decide(
+        reference_chi2,
+        &pairs,
+        drift.as_ref().map(|d| &d.held_out),
+        &cx.opts.thresholds,
+    );
+    (
+        Stage {
+            reference: current.spec.describe(),
+            reference_chi2,
+            candidates,
+            drift,
+            decision,
+        },
+        kept,
+    )
+}
+
+/// Shrink of `spec` against the base on extra folds (tail of each test, each test left out).
+fn extra_shrinks(
+    cx: &Context,
+    base: &Model,
+    spec: &Spec,
+    model: &Model,
+) -> (Option<f64>, Option<f64>) {
+    let (tail, loto) = extra_folds(&cx.tests, cx.opts.tail_fraction);
+    let shrink = |folds: &[Fold]| -> Option<f64> {
+        if folds.is_empty() {
+            return None;
+        }
+        let cv = |s: &Spec, starts: &[Model]| {
+            cross_validate(
+                &cx.tests,
+                folds,
+                &cx.space(base, s),
+                starts,
+                cx.opts.fold_iterations,
+                false,
+            )
+        };
+        let b = cv(&Spec::base(), &[*base]);
+        let c = cv(spec, &[*model, switched_off(model, spec)]);
+        let whole: Vec<Piece> = cx
+            .tests
+            .iter()
+            .enumerate()
+            .map(|(i, t)| Piece {
+                test: i,
+                start: 0,
+                end: t.len(),
+                kind: crate::folds::PieceKind::InitialLoading,
+            })
+            .collect();
+        Some(compare(&whole, &cx.weights, &b, &c).excess_shrink)
+    };
+    (shrink(&tail), shrink(&loto))
 }
 
 /// Runs the whole diagnosis on prepared tests of one interface.
@@ -596,259 +567,276 @@ pub fn diagnose(
     opts: &DiagnoseOptions,
 ) -> Result<Diagnosis, DiagnoseError> {
     let t0 = Instant::now();
-    if prepared.iter().all(|p| p.fit.len() < 20) {
+    if prepared.iter().all(|p| p.full.len() < 20) {
         return Err(DiagnoseError::TooLittleData);
     }
     let tests: Vec<FitTest> = prepared.iter().map(|p| p.fit.clone()).collect();
-    let v_ref = typical_rate(&tests);
-    let n_rows: usize = tests.iter().map(|t| t.len()).sum();
-
-    // 1. Base fit.
-    let base_space = candidate_space(&opts.template, None, v_ref);
-    let base_fit = calibrate(
-        &tests,
-        base_space.clone(),
-        &FitOptions {
-            seed: opts.seed,
-            global_evaluations: opts.global_evaluations,
-            starts: opts.starts,
-            profiles: false,
-            ..FitOptions::default()
-        },
-        &|_| {},
-    )?;
-    let base_model = base_fit.model;
-    let base_res = row_residuals(&tests, &base_model);
-    let base_ssr: f64 = base_res.iter().map(|r| ssr_of(r)).sum();
-    let localisation = localise(prepared, &base_res);
-
-    // 2. Every candidate fitted to all tests, from several starts, in parallel.
-    let lib = library(v_ref);
-    let full: Vec<(Space, Model, f64)> = lib
-        .par_iter()
-        .map(|c| {
-            let space = candidate_space(&base_model, Some(c), v_ref);
-            let p = Problem::new(&tests, space.clone());
-            let best = c
-                .starts
-                .par_iter()
-                .map(|s| lm(&p, &start_point(&space, &base_model, Some(c), s), 60))
-                .min_by(|a, b| a.1.total_cmp(&b.1))
-                .unwrap_or_else(|| (space.point_of(&base_model), base_ssr));
-            let model = space.model_at(&best.0);
-            (space, model, best.1)
-        })
-        .collect();
-
-    // 3. Held-out comparison.
-    let folds = folds(&tests, opts.tail_fraction);
-    let base_ho = held_out(&tests, &folds, &base_space, &[base_model]);
-    let cand_ho: Vec<Vec<Vec<Vec<f64>>>> = lib
+    let features = data_features(prepared);
+    let stiffness = resolved_stiffness(prepared);
+    let mut template = opts.template;
+    let mut base_free = Param::BASE.to_vec();
+    if let Some(s) = &stiffness {
+        template.params.alpha_t = s.alpha_t;
+        template.params.alpha_n = s.alpha_t;
+        base_free.push(Param::AlphaT);
+    }
+    let all_pieces = pieces(prepared);
+    let folds = piece_folds(&tests, &all_pieces, opts.folds);
+    let weights: Weights = tests
         .iter()
-        .zip(&full)
-        .map(|(c, (space, model, _))| {
-            let mut off = *model;
-            for (p, v) in c.params.iter().zip(&c.neutral) {
-                p.set(&mut off, *v);
-            }
-            held_out(&tests, &folds, space, &[*model, off])
-        })
+        .map(|t| (0..t.len()).map(|i| t.weight_of(i)).collect())
         .collect();
-    let is_tail = |fi: usize| folds[fi].tail;
-    let (base_tail, tail_rows) = held_ssr_where(&base_ho, is_tail);
-    let (base_loto, loto_rows) = held_ssr_where(&base_ho, |fi| !is_tail(fi));
+    let cx = Context {
+        weights,
+        tests,
+        features,
+        base_free,
+        pieces: all_pieces,
+        folds,
+        opts,
+    };
 
-    let mut candidates: Vec<CandidateScore> = lib
+    // 1. Base fit; where it misses (all rows).
+    let base = base_fit(&cx, &template)?;
+    trace(t0, "base fit");
+    let base_ssr = ssr_of(&residuals(&cx.tests, &base, None));
+    let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();
+    let localisation = localise(prepared, &residuals(&fulls, &base, None));
+
+    // 2. Every form; the best of each family.
+    let lib = library(&cx.features);
+    let mut forms = fit_forms(&cx, &base, base_ssr, &lib);
+    let chosen = choose_forms(&mut forms);
+    trace(t0, "every form fitted");
+    let families: Vec<(Effect, Form, Model)> = chosen
         .iter()
-        .zip(&full)
-        .zip(&cand_ho)
-        .map(|((c, (_, model, ssr)), ho)| {
-            let (ho_ssr, _) = held_ssr(ho);
-            let (tail, _) = held_ssr_where(ho, is_tail);
-            let (loto, _) = held_ssr_where(ho, |fi| !is_tail(fi));
-            let per_fold = folds
-                .iter()
-                .enumerate()
-                .map(|(fi, f)| {
-                    let (b, n) = held_ssr(&base_ho[fi..fi + 1]);
-                    let (c, _) = held_ssr(&ho[fi..fi + 1]);
-                    FoldScore {
-                        fold: f.name.clone(),
-                        rows: n,
-                        base_rms_over_noise: (b / n.max(1) as f64).sqrt(),
-                        candidate_rms_over_noise: (c / n.max(1) as f64).sqrt(),
-                    }
-                })
-                .collect();
-            let k = c.params.len() as f64;
-            let n = n_rows as f64;
-            CandidateScore {
-                effect: c.effect,
-                variant: c.variant.to_string(),
-                extra_parameters: c
-                    .params
-                    .iter()
-                    .map(|p| (p.key().to_string(), p.get(model).unwrap_or(f64::NAN)))
-                    .collect(),
-                model: *model,
-                fit_ssr: *ssr,
-                fit_reduced_chi2: ssr / (n - 5.0 - k).max(1.0),
-                delta_bic: n * (base_ssr / ssr.max(1e-300)).ln() - k * n.ln(),
-                held_out_ssr: ho_ssr,
-                held_out_shrink: shrink_of(base_tail, tail, tail_rows),
-                leave_one_test_out_shrink: shrink_of(base_loto, loto, loto_rows),
-                folds: per_fold,
-            }
-        })
+        .map(|&i| (forms[i].effect, lib[i].clone(), forms[i].model))
         .collect();
 
-    // 3b. A non-physical alternative: a drift of each test's measurement linear in time.
-    let drift = {
-        let mut dt = tests.clone();
-        for t in dt.iter_mut() {
-            t.detrend = true;
-        }
-        let p = Problem::new(&dt, base_space.clone());
-        let (x, ssr) = lm(&p, &base_space.point_of(&base_model), 60);
-        let model = base_space.model_at(&x);
-        let ho = held_out(&dt, &folds, &base_space, &[model, base_model]);
-        let (tail, _) = held_ssr_where(&ho, is_tail);
-        let n = n_rows as f64;
-        let k = tests.len() as f64;
-        DriftScore {
-            fit_ssr: ssr,
-            delta_bic: n * (base_ssr / ssr.max(1e-300)).ln() - k * n.ln(),
-            held_out_shrink: shrink_of(base_tail, tail, tail_rows),
-        }
+    // 3. Forward selection on held-out pieces.
+    let base_held = cx.held_out(&base, &Spec::base(), &[base]);
+    let mut current = Current {
+        spec: Spec::base(),
+        model: base,
+        held: base_held.clone(),
     };
+    let mut selection = Vec::new();
+    let mut named: Vec<(Effect, Form, Comparison)> = Vec::new();
+    for stage_no in 0..opts.thresholds.max_effects {
+        let (stage, kept) = selection_stage(&cx, &current, &families, stage_no == 0);
+        trace(t0, &format!("selection stage {}", stage_no + 1));
+        let decision = stage.decision;
+        if let Decision::Named(i) = decision {
+            let (spec, model, held) = kept[i].clone();
+            let form = spec.forms.last().expect("a named spec has a form").clone();
+            named.push((form.effect, form, stage.candidates[i].held_out.clone()));
+            current = Current { spec, model, held };
+        }
+        selection.push(stage);
+        if !matches!(decision, Decision::Named(_)) {
+            break;
+        }
+    }
+    let candidates: Vec<CandidateScore> = selection
+        .first()
+        .map(|s| s.candidates.iter().chain(&s.drift).cloned().collect())
+        .unwrap_or_default();
 
-    // 4. Verdict.
-    let th = opts.thresholds;
-    let base_chi2 = base_ssr / (n_rows as f64 - 5.0).max(1.0);
-    let best = (0..candidates.len()).max_by(|&a, &b| {
-        let key = |c: &CandidateScore| (c.held_out_shrink, c.delta_bic);
-        key(&candidates[a])
-            .partial_cmp(&key(&candidates[b]))
-            .unwrap_or(std::cmp::Ordering::Equal)
-    });
-    let physical_best = best.map(|i| candidates[i].held_out_shrink).unwrap_or(0.0);
-    let drift_wins = drift.held_out_shrink >= th.min_shrink
-        && drift.delta_bic >= th.min_delta_bic
-        && drift.held_out_shrink > physical_best + 0.1;
-    let (effect, chosen, explanation) = match best {
-        _ if drift_wins && base_chi2 > th.gap_chi2 => (
-            Effect::Unexplained,
-            None,
-            format!(
-                "the base misfit is {:.2}× the noise variance; no physical candidate explains it (best {:.0}%), but a drift of each measurement linear in time removes {:.0}% of the held-out misfit: the gap looks like a drift of the measurement, not friction",
-                base_chi2,
-                100.0 * physical_best,
-                100.0 * drift.held_out_shrink
-            ),
-        ),
-        Some(i)
-            if candidates[i].held_out_shrink >= th.min_shrink
-                && candidates[i].delta_bic >= th.min_delta_bic
-                && base_chi2 > 1.0 + 0.5 * (th.gap_chi2 - 1.0) =>
-        {
-            let c = &candidates[i];
-            (
-                c.effect,
-                Some(i),
-                format!(
-                    "{}: it removes {:.0}% of the held-out misfit (ΔBIC {:.0}); base misfit {:.2}× the noise variance",
-                    c.effect.describe(),
-                    100.0 * c.held_out_shrink,
-                    c.delta_bic,
-                    base_chi2
-                ),
-            )
-        }
-        _ if base_chi2 > th.gap_chi2 => {
-            let worst = localisation
-                .by_test_segment
-                .iter()
-                .max_by(|a, b| a.share_of_gap.total_cmp(&b.share_of_gap))
-                .map(|g| format!("{} ({:.0}% of the gap, {:.1}× noise)", g.group, 100.0 * g.share_of_gap, g.rms_over_noise))
-                .unwrap_or_default();
-            let best_text = best
-                .map(|i| format!("the best candidate, {}, removes only {:.0}% of the held-out misfit", candidates[i].effect, 100.0 * candidates[i].held_out_shrink))
-                .unwrap_or_default();
-            (
-                Effect::Unexplained,
-                None,
-                format!(
-                    "the base misfit is {:.2}× the noise variance but none of the candidates explains it: {}; the largest share of the residual lies in {}",
-                    base_chi2, best_text, worst
-                ),
-            )
-        }
-        _ => (
-            Effect::None,
-            None,
-            format!(
-                "the base model fits at {:.2}× the noise variance and no candidate removes enough of the held-out misfit: the gap is noise",
-                base_chi2
-            ),
-        ),
-    };
+    // 4. Evidence from the base model's held-out residual.
+    let fold_of_piece = fold_index(&cx);
+    let evidence = residual_evidence(
+        prepared,
+        &cx.pieces,
+        &base_held,
+        &fold_of_piece,
+        cx.features.v_ref,
+        cx.features.p_ref,
+    );
 
-    let l = labels(prepared);
-    let flatten = |ho: &[Vec<Vec<f64>>]| -> Vec<Vec<f64>> {
-        // Concatenate the tail folds per test (NaN rows are skipped by the grouping).
-        (0..tests.len())
-            .map(|t| {
-                ho.iter()
-                    .enumerate()
-                    .filter(|(fi, _)| folds[*fi].tail)
-                    .flat_map(|(_, f)| f[t].iter().copied())
-                    .collect()
-            })
-            .collect()
-    };
-    let base_flat = flatten(&base_ho);
-    let (shrink_by_segment, shrink_by_test, remaining) = match chosen {
-        Some(i) => {
-            let eff_flat = flatten(&cand_ho[i]);
-            let len = |t: usize| tests[t].len();
-            let seg = |t: usize, i: usize| l.segment[t].get(i % len(t)).map(|s| s.to_string());
-            let eff_res = row_residuals(&tests, &candidates[i].model);
-            (
-                shrink_groups(&base_flat, &eff_flat, seg),
-                shrink_groups(&base_flat, &eff_flat, |t, _| Some(l.test[t].clone())),
-                localise(prepared, &eff_res).by_segment,
-            )
-        }
-        None => (Vec::new(), Vec::new(), localisation.by_segment.clone()),
-    };
-    let verdict = Verdict {
-        effect,
-        held_out_shrink: chosen.map(|i| candidates[i].held_out_shrink).unwrap_or(0.0),
-        explanation,
-        extra_parameters: chosen
-            .map(|i| candidates[i].extra_parameters.clone())
-            .unwrap_or_default(),
-    };
-    candidates.sort_by(|a, b| a.held_out_ssr.total_cmp(&b.held_out_ssr));
+    // 5. Verdict, with the extra checks for the named effects.
+    let verdict = make_verdict(&cx, &base, &current, &named, &selection, &evidence);
+    trace(t0, "verdict and extra folds");
+    let remaining = localise(prepared, &residuals(&fulls, &current.model, None)).by_segment;
+    let base_misfits = misfits(&fulls, &base);
+    let rows: usize = fulls.iter().map(|t| t.len()).sum();
+    let all_ssr = ssr_of(&residuals(&fulls, &base, None));
+    let starts = prepared
+        .iter()
+        .map(|p| TestStart {
+            test: p.full.name.clone(),
+            start: p.segmentation.start.kind,
+            from_spec: p.segmentation.start.from_spec,
+            reason: p.segmentation.start.reason.clone(),
+            noise_sd: p.full.noise_sd,
+            noise_floor: subfric_data::estimate_noise(&p.full.time, &p.full.measured).floor,
+        })
+        .collect();
+    let mut pieces_by_kind: BTreeMap<String, usize> = BTreeMap::new();
+    for p in &cx.pieces {
+        *pieces_by_kind.entry(p.kind.name().into()).or_default() += 1;
+    }
     Ok(Diagnosis {
         verdict,
         base: BaseFit {
-            model: base_model,
+            model: base,
+            free: cx.base_free.iter().map(|p| p.key().to_string()).collect(),
             ssr: base_ssr,
-            rows: n_rows,
-            reduced_chi2: base_chi2,
-            tests: misfits(&tests, &base_model),
+            rows,
+            fitted_rows: cx.rows(),
+            reduced_chi2: all_ssr / (rows as f64 - cx.base_free.len() as f64).max(1.0),
+            tests: base_misfits,
         },
+        data: cx.features.clone(),
+        starts,
+        stiffness,
         localisation,
+        forms,
         candidates,
-        folds: folds.iter().map(|f| f.name.clone()).collect(),
-        held_out_rows: tail_rows,
-        held_out_base_ssr: base_tail,
-        shrink_by_segment,
-        shrink_by_test,
+        selection,
+        evidence,
         remaining_by_segment: remaining,
-        drift,
-        thresholds: th,
+        final_model: current.model,
+        folds: cx.folds.iter().map(|f| f.name.clone()).collect(),
+        pieces: pieces_by_kind,
+        thresholds: opts.thresholds,
         elapsed_s: t0.elapsed().as_secs_f64(),
     })
+}
+
+fn ssr_of(r: &HeldOut) -> f64 {
+    r.iter()
+        .flatten()
+        .map(|v| if v.is_finite() { v * v } else { 1e6 })
+        .sum()
+}
+
+/// The fold that holds out each piece (pieces never held out get fold 0).
+fn fold_index(cx: &Context) -> Vec<usize> {
+    let mut out = vec![0; cx.pieces.len()];
+    for (fi, f) in cx.folds.iter().enumerate() {
+        for &k in &f.held {
+            out[k] = fi;
+        }
+    }
+    out
+}
+
+fn make_verdict(
+    cx: &Context,
+    base: &Model,
+    current: &Current,
+    named: &[(Effect, Form, Comparison)],
+    selection: &[Stage],
+    evidence: &ResidualEvidence,
+) -> Verdict {
+    let effects: Vec<NamedEffect> = named
+        .iter()
+        .map(|(e, form, c)| {
+            let (tail, loto) = extra_shrinks(cx, base, &Spec::with(form), &current.model);
+            NamedEffect {
+                effect: *e,
+                form: form.name.to_string(),
+                parameters: parameters_of(&current.model, std::slice::from_ref(form)),
+                held_out_shrink: c.excess_shrink,
+                relative_shrink: c.relative_shrink,
+                typical_shrink: c.typical_shrink,
+                score: c.score,
+                tail_shrink: tail,
+                leave_one_test_out_shrink: loto,
+            }
+        })
+        .collect();
+    let first = selection.first();
+    let base_chi2 = first.map_or(0.0, |s| s.reference_chi2);
+    let final_chi2 = compare(&cx.pieces, &cx.weights, &current.held, &current.held).reference_chi2;
+    let (effect, explanation) = match (effects.first(), first.map(|s| s.decision)) {
+        (Some(e), _) => (e.effect, explain_named(&effects, base_chi2, final_chi2)),
+        (None, Some(Decision::NoGap)) | (None, None) => (
+            Effect::None,
+            format!(
+                "the base model predicts the held-out pieces at {base_chi2:.2}× the noise variance: the gap is noise"
+            ),
+        ),
+        (None, Some(Decision::Drift)) => (
+            Effect::Unexplained,
+            format!(
+                "the base misfit is {base_chi2:.2}× the noise variance; no physical candidate explains it, but a drift of each measurement linear in time does better than all of them: the gap looks like a drift of the measurement, not friction; {}",
+                evidence.summary
+            ),
+        ),
+        (None, Some(_)) => (
+            Effect::Unexplained,
+            explain_unexplained(first, base_chi2, evidence),
+        ),
+    };
+    let evidence_supports = effects.first().map(|e| {
+        evidence
+            .features
+            .iter()
+            .take(2)
+            .any(|f| f.family == Some(e.effect) && f.share > 0.1)
+    });
+    Verdict {
+        effect,
+        held_out_shrink: effects.first().map_or(0.0, |e| e.held_out_shrink),
+        extra_parameters: effects
+            .first()
+            .map(|e| e.parameters.clone())
+            .unwrap_or_default(),
+        effects,
+        explanation,
+        final_chi2,
+        evidence_supports,
+    }
+}
+
+fn explain_named(effects: &[NamedEffect], base_chi2: f64, final_chi2: f64) -> String {
+    let parts: Vec<String> = effects
+        .iter()
+        .map(|e| {
+            format!(
+                "{} ({}) removes {:.0}% of the held-out misfit left before it ({:.0}% of its excess over the noise; evidence D = {:.0})",
+                e.effect,
+                e.form,
+                100.0 * e.relative_shrink,
+                100.0 * e.held_out_shrink.max(0.0),
+                e.score
+            )
+        })
+        .collect();
+    let far = if final_chi2 > 2.0 {
+        format!(
+            "; with {} the model still misses by {final_chi2:.1}× the noise variance on held-out pieces (base {base_chi2:.1}×): part of the gap remains",
+            if effects.len() > 1 { "them" } else { "it" }
+        )
+    } else {
+        format!("; with it the held-out misfit is {final_chi2:.2}× the noise variance (base {base_chi2:.1}×)")
+    };
+    format!("{}{far}", parts.join("; then "))
+}
+
+fn explain_unexplained(
+    stage: Option<&Stage>,
+    base_chi2: f64,
+    evidence: &ResidualEvidence,
+) -> String {
+    let best = stage.and_then(|s| {
+        s.candidates
+            .iter()
+            .max_by(|a, b| a.held_out.score.total_cmp(&b.held_out.score))
+    });
+    let best_text = best
+        .map(|c| {
+            format!(
+                "the best candidate, {}, removes {:.0}% of the held-out excess (evidence D = {:.0})",
+                c.spec,
+                100.0 * c.held_out.excess_shrink.max(0.0),
+                c.held_out.score
+            )
+        })
+        .unwrap_or_else(|| "no candidate applies to these data".into());
+    format!(
+        "the base model misses the held-out pieces by {base_chi2:.2}× the noise variance and none of the candidates explains it: {best_text}; {}",
+        evidence.summary
+    )
 }

@@ -2,15 +2,27 @@
 //!
 //! Diagnosis of the gap between a calibrated subloading-friction model and laboratory data:
 //! **where** the residual lies (per test and per segment, against the noise estimated from the
-//! data), **which** unmodelled effect explains it (a library of candidate extensions, each
-//! refitted and compared with the base model on held-out data and by BIC), and **how far** the
-//! gap shrinks with it. [`selfcheck`] checks the diagnosis on generated sets whose effect it is
-//! not told.
+//! data), **which** unmodelled effects explain it (every form of five candidate families,
+//! refitted, compared with the base on held-out pieces of the data, named one after the other
+//! by forward selection, and checked against what the residual itself follows), and **how far**
+//! the gap shrinks with them. [`selfcheck`] checks the diagnosis on generated sets whose effects
+//! it is not told.
 
 pub mod candidates;
 pub mod diagnose;
+pub mod evidence;
+pub mod features;
+pub mod fits;
+pub mod folds;
+pub mod localise;
+pub mod score;
 pub mod selfcheck;
 pub mod synth;
+pub mod verdict;
 
-pub use candidates::{library, Candidate, Effect};
-pub use diagnose::{diagnose, DiagnoseError, DiagnoseOptions, Diagnosis, Thresholds, Verdict};
+pub use candidates::{library, Effect, Form};
+pub use diagnose::{
+    diagnose, prepare_for_diagnosis, DiagnoseError, DiagnoseOptions, Diagnosis, NamedEffect,
+    Verdict, DIAGNOSIS_BUDGET_ROWS,
+};
+pub use verdict::Thresholds;

@@ -2,10 +2,9 @@
 //! right, false alarms on sets without an effect, median held-out shrink where the effect is real.
 
 use crate::candidates::Effect;
-use crate::diagnose::{diagnose, DiagnoseOptions, Diagnosis};
+use crate::diagnose::{diagnose, prepare_for_diagnosis, DiagnoseOptions, Diagnosis};
 use crate::synth::{generate_set, random_truth, rng, SynthOptions};
 use serde::Serialize;
-use subfric_fit::prepare_set;
 
 /// One diagnosed set and its truth.
 #[derive(Clone, Debug, Serialize)]
@@ -204,7 +203,7 @@ pub fn selfcheck(opts: &SelfcheckOptions, progress: &dyn Fn(&Case)) -> (Vec<Case
             let name = format!("synthetic-{}-{}", effect.name(), k + 1);
             let truth = random_truth(effect, &mut r);
             let set = generate_set(&name, &truth, &opts.synth, &mut r);
-            let prepared = prepare_set(&set, false);
+            let prepared = prepare_for_diagnosis(&set);
             let mut dopts = opts.diagnose.clone();
             dopts.seed = opts.seed.wrapping_add((ci * 1000 + k) as u64);
             let case = match diagnose(&prepared, &dopts) {

@@ -2,18 +2,20 @@
 //! → least-squares polish from several distinct starts in parallel → uncertainty and profiles.
 
 use crate::dataset::{misfits, FitTest, TestMisfit};
-use crate::global::{differential_evolution, evaluate_all, DeOptions};
+use crate::global::{differential_evolution, evaluate_all, GlobalTuning};
 use crate::guess::first_guesses;
-use crate::lm::{levenberg_marquardt, LmOptions};
+use crate::interval::Interval;
+use crate::lm::{levenberg_marquardt, LmOptions, LmResult, Termination};
 use crate::problem::{fold_into_box, Problem};
-use crate::space::{Coord, Param, Space};
+use crate::space::{Coord, Param, Scale, Space};
 use crate::uncertainty::{
-    linearise, natural_interval, profiles, variance_scale, FlatDirection, Profile,
+    linearise, natural_interval, profiles, variance_scale, FlatDirection, Linearised, Profile,
 };
-use argmin::core::{Executor, State};
+use argmin::core::{Executor, State, TerminationReason, TerminationStatus};
 use argmin::solver::neldermead::NelderMead;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use subfric_model::Model;
 
@@ -38,6 +40,8 @@ pub struct FitOptions {
     pub seed: u64,
     /// Budget of model runs for the global stage (0 skips it).
     pub global_evaluations: usize,
+    /// Differential evolution's tunables (weight, crossover, population per coordinate).
+    pub global: GlobalTuning,
     /// Compute profile intervals.
     pub profiles: bool,
     /// Least-squares settings.
@@ -51,6 +55,7 @@ impl Default for FitOptions {
             starts: 8,
             seed: 1,
             global_evaluations: 3000,
+            global: GlobalTuning::default(),
             profiles: true,
             lm: LmOptions::default(),
         }
@@ -90,7 +95,8 @@ pub enum FitError {
 pub enum Status {
     /// Held at its given value.
     Fixed,
-    /// The 95 % profile interval is closed and within ±10 % of the value.
+    /// The 95 % profile interval is closed and within ±10 % of the value
+    /// ([`Interval::determines`]).
     Determined,
     /// Closed but wider than ±10 %.
     Weak,
@@ -130,10 +136,8 @@ pub struct ParamReport {
     pub value: f64,
     /// Linearised standard error (None if fixed or not estimable).
     pub std_error: Option<f64>,
-    /// 95 % profile interval.
-    pub interval: Option<(f64, f64)>,
-    /// Whether the interval ends are open (lower, upper).
-    pub interval_open: Option<(bool, bool)>,
+    /// 95 % profile interval, with its open ends (None if fixed or not profiled).
+    pub interval: Option<Interval>,
     /// Identifiability verdict.
     pub status: Status,
     /// Published value, when known.
@@ -149,24 +153,25 @@ pub struct Combination {
     pub name: String,
     /// Value at the optimum.
     pub value: f64,
-    /// 95 % profile interval.
-    pub interval: Option<(f64, f64)>,
-    /// Whether the ends are open (lower, upper).
-    pub interval_open: Option<(bool, bool)>,
-    /// Closed and within ±10 %.
+    /// 95 % profile interval, with its open ends.
+    pub interval: Option<Interval>,
+    /// Closed and within ±10 % ([`Interval::determines`]).
     pub determined: bool,
 }
 
-fn classify(q: Param, value: f64, lo: f64, hi: f64, lo_open: bool, hi_open: bool) -> Status {
-    let half = 0.5 * (hi - lo);
+/// Below this magnitude a linear-scale parameter (an extension's coefficient, which may be 0)
+/// is judged by an absolute half-width, ±10 % of it, instead of a share of its value.
+const LINEAR_SCALE_FLOOR: f64 = 0.01;
+
+fn classify(q: Param, value: f64, interval: &Interval) -> Status {
     let scale = match q.scale() {
-        crate::space::Scale::Linear => value.abs().max(0.01),
+        Scale::Linear => value.abs().max(LINEAR_SCALE_FLOOR),
         _ => value.abs(),
     };
-    if half <= 0.1 * scale {
+    if interval.determines(scale) {
         return Status::Determined;
     }
-    match (lo_open, hi_open) {
+    match (interval.lo_open, interval.hi_open) {
         (false, false) => Status::Weak,
         (true, false) => Status::UpperBoundOnly,
         (false, true) => Status::LowerBoundOnly,
@@ -196,7 +201,7 @@ pub struct OptimizerReport {
     /// All model runs.
     pub evaluations: usize,
     /// Termination of the best local run.
-    pub termination: String,
+    pub termination: Termination,
     /// Whether profiling found a better optimum and the fit was re-polished from it.
     pub repolished_from_profile: bool,
     /// Wall time [s].
@@ -237,49 +242,355 @@ impl FitReport {
     }
 }
 
+/// The outcome of one local run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LocalRun {
+    /// Final point (optimiser coordinates).
+    pub x: Vec<f64>,
+    /// Sum of squared residuals there.
+    pub ssr: f64,
+    /// Why it stopped.
+    pub termination: Termination,
+}
+
+impl From<LmResult> for LocalRun {
+    fn from(r: LmResult) -> LocalRun {
+        LocalRun {
+            x: r.x,
+            ssr: r.ssr,
+            termination: r.termination,
+        }
+    }
+}
+
+/// Two starts closer than this (Euclidean, transformed units) are one start: polishing both
+/// would only find the same optimum twice.
+const DISTINCT_STARTS: f64 = 0.05;
+
+/// A local run reached the best optimum when its SSR is within this share of the best ...
+const AT_BEST_RELATIVE: f64 = 1e-3;
+/// ... or within this absolute amount (noise units: well below one row's worth of misfit).
+const AT_BEST_ABSOLUTE: f64 = 1.0;
+
+/// Nelder–Mead's first simplex: each vertex moves one coordinate by this share of its box ...
+const NM_INITIAL_SHARE: f64 = 0.1;
+/// ... but by at most this (transformed units; the boxes of log-scaled rates span up to 20).
+const NM_INITIAL_MAX: f64 = 0.2;
+/// Nelder–Mead stops when the standard deviation of the simplex's costs falls below this.
+const NM_SD_TOLERANCE: f64 = 1e-10;
+/// Nelder–Mead's iteration limit per coordinate.
+const NM_ITERATIONS_PER_COORDINATE: u64 = 400;
+
 fn distinct(a: &[f64], b: &[f64]) -> bool {
     a.iter()
         .zip(b)
         .map(|(x, y)| (x - y).powi(2))
         .sum::<f64>()
         .sqrt()
-        > 0.05
+        > DISTINCT_STARTS
 }
 
-fn local(p: &Problem, x0: &[f64], opts: &FitOptions) -> (Vec<f64>, f64, String) {
+fn local(p: &Problem, x0: &[f64], opts: &FitOptions) -> LocalRun {
     match opts.method {
-        Method::Lsq => {
-            let r = levenberg_marquardt(p, x0, None, &opts.lm);
-            (r.x, r.ssr, format!("{:?}", r.termination))
-        }
-        Method::NelderMead => {
-            let m = x0.len();
-            let mut simplex = vec![x0.to_vec()];
-            for k in 0..m {
-                let mut v = x0.to_vec();
-                v[k] += 0.1 * (p.space.hi[k] - p.space.lo[k]).min(2.0);
-                fold_into_box(&mut v, &p.space.lo, &p.space.hi);
-                simplex.push(v);
-            }
-            let solver = match NelderMead::new(simplex).with_sd_tolerance(1e-10) {
-                Ok(s) => s,
-                Err(_) => return (x0.to_vec(), p.ssr(x0), "invalid-simplex".into()),
-            };
-            match Executor::new(p, solver)
-                .configure(|s| s.max_iters(400 * m as u64))
-                .run()
-            {
-                Ok(res) => {
-                    let st = res.state();
-                    let mut x = st.get_best_param().cloned().unwrap_or_else(|| x0.to_vec());
-                    fold_into_box(&mut x, &p.space.lo, &p.space.hi);
-                    let ssr = p.ssr(&x);
-                    (x, ssr, format!("{}", st.get_termination_status()))
+        Method::Lsq => levenberg_marquardt(p, x0, None, &opts.lm).into(),
+        Method::NelderMead => nelder_mead(p, x0),
+    }
+}
+
+fn nelder_mead(p: &Problem, x0: &[f64]) -> LocalRun {
+    let m = x0.len();
+    let failed = |why: String| LocalRun {
+        x: x0.to_vec(),
+        ssr: p.ssr(x0),
+        termination: Termination::Failed(why),
+    };
+    let mut simplex = vec![x0.to_vec()];
+    for k in 0..m {
+        let mut v = x0.to_vec();
+        v[k] += (NM_INITIAL_SHARE * (p.space.hi[k] - p.space.lo[k])).min(NM_INITIAL_MAX);
+        fold_into_box(&mut v, &p.space.lo, &p.space.hi);
+        simplex.push(v);
+    }
+    let solver = match NelderMead::new(simplex).with_sd_tolerance(NM_SD_TOLERANCE) {
+        Ok(s) => s,
+        Err(e) => return failed(format!("invalid simplex: {e}")),
+    };
+    match Executor::new(p, solver)
+        .configure(|s| s.max_iters(NM_ITERATIONS_PER_COORDINATE * m as u64))
+        .run()
+    {
+        Ok(res) => {
+            let st = res.state();
+            let mut x = st.get_best_param().cloned().unwrap_or_else(|| x0.to_vec());
+            fold_into_box(&mut x, &p.space.lo, &p.space.hi);
+            let ssr = p.ssr(&x);
+            let termination = match st.get_termination_status() {
+                TerminationStatus::Terminated(TerminationReason::SolverConverged) => {
+                    Termination::SimplexConverged
                 }
-                Err(e) => (x0.to_vec(), p.ssr(x0), format!("failed: {e}")),
+                TerminationStatus::Terminated(TerminationReason::MaxItersReached) => {
+                    Termination::MaxIterations
+                }
+                other => Termination::Failed(other.to_string()),
+            };
+            LocalRun {
+                x,
+                ssr,
+                termination,
             }
+        }
+        Err(e) => failed(e.to_string()),
+    }
+}
+
+/// Step 1: the given model and the informed guesses read off the curves, ranked by cost.
+struct Guesses {
+    /// Points, best first.
+    ranked: Vec<Vec<f64>>,
+    /// Their costs, in the same order.
+    costs: Vec<f64>,
+    /// How many were informed guesses (the given model excluded).
+    informed: usize,
+}
+
+fn ranked_guesses(p: &Problem, tests: &[FitTest], base: &Model) -> Guesses {
+    let mut points: Vec<Vec<f64>> = vec![p.space.point_of(base)];
+    let informed: Vec<Model> = first_guesses(tests, base)
+        .into_iter()
+        .filter(|g| Model::new(g.params, g.ext).is_ok())
+        .collect();
+    points.extend(informed.iter().map(|g| p.space.point_of(g)));
+    let cost = evaluate_all(p, &points);
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by(|&a, &b| cost[a].total_cmp(&cost[b]));
+    Guesses {
+        ranked: order.iter().map(|&i| points[i].clone()).collect(),
+        costs: order.iter().map(|&i| cost[i]).collect(),
+        informed: informed.len(),
+    }
+}
+
+/// Step 2: the global stage's population (seeded with the guesses) followed by the guesses,
+/// from which the starts are chosen.
+struct Pool {
+    /// Candidate points.
+    points: Vec<Vec<f64>>,
+    /// Their costs.
+    costs: Vec<f64>,
+    /// Generations of differential evolution.
+    generations: usize,
+    /// Model runs of differential evolution.
+    evaluations: usize,
+}
+
+fn global_stage(p: &Problem, guesses: &Guesses, opts: &FitOptions) -> Pool {
+    let mut pool = if opts.global_evaluations > 0 {
+        let de_opts = opts.global.options(p.space.dim(), opts.global_evaluations);
+        let de = differential_evolution(p, &guesses.ranked, &de_opts, opts.seed);
+        Pool {
+            points: de.members,
+            costs: de.costs,
+            generations: de.generations,
+            evaluations: de.evaluations,
+        }
+    } else {
+        Pool {
+            points: Vec::new(),
+            costs: Vec::new(),
+            generations: 0,
+            evaluations: 0,
+        }
+    };
+    pool.points.extend(guesses.ranked.iter().cloned());
+    pool.costs.extend(guesses.costs.iter().copied());
+    pool
+}
+
+/// The `n` best points of the pool that are pairwise [`distinct`] (a stable sort: on equal
+/// cost the population's members come before the guesses).
+fn distinct_starts(pool: &Pool, n: usize) -> Vec<Vec<f64>> {
+    let mut idx: Vec<usize> = (0..pool.points.len()).collect();
+    idx.sort_by(|&a, &b| pool.costs[a].total_cmp(&pool.costs[b]));
+    let mut starts: Vec<Vec<f64>> = Vec::new();
+    for &i in &idx {
+        if starts.len() >= n {
+            break;
+        }
+        if starts.iter().all(|s| distinct(s, &pool.points[i])) {
+            starts.push(pool.points[i].clone());
         }
     }
+    starts
+}
+
+/// Step 3: a local run from every start, in parallel (results in start order).
+fn local_runs(
+    p: &Problem,
+    starts: &[Vec<f64>],
+    opts: &FitOptions,
+    progress: &(dyn Fn(Stage) + Sync),
+) -> Vec<LocalRun> {
+    let total = starts.len();
+    let done = AtomicUsize::new(0);
+    progress(Stage::Local(0, total));
+    starts
+        .par_iter()
+        .map(|x0| {
+            let r = local(p, x0, opts);
+            let k = done.fetch_add(1, Ordering::Relaxed) + 1;
+            progress(Stage::Local(k, total));
+            r
+        })
+        .collect()
+}
+
+/// Whether a run's SSR reached the best one.
+fn at_best(ssr: f64, best: f64) -> bool {
+    ssr <= best + (AT_BEST_RELATIVE * best).max(AT_BEST_ABSOLUTE)
+}
+
+/// Step 4: the best point with its linearised statistics and profiles.
+struct Uncertainty {
+    /// The optimum (re-polished if a profile found a better point).
+    best: LocalRun,
+    /// Standard errors, correlations, flat directions.
+    lin: Linearised,
+    /// Profiles per coordinate (empty when not requested).
+    profiles: Vec<Profile>,
+    /// Whether the optimum came from re-polishing a profile point.
+    repolished: bool,
+}
+
+fn uncertainty(
+    p: &Problem,
+    best: LocalRun,
+    opts: &FitOptions,
+    progress: &(dyn Fn(Stage) + Sync),
+) -> Uncertainty {
+    let lin = linearise(p, &best.x, best.ssr);
+    let mut u = Uncertainty {
+        best,
+        lin,
+        profiles: Vec::new(),
+        repolished: false,
+    };
+    if !opts.profiles {
+        return u;
+    }
+    progress(Stage::Profiles);
+    u.profiles = profiles(p, &u.best.x, u.best.ssr, &u.lin.std_errors_x);
+    let better = u
+        .profiles
+        .iter()
+        .filter_map(|q| q.better.clone())
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    if let Some((xb, _)) = better {
+        let r = levenberg_marquardt(p, &xb, None, &opts.lm);
+        if r.ssr < u.best.ssr {
+            u.best = r.into();
+            u.repolished = true;
+            u.lin = linearise(p, &u.best.x, u.best.ssr);
+            u.profiles = profiles(p, &u.best.x, u.best.ssr, &u.lin.std_errors_x);
+        }
+    }
+    u
+}
+
+/// Step 5a: the free parameters (value, standard error, interval, verdict), then the fixed.
+fn parameter_reports(p: &Problem, u: &Uncertainty, model: &Model) -> Vec<ParamReport> {
+    let natural = p.space.natural(&u.best.x);
+    let mut out = Vec::new();
+    for (k, &q) in p.space.free.iter().enumerate() {
+        let value = natural[k];
+        let se = u.lin.std_errors[k];
+        let interval = if u.profiles.is_empty() {
+            None
+        } else {
+            natural_interval(p, &u.profiles, k).map(|i| i.including(value))
+        };
+        out.push(ParamReport {
+            name: q.key().into(),
+            unit: q.unit().into(),
+            value,
+            std_error: se.is_finite().then_some(se),
+            interval,
+            status: interval.map_or(Status::Unprofiled, |i| classify(q, value, &i)),
+            published: None,
+            difference_percent: None,
+        });
+    }
+    for q in Param::ALL {
+        if p.space.free.contains(&q) {
+            continue;
+        }
+        if let Some(v) = q.get(model) {
+            out.push(ParamReport {
+                name: q.key().into(),
+                unit: q.unit().into(),
+                value: v,
+                std_error: None,
+                interval: None,
+                status: Status::Fixed,
+                published: None,
+                difference_percent: None,
+            });
+        }
+    }
+    out
+}
+
+/// Step 5b: the combined chart's coordinates (μ_ss, κ + ξ/v, ψ) with their intervals.
+fn combinations(p: &Problem, u: &Uncertainty) -> Vec<Combination> {
+    let x = &u.best.x;
+    p.space
+        .coords
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| !matches!(c, Coord::Natural(_)))
+        .map(|(k, c)| {
+            let value = p.space.coord_value(k, x);
+            let interval = u.profiles.get(k).map(|pr| {
+                Interval {
+                    lo: p.space.coord_value(k, &pr.lower.x),
+                    hi: p.space.coord_value(k, &pr.upper.x),
+                    lo_open: pr.lower.open,
+                    hi_open: pr.upper.open,
+                }
+                .including(value)
+            });
+            Combination {
+                name: match c {
+                    Coord::SteadyRatio => format!("mu_ss at v = {:.4e} mm/s", p.space.v_ref),
+                    Coord::DecayRate => {
+                        format!("kappa + xi/v at v = {:.4e} mm/s [1/mm]", p.space.v_ref)
+                    }
+                    _ => "recovery share psi of the decay (0: all kappa, 1: mu_k = 0)".into(),
+                },
+                value,
+                interval,
+                determined: interval.is_some_and(|i| i.determines(value.abs())),
+            }
+        })
+        .collect()
+}
+
+/// Step 5c: each coordinate's profile as (display value, ΔSSR/s²), sorted by value.
+fn profile_traces(p: &Problem, profiles: &[Profile]) -> Vec<(String, Vec<(f64, f64)>)> {
+    p.space
+        .coords
+        .iter()
+        .enumerate()
+        .zip(profiles)
+        .map(|((k, c), pr)| {
+            let mut pts: Vec<(f64, f64)> = pr
+                .trace
+                .iter()
+                .map(|t| (p.space.coord_value(k, &t.x), t.delta))
+                .collect();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            (c.name(), pts)
+        })
+        .collect()
 }
 
 /// Calibrates the free parameters of `space` against `tests`.
@@ -330,220 +641,56 @@ pub fn calibrate(
     let m = p.space.dim();
 
     // 1. Informed guesses, plus the given model.
-    let mut guesses: Vec<Vec<f64>> = vec![p.space.point_of(&base)];
-    let informed: Vec<Model> = first_guesses(tests, &base)
-        .into_iter()
-        .filter(|g| Model::new(g.params, g.ext).is_ok())
-        .collect();
-    guesses.extend(informed.iter().map(|g| p.space.point_of(g)));
-    let gcost = evaluate_all(&p, &guesses);
-    let mut order: Vec<usize> = (0..guesses.len()).collect();
-    order.sort_by(|&a, &b| gcost[a].total_cmp(&gcost[b]));
-    let ranked: Vec<Vec<f64>> = order.iter().map(|&i| guesses[i].clone()).collect();
+    let guesses = ranked_guesses(&p, tests, &base);
 
-    // 2. Global stage.
+    // 2. Global stage, and distinct starts from its population and the guesses.
     progress(Stage::Global);
-    let (mut pool, mut pool_cost, gen, gev) = if opts.global_evaluations > 0 {
-        let de = differential_evolution(
-            &p,
-            &ranked,
-            &DeOptions {
-                population: (10 * m).clamp(20, 60),
-                max_evaluations: opts.global_evaluations,
-                f: 0.7,
-                cr: 0.9,
-                tolerance: 1e-6,
-            },
-            opts.seed,
-        );
-        (de.members, de.costs, de.generations, de.evaluations)
-    } else {
-        (Vec::new(), Vec::new(), 0, 0)
-    };
-    for &i in &order {
-        pool.push(guesses[i].clone());
-        pool_cost.push(gcost[i]);
-    }
-    let mut idx: Vec<usize> = (0..pool.len()).collect();
-    idx.sort_by(|&a, &b| pool_cost[a].total_cmp(&pool_cost[b]));
-    let mut starts: Vec<Vec<f64>> = Vec::new();
-    for &i in &idx {
-        if starts.len() >= opts.starts.max(1) {
-            break;
-        }
-        if starts.iter().all(|s| distinct(s, &pool[i])) {
-            starts.push(pool[i].clone());
-        }
-    }
+    let pool = global_stage(&p, &guesses, opts);
+    let starts = distinct_starts(&pool, opts.starts.max(1));
 
-    // 3. Local runs in parallel.
-    let total = starts.len();
-    let done = std::sync::atomic::AtomicUsize::new(0);
-    progress(Stage::Local(0, total));
-    let runs: Vec<(Vec<f64>, f64, String)> = starts
-        .par_iter()
-        .map(|x0| {
-            let r = local(&p, x0, opts);
-            let k = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            progress(Stage::Local(k, total));
-            r
-        })
-        .collect();
-    let best_i = (0..runs.len())
-        .min_by(|&a, &b| runs[a].1.total_cmp(&runs[b].1))
-        .unwrap_or(0);
-    let (mut x, mut ssr, mut termination) = runs[best_i].clone();
-    let tol = |best: f64| best + (1e-3 * best).max(1.0);
-    let starts_at_best = runs.iter().filter(|r| r.1 <= tol(ssr)).count();
-
-    // 4. Uncertainty.
-    let mut lin = linearise(&p, &x, ssr);
-    let mut prof: Vec<Profile> = Vec::new();
-    let mut repolished = false;
-    if opts.profiles {
-        progress(Stage::Profiles);
-        prof = profiles(&p, &x, ssr, &lin.std_errors_x);
-        let better = prof
-            .iter()
-            .filter_map(|q| q.better.clone())
-            .min_by(|a, b| a.1.total_cmp(&b.1));
-        if let Some((xb, _)) = better {
-            let r = levenberg_marquardt(&p, &xb, None, &opts.lm);
-            if r.ssr < ssr {
-                x = r.x;
-                ssr = r.ssr;
-                termination = format!("{:?}", r.termination);
-                repolished = true;
-                lin = linearise(&p, &x, ssr);
-                prof = profiles(&p, &x, ssr, &lin.std_errors_x);
-            }
-        }
-    }
-    let model = p.model_at(&x);
-    let natural = p.space.natural(&x);
-    let mut parameters = Vec::new();
-    for (k, &q) in p.space.free.iter().enumerate() {
-        let value = natural[k];
-        let se = lin.std_errors[k];
-        let (interval, open, status) = if prof.is_empty() {
-            (None, None, Status::Unprofiled)
-        } else {
-            let (lo, hi, lo_open, hi_open) = natural_interval(&p, &prof, k);
-            let (lo, hi) = (lo.min(value), hi.max(value));
-            (
-                Some((lo, hi)),
-                Some((lo_open, hi_open)),
-                classify(q, value, lo, hi, lo_open, hi_open),
-            )
-        };
-        parameters.push(ParamReport {
-            name: q.key().into(),
-            unit: q.unit().into(),
-            value,
-            std_error: se.is_finite().then_some(se),
-            interval,
-            interval_open: open,
-            status,
-            published: None,
-            difference_percent: None,
-        });
-    }
-    for q in Param::ALL {
-        if p.space.free.contains(&q) {
-            continue;
-        }
-        if let Some(v) = q.get(&model) {
-            parameters.push(ParamReport {
-                name: q.key().into(),
-                unit: q.unit().into(),
-                value: v,
-                std_error: None,
-                interval: None,
-                interval_open: None,
-                status: Status::Fixed,
-                published: None,
-                difference_percent: None,
-            });
-        }
-    }
-    let combinations: Vec<Combination> = p
-        .space
-        .coords
+    // 3. Local runs in parallel; the best one (the first of equals) goes on.
+    let runs = local_runs(&p, &starts, opts, progress);
+    let best = runs
         .iter()
-        .enumerate()
-        .filter(|(_, c)| !matches!(c, Coord::Natural(_)))
-        .map(|(k, c)| {
-            let value = p.space.coord_value(k, &x);
-            let (lower, upper, open) = match prof.get(k) {
-                Some(pr) => (
-                    Some(p.space.coord_value(k, &pr.lower.x).min(value)),
-                    Some(p.space.coord_value(k, &pr.upper.x).max(value)),
-                    Some((pr.lower.open, pr.upper.open)),
-                ),
-                None => (None, None, None),
-            };
-            let determined = match (lower, upper, open) {
-                (Some(a), Some(b), Some((false, false))) => 0.5 * (b - a) <= 0.1 * value.abs(),
-                _ => false,
-            };
-            Combination {
-                name: match c {
-                    Coord::SteadyRatio => format!("mu_ss at v = {:.4e} mm/s", p.space.v_ref),
-                    Coord::DecayRate => {
-                        format!("kappa + xi/v at v = {:.4e} mm/s [1/mm]", p.space.v_ref)
-                    }
-                    _ => "recovery share psi of the decay (0: all kappa, 1: mu_k = 0)".into(),
-                },
-                value,
-                interval: lower.zip(upper),
-                interval_open: open,
-                determined,
-            }
-        })
-        .collect();
+        .min_by(|a, b| a.ssr.total_cmp(&b.ssr))
+        .cloned()
+        .expect("the pool holds at least the given model, so there is a start");
+    let starts_at_best = runs.iter().filter(|r| at_best(r.ssr, best.ssr)).count();
+
+    // 4. Uncertainty: linearised statistics and profiles (re-polished if they found better).
+    let u = uncertainty(&p, best, opts, progress);
+
+    // 5. The report.
+    let model = p.model_at(&u.best.x);
     let rows = p.rows();
-    progress(Stage::Done);
-    Ok(FitReport {
+    let report = FitReport {
         model,
-        parameters,
-        correlation: lin.correlation,
-        flat_directions: lin.flat_directions,
-        ssr,
+        parameters: parameter_reports(&p, &u, &model),
+        correlation: u.lin.correlation.clone(),
+        flat_directions: u.lin.flat_directions.clone(),
+        ssr: u.best.ssr,
         rows,
-        reduced_chi2: ssr / (rows.saturating_sub(m)).max(1) as f64,
+        reduced_chi2: u.best.ssr / (rows.saturating_sub(m)).max(1) as f64,
         tests: misfits(tests, &model),
         optimizer: OptimizerReport {
             method: opts.method,
             seed: opts.seed,
             starts: runs.len(),
             starts_at_best,
-            start_ssr: runs.iter().map(|r| r.1).collect(),
-            informed_guesses: informed.len(),
-            global_evaluations: gev,
-            global_generations: gen,
+            start_ssr: runs.iter().map(|r| r.ssr).collect(),
+            informed_guesses: guesses.informed,
+            global_evaluations: pool.evaluations,
+            global_generations: pool.generations,
             evaluations: p.evaluations(),
-            termination,
-            repolished_from_profile: repolished,
+            termination: u.best.termination.clone(),
+            repolished_from_profile: u.repolished,
             elapsed_s: t0.elapsed().as_secs_f64(),
         },
-        combinations,
-        profiles: p
-            .space
-            .coords
-            .iter()
-            .enumerate()
-            .zip(&prof)
-            .map(|((k, c), pr)| {
-                let mut pts: Vec<(f64, f64)> = pr
-                    .trace
-                    .iter()
-                    .map(|t| (p.space.coord_value(k, &t.x), t.delta))
-                    .collect();
-                pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-                (c.name(), pts)
-            })
-            .collect(),
-    })
+        combinations: combinations(&p, &u),
+        profiles: profile_traces(&p, &u.profiles),
+    };
+    progress(Stage::Done);
+    Ok(report)
 }
 
 /// Fills `published` and `difference_percent` from a reference model.

@@ -1,7 +1,7 @@
 //! Tests as the objective sees them, and the residual vector.
 
 use serde::Serialize;
-use subfric_model::{simulate_predicted_into, Control, Model, Protocol, SimError};
+use subfric_model::{simulate_predicted_into, Control, Initial, Model, Protocol, SimError};
 
 /// One test prepared for fitting.
 #[derive(Clone, Debug)]
@@ -30,6 +30,11 @@ pub struct FitTest {
     pub fit_rows: std::ops::Range<usize>,
     /// Project a drift linear in time out of the residuals (a measurement-drift alternative).
     pub detrend: bool,
+    /// How the test starts (rest, loaded, or already sliding).
+    pub initial: Initial,
+    /// Rows of the original record each row stands for (a thinned test keeps one row per bin,
+    /// the bin's mean measurement, weighted by its size); empty when every row is one row.
+    pub row_weight: Vec<f64>,
 }
 
 fn median(v: &mut [f64]) -> f64 {
@@ -83,6 +88,23 @@ impl FitTest {
             scale,
             fit_rows: 0..usize::MAX,
             detrend: false,
+            initial: Initial::Rest,
+            row_weight: Vec::new(),
+        }
+    }
+
+    /// Weight of row `i` (the number of original rows it stands for).
+    #[inline]
+    pub fn weight_of(&self, i: usize) -> f64 {
+        self.row_weight.get(i).copied().unwrap_or(1.0)
+    }
+
+    /// Number of original rows the test stands for.
+    pub fn rows_represented(&self) -> f64 {
+        if self.row_weight.is_empty() {
+            self.len() as f64
+        } else {
+            self.row_weight.iter().sum()
         }
     }
 
@@ -110,24 +132,32 @@ impl FitTest {
             imposed: &self.imposed[..end],
             normal: &self.normal[..end],
             initial_slip: self.initial_slip,
-            initial: Default::default(),
+            initial: self.initial,
         }
     }
 
-    /// Least-squares slope c of residuals r ≈ c (t − t₀) over `rows` (a drift starting at zero).
+    /// Least-squares slope c of weighted residuals r ≈ c √w (t − t₀) over `rows` (a drift of
+    /// the measurement starting at zero; each row weighs as the rows it stands for).
     pub fn drift_coefficient(&self, r: &[f64], rows: std::ops::Range<usize>) -> f64 {
         let (mut num, mut den) = (0.0, 0.0);
         for i in rows {
-            let tau = self.time[i] - self.time[0];
+            let x = self.weight_of(i).sqrt() * (self.time[i] - self.time[0]);
             if r[i].is_finite() {
-                num += r[i] * tau;
-                den += tau * tau;
+                num += r[i] * x;
+                den += x * x;
             }
         }
         if den > 0.0 {
             num / den
         } else {
             0.0
+        }
+    }
+
+    /// Removes the drift `c` (from [`FitTest::drift_coefficient`]) from weighted residuals.
+    pub fn remove_drift(&self, r: &mut [f64], rows: std::ops::Range<usize>, c: f64) {
+        for i in rows {
+            r[i] -= c * self.weight_of(i).sqrt() * (self.time[i] - self.time[0]);
         }
     }
 
@@ -202,14 +232,19 @@ pub fn residuals_into(
         // The state at a row depends on the whole history: simulate from the start.
         match simulate_predicted_into(m, &t.protocol_until(rows.end), scratch) {
             Ok(()) => {
-                for i in rows.clone() {
-                    out[start + i] = k * (scratch[i] - t.measured[i]);
+                if t.row_weight.is_empty() {
+                    for i in rows.clone() {
+                        out[start + i] = k * (scratch[i] - t.measured[i]);
+                    }
+                } else {
+                    for i in rows.clone() {
+                        out[start + i] = k * t.row_weight[i].sqrt() * (scratch[i] - t.measured[i]);
+                    }
                 }
                 if t.detrend {
-                    let c = t.drift_coefficient(&out[start..start + t.len()], rows.clone());
-                    for i in rows {
-                        out[start + i] -= c * (t.time[i] - t.time[0]);
-                    }
+                    let r = &mut out[start..start + t.len()];
+                    let c = t.drift_coefficient(r, rows.clone());
+                    t.remove_drift(r, rows, c);
                 }
             }
             Err(_) => {

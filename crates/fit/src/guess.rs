@@ -49,9 +49,7 @@ pub fn features(t: &FitTest) -> Option<CurveFeatures> {
     if end < 8 {
         return None;
     }
-    let f: Vec<f64> = (0..end)
-        .map(|i| sign * t.measured[i] / t.normal[i])
-        .collect();
+    let f = friction(t, 0..end, sign)?;
     let (ip, &peak) = f.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1))?;
     if peak <= 0.0 {
         return None;
@@ -81,11 +79,12 @@ pub fn features(t: &FitTest) -> Option<CurveFeatures> {
         }
         let duration = t.time[h1] - t.time[h0];
         if h1 > h0 && duration > 0.0 {
-            let look = (h1 + 1..t.len()).take(40);
-            let after = look
-                .map(|i| sign * t.measured[i] / t.normal[i])
+            let look = h1 + 1..(h1 + 41).min(t.len());
+            let after = friction(t, look, sign)
+                .unwrap_or_default()
+                .into_iter()
                 .fold(f64::MIN, f64::max);
-            if after.is_finite() {
+            if after.is_finite() && after > f64::MIN {
                 holds[0] = Some((duration, f[end - 1], after));
             }
         }
@@ -99,6 +98,31 @@ pub fn features(t: &FitTest) -> Option<CurveFeatures> {
         holds,
     })
 }
+
+/// sign·shear/normal over `rows`, or `None` if a row cannot give one (normal stress not
+/// positive, or a value not finite): the features would then be read off a meaningless number.
+fn friction(t: &FitTest, rows: std::ops::Range<usize>, sign: f64) -> Option<Vec<f64>> {
+    rows.map(|i| {
+        let (s, n) = (t.measured[i], t.normal[i]);
+        (s.is_finite() && n.is_finite() && n > 0.0).then(|| sign * s / n)
+    })
+    .collect()
+}
+
+/// Whether a guess can be handed to the optimiser: the five base parameters finite and
+/// positive, μ_k ≤ μ_s. An outlier read as a feature can make a guess absurd, but never
+/// invalid.
+fn usable(m: &Model) -> bool {
+    let p = &m.params;
+    [p.mu_s, p.mu_k, p.kappa, p.xi, p.u_tilde]
+        .iter()
+        .all(|v| v.is_finite() && *v > 0.0)
+        && p.mu_k <= p.mu_s
+}
+
+/// Smallest μ_k of a guess, as a share of μ_s (a plateau reading may imply μ_k ≤ 0 when the
+/// decay is split mostly into ξ).
+const MIN_MU_K_SHARE: f64 = 0.02;
 
 /// The template with the five base parameters [μ_s, μ_k, κ, ξ, ũ] set (μ₀ = μ_s).
 fn guess(template: &Model, p: [f64; 5]) -> Model {
@@ -123,6 +147,9 @@ pub fn traction_guesses(t: &FitTest, template: &Model) -> Vec<Model> {
     let f: Vec<f64> = (0..t.len())
         .map(|i| (t.imposed[i] / t.normal[i]).abs())
         .collect();
+    if f.iter().any(|v| !v.is_finite()) || t.normal.iter().any(|n| *n <= 0.0) {
+        return out;
+    }
     let peak = f.iter().cloned().fold(0.0, f64::max);
     if peak <= 0.0 {
         return out;
@@ -144,6 +171,7 @@ pub fn traction_guesses(t: &FitTest, template: &Model) -> Vec<Model> {
             }
         }
     }
+    out.retain(usable);
     out
 }
 
@@ -181,11 +209,162 @@ pub fn first_guesses(tests: &[FitTest], template: &Model) -> Vec<Model> {
                 for (kappa, xi) in splits {
                     // μ_k that gives the plateau: μ_ss = (κv μ_k + ξ μ_s)/(κv + ξ).
                     let kv = kappa * c.rate;
-                    let mu_k = ((mu_ss * (kv + xi) - xi * mu_s) / kv).clamp(0.02 * mu_s, mu_ss);
+                    // Kept above a floor, but μ_k ≤ μ_ss wins when the plateau lies below it (an
+                    // outlier read as the peak): `f64::clamp` would panic on min > max.
+                    let mu_k = ((mu_ss * (kv + xi) - xi * mu_s) / kv)
+                        .max(MIN_MU_K_SHARE * mu_s)
+                        .min(mu_ss);
                     out.push(guess(template, [mu_s, mu_k, kappa, xi, u_tilde]));
                 }
             }
         }
     }
+    out.retain(usable);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subfric_model::{simulate, Params, Protocol};
+
+    /// A slide at 0.01 mm/s from the sample parameters (peak, softening, plateau), a hold of
+    /// 200 s and a reload: every feature the guesses read.
+    fn slide_hold_slide() -> FitTest {
+        let truth = Model::base(Params::sample()).unwrap();
+        let mut time = Vec::new();
+        let mut slip = Vec::new();
+        for i in 0..=300 {
+            time.push(i as f64);
+            slip.push(0.01 * i as f64);
+        }
+        for i in 1..=200 {
+            time.push(300.0 + i as f64);
+            slip.push(3.0);
+        }
+        for i in 1..=100 {
+            time.push(500.0 + i as f64);
+            slip.push(3.0 + 0.01 * i as f64);
+        }
+        let normal = vec![100.0; time.len()];
+        let proto = Protocol {
+            control: Control::Slip,
+            time: &time,
+            imposed: &slip,
+            normal: &normal,
+            initial_slip: 0.0,
+            initial: Default::default(),
+        };
+        let shear = simulate(&truth, &proto).unwrap().shear;
+        FitTest::new("shs", Control::Slip, time, slip, shear, normal)
+    }
+
+    fn assert_valid(guesses: &[Model]) {
+        assert!(!guesses.is_empty());
+        for g in guesses {
+            let p = &g.params;
+            for (name, v) in [
+                ("mu_s", p.mu_s),
+                ("mu_k", p.mu_k),
+                ("kappa", p.kappa),
+                ("xi", p.xi),
+                ("u_tilde", p.u_tilde),
+            ] {
+                assert!(v.is_finite() && v > 0.0, "{name} = {v} in {p:?}");
+            }
+            assert!(p.mu_k <= p.mu_s, "{p:?}");
+        }
+    }
+
+    #[test]
+    fn clean_curves_give_valid_guesses_near_the_truth() {
+        let template = Model::base(Params::sample()).unwrap();
+        let g = first_guesses(&[slide_hold_slide()], &template);
+        assert_valid(&g);
+        let truth = Params::sample();
+        assert!(g
+            .iter()
+            .any(|m| (m.params.mu_s - truth.mu_s).abs() < 0.15 * truth.mu_s));
+    }
+
+    #[test]
+    fn one_shear_value_fifty_times_the_plateau_does_not_panic() {
+        // Issue 13: the spike becomes the "peak", 2 % of which exceeds the plateau, and
+        // clamping μ_k into [0.02 μ_s, μ_ss] had min > max.
+        let mut t = slide_hold_slide();
+        let plateau = t.measured[290];
+        t.measured[150] = 50.0 * plateau;
+        assert_valid(&first_guesses(
+            &[t],
+            &Model::base(Params::sample()).unwrap(),
+        ));
+    }
+
+    #[test]
+    fn a_calibration_of_a_curve_with_a_spike_runs_to_the_end() {
+        use crate::{calibrate, FitOptions, Param, Space};
+        let mut t = slide_hold_slide();
+        t.measured[150] *= 50.0;
+        t.normal[200] = 1.0;
+        let template = Model::base(Params::sample()).unwrap();
+        let space = Space::with_rate(template, &Param::BASE, &[], 0.01);
+        let opts = FitOptions {
+            global_evaluations: 200,
+            starts: 2,
+            ..FitOptions::default()
+        };
+        let r = calibrate(&[t], space, &opts, &|_| {}).expect("a report, not a panic");
+        assert!(r.ssr.is_finite());
+    }
+
+    #[test]
+    fn one_normal_stress_row_of_1_kpa_does_not_panic() {
+        let mut t = slide_hold_slide();
+        t.normal[150] = 1.0;
+        assert_valid(&first_guesses(
+            &[t],
+            &Model::base(Params::sample()).unwrap(),
+        ));
+    }
+
+    #[test]
+    fn non_finite_or_zero_rows_give_no_guess_rather_than_a_nan_one() {
+        let template = Model::base(Params::sample()).unwrap();
+        for bad in [0.0, f64::NAN, f64::INFINITY, -100.0] {
+            let mut t = slide_hold_slide();
+            t.normal[150] = bad;
+            let g = first_guesses(std::slice::from_ref(&t), &template);
+            assert!(g.iter().all(|m| m.params.mu_s.is_finite()), "normal {bad}");
+            let mut t = slide_hold_slide();
+            t.measured[150] = bad;
+            for m in first_guesses(&[t], &template) {
+                assert!(
+                    [m.params.mu_s, m.params.mu_k, m.params.kappa, m.params.xi]
+                        .iter()
+                        .all(|v| v.is_finite()),
+                    "measured {bad}: {m:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn traction_guesses_survive_a_row_of_zero_normal_stress() {
+        let s = slide_hold_slide();
+        let mut t = FitTest::new(
+            "pulsating",
+            Control::Shear,
+            s.time.clone(),
+            s.measured.clone(),
+            s.imposed.clone(),
+            s.normal.clone(),
+        );
+        t.normal[10] = 0.0;
+        for m in traction_guesses(&t, &Model::base(Params::sample()).unwrap()) {
+            assert!(
+                m.params.mu_s.is_finite() && m.params.u_tilde.is_finite(),
+                "{m:?}"
+            );
+        }
+    }
 }

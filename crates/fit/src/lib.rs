@@ -13,17 +13,31 @@ pub mod calibrate;
 pub mod dataset;
 pub mod global;
 pub mod guess;
+pub mod interval;
 pub mod lm;
 pub mod prepare;
 pub mod problem;
+pub mod residuals;
 pub mod space;
+pub mod stiffness;
+pub mod thin;
 pub mod uncertainty;
 
+#[cfg(test)]
+mod test_problems;
+
 pub use calibrate::{
-    calibrate, compare_with_published, FitError, FitOptions, FitReport, Method, ParamReport, Stage,
-    Status,
+    calibrate, compare_with_published, Combination, FitError, FitOptions, FitReport, LocalRun,
+    Method, ParamReport, Stage, Status,
 };
 pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
-pub use prepare::{control_of, prepare_set, prepare_test, reference_model, PreparedTest};
+pub use interval::Interval;
+pub use lm::Termination;
+pub use prepare::{
+    control_of, prepare_set, prepare_set_with, prepare_test, reference_model, thin_prepared,
+    PrepareOptions, PreparedTest,
+};
 pub use problem::{model_runs, Problem};
+pub use residuals::Residuals;
 pub use space::{Coord, Param, Space};
+pub use stiffness::{resolved_stiffness, Stiffness};

@@ -1,17 +1,61 @@
 //! From an experiment set on disk to the tests the objective sees: the imposed column is
-//! conditioned (measurement jitter removed) and each test keeps its segmentation.
+//! conditioned (measurement jitter removed), each test keeps its segmentation and its initial
+//! state, and long records are thinned to the rows that carry information ([`crate::thin`]).
 
 use crate::dataset::FitTest;
-use subfric_data::{segment, ExperimentSet, SegmentOptions, Segmentation, TestData};
-use subfric_model::{Control, Model, Params};
+use crate::thin::{bins, scale_for_budget, thin_test};
+use subfric_data::{
+    segment, ExperimentSet, SegmentKind, SegmentOptions, Segmentation, StartKind, TestData,
+};
+use subfric_model::{Control, Initial, Model, Params};
 
 /// A test ready for fitting, with the segmentation its residuals are localised by.
 #[derive(Clone, Debug)]
 pub struct PreparedTest {
-    /// The objective's view of the test.
+    /// The objective's view of the test: thinned when the set is long.
     pub fit: FitTest,
-    /// Phases of the test (holds, steps, reversals, cycles).
+    /// Every row of the record (misfit on all rows, figures); equal to `fit` when not thinned.
+    pub full: FitTest,
+    /// Row of the full record that each row of `fit` stands for.
+    pub kept: Vec<usize>,
+    /// Phases of the full record (holds, steps, reversals, cycles).
     pub segmentation: Segmentation,
+}
+
+impl PreparedTest {
+    /// True when `fit` holds fewer rows than the record.
+    pub fn is_thinned(&self) -> bool {
+        self.fit.len() != self.full.len()
+    }
+
+    /// Kind of segment of row `i` of `fit`.
+    pub fn kind_of_fit_row(&self, i: usize) -> SegmentKind {
+        let r = self.kept.get(i).copied().unwrap_or(0);
+        self.segmentation
+            .row_kind
+            .get(r)
+            .copied()
+            .unwrap_or(SegmentKind::SteadySliding)
+    }
+}
+
+/// How tests are prepared.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrepareOptions {
+    /// Segmentation settings.
+    pub segment: SegmentOptions,
+    /// Rows the fitted tests of a set may hold together; a longer set is thinned to about this
+    /// many (0: never thin).
+    pub budget_rows: usize,
+}
+
+impl Default for PrepareOptions {
+    fn default() -> Self {
+        PrepareOptions {
+            segment: SegmentOptions::default(),
+            budget_rows: 6000,
+        }
+    }
 }
 
 /// The model's control for the data's control.
@@ -22,11 +66,27 @@ pub fn control_of(c: subfric_data::Control) -> Control {
     }
 }
 
-/// Prepares one test: conditions the imposed column and segments it.
+/// The model's initial state for the start the segmentation decided.
+fn initial_of(seg: &Segmentation) -> Initial {
+    let s = &seg.start;
+    match s.kind {
+        StartKind::Rest => Initial::Rest,
+        StartKind::Loaded => Initial::Loaded {
+            shear_kpa: s.shear_kpa,
+        },
+        StartKind::Sliding => Initial::Sliding {
+            shear_kpa: s.shear_kpa,
+            rate_mm_s: s.rate,
+        },
+    }
+}
+
+/// Prepares one test with all its rows: conditions the imposed column, segments it, takes the
+/// initial state.
 pub fn prepare_test(test: &TestData, name: String, opts: &SegmentOptions) -> PreparedTest {
     let segmentation = segment(test, opts);
     let control = control_of(test.spec.control);
-    let fit = FitTest::new(
+    let mut fit = FitTest::new(
         name,
         control,
         test.time_s.clone(),
@@ -34,13 +94,43 @@ pub fn prepare_test(test: &TestData, name: String, opts: &SegmentOptions) -> Pre
         test.measured().to_vec(),
         test.normal_kpa.clone(),
     );
-    PreparedTest { fit, segmentation }
+    fit.initial = initial_of(&segmentation);
+    PreparedTest {
+        full: fit.clone(),
+        kept: (0..fit.len()).collect(),
+        fit,
+        segmentation,
+    }
+}
+
+/// Thins a prepared test to at most about `budget` rows.
+pub fn thin_prepared(p: &mut PreparedTest, budget: usize) {
+    if p.full.len() <= budget {
+        return;
+    }
+    let scale = scale_for_budget(&p.full, &p.segmentation, budget);
+    let b = bins(&p.full, &p.segmentation, scale);
+    if b.len() >= p.full.len() {
+        return;
+    }
+    p.fit = thin_test(&p.full, &b);
+    p.kept = b.representatives();
 }
 
 /// Prepares every test of a set; with `prefix`, test names become `set/test` (joint fits).
 pub fn prepare_set(set: &ExperimentSet, prefix: bool) -> Vec<PreparedTest> {
-    let opts = SegmentOptions::default();
-    set.tests
+    prepare_set_with(set, prefix, &PrepareOptions::default())
+}
+
+/// As [`prepare_set`], with options: a set with more rows than `budget_rows` is thinned, each
+/// test to its share of the budget.
+pub fn prepare_set_with(
+    set: &ExperimentSet,
+    prefix: bool,
+    opts: &PrepareOptions,
+) -> Vec<PreparedTest> {
+    let mut tests: Vec<PreparedTest> = set
+        .tests
         .iter()
         .map(|t| {
             let name = if prefix {
@@ -48,9 +138,17 @@ pub fn prepare_set(set: &ExperimentSet, prefix: bool) -> Vec<PreparedTest> {
             } else {
                 t.spec.name.clone()
             };
-            prepare_test(t, name, &opts)
+            prepare_test(t, name, &opts.segment)
         })
-        .collect()
+        .collect();
+    let total: usize = tests.iter().map(|p| p.full.len()).sum();
+    if opts.budget_rows > 0 && total > opts.budget_rows {
+        for p in tests.iter_mut() {
+            let share = (opts.budget_rows as f64 * p.full.len() as f64 / total as f64).ceil();
+            thin_prepared(p, (share as usize).max(200));
+        }
+    }
+    tests
 }
 
 /// The published parameters of a set (`reference_parameters`), if any and readable.

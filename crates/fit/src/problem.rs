@@ -1,8 +1,10 @@
 //! The calibration problem: tests, the parameter space, and evaluation counting.
 
-use crate::dataset::{residuals_into, FitTest};
+use crate::dataset::{residuals_into, FitTest, FAILED_RESIDUAL};
+use crate::residuals::Residuals;
 use crate::space::Space;
 use argmin::core::{CostFunction, Error as ArgminError};
+use std::cell::RefCell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use subfric_model::Model;
 
@@ -14,6 +16,10 @@ static MODEL_RUNS: AtomicUsize = AtomicUsize::new(0);
 pub fn model_runs() -> usize {
     MODEL_RUNS.load(Ordering::Relaxed)
 }
+
+/// Contribution to the SSR of one row whose residual is not finite: the square of
+/// [`FAILED_RESIDUAL`], so a row that cannot be simulated weighs the same wherever it is counted.
+pub const FAILED_ROW_SQUARED: f64 = FAILED_RESIDUAL * FAILED_RESIDUAL;
 
 /// A least-squares problem over a [`Space`]: residuals are the noise-normalised errors of
 /// every row of every test.
@@ -65,6 +71,35 @@ impl<'a> Problem<'a> {
     /// Model at `x`.
     pub fn model_at(&self, x: &[f64]) -> Model {
         self.space.model_at(x)
+    }
+}
+
+thread_local! {
+    /// Simulation buffer of the generic solvers' residual calls: one per worker thread, so a
+    /// model run does not allocate.
+    static SCRATCH: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
+}
+
+/// The solvers see the friction problem through its residuals and its box.
+impl Residuals for Problem<'_> {
+    fn dim(&self) -> usize {
+        self.space.dim()
+    }
+
+    fn bounds(&self) -> (&[f64], &[f64]) {
+        (&self.space.lo, &self.space.hi)
+    }
+
+    fn residuals_at(&self, x: &[f64], out: &mut Vec<f64>) {
+        SCRATCH.with(|s| self.residuals(x, out, &mut s.borrow_mut()));
+    }
+
+    fn observations(&self) -> usize {
+        self.rows()
+    }
+
+    fn sum_of_squares(&self, x: &[f64]) -> f64 {
+        self.ssr(x)
     }
 }
 

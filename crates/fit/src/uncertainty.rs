@@ -1,14 +1,23 @@
 //! Uncertainty and identifiability: standard errors and correlations from the Jacobian at the
 //! optimum, flat directions of JᵀJ, and profile intervals that do not assume a quadratic cost.
 
+use crate::interval::Interval;
 use crate::lm::{jacobian, levenberg_marquardt, LmOptions};
 use crate::problem::Problem;
-use nalgebra::{DMatrix, SymmetricEigen};
+use crate::residuals::Residuals;
+use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use rayon::prelude::*;
 use serde::Serialize;
 
 /// χ²₁ quantile at 95 %: the rise of the (scaled) SSR that bounds a 95 % profile interval.
 pub const CHI2_1_95: f64 = 3.841;
+
+/// Relative difference step of the chart's Jacobian T (exact arithmetic, no solver noise, so
+/// smaller than the residuals' [`crate::lm::JACOBIAN_STEP`]).
+const CHART_STEP: f64 = 1e-7;
+
+/// Components of a flat direction smaller than this are left out of the report.
+const FLAT_COMPONENT: f64 = 0.1;
 
 /// Linearised statistics at the optimum.
 #[derive(Clone, Debug)]
@@ -40,61 +49,40 @@ pub fn variance_scale(ssr: f64, rows: usize, m: usize) -> f64 {
     (ssr / (rows.saturating_sub(m)).max(1) as f64).max(1.0)
 }
 
-/// Standard errors, correlations and flat directions at `x`.
-pub fn linearise(p: &Problem, x: &[f64], ssr: f64) -> Linearised {
-    let m = x.len();
-    let mut r = Vec::new();
-    let mut s = Vec::new();
-    p.residuals(x, &mut r, &mut s);
-    let j = jacobian(p, x, &r, None);
-    let jtj = j.transpose() * &j;
-    let s2 = variance_scale(ssr, p.rows(), m);
-    // Natural = T(x): its Jacobian by differences (μ_k depends on μ_s and its ratio).
-    let nat0 = p.space.natural(x);
-    let mut t = DMatrix::zeros(m, m);
-    for k in 0..m {
-        let mut xp = x.to_vec();
-        let h = 1e-7 * (1.0 + x[k].abs());
-        xp[k] += h;
-        let nat = p.space.natural(&xp);
-        for i in 0..m {
-            t[(i, k)] = (nat[i] - nat0[i]) / h;
-        }
-    }
-    let names: Vec<String> = p.space.coords.iter().map(|c| c.name()).collect();
-    let eig = SymmetricEigen::new(jtj.clone());
-    let max_ev = eig.eigenvalues.iter().cloned().fold(0.0, f64::max);
-    let mut flat = Vec::new();
-    for (i, &ev) in eig.eigenvalues.iter().enumerate() {
-        let rel = ev / max_ev.max(1e-300);
-        if rel < 1e-6 {
-            let v = eig.eigenvectors.column(i);
-            let mut comps: Vec<(String, f64)> =
-                names.iter().cloned().zip(v.iter().cloned()).collect();
-            comps.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
-            comps.retain(|c| c.1.abs() > 0.1);
-            flat.push(FlatDirection {
-                relative_curvature: rel,
-                components: comps,
-            });
-        }
-    }
-    // Pseudo-inverse: directions with (almost) no curvature get infinite variance, and so does
-    // every parameter that moves along them.
-    let cutoff = 1e-10 * max_ev;
-    let mut cov_x = DMatrix::zeros(m, m);
-    let mut flat_vectors = Vec::new();
-    for (i, &ev) in eig.eigenvalues.iter().enumerate() {
-        let v = eig.eigenvectors.column(i).into_owned();
-        if ev > cutoff && ev.is_finite() {
-            cov_x += &v * v.transpose() * (s2 / ev);
-        } else {
-            flat_vectors.push(v);
-        }
-    }
-    let loads_on_flat = |row: &[f64]| {
+/// Relative curvature (eigenvalue of JᵀJ over the largest) below which a direction is reported
+/// as flat.
+pub const FLAT_CURVATURE: f64 = 1e-6;
+
+/// Relative curvature below which a direction counts as having none at all: it is left out of
+/// the pseudo-inverse, and every quantity that moves along it gets an infinite standard error.
+pub const NO_CURVATURE: f64 = 1e-10;
+
+/// Share of a quantity's squared gradient lying along curvature-free directions above which its
+/// variance is infinite rather than whatever the truncated pseudo-inverse gives.
+const FLAT_LOAD: f64 = 1e-3;
+
+/// Linearised statistics in the optimiser's own coordinates (no chart, no names): what the
+/// Jacobian alone says, for any [`Residuals`] problem.
+#[derive(Clone, Debug)]
+pub struct CoordinateStats {
+    /// Covariance of the coordinates s²(JᵀJ)⁺ (pseudo-inverse over the curved directions).
+    pub covariance: DMatrix<f64>,
+    /// Standard errors of the coordinates; infinite along curvature-free directions.
+    pub std_errors: Vec<f64>,
+    /// Eigen-directions of JᵀJ with relative curvature below [`FLAT_CURVATURE`]:
+    /// (relative curvature, unit vector).
+    pub flat: Vec<(f64, DVector<f64>)>,
+    /// Directions without curvature (below [`NO_CURVATURE`]).
+    pub curvature_free: Vec<DVector<f64>>,
+}
+
+impl CoordinateStats {
+    /// Whether a quantity with gradient `row` (in the coordinates) moves along a direction
+    /// without curvature, i.e. has an infinite standard error.
+    pub fn loads_on_flat(&self, row: &[f64]) -> bool {
         let norm2: f64 = row.iter().map(|v| v * v).sum();
-        let load: f64 = flat_vectors
+        let load: f64 = self
+            .curvature_free
             .iter()
             .map(|v| {
                 row.iter()
@@ -104,27 +92,96 @@ pub fn linearise(p: &Problem, x: &[f64], ssr: f64) -> Linearised {
                     .powi(2)
             })
             .sum();
-        load > 1e-3 * norm2.max(1e-300)
+        load > FLAT_LOAD * norm2.max(f64::MIN_POSITIVE)
+    }
+}
+
+/// Covariance, standard errors and flat directions of the coordinates at `x` (an optimum with
+/// sum of squares `ssr`).
+pub fn coordinate_stats<R: Residuals + ?Sized>(p: &R, x: &[f64], ssr: f64) -> CoordinateStats {
+    let m = x.len();
+    let mut r = Vec::new();
+    p.residuals_at(x, &mut r);
+    let j = jacobian(p, x, &r, None);
+    let jtj = j.transpose() * &j;
+    let s2 = variance_scale(ssr, p.observations(), m);
+    let eig = SymmetricEigen::new(jtj);
+    let max_ev = eig.eigenvalues.iter().cloned().fold(0.0, f64::max);
+    let mut flat = Vec::new();
+    let mut curvature_free = Vec::new();
+    let mut covariance = DMatrix::zeros(m, m);
+    for (i, &ev) in eig.eigenvalues.iter().enumerate() {
+        let v = eig.eigenvectors.column(i).into_owned();
+        let rel = ev / max_ev.max(f64::MIN_POSITIVE);
+        if rel < FLAT_CURVATURE {
+            flat.push((rel, v.clone()));
+        }
+        if ev > NO_CURVATURE * max_ev && ev.is_finite() {
+            covariance += &v * v.transpose() * (s2 / ev);
+        } else {
+            curvature_free.push(v);
+        }
+    }
+    let mut stats = CoordinateStats {
+        covariance,
+        std_errors: Vec::new(),
+        flat,
+        curvature_free,
     };
-    let cov = &t * &cov_x * t.transpose();
-    let se: Vec<f64> = (0..m)
-        .map(|k| {
-            let row: Vec<f64> = (0..m).map(|j| t[(k, j)]).collect();
-            if loads_on_flat(&row) {
-                f64::INFINITY
-            } else {
-                cov[(k, k)].max(0.0).sqrt()
-            }
-        })
-        .collect();
-    let se_x: Vec<f64> = (0..m)
+    stats.std_errors = (0..m)
         .map(|k| {
             let mut e = vec![0.0; m];
             e[k] = 1.0;
-            if loads_on_flat(&e) {
+            if stats.loads_on_flat(&e) {
                 f64::INFINITY
             } else {
-                cov_x[(k, k)].max(0.0).sqrt()
+                stats.covariance[(k, k)].max(0.0).sqrt()
+            }
+        })
+        .collect();
+    stats
+}
+
+/// Standard errors, correlations and flat directions of the natural parameters at `x`: the
+/// coordinates' statistics carried through the chart by its Jacobian T = ∂natural/∂x.
+pub fn linearise(p: &Problem, x: &[f64], ssr: f64) -> Linearised {
+    let m = x.len();
+    let stats = coordinate_stats(p, x, ssr);
+    // Natural = T(x): its Jacobian by differences (μ_k depends on μ_s and its ratio).
+    let nat0 = p.space.natural(x);
+    let mut t = DMatrix::zeros(m, m);
+    for k in 0..m {
+        let mut xp = x.to_vec();
+        let h = CHART_STEP * (1.0 + x[k].abs());
+        xp[k] += h;
+        let nat = p.space.natural(&xp);
+        for i in 0..m {
+            t[(i, k)] = (nat[i] - nat0[i]) / h;
+        }
+    }
+    let names: Vec<String> = p.space.coords.iter().map(|c| c.name()).collect();
+    let flat = stats
+        .flat
+        .iter()
+        .map(|(rel, v)| {
+            let mut comps: Vec<(String, f64)> =
+                names.iter().cloned().zip(v.iter().cloned()).collect();
+            comps.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+            comps.retain(|c| c.1.abs() > FLAT_COMPONENT);
+            FlatDirection {
+                relative_curvature: *rel,
+                components: comps,
+            }
+        })
+        .collect();
+    let cov = &t * &stats.covariance * t.transpose();
+    let se: Vec<f64> = (0..m)
+        .map(|k| {
+            let row: Vec<f64> = (0..m).map(|j| t[(k, j)]).collect();
+            if stats.loads_on_flat(&row) {
+                f64::INFINITY
+            } else {
+                cov[(k, k)].max(0.0).sqrt()
             }
         })
         .collect();
@@ -145,7 +202,7 @@ pub fn linearise(p: &Problem, x: &[f64], ssr: f64) -> Linearised {
     Linearised {
         covariance: Some(cov),
         std_errors: se,
-        std_errors_x: se_x,
+        std_errors_x: stats.std_errors,
         correlation: corr,
         flat_directions: flat,
     }
@@ -185,13 +242,34 @@ pub struct Profile {
     pub better: Option<(Vec<f64>, f64)>,
 }
 
+/// Most steps a profile takes on one side (each doubles the offset, so 16 reach 2¹⁵ times the
+/// first step: every box wall, in practice).
+const PROFILE_STEPS: usize = 16;
+
+/// The first offset of a profile, in standard errors of the coordinate: a little beyond the
+/// quadratic 95 % point (1.96 s.e. would be reached on the second step), so a nearly quadratic
+/// profile brackets the threshold in one or two re-fits.
+const FIRST_STEP_SE: f64 = 1.5;
+
+/// First offset when the standard error is infinite (transformed units).
+const FIRST_STEP_FLAT: f64 = 0.05;
+
+/// Range of the first offset (transformed units).
+const FIRST_STEP_RANGE: (f64, f64) = (1e-3, 0.5);
+
+/// Iteration limit of each profile re-fit: it starts next to its answer (the previous point).
+const PROFILE_LM_ITERATIONS: usize = 30;
+
+/// A profile point counts as a better optimum when its SSR is lower by this share (of
+/// max(1, SSR)), not by round-off.
+const BETTER_BY: f64 = 1e-6;
+
 /// Profiles every optimiser coordinate (in parallel): each is stepped away from the optimum
 /// with the others re-minimised, until the SSR has risen by χ²₁(0.95)·s² or the box wall is
 /// reached (then that side is open: the data set no bound there).
-pub fn profiles(p: &Problem, x: &[f64], ssr: f64, se_x: &[f64]) -> Vec<Profile> {
+pub fn profiles<R: Residuals + ?Sized>(p: &R, x: &[f64], ssr: f64, se_x: &[f64]) -> Vec<Profile> {
     let m = x.len();
-    let s2 = variance_scale(ssr, p.rows(), m);
-    let threshold = CHI2_1_95 * s2;
+    let s2 = variance_scale(ssr, p.observations(), m);
     (0..m)
         .into_par_iter()
         .map(|k| {
@@ -201,91 +279,15 @@ pub fn profiles(p: &Problem, x: &[f64], ssr: f64, se_x: &[f64]) -> Vec<Profile> 
                 open_wall: false,
             }];
             let mut better: Option<(Vec<f64>, f64)> = None;
-            let mut ends = Vec::new();
-            let fixed: Vec<bool> = (0..m).map(|i| i == k).collect();
-            let opts = LmOptions {
-                max_iterations: 30,
-                ..LmOptions::default()
+            let walk = ProfileWalk {
+                x,
+                k,
+                ssr,
+                s2,
+                se: se_x[k],
             };
-            for side in [-1.0f64, 1.0] {
-                let wall = if side < 0.0 {
-                    p.space.lo[k]
-                } else {
-                    p.space.hi[k]
-                };
-                let room = (wall - x[k]).abs();
-                let mut delta = if se_x[k].is_finite() {
-                    1.5 * se_x[k]
-                } else {
-                    0.05
-                };
-                delta = delta.clamp(1e-3, 0.5);
-                let mut prev_x = x.to_vec();
-                let mut prev_d = 0.0f64;
-                let mut end = ProfileEnd {
-                    x: with(x, k, wall),
-                    open: true,
-                };
-                for _ in 0..16 {
-                    let xk = if room <= delta {
-                        wall
-                    } else {
-                        x[k] + side * delta
-                    };
-                    let res = levenberg_marquardt(p, &with(&prev_x, k, xk), Some(&fixed), &opts);
-                    let d = res.ssr - ssr;
-                    if d < -1e-6 * ssr.max(1.0) && better.as_ref().is_none_or(|b| res.ssr < b.1) {
-                        better = Some((res.x.clone(), res.ssr));
-                    }
-                    if d >= threshold {
-                        // Interpolate in √ΔSSR, linear in the offset for a quadratic profile.
-                        let (a, b) = (prev_d.max(0.0).sqrt(), d.sqrt());
-                        let w = ((threshold.sqrt() - a) / (b - a)).clamp(0.0, 1.0);
-                        let xi: Vec<f64> = prev_x
-                            .iter()
-                            .zip(&res.x)
-                            .map(|(u, v)| u + w * (v - u))
-                            .collect();
-                        trace.push(TracePoint {
-                            x: xi.clone(),
-                            delta: threshold / s2,
-                            open_wall: false,
-                        });
-                        trace.push(TracePoint {
-                            x: res.x,
-                            delta: d / s2,
-                            open_wall: false,
-                        });
-                        end = ProfileEnd { x: xi, open: false };
-                        break;
-                    }
-                    let at_wall = xk == wall;
-                    trace.push(TracePoint {
-                        x: res.x.clone(),
-                        delta: d.max(0.0) / s2,
-                        open_wall: at_wall,
-                    });
-                    if at_wall {
-                        end = ProfileEnd {
-                            x: res.x,
-                            open: true,
-                        };
-                        break;
-                    }
-                    prev_x = res.x;
-                    prev_d = d;
-                    delta *= 2.0;
-                }
-                ends.push(end);
-            }
-            let upper = ends.pop().unwrap_or(ProfileEnd {
-                x: x.to_vec(),
-                open: true,
-            });
-            let lower = ends.pop().unwrap_or(ProfileEnd {
-                x: x.to_vec(),
-                open: true,
-            });
+            let lower = walk.side(p, -1.0, &mut trace, &mut better);
+            let upper = walk.side(p, 1.0, &mut trace, &mut better);
             Profile {
                 lower,
                 upper,
@@ -296,13 +298,123 @@ pub fn profiles(p: &Problem, x: &[f64], ssr: f64, se_x: &[f64]) -> Vec<Profile> 
         .collect()
 }
 
+/// One coordinate's profile: where it starts and how far the SSR may rise.
+struct ProfileWalk<'a> {
+    /// The optimum.
+    x: &'a [f64],
+    /// The profiled coordinate.
+    k: usize,
+    /// SSR at the optimum.
+    ssr: f64,
+    /// Variance scale.
+    s2: f64,
+    /// Standard error of the coordinate (may be infinite).
+    se: f64,
+}
+
+impl ProfileWalk<'_> {
+    /// Walks from the optimum towards the wall on `side` (−1 or +1), doubling the offset, until
+    /// the SSR rises past the threshold (then the crossing is interpolated) or the wall is
+    /// reached; records the points in `trace` and any better optimum in `better`.
+    fn side<R: Residuals + ?Sized>(
+        &self,
+        p: &R,
+        side: f64,
+        trace: &mut Vec<TracePoint>,
+        better: &mut Option<(Vec<f64>, f64)>,
+    ) -> ProfileEnd {
+        let (x, k, ssr, s2) = (self.x, self.k, self.ssr, self.s2);
+        let threshold = CHI2_1_95 * s2;
+        let m = x.len();
+        let fixed: Vec<bool> = (0..m).map(|i| i == k).collect();
+        let opts = LmOptions {
+            max_iterations: PROFILE_LM_ITERATIONS,
+            ..LmOptions::default()
+        };
+        let (lo, hi) = p.bounds();
+        let wall = if side < 0.0 { lo[k] } else { hi[k] };
+        let room = (wall - x[k]).abs();
+        let first = if self.se.is_finite() {
+            FIRST_STEP_SE * self.se
+        } else {
+            FIRST_STEP_FLAT
+        };
+        let mut delta = first.max(FIRST_STEP_RANGE.0).min(FIRST_STEP_RANGE.1);
+        let mut prev_x = x.to_vec();
+        let mut prev_d = 0.0f64;
+        for _ in 0..PROFILE_STEPS {
+            let xk = if room <= delta {
+                wall
+            } else {
+                x[k] + side * delta
+            };
+            let res = levenberg_marquardt(p, &with(&prev_x, k, xk), Some(&fixed), &opts);
+            let d = res.ssr - ssr;
+            if d < -BETTER_BY * ssr.max(1.0) && better.as_ref().is_none_or(|b| res.ssr < b.1) {
+                *better = Some((res.x.clone(), res.ssr));
+            }
+            if d >= threshold {
+                // Interpolate in √ΔSSR, linear in the offset for a quadratic profile.
+                let (a, b) = (prev_d.max(0.0).sqrt(), d.sqrt());
+                let w = ((threshold.sqrt() - a) / (b - a)).clamp(0.0, 1.0);
+                let xi: Vec<f64> = prev_x
+                    .iter()
+                    .zip(&res.x)
+                    .map(|(u, v)| u + w * (v - u))
+                    .collect();
+                trace.push(TracePoint {
+                    x: xi.clone(),
+                    delta: threshold / s2,
+                    open_wall: false,
+                });
+                trace.push(TracePoint {
+                    x: res.x,
+                    delta: d / s2,
+                    open_wall: false,
+                });
+                return ProfileEnd { x: xi, open: false };
+            }
+            let at_wall = xk == wall;
+            trace.push(TracePoint {
+                x: res.x.clone(),
+                delta: d.max(0.0) / s2,
+                open_wall: at_wall,
+            });
+            if at_wall {
+                return ProfileEnd {
+                    x: res.x,
+                    open: true,
+                };
+            }
+            prev_x = res.x;
+            prev_d = d;
+            delta *= 2.0;
+        }
+        ProfileEnd {
+            x: with(x, k, wall),
+            open: true,
+        }
+    }
+}
+
+/// 95 % interval of coordinate `k` itself, from its profile's ends.
+pub fn coordinate_interval(profile: &Profile, k: usize) -> Interval {
+    Interval {
+        lo: profile.lower.x[k],
+        hi: profile.upper.x[k],
+        lo_open: profile.lower.open,
+        hi_open: profile.upper.open,
+    }
+}
+
 /// 95 % interval of a natural parameter: the range of its value over every profile point
-/// inside the threshold (the projection of the confidence region traced by the profiles), and
-/// whether each end lies on a wall the data did not bound.
-pub fn natural_interval(p: &Problem, profiles: &[Profile], index: usize) -> (f64, f64, bool, bool) {
+/// inside the threshold (the projection of the confidence region traced by the profiles).
+/// An end is open when the box, not the data, stopped the parameter there: see
+/// [`stopped_by_open_wall`]. `None` when no profile point gives a finite value.
+pub fn natural_interval(p: &Problem, profiles: &[Profile], index: usize) -> Option<Interval> {
     let limit = CHI2_1_95 + 1e-9;
-    let mut lo = (f64::INFINITY, false);
-    let mut hi = (f64::NEG_INFINITY, false);
+    let mut lo: Option<(f64, &[f64])> = None;
+    let mut hi: Option<(f64, &[f64])> = None;
     for tp in profiles.iter().flat_map(|pr| pr.trace.iter()) {
         if tp.delta > limit {
             continue;
@@ -311,18 +423,154 @@ pub fn natural_interval(p: &Problem, profiles: &[Profile], index: usize) -> (f64
         if !v.is_finite() {
             continue;
         }
-        if v < lo.0 {
-            lo = (v, tp.open_wall);
+        if lo.is_none_or(|(l, _)| v < l) {
+            lo = Some((v, &tp.x));
         }
-        if v > hi.0 {
-            hi = (v, tp.open_wall);
+        if hi.is_none_or(|(h, _)| v > h) {
+            hi = Some((v, &tp.x));
         }
     }
-    (lo.0, hi.0, lo.1, hi.1)
+    let ((a, xa), (b, xb)) = (lo?, hi?);
+    Some(Interval {
+        lo: a,
+        hi: b,
+        lo_open: stopped_by_open_wall(p, profiles, xa, index, -1.0),
+        hi_open: stopped_by_open_wall(p, profiles, xb, index, 1.0),
+    })
+}
+
+/// How close (transformed units) a coordinate must be to a wall for the point to count as
+/// stopped by it, and how far beyond the wall it is pushed to see whether the parameter would
+/// go on: one e-fold for logarithmic and logit coordinates.
+const WALL_PUSH: f64 = 1.0;
+
+/// Relative change of the parameter under that push above which the wall, not the physics,
+/// limits it. The logit walls of μ_k/μ_s and of the recovery share sit next to hard limits
+/// (μ_k ≤ μ_s, μ_k ≥ 0): pushing through those moves a parameter by about the gap (1e-4 or
+/// less), while pushing through a wall the physics would cross moves it by tens of percent.
+const WALL_MOVES: f64 = 0.01;
+
+/// Whether natural parameter `index`, at its extreme `x` (direction `sign`), was stopped by
+/// the box: some coordinate lies within [`WALL_PUSH`] of a wall its profile found open (the data
+/// set no bound there), and pushing that coordinate [`WALL_PUSH`] beyond the wall moves the
+/// parameter further in direction `sign` by more than [`WALL_MOVES`] of its value. This reads
+/// the answer off the chart rather than off which of several equal trace points (the optimum,
+/// a wall point) happened to attain the extreme.
+fn stopped_by_open_wall(
+    p: &Problem,
+    profiles: &[Profile],
+    x: &[f64],
+    index: usize,
+    sign: f64,
+) -> bool {
+    let v0 = p.space.natural(x)[index];
+    profiles.iter().enumerate().any(|(j, pr)| {
+        [
+            (pr.lower.open, p.space.lo[j], -1.0),
+            (pr.upper.open, p.space.hi[j], 1.0),
+        ]
+        .into_iter()
+        .any(|(open, wall, outward)| {
+            if !open || (x[j] - wall).abs() > WALL_PUSH {
+                return false;
+            }
+            let mut y = x.to_vec();
+            y[j] = wall + outward * WALL_PUSH;
+            let dv = p.space.natural(&y)[index] - v0;
+            sign * dv > WALL_MOVES * v0.abs()
+        })
+    })
 }
 
 fn with(x: &[f64], k: usize, v: f64) -> Vec<f64> {
     let mut y = x.to_vec();
     y[k] = v;
     y
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_problems::{linear, TestProblem};
+
+    /// A straight line a + b t through 20 points with a deterministic scatter of SD about 1
+    /// (residuals in noise units), and a third coordinate c the data do not see.
+    fn line_fit() -> (TestProblem, Vec<f64>, DMatrix<f64>) {
+        let n = 20;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 / (n - 1) as f64).collect();
+        let y: Vec<f64> = t
+            .iter()
+            .enumerate()
+            .map(|(i, ti)| 1.0 + 2.0 * ti + 1.3 * (2.7 * i as f64).sin())
+            .collect();
+        let a: Vec<Vec<f64>> = t.iter().map(|ti| vec![1.0, *ti, 0.0]).collect();
+        let am = DMatrix::from_fn(n, 2, |i, j| a[i][j]);
+        // Normal equations are fine here (cond ≈ 10): the exact answer to compare with.
+        let ata_inv = (am.transpose() * &am).try_inverse().unwrap();
+        let x_hat = &ata_inv * am.transpose() * DVector::from_vec(y.clone());
+        let p = linear(a, y, vec![-10.0, -10.0, -1.0], vec![10.0, 10.0, 1.0]);
+        (p, vec![x_hat[0], x_hat[1], 0.0], ata_inv)
+    }
+
+    #[test]
+    fn standard_errors_of_a_linear_model_are_the_textbook_ones() {
+        let (p, x, ata_inv) = line_fit();
+        let ssr = p.sum_of_squares(&x);
+        let s2 = variance_scale(ssr, p.observations(), 3);
+        assert!(
+            s2 > 1.0,
+            "the scatter should widen the intervals: s² = {s2}"
+        );
+        let st = coordinate_stats(&p, &x, ssr);
+        for k in 0..2 {
+            let want = (s2 * ata_inv[(k, k)]).sqrt();
+            assert!(
+                (st.std_errors[k] - want).abs() < 1e-6 * want,
+                "se[{k}] = {} vs {want}",
+                st.std_errors[k]
+            );
+        }
+        assert!(st.std_errors[2].is_infinite(), "c has no curvature");
+        assert_eq!(st.flat.len(), 1);
+        assert!(st.flat[0].1[2].abs() > 0.999, "the flat direction is c");
+    }
+
+    #[test]
+    fn profile_intervals_of_a_linear_model_are_plus_minus_1_96_se() {
+        let (p, x, _) = line_fit();
+        let ssr = p.sum_of_squares(&x);
+        let st = coordinate_stats(&p, &x, ssr);
+        let prof = profiles(&p, &x, ssr, &st.std_errors);
+        for k in 0..2 {
+            let i = coordinate_interval(&prof[k], k);
+            let half = 1.96 * st.std_errors[k];
+            assert!(i.is_closed(), "{k}: {i:?}");
+            // 1.96 vs √3.841 = 1.95985: 8e-5 relative.
+            assert!(
+                (i.lo - (x[k] - half)).abs() < 2e-4 * half,
+                "{k}: {i:?} vs ±{half}"
+            );
+            assert!(
+                (i.hi - (x[k] + half)).abs() < 2e-4 * half,
+                "{k}: {i:?} vs ±{half}"
+            );
+            assert!(prof[k].better.is_none(), "already at the optimum");
+        }
+        // The coordinate the data do not see: both profile ends reach the walls, open.
+        let c = coordinate_interval(&prof[2], 2);
+        assert_eq!((c.lo, c.hi, c.lo_open, c.hi_open), (-1.0, 1.0, true, true));
+    }
+
+    #[test]
+    fn a_profile_reports_a_better_optimum_it_walks_into() {
+        // Start the profiles off the optimum: re-minimising the other coordinates finds SSRs
+        // below the given one, which the caller must hear of.
+        let (p, x, _) = line_fit();
+        let off = vec![x[0] + 0.5, x[1], 0.0];
+        let ssr = p.sum_of_squares(&off);
+        let st = coordinate_stats(&p, &x, p.sum_of_squares(&x));
+        let prof = profiles(&p, &off, ssr, &st.std_errors);
+        let (_, better) = prof[1].better.clone().expect("a better point");
+        assert!(better < ssr - 1.0, "{better} vs {ssr}");
+    }
 }

@@ -139,7 +139,7 @@ fn all_five_parameters_are_recovered_within_two_percent() {
             "{key}: {} vs {value}",
             p.value
         );
-        let (lo, hi) = p.interval.unwrap();
+        let (lo, hi) = p.interval.map(|i| (i.lo, i.hi)).unwrap();
         assert!(
             lo <= value && value <= hi,
             "{key}: {value} outside [{lo}, {hi}]"

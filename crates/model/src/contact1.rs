@@ -27,6 +27,8 @@ pub struct State1 {
     pub last_plastic: f64,
     /// State variable θ of the rate-and-state forms [s] (unused otherwise).
     pub theta: f64,
+    /// Time increment of the last step [s].
+    pub last_dt: f64,
 }
 
 impl State1 {
@@ -43,6 +45,7 @@ impl State1 {
             age: 0.0,
             last_plastic: 0.0,
             theta: model.ext.rate.map_or(0.0, |r| r.neutral_theta()),
+            last_dt: 0.0,
         }
     }
 
@@ -140,6 +143,7 @@ impl Contact1 {
             age: st.age + dt,
             last_plastic: 0.0,
             theta,
+            last_dt: dt,
         }
     }
 
@@ -216,6 +220,11 @@ impl Contact1 {
                 s_acc: st.slip_path,
                 theta: st.theta,
                 local,
+                lam_guess: if self.k.ext.rate.is_some() && st.last_dt > 0.0 {
+                    st.last_plastic.abs() * dt / st.last_dt
+                } else {
+                    0.0
+                },
             },
         }
     }
@@ -228,9 +237,10 @@ impl Contact1 {
         slip: f64,
         shear: f64,
         sign: f64,
-        local: &Local,
+        input: &StepInput,
         pl: &Plastic,
     ) -> State1 {
+        let local = &input.local;
         State1 {
             slip,
             shear,
@@ -242,6 +252,7 @@ impl Contact1 {
             age: 0.0,
             last_plastic: sign * pl.lam,
             theta: pl.theta,
+            last_dt: input.dt,
         }
     }
 
@@ -266,7 +277,7 @@ impl Contact1 {
             } => {
                 let pl = return_slip(&self.k, &input, magnitude, excess)?;
                 let shear = sign * (magnitude - self.k.alpha * pl.lam);
-                Ok(self.plastic(st, slip, shear, sign, &input.local, &pl))
+                Ok(self.plastic(st, slip, shear, sign, &input, &pl))
             }
         }
     }
@@ -291,14 +302,7 @@ impl Contact1 {
                 ..
             } => {
                 let pl = return_shear(&self.k, &input, magnitude, st.last_plastic.abs())?;
-                Ok(self.plastic(
-                    st,
-                    elastic_slip + sign * pl.lam,
-                    shear,
-                    sign,
-                    &input.local,
-                    &pl,
-                ))
+                Ok(self.plastic(st, elastic_slip + sign * pl.lam, shear, sign, &input, &pl))
             }
         }
     }

@@ -198,6 +198,7 @@ impl Contact3 {
             s_acc: st.slip_path,
             theta: st.theta,
             local,
+            lam_guess: 0.0,
         };
         let pl = return_slip(&self.k, &input, magnitude, magnitude - r0 * mu_eff0 * p)?;
         Ok(State3 {

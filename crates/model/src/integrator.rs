@@ -220,6 +220,8 @@ pub(crate) struct StepInput {
     pub theta: f64,
     /// The step's constants.
     pub local: Local,
+    /// A first guess of λ (0: none), e.g. the previous plastic rate over this step.
+    pub lam_guess: f64,
 }
 
 /// State of the evolution laws after a plastic increment λ, with derivatives w.r.t. λ.
@@ -451,8 +453,13 @@ pub(crate) fn return_slip(
     let tol = 1e-10 * s.p + 8.0 * f64::EPSILON * trial;
     let mut lo = 0.0;
     let mut hi = trial / alpha;
-    // Perfectly plastic estimate: the surface does not move.
-    let mut lam = (excess / alpha).clamp(0.0, hi);
+    // Perfectly plastic estimate: the surface does not move; with rate terms the surface moves
+    // with the rate, and the previous plastic rate is the better start.
+    let mut lam = if s.lam_guess > 0.0 && s.lam_guess < hi {
+        s.lam_guess
+    } else {
+        (excess / alpha).clamp(0.0, hi)
+    };
     if lam <= 0.0 {
         lam = 0.5 * hi;
     }

@@ -3,15 +3,15 @@
 use std::path::Path;
 
 use crate::canvas::{Canvas, HAlign, VAlign};
-use crate::colors::{BAR_PALETTE, INK_RGB, ZERO_RGB};
-use crate::figure::{
-    dash_pattern, draw_axes, draw_grid, draw_legend, place_legend, tick_px, tick_py, AxisDraw,
-    Legend, LegendEntry, Metrics, Swatch,
+use crate::chrome::{
+    dash_pattern, draw_axes, draw_grid, draw_legend, draw_no_data, draw_y_label, place_legend,
+    place_title, tick_px, tick_py, AxisDraw, Legend, LegendEntry, Metrics, Swatch,
 };
+use crate::colors::{BAR_PALETTE, INK_RGB, ZERO_RGB};
 use crate::fonts::{self, CAP_HEIGHT, DESCENT};
 use crate::geom::{Occupancy, PixelRect, Pt};
 use crate::scale::{plottable, ticks, AxisRange, Extent, Ticks};
-use crate::{check_size, png_io, BarFigure, Invalid, PlotError};
+use crate::{check_size, png_io, BarFigure, DrawError, Invalid, PlotError};
 
 /// Where the parts of a [`BarFigure`] are drawn, in pixels.
 #[derive(Debug, Clone, PartialEq)]
@@ -189,37 +189,41 @@ fn y_range(fig: &BarFigure, min_hi: f64) -> AxisRange {
     }
 }
 
-fn plan_pass(fig: &BarFigure, min_hi: f64) -> Result<BarPlan, Invalid> {
-    let (w, h) = (fig.width, fig.height);
-    let m = Metrics::new(w, h);
-    let y = y_range(fig, min_hi);
-    let n = fig.categories.len();
+/// Plotting area and y ticks of a bar chart, and the number of lines
+/// (1 or 2) the category labels get.
+struct Frame {
+    plot: PixelRect,
+    yticks: Ticks,
+    label_lines: usize,
+    title_block: f64,
+}
 
-    let has_title = !fig.title.trim().is_empty();
-    let title_block = if has_title {
-        (m.title * 1.5).round()
-    } else {
+/// Lays out the plotting area: category labels on one line if they fit
+/// their slots, else on two.
+fn frame(fig: &BarFigure, m: &Metrics, y: AxisRange) -> Result<Frame, Invalid> {
+    let (w, h) = (fig.width, fig.height);
+    let title_block = if fig.title.trim().is_empty() {
         0.0
+    } else {
+        (m.title * 1.5).round()
     };
     let top = m.pad + title_block + m.px(8.0);
     let line_h = (CAP_HEIGHT + DESCENT) * m.tick * 1.25;
-    let right = m.px(30.0);
-    let has_ylabel = !fig.y_label.trim().is_empty();
-    let ylabel_col = if has_ylabel {
-        (CAP_HEIGHT + DESCENT) * m.label + m.px(10.0)
-    } else {
+    let ylabel_col = if fig.y_label.trim().is_empty() {
         0.0
+    } else {
+        (CAP_HEIGHT + DESCENT) * m.label + m.px(10.0)
     };
-
-    // Try category labels on one line, then on two.
-    let mut attempt = None;
-    for lines in 1..=2usize {
+    let n = fig.categories.len().max(1) as f64;
+    let mut lines = 1;
+    loop {
         let bottom = m.tick_len + m.gap + line_h * lines as f64 + m.pad;
         let plot_h = (f64::from(h) - top - bottom).floor();
         if plot_h < 20.0 {
-            return Err(Invalid::Draw(format!(
-                "{w}x{h} is too small for this bar chart"
-            )));
+            return Err(Invalid::Draw(DrawError::TooLow {
+                width: w,
+                height: h,
+            }));
         }
         let target = ((plot_h / (60.0 * m.s)).round() as usize).clamp(2, 9);
         let yticks = ticks(y, target);
@@ -231,64 +235,138 @@ fn plan_pass(fig: &BarFigure, min_hi: f64) -> Result<BarPlan, Invalid> {
         let left = (m.pad + ylabel_col + tick_w + m.gap + m.tick_len)
             .ceil()
             .min(f64::from(w) * 0.45);
-        let plot_w = f64::from(w) - left - right;
+        let plot_w = f64::from(w) - left - m.px(30.0);
         if plot_w < 40.0 {
-            return Err(Invalid::Draw(format!(
-                "{w}x{h} is too narrow for this bar chart"
-            )));
+            return Err(Invalid::Draw(DrawError::TooNarrow {
+                width: w,
+                height: h,
+            }));
         }
-        let slot = plot_w / n.max(1) as f64;
+        let slot = plot_w / n;
         let fits = fig
             .categories
             .iter()
             .all(|c| fonts::text_width(c.trim(), m.tick * 0.9) <= slot * 0.9);
         if fits || lines == 2 {
-            attempt = Some((lines, plot_h, yticks, left, plot_w));
-            break;
+            let plot = PixelRect {
+                left: left as i32,
+                top: top as i32,
+                right: left as i32 + plot_w as i32 - 1,
+                bottom: top as i32 + plot_h as i32 - 1,
+            };
+            return Ok(Frame {
+                plot,
+                yticks,
+                label_lines: lines,
+                title_block,
+            });
         }
+        lines = 2;
     }
-    let Some((lines, plot_h, yticks, left, plot_w)) = attempt else {
-        return Err(Invalid::Draw("bar chart layout failed".into()));
-    };
-    let plot = PixelRect {
-        left: left as i32,
-        top: top as i32,
-        right: left as i32 + plot_w as i32 - 1,
-        bottom: top as i32 + plot_h as i32 - 1,
-    };
-    let slot = f64::from(plot.right - plot.left) / n.max(1) as f64;
-    let (label_lines, label_size) = fit_categories(&fig.categories, m.tick, slot * 0.9, lines);
-    let categories: Vec<CategoryLabel> = label_lines
+}
+
+/// Width of one category's slot along the x axis.
+fn slot_width(plot: PixelRect, categories: usize) -> f64 {
+    f64::from(plot.right - plot.left) / categories.max(1) as f64
+}
+
+/// Category labels under the slots, split and sized to fit them.
+fn category_labels(
+    fig: &BarFigure,
+    plot: PixelRect,
+    lines: usize,
+    m: &Metrics,
+) -> Vec<CategoryLabel> {
+    let slot = slot_width(plot, fig.categories.len());
+    let (label_lines, size) = fit_categories(&fig.categories, m.tick, slot * 0.9, lines);
+    label_lines
         .into_iter()
         .enumerate()
         .map(|(j, lines)| CategoryLabel {
             lines,
-            size: label_size,
+            size,
             cx: f64::from(plot.left) + slot * (j as f64 + 0.5),
         })
-        .collect();
+        .collect()
+}
 
-    // Bars.
-    let g = fig.groups.len();
-    let group_w = slot * 0.8;
-    let bar_w = group_w / g.max(1) as f64;
+/// Bars, their value labels and "n/a" marks, with the occupancy they leave.
+struct Bars {
+    bars: Vec<(usize, usize, PixelRect, [u8; 3])>,
+    value_labels: Vec<(String, Pt, VAlign)>,
+    value_size: f64,
+    missing: Vec<Pt>,
+}
+
+/// A bar: its value, rectangle and horizontal centre.
+struct Bar {
+    v: f64,
+    rect: PixelRect,
+    cx: f64,
+}
+
+/// The value label of a bar, centred above it (below it for a negative
+/// value), if it fits the bar's width and stays inside the plotting area;
+/// also returns the band of pixels it covers.
+fn value_label(
+    text: String,
+    bar: &Bar,
+    plot: PixelRect,
+    size: f64,
+    m: &Metrics,
+) -> Option<((String, Pt, VAlign), PixelRect)> {
+    let Bar { v, rect: bar, cx } = *bar;
+    if fonts::text_width(&text, size) + 2.0 > f64::from(bar.width()) {
+        return None;
+    }
+    let text_h = (CAP_HEIGHT + DESCENT) * size;
+    let (at, va, band) = if v >= 0.0 {
+        let y = f64::from(bar.top) - m.px(3.0);
+        ((cx, y), VAlign::Bottom, (y - text_h, y))
+    } else {
+        let y = f64::from(bar.bottom) + m.px(3.0);
+        ((cx, y), VAlign::Top, (y, y + text_h))
+    };
+    if band.0 <= f64::from(plot.top) || band.1 >= f64::from(plot.bottom) {
+        return None;
+    }
+    let band = PixelRect {
+        top: band.0 as i32,
+        bottom: band.1 as i32,
+        ..bar
+    };
+    Some(((text, at, va), band))
+}
+
+fn place_bars(
+    fig: &BarFigure,
+    plot: PixelRect,
+    y: AxisRange,
+    m: &Metrics,
+    occupancy: &mut Occupancy,
+) -> Bars {
+    let n = fig.categories.len();
+    let slot = slot_width(plot, n);
+    let bar_w = slot * 0.8 / fig.groups.len().max(1) as f64;
     let y0 = tick_py(y, 0.0_f64.clamp(y.min, y.max), plot);
     let value_size = m.tick * 0.8;
-    let value_format = ValueFormat::for_values(fig.groups.iter().flat_map(|(_, v)| v.iter()));
-    let mut bars = Vec::new();
-    let mut value_labels = Vec::new();
-    let mut missing = Vec::new();
-    let mut occupancy = Occupancy::new(plot, m.px(6.0).max(3.0) as i32);
+    let format = ValueFormat::for_values(fig.groups.iter().flat_map(|(_, v)| v.iter()));
+    let mut out = Bars {
+        bars: Vec::new(),
+        value_labels: Vec::new(),
+        value_size,
+        missing: Vec::new(),
+    };
     for (gi, (_, values)) in fig.groups.iter().enumerate() {
         let color = BAR_PALETTE[gi % BAR_PALETTE.len()];
         for (j, &v) in values.iter().enumerate().take(n) {
             let x0 = f64::from(plot.left) + slot * j as f64 + 0.1 * slot + bar_w * gi as f64;
-            let (l, r) = (x0.round() as i32, (x0 + bar_w).round() as i32 - 1);
-            let cx = 0.5 * (x0 + x0 + bar_w);
+            let cx = x0 + 0.5 * bar_w;
             if !plottable(v) {
-                missing.push((cx, f64::from(y0)));
+                out.missing.push((cx, f64::from(y0)));
                 continue;
             }
+            let (l, r) = (x0.round() as i32, (x0 + bar_w).round() as i32 - 1);
             let yv = tick_py(y, v, plot).clamp(plot.top + 1, plot.bottom - 1);
             let rect = PixelRect {
                 left: l.max(plot.left + 1),
@@ -297,49 +375,19 @@ fn plan_pass(fig: &BarFigure, min_hi: f64) -> Result<BarPlan, Invalid> {
                 bottom: yv.max(y0),
             };
             occupancy.mark_rect(rect);
-            bars.push((j, gi, rect, color));
-            let text = value_format.format(v);
-            if fonts::text_width(&text, value_size) + 2.0 <= f64::from(rect.width()) {
-                let (at, va) = if v >= 0.0 {
-                    ((cx, f64::from(rect.top) - m.px(3.0)), VAlign::Bottom)
-                } else {
-                    ((cx, f64::from(rect.bottom) + m.px(3.0)), VAlign::Top)
-                };
-                let text_h = (CAP_HEIGHT + DESCENT) * value_size;
-                let inside = if v >= 0.0 {
-                    at.1 - text_h > f64::from(plot.top)
-                } else {
-                    at.1 + text_h < f64::from(plot.bottom)
-                };
-                if inside {
-                    let band = if v >= 0.0 {
-                        (at.1 - text_h, at.1)
-                    } else {
-                        (at.1, at.1 + text_h)
-                    };
-                    occupancy.mark_rect(PixelRect {
-                        left: rect.left,
-                        right: rect.right,
-                        top: band.0 as i32,
-                        bottom: band.1 as i32,
-                    });
-                    value_labels.push((text, at, va));
-                }
+            out.bars.push((j, gi, rect, color));
+            let bar = Bar { v, rect, cx };
+            if let Some((label, band)) = value_label(format.format(v), &bar, plot, value_size, m) {
+                occupancy.mark_rect(band);
+                out.value_labels.push(label);
             }
         }
     }
-    let reference = fig
-        .reference_line
-        .as_ref()
-        .filter(|(_, v)| plottable(*v) && y.contains(*v))
-        .map(|(_, v)| tick_py(y, *v, plot));
-    if let Some(py) = reference {
-        occupancy.mark_polyline(&[
-            (f64::from(plot.left), f64::from(py)),
-            (f64::from(plot.right), f64::from(py)),
-        ]);
-    }
+    out
+}
 
+/// Legend entries: one patch per named group, then the reference line.
+fn legend_entries(fig: &BarFigure, m: &Metrics) -> Vec<LegendEntry> {
     let mut entries: Vec<LegendEntry> = fig
         .groups
         .iter()
@@ -369,39 +417,56 @@ fn plan_pass(fig: &BarFigure, min_hi: f64) -> Result<BarPlan, Invalid> {
             });
         }
     }
-    let legend = place_legend(entries, plot, &occupancy, &m);
+    entries
+}
 
+/// One layout of the chart with the top of the y axis at least `min_hi`.
+fn plan_pass(fig: &BarFigure, min_hi: f64) -> Result<BarPlan, Invalid> {
+    let m = Metrics::new(fig.width, fig.height);
+    let y = y_range(fig, min_hi);
+    let frame = frame(fig, &m, y)?;
+    let plot = frame.plot;
+    let categories = category_labels(fig, plot, frame.label_lines, &m);
+    let mut occupancy = Occupancy::new(plot, m.px(6.0).max(3.0) as i32);
+    let bars = place_bars(fig, plot, y, &m, &mut occupancy);
+    let reference = fig
+        .reference_line
+        .as_ref()
+        .filter(|(_, v)| plottable(*v) && y.contains(*v))
+        .map(|(_, v)| tick_py(y, *v, plot));
+    if let Some(py) = reference {
+        occupancy.mark_polyline(&[
+            (f64::from(plot.left), f64::from(py)),
+            (f64::from(plot.right), f64::from(py)),
+        ]);
+    }
+    let legend = place_legend(legend_entries(fig, &m), plot, &occupancy, &m);
     let (y_label, y_label_size) = fonts::shrink_to_fit(
         fig.y_label.trim(),
         m.label,
         m.label * 0.7,
         f64::from(plot.height()),
     );
-    let title_w_max = f64::from(w) - 2.0 * m.pad;
-    let (title, title_size) =
-        fonts::shrink_to_fit(fig.title.trim(), m.title, m.title * 0.6, title_w_max);
-    let title_w = fonts::text_width(&title, title_size);
-    let title_cx = (0.5 * f64::from(plot.left + plot.right))
-        .max(m.pad + 0.5 * title_w)
-        .min(f64::from(w) - m.pad - 0.5 * title_w);
+    let (title, title_size, title_center) =
+        place_title(&fig.title, plot, fig.width, frame.title_block, &m);
     Ok(BarPlan {
-        width: w,
-        height: h,
+        width: fig.width,
+        height: fig.height,
         m,
         plot,
         y,
-        yticks,
+        yticks: frame.yticks,
         title,
         title_size,
-        title_center: (title_cx, m.pad + 0.5 * title_block),
+        title_center,
         y_label,
         y_label_size,
         categories,
-        has_data: !bars.is_empty(),
-        bars,
-        value_labels,
-        value_size,
-        missing,
+        has_data: !bars.bars.is_empty(),
+        bars: bars.bars,
+        value_labels: bars.value_labels,
+        value_size: bars.value_size,
+        missing: bars.missing,
         reference,
         legend,
     })
@@ -472,20 +537,12 @@ pub fn bar_layout(fig: &BarFigure) -> Option<BarLayout> {
     })
 }
 
-fn draw(p: &BarPlan, buf: &mut [u8]) -> Result<(), String> {
+/// Bars, the zero line, the reference line, value labels and "n/a" marks.
+fn draw_bars(c: &mut Canvas, p: &BarPlan) {
     let m = &p.m;
-    let mut c = Canvas::new(buf, p.width, p.height)?;
-    let axes = AxisDraw {
-        rect: p.plot,
-        x: None,
-        x_labels: false,
-        y: p.y,
-        yticks: &p.yticks,
-    };
-    draw_grid(&mut c, &axes)?;
     for &(_, _, r, color) in &p.bars {
-        c.fill(r, color)?;
-        c.outline(r, INK_RGB)?;
+        c.fill(r, color);
+        c.outline(r, INK_RGB);
     }
     if p.y.min < 0.0 && p.y.max > 0.0 {
         let y0 = tick_py(p.y, 0.0, p.plot);
@@ -496,20 +553,19 @@ fn draw(p: &BarPlan, buf: &mut [u8]) -> Result<(), String> {
                 ..p.plot
             },
             INK_RGB,
-        )?;
+        );
     }
     if let Some(py) = p.reference {
-        let (dash, gap) = dash_pattern(m);
-        let line = [
+        c.line(
             (f64::from(p.plot.left + 2), f64::from(py)),
             (f64::from(p.plot.right - 2), f64::from(py)),
-        ];
-        for d in crate::geom::dashes(&line, dash, gap) {
-            c.polyline(&d, ZERO_RGB, m.width(1.5))?;
-        }
+            ZERO_RGB,
+            m.width(1.5),
+            Some(dash_pattern(m)),
+        );
     }
     for (text, at, va) in &p.value_labels {
-        c.text(text, p.value_size, INK_RGB, *at, HAlign::Center, *va)?;
+        c.text(text, p.value_size, INK_RGB, *at, HAlign::Center, *va);
     }
     for at in &p.missing {
         let at = (at.0, at.1 - m.px(3.0));
@@ -520,14 +576,17 @@ fn draw(p: &BarPlan, buf: &mut [u8]) -> Result<(), String> {
             at,
             HAlign::Center,
             VAlign::Bottom,
-        )?;
+        );
     }
-    draw_axes(&mut c, &axes, m, p.width)?;
+}
+
+/// A tick under the middle of each category slot and its label below.
+fn draw_categories(c: &mut Canvas, p: &BarPlan) {
+    let m = &p.m;
     let tl = m.tick_len as i32;
-    let n = p.categories.len().max(1);
     let x_range = AxisRange {
         min: 0.0,
-        max: n as f64,
+        max: p.categories.len().max(1) as f64,
     };
     for (j, cat) in p.categories.iter().enumerate() {
         let x = tick_px(x_range, j as f64 + 0.5, p.plot);
@@ -539,7 +598,7 @@ fn draw(p: &BarPlan, buf: &mut [u8]) -> Result<(), String> {
                 bottom: p.plot.bottom + tl,
             },
             INK_RGB,
-        )?;
+        );
         for (k, line) in cat.lines.iter().enumerate() {
             let y = f64::from(p.plot.bottom + tl)
                 + m.gap
@@ -551,29 +610,32 @@ fn draw(p: &BarPlan, buf: &mut [u8]) -> Result<(), String> {
                 (cat.cx, y),
                 HAlign::Center,
                 VAlign::Top,
-            )?;
+            );
         }
     }
+}
+
+fn draw(p: &BarPlan) -> Result<Canvas, DrawError> {
+    let m = &p.m;
+    let mut c = Canvas::new(p.width, p.height)?;
+    let axes = AxisDraw {
+        rect: p.plot,
+        x: None,
+        x_labels: false,
+        y: p.y,
+        yticks: &p.yticks,
+    };
+    draw_grid(&mut c, &axes);
+    draw_bars(&mut c, p);
+    draw_axes(&mut c, &axes, m, p.width);
+    draw_categories(&mut c, p);
     if !p.has_data {
-        let center = (
-            0.5 * f64::from(p.plot.left + p.plot.right),
-            0.5 * f64::from(p.plot.top + p.plot.bottom),
-        );
-        c.text(
-            "no data",
-            m.label,
-            ZERO_RGB,
-            center,
-            HAlign::Center,
-            VAlign::Center,
-        )?;
+        draw_no_data(&mut c, p.plot, m);
     }
     if let Some(l) = &p.legend {
-        draw_legend(&mut c, l, m)?;
+        draw_legend(&mut c, l, m);
     }
-    let cx = m.pad + 0.5 * CAP_HEIGHT * p.y_label_size;
-    let cy = 0.5 * f64::from(p.plot.top + p.plot.bottom);
-    c.text_vertical(&p.y_label, p.y_label_size, INK_RGB, (cx, cy))?;
+    draw_y_label(&mut c, &p.y_label, p.y_label_size, p.plot, m);
     c.text(
         &p.title,
         p.title_size,
@@ -581,8 +643,8 @@ fn draw(p: &BarPlan, buf: &mut [u8]) -> Result<(), String> {
         p.title_center,
         HAlign::Center,
         VAlign::Center,
-    )?;
-    c.finish()
+    );
+    Ok(c)
 }
 
 /// Draws a grouped bar chart and writes it to `path` as an RGB PNG.
@@ -593,11 +655,32 @@ fn draw(p: &BarPlan, buf: &mut [u8]) -> Result<(), String> {
 /// bars. Errors (each naming `path`): a size outside the accepted bounds, a
 /// group without exactly one value per category, a file that cannot be
 /// written. Non-finite values are shown as "n/a".
+///
+/// ```
+/// use subfric_plot::{bar_layout, read_rgb, render_bars_png, BarFigure};
+///
+/// let tests = vec!["dense".to_string(), "loose".to_string(), "cyclic".to_string()];
+/// let fig = BarFigure::new("Fit error per test", "RMSE (kPa)", tests)
+///     .with_group("base model", vec![4.2, 3.3, f64::NAN])
+///     .with_group("with dilatancy", vec![2.9, 3.1, 4.4])
+///     .with_reference_line("noise level", 2.5);
+/// let path = std::env::temp_dir().join(format!("subfric-bars-doc-{}.png", std::process::id()));
+/// render_bars_png(&fig, &path)?;
+/// // Five bars (the NaN is shown as "n/a"), each filled with its group's colour.
+/// let layout = bar_layout(&fig).expect("a valid chart");
+/// assert_eq!(layout.bars.len(), 5);
+/// let img = read_rgb(&path)?;
+/// let (_, group, r) = layout.bars[0];
+/// assert_eq!(group, 0);
+/// let mid = ((r.left + r.right) / 2) as u32;
+/// assert_eq!(img.pixel(mid, (r.bottom - 2) as u32), Some([31, 119, 180]));
+/// # std::fs::remove_file(&path).ok();
+/// # Ok::<(), subfric_plot::PlotError>(())
+/// ```
 pub fn render_bars_png(fig: &BarFigure, path: &Path) -> Result<(), PlotError> {
     let p = plan(fig).map_err(|e| e.with_path(path))?;
-    let mut buf = vec![255u8; p.width as usize * p.height as usize * 3];
-    draw(&p, &mut buf).map_err(|e| Invalid::Draw(e).with_path(path))?;
-    png_io::write_rgb_png(path, p.width, p.height, &buf)
+    let canvas = draw(&p).map_err(|e| Invalid::Draw(e).with_path(path))?;
+    png_io::write_rgb_png(path, p.width, p.height, &canvas.into_rgb())
 }
 
 #[cfg(test)]
@@ -638,6 +721,27 @@ mod tests {
         let neg = BarFigure::new("", "", vec!["a".into()]).with_group("g", vec![-2.0]);
         let r = y_range(&neg, f64::NEG_INFINITY);
         assert!(r.min < -2.0 && r.max == 0.0);
+    }
+
+    #[test]
+    fn no_room_for_the_bars_is_a_draw_error() {
+        let chart = |w, h| {
+            BarFigure::new("t", "y (kPa)", vec!["a".into(), "b".into()])
+                .with_group("g", vec![1.0, 2.0])
+                .with_size(w, h)
+        };
+        let m = Metrics::new(200, 150);
+        let y = AxisRange { min: 0.0, max: 2.1 };
+        assert!(matches!(
+            frame(&chart(200, 40), &m, y),
+            Err(Invalid::Draw(DrawError::TooLow { height: 40, .. }))
+        ));
+        assert!(matches!(
+            frame(&chart(30, 150), &m, y),
+            Err(Invalid::Draw(DrawError::TooNarrow { width: 30, .. }))
+        ));
+        let smallest = chart(crate::MIN_WIDTH, crate::MIN_HEIGHT);
+        assert_eq!(frame(&smallest, &m, y).map(|f| f.label_lines).ok(), Some(1));
     }
 
     #[test]

@@ -3,52 +3,15 @@
 use std::path::Path;
 
 use crate::canvas::{Canvas, HAlign, VAlign};
-use crate::colors::{self, GRID_RGB, INK_RGB, ZERO_RGB};
+use crate::chrome::{
+    dash_pattern, draw_axes, draw_grid, draw_legend, draw_no_data, draw_y_label, place_legend,
+    place_title, AxisDraw, Legend, LegendEntry, Metrics, Swatch,
+};
+use crate::colors::{self, INK_RGB, ZERO_RGB};
 use crate::fonts::{self, CAP_HEIGHT, DESCENT};
 use crate::geom::{decimate, ClipBox, Mapper, Occupancy, PixelRect, Pt};
 use crate::scale::{plottable, ticks, AxisRange, Extent, Ticks};
-use crate::{check_size, png_io, Figure, Invalid, Panel, PlotError, Series, Style};
-
-/// Sizes in pixels derived from the image size.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Metrics {
-    /// Overall scale: 1 for 1000x750.
-    pub s: f64,
-    pub title: f64,
-    pub label: f64,
-    pub tick: f64,
-    pub legend: f64,
-    pub pad: f64,
-    pub tick_len: f64,
-    pub gap: f64,
-}
-
-impl Metrics {
-    pub fn new(width: u32, height: u32) -> Self {
-        let s = (f64::from(width) / 1000.0)
-            .min(f64::from(height) / 750.0)
-            .clamp(0.45, 4.0);
-        Metrics {
-            s,
-            title: 24.0 * s,
-            label: 20.0 * s,
-            tick: 16.5 * s,
-            legend: 16.0 * s,
-            pad: (12.0 * s).round(),
-            tick_len: (6.0 * s).round().max(3.0),
-            gap: (5.0 * s).round().max(2.0),
-        }
-    }
-
-    pub fn px(&self, v: f64) -> f64 {
-        (v * self.s).round()
-    }
-
-    /// A line width in pixels (at least one pixel).
-    pub fn width(&self, v: f64) -> f64 {
-        (v * self.s).max(1.0)
-    }
-}
+use crate::{check_size, png_io, DrawError, Figure, Invalid, Panel, PlotError, Series, Style};
 
 /// Where the parts of a [`Figure`] are drawn, in pixels.
 #[derive(Debug, Clone, PartialEq)]
@@ -83,42 +46,6 @@ struct Stroke {
     dashed: bool,
 }
 
-#[derive(Debug, Clone)]
-pub(crate) enum Swatch {
-    Line {
-        color: [u8; 3],
-        width: f64,
-        dashed: bool,
-        marker: Option<u32>,
-    },
-    Gradient {
-        style: Style,
-        width: f64,
-        dashed: bool,
-    },
-    Patch {
-        color: [u8; 3],
-    },
-}
-
-#[derive(Debug, Clone)]
-pub(crate) struct LegendEntry {
-    pub label: String,
-    pub swatch: Swatch,
-}
-
-/// A placed legend.
-#[derive(Debug, Clone)]
-pub(crate) struct Legend {
-    pub rect: PixelRect,
-    pub font: f64,
-    pub row_h: f64,
-    pub pad: f64,
-    pub swatch_w: f64,
-    pub gap: f64,
-    pub entries: Vec<LegendEntry>,
-}
-
 struct PanelPlan {
     rect: PixelRect,
     y: AxisRange,
@@ -127,7 +54,7 @@ struct PanelPlan {
     y_label_size: f64,
     zero_line: bool,
     strokes: Vec<Stroke>,
-    markers: Vec<(Pt, u32, [u8; 3])>,
+    markers: Vec<(Pt, f64, [u8; 3])>,
     /// Legend entries before fitting into the box.
     entries: Vec<LegendEntry>,
     occupancy: Occupancy,
@@ -293,8 +220,9 @@ fn legend_entry(s: &Series, m: &Metrics) -> Option<LegendEntry> {
     Some(LegendEntry { label, swatch })
 }
 
-fn marker_radius(m: &Metrics) -> u32 {
-    (2.5 * m.s).round().max(2.0) as u32
+/// Radius of the markers of measured points: a 7-pixel disc at 1000x750.
+fn marker_radius(m: &Metrics) -> f64 {
+    (2.5 * m.s).round().max(2.0) + 0.5
 }
 
 /// Strokes and markers of one series in a panel.
@@ -303,7 +231,7 @@ fn series_strokes(
     mapper: &Mapper,
     m: &Metrics,
     out: &mut Vec<Stroke>,
-    markers: &mut Vec<(Pt, u32, [u8; 3])>,
+    markers: &mut Vec<(Pt, f64, [u8; 3])>,
 ) {
     let cycled = s.cycle.is_some();
     let width = line_width(s.style, m, cycled);
@@ -352,7 +280,7 @@ fn series_strokes(
 
     if uses_markers(s) {
         let r = marker_radius(m);
-        let mclip = ClipBox::inside(mapper.rect, f64::from(r) + 1.0);
+        let mclip = ClipBox::inside(mapper.rect, r + 1.0);
         for (pts, color) in &runs {
             for &p in pts {
                 if mclip.contains(p) {
@@ -376,80 +304,6 @@ fn series_strokes(
             });
         }
     }
-}
-
-/// Legend geometry for `entries` in `area`, placed in the corner where the
-/// occupancy grid shows the least ink (upper right preferred, then lower
-/// right, upper left, lower left).
-pub(crate) fn place_legend(
-    mut entries: Vec<LegendEntry>,
-    area: PixelRect,
-    occupancy: &Occupancy,
-    m: &Metrics,
-) -> Option<Legend> {
-    if entries.is_empty() {
-        return None;
-    }
-    let font = m.legend;
-    let row_h = (font * 1.45).round();
-    let pad = m.px(8.0);
-    let swatch_w = m.px(34.0);
-    let gap = m.px(8.0);
-    let inset = m.px(10.0);
-    let avail_w = f64::from(area.width()) - 2.0 * inset;
-    let avail_h = f64::from(area.height()) - 2.0 * inset;
-    let text_max = avail_w - 2.0 * pad - swatch_w - gap;
-    if text_max < font * 2.0 {
-        return None;
-    }
-    let rows = ((avail_h - pad) / row_h).floor();
-    if rows < 1.0 {
-        return None;
-    }
-    entries.truncate(rows as usize);
-    for e in &mut entries {
-        e.label = fonts::fit_text(&e.label, font, text_max);
-    }
-    let text_w = entries
-        .iter()
-        .map(|e| fonts::text_width(&e.label, font))
-        .fold(0.0, f64::max);
-    let w = (2.0 * pad + swatch_w + gap + text_w).ceil() as i32;
-    let h = (pad + row_h * entries.len() as f64).ceil() as i32;
-    let inset = inset as i32;
-    let (l, r) = (area.left + inset, area.right - inset - w + 1);
-    let (t, b) = (area.top + inset, area.bottom - inset - h + 1);
-    let candidates = [(r, t), (r, b), (l, t), (l, b)];
-    let margin = m.px(3.0) as i32;
-    // A legend that would hide a large part of a small plot is left out.
-    if f64::from(w) * f64::from(h) > 0.4 * f64::from(area.width()) * f64::from(area.height()) {
-        return None;
-    }
-    let rect = candidates
-        .iter()
-        .map(|&(x, y)| PixelRect {
-            left: x,
-            top: y,
-            right: x + w - 1,
-            bottom: y + h - 1,
-        })
-        .min_by_key(|c| {
-            occupancy.count(PixelRect {
-                left: c.left - margin,
-                top: c.top - margin,
-                right: c.right + margin,
-                bottom: c.bottom + margin,
-            })
-        })?;
-    Some(Legend {
-        rect,
-        font,
-        row_h,
-        pad,
-        swatch_w,
-        gap,
-        entries,
-    })
 }
 
 fn plan_panel(
@@ -502,57 +356,66 @@ fn plan_panel(
     }
 }
 
-fn plan(fig: &Figure) -> Result<Plan, Invalid> {
-    validate(fig)?;
-    fonts::ensure_fonts().map_err(Invalid::Draw)?;
-    let (w, h) = (fig.width, fig.height);
-    let m = Metrics::new(w, h);
-    let (x, main_y, res_y) = ranges(fig);
+/// Vertical layout of a curve figure, in pixels.
+struct Rows {
+    /// Height of the title line (0 without title).
+    title_block: f64,
+    /// Top of the main panel.
+    top: f64,
+    /// Height of the main panel.
+    main_h: f64,
+    /// Gap between main and residual panel (0 without residual).
+    gap: f64,
+    /// Height of the residual panel (0 without residual).
+    res_h: f64,
+}
 
-    // Vertical layout.
-    let has_title = !fig.title.trim().is_empty();
-    let has_xlabel = !fig.x_label.trim().is_empty();
-    let title_block = if has_title {
-        (m.title * 1.5).round()
-    } else {
+fn rows(fig: &Figure, m: &Metrics, with_residual: bool) -> Result<Rows, Invalid> {
+    let title_block = if fig.title.trim().is_empty() {
         0.0
+    } else {
+        (m.title * 1.5).round()
     };
     let top = m.pad + title_block + m.px(8.0);
     let tick_text_h = (CAP_HEIGHT + DESCENT) * m.tick;
     let mut bottom = m.tick_len + m.gap + tick_text_h + m.pad;
-    if has_xlabel {
+    if !fig.x_label.trim().is_empty() {
         bottom += m.px(10.0) + (CAP_HEIGHT + DESCENT) * m.label;
     }
-    let panel_gap = if res_y.is_some() { m.px(20.0) } else { 0.0 };
-    let avail = (f64::from(h) - top - bottom - panel_gap).floor();
-    let main_h = if res_y.is_some() {
+    let gap = if with_residual { m.px(20.0) } else { 0.0 };
+    let avail = (f64::from(fig.height) - top - bottom - gap).floor();
+    let main_h = if with_residual {
         (avail * 2.0 / 3.0).round()
     } else {
         avail
     };
     let res_h = avail - main_h;
-    if main_h < 20.0 || (res_y.is_some() && res_h < 15.0) {
-        return Err(Invalid::Draw(format!(
-            "{w}x{h} is too small for the labels of this figure"
-        )));
+    if main_h < 20.0 || (with_residual && res_h < 15.0) {
+        return Err(Invalid::Draw(DrawError::TooLow {
+            width: fig.width,
+            height: fig.height,
+        }));
     }
-    let y_target =
-        |height: f64, per: f64, max: usize| ((height / (per * m.s)).round() as usize).clamp(2, max);
-    let main_ticks = ticks(main_y, y_target(main_h, 60.0, 9));
-    let res_ticks = res_y.map(|r| ticks(r, y_target(res_h, 45.0, 5)));
+    Ok(Rows {
+        title_block,
+        top,
+        main_h,
+        gap,
+        res_h,
+    })
+}
 
-    // Horizontal layout: room for the rotated y label and the tick labels.
-    let tick_w = main_ticks
-        .labels
+/// Left edge and width of the plotting areas: room for the rotated y label
+/// and the widest tick label of either panel.
+fn columns(fig: &Figure, m: &Metrics, yticks: &[&Ticks]) -> Result<(f64, f64), Invalid> {
+    let tick_w = yticks
         .iter()
-        .chain(res_ticks.iter().flat_map(|t| t.labels.iter()))
+        .flat_map(|t| t.labels.iter())
         .map(|l| fonts::text_width(l, m.tick))
         .fold(0.0, f64::max);
-    let has_ylabel = !fig.main.y_label.trim().is_empty()
-        || fig
-            .residual
-            .as_ref()
-            .is_some_and(|p| !p.y_label.trim().is_empty());
+    let has_ylabel = std::iter::once(&fig.main)
+        .chain(fig.residual.as_ref())
+        .any(|p| !p.y_label.trim().is_empty());
     let ylabel_col = if has_ylabel {
         CAP_HEIGHT * m.label + DESCENT * m.label + m.px(10.0)
     } else {
@@ -560,18 +423,21 @@ fn plan(fig: &Figure) -> Result<Plan, Invalid> {
     };
     let left = (m.pad + ylabel_col + tick_w + m.gap + m.tick_len)
         .ceil()
-        .min(f64::from(w) * 0.45);
-    let right = m.px(30.0);
-    let plot_w = f64::from(w) - left - right;
+        .min(f64::from(fig.width) * 0.45);
+    let plot_w = f64::from(fig.width) - left - m.px(30.0);
     if plot_w < 40.0 {
-        return Err(Invalid::Draw(format!(
-            "{w}x{h} is too narrow for the labels of this figure"
-        )));
+        return Err(Invalid::Draw(DrawError::TooNarrow {
+            width: fig.width,
+            height: fig.height,
+        }));
     }
+    Ok((left, plot_w))
+}
 
-    // X ticks: as many as fit without overlapping labels.
+/// X ticks: as many as fit `plot_w` pixels without overlapping labels.
+fn x_ticks(x: AxisRange, plot_w: f64, m: &Metrics) -> Ticks {
     let mut target = ((plot_w / (110.0 * m.s)).round() as usize).clamp(2, 12);
-    let xticks = loop {
+    loop {
         let t = ticks(x, target);
         let widest = t
             .labels
@@ -584,86 +450,93 @@ fn plan(fig: &Figure) -> Result<Plan, Invalid> {
             f64::INFINITY
         };
         if widest + m.px(14.0) <= spacing || target <= 1 {
-            break t;
+            return t;
         }
         target -= 1;
-    };
+    }
+}
 
-    let left = left as i32;
-    let top_i = top as i32;
+/// The short residual panel rarely has a free corner: if its legend would
+/// cover much data, its entries join the main legend instead.
+fn merge_crowded_legend(main: &mut PanelPlan, residual: &mut PanelPlan, m: &Metrics) {
+    let crowded = residual
+        .legend
+        .as_ref()
+        .is_some_and(|l| residual.occupancy.fraction(l.rect) > 0.15);
+    if crowded {
+        residual.legend = None;
+        let mut all = main.entries.clone();
+        all.extend(residual.entries.iter().cloned());
+        main.legend = place_legend(all, main.rect, &main.occupancy, m);
+    }
+}
+
+/// Shrinks (then shortens) a y label to fit the height of its panel.
+fn fit_ylabel(p: &mut PanelPlan, m: &Metrics) {
+    let (text, size) = fonts::shrink_to_fit(
+        &p.y_label,
+        m.label,
+        m.label * 0.7,
+        f64::from(p.rect.height()),
+    );
+    p.y_label = text;
+    p.y_label_size = size;
+}
+
+fn plan(fig: &Figure) -> Result<Plan, Invalid> {
+    validate(fig)?;
+    fonts::ensure_fonts().map_err(Invalid::Draw)?;
+    let m = Metrics::new(fig.width, fig.height);
+    let (x, main_y, res_y) = ranges(fig);
+    let rows = rows(fig, &m, res_y.is_some())?;
+    let y_target =
+        |height: f64, per: f64, max: usize| ((height / (per * m.s)).round() as usize).clamp(2, max);
+    let main_ticks = ticks(main_y, y_target(rows.main_h, 60.0, 9));
+    let res_ticks = res_y.map(|r| ticks(r, y_target(rows.res_h, 45.0, 5)));
+    let all_ticks: Vec<&Ticks> = std::iter::once(&main_ticks).chain(&res_ticks).collect();
+    let (left, plot_w) = columns(fig, &m, &all_ticks)?;
+    let xticks = x_ticks(x, plot_w, &m);
+
+    let (left, top) = (left as i32, rows.top as i32);
     let main_rect = PixelRect {
         left,
-        top: top_i,
+        top,
         right: left + plot_w as i32 - 1,
-        bottom: top_i + main_h as i32 - 1,
+        bottom: top + rows.main_h as i32 - 1,
     };
-    let main = plan_panel(&fig.main, main_rect, x, main_y, main_ticks, &m, &[]);
-    let residual = match (&fig.residual, res_y, res_ticks) {
+    let mut main = plan_panel(&fig.main, main_rect, x, main_y, main_ticks, &m, &[]);
+    let mut residual = match (&fig.residual, res_y, res_ticks) {
         (Some(p), Some(y), Some(t)) => {
             let rect = PixelRect {
-                left,
-                top: main_rect.bottom + 1 + panel_gap as i32,
-                right: main_rect.right,
-                bottom: main_rect.bottom + panel_gap as i32 + res_h as i32,
+                top: main_rect.bottom + 1 + rows.gap as i32,
+                bottom: main_rect.bottom + rows.gap as i32 + rows.res_h as i32,
+                ..main_rect
             };
             let skip: Vec<String> = main.entries.iter().map(|e| e.label.clone()).collect();
             Some(plan_panel(p, rect, x, y, t, &m, &skip))
         }
         _ => None,
     };
-
-    // Y labels shrink (then shorten) to fit the height of their panel.
-    let fit_ylabel = |p: &mut PanelPlan| {
-        let (text, size) = fonts::shrink_to_fit(
-            &p.y_label,
-            m.label,
-            m.label * 0.7,
-            f64::from(p.rect.height()),
-        );
-        p.y_label = text;
-        p.y_label_size = size;
-    };
-    let mut main = main;
-    let mut residual = residual;
-    // The short residual panel rarely has a free corner: if its legend
-    // would cover much data, its entries join the main legend instead.
     if let Some(r) = residual.as_mut() {
-        let crowded = r
-            .legend
-            .as_ref()
-            .is_some_and(|l| r.occupancy.fraction(l.rect) > 0.15);
-        if crowded {
-            r.legend = None;
-            let mut all = main.entries.clone();
-            all.extend(r.entries.iter().cloned());
-            main.legend = place_legend(all, main.rect, &main.occupancy, &m);
-        }
+        merge_crowded_legend(&mut main, r, &m);
+        fit_ylabel(r, &m);
     }
-    fit_ylabel(&mut main);
-    if let Some(r) = residual.as_mut() {
-        fit_ylabel(r);
-    }
+    fit_ylabel(&mut main, &m);
 
-    let plot_center = 0.5 * f64::from(main_rect.left + main_rect.right);
-    let title_w_max = f64::from(w) - 2.0 * m.pad;
-    let (title, title_size) =
-        fonts::shrink_to_fit(fig.title.trim(), m.title, m.title * 0.6, title_w_max);
-    let title_w = fonts::text_width(&title, title_size);
-    let title_cx = plot_center
-        .max(m.pad + 0.5 * title_w)
-        .min(f64::from(w) - m.pad - 0.5 * title_w);
+    let (title, title_size, title_center) =
+        place_title(&fig.title, main_rect, fig.width, rows.title_block, &m);
+    let max_w = f64::from(fig.width) - 2.0 * m.pad;
     let (x_label, x_label_size) =
-        fonts::shrink_to_fit(fig.x_label.trim(), m.label, m.label * 0.7, title_w_max);
-
+        fonts::shrink_to_fit(fig.x_label.trim(), m.label, m.label * 0.7, max_w);
     Ok(Plan {
-        width: w,
-        height: h,
+        width: fig.width,
+        height: fig.height,
         m,
         x,
         xticks,
         title,
         title_size,
-        title_center: (title_cx, m.pad + 0.5 * title_block),
+        title_center,
         x_label,
         x_label_size,
         main,
@@ -691,187 +564,7 @@ pub fn figure_layout(fig: &Figure) -> Option<FigureLayout> {
     })
 }
 
-/// Draws a legend box with its entries.
-pub(crate) fn draw_legend(c: &mut Canvas<'_>, l: &Legend, m: &Metrics) -> Result<(), String> {
-    c.fill(l.rect, [255, 255, 255])?;
-    c.outline(l.rect, colors::LEGEND_BORDER_RGB)?;
-    let x0 = f64::from(l.rect.left) + l.pad;
-    let x1 = x0 + l.swatch_w;
-    for (i, e) in l.entries.iter().enumerate() {
-        let cy = (f64::from(l.rect.top) + 0.5 * l.pad + (i as f64 + 0.5) * l.row_h).round();
-        match &e.swatch {
-            Swatch::Line {
-                color,
-                width,
-                dashed,
-                marker,
-            } => {
-                if *dashed {
-                    let (dash, gap) = dash_pattern(m);
-                    for d in crate::geom::dashes(&[(x0, cy), (x1, cy)], dash, gap) {
-                        c.polyline(&d, *color, *width)?;
-                    }
-                } else {
-                    c.line((x0, cy), (x1, cy), *color, *width)?;
-                }
-                if let Some(r) = marker {
-                    c.dot((0.5 * (x0 + x1), cy), *r, *color)?;
-                }
-            }
-            Swatch::Gradient {
-                style,
-                width,
-                dashed,
-            } => {
-                let n = 8;
-                for k in 0..n {
-                    if *dashed && k % 2 == 1 {
-                        continue;
-                    }
-                    let a = x0 + (x1 - x0) * k as f64 / n as f64;
-                    let b = x0 + (x1 - x0) * (k + 1) as f64 / n as f64;
-                    let color = colors::cycle_rgb(*style, k as f64 / (n - 1) as f64);
-                    c.line((a, cy), (b, cy), color, *width)?;
-                }
-            }
-            Swatch::Patch { color } => {
-                let hh = (0.35 * l.font).round() as i32;
-                let r = PixelRect {
-                    left: x0 as i32 + (l.swatch_w * 0.15) as i32,
-                    right: x1 as i32 - (l.swatch_w * 0.15) as i32,
-                    top: cy as i32 - hh,
-                    bottom: cy as i32 + hh,
-                };
-                c.fill(r, *color)?;
-                c.outline(r, INK_RGB)?;
-            }
-        }
-        c.text(
-            &e.label,
-            l.font,
-            INK_RGB,
-            (x1 + l.gap, cy),
-            HAlign::Left,
-            VAlign::Center,
-        )?;
-    }
-    Ok(())
-}
-
-pub(crate) fn dash_pattern(m: &Metrics) -> (f64, f64) {
-    ((9.0 * m.s).max(4.0), (5.0 * m.s).max(3.0))
-}
-
-/// Grid lines, frame, y ticks and their labels, and (optionally) x ticks.
-pub(crate) struct AxisDraw<'a> {
-    pub rect: PixelRect,
-    pub x: Option<(AxisRange, &'a Ticks)>,
-    pub x_labels: bool,
-    pub y: AxisRange,
-    pub yticks: &'a Ticks,
-}
-
-/// Pixel column of x value `v` in a rectangle.
-pub(crate) fn tick_px(range: AxisRange, v: f64, r: PixelRect) -> i32 {
-    (f64::from(r.left) + (v - range.min) / range.span() * f64::from(r.right - r.left)).round()
-        as i32
-}
-
-/// Pixel row of y value `v` in a rectangle.
-pub(crate) fn tick_py(range: AxisRange, v: f64, r: PixelRect) -> i32 {
-    (f64::from(r.bottom) - (v - range.min) / range.span() * f64::from(r.bottom - r.top)).round()
-        as i32
-}
-
-pub(crate) fn draw_grid(c: &mut Canvas<'_>, a: &AxisDraw<'_>) -> Result<(), String> {
-    let r = a.rect;
-    for &v in &a.yticks.values {
-        let y = tick_py(a.y, v, r);
-        if y > r.top && y < r.bottom {
-            c.fill(
-                PixelRect {
-                    top: y,
-                    bottom: y,
-                    left: r.left + 1,
-                    right: r.right - 1,
-                },
-                GRID_RGB,
-            )?;
-        }
-    }
-    if let Some((xr, xt)) = a.x {
-        for &v in &xt.values {
-            let x = tick_px(xr, v, r);
-            if x > r.left && x < r.right {
-                c.fill(
-                    PixelRect {
-                        left: x,
-                        right: x,
-                        top: r.top + 1,
-                        bottom: r.bottom - 1,
-                    },
-                    GRID_RGB,
-                )?;
-            }
-        }
-    }
-    Ok(())
-}
-
-pub(crate) fn draw_axes(
-    c: &mut Canvas<'_>,
-    a: &AxisDraw<'_>,
-    m: &Metrics,
-    image_w: u32,
-) -> Result<(), String> {
-    let r = a.rect;
-    c.outline(r, INK_RGB)?;
-    let tl = m.tick_len as i32;
-    for (v, label) in a.yticks.values.iter().zip(&a.yticks.labels) {
-        let y = tick_py(a.y, *v, r);
-        c.fill(
-            PixelRect {
-                left: r.left - tl,
-                right: r.left - 1,
-                top: y,
-                bottom: y,
-            },
-            INK_RGB,
-        )?;
-        let at = (f64::from(r.left - tl) - m.gap, f64::from(y));
-        c.text(label, m.tick, INK_RGB, at, HAlign::Right, VAlign::Center)?;
-    }
-    if let Some((xr, xt)) = a.x {
-        for (v, label) in xt.values.iter().zip(&xt.labels) {
-            let x = tick_px(xr, *v, r);
-            c.fill(
-                PixelRect {
-                    left: x,
-                    right: x,
-                    top: r.bottom + 1,
-                    bottom: r.bottom + tl,
-                },
-                INK_RGB,
-            )?;
-            if a.x_labels {
-                let half = 0.5 * fonts::text_width(label, m.tick);
-                let cx = f64::from(x)
-                    .max(half + 2.0)
-                    .min(f64::from(image_w) - half - 2.0);
-                let at = (cx, f64::from(r.bottom + tl) + m.gap);
-                c.text(label, m.tick, INK_RGB, at, HAlign::Center, VAlign::Top)?;
-            }
-        }
-    }
-    Ok(())
-}
-
-fn draw_panel(
-    c: &mut Canvas<'_>,
-    p: &PanelPlan,
-    plan: &Plan,
-    bottom_panel: bool,
-) -> Result<(), String> {
+fn draw_panel(c: &mut Canvas, p: &PanelPlan, plan: &Plan, bottom_panel: bool) {
     let m = &plan.m;
     let axes = AxisDraw {
         rect: p.rect,
@@ -880,7 +573,7 @@ fn draw_panel(
         y: p.y,
         yticks: &p.yticks,
     };
-    draw_grid(c, &axes)?;
+    draw_grid(c, &axes);
     let mapper = Mapper {
         rect: p.rect,
         x: plan.x,
@@ -892,54 +585,31 @@ fn draw_panel(
         if let Some((a, b)) =
             clip.clip_segment((f64::from(p.rect.left), y), (f64::from(p.rect.right), y))
         {
-            let (dash, gap) = dash_pattern(m);
-            for d in crate::geom::dashes(&[a, b], dash, gap) {
-                c.polyline(&d, ZERO_RGB, 1.0)?;
-            }
+            c.line(a, b, ZERO_RGB, 1.0, Some(dash_pattern(m)));
         }
     }
-    let (dash, gap) = dash_pattern(m);
     for s in &p.strokes {
-        if s.dashed {
-            for d in crate::geom::dashes(&s.pts, dash, gap) {
-                c.polyline(&d, s.color, s.width)?;
-            }
-        } else {
-            c.polyline(&s.pts, s.color, s.width)?;
-        }
+        let dash = s.dashed.then(|| dash_pattern(m));
+        c.polyline(&s.pts, s.color, s.width, dash);
     }
     for &(pt, r, color) in &p.markers {
-        c.dot(pt, r, color)?;
+        c.dot(pt, r, color);
     }
-    draw_axes(c, &axes, m, plan.width)?;
+    draw_axes(c, &axes, m, plan.width);
     if !p.has_data {
-        let center = (
-            0.5 * f64::from(p.rect.left + p.rect.right),
-            0.5 * f64::from(p.rect.top + p.rect.bottom),
-        );
-        c.text(
-            "no data",
-            m.label,
-            ZERO_RGB,
-            center,
-            HAlign::Center,
-            VAlign::Center,
-        )?;
+        draw_no_data(c, p.rect, m);
     }
     if let Some(l) = &p.legend {
-        draw_legend(c, l, m)?;
+        draw_legend(c, l, m);
     }
-    let cx = m.pad + 0.5 * CAP_HEIGHT * p.y_label_size;
-    let cy = 0.5 * f64::from(p.rect.top + p.rect.bottom);
-    c.text_vertical(&p.y_label, p.y_label_size, INK_RGB, (cx, cy))?;
-    Ok(())
+    draw_y_label(c, &p.y_label, p.y_label_size, p.rect, m);
 }
 
-fn draw(plan: &Plan, buf: &mut [u8]) -> Result<(), String> {
-    let mut c = Canvas::new(buf, plan.width, plan.height)?;
-    draw_panel(&mut c, &plan.main, plan, plan.residual.is_none())?;
+fn draw(plan: &Plan) -> Result<Canvas, DrawError> {
+    let mut c = Canvas::new(plan.width, plan.height)?;
+    draw_panel(&mut c, &plan.main, plan, plan.residual.is_none());
     if let Some(r) = &plan.residual {
-        draw_panel(&mut c, r, plan, true)?;
+        draw_panel(&mut c, r, plan, true);
     }
     let m = &plan.m;
     c.text(
@@ -949,7 +619,7 @@ fn draw(plan: &Plan, buf: &mut [u8]) -> Result<(), String> {
         plan.title_center,
         HAlign::Center,
         VAlign::Center,
-    )?;
+    );
     let last = plan.residual.as_ref().map_or(plan.main.rect, |r| r.rect);
     let cx = 0.5 * f64::from(last.left + last.right);
     let half = 0.5 * fonts::text_width(&plan.x_label, plan.x_label_size);
@@ -963,16 +633,14 @@ fn draw(plan: &Plan, buf: &mut [u8]) -> Result<(), String> {
         (cx, f64::from(plan.height) - m.pad),
         HAlign::Center,
         VAlign::Bottom,
-    )?;
-    c.finish()
+    );
+    Ok(c)
 }
 
 /// Renders `fig` to an RGB buffer (3 bytes per pixel, row-major).
 fn render_rgb(fig: &Figure) -> Result<Vec<u8>, Invalid> {
     let plan = plan(fig)?;
-    let mut buf = vec![255u8; plan.width as usize * plan.height as usize * 3];
-    draw(&plan, &mut buf).map_err(Invalid::Draw)?;
-    Ok(buf)
+    Ok(draw(&plan).map_err(Invalid::Draw)?.into_rgb())
 }
 
 /// Draws `fig` and writes it to `path` as an RGB PNG.
@@ -1067,6 +735,37 @@ mod tests {
         assert_eq!(legend_entry(&empty, &m).unwrap().label, "pub (no data)");
         let unlabelled = Series::new("  ", vec![0.0], vec![1.0], Style::Published);
         assert!(legend_entry(&unlabelled, &m).is_none());
+    }
+
+    #[test]
+    fn no_room_for_the_plotting_area_is_a_draw_error() {
+        let m = Metrics::new(200, 150);
+        let low = fig().with_size(200, 40);
+        let e = rows(&low, &m, false).err().unwrap();
+        assert_eq!(
+            e,
+            Invalid::Draw(DrawError::TooLow {
+                width: 200,
+                height: 40
+            })
+        );
+        let message = e.with_path(Path::new("out/low.png")).to_string();
+        assert!(
+            message.contains("low.png") && message.contains("200x40 is too low"),
+            "{message}"
+        );
+        let narrow = fig().with_size(30, 150);
+        let t = ticks(AxisRange { min: 0.0, max: 1.0 }, 5);
+        assert!(matches!(
+            columns(&narrow, &m, &[&t]),
+            Err(Invalid::Draw(DrawError::TooNarrow { width: 30, .. }))
+        ));
+        // The smallest accepted figure, with a residual panel, has room.
+        let smallest = fig()
+            .with_residual(Panel::new("r", vec![]))
+            .with_size(crate::MIN_WIDTH, crate::MIN_HEIGHT);
+        assert!(rows(&smallest, &m, true).is_ok());
+        assert!(columns(&smallest, &m, &[&t]).is_ok());
     }
 
     #[test]

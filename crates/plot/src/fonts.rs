@@ -3,32 +3,21 @@
 use std::sync::OnceLock;
 
 use ab_glyph::{point, Font, FontRef, PxScale, ScaleFont};
-use plotters::style::{register_font, FontStyle};
+
+use crate::DrawError;
 
 /// DejaVu Sans (Bitstream Vera licence, see assets/DejaVuSans-LICENSE.txt).
 static FONT_BYTES: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
-static REGISTERED: OnceLock<Result<(), String>> = OnceLock::new();
 static FACE: OnceLock<Option<FontRef<'static>>> = OnceLock::new();
 
-/// Registers the bundled font once per process with plotters' ab_glyph
-/// support as "sans-serif" (so plotters' own text works without system
-/// fonts) and checks that this crate can use it.
-pub(crate) fn ensure_fonts() -> Result<(), String> {
-    REGISTERED
-        .get_or_init(|| {
-            register_font("sans-serif", FontStyle::Normal, FONT_BYTES)
-                .map_err(|_| "bundled font could not be registered".to_string())?;
-            face()
-                .map(|_| ())
-                .ok_or_else(|| "bundled font could not be parsed".to_string())
-        })
-        .clone()
+/// Checks once per process that the bundled font can be parsed.
+pub(crate) fn ensure_fonts() -> Result<(), DrawError> {
+    face().map(|_| ()).ok_or(DrawError::Font)
 }
 
-/// The bundled font face. This crate lays out and rasterises text itself
-/// with ab_glyph (the engine behind plotters' font support) so that glyph
-/// bearings and sub-pixel positions are honoured.
+/// The bundled font face. Text is laid out here (kerning, glyph bearings,
+/// sub-pixel positions) and rasterised by ab_glyph.
 fn face() -> Option<&'static FontRef<'static>> {
     FACE.get_or_init(|| FontRef::try_from_slice(FONT_BYTES).ok())
         .as_ref()

@@ -1,5 +1,5 @@
-//! Pixel geometry: rectangles, data-to-pixel mapping, clipping, decimation,
-//! dashes and an occupancy grid for legend placement.
+//! Pixel geometry: rectangles, data-to-pixel mapping, clipping, decimation
+//! and an occupancy grid for legend placement.
 
 use crate::scale::AxisRange;
 
@@ -200,53 +200,6 @@ pub(crate) fn decimate(pts: &[Pt]) -> Vec<Pt> {
     out
 }
 
-/// Cuts a polyline into dashes of `dash` pixels separated by `gap` pixels,
-/// the pattern running on continuously along the line.
-pub(crate) fn dashes(pts: &[Pt], dash: f64, gap: f64) -> Vec<Vec<Pt>> {
-    let mut out = Vec::new();
-    if pts.len() < 2 || dash.is_nan() || dash <= 0.0 || gap.is_nan() || gap < 0.0 {
-        return out;
-    }
-    let period = dash + gap;
-    let mut phase = 0.0f64; // position within the period at the current point
-    let mut cur: Vec<Pt> = vec![pts[0]];
-    for w in pts.windows(2) {
-        let (a, b) = (w[0], w[1]);
-        let len = ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
-        if len <= 0.0 {
-            continue;
-        }
-        let mut t = 0.0f64; // distance already walked along this segment
-        let mut guard = 0usize;
-        while t < len && guard < 100_000 {
-            guard += 1;
-            let at = |d: f64| (a.0 + (b.0 - a.0) * d / len, a.1 + (b.1 - a.1) * d / len);
-            if phase < dash {
-                // Drawing: go to the end of the dash or of the segment.
-                let step = (dash - phase).min(len - t);
-                t += step;
-                phase += step;
-                cur.push(at(t));
-                if phase >= dash {
-                    out.push(std::mem::take(&mut cur));
-                }
-            } else {
-                let step = (period - phase).min(len - t);
-                t += step;
-                phase += step;
-                if phase >= period {
-                    phase = 0.0;
-                    cur = vec![at(t)];
-                }
-            }
-        }
-    }
-    if cur.len() > 1 {
-        out.push(cur);
-    }
-    out
-}
-
 /// Coarse grid marking where something has been drawn, to find a free
 /// corner for a legend.
 pub(crate) struct Occupancy {
@@ -392,14 +345,6 @@ mod tests {
         }
         assert!(b.clip_polyline(&[(20.0, 20.0)]).is_empty());
         assert!(b.clip_segment((20.0, 0.0), (20.0, 10.0)).is_none());
-    }
-
-    #[test]
-    fn dash_pattern() {
-        let d = dashes(&[(0.0, 0.0), (100.0, 0.0)], 10.0, 5.0);
-        assert_eq!(d.len(), 7);
-        assert!(dashes(&[(0.0, 0.0)], 10.0, 5.0).is_empty());
-        assert!(dashes(&[(0.0, 0.0), (1.0, 1.0)], f64::NAN, 5.0).is_empty());
     }
 
     #[test]

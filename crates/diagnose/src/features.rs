@@ -1,0 +1,196 @@
+//! What the data of a set can tell: how many rates, normal stresses, holds and reversals it
+//! has, and the signature of its velocity steps read off the curves (the jump right after a step
+//! gives the direct effect a, the decay length D_c, the new steady level a − b).
+
+use serde::Serialize;
+use subfric_fit::{typical_rate, FitTest, PreparedTest};
+use subfric_model::Control;
+
+/// Velocity-step signature, per e-fold of rate.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct StepSignature {
+    /// Friction jump right after the step / ln(v₂/v₁) (the direct effect a, a lower bound
+    /// when the machine is compliant).
+    pub direct: f64,
+    /// Change of steady friction / ln(v₂/v₁) (a − b).
+    pub steady: f64,
+    /// Slip from the peak until the excess over the new steady level has fallen by e [mm].
+    pub decay_mm: f64,
+    /// Steps measured.
+    pub steps: usize,
+}
+
+/// What the set's data contain.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DataFeatures {
+    /// Typical slip rate [mm/s].
+    pub v_ref: f64,
+    /// Reference normal stress: the geometric mean of the tests' [kPa].
+    pub p_ref: f64,
+    /// Distinct normal-stress levels (within 5 %).
+    pub pressure_levels: usize,
+    /// Distinct sliding rates (a factor 1.5 apart).
+    pub sliding_rates: usize,
+    /// Holds over all tests.
+    pub holds: usize,
+    /// Reversals over all tests.
+    pub reversals: usize,
+    /// Median imposed travel of a test [mm].
+    pub slip_span_mm: f64,
+    /// Velocity-step signature.
+    pub steps: StepSignature,
+}
+
+fn median(v: &mut [f64]) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    Some(v[v.len() / 2])
+}
+
+fn mean_normal(t: &FitTest) -> f64 {
+    t.normal.iter().sum::<f64>() / t.normal.len().max(1) as f64
+}
+
+/// Distinct values among `v` (sorted groups whose neighbours are within `ratio`).
+fn distinct(mut v: Vec<f64>, ratio: f64) -> usize {
+    v.retain(|x| x.is_finite() && *x > 0.0);
+    v.sort_by(f64::total_cmp);
+    let mut count = 0;
+    let mut last = f64::NEG_INFINITY;
+    for x in v {
+        if x > last * ratio {
+            count += 1;
+            last = x;
+        }
+    }
+    count
+}
+
+/// Median of friction over rows `a..b` of a test (slip control: shear / normal).
+fn friction_median(t: &FitTest, a: usize, b: usize) -> Option<f64> {
+    let mut v: Vec<f64> = (a..b.min(t.len()))
+        .map(|i| t.measured[i] / t.normal[i])
+        .collect();
+    median(&mut v)
+}
+
+/// The signature of one velocity step at row `c` from rate `v1` to `v2` in a test's full rows.
+fn one_step(p: &PreparedTest, c: usize, v1: f64, v2: f64) -> Option<(f64, f64, f64)> {
+    let t = &p.full;
+    let seg = &p.segmentation;
+    let ln = (v2 / v1).ln();
+    if !ln.is_finite() || ln.abs() < 0.3 {
+        return None;
+    }
+    let before = seg.levels.iter().find(|l| l.end == c + 1)?;
+    let after = seg.levels.iter().find(|l| l.start == c + 1)?;
+    let len_b = before.end - before.start;
+    let len_a = after.end - after.start;
+    if len_b < 10 || len_a < 10 {
+        return None;
+    }
+    let mu_before = friction_median(t, before.end - len_b / 4, before.end)?;
+    let mu_after = friction_median(t, after.end - len_a / 4, after.end)?;
+    // The extreme of a 7-row running median over the first half of the new level.
+    let half = after.start + len_a / 2;
+    let sign = ln.signum();
+    let mut best = (f64::NEG_INFINITY, after.start);
+    for i in after.start..half.saturating_sub(7) {
+        let m = friction_median(t, i, i + 7)?;
+        if sign * m > best.0 {
+            best = (sign * m, i + 3);
+        }
+    }
+    let peak = sign * best.0;
+    let excess = peak - mu_after;
+    let target = mu_after + excess / std::f64::consts::E;
+    let mut decay = None;
+    for i in best.1..after.end.saturating_sub(7) {
+        let m = friction_median(t, i, i + 7)?;
+        if (m - target) * excess.signum() <= 0.0 {
+            decay = Some((t.imposed[i] - t.imposed[best.1]).abs());
+            break;
+        }
+    }
+    Some((
+        (peak - mu_before) / ln,
+        (mu_after - mu_before) / ln,
+        decay.unwrap_or((t.imposed[half] - t.imposed[after.start]).abs()),
+    ))
+}
+
+fn step_signature(tests: &[PreparedTest]) -> StepSignature {
+    let (mut direct, mut steady, mut decay) = (Vec::new(), Vec::new(), Vec::new());
+    for p in tests {
+        if p.full.control != Control::Slip {
+            continue;
+        }
+        for (&c, (v1, v2)) in p
+            .segmentation
+            .rate_changes
+            .iter()
+            .zip(p.segmentation.step_rates())
+        {
+            if v1 * v2 <= 0.0 {
+                continue;
+            }
+            if let Some((d, s, l)) = one_step(p, c, v1.abs(), v2.abs()) {
+                direct.push(d);
+                steady.push(s);
+                decay.push(l);
+            }
+        }
+    }
+    StepSignature {
+        steps: direct.len(),
+        direct: median(&mut direct).unwrap_or(0.01),
+        steady: median(&mut steady).unwrap_or(0.0),
+        decay_mm: median(&mut decay).unwrap_or(0.05),
+    }
+}
+
+/// Reads the features of a set's prepared tests.
+pub fn data_features(tests: &[PreparedTest]) -> DataFeatures {
+    let fits: Vec<FitTest> = tests.iter().map(|p| p.fit.clone()).collect();
+    let normals: Vec<f64> = fits.iter().map(mean_normal).collect();
+    let p_ref = (normals.iter().map(|p| p.ln()).sum::<f64>() / normals.len().max(1) as f64).exp();
+    let mut rates = Vec::new();
+    let mut spans = Vec::new();
+    let (mut holds, mut reversals) = (0, 0);
+    for p in tests {
+        let seg = &p.segmentation;
+        holds += seg.holds.len();
+        reversals += seg.reversals.len();
+        if p.full.control == Control::Slip {
+            rates.extend(
+                seg.levels
+                    .iter()
+                    .filter(|l| l.end - l.start >= 5)
+                    .map(|l| l.rate.abs()),
+            );
+        }
+        let travel: f64 = p.full.imposed.windows(2).map(|w| (w[1] - w[0]).abs()).sum();
+        spans.push(match p.full.control {
+            Control::Slip => travel,
+            Control::Shear => (p.full.measured.last().unwrap_or(&0.0)
+                - p.full.measured.first().unwrap_or(&0.0))
+            .abs(),
+        });
+    }
+    DataFeatures {
+        v_ref: typical_rate(&fits),
+        p_ref: if p_ref.is_finite() && p_ref > 0.0 {
+            p_ref
+        } else {
+            100.0
+        },
+        pressure_levels: distinct(normals, 1.05),
+        sliding_rates: distinct(rates, 1.5),
+        holds,
+        reversals,
+        slip_span_mm: median(&mut spans).unwrap_or(1.0),
+        steps: step_signature(tests),
+    }
+}

@@ -1,0 +1,235 @@
+//! Fitting the base model with any set of candidate forms, from several starts, and predicting
+//! held-out pieces after refitting without them.
+
+use crate::candidates::Form;
+use crate::folds::Fold;
+use crate::score::HeldOut;
+use rayon::prelude::*;
+use serde::Serialize;
+use subfric_fit::lm::{levenberg_marquardt, LmOptions, Termination};
+use subfric_fit::{FitTest, Param, Problem, Space};
+use subfric_model::{Extensions, Model};
+
+/// A model: the base plus some candidate forms (none: the base model).
+#[derive(Clone, Debug, Default)]
+pub struct Spec {
+    /// The forms switched on, at most one per family.
+    pub forms: Vec<Form>,
+    /// A drift of each test's measurement linear in time (the non-physical alternative).
+    pub drift: bool,
+}
+
+impl Spec {
+    /// The base model.
+    pub fn base() -> Spec {
+        Spec::default()
+    }
+
+    /// The base model with one form.
+    pub fn with(form: &Form) -> Spec {
+        Spec {
+            forms: vec![form.clone()],
+            drift: false,
+        }
+    }
+
+    /// This model with one more form.
+    pub fn plus(&self, form: &Form) -> Spec {
+        let mut s = self.clone();
+        s.forms.push(form.clone());
+        s
+    }
+
+    /// Extra parameters of the forms.
+    pub fn extra_params(&self) -> Vec<Param> {
+        self.forms.iter().flat_map(|f| f.params.clone()).collect()
+    }
+
+    /// Number of extra parameters (one drift slope per test counts as `tests` parameters).
+    pub fn extra_count(&self, tests: usize) -> usize {
+        self.extra_params().len() + if self.drift { tests } else { 0 }
+    }
+
+    /// Short description: the forms' names joined.
+    pub fn describe(&self) -> String {
+        if self.drift {
+            return "base + measurement drift linear in time".into();
+        }
+        if self.forms.is_empty() {
+            return "base".into();
+        }
+        self.forms
+            .iter()
+            .map(|f| format!("{} ({})", f.effect, f.name))
+            .collect::<Vec<_>>()
+            .join(" + ")
+    }
+}
+
+/// Extensions of `a` with those set in `b` switched on.
+pub fn merge(a: &Extensions, b: &Extensions) -> Extensions {
+    Extensions {
+        rate: b.rate.or(a.rate),
+        pressure: b.pressure.or(a.pressure),
+        slip_hardening: b.slip_hardening.or(a.slip_hardening),
+        healing: b.healing.or(a.healing),
+        direction: b.direction.or(a.direction),
+    }
+}
+
+/// The optimiser's space of a spec: the base parameters `base_free` of `template` plus the
+/// forms' parameters, the forms switched on at their neutral values.
+pub fn space_of(template: &Model, base_free: &[Param], spec: &Spec, v_ref: f64) -> Space {
+    let mut base = *template;
+    let mut bounds = Vec::new();
+    for f in &spec.forms {
+        base.ext = merge(&base.ext, &f.template);
+        for (p, v) in f.params.iter().zip(&f.neutral) {
+            p.set(&mut base, *v);
+        }
+        bounds.extend(f.bounds.iter().copied());
+    }
+    let mut free = base_free.to_vec();
+    free.extend(spec.extra_params());
+    Space::with_rate(base, &free, &bounds, v_ref)
+}
+
+/// `from` with the extension parameters of `spec` set to the values `values` (one vector per
+/// form, natural units); forms not listed keep what `from` has.
+pub fn with_values(from: &Model, spec: &Spec, values: &[Vec<f64>]) -> Model {
+    let mut m = *from;
+    for (f, v) in spec.forms.iter().zip(values) {
+        m.ext = merge(&m.ext, &f.template);
+        for (p, x) in f.params.iter().zip(v) {
+            p.set(&mut m, *x);
+        }
+    }
+    m
+}
+
+/// How a fit ended.
+#[derive(Clone, Debug, Serialize)]
+pub struct FitResult {
+    /// Best model found.
+    pub model: Model,
+    /// Its SSR (noise units).
+    pub ssr: f64,
+    /// Converged (or stopped at a point no step could improve).
+    pub converged: bool,
+    /// Why the best run stopped.
+    pub termination: String,
+    /// Starts tried.
+    pub starts: usize,
+}
+
+/// Least squares from each start (in parallel); the best wins.
+pub fn fit(tests: &[FitTest], space: &Space, starts: &[Model], iterations: usize) -> FitResult {
+    let p = Problem::new(tests, space.clone());
+    let opts = LmOptions {
+        max_iterations: iterations,
+        ..LmOptions::default()
+    };
+    let runs: Vec<(Vec<f64>, f64, Termination)> = starts
+        .par_iter()
+        .map(|m| {
+            let r = levenberg_marquardt(&p, &space.point_of(m), None, &opts);
+            (r.x, r.ssr, r.termination)
+        })
+        .collect();
+    let best = runs
+        .iter()
+        .filter(|r| r.1.is_finite())
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    match best {
+        Some((x, ssr, term)) => FitResult {
+            model: space.model_at(x),
+            ssr: *ssr,
+            converged: *term != Termination::MaxIterations,
+            termination: format!("{term:?}"),
+            starts: starts.len(),
+        },
+        None => FitResult {
+            model: space.base,
+            ssr: f64::INFINITY,
+            converged: false,
+            termination: "no start could be simulated".into(),
+            starts: starts.len(),
+        },
+    }
+}
+
+/// Per-row residuals k √w (prediction − measurement) of every test (NaN where the model cannot
+/// simulate), with each test's drift fitted on the rows that weigh in `train` removed when
+/// `drift` is set.
+pub fn residuals(tests: &[FitTest], m: &Model, drift: Option<&[FitTest]>) -> HeldOut {
+    tests
+        .iter()
+        .enumerate()
+        .map(|(ti, t)| {
+            let k = t.weight.sqrt() / t.noise_sd;
+            let mut r: Vec<f64> = match t.predict(m) {
+                Ok(p) => (0..t.len())
+                    .map(|i| k * t.weight_of(i).sqrt() * (p[i] - t.measured[i]))
+                    .collect(),
+                Err(_) => vec![f64::NAN; t.len()],
+            };
+            if let Some(train) = drift {
+                // The drift is learned where the training weighs, and applied everywhere.
+                let tr = &train[ti];
+                let (mut num, mut den) = (0.0, 0.0);
+                for i in 0..t.len() {
+                    let x = t.weight_of(i).sqrt() * (t.time[i] - t.time[0]);
+                    if tr.weight_of(i) > 0.0 && r[i].is_finite() {
+                        num += r[i] * x;
+                        den += x * x;
+                    }
+                }
+                let c = if den > 0.0 { num / den } else { 0.0 };
+                t.remove_drift(&mut r, 0..t.len(), c);
+            }
+            r
+        })
+        .collect()
+}
+
+/// Held-out residuals of a spec: for each fold, refit on the rows it keeps (from each of
+/// `starts`, keeping the best training fit) and predict the rows it holds out.
+pub fn cross_validate(
+    tests: &[FitTest],
+    folds: &[Fold],
+    space: &Space,
+    starts: &[Model],
+    iterations: usize,
+    drift: bool,
+) -> HeldOut {
+    let per_fold: Vec<HeldOut> = folds
+        .par_iter()
+        .map(|f| {
+            let mut train = f.training(tests);
+            for t in train.iter_mut() {
+                t.detrend = drift;
+            }
+            let r = fit(&train, space, starts, iterations);
+            let mut res = residuals(tests, &r.model, drift.then_some(&train[..]));
+            for (rt, held) in res.iter_mut().zip(&f.held_rows) {
+                for (v, h) in rt.iter_mut().zip(held) {
+                    if !h {
+                        *v = f64::NAN;
+                    }
+                }
+            }
+            res
+        })
+        .collect();
+    let mut out: HeldOut = tests.iter().map(|t| vec![f64::NAN; t.len()]).collect();
+    for res in per_fold {
+        for (o, r) in out.iter_mut().zip(res) {
+            for (a, b) in o.iter_mut().zip(r) {
+                if !b.is_nan() {
+                    *a = b;
+                }
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,110 @@
+//! Where the model misses: its residual on every row of the record, grouped per test, per kind
+//! of segment, per test and segment, early against late cycles, and per normal-stress level, as
+//! a share of the excess over the noise.
+
+use crate::score::HeldOut;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use subfric_fit::PreparedTest;
+
+/// Misfit of a group of rows.
+#[derive(Clone, Debug, Serialize)]
+pub struct GroupMisfit {
+    /// Group label.
+    pub group: String,
+    /// Rows in the group.
+    pub rows: usize,
+    /// RMS residual / noise SD (1 = noise level).
+    pub rms_over_noise: f64,
+    /// Share of the total excess misfit (SSR − rows, in noise units) in this group.
+    pub share_of_gap: f64,
+}
+
+/// Where the residual lies.
+#[derive(Clone, Debug, Serialize)]
+pub struct Localisation {
+    /// Per test.
+    pub by_test: Vec<GroupMisfit>,
+    /// Per kind of segment, all tests together.
+    pub by_segment: Vec<GroupMisfit>,
+    /// Per test and kind of segment.
+    pub by_test_segment: Vec<GroupMisfit>,
+    /// Early vs late cycles (tests with cycles).
+    pub by_cycle: Vec<GroupMisfit>,
+    /// Per normal stress level.
+    pub by_normal_stress: Vec<GroupMisfit>,
+    /// Total excess misfit over the noise, in noise units.
+    pub total_excess: f64,
+}
+
+fn group_misfit<F: Fn(usize, usize) -> Option<String>>(res: &HeldOut, key: F) -> Vec<GroupMisfit> {
+    let mut acc: BTreeMap<String, (usize, f64)> = BTreeMap::new();
+    for (t, r) in res.iter().enumerate() {
+        for (i, v) in r.iter().enumerate() {
+            if let Some(k) = key(t, i) {
+                let e = acc.entry(k).or_insert((0, 0.0));
+                e.0 += 1;
+                e.1 += if v.is_finite() { v * v } else { 1e6 };
+            }
+        }
+    }
+    let total: f64 = acc.values().map(|(n, s)| (s - *n as f64).max(0.0)).sum();
+    acc.into_iter()
+        .map(|(group, (rows, ssr))| GroupMisfit {
+            group,
+            rows,
+            rms_over_noise: (ssr / rows.max(1) as f64).sqrt(),
+            share_of_gap: if total > 0.0 {
+                (ssr - rows as f64).max(0.0) / total
+            } else {
+                0.0
+            },
+        })
+        .collect()
+}
+
+/// Groups the residuals `res` of every row of each test (noise units).
+pub fn localise(prepared: &[PreparedTest], res: &HeldOut) -> Localisation {
+    let name = |t: usize| prepared[t].full.name.clone();
+    let kind = |t: usize, i: usize| {
+        prepared[t]
+            .segmentation
+            .row_kind
+            .get(i)
+            .map(|k| k.name().to_string())
+    };
+    let cycle = |t: usize, i: usize| {
+        let seg = &prepared[t].segmentation;
+        let n = seg.cycles();
+        let c = *seg.cycle_of_row.get(i)?;
+        (n >= 2).then(|| {
+            if c <= n / 2 {
+                "early cycles".to_string()
+            } else {
+                "late cycles".to_string()
+            }
+        })
+    };
+    let stress = |t: usize| {
+        let f = &prepared[t].full;
+        let mean = f.normal.iter().sum::<f64>() / f.normal.len().max(1) as f64;
+        format!("{mean:.0} kPa")
+    };
+    Localisation {
+        by_test: group_misfit(res, |t, _| Some(name(t))),
+        by_segment: group_misfit(res, kind),
+        by_test_segment: group_misfit(res, |t, i| kind(t, i).map(|k| format!("{} / {k}", name(t)))),
+        by_cycle: group_misfit(res, cycle),
+        by_normal_stress: group_misfit(res, |t, _| Some(stress(t))),
+        total_excess: res
+            .iter()
+            .map(|r| {
+                r.iter()
+                    .map(|v| if v.is_finite() { v * v } else { 1e6 })
+                    .sum::<f64>()
+                    - r.len() as f64
+            })
+            .sum::<f64>()
+            .max(0.0),
+    }
+}

@@ -1,0 +1,315 @@
+//! Scoring a candidate on held-out pieces against the model it extends.
+//!
+//! On laboratory data the model misses by far more than the sensor noise, and its residual is
+//! smooth: neighbouring rows are not independent, and the size of the misfit differs from one
+//! situation to the next (a run-in, a hold, a velocity step). So each held-out piece is given
+//! its own residual scale and its own effective number of independent rows, n_eff = n (1 − ρ) /
+//! (1 + ρ) from the lag-1 autocorrelation ρ of the reference model's residual there. The score
+//! of a candidate is then the Gaussian log-likelihood ratio on the held-out pieces,
+//!
+//! D = Σ_pieces n_eff · ln(SSR_reference / SSR_candidate),
+//!
+//! in deviance units (like ΔBIC): a large piece that the candidate fits a little better counts
+//! as much as the evidence it carries, no more. The same holds one scale up: each piece's misfit
+//! splits into its level (the piece's mean error) and its shape (what remains), and the levels
+//! of the pieces along a test are a sequence with its own autocorrelation — a slow trend that
+//! moves every piece a little (a drift, a history the model lacks) counts once per correlation
+//! length of that sequence, not once per piece or per row. At the noise level (white residuals,
+//! one scale) the sum is the ordinary likelihood ratio.
+
+use crate::folds::{Piece, PieceKind};
+use serde::Serialize;
+
+/// Held-out residuals: per test, per fitted row, in noise units (NaN where never held out).
+pub type HeldOut = Vec<Vec<f64>>;
+
+/// Sum of squares and count of the finite values of `r[a..b]`.
+fn ssr(r: &[f64]) -> (f64, usize) {
+    r.iter()
+        .filter(|v| v.is_finite())
+        .fold((0.0, 0), |(s, n), v| (s + v * v, n + 1))
+}
+
+/// Lag-1 autocorrelation of the finite values (0 when too few).
+fn lag1(r: &[f64]) -> f64 {
+    let v: Vec<f64> = r.iter().copied().filter(|v| v.is_finite()).collect();
+    if v.len() < 4 {
+        return 0.0;
+    }
+    let m = v.iter().sum::<f64>() / v.len() as f64;
+    let den: f64 = v.iter().map(|x| (x - m) * (x - m)).sum();
+    if den <= 0.0 {
+        return 0.0;
+    }
+    let num: f64 = v.windows(2).map(|w| (w[0] - m) * (w[1] - m)).sum();
+    (num / den).clamp(0.0, 0.999)
+}
+
+/// Effective number of independent rows of a residual stretch.
+pub fn effective_rows(r: &[f64]) -> f64 {
+    let (_, n) = ssr(r);
+    let rho = lag1(r);
+    (n as f64 * (1.0 - rho) / (1.0 + rho)).max(1.0)
+}
+
+/// How a candidate does on one piece.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PieceScore {
+    /// The piece's kind.
+    pub kind: PieceKind,
+    /// Test index.
+    pub test: usize,
+    /// Held-out rows.
+    pub rows: usize,
+    /// Effective independent rows of its shape.
+    pub n_eff: f64,
+    /// Reference SSR (noise units).
+    pub reference_ssr: f64,
+    /// Candidate SSR.
+    pub candidate_ssr: f64,
+}
+
+/// A candidate against a reference model on the held-out pieces.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Comparison {
+    /// Likelihood-ratio score D (deviance units; positive: the candidate predicts better):
+    /// `shape_score + level_score`.
+    pub score: f64,
+    /// The part of D from the shapes of the pieces (each piece's own level removed).
+    pub shape_score: f64,
+    /// The part of D from the levels of the pieces, counted per correlation length of the
+    /// sequence of levels along each test.
+    pub level_score: f64,
+    /// Fraction of the reference's held-out excess over the noise that the candidate removes.
+    pub excess_shrink: f64,
+    /// Fraction of the reference's held-out misfit that the candidate removes.
+    pub relative_shrink: f64,
+    /// How much the misfit of a typical piece falls: 1 − exp(−D/Σ n_eff).
+    pub typical_shrink: f64,
+    /// Reference held-out misfit per row of the record, reduced χ² (noise units).
+    pub reference_chi2: f64,
+    /// Candidate held-out misfit per row of the record.
+    pub candidate_chi2: f64,
+    /// Held-out fitted rows.
+    pub rows: usize,
+    /// Effective independent observations (shapes and levels).
+    pub n_eff: f64,
+    /// Per piece.
+    pub pieces: Vec<PieceScore>,
+}
+
+/// Lag-1 autocorrelation of a short sequence (0 with fewer than three values).
+fn lag1_short(v: &[f64]) -> f64 {
+    if v.len() < 3 {
+        return 0.0;
+    }
+    lag1(v)
+}
+
+/// The weights of the held-out rows: each row of a thinned test stands for several rows; the
+/// residuals carry √w already, so a piece's level is the w-weighted mean error.
+pub type Weights = Vec<Vec<f64>>;
+
+/// Compares held-out residuals of a candidate with those of the reference, piece by piece (see
+/// the module documentation); `weights` are the rows each fitted row stands for.
+///
+/// ```
+/// use subfric_diagnose::folds::{Piece, PieceKind};
+/// use subfric_diagnose::score::compare;
+/// let pieces = vec![Piece { test: 0, start: 0, end: 4, kind: PieceKind::Hold }];
+/// let reference = vec![vec![3.0, -3.0, 3.0, -3.0]];
+/// let candidate = vec![vec![1.0, -1.0, 1.0, -1.0]];
+/// let weights = vec![vec![1.0; 4]];
+/// let c = compare(&pieces, &weights, &reference, &candidate);
+/// assert!((c.relative_shrink - 8.0 / 9.0).abs() < 1e-12);
+/// assert!((c.excess_shrink - 1.0).abs() < 1e-12); // down to the noise
+/// assert!(c.score > 0.0);
+/// ```
+pub fn compare(
+    pieces: &[Piece],
+    weights: &Weights,
+    reference: &HeldOut,
+    candidate: &HeldOut,
+) -> Comparison {
+    let mut out = Vec::new();
+    let (mut b_all, mut c_all, mut rows, mut w_all) = (0.0, 0.0, 0usize, 0.0);
+    let (mut shape_score, mut level_score, mut n_eff) = (0.0, 0.0, 0.0);
+    // Per test: the levels of its pieces in order, (N, reference mean, candidate mean).
+    let mut levels: std::collections::BTreeMap<usize, Vec<(f64, f64, f64)>> = Default::default();
+    for p in pieces {
+        let (Some(rb), Some(rc), Some(w)) = (
+            reference.get(p.test),
+            candidate.get(p.test),
+            weights.get(p.test),
+        ) else {
+            continue;
+        };
+        let end = p.end.min(rb.len()).min(rc.len()).min(w.len());
+        if p.start >= end {
+            continue;
+        }
+        let idx: Vec<usize> = (p.start..end)
+            .filter(|&i| rb[i].is_finite() && rc[i].is_finite())
+            .collect();
+        let nb = idx.len();
+        if nb == 0 {
+            continue;
+        }
+        // Level: the weighted mean error in noise units, m = Σ √w r / Σ w.
+        let sw: f64 = idx.iter().map(|&i| w[i]).sum();
+        let mean = |r: &[f64]| idx.iter().map(|&i| w[i].sqrt() * r[i]).sum::<f64>() / sw;
+        let (mb, mc) = (mean(rb), mean(rc));
+        let shape = |r: &[f64], m: f64| -> Vec<f64> {
+            idx.iter().map(|&i| r[i] - w[i].sqrt() * m).collect()
+        };
+        let (sb, sc) = (shape(rb, mb), shape(rc, mc));
+        let wb: f64 = sb.iter().map(|v| v * v).sum();
+        let wc: f64 = sc.iter().map(|v| v * v).sum();
+        let ne = effective_rows(&sb);
+        // Below the noise an improvement is no evidence: one unit per row at least.
+        let floor = nb.saturating_sub(1).max(1) as f64;
+        shape_score += ne * (wb.max(floor) / wc.max(floor)).ln();
+        n_eff += ne;
+        levels.entry(p.test).or_default().push((sw, mb, mc));
+        let (b, c) = (ssr(&rb[p.start..end]).0, ssr(&rc[p.start..end]).0);
+        b_all += b;
+        c_all += c;
+        rows += nb;
+        w_all += sw;
+        out.push(PieceScore {
+            kind: p.kind,
+            test: p.test,
+            rows: nb,
+            n_eff: ne,
+            reference_ssr: b,
+            candidate_ssr: c,
+        });
+    }
+    for lv in levels.values() {
+        let lb: f64 = lv.iter().map(|(n, m, _)| n * m * m).sum();
+        let lc: f64 = lv.iter().map(|(n, _, m)| n * m * m).sum();
+        let means: Vec<f64> = lv.iter().map(|(_, m, _)| *m).collect();
+        let rho = lag1_short(&means);
+        let ne = (lv.len() as f64 * (1.0 - rho) / (1.0 + rho)).max(1.0);
+        let floor = lv.len() as f64;
+        level_score += ne * (lb.max(floor) / lc.max(floor)).ln();
+        n_eff += ne;
+    }
+    let score = shape_score + level_score;
+    let gap = b_all - rows as f64;
+    // Per row of the record: each fitted row's noise is one unit, its excess counts per row.
+    let per_row = |s: f64| 1.0 + (s - rows as f64) / w_all.max(1.0);
+    Comparison {
+        score,
+        shape_score,
+        level_score,
+        excess_shrink: if gap > 0.0 {
+            ((b_all - c_all) / gap).min(1.0)
+        } else {
+            0.0
+        },
+        relative_shrink: if b_all > 0.0 {
+            (b_all - c_all) / b_all
+        } else {
+            0.0
+        },
+        typical_shrink: if n_eff > 0.0 {
+            1.0 - (-score / n_eff).exp()
+        } else {
+            0.0
+        },
+        reference_chi2: per_row(b_all),
+        candidate_chi2: per_row(c_all),
+        rows,
+        n_eff,
+        pieces: out,
+    }
+}
+
+/// Shrink per piece kind: (kind, reference SSR, candidate SSR, rows).
+pub fn by_kind(c: &Comparison) -> Vec<(PieceKind, f64, f64, usize)> {
+    let mut acc: std::collections::BTreeMap<PieceKind, (f64, f64, usize)> = Default::default();
+    for p in &c.pieces {
+        let e = acc.entry(p.kind).or_insert((0.0, 0.0, 0));
+        e.0 += p.reference_ssr;
+        e.1 += p.candidate_ssr;
+        e.2 += p.rows;
+    }
+    acc.into_iter().map(|(k, (b, c, n))| (k, b, c, n)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn piece(start: usize, end: usize) -> Piece {
+        Piece {
+            test: 0,
+            start,
+            end,
+            kind: PieceKind::VelocityStep,
+        }
+    }
+
+    #[test]
+    fn smooth_residuals_carry_fewer_independent_rows() {
+        let white: Vec<f64> = (0..1000)
+            .map(|i| if i % 2 == 0 { 1.0 } else { -1.0 })
+            .collect();
+        let smooth: Vec<f64> = (0..1000).map(|i| (i as f64 / 200.0).sin()).collect();
+        assert!(effective_rows(&white) > 900.0);
+        assert!(effective_rows(&smooth) < 10.0);
+    }
+
+    #[test]
+    fn a_huge_smooth_piece_does_not_outweigh_many_noisy_ones() {
+        // Piece 1: a smooth run-in misfit of 30 noise units that candidate A halves.
+        // Pieces 2..11: noisy misfits of 3 units that candidate B brings to the noise.
+        let mut reference = vec![0.0; 1100];
+        for (i, r) in reference.iter_mut().enumerate().take(100) {
+            *r = 30.0 * (i as f64 / 60.0).sin().abs() + 1.0;
+        }
+        for (i, r) in reference.iter_mut().enumerate().skip(100) {
+            *r = 3.0 * if i % 2 == 0 { 1.0 } else { -1.0 };
+        }
+        let mut a = reference.clone();
+        for r in a.iter_mut().take(100) {
+            *r *= 0.5;
+        }
+        let mut b = reference.clone();
+        for (i, r) in b.iter_mut().enumerate().skip(100) {
+            *r = if i % 2 == 0 { 1.0 } else { -1.0 };
+        }
+        let mut pieces = vec![piece(0, 100)];
+        pieces.extend((0..10).map(|k| piece(100 + 100 * k, 200 + 100 * k)));
+        let w = vec![vec![1.0; 1100]];
+        let ca = compare(&pieces, &w, &vec![reference.clone()], &vec![a]);
+        let cb = compare(&pieces, &w, &vec![reference], &vec![b]);
+        assert!(
+            ca.relative_shrink > cb.relative_shrink,
+            "A removes more SSR"
+        );
+        assert!(
+            cb.score > ca.score,
+            "B carries more evidence: {} vs {}",
+            cb.score,
+            ca.score
+        );
+    }
+
+    #[test]
+    fn a_worse_candidate_scores_negative() {
+        let r: Vec<f64> = (0..200)
+            .map(|i| if i % 3 == 0 { 2.0 } else { -1.0 })
+            .collect();
+        let worse: Vec<f64> = r.iter().map(|v| 1.5 * v).collect();
+        let c = compare(
+            &[piece(0, 200)],
+            &vec![vec![1.0; 200]],
+            &vec![r],
+            &vec![worse],
+        );
+        assert!(c.score < 0.0);
+        assert!(c.relative_shrink < 0.0);
+    }
+}

@@ -1,0 +1,213 @@
+//! The decision: which candidate, if any, a diagnosis names at one stage of the forward
+//! selection, from the held-out comparisons alone.
+
+use crate::candidates::Effect;
+use crate::score::Comparison;
+use serde::Serialize;
+
+/// Thresholds of the verdict.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Thresholds {
+    /// Held-out evidence a candidate needs: the likelihood-ratio score D (deviance units).
+    pub min_score: f64,
+    /// Near the noise, a candidate must remove this fraction of the held-out excess misfit.
+    pub min_excess_shrink: f64,
+    /// When model error dominates, a candidate must lower the misfit of a typical held-out
+    /// piece by this fraction (or meet `min_excess_shrink`).
+    pub min_typical_shrink: f64,
+    /// Held-out reduced χ² (noise units) of the reference above which model error dominates.
+    pub model_error_chi2: f64,
+    /// Reduced χ² above which a gap over the noise is real (below: nothing to explain).
+    pub gap_chi2: f64,
+    /// Most effects a diagnosis names.
+    pub max_effects: usize,
+}
+
+impl Default for Thresholds {
+    fn default() -> Self {
+        Thresholds {
+            min_score: 20.0,
+            min_excess_shrink: 0.7,
+            min_typical_shrink: 0.25,
+            model_error_chi2: 10.0,
+            gap_chi2: 1.3,
+            max_effects: 3,
+        }
+    }
+}
+
+/// What one stage of the selection decided.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case", tag = "decision", content = "index")]
+pub enum Decision {
+    /// The reference already fits at the noise level: nothing to explain.
+    NoGap,
+    /// Candidate `index` is named.
+    Named(usize),
+    /// A drift of the measurement explains more than any physical candidate.
+    Drift,
+    /// A real gap that no candidate explains well enough.
+    Unexplained,
+}
+
+/// True when comparison `c` is both significant and material.
+pub fn passes(c: &Comparison, th: &Thresholds) -> bool {
+    let material = c.excess_shrink >= th.min_excess_shrink
+        || (c.reference_chi2 >= th.model_error_chi2 && c.typical_shrink >= th.min_typical_shrink);
+    c.score >= th.min_score && material
+}
+
+/// Decides one stage: `candidates` are (family, comparison with the current model) and `drift`
+/// the measurement-drift alternative (only at the first stage). The candidate with the most
+/// held-out evidence is named when it passes; a drift that passes with more evidence than every
+/// physical candidate sends the gap to "unexplained".
+///
+/// ```
+/// use subfric_diagnose::score::Comparison;
+/// use subfric_diagnose::verdict::{decide, Decision, Thresholds};
+/// use subfric_diagnose::Effect;
+/// let good = Comparison { score: 400.0, shape_score: 300.0, level_score: 100.0, excess_shrink: 0.95, relative_shrink: 0.9, typical_shrink: 0.6,
+///     reference_chi2: 12.0, candidate_chi2: 1.5, rows: 2000, n_eff: 1500.0, pieces: vec![] };
+/// let d = decide(12.0, &[(Effect::Rate, good.clone())], None, &Thresholds::default());
+/// assert_eq!(d, Decision::Named(0));
+/// assert_eq!(decide(1.1, &[(Effect::Rate, good)], None, &Thresholds::default()), Decision::NoGap);
+/// ```
+pub fn decide(
+    reference_chi2: f64,
+    candidates: &[(Effect, Comparison)],
+    drift: Option<&Comparison>,
+    th: &Thresholds,
+) -> Decision {
+    if reference_chi2 <= th.gap_chi2 {
+        return Decision::NoGap;
+    }
+    let best = (0..candidates.len())
+        .max_by(|&a, &b| candidates[a].1.score.total_cmp(&candidates[b].1.score));
+    let best_score = best.map_or(f64::NEG_INFINITY, |i| candidates[i].1.score);
+    if let Some(d) = drift {
+        if passes(d, th) && d.score > best_score {
+            return Decision::Drift;
+        }
+    }
+    match best {
+        Some(i) if passes(&candidates[i].1, th) => Decision::Named(i),
+        _ => Decision::Unexplained,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cmp(score: f64, excess: f64, typical: f64, reference_chi2: f64) -> Comparison {
+        Comparison {
+            score,
+            shape_score: score,
+            level_score: 0.0,
+            excess_shrink: excess,
+            relative_shrink: excess,
+            typical_shrink: typical,
+            reference_chi2,
+            candidate_chi2: reference_chi2 * (1.0 - excess),
+            rows: 1000,
+            n_eff: 800.0,
+            pieces: vec![],
+        }
+    }
+
+    #[test]
+    fn near_the_noise_a_candidate_must_remove_most_of_the_excess() {
+        let th = Thresholds::default();
+        let partial = cmp(300.0, 0.6, 0.5, 4.0);
+        assert_eq!(
+            decide(4.0, &[(Effect::Rate, partial)], None, &th),
+            Decision::Unexplained
+        );
+        let full = cmp(300.0, 0.71, 0.5, 4.0);
+        assert_eq!(
+            decide(4.0, &[(Effect::Rate, full)], None, &th),
+            Decision::Named(0)
+        );
+    }
+
+    #[test]
+    fn when_model_error_dominates_a_typical_improvement_is_enough() {
+        let th = Thresholds::default();
+        let c = cmp(300.0, 0.3, 0.26, 5000.0);
+        assert_eq!(
+            decide(5000.0, &[(Effect::Rate, c)], None, &th),
+            Decision::Named(0)
+        );
+        let weak = cmp(300.0, 0.3, 0.24, 5000.0);
+        assert_eq!(
+            decide(5000.0, &[(Effect::Rate, weak)], None, &th),
+            Decision::Unexplained
+        );
+    }
+
+    #[test]
+    fn evidence_below_the_score_threshold_names_nothing() {
+        let th = Thresholds::default();
+        let c = cmp(19.0, 0.99, 0.9, 5.0);
+        assert_eq!(
+            decide(5.0, &[(Effect::Pressure, c)], None, &th),
+            Decision::Unexplained
+        );
+    }
+
+    #[test]
+    fn the_candidate_with_most_evidence_is_named() {
+        let th = Thresholds::default();
+        let a = cmp(100.0, 0.9, 0.5, 6.0);
+        let b = cmp(150.0, 0.8, 0.5, 6.0);
+        assert_eq!(
+            decide(
+                6.0,
+                &[(Effect::Rate, a), (Effect::SlipHardening, b)],
+                None,
+                &th
+            ),
+            Decision::Named(1)
+        );
+    }
+
+    #[test]
+    fn a_drift_that_beats_every_physical_candidate_is_unexplained() {
+        let th = Thresholds::default();
+        let phys = cmp(200.0, 0.75, 0.5, 8.0);
+        let drift = cmp(500.0, 0.98, 0.9, 8.0);
+        assert_eq!(
+            decide(
+                8.0,
+                &[(Effect::SlipHardening, phys.clone())],
+                Some(&drift),
+                &th
+            ),
+            Decision::Drift
+        );
+        let weak_drift = cmp(150.0, 0.6, 0.3, 8.0);
+        assert_eq!(
+            decide(
+                8.0,
+                &[(Effect::SlipHardening, phys)],
+                Some(&weak_drift),
+                &th
+            ),
+            Decision::Named(0)
+        );
+    }
+
+    #[test]
+    fn no_gap_below_the_gap_threshold() {
+        let th = Thresholds::default();
+        assert_eq!(
+            decide(
+                1.25,
+                &[(Effect::Rate, cmp(50.0, 0.9, 0.5, 1.25))],
+                None,
+                &th
+            ),
+            Decision::NoGap
+        );
+    }
+}

