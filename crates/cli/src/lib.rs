@@ -166,6 +166,12 @@ fn diagnose(a: DiagnoseArgs) -> Result<()> {
     let set = load_set(&a.set)?;
     print_warnings(&plausibility(&set));
     let name = set.meta.name.clone();
+    // The per-test figures are named after the tests.
+    let test_figures: Vec<String> = set
+        .tests
+        .iter()
+        .map(|t| format!("{}.png", figures::sanitize(&t.spec.name)))
+        .collect();
     drop(set);
     let dir = a
         .out
@@ -177,7 +183,9 @@ fn diagnose(a: DiagnoseArgs) -> Result<()> {
         "residual-by-test.png",
     ]
     .map(String::from)
-    .to_vec();
+    .into_iter()
+    .chain(test_figures)
+    .collect();
     let claim = ResultsDir::claim(&dir, std::slice::from_ref(&a.set), &files, a.force)?;
     let opts = DiagnoseOptions {
         seed: a.seed,
