@@ -27,8 +27,8 @@ pub use extensions::{
     RateForm, SlipForm, SlipHardening, Target,
 };
 pub use integrator::StepError;
-pub use params::{ParamError, ParamIssue, Params};
-pub use scenario::{Scenario, ScenarioError, Stage};
+pub use params::{ParamError, ParamIssue, Params, MAX_ALPHA};
+pub use scenario::{Scenario, ScenarioError, Stage, MAX_SCENARIO_ROWS};
 pub use simulate::{
     simulate, simulate_predicted_into, Control, Initial, Protocol, SimError, Trajectory,
 };
