@@ -21,7 +21,7 @@ pub mod scenario;
 pub mod simulate;
 
 pub use contact1::{Contact1, State1};
-pub use contact3::{Contact3, State3, Vec3};
+pub use contact3::{Contact3, State3, Tangent3, Vec3};
 pub use extensions::{
     DirectionEffect, Extensions, Healing, HealingForm, PressureEffect, PressureForm, RateEffect,
     RateForm, SlipForm, SlipHardening, Target,
