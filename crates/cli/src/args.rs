@@ -411,6 +411,13 @@ pub struct SelfcheckArgs {
     /// Write the scores as JSON to this file [default: none].
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Also write every generated set (a folder per set and a truth.json, which
+    /// `selfcheck --sets` scores again) to this new folder [default: none].
+    #[arg(long)]
+    pub write_sets: Option<PathBuf>,
+    /// Only these classes (1-based numbers as printed, comma separated) [default: all].
+    #[arg(long, value_delimiter = ',')]
+    pub classes: Vec<usize>,
     /// Replace an existing --json file.
     #[arg(long)]
     pub force: bool,

@@ -22,7 +22,7 @@ use progress::Progress;
 use std::process::ExitCode;
 use subfric_data::{load_set, plausibility, summary, PathKind, Warning};
 use subfric_diagnose::selfcheck::SelfcheckOptions;
-use subfric_diagnose::{DiagnoseOptions, Effect};
+use subfric_diagnose::DiagnoseOptions;
 use subfric_fit::{prepare_set, reference_model, FitOptions};
 
 /// Parses the command line, runs it, prints an error if any; the process's exit code.
@@ -228,14 +228,43 @@ fn selfcheck(a: SelfcheckArgs) -> Result<()> {
             );
         }
     }
+    if let Some(w) = &a.write_sets {
+        if PathKind::of(w) != PathKind::Absent {
+            bail!(
+                "--write-sets {}: exists (expected a new folder)",
+                w.display()
+            );
+        }
+    }
     let (cases, scores) = match &a.sets {
         Some(root) => diagnose_cmd::score_folder(root, &DiagnoseOptions::default())?,
-        None => diagnose_cmd::run_selfcheck(&SelfcheckOptions {
-            classes: Effect::ALL.to_vec(),
-            per_class: a.per_class,
-            seed: a.seed,
-            ..SelfcheckOptions::default()
-        }),
+        None => {
+            let all = subfric_diagnose::selfcheck::all_classes();
+            let classes = if a.classes.is_empty() {
+                all
+            } else {
+                let mut v = Vec::new();
+                for &k in &a.classes {
+                    match all.get(k.wrapping_sub(1)) {
+                        Some(c) => v.push(c.clone()),
+                        None => bail!(
+                            "--classes {k}: no such class (expected numbers from 1 to {})",
+                            all.len()
+                        ),
+                    }
+                }
+                v
+            };
+            diagnose_cmd::run_selfcheck(
+                &SelfcheckOptions {
+                    classes,
+                    per_class: a.per_class,
+                    seed: a.seed,
+                    ..SelfcheckOptions::default()
+                },
+                a.write_sets.as_deref(),
+            )?
+        }
     };
     println!("\n{scores}");
     if let Some(j) = &a.json {

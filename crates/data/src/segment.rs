@@ -337,7 +337,7 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         t,
         &mut seg.conditioned.values,
         &seg.levels,
-        3.0 * seg.conditioned.band,
+        LEVEL_SMOOTHING_BANDS * seg.conditioned.band,
     );
 
     // events at rows, the most significant one kept when several coincide
@@ -537,6 +537,12 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
         ),
     )
 }
+
+/// Window of the smoothing of the imposed column within a level, in bands: wide enough that the
+/// *rate* of the smoothed column is resolved (its error is about √12·σ/(W√n), under 1 % for
+/// the noise and row spacing of lab files), since rate-dependent models turn imposed-column
+/// noise into friction noise.
+const LEVEL_SMOOTHING_BANDS: f64 = 15.0;
 
 /// Smooths the imposed column within each sliding level at the scale of its noise: each
 /// interior row is replaced by the straight line fitted to the rows within `window / 2` of

@@ -51,6 +51,8 @@ pub struct DiagnoseOptions {
     pub folds: usize,
     /// Fraction of each test held out at its end in the extra tail folds.
     pub tail_fraction: f64,
+    /// Least-squares iterations that rank the forms of a family.
+    pub screening_iterations: usize,
     /// Least-squares iterations of a candidate fit on all data.
     pub candidate_iterations: usize,
     /// Least-squares iterations of a refit in a fold (warm-started).
@@ -69,6 +71,7 @@ impl Default for DiagnoseOptions {
             starts: 4,
             folds: 4,
             tail_fraction: 0.4,
+            screening_iterations: 12,
             candidate_iterations: 30,
             fold_iterations: 8,
             template: Model::base(subfric_model::Params::sample())
@@ -288,7 +291,7 @@ fn trace(t0: Instant, what: &str) {
 }
 
 /// Rounds of reweighting when model error dominates.
-const REWEIGHTING_ROUNDS: usize = 2;
+const REWEIGHTING_ROUNDS: usize = 1;
 
 /// The fitted tests and everything derived once from them.
 struct Context<'a> {
@@ -297,7 +300,7 @@ struct Context<'a> {
     /// Model error dominates: every spec is fitted with a variance per piece (see
     /// [`Context::weighted_for`]).
     reweight: bool,
-    /// The base model's residuals on all data (the first weights of every candidate).
+    /// The base model's residuals on all data (what candidates are scored in-sample against).
     base_residuals: HeldOut,
     features: DataFeatures,
     base_free: Vec<Param>,
@@ -339,9 +342,9 @@ impl Context<'_> {
                 .map(|v| if v.is_finite() { v * v } else { FAILED_ROW })
                 .sum();
             let c = crate::score::effective_rows(r) / ssr.max(n);
-            for i in p.start..p.end {
-                factor[p.test][i] = c;
-                let w = self.weights[p.test][i];
+            let rows = &mut factor[p.test][p.start..p.end];
+            for (f, w) in rows.iter_mut().zip(&self.weights[p.test][p.start..p.end]) {
+                *f = c;
                 before += w;
                 after += w * c;
             }
@@ -358,8 +361,8 @@ impl Context<'_> {
             .collect()
     }
 
-    /// Fits `spec` to all data from `starts` (the `keep` best of them), reweighted until the
-    /// weights are the fitted model's own when model error dominates.
+    /// Fits `spec` to all data from `starts` (the `keep` best of them) by least squares, then,
+    /// when model error dominates, reweighted at its own residuals.
     fn fit_spec(
         &self,
         template: &Model,
@@ -375,7 +378,9 @@ impl Context<'_> {
             }
             ts
         };
-        let mut fit_tests = detrended(self.weighted_for(&self.base_residuals));
+        // Plain least squares first: weights from another model's residuals would make the
+        // pieces where this one differs most weightless, and the fit would never see them.
+        let mut fit_tests = detrended(self.tests.clone());
         let mut result = fit(&fit_tests, &space, starts, keep, iterations);
         if self.reweight {
             for _ in 0..REWEIGHTING_ROUNDS {
@@ -464,7 +469,9 @@ fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, Fit
                 .iter()
                 .map(|s| with_values(base, &spec, std::slice::from_ref(s)))
                 .collect();
-            let fitted = cx.fit_spec(base, &spec, &starts, 2, cx.opts.candidate_iterations);
+            // Screening: a few iterations rank the forms; the best of each family is then
+            // polished (see `polish`).
+            let fitted = cx.fit_spec(base, &spec, &starts, 2, cx.opts.screening_iterations);
             let r = &fitted.result;
             let c = cx.in_sample(&r.model, &spec, &fitted.fit_tests);
             let k = f.params.len() as f64;
@@ -557,8 +564,8 @@ struct Family {
     alone: Fitted,
 }
 
-/// 3. One stage of the forward selection: every remaining family added to the current model,
-/// fitted on all data and compared on held-out pieces.
+/// Step 3, one stage of the forward selection: every remaining family added to the current
+/// model, fitted on all data and compared on held-out pieces.
 fn selection_stage(
     cx: &Context,
     current: &Current,
@@ -788,15 +795,36 @@ pub fn diagnose(
     let (mut forms, fits): (Vec<FormReport>, Vec<Fitted>) =
         fit_forms(&cx, &base, &lib).into_iter().unzip();
     let chosen = choose_forms(&mut forms);
-    trace(t0, "every form fitted");
+    trace(t0, "every form screened");
     let families: Vec<Family> = chosen
-        .iter()
-        .map(|&i| Family {
-            effect: forms[i].effect,
-            form: lib[i].clone(),
-            alone: fits[i].clone(),
+        .par_iter()
+        .map(|&i| {
+            let spec = Spec::with(&lib[i]);
+            let polished = cx.fit_spec(
+                &base,
+                &spec,
+                &[fits[i].result.model],
+                1,
+                opts.candidate_iterations,
+            );
+            Family {
+                effect: forms[i].effect,
+                form: lib[i].clone(),
+                alone: polished,
+            }
         })
         .collect();
+    for (f, &i) in families.iter().zip(&chosen) {
+        let r = &f.alone.result;
+        let c = cx.in_sample(&r.model, &Spec::with(&f.form), &f.alone.fit_tests);
+        forms[i].parameters = parameters_of(&r.model, std::slice::from_ref(&f.form));
+        forms[i].ssr = r.ssr;
+        forms[i].in_sample_score = c.score - f.form.params.len() as f64 * c.n_eff.max(1.0).ln();
+        forms[i].converged = r.converged && r.ssr.is_finite();
+        forms[i].termination = r.termination.clone();
+        forms[i].model = r.model;
+    }
+    trace(t0, "best forms polished");
 
     // 3. Forward selection on held-out pieces.
     let base_held = cx.held_out(&base, &base_spec, &base_fitted.fit_tests, &[base]);
@@ -999,14 +1027,26 @@ fn explain_named(effects: &[NamedEffect], base_chi2: f64, final_chi2: f64) -> St
     let parts: Vec<String> = effects
         .iter()
         .map(|e| {
-            format!(
-                "{} ({}) removes {:.0}% of the held-out misfit left before it ({:.0}% of its excess over the noise; evidence D = {:.0})",
+            let mut t = format!(
+                "{} ({}): evidence D = {:.0} on held-out pieces; the misfit of a typical held-out piece falls by {:.0}%",
                 e.effect,
                 e.form,
-                100.0 * e.relative_shrink,
-                100.0 * e.held_out_shrink.max(0.0),
-                e.score
-            )
+                e.score,
+                100.0 * e.typical_shrink
+            );
+            if e.relative_shrink >= 0.0 {
+                t.push_str(&format!(
+                    ", and {:.0}% of the held-out misfit is removed ({:.0}% of its excess over the noise)",
+                    100.0 * e.relative_shrink,
+                    100.0 * e.held_out_shrink.max(0.0)
+                ));
+            } else {
+                t.push_str(&format!(
+                    ", but the total held-out misfit grows by {:.0}%: a few pieces it cannot describe get worse (see the misfit per kind of piece)",
+                    -100.0 * e.relative_shrink
+                ));
+            }
+            t
         })
         .collect();
     let far = if final_chi2 > 2.0 {

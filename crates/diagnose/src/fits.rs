@@ -199,10 +199,10 @@ pub fn residuals(tests: &[FitTest], m: &Model, drift: Option<&[FitTest]>) -> Hel
                 // The drift is learned where the training weighs, and applied everywhere.
                 let tr = &train[ti];
                 let (mut num, mut den) = (0.0, 0.0);
-                for i in 0..t.len() {
+                for (i, ri) in r.iter().enumerate() {
                     let x = t.weight_of(i).sqrt() * (t.time[i] - t.time[0]);
-                    if tr.weight_of(i) > 0.0 && r[i].is_finite() {
-                        num += r[i] * x;
+                    if tr.weight_of(i) > 0.0 && ri.is_finite() {
+                        num += ri * x;
                         den += x * x;
                     }
                 }

@@ -453,6 +453,13 @@ pub(crate) fn return_slip(
     let tol = 1e-10 * s.p + 8.0 * f64::EPSILON * trial;
     let mut lo = 0.0;
     let mut hi = trial / alpha;
+    if !(hi > 0.0 && hi.is_finite() && excess.is_finite()) {
+        // A trial traction beyond floating point (absurd input): no return to speak of.
+        return Err(StepError::NoConvergence {
+            iterations: 0,
+            residual: excess,
+        });
+    }
     // Perfectly plastic estimate: the surface does not move; with rate terms the surface moves
     // with the rate, and the previous plastic rate is the better start.
     let mut lam = if s.lam_guess > 0.0 && s.lam_guess < hi {
