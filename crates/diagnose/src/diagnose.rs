@@ -67,7 +67,7 @@ impl Default for DiagnoseOptions {
     fn default() -> Self {
         DiagnoseOptions {
             seed: 1,
-            global_evaluations: 1500,
+            global_evaluations: 1000,
             starts: 4,
             folds: 4,
             tail_fraction: 0.4,
@@ -286,7 +286,11 @@ pub struct Diagnosis {
 /// Prints the time of each stage to stderr when `SUBFRIC_TRACE` is set (for tuning).
 fn trace(t0: Instant, what: &str) {
     if std::env::var_os("SUBFRIC_TRACE").is_some() {
-        eprintln!("[{:7.2} s] {what}", t0.elapsed().as_secs_f64());
+        eprintln!(
+            "[{:7.2} s, {:6} model runs] {what}",
+            t0.elapsed().as_secs_f64(),
+            subfric_fit::problem::model_runs()
+        );
     }
 }
 
@@ -371,6 +375,19 @@ impl Context<'_> {
         keep: usize,
         iterations: usize,
     ) -> Fitted {
+        self.fit_spec_with(template, spec, starts, keep, iterations, self.reweight)
+    }
+
+    /// [`Context::fit_spec`], reweighting only when `reweight`.
+    fn fit_spec_with(
+        &self,
+        template: &Model,
+        spec: &Spec,
+        starts: &[Model],
+        keep: usize,
+        iterations: usize,
+        reweight: bool,
+    ) -> Fitted {
         let space = self.space(template, spec);
         let detrended = |mut ts: Vec<FitTest>| {
             for t in ts.iter_mut() {
@@ -382,7 +399,7 @@ impl Context<'_> {
         // pieces where this one differs most weightless, and the fit would never see them.
         let mut fit_tests = detrended(self.tests.clone());
         let mut result = fit(&fit_tests, &space, starts, keep, iterations);
-        if self.reweight {
+        if reweight {
             for _ in 0..REWEIGHTING_ROUNDS {
                 let own = residuals(
                     &self.tests,
@@ -471,7 +488,8 @@ fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, Fit
                 .collect();
             // Screening: a few iterations rank the forms; the best of each family is then
             // polished (see `polish`).
-            let fitted = cx.fit_spec(base, &spec, &starts, 2, cx.opts.screening_iterations);
+            let fitted =
+                cx.fit_spec_with(base, &spec, &starts, 1, cx.opts.screening_iterations, false);
             let r = &fitted.result;
             let c = cx.in_sample(&r.model, &spec, &fitted.fit_tests);
             let k = f.params.len() as f64;
@@ -612,7 +630,8 @@ fn selection_stage(
                     &spec,
                     &starts,
                     1,
-                    cx.opts.candidate_iterations,
+                    // Both parts start near their own fits: a short polish suffices.
+                    cx.opts.screening_iterations,
                 )
             };
             let model = fitted.result.model;
@@ -720,7 +739,7 @@ fn extra_shrinks(
             )
         };
         let b = cv(&Spec::base(), &base.fit_tests, &[base.model]);
-        let c = cv(spec, fit_tests, &[*model, switched_off(model, spec)]);
+        let c = cv(spec, fit_tests, &[*model]);
         let whole: Vec<Piece> = cx
             .tests
             .iter()
@@ -835,10 +854,24 @@ pub fn diagnose(
         held: base_held.clone(),
     };
     let mut current = base_current.clone();
-    let mut selection = Vec::new();
+    let mut selection: Vec<Stage> = Vec::new();
     let mut named: Vec<(Effect, Form, Comparison, Current)> = Vec::new();
     for stage_no in 0..opts.thresholds.max_effects {
-        let (stage, kept) = selection_stage(&cx, &current, &families, stage_no == 0);
+        // After the first stage only families with held-out evidence of their own compete.
+        let competing: Vec<Family> = match selection.first() {
+            None => families.clone(),
+            Some(first) => families
+                .iter()
+                .filter(|f| {
+                    first
+                        .candidates
+                        .iter()
+                        .any(|c| c.effect == f.effect && c.held_out.score > 0.0)
+                })
+                .cloned()
+                .collect(),
+        };
+        let (stage, kept) = selection_stage(&cx, &current, &competing, stage_no == 0);
         trace(t0, &format!("selection stage {}", stage_no + 1));
         let decision = stage.decision;
         if let Decision::Named(i) = decision {

@@ -215,8 +215,8 @@ pub fn residuals(tests: &[FitTest], m: &Model, drift: Option<&[FitTest]>) -> Hel
 }
 
 /// Held-out residuals of a spec: for each fold, refit `fit_tests` on the rows it keeps (from
-/// each of `starts`, keeping the best training fit) and predict the rows of `tests` it holds
-/// out (`fit_tests` are `tests` with the weights the fits use).
+/// the best of `starts` on those rows) and predict the rows of `tests` it holds out
+/// (`fit_tests` are `tests` with the weights the fits use).
 pub fn cross_validate(
     fit_tests: &[FitTest],
     tests: &[FitTest],
@@ -233,7 +233,9 @@ pub fn cross_validate(
             for t in train.iter_mut() {
                 t.detrend = drift;
             }
-            let r = fit(&train, space, starts, starts.len(), iterations);
+            // The starts are ranked on the training rows by one run each; the best is refitted
+            // (the effect switched off wins where the training rows cannot see it).
+            let r = fit(&train, space, starts, 1, iterations);
             let mut res = residuals(tests, &r.model, drift.then_some(&train[..]));
             for (rt, held) in res.iter_mut().zip(&f.held_rows) {
                 for (v, h) in rt.iter_mut().zip(held) {
