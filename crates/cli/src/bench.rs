@@ -23,6 +23,99 @@ pub struct BenchReport {
     pub fit_seconds: Vec<(String, f64)>,
     /// Multi-start fitting: seconds with 1 thread, with all threads, threads, speed-up.
     pub multistart: MultiStart,
+    /// Whole diagnoses of generated sets of lab size.
+    pub diagnoses: Vec<DiagnosisTime>,
+}
+
+/// One timed diagnosis.
+#[derive(Debug, Serialize)]
+pub struct DiagnosisTime {
+    /// What was diagnosed.
+    pub case: String,
+    /// Rows of the set.
+    pub rows: usize,
+    /// Tests of the set.
+    pub tests: usize,
+    /// Wall time from the loaded set to the verdict [s].
+    pub seconds: f64,
+    /// Peak resident memory of the process after it [MB].
+    pub peak_memory_mb: f64,
+    /// The verdict.
+    pub verdict: String,
+}
+
+/// Peak resident memory of this process [MB] (Linux; 0 elsewhere).
+fn peak_memory_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| {
+                l.split_whitespace()
+                    .nth(1)
+                    .and_then(|v| v.parse::<f64>().ok())
+            })
+        })
+        .map_or(0.0, |kb| kb / 1024.0)
+}
+
+/// Times the diagnosis of a lab-like 4-test set of about 15 000 rows and of a 3-test long record
+/// of about 115 000 rows (the targets: under 10 s and under 20 s on 2 cores).
+fn diagnoses() -> Vec<DiagnosisTime> {
+    use subfric_diagnose::synth::{
+        generate_set, long_record_set, random_truth, rng, Built, SynthOptions,
+    };
+    use subfric_diagnose::{diagnose, prepare_for_diagnosis, DiagnoseOptions, Effect};
+    let mut r = rng(5);
+    let truth = random_truth(
+        &[Built {
+            effect: Effect::Rate,
+            form: 1,
+        }],
+        &mut r,
+    );
+    let lab = generate_set(
+        "lab-15k",
+        &truth,
+        &SynthOptions {
+            slip_per_row: 0.0021,
+            lab_like: true,
+            ..SynthOptions::default()
+        },
+        &mut r,
+    );
+    let long = long_record_set(38_500, 9);
+    [
+        ("lab-like set, rate and state", lab),
+        ("long velocity-step record", long),
+    ]
+    .into_iter()
+    .map(|(case, set)| {
+        let rows: usize = set.tests.iter().map(|t| t.len()).sum();
+        let t0 = Instant::now();
+        let verdict = match diagnose(&prepare_for_diagnosis(&set), &DiagnoseOptions::default()) {
+            Ok(d) => d
+                .verdict
+                .effects
+                .iter()
+                .map(|e| e.effect.to_string())
+                .collect::<Vec<_>>()
+                .join(" + "),
+            Err(e) => format!("error: {e}"),
+        };
+        DiagnosisTime {
+            case: case.into(),
+            rows,
+            tests: set.tests.len(),
+            seconds: t0.elapsed().as_secs_f64(),
+            peak_memory_mb: peak_memory_mb(),
+            verdict: if verdict.is_empty() {
+                "none".into()
+            } else {
+                verdict
+            },
+        }
+    })
+    .collect()
 }
 
 /// Multi-start scaling.
@@ -148,6 +241,7 @@ pub fn measure(experiments: &Path) -> Result<BenchReport> {
             threads,
             speedup: one / all,
         },
+        diagnoses: diagnoses(),
     })
 }
 
@@ -176,5 +270,12 @@ pub fn run(args: BenchArgs) -> Result<()> {
         "multi-start fit of {}: {:.2} s on 1 thread, {:.2} s on {} threads: speed-up {:.2}×",
         m.set, m.one_thread_s, m.all_threads_s, m.threads, m.speedup
     );
+    println!("whole diagnoses (prepare, fit every candidate, held-out folds, verdict):");
+    for d in &r.diagnoses {
+        println!(
+            "  {:<30} {:>7} rows in {} tests: {:6.2} s, peak memory {:.0} MB (verdict: {})",
+            d.case, d.rows, d.tests, d.seconds, d.peak_memory_mb, d.verdict
+        );
+    }
     Ok(())
 }

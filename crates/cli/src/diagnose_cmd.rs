@@ -280,7 +280,11 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
             s,
             "     → {}",
             match st.decision {
-                Decision::Named(i) => format!("named: {}", st.candidates[i].spec),
+                Decision::Named(i) => format!("selected: {}", st.candidates[i].spec),
+                Decision::Tentative(i) => format!(
+                    "selected tentatively (significant, too little on its own): {}",
+                    st.candidates[i].spec
+                ),
                 Decision::NoGap if k == 0 =>
                     "nothing to explain: the base fits at the noise".into(),
                 Decision::NoGap => "nothing left to explain".into(),
@@ -290,7 +294,7 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
                 Decision::Unexplained => "no further effect".into(),
             }
         );
-        if let Decision::Named(i) = st.decision {
+        if let Decision::Named(i) | Decision::Tentative(i) = st.decision {
             for x in &st.candidates[i].by_kind {
                 let _ = writeln!(
                     s,
@@ -309,7 +313,20 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
         "\n4. what the held-out residual of the base model follows:"
     );
     let _ = writeln!(s, "   {}", d.evidence.summary);
-    let _ = writeln!(s, "\n5. verdict: {}", d.verdict.effect);
+    let _ = writeln!(
+        s,
+        "\n5. verdict: {}",
+        if d.verdict.effects.is_empty() {
+            d.verdict.effect.to_string()
+        } else {
+            d.verdict
+                .effects
+                .iter()
+                .map(|e| e.effect.to_string())
+                .collect::<Vec<_>>()
+                .join(" + ")
+        }
+    );
     for e in &d.verdict.effects {
         let extra: Vec<String> = e
             .parameters

@@ -10,7 +10,7 @@ use crate::fits::{cross_validate, fit, residuals, space_of, with_values, FitResu
 use crate::folds::{extra_folds, piece_folds, pieces, Fold, Piece};
 use crate::localise::{localise, GroupMisfit, Localisation};
 use crate::score::{by_kind, compare, Comparison, HeldOut, Weights};
-use crate::verdict::{decide, Decision, Thresholds};
+use crate::verdict::{decide, named_count, Decision, Thresholds};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -531,6 +531,57 @@ fn choose_forms(reports: &mut [FormReport]) -> Vec<usize> {
     best.into_values().collect()
 }
 
+/// The best form of every family not yet in `current`, each fitted on top of it: an effect
+/// masked by another one not yet modelled may show its best form only now. Starts: the current
+/// model with the form switched off, and at the form's own starts (ranked by one run each).
+fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
+    let own_residuals = residuals(&cx.tests, &current.model, None);
+    let scored: Vec<(usize, f64, Fitted)> = lib
+        .par_iter()
+        .enumerate()
+        .filter(|(_, f)| !current.spec.forms.iter().any(|g| g.effect == f.effect))
+        .map(|(i, f)| {
+            let spec = current.spec.plus(f);
+            let alone = Spec::with(f);
+            let mut starts = vec![switched_off(
+                &with_values(&current.model, &alone, &[f.neutral.clone()]),
+                &alone,
+            )];
+            starts.extend(
+                f.starts
+                    .iter()
+                    .map(|v| with_values(&current.model, &alone, std::slice::from_ref(v))),
+            );
+            let fitted = cx.fit_spec_with(
+                &current.model,
+                &spec,
+                &starts,
+                1,
+                cx.opts.screening_iterations,
+                false,
+            );
+            let r = residuals(&cx.tests, &fitted.result.model, None);
+            let c = compare(&cx.pieces, &cx.weights, &own_residuals, &r);
+            let score = c.score - f.params.len() as f64 * c.n_eff.max(1.0).ln();
+            (i, score, fitted)
+        })
+        .collect();
+    let mut best: BTreeMap<Effect, (usize, f64, Fitted)> = BTreeMap::new();
+    for (i, score, fitted) in scored {
+        let e = lib[i].effect;
+        if best.get(&e).is_none_or(|b| score > b.1) {
+            best.insert(e, (i, score, fitted));
+        }
+    }
+    best.into_values()
+        .map(|(i, _, fitted)| Family {
+            effect: lib[i].effect,
+            form: lib[i].clone(),
+            alone: fitted,
+        })
+        .collect()
+}
+
 fn kind_shrinks(c: &Comparison) -> Vec<KindShrink> {
     by_kind(c)
         .into_iter()
@@ -611,26 +662,16 @@ fn selection_stage(
         .filter(|f| !current.spec.forms.iter().any(|g| g.effect == f.effect))
         .map(|f| {
             let spec = current.spec.plus(&f.form);
-            // On the base, the form was fitted to all data already.
+            // The family's best form was fitted on top of the current model already (on the
+            // base in the first stage); later stages polish it, reweighted.
             let fitted = if first_stage {
                 f.alone.clone()
             } else {
-                // Starts: the current model with the form as fitted alone, and switched off.
-                let own: Vec<f64> = f
-                    .form
-                    .params
-                    .iter()
-                    .map(|p| p.get(&f.alone.result.model).unwrap_or(0.0))
-                    .collect();
-                let alone = Spec::with(&f.form);
-                let with_form = with_values(&current.model, &alone, &[own]);
-                let starts = [with_form, switched_off(&with_form, &alone)];
                 cx.fit_spec(
                     &current.model,
                     &spec,
-                    &starts,
+                    &[f.alone.result.model],
                     1,
-                    // Both parts start near their own fits: a short polish suffices.
                     cx.opts.screening_iterations,
                 )
             };
@@ -855,34 +896,33 @@ pub fn diagnose(
     };
     let mut current = base_current.clone();
     let mut selection: Vec<Stage> = Vec::new();
-    let mut named: Vec<(Effect, Form, Comparison, Current)> = Vec::new();
+    // Each effect selected in turn, with its comparison against the model before it and the
+    // model holding it; the base against each of those models.
+    let mut selected: Vec<(Effect, Form, Comparison, Current)> = Vec::new();
+    let mut joint: Vec<Comparison> = Vec::new();
     for stage_no in 0..opts.thresholds.max_effects {
-        // After the first stage only families with held-out evidence of their own compete.
-        let competing: Vec<Family> = match selection.first() {
-            None => families.clone(),
-            Some(first) => families
-                .iter()
-                .filter(|f| {
-                    first
-                        .candidates
-                        .iter()
-                        .any(|c| c.effect == f.effect && c.held_out.score > 0.0)
-                })
-                .cloned()
-                .collect(),
+        let stage_families = if stage_no == 0 {
+            families.clone()
+        } else {
+            rescreen(&cx, &current, &lib)
         };
-        let (stage, kept) = selection_stage(&cx, &current, &competing, stage_no == 0);
+        let (stage, kept) = selection_stage(&cx, &current, &stage_families, stage_no == 0);
         trace(t0, &format!("selection stage {}", stage_no + 1));
         let decision = stage.decision;
-        if let Decision::Named(i) = decision {
+        let chosen = match decision {
+            Decision::Named(i) | Decision::Tentative(i) => Some(i),
+            _ => None,
+        };
+        if let Some(i) = chosen {
             let next = kept[i].clone();
             let form = next
                 .spec
                 .forms
                 .last()
-                .expect("a named spec has a form")
+                .expect("a selected spec has a form")
                 .clone();
-            named.push((
+            joint.push(compare(&cx.pieces, &cx.weights, &base_held, &next.held));
+            selected.push((
                 form.effect,
                 form,
                 stage.candidates[i].held_out.clone(),
@@ -891,10 +931,16 @@ pub fn diagnose(
             current = next;
         }
         selection.push(stage);
-        if !matches!(decision, Decision::Named(_)) {
+        if chosen.is_none() {
             break;
         }
     }
+    // Name the effects that, together, explain the gap.
+    let own: Vec<Comparison> = selected.iter().map(|s| s.2.clone()).collect();
+    let count = named_count(&joint, &own, &opts.thresholds);
+    selected.truncate(count);
+    let named = selected;
+    let current = named.last().map_or(base_current.clone(), |s| s.3.clone());
     let candidates: Vec<CandidateScore> = selection
         .first()
         .map(|s| s.candidates.iter().chain(&s.drift).cloned().collect())

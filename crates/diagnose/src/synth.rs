@@ -454,3 +454,66 @@ pub fn generate_set(
 pub fn rng(seed: u64) -> ChaCha8Rng {
     ChaCha8Rng::seed_from_u64(seed)
 }
+
+/// A long record like a real velocity-step run: three tests at 5, 10 and 15 MPa, each a ladder
+/// 10 → 1 → 3 → 10 → 30 → 100 → 300 → 100 → 30 → 10 → 3 → 1 µm/s with 0.4 mm per step and a
+/// 100-s hold, sampled by a jittering clock at `rows_per_test` rows (denser when faster), slip
+/// quantised at 0.1 µm, from a model with a rate-and-state effect and slip hardening. For
+/// timing the diagnosis of records of 10⁴–10⁵ rows.
+pub fn long_record_set(rows_per_test: usize, seed: u64) -> ExperimentSet {
+    let mut r = rng(seed);
+    let mut truth = random_truth(
+        &[
+            Built {
+                effect: Effect::Rate,
+                form: 1,
+            },
+            Built {
+                effect: Effect::SlipHardening,
+                form: 0,
+            },
+        ],
+        &mut r,
+    );
+    if let Some(rate) = truth.model.ext.rate.as_mut() {
+        rate.v_ref = 0.01;
+    }
+    let um = 1e-3;
+    let mut path = Path::new();
+    path.slide(10.0 * um, 0.6);
+    path.hold(100.0);
+    for v in [
+        1.0, 3.0, 10.0, 30.0, 100.0, 300.0, 100.0, 30.0, 10.0, 3.0, 1.0,
+    ] {
+        path.slide(v * um, 0.4);
+    }
+    let travel = 0.6 + 11.0 * 0.4;
+    let opts = SynthOptions {
+        slip_per_row: travel / rows_per_test.max(100) as f64,
+        shear_noise: 5.0,
+        slip_noise: 3e-5,
+        lab_like: true,
+        mid_run: false,
+    };
+    let mut tests = Vec::new();
+    for normal in [5000.0, 10_000.0, 15_000.0] {
+        let name = format!("sn{:02}MPa", (normal / 1000.0) as usize);
+        tests.push(generate_test(
+            &name, normal, &path, &truth, &opts, 0.0, &mut r,
+        ));
+    }
+    ExperimentSet {
+        dir: "long-record".into(),
+        meta: ExperimentMeta {
+            name: "long-record".into(),
+            title: "generated long velocity-step record".into(),
+            source: "subfric bench generator".into(),
+            provenance: Some("synthetic".into()),
+            interface: Interface::default(),
+            tests: tests.iter().map(|t| t.spec.clone()).collect(),
+            reference_parameters: None,
+            extra: Default::default(),
+        },
+        tests,
+    }
+}

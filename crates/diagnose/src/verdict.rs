@@ -44,17 +44,26 @@ pub enum Decision {
     NoGap,
     /// Candidate `index` is named.
     Named(usize),
+    /// Candidate `index` adds significant held-out evidence but explains too little on its
+    /// own: it is kept while the selection goes on, and named only if it and the effects after
+    /// it together explain the gap (two effects of similar size at once).
+    Tentative(usize),
     /// A drift of the measurement explains more than any physical candidate.
     Drift,
     /// A real gap that no candidate explains well enough.
     Unexplained,
 }
 
+/// True when comparison `c` explains enough of the reference's gap: most of its excess over
+/// the noise, or, when model error dominates, a material part of a typical piece's misfit.
+pub fn material(c: &Comparison, th: &Thresholds) -> bool {
+    c.excess_shrink >= th.min_excess_shrink
+        || (c.reference_chi2 >= th.model_error_chi2 && c.typical_shrink >= th.min_typical_shrink)
+}
+
 /// True when comparison `c` is both significant and material.
 pub fn passes(c: &Comparison, th: &Thresholds) -> bool {
-    let material = c.excess_shrink >= th.min_excess_shrink
-        || (c.reference_chi2 >= th.model_error_chi2 && c.typical_shrink >= th.min_typical_shrink);
-    c.score >= th.min_score && material
+    c.score >= th.min_score && material(c, th)
 }
 
 /// Decides one stage: `candidates` are (family, comparison with the current model) and `drift`
@@ -91,8 +100,41 @@ pub fn decide(
     }
     match best {
         Some(i) if passes(&candidates[i].1, th) => Decision::Named(i),
+        Some(i) if candidates[i].1.score >= th.min_score && candidates[i].1.excess_shrink > 0.0 => {
+            Decision::Tentative(i)
+        }
         _ => Decision::Unexplained,
     }
+}
+
+/// How many of the effects selected in turn to name: `joint[k]` compares the base with the
+/// model holding the first k + 1 selected effects, `own[k]` the k-th effect with the model
+/// before it. The smallest prefix that jointly explains the base's gap is named, then every
+/// later effect that explains enough of what is left on its own; 0 when no prefix does.
+///
+/// ```
+/// use subfric_diagnose::score::Comparison;
+/// use subfric_diagnose::verdict::{named_count, Thresholds};
+/// let c = |excess: f64| Comparison { score: 100.0, shape_score: 100.0, level_score: 0.0,
+///     excess_shrink: excess, relative_shrink: excess, typical_shrink: 0.1, reference_chi2: 5.0,
+///     candidate_chi2: 1.0, rows: 1000, n_eff: 900.0, pieces: vec![] };
+/// let th = Thresholds::default();
+/// // Two effects of similar size: neither alone, both together.
+/// assert_eq!(named_count(&[c(0.5), c(0.95)], &[c(0.5), c(0.9)], &th), 2);
+/// // The first explains it all; the second adds too little of what is left.
+/// assert_eq!(named_count(&[c(0.9), c(0.92)], &[c(0.9), c(0.3)], &th), 1);
+/// // Nothing together.
+/// assert_eq!(named_count(&[c(0.3), c(0.5)], &[c(0.3), c(0.3)], &th), 0);
+/// ```
+pub fn named_count(joint: &[Comparison], own: &[Comparison], th: &Thresholds) -> usize {
+    let Some(first) = joint.iter().position(|c| material(c, th)) else {
+        return 0;
+    };
+    let mut n = first + 1;
+    while n < own.len() && passes(&own[n], th) {
+        n += 1;
+    }
+    n
 }
 
 #[cfg(test)]
@@ -194,6 +236,21 @@ mod tests {
                 &th
             ),
             Decision::Named(0)
+        );
+    }
+
+    #[test]
+    fn a_significant_partial_explanation_is_tentative() {
+        let th = Thresholds::default();
+        let partial = cmp(120.0, 0.5, 0.05, 6.0);
+        assert_eq!(
+            decide(6.0, &[(Effect::Rate, partial)], None, &th),
+            Decision::Tentative(0)
+        );
+        let worse = cmp(120.0, -0.1, 0.05, 6.0);
+        assert_eq!(
+            decide(6.0, &[(Effect::Rate, worse)], None, &th),
+            Decision::Unexplained
         );
     }
 

@@ -151,10 +151,10 @@ impl Consts {
         }
     }
 
-    /// μ that puts a contact sliding steadily at rate `v` with θ = θ_ss(v) on a surface of
-    /// friction `mu_eff` (the inverse of μ_eff(μ) at that rate), within [μ floor, μ_s].
-    pub fn sliding_mu(&self, l: &Local, mu_eff: f64, v: f64) -> f64 {
-        let mut add = self.slip_term(0.0).0;
+    /// The terms of μ_eff = μ · factor + add of a contact sliding steadily at rate `v` with
+    /// θ = θ_ss(v), after an accumulated plastic slip `slip_path`.
+    fn sliding_terms(&self, l: &Local, v: f64, slip_path: f64) -> (f64, f64) {
+        let mut add = self.slip_term(slip_path).0;
         let mut factor = l.mult;
         if let Some(rate) = self.ext.rate {
             match rate.form {
@@ -170,7 +170,83 @@ impl Consts {
                 RateForm::SteadyState => {}
             }
         }
+        (factor, add)
+    }
+
+    /// μ that puts a contact sliding steadily at rate `v` with θ = θ_ss(v) on a surface of
+    /// friction `mu_eff` (the inverse of μ_eff(μ) at that rate), within [μ floor, μ_s].
+    pub fn sliding_mu(&self, l: &Local, mu_eff: f64, v: f64) -> f64 {
+        let (factor, add) = self.sliding_terms(l, v, 0.0);
         ((mu_eff - add) / factor).clamp(self.mu_floor(l), l.mu_s)
+    }
+
+    /// Steady μ at slip rate `v` (Eq. 24 at its fixed point; no recovery while sliding under
+    /// time healing).
+    pub fn steady_mu(&self, l: &Local, v: f64) -> f64 {
+        let mut mu_k = l.mu_k;
+        if let Some(rate) = self.ext.rate {
+            if rate.form == RateForm::SteadyState {
+                mu_k = (mu_k + rate.a * ((v + rate.v_c) / (rate.v_ref + rate.v_c)).ln())
+                    .clamp(0.0, l.mu_s);
+            }
+        }
+        let xi = if self.ext.healing.is_some() {
+            0.0
+        } else {
+            self.xi
+        };
+        let kv = l.kappa * v;
+        if kv + xi > 0.0 {
+            (kv * mu_k + xi * l.mu_s) / (kv + xi)
+        } else {
+            l.mu_s
+        }
+    }
+
+    /// With slip hardening: the steady μ at rate `v` and the accumulated slip s₀ ≥ 0 whose H(s₀)
+    /// makes the steady surface carry friction `mu_eff`; `None` without slip hardening or when
+    /// no slip reaches it.
+    pub fn steady_history(&self, l: &Local, mu_eff: f64, v: f64) -> Option<(f64, f64)> {
+        let h = self.ext.slip_hardening?;
+        let mu = self.steady_mu(l, v);
+        let (factor, add) = self.sliding_terms(l, v, 0.0);
+        // H(s₀) = what the steady surface lacks; H(0) = 0 is part of `add`.
+        let need = mu_eff - (mu * factor + add);
+        if need == 0.0 {
+            return Some((mu, 0.0));
+        }
+        // H is monotone in s with the sign of h: bracket s₀ by doubling, then bisect.
+        let target = need / h.h.signum();
+        let value = |s: f64| h.term(s).0 / h.h.signum();
+        if !(target > 0.0) || h.h == 0.0 {
+            return None;
+        }
+        let mut hi = h.s_h.max(1e-6);
+        let mut k = 0;
+        while value(hi) < target {
+            hi *= 2.0;
+            k += 1;
+            if k > 60 {
+                return None;
+            }
+        }
+        let mut lo = 0.0;
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if value(mid) < target {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Some((mu, 0.5 * (lo + hi)))
+    }
+
+    /// μ_eff of a contact sliding steadily at rate `v` with friction coefficient `mu`, after an
+    /// accumulated plastic slip `slip_path`.
+    pub fn sliding_mu_eff(&self, l: &Local, mu: f64, v: f64, slip_path: f64) -> f64 {
+        let (factor, add) = self.sliding_terms(l, v, slip_path);
+        (mu * factor + add).max(MIN_MU_EFF_FRACTION * l.mu_s)
     }
 
     /// μ_eff of an elastic step (plastic slip rate zero) from μ at the step's end.

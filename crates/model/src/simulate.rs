@@ -37,8 +37,9 @@ pub enum Initial {
         shear_kpa: f64,
     },
     /// Already sliding at the first row (a segment cut out of a longer run): on the loading
-    /// surface (r = 1) at the traction, μ from the traction at that slip rate (within
-    /// [μ_k, μ_s]), the rate-and-state variable steady at that rate.
+    /// surface (r = 1) at the traction, steady at that slip rate (the rate-and-state variable
+    /// too). With slip hardening, μ is steady and the traction gives the slip accumulated
+    /// before the file began; otherwise μ is taken from the traction (within [μ_k, μ_s]).
     Sliding {
         /// Traction at the first row [kPa], signed.
         shear_kpa: f64,
@@ -248,13 +249,24 @@ fn initial_state(model: &Model, proto: &Protocol) -> Result<State1, SimError> {
     let r = match proto.initial {
         Initial::Sliding { rate_mm_s, .. } => {
             let v = rate_mm_s.abs();
-            st.mu = k.sliding_mu(&l, shear.abs() / p, v);
             if let Some(rate) = model.ext.rate {
                 if rate.has_state() && v > 0.0 {
                     st.theta = rate.steady_theta(v);
                 }
             }
-            let cap = k.elastic_mu_eff(&l, st.mu, st.theta, 0.0) * p;
+            // A segment of a long run: steady at its rate. With slip hardening the traction
+            // then tells the slip accumulated before the file began; otherwise μ is taken from
+            // the traction.
+            match k.steady_history(&l, shear.abs() / p, v) {
+                Some((mu, slip_path)) => {
+                    st.mu = mu;
+                    st.slip_path = slip_path;
+                }
+                None => st.mu = k.sliding_mu(&l, shear.abs() / p, v),
+            }
+            // The surface of a contact sliding at that rate (not the one at rest, which a
+            // velocity-weakening form puts higher).
+            let cap = k.sliding_mu_eff(&l, st.mu, v, st.slip_path) * p;
             // On the surface; above it, the first step returns the traction onto it.
             if shear.abs() >= 0.999 * cap {
                 1.0

@@ -431,6 +431,98 @@ fn sliding_start_continues_a_run_without_a_new_initial_loading() {
 }
 
 #[test]
+fn sliding_start_is_steady_for_every_rate_form() {
+    // Steady sliding cut mid-run: from the sliding start the friction stays where it was.
+    let base = Params {
+        mu_s: 0.69,
+        mu_k: 0.59,
+        kappa: 2.0,
+        xi: 0.001,
+        u_tilde: 22.0,
+        ..flat_base()
+    };
+    for rate in [
+        RateEffect {
+            form: RateForm::Power,
+            n: -0.03,
+            v_c: 1e-5,
+            v_ref: 0.01,
+            ..RateEffect::log_direct(0.0, 1e-5)
+        },
+        RateEffect {
+            form: RateForm::Power,
+            n: 0.03,
+            v_c: 1e-5,
+            v_ref: 0.01,
+            ..RateEffect::log_direct(0.0, 1e-5)
+        },
+        RateEffect::log_direct(0.015, 5e-5),
+        rate_state(RateForm::StateSlip),
+        RateEffect {
+            form: RateForm::SteadyState,
+            a: -0.02,
+            v_c: 1e-6,
+            v_ref: 0.01,
+            ..RateEffect::log_direct(0.0, 1e-6)
+        },
+    ] {
+        sliding_start_matches(
+            base,
+            Extensions {
+                rate: Some(rate),
+                ..Extensions::default()
+            },
+        );
+    }
+    // Slip softening and hardening: the slip accumulated before the cut comes from the traction.
+    for h in [-0.01, 0.008] {
+        for form in [
+            SlipForm::Capped,
+            SlipForm::Exponential,
+            SlipForm::Hyperbolic,
+        ] {
+            sliding_start_matches(
+                base,
+                Extensions {
+                    slip_hardening: Some(SlipHardening { h, s_h: 4.0, form }),
+                    ..Extensions::default()
+                },
+            );
+        }
+    }
+}
+
+/// A run cut after 3 mm of steady sliding and simulated from a sliding start follows the run.
+fn sliding_start_matches(base: Params, ext: Extensions) {
+    {
+        let m = model(base, ext);
+        // Cut after 3 mm: 6 decay lengths 1/(κ + ξ/v) into the run, steady to 1e-4.
+        let full = History::new().slide(0.01, 4.0, 0.005);
+        let f = run(&m, &full, 100.0, Initial::Rest);
+        let c = (3.0 / 0.005) as usize;
+        let cut = History {
+            t: full.t[c..].to_vec(),
+            u: full.u[c..].to_vec(),
+        };
+        let g = run(
+            &m,
+            &cut,
+            100.0,
+            Initial::Sliding {
+                shear_kpa: f[c] * 100.0,
+                rate_mm_s: 0.01,
+            },
+        );
+        let worst = g
+            .iter()
+            .zip(&f[c..])
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-3, "{ext:?}: largest difference {worst}");
+    }
+}
+
+#[test]
 fn loaded_start_holds_its_traction_and_reloads_from_it() {
     let m = model(Params::sample(), Extensions::default());
     let h = History::new().hold(100.0, 20).slide(0.01, 1.0, 0.002);
