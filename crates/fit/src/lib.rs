@@ -10,6 +10,7 @@
 //! "at the noise level".
 
 pub mod calibrate;
+pub mod coverage;
 pub mod dataset;
 pub mod global;
 pub mod guess;
