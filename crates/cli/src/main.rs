@@ -6,6 +6,7 @@ mod diagnose_cmd;
 mod figures;
 mod fit_cmd;
 mod io;
+mod plan_cmd;
 mod reproduce;
 mod simulate_cmd;
 
@@ -212,6 +213,8 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// Which test to run next: proposals ranked by how far they determine what the data do not.
+    Plan(plan_cmd::PlanArgs),
     /// Speed of the model step, of each paper fit, and of multi-start scaling.
     Bench {
         /// Print JSON.
@@ -505,6 +508,7 @@ fn run(cli: Cli) -> Result<()> {
                 io::write_json(&j, &serde_json::json!({"cases": cases, "scores": scores}))?;
             }
         }
+        Command::Plan(args) => plan_cmd::run(args)?,
         Command::Bench { json, experiments } => {
             let r = bench::run(&experiments)?;
             if json {

@@ -22,6 +22,8 @@ pub struct SetResult {
     pub outcome: FitOutcome,
     /// PNG files.
     pub plots: Vec<PathBuf>,
+    /// The next test `subfric plan` proposes (when some parameter is not determined).
+    pub next: Option<crate::plan_cmd::NextTest>,
 }
 
 fn table_of(dir: &Path) -> String {
@@ -86,11 +88,13 @@ pub fn reproduce(experiments: &Path, out: &Path, options: FitOptions) -> Result<
                 Some(&outcome.report.model),
                 &set_out,
             )?;
+            let next = crate::plan_cmd::next_test(&outcome, &set_out.join("plan"))?;
             Ok(SetResult {
                 table: table_of(d),
                 name,
                 outcome,
                 plots,
+                next,
             })
         })
         .collect();
@@ -124,6 +128,9 @@ pub fn reproduce(experiments: &Path, out: &Path, options: FitOptions) -> Result<
                 "- **{}** (misfit {:.2}× noise variance): [fit.json]({}/fit.json), [report]({}/fit.txt)",
                 s.name, s.outcome.report.reduced_chi2, s.name, s.name
             );
+            if let Some(n) = &s.next {
+                let _ = writeln!(readme, "\n  {}", n.markdown(&s.name));
+            }
             for p in &s.plots {
                 if let Some(f) = p.file_name() {
                     let f = f.to_string_lossy();
@@ -224,6 +231,9 @@ fn table_files(table: &str, sets: &[&SetResult]) -> (String, String) {
                     }
                 );
             }
+        }
+        if let Some(n) = &s.next {
+            let _ = writeln!(md, "\n{}", n.markdown(&s.name));
         }
         let _ = writeln!(md);
     }
