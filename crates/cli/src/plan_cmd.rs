@@ -224,7 +224,7 @@ pub fn plan_text(name: &str, p: &Plan) -> String {
     );
     let _ = writeln!(
         s,
-        "{:<4} {:<28} {:>7} {:>6} {:>11} {:>8} {:>8}  {:<28} {}",
+        "{:<4} {:<28} {:>7} {:>6} {:>11} {:>8} {:>8}  {:<28} still undetermined there",
         "rank",
         "proposal",
         "lab h",
@@ -233,7 +233,6 @@ pub fn plan_text(name: &str, p: &Plan) -> String {
         "shrink",
         "score",
         "ξ predicted (planning point)",
-        "still undetermined there"
     );
     for (i, prop) in p.proposals.iter().enumerate() {
         let xi = prop.predicted.iter().find(|x| x.name == "xi");
@@ -290,8 +289,8 @@ pub fn plan_text(name: &str, p: &Plan) -> String {
             );
             let _ = writeln!(
                 s,
-                "  {:<10} {:>11} {:>26} {:>26} {:>7}  {}",
-                "parameter", "simulated", "predicted", "achieved", "ratio", "status"
+                "  {:<10} {:>11} {:>26} {:>26} {:>7}  status",
+                "parameter", "simulated", "predicted", "achieved", "ratio"
             );
             for q in &c.parameters {
                 let _ = writeln!(

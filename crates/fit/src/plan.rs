@@ -860,6 +860,9 @@ fn information(tests: &[FitTest], space: &Space, x: &[f64]) -> Option<DMatrix<f6
     Some(j.transpose() * j)
 }
 
+/// A point of a valley walk: optimiser coordinates and (SSR − SSR_min)/s².
+type WalkPoint = (Vec<f64>, f64);
+
 /// Walks coordinate `k` over its profile interval: `n` points evenly spread, each re-fitted
 /// with `k` held, walked outward from `x0` so that each re-fit starts next to its answer.
 /// `hold`: another coordinate held at its value in `x0` (the primary valley's, so that a
@@ -874,7 +877,7 @@ fn walk(
     k: usize,
     n: usize,
     hold: Option<usize>,
-) -> Vec<(Vec<f64>, f64)> {
+) -> Vec<WalkPoint> {
     let prof = profile_one(p, x0, ssr0, s2, se, k);
     let (a, b) = (prof.lower.x[k], prof.upper.x[k]);
     let n = n.max(2);
@@ -974,19 +977,17 @@ pub fn plan(tests: &[FitTest], report: &FitReport, opts: &PlanOptions) -> Result
     }];
     let mut xs = vec![x_fit.clone()];
     let mut planning_index = 0;
-    let push = |k: usize,
-                pts: Vec<(Vec<f64>, f64)>,
-                valley: &mut Vec<ValleyPoint>,
-                xs: &mut Vec<Vec<f64>>| {
-        for (x, d) in pts {
-            valley.push(ValleyPoint {
-                model: space.model_at(&x),
-                delta: d,
-                walked: space.coords[k].name(),
-            });
-            xs.push(x);
-        }
-    };
+    let push =
+        |k: usize, pts: Vec<WalkPoint>, valley: &mut Vec<ValleyPoint>, xs: &mut Vec<Vec<f64>>| {
+            for (x, d) in pts {
+                valley.push(ValleyPoint {
+                    model: space.model_at(&x),
+                    delta: d,
+                    walked: space.coords[k].name(),
+                });
+                xs.push(x);
+            }
+        };
     if let Some(&k) = walked.get(primary) {
         let pts = walk(
             &problem,
@@ -1012,7 +1013,7 @@ pub fn plan(tests: &[FitTest], report: &FitReport, opts: &PlanOptions) -> Result
         push(k, pts, &mut valley, &mut xs);
     }
     let x_centre = xs[planning_index].clone();
-    let others: Vec<(usize, Vec<(Vec<f64>, f64)>)> = walked
+    let others: Vec<(usize, Vec<WalkPoint>)> = walked
         .par_iter()
         .enumerate()
         .filter(|(i, _)| *i != primary)

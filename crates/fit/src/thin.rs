@@ -155,9 +155,9 @@ pub fn thin_test(test: &FitTest, bins: &Bins) -> FitTest {
 /// The scale of the base bin counts whose bins come closest to `budget` rows without
 /// exceeding it (below 1 for a long record, above 1 for a short one).
 pub fn scale_for_budget(test: &FitTest, seg: &Segmentation, budget: usize) -> f64 {
-    let (mut lo, mut hi) = (1e-3, 1e3);
+    let (mut lo, mut hi) = (1e-3f64, 1e3f64);
     for _ in 0..30 {
-        let mid = (lo * hi as f64).sqrt();
+        let mid = (lo * hi).sqrt();
         if bins(test, seg, mid).len() <= budget {
             lo = mid;
         } else {
