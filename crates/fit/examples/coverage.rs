@@ -1,7 +1,9 @@
 //! Coverage of the reported 95 % intervals on generated multi-test campaigns with random
 //! sand–steel parameters and white + slowly correlated noise (see `subfric_fit::coverage`).
 //!
-//! `cargo run --release -p subfric-fit --example coverage -- --campaigns 40 --seed 1 [--json FILE]`
+//! `cargo run --release -p subfric-fit --example coverage -- --campaigns 40 --seed 1 [--json FILE]
+//! [--white-only] [--slip-noise-mm SD]` (`--white-only`: no correlated part; `--slip-noise-mm`:
+//! the noise of the imposed slip, 0.0002 by default)
 
 use subfric_fit::coverage::{measure_coverage, CampaignRanges};
 use subfric_fit::FitOptions;
@@ -10,6 +12,7 @@ fn main() {
     let mut campaigns = 40usize;
     let mut seed = 1u64;
     let mut json: Option<String> = None;
+    let mut ranges = CampaignRanges::default();
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut value = |name: &str| {
@@ -22,6 +25,10 @@ fn main() {
             "--campaigns" => campaigns = parse(&value("--campaigns"), "--campaigns"),
             "--seed" => seed = parse(&value("--seed"), "--seed"),
             "--json" => json = Some(value("--json")),
+            "--white-only" => ranges.correlated_ratio = (0.0, 0.0),
+            "--slip-noise-mm" => {
+                ranges.slip_noise_mm = parse(&value("--slip-noise-mm"), "--slip-noise-mm")
+            }
             other => {
                 eprintln!(
                     "unknown argument `{other}` (expected --campaigns N, --seed S, --json FILE)"
@@ -30,7 +37,6 @@ fn main() {
             }
         }
     }
-    let ranges = CampaignRanges::default();
     let report = measure_coverage(campaigns, seed, &ranges, &FitOptions::default(), &|o| {
         let missed: Vec<&str> = o
             .parameters
