@@ -1,12 +1,13 @@
 //! `subfric bench`: speed of the model step, of fitting each paper table, and of multi-start
 //! fitting on 1 core versus all cores.
 
+use crate::args::BenchArgs;
 use crate::fit_cmd::{run_fit, FitRequest};
 use anyhow::{bail, Result};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use subfric_fit::{FitOptions, Param};
+use subfric_fit::FitOptions;
 use subfric_model::{simulate, Contact1, Control, Model, Params, Protocol, State1};
 
 /// Results.
@@ -93,20 +94,11 @@ pub fn steps_per_second(repeats: usize) -> (f64, bool) {
 }
 
 fn request(dir: PathBuf) -> FitRequest {
-    FitRequest {
-        dirs: vec![dir],
-        tests: vec![],
-        free: Param::BASE.to_vec(),
-        fix: vec![],
-        bounds: vec![],
-        weights: vec![],
-        options: FitOptions::default(),
-        progress: false,
-    }
+    FitRequest::of_set(dir, FitOptions::default())
 }
 
 /// Runs every benchmark.
-pub fn run(experiments: &Path) -> Result<BenchReport> {
+pub fn measure(experiments: &Path) -> Result<BenchReport> {
     let (sps, identical) = steps_per_second(10);
     let mut dirs: Vec<PathBuf> = std::fs::read_dir(experiments)?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -157,4 +149,32 @@ pub fn run(experiments: &Path) -> Result<BenchReport> {
             speedup: one / all,
         },
     })
+}
+
+/// `subfric bench`: the figures, as text or JSON.
+pub fn run(args: BenchArgs) -> Result<()> {
+    let r = measure(&args.experiments)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&r)?);
+        return Ok(());
+    }
+    println!(
+        "model step: {:.2} million steps/s on one core ({})",
+        r.steps_per_second / 1e6,
+        r.step_case
+    );
+    println!(
+        "  identical to the general simulate path: {}",
+        r.identical_to_simulate
+    );
+    println!("one full fit of each paper set:");
+    for (s, t) in &r.fit_seconds {
+        println!("  {s:<24} {t:6.2} s");
+    }
+    let m = &r.multistart;
+    println!(
+        "multi-start fit of {}: {:.2} s on 1 thread, {:.2} s on {} threads: speed-up {:.2}×",
+        m.set, m.one_thread_s, m.all_threads_s, m.threads, m.speedup
+    );
+    Ok(())
 }

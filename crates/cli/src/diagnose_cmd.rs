@@ -6,6 +6,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use subfric_data::load_set;
 use subfric_diagnose::selfcheck::{score, selfcheck, Case, SelfcheckOptions};
+use subfric_diagnose::verdict::Decision;
 use subfric_diagnose::{diagnose, prepare_for_diagnosis, DiagnoseOptions, Diagnosis, Effect};
 use subfric_plot::{render_bars_png, BarFigure};
 
@@ -217,7 +218,7 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
     let _ = writeln!(
         s,
         "   {:<15} {:<44} {:>10}  {:<10} parameters",
-        "family", "form", "ΔBIC", "fit"
+        "family", "form", "score", "fit"
     );
     for f in &d.forms {
         let extra: Vec<String> = f
@@ -230,7 +231,7 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
             "   {:<15} {:<44} {:>10.1}  {:<10} {}{}",
             f.effect.name(),
             f.form,
-            f.delta_bic,
+            f.in_sample_score,
             if f.converged {
                 "converged"
             } else {
@@ -275,7 +276,33 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
                 100.0 * c.held_out.typical_shrink.max(-9.99),
             );
         }
-        let _ = writeln!(s, "     → {:?}", st.decision);
+        let _ = writeln!(
+            s,
+            "     → {}",
+            match st.decision {
+                Decision::Named(i) => format!("named: {}", st.candidates[i].spec),
+                Decision::NoGap if k == 0 =>
+                    "nothing to explain: the base fits at the noise".into(),
+                Decision::NoGap => "nothing left to explain".into(),
+                Decision::Drift =>
+                    "a drift of the measurement explains more than any candidate".into(),
+                Decision::Unexplained if k == 0 => "no candidate explains enough".into(),
+                Decision::Unexplained => "no further effect".into(),
+            }
+        );
+        if let Decision::Named(i) = st.decision {
+            for x in &st.candidates[i].by_kind {
+                let _ = writeln!(
+                    s,
+                    "       {:<18} {:>6} rows  {:8.2} → {:8.2}× noise ({:+.0}% of its misfit)",
+                    x.kind,
+                    x.rows,
+                    x.reference_rms_over_noise,
+                    x.candidate_rms_over_noise,
+                    -100.0 * x.shrink
+                );
+            }
+        }
     }
     let _ = writeln!(
         s,
@@ -355,38 +382,96 @@ pub fn score_folder(
             .file_name()
             .map(|s| s.to_string_lossy().to_string())
             .unwrap_or_default();
-        let Some(effect) = truth[&name]["effect"].as_str() else {
-            eprintln!("{name}: no truth in {}, skipped", truth_path.display());
-            continue;
+        // Either {"effect": name} or {"effects": [names]}; "none" is no effect, and a name
+        // outside the library (a drift) counts as "unexplained".
+        let entry = &truth[&name];
+        let names: Vec<&str> = match (entry["effect"].as_str(), entry["effects"].as_array()) {
+            (_, Some(list)) => list.iter().filter_map(|v| v.as_str()).collect(),
+            (Some(e), None) => vec![e],
+            (None, None) => {
+                eprintln!("{name}: no truth in {}, skipped", truth_path.display());
+                continue;
+            }
         };
-        // An effect outside the library counts as "unexplained".
-        let t = Effect::from_name(effect).unwrap_or(Effect::Unexplained);
+        let families: Vec<Effect> = names
+            .iter()
+            .map(|e| Effect::from_name(e).unwrap_or(Effect::Unexplained))
+            .filter(|e| *e != Effect::None)
+            .collect();
         let set = load_set(&d)?;
         let diag = diagnose(&prepare_for_diagnosis(&set), opts)?;
-        let c = Case::new(&name, t, &diag);
-        println!(
-            "{name:<24} truth {:<15} verdict {:<15} shrink {:>4.0}%  ({:.1} s)",
-            c.truth.name(),
-            c.verdict.name(),
-            100.0 * c.shrink,
-            c.elapsed_s
-        );
+        let c = Case::new(&name, families, names.join(" + "), &diag);
+        print_case(&c);
         cases.push(c);
     }
     let s = score(&cases);
     Ok((cases, s))
 }
 
-/// Runs the generated self-check.
-pub fn run_selfcheck(opts: &SelfcheckOptions) -> (Vec<Case>, subfric_diagnose::selfcheck::Scores) {
-    selfcheck(opts, &|c| {
-        println!(
-            "{:<32} truth {:<15} verdict {:<15} shrink {:>4.0}%  ({:.1} s)",
-            c.name,
-            c.truth.name(),
-            c.verdict.name(),
-            100.0 * c.shrink,
-            c.elapsed_s
-        )
-    })
+/// One line per diagnosed set.
+fn print_case(c: &Case) {
+    let names = |v: &[Effect]| {
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.iter().map(|e| e.name()).collect::<Vec<_>>().join(" + ")
+        }
+    };
+    println!(
+        "{:<22} truth {:<44} verdict {:<30} {} shrink {:>4.0}%  ({:.1} s){}",
+        c.name,
+        truncate(&c.truth_label, 44),
+        names(&c.verdict),
+        if c.right() { "right" } else { "WRONG" },
+        100.0 * c.shrink,
+        c.elapsed_s,
+        match (c.lab_like, c.mid_run) {
+            (true, true) => "  [lab-like, mid-run]",
+            (true, false) => "  [lab-like]",
+            (false, true) => "  [mid-run]",
+            _ => "",
+        }
+    );
+}
+
+/// Runs the generated self-check; with `write_to`, every generated set is written there as a
+/// folder, and their truths to `truth.json` (which `selfcheck --sets` reads).
+pub fn run_selfcheck(
+    opts: &SelfcheckOptions,
+    write_to: Option<&Path>,
+) -> Result<(Vec<Case>, subfric_diagnose::selfcheck::Scores)> {
+    let truths = std::sync::Mutex::new(serde_json::Map::new());
+    let failed = std::sync::Mutex::new(None::<anyhow::Error>);
+    let keep = |set: &subfric_data::ExperimentSet, truth: &subfric_diagnose::synth::Truth| {
+        let Some(root) = write_to else { return };
+        let dir = root.join(&set.meta.name);
+        if let Err(e) = subfric_data::write_set(set, &dir) {
+            failed.lock().expect("not poisoned").get_or_insert(e.into());
+        }
+        let names: Vec<&str> = if truth.effects.is_empty() {
+            vec!["none"]
+        } else {
+            truth
+                .effects
+                .iter()
+                .map(|b| match b.effect {
+                    Effect::Unexplained => "drift",
+                    e => e.name(),
+                })
+                .collect()
+        };
+        truths.lock().expect("not poisoned").insert(
+            set.meta.name.clone(),
+            serde_json::json!({"effects": names, "label": truth.label(), "model": truth.model}),
+        );
+    };
+    let result = selfcheck(opts, &print_case, &keep);
+    if let Some(e) = failed.into_inner().expect("not poisoned") {
+        return Err(e);
+    }
+    if let Some(root) = write_to {
+        let truths = truths.into_inner().expect("not poisoned");
+        write_json(&root.join("truth.json"), &serde_json::Value::Object(truths))?;
+    }
+    Ok(result)
 }

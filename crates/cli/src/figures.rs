@@ -6,16 +6,25 @@ use subfric_fit::PreparedTest;
 use subfric_model::{Control, Model};
 use subfric_plot::{render_png, Figure, Panel, Series, Style};
 
-/// Renders one PNG per test under `out`; returns the files written.
+/// The figure files `plot_set` writes for `tests`, relative to its output folder.
+pub fn figure_files(tests: &[PreparedTest]) -> Vec<String> {
+    tests
+        .iter()
+        .map(|p| format!("{}.png", sanitize(&p.fit.name)))
+        .collect()
+}
+
+/// Renders one PNG per test under `out` (which must exist); returns the files written and a
+/// note for every curve that could not be drawn (a model that runs away on a test).
 pub fn plot_set(
     set_name: &str,
     tests: &[PreparedTest],
     published: Option<&Model>,
     fitted: Option<&Model>,
     out: &Path,
-) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(out)?;
+) -> Result<(Vec<PathBuf>, Vec<String>)> {
     let mut files = Vec::new();
+    let mut notes = Vec::new();
     for p in tests {
         let t = &p.full;
         let cycles = p.segmentation.cycles();
@@ -61,7 +70,23 @@ pub fn plot_set(
             (fitted, "fitted", Style::Fitted),
         ] {
             let Some(model) = model else { continue };
-            let Ok(pred) = t.predict(model) else { continue };
+            let pred = match t.predict(model) {
+                Ok(p) => p,
+                Err(e) => {
+                    notes.push(format!(
+                        "{set_name}: test `{}`: the {label} curve is not drawn: {e} (row numbers count data rows from 0)",
+                        t.name
+                    ));
+                    // The legend says so too ("(no data)" marks a series without points).
+                    main.push(Series::new(
+                        format!("{label}: model runs away"),
+                        vec![f64::NAN],
+                        vec![f64::NAN],
+                        style,
+                    ));
+                    continue;
+                }
+            };
             let y: Vec<f64> = pred.iter().enumerate().map(|(i, v)| to_y(i, *v)).collect();
             residual.push(Series::new(
                 label,
@@ -80,7 +105,7 @@ pub fn plot_set(
         render_png(&fig, &file)?;
         files.push(file);
     }
-    Ok(files)
+    Ok((files, notes))
 }
 
 fn mean(v: &[f64]) -> f64 {

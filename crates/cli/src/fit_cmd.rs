@@ -1,13 +1,14 @@
 //! `subfric fit`: calibrate one or several sets, print a table, write fit.json.
 
+use crate::progress::{Progress, ProgressMode};
 use anyhow::{anyhow, bail, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use subfric_data::load_set;
+use subfric_data::{load_set, plausibility, Warning};
 use subfric_fit::interval::short_number as fmt_num;
 use subfric_fit::{
     calibrate, compare_with_published, prepare_set, reference_model, typical_rate, FitOptions,
-    FitReport, Method, Param, PreparedTest, Space, Stage, Status,
+    FitReport, FitTest, Param, PreparedTest, Space, Status,
 };
 use subfric_model::{Model, Params};
 
@@ -22,14 +23,30 @@ pub struct FitRequest {
     pub free: Vec<Param>,
     /// Fixed values.
     pub fix: Vec<(Param, f64)>,
-    /// Natural bounds.
+    /// Bounds in natural units, each honoured or refused.
     pub bounds: Vec<(Param, f64, f64)>,
     /// Per-test weights.
     pub weights: Vec<(String, f64)>,
     /// Optimiser options.
     pub options: FitOptions,
-    /// Show a progress bar.
-    pub progress: bool,
+    /// Progress display.
+    pub progress: ProgressMode,
+}
+
+impl FitRequest {
+    /// The default calibration of one set (as `reproduce` and `bench` run it), without progress.
+    pub fn of_set(dir: PathBuf, options: FitOptions) -> FitRequest {
+        FitRequest {
+            dirs: vec![dir],
+            tests: vec![],
+            free: Param::BASE.to_vec(),
+            fix: vec![],
+            bounds: vec![],
+            weights: vec![],
+            options,
+            progress: ProgressMode::Never,
+        }
+    }
 }
 
 /// A finished calibration with what produced it.
@@ -44,22 +61,29 @@ pub struct FitOutcome {
     pub name: String,
 }
 
-/// Parses `key=value` pairs of a parameter list.
-pub fn parse_param(s: &str) -> Result<Param> {
-    Param::from_key(s.trim()).ok_or_else(|| {
-        anyhow!(
-            "unknown parameter `{s}` (expected one of {})",
-            Param::ALL
-                .iter()
-                .map(|p| p.key())
-                .collect::<Vec<_>>()
-                .join(", ")
-        )
-    })
+/// Sets loaded, checked and charted, ready for the long work.
+pub struct FitSetup {
+    tests: Vec<PreparedTest>,
+    /// The CSV file of each test, by test name (for messages).
+    files: Vec<(String, PathBuf)>,
+    fits: Vec<FitTest>,
+    space: Space,
+    published: Option<Model>,
+    names: Vec<String>,
+    /// Plausibility warnings of the sets.
+    pub warnings: Vec<Warning>,
 }
 
-/// Runs a calibration.
-pub fn run_fit(req: &FitRequest) -> Result<FitOutcome> {
+impl FitSetup {
+    /// Name of the fit (set names joined by `+`).
+    pub fn name(&self) -> String {
+        self.names.join("+")
+    }
+}
+
+/// Loads the sets, selects and weights the tests, and checks fixed values and bounds: every
+/// mistake in the request is found here, before any output is prepared or any fitting done.
+pub fn setup_fit(req: &FitRequest, progress: &Progress) -> Result<FitSetup> {
     if req.dirs.is_empty() {
         bail!("no set folder given");
     }
@@ -67,36 +91,39 @@ pub fn run_fit(req: &FitRequest) -> Result<FitOutcome> {
     let mut tests = Vec::new();
     let mut published = None;
     let mut names = Vec::new();
+    let mut warnings = Vec::new();
+    let mut files = Vec::new();
     for d in &req.dirs {
+        progress.stage(format!("reading {}", d.display()), None);
         let set = load_set(d)?;
         if !joint {
             published = reference_model(&set);
         }
+        warnings.extend(plausibility(&set));
         names.push(set.meta.name.clone());
+        for t in &set.tests {
+            let name = if joint {
+                format!("{}/{}", set.meta.name, t.spec.name)
+            } else {
+                t.spec.name.clone()
+            };
+            files.push((name, t.path.clone()));
+        }
+        let rows: usize = set.tests.iter().map(|t| t.len()).sum();
+        progress.stage(
+            format!("segmenting {} tests ({rows} rows)", set.tests.len()),
+            None,
+        );
         tests.extend(prepare_set(&set, joint));
     }
-    if !req.tests.is_empty() {
-        for want in &req.tests {
-            if !tests.iter().any(|t| &t.fit.name == want) {
-                bail!(
-                    "test `{want}` not found (the sets have: {})",
-                    tests
-                        .iter()
-                        .map(|t| t.fit.name.clone())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                );
-            }
-        }
-        tests.retain(|t| req.tests.contains(&t.fit.name));
-    }
+    select_tests(&mut tests, &req.tests)?;
     for (name, w) in &req.weights {
         let Some(t) = tests.iter_mut().find(|t| &t.fit.name == name) else {
-            bail!("--weight: test `{name}` not found");
+            bail!(
+                "--weight {name}={w}: test `{name}` not found (the sets have: {})",
+                test_names(&tests)
+            );
         };
-        if !(*w > 0.0 && w.is_finite()) {
-            bail!("--weight {name}={w}: expected a finite weight > 0");
-        }
         t.fit.weight = *w;
         t.full.weight = *w;
     }
@@ -116,39 +143,144 @@ pub fn run_fit(req: &FitRequest) -> Result<FitOutcome> {
         .copied()
         .filter(|p| !req.fix.iter().any(|(q, _)| q == p))
         .collect();
-    let fits: Vec<_> = tests.iter().map(|t| t.fit.clone()).collect();
-    let space = Space::with_rate(template, &free, &req.bounds, typical_rate(&fits));
-    let bar = req.progress.then(|| {
-        let b = indicatif::ProgressBar::new_spinner();
-        b.enable_steady_tick(std::time::Duration::from_millis(120));
-        b
-    });
-    let progress = |s: Stage| {
-        if let Some(b) = &bar {
-            b.set_message(match s {
-                Stage::Global => "global search (differential evolution)".to_string(),
-                Stage::Local(k, n) => format!("least-squares polish {k}/{n}"),
-                Stage::Profiles => "profile intervals".to_string(),
-                Stage::Done => "done".to_string(),
-            });
-        }
-    };
-    let mut report = calibrate(&fits, space, &req.options, &progress)?;
-    // Fitted on bins of a long record: the misfit is reported on every row.
-    let fulls: Vec<_> = tests.iter().map(|t| t.full.clone()).collect();
-    report.tests = subfric_fit::misfits(&fulls, &report.model);
-    if let Some(b) = bar {
-        b.finish_and_clear();
+    let fits: Vec<FitTest> = tests.iter().map(|t| t.fit.clone()).collect();
+    let space = Space::try_with_rate(template, &free, &req.bounds, typical_rate(&fits))
+        .map_err(|e| anyhow!("--bounds {e}"))?;
+    if space.v_ref == 0.0 && !req.bounds.is_empty() && free_triple(&free) {
+        progress.println(
+            "note: with bounds on mu_k, kappa or xi the optimiser works in those parameters themselves, not in the combinations a single rate determines",
+        );
     }
-    if let Some(p) = &published {
+    Ok(FitSetup {
+        tests,
+        files,
+        fits,
+        space,
+        published,
+        names,
+        warnings,
+    })
+}
+
+fn free_triple(free: &[Param]) -> bool {
+    [Param::MuK, Param::Kappa, Param::Xi]
+        .iter()
+        .all(|p| free.contains(p))
+}
+
+fn test_names(tests: &[PreparedTest]) -> String {
+    tests
+        .iter()
+        .map(|t| t.fit.name.clone())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Keeps only the tests named in `want` (all when empty); an unknown name is an error.
+fn select_tests(tests: &mut Vec<PreparedTest>, want: &[String]) -> Result<()> {
+    if want.is_empty() {
+        return Ok(());
+    }
+    for w in want {
+        if !tests.iter().any(|t| &t.fit.name == w) {
+            bail!(
+                "--tests: test `{w}` not found (the sets have: {})",
+                test_names(tests)
+            );
+        }
+    }
+    tests.retain(|t| want.contains(&t.fit.name));
+    Ok(())
+}
+
+/// Runs the calibration of a checked setup.
+pub fn fit_setup(req: &FitRequest, setup: FitSetup, progress: &Progress) -> Result<FitOutcome> {
+    let budget = req.options.global_evaluations;
+    let stage = |s| progress.fit_stage(s, budget);
+    let name = setup.name();
+    let mut report = calibrate(&setup.fits, setup.space.clone(), &req.options, &stage)?;
+    // Fitted on bins of a long record: the misfit is reported on every row.
+    let fulls: Vec<FitTest> = setup.tests.iter().map(|t| t.full.clone()).collect();
+    report.tests = subfric_fit::misfits(&fulls, &report.model);
+    for &(p, lo, hi) in &req.bounds {
+        let v = p.get(&report.model).unwrap_or(f64::NAN);
+        let slack = 1e-9 * lo.abs().max(hi.abs());
+        if !(v >= lo - slack && v <= hi + slack) {
+            bail!(
+                "--bounds {}={lo}:{hi}: the fit ended at {} = {v}, outside the bounds (expected the optimiser to keep them; the result is withheld)",
+                p.key(),
+                p.key()
+            );
+        }
+    }
+    check_finite(&report, &setup, &fulls)?;
+    if let Some(p) = &setup.published {
         compare_with_published(&mut report, p);
     }
     Ok(FitOutcome {
         report,
-        tests,
-        published,
-        name: names.join("+"),
+        name,
+        tests: setup.tests,
+        published: setup.published,
     })
+}
+
+/// A result with a number that is not finite is withheld: the error names the test's file and
+/// why the fitted model cannot follow it.
+fn check_finite(report: &FitReport, setup: &FitSetup, fulls: &[FitTest]) -> Result<()> {
+    let file_of = |name: &str| {
+        setup
+            .files
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, p)| p.display().to_string())
+            .unwrap_or_else(|| name.to_string())
+    };
+    for (t, m) in fulls.iter().zip(&report.tests) {
+        if m.rms.is_finite() {
+            continue;
+        }
+        let why = match t.predict(&report.model) {
+            Err(e) => format!("{e} (row numbers count data rows from 0)"),
+            Ok(_) => "its misfit is not a finite number".into(),
+        };
+        bail!(
+            "{}: test `{}`: the best fit found cannot follow this test: {why} (expected data the model can simulate; check the units and the control column; the result is withheld)",
+            file_of(&t.name),
+            t.name
+        );
+    }
+    let params = &report.model.params;
+    if !(report.ssr.is_finite()
+        && report.reduced_chi2.is_finite()
+        && [
+            params.mu_s,
+            params.mu_k,
+            params.kappa,
+            params.xi,
+            params.u_tilde,
+            params.alpha_t,
+        ]
+        .iter()
+        .all(|v| v.is_finite()))
+    {
+        let files: Vec<String> = setup.files.iter().map(|(n, _)| file_of(n)).collect();
+        bail!(
+            "{}: the fit ended with a number that is not finite (misfit {}, parameters {params:?}); the result is withheld",
+            files.join(", "),
+            report.ssr
+        );
+    }
+    Ok(())
+}
+
+/// Loads, checks and calibrates in one go.
+pub fn run_fit(req: &FitRequest) -> Result<FitOutcome> {
+    let progress = Progress::new(req.progress);
+    let setup = setup_fit(req, &progress)?;
+    let out = fit_setup(req, setup, &progress);
+    progress.finish();
+    out
 }
 
 /// Interval text with open ends marked (empty for a fixed or unprofiled parameter).
@@ -256,8 +388,8 @@ pub fn report_table(name: &str, r: &FitReport) -> String {
     let o = &r.optimizer;
     let _ = write!(
         s,
-        "optimiser: {:?}, {} starts of which {} reached the best, {} informed guesses, {} global + {} total model runs, {:.1} s",
-        o.method, o.starts, o.starts_at_best, o.informed_guesses, o.global_evaluations, o.evaluations, o.elapsed_s
+        "optimiser: {:?}, {} starts of which {} reached the best, {} informed guesses, {} global + {} total model runs",
+        o.method, o.starts, o.starts_at_best, o.informed_guesses, o.global_evaluations, o.evaluations
     );
     if o.repolished_from_profile {
         let _ = write!(s, " (profiling found a better optimum; re-polished)");
@@ -265,25 +397,34 @@ pub fn report_table(name: &str, r: &FitReport) -> String {
     s
 }
 
-/// Writes `fit.json` under `dir`.
+/// The table with the wall time, for the terminal (files get [`report_table`]: no timings, so
+/// that they depend on the data, the code and the seed only).
+pub fn report_table_timed(name: &str, r: &FitReport) -> String {
+    format!(
+        "{}; {:.1} s wall time",
+        report_table(name, r),
+        r.optimizer.elapsed_s
+    )
+}
+
+/// Writes `fit.json` under `dir` (atomically), without the wall time: a fit.json depends on the
+/// data, the code and the seed only.
 pub fn write_fit(dir: &Path, out: &FitOutcome) -> Result<PathBuf> {
     let file = dir.join("fit.json");
+    let mut report = serde_json::to_value(&out.report)?;
+    if let Some(o) = report
+        .get_mut("optimizer")
+        .and_then(serde_json::Value::as_object_mut)
+    {
+        o.remove("elapsed_s");
+    }
     let v = serde_json::json!({
         "set": out.name,
         "tests": out.tests.iter().map(|t| t.fit.name.clone()).collect::<Vec<_>>(),
         "params": out.report.model.params,
         "model": out.report.model,
-        "report": out.report,
+        "report": report,
     });
     crate::io::write_json(&file, &v)?;
     Ok(file)
-}
-
-/// Default method of a string.
-pub fn method_of(s: &str) -> Result<Method> {
-    match s {
-        "lsq" | "lm" => Ok(Method::Lsq),
-        "nm" | "nelder-mead" => Ok(Method::NelderMead),
-        other => bail!("--method {other}: expected lsq or nm"),
-    }
 }

@@ -3,11 +3,20 @@
 use anyhow::{anyhow, bail, Context, Result};
 use serde::Serialize;
 use std::path::Path;
+use subfric_data::{write_atomic, PathKind};
 use subfric_model::{Extensions, Model, Params};
 
 /// Reads a model from `params.json` (keys of `reference_parameters`), a `fit.json` written by
 /// `subfric fit` (its `model`), or an `experiment.json` (its `reference_parameters`).
 pub fn load_model(path: &Path) -> Result<Model> {
+    let kind = PathKind::of(path);
+    if kind != PathKind::File {
+        bail!(
+            "{}: the parameter file {} (expected a JSON file)",
+            path.display(),
+            kind.describe()
+        );
+    }
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("{}: cannot read the parameter file", path.display()))?;
     let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
@@ -55,21 +64,19 @@ pub fn load_model(path: &Path) -> Result<Model> {
     Model::new(params, ext).map_err(|e| anyhow!("{}: {e}", path.display()))
 }
 
-/// Writes pretty JSON, creating the folder.
+/// Writes pretty JSON, creating the folder; atomically (see [`write_text`]).
 pub fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<()> {
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("{}: cannot create the folder", dir.display()))?;
-    }
     let text = serde_json::to_string_pretty(value)?;
-    std::fs::write(path, text + "\n").with_context(|| format!("{}: cannot write", path.display()))
+    write_text(path, &(text + "\n"))
 }
 
-/// Writes a text file, creating the folder.
+/// Writes a text file, creating the folder. The text goes to a temporary file in the same
+/// folder, flushed, then renamed over `path`: a full disk or a kill leaves the old file whole,
+/// and a symbolic link at `path` is replaced, not written through.
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
-    if let Some(dir) = path.parent() {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
-            .with_context(|| format!("{}: cannot create the folder", dir.display()))?;
+            .map_err(|e| anyhow!("{}: cannot create the folder: {e}", dir.display()))?;
     }
-    std::fs::write(path, text).with_context(|| format!("{}: cannot write", path.display()))
+    write_atomic(path, text.as_bytes()).map_err(|e| anyhow!("cannot write {e}"))
 }

@@ -7,9 +7,12 @@
 //! runnable with `subfric simulate --scenario`) and `top-proposal.png`: the top proposal's
 //! predicted curve with the band the undetermined parameters still allow.
 
-use crate::fit_cmd::{run_fit, FitOutcome, FitRequest};
+use crate::args::PlanArgs;
+use crate::fit_cmd::{fit_setup, setup_fit, FitOutcome, FitRequest};
 use crate::io::{write_json, write_text};
-use anyhow::Result;
+use crate::output::{default_results_dir, ResultsDir};
+use crate::progress::Progress;
+use anyhow::{bail, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use subfric_fit::interval::short_number as num;
@@ -18,60 +21,54 @@ use subfric_fit::{FitOptions, FitTest, Param, Status};
 use subfric_model::Control;
 use subfric_plot::{render_png, Figure, Panel, Series, Style};
 
-/// Arguments of `subfric plan`.
-#[derive(clap::Args, Debug)]
-pub struct PlanArgs {
-    /// Set folder.
-    pub set: PathBuf,
-    /// Output folder (default fits/<set>/plan).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Seed of the fits and of the simulated check's noise.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// How many of the top proposals to check by fitting a simulated joint campaign.
-    #[arg(long, default_value_t = 1)]
-    pub check: usize,
-    /// Lab time of a new test beyond its duration (specimen, set-up) [h].
-    #[arg(long, default_value_t = 0.5)]
-    pub setup_hours: f64,
+/// The folder of a set's results that holds its plan.
+pub const PLAN_DIR: &str = "plan";
+
+/// What a plan folder holds (scenarios/ is a folder of one JSON per proposal).
+fn plan_files() -> Vec<String> {
+    ["plan.json", "plan.txt", "top-proposal.png", "scenarios"]
+        .map(String::from)
+        .to_vec()
 }
 
-/// Runs `subfric plan`.
-pub fn run(args: PlanArgs) -> Result<()> {
-    if !(args.setup_hours >= 0.0 && args.setup_hours.is_finite()) {
-        anyhow::bail!(
+/// Runs `subfric plan`: the set is checked and the output folder claimed before the fit.
+pub fn run(a: PlanArgs) -> Result<()> {
+    if !(a.setup_hours >= 0.0 && a.setup_hours.is_finite()) {
+        bail!(
             "--setup-hours {}: expected a finite number of hours >= 0",
-            args.setup_hours
+            a.setup_hours
         );
     }
     let options = FitOptions {
-        seed: args.seed,
+        seed: a.seed,
         ..FitOptions::default()
     };
-    let outcome = run_fit(&FitRequest {
-        dirs: vec![args.set.clone()],
-        tests: vec![],
-        free: Param::BASE.to_vec(),
-        fix: vec![],
-        bounds: vec![],
-        weights: vec![],
-        options,
-        progress: true,
-    })?;
+    let mut req = FitRequest::of_set(a.set.clone(), options);
+    req.progress = a.progress;
+    let progress = Progress::new(req.progress);
+    let setup = setup_fit(&req, &progress)?;
+    for w in &setup.warnings {
+        progress.println(&format!("warning: {w}"));
+    }
+    let dir = a
+        .out
+        .unwrap_or_else(|| default_results_dir(&setup.name()).join(PLAN_DIR));
+    let claim = ResultsDir::claim(&dir, std::slice::from_ref(&a.set), &plan_files(), a.force)?;
+    let outcome = fit_setup(&req, setup, &progress).map_err(|e| crate::located(e, &a.set))?;
+    progress.stage("planning: the valley, the proposals, the check", None);
     let opts = PlanOptions {
-        setup_hours: args.setup_hours,
-        check: args.check,
+        setup_hours: a.setup_hours,
+        check: a.check,
         fit: options,
         ..PlanOptions::default()
     };
-    let p = plan_outcome(&outcome, &opts)?;
-    let dir = args
-        .out
-        .unwrap_or_else(|| PathBuf::from("fits").join(&outcome.name).join("plan"));
+    let p = plan_outcome(&outcome, &opts).map_err(|e| crate::located(e, &a.set))?;
+    progress.finish();
     let text = plan_text(&outcome.name, &p);
     println!("{text}");
-    for f in write_plan(&dir, &outcome.name, &p, &text)? {
+    let files = write_plan(claim.path(), &outcome.name, &p, &text)?;
+    claim.commit()?;
+    for f in files {
         println!("wrote {}", f.display());
     }
     Ok(())

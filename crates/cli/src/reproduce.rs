@@ -1,20 +1,34 @@
 //! `subfric reproduce`: fit every set of `experiments/`, write Tables 1–4 beside the published
 //! values, the overlay plots and a summary README under `fits/`.
+//!
+//! Everything written under the output folder depends on the data, the code and the seed only
+//! (no wall times), so that running the job on a clean checkout leaves it clean; the wall times
+//! go to the terminal and to `timings.txt`, which is not tracked.
 
-use crate::figures::plot_set;
-use crate::fit_cmd::{interval_text, report_table, run_fit, write_fit, FitOutcome, FitRequest};
+use crate::args::ReproduceArgs;
+use crate::figures::{plot_set, sanitize};
+use crate::fit_cmd::{
+    interval_text, report_table, report_table_timed, run_fit, write_fit, FitOutcome, FitRequest,
+};
 use crate::io::write_text;
-use anyhow::{bail, Result};
+use crate::output::{safe_name, ResultsDir};
+use crate::progress::Progress;
+use anyhow::{anyhow, bail, Result};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
-use subfric_fit::{FitOptions, Param, Status};
+use subfric_data::{parse_meta, ExperimentMeta, EXPERIMENT_JSON};
+use subfric_fit::{FitOptions, Status};
+
+/// The file of wall times written beside the results (not tracked by git).
+pub const TIMINGS_FILE: &str = "timings.txt";
 
 /// One set's result.
 pub struct SetResult {
-    /// Set folder name.
+    /// Set folder name (made a plain folder name).
     pub name: String,
     /// Paper table it belongs to ("Table 1", ...), from `reference_parameters.source`.
     pub table: String,
@@ -26,95 +40,174 @@ pub struct SetResult {
     pub next: Option<crate::plan_cmd::NextTest>,
 }
 
-fn table_of(dir: &Path) -> String {
-    std::fs::read_to_string(dir.join("experiment.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .and_then(|v| {
-            v["reference_parameters"]["source"]
-                .as_str()
-                .map(String::from)
-        })
-        .unwrap_or_else(|| "other sets".into())
+/// A set to fit: its folder, output name, description.
+struct Job {
+    dir: PathBuf,
+    name: String,
+    table: String,
+    meta: ExperimentMeta,
 }
 
-/// Runs the whole job.
-pub fn reproduce(experiments: &Path, out: &Path, options: FitOptions) -> Result<Vec<SetResult>> {
-    let t0 = Instant::now();
+fn read_meta(dir: &Path) -> Result<ExperimentMeta> {
+    let json = dir.join(EXPERIMENT_JSON);
+    let text = std::fs::read_to_string(&json).map_err(|e| anyhow!("{}: {e}", json.display()))?;
+    Ok(parse_meta(&text, &json)?)
+}
+
+fn table_slug(table: &str) -> String {
+    table.to_lowercase().replace(' ', "")
+}
+
+/// The sets of `experiments` (folders holding experiment.json), sorted.
+fn jobs(experiments: &Path) -> Result<Vec<Job>> {
     let mut dirs: Vec<PathBuf> = std::fs::read_dir(experiments)
         .map_err(|e| {
-            anyhow::anyhow!(
+            anyhow!(
                 "{}: cannot read the experiments folder: {e}",
                 experiments.display()
             )
         })?
         .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.join("experiment.json").is_file())
+        .filter(|p| p.join(EXPERIMENT_JSON).is_file())
         .collect();
     dirs.sort();
     if dirs.is_empty() {
         bail!(
-            "{}: no experiment set (a folder with experiment.json) found",
+            "{}: no experiment set (a folder with {EXPERIMENT_JSON}) found",
             experiments.display()
         );
     }
-    let results: Vec<Result<SetResult>> = dirs
-        .par_iter()
-        .map(|d| {
-            let name = d
-                .file_name()
-                .map(|s| s.to_string_lossy().to_string())
-                .unwrap_or_default();
-            let outcome = run_fit(&FitRequest {
-                dirs: vec![d.clone()],
-                tests: vec![],
-                free: Param::BASE.to_vec(),
-                fix: vec![],
-                bounds: vec![],
-                weights: vec![],
-                options,
-                progress: false,
-            })?;
-            let set_out = out.join(&name);
-            write_fit(&set_out, &outcome)?;
-            write_text(
-                &set_out.join("fit.txt"),
-                &(report_table(&name, &outcome.report) + "\n"),
-            )?;
-            let plots = plot_set(
-                &name,
-                &outcome.tests,
-                outcome.published.as_ref(),
-                Some(&outcome.report.model),
-                &set_out,
-            )?;
-            let next = crate::plan_cmd::next_test(&outcome, &set_out.join("plan"))?;
-            Ok(SetResult {
-                table: table_of(d),
+    dirs.into_iter()
+        .map(|dir| {
+            let meta = read_meta(&dir)?;
+            let table = meta
+                .reference_parameters
+                .as_ref()
+                .and_then(|v| v["source"].as_str().map(String::from))
+                .unwrap_or_else(|| "other sets".into());
+            let name = safe_name(&dir.file_name().unwrap_or_default().to_string_lossy());
+            Ok(Job {
+                dir,
                 name,
-                outcome,
-                plots,
-                next,
+                table,
+                meta,
             })
+        })
+        .collect()
+}
+
+/// Fits one set and writes its fit.json, fit.txt and figures into its claimed folder.
+fn fit_one(job: &Job, claim: ResultsDir, options: FitOptions) -> Result<(SetResult, Vec<String>)> {
+    let outcome = run_fit(&FitRequest::of_set(job.dir.clone(), options))?;
+    let set_out = claim.path().to_path_buf();
+    write_fit(&set_out, &outcome)?;
+    write_text(
+        &set_out.join("fit.txt"),
+        &(report_table(&job.name, &outcome.report) + "\n"),
+    )?;
+    let (plots, notes) = plot_set(
+        &job.name,
+        &outcome.tests,
+        outcome.published.as_ref(),
+        Some(&outcome.report.model),
+        &set_out,
+    )?;
+    let next = crate::plan_cmd::next_test(&outcome, &set_out.join(crate::plan_cmd::PLAN_DIR))?;
+    claim.commit()?;
+    Ok((
+        SetResult {
+            name: job.name.clone(),
+            table: job.table.clone(),
+            outcome,
+            plots,
+            next,
+        },
+        notes,
+    ))
+}
+
+/// Runs the whole job.
+pub fn reproduce(
+    experiments: &Path,
+    out: &Path,
+    options: FitOptions,
+    force: bool,
+    progress: &Progress,
+) -> Result<Vec<SetResult>> {
+    let jobs = jobs(experiments)?;
+    // Every output folder is checked and claimed before the first fit.
+    let mut top_files = vec!["README.md".to_string(), TIMINGS_FILE.to_string()];
+    for j in &jobs {
+        let slug = table_slug(&j.table);
+        for f in [format!("{slug}.md"), format!("{slug}.csv")] {
+            if !top_files.contains(&f) {
+                top_files.push(f);
+            }
+        }
+    }
+    let top = ResultsDir::claim(out, &[experiments.to_path_buf()], &top_files, force)?;
+    let claims = jobs
+        .iter()
+        .map(|j| {
+            let mut files = vec![
+                "fit.json".to_string(),
+                "fit.txt".to_string(),
+                crate::plan_cmd::PLAN_DIR.to_string(),
+            ];
+            files.extend(
+                j.meta
+                    .tests
+                    .iter()
+                    .map(|t| format!("{}.png", sanitize(&t.name))),
+            );
+            ResultsDir::claim(
+                &out.join(&j.name),
+                std::slice::from_ref(&j.dir),
+                &files,
+                force,
+            )
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let done = AtomicUsize::new(0);
+    let total = jobs.len();
+    progress.stage(format!("fitting {total} sets: 0 done"), None);
+    let results: Vec<Result<(SetResult, Vec<String>)>> = jobs
+        .par_iter()
+        .zip(claims)
+        .map(|(j, claim)| {
+            let r = fit_one(j, claim, options);
+            let k = done.fetch_add(1, Ordering::Relaxed) + 1;
+            progress.stage(format!("fitting {total} sets: {k} done"), None);
+            r
         })
         .collect();
     let mut ok = Vec::new();
     for r in results {
-        ok.push(r?);
+        let (set, notes) = r?;
+        for n in notes {
+            eprintln!("warning: {n}");
+        }
+        ok.push(set);
     }
+    write_tables(out, &ok)?;
+    top.commit()?;
+    Ok(ok)
+}
+
+/// Writes the tables and the README of the output folder.
+fn write_tables(out: &Path, sets: &[SetResult]) -> Result<()> {
     let mut by_table: BTreeMap<String, Vec<&SetResult>> = BTreeMap::new();
-    for r in &ok {
+    for r in sets {
         by_table.entry(r.table.clone()).or_default().push(r);
     }
     let mut readme = String::new();
     let _ = writeln!(readme, "# Fitted parameters beside the published values\n");
     let _ = writeln!(
         readme,
-        "Written by `subfric reproduce` in {:.1} s. Each set of `experiments/` is fitted from informed first guesses, a global search and least-squares polish; intervals are 95 % profile intervals. \"not determined\" means the data bound the parameter on at most one side (e.g. κ and ξ from a single sliding rate): the value shown is one point of a flat valley.\n",
-        t0.elapsed().as_secs_f64()
+        "Written by `subfric reproduce`. Each set of `experiments/` is fitted from informed first guesses, a global search and least-squares polish; intervals are 95 % profile intervals. \"not determined\" means the data bound the parameter on at most one side (e.g. κ and ξ from a single sliding rate): the value shown is one point of a flat valley.\n"
     );
     for (table, sets) in &by_table {
-        let slug = table.to_lowercase().replace(' ', "");
+        let slug = table_slug(table);
         let (md, csv) = table_files(table, sets);
         write_text(&out.join(format!("{slug}.md")), &md)?;
         write_text(&out.join(format!("{slug}.csv")), &csv)?;
@@ -140,8 +233,42 @@ pub fn reproduce(experiments: &Path, out: &Path, options: FitOptions) -> Result<
         }
         let _ = writeln!(readme);
     }
-    write_text(&out.join("README.md"), &readme)?;
-    Ok(ok)
+    write_text(&out.join("README.md"), &readme)
+}
+
+/// `subfric reproduce`: the job, the tables on the terminal, the wall times in timings.txt.
+pub fn run(args: ReproduceArgs) -> Result<()> {
+    let t0 = Instant::now();
+    let progress = Progress::new(args.progress);
+    let options = FitOptions {
+        seed: args.seed,
+        ..FitOptions::default()
+    };
+    let res = reproduce(&args.experiments, &args.out, options, args.force, &progress)?;
+    progress.finish();
+    let mut timings = String::from(
+        "# Wall times of the last `subfric reproduce` (not tracked: they vary from run to run)\n",
+    );
+    for r in &res {
+        println!("{}\n", report_table_timed(&r.name, &r.outcome.report));
+        let o = &r.outcome.report.optimizer;
+        let _ = writeln!(
+            timings,
+            "{:<24} {:8.2} s  {:7} model runs",
+            r.name, o.elapsed_s, o.evaluations
+        );
+    }
+    let total = t0.elapsed().as_secs_f64();
+    let _ = writeln!(timings, "{:<24} {total:8.2} s", "total");
+    write_text(&args.out.join(TIMINGS_FILE), &timings)?;
+    println!(
+        "wrote {} sets to {} in {total:.1} s: {}/README.md (wall times in {}/{TIMINGS_FILE})",
+        res.len(),
+        args.out.display(),
+        args.out.display(),
+        args.out.display()
+    );
+    Ok(())
 }
 
 fn table_files(table: &str, sets: &[&SetResult]) -> (String, String) {

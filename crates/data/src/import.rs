@@ -7,9 +7,10 @@ use std::str::FromStr;
 use serde_json::Map;
 
 use crate::error::{DataError, Problem, Problems};
+use crate::fsio::{commit_file, stage_file, PathKind};
 use crate::meta::{Control, ExperimentMeta, Interface, TestSpec};
 use crate::set::{
-    comment_text, load_set, meta_json_text, test_csv_text, validate_data, write_file,
+    comment_text, load_set, meta_json_text, prepare_parent, test_csv_text, validate_data,
     ExperimentSet, TestData, EXPERIMENT_JSON,
 };
 
@@ -347,17 +348,9 @@ pub fn file_name_for(test_name: &str) -> String {
     s
 }
 
-/// Reads a lab file into a test (not yet written); problems name the lab file and its lines.
-pub fn read_lab_file(
-    lab_file: &Path,
-    spec: &ImportSpec,
-    target: &Path,
-) -> Result<TestData, DataError> {
-    let bytes = std::fs::read(lab_file).map_err(|e| DataError::io(lab_file, e))?;
-    let text = decode(bytes);
-    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+/// Problems of the import options themselves, before the file is read.
+fn spec_problems(lf: &Path, spec: &ImportSpec) -> Problems {
     let mut pr = Problems::default();
-    let lf = lab_file;
     if spec.test_name.trim().is_empty() {
         pr.add(
             lf,
@@ -392,13 +385,34 @@ pub fn read_lab_file(
             );
         }
     }
-    if !pr.is_empty() {
-        return Err(DataError::Problems(pr.into_vec()));
-    }
+    pr
+}
 
+/// Reads the lab file as text (UTF-8, else Latin-1), refusing what is not a regular file.
+fn read_lab_text(lf: &Path) -> Result<String, DataError> {
+    let kind = PathKind::of(lf);
+    if kind != PathKind::File {
+        return Err(DataError::Problems(vec![Problem::new(
+            lf,
+            None,
+            None,
+            format!("the lab file {} (expected a text file)", kind.describe()),
+        )]));
+    }
+    let bytes = std::fs::read(lf).map_err(|e| DataError::io(lf, e))?;
+    let text = decode(bytes);
+    Ok(match text.strip_prefix('\u{feff}') {
+        Some(t) => t.to_string(),
+        None => text,
+    })
+}
+
+/// The non-empty, non-comment lines after `skip` lines, with their 1-based numbers, and the
+/// comment texts.
+fn content_lines(text: &str, skip: usize) -> (Vec<(usize, &str)>, Vec<String>) {
     let mut comments = Vec::new();
-    let mut lines: Vec<(usize, &str)> = Vec::new();
-    for (i, raw) in text.split('\n').enumerate().skip(spec.skip_lines) {
+    let mut lines = Vec::new();
+    for (i, raw) in text.split('\n').enumerate().skip(skip) {
         let line = raw.strip_suffix('\r').unwrap_or(raw);
         let trimmed = line.trim();
         if trimmed.is_empty() {
@@ -410,6 +424,218 @@ pub fn read_lab_file(
         }
         lines.push((i + 1, line));
     }
+    (lines, comments)
+}
+
+/// A resolved column: 0-based index and its label for messages.
+type Col = (usize, String);
+
+/// The columns an import reads, resolved against the header.
+struct Columns {
+    time: Col,
+    slip: Col,
+    shear: Option<(Col, StressUnit)>,
+    friction: Option<Col>,
+    normal: Option<(Col, StressUnit)>,
+}
+
+/// Resolves one column reference against the header `names` (empty without a header).
+fn resolve(
+    lf: &Path,
+    header_line: usize,
+    names: &[String],
+    has_header: bool,
+    c: &ColumnRef,
+    what: &str,
+    pr: &mut Problems,
+) -> Option<Col> {
+    match c {
+        ColumnRef::Index(i) => {
+            let label = names
+                .get(i.wrapping_sub(1))
+                .cloned()
+                .unwrap_or_else(|| format!("column {i}"));
+            Some((i.saturating_sub(1), label))
+        }
+        ColumnRef::Name(n) if !has_header => {
+            pr.add(
+                lf,
+                Some(header_line),
+                Some(what),
+                format!("column `{n}` named but the file has no header (expected a 1-based column index)"),
+            );
+            None
+        }
+        ColumnRef::Name(n) => match names
+            .iter()
+            .position(|h| h.trim().eq_ignore_ascii_case(n.trim()))
+        {
+            Some(k) => Some((k, names[k].clone())),
+            None => {
+                pr.add(
+                    lf,
+                    Some(header_line),
+                    Some(what),
+                    format!(
+                        "no column `{n}` in the header (expected one of: {})",
+                        names.join(", ")
+                    ),
+                );
+                None
+            }
+        },
+    }
+}
+
+/// Resolves every column the spec names; all problems are reported together.
+fn resolve_columns(
+    lf: &Path,
+    spec: &ImportSpec,
+    header_line: usize,
+    names: &[String],
+) -> Result<Columns, DataError> {
+    let mut pr = Problems::default();
+    let res = |c: &ColumnRef, what: &str, pr: &mut Problems| {
+        resolve(lf, header_line, names, spec.has_header, c, what, pr)
+    };
+    let time = res(&spec.time, "time", &mut pr);
+    let slip = res(&spec.slip, "slip", &mut pr);
+    let shear = spec
+        .shear
+        .as_ref()
+        .map(|(c, u)| (res(c, "shear", &mut pr), *u));
+    let friction = match (&spec.shear, &spec.friction) {
+        (None, Some(c)) => Some(res(c, "friction", &mut pr)),
+        _ => None,
+    };
+    let normal = spec
+        .normal
+        .as_ref()
+        .map(|(c, u)| (res(c, "normal", &mut pr), *u));
+    match (time, slip) {
+        (Some(time), Some(slip)) if pr.is_empty() => Ok(Columns {
+            time,
+            slip,
+            shear: shear.and_then(|(c, u)| c.map(|c| (c, u))),
+            friction: friction.flatten(),
+            normal: normal.and_then(|(c, u)| c.map(|c| (c, u))),
+        }),
+        _ => Err(DataError::Problems(pr.into_vec())),
+    }
+}
+
+/// Rows read from a lab file, in data units (s, mm, kPa).
+#[derive(Default)]
+struct LabRows {
+    time_s: Vec<f64>,
+    slip_mm: Vec<f64>,
+    shear_kpa: Vec<f64>,
+    normal_kpa: Vec<f64>,
+    line_of_row: Vec<usize>,
+}
+
+/// Reads one cell of a row in data units; a missing or bad cell is reported and gives `None`.
+fn cell_value(
+    lf: &Path,
+    line_no: usize,
+    cells: &[String],
+    col: &Col,
+    factor: f64,
+    decimal_comma: bool,
+    pr: &mut Problems,
+) -> Option<f64> {
+    let Some(cell) = cells.get(col.0) else {
+        pr.add(
+            lf,
+            Some(line_no),
+            Some(&col.1),
+            format!(
+                "row has {} cells (expected at least {} to reach {})",
+                cells.len(),
+                col.0 + 1,
+                col.1
+            ),
+        );
+        return None;
+    };
+    let mut c = cell.clone();
+    if decimal_comma && c.contains(',') && !c.contains('.') {
+        c = c.replace(',', ".");
+    }
+    match crate::set::parse_number(&c) {
+        Ok(x) => Some(x * factor),
+        Err(msg) => {
+            pr.add(lf, Some(line_no), Some(&col.1), msg);
+            None
+        }
+    }
+}
+
+/// Reads every data line; rows with a bad cell are reported and left out.
+fn read_rows(
+    lf: &Path,
+    spec: &ImportSpec,
+    cols: &Columns,
+    data_lines: &[(usize, &str)],
+    delim: Delimiter,
+    pr: &mut Problems,
+) -> LabRows {
+    let mut rows = LabRows::default();
+    let decimal_comma = delim != Delimiter::Comma;
+    for &(line_no, line) in data_lines {
+        let cells = split_cells(line, delim);
+        let get = |col: &Col, factor: f64, pr: &mut Problems| {
+            cell_value(lf, line_no, &cells, col, factor, decimal_comma, pr)
+        };
+        let tv = get(&cols.time, spec.time_unit.to_s(), pr);
+        let sv = get(&cols.slip, spec.slip_unit.to_mm(), pr);
+        let nv = match &cols.normal {
+            Some((c, u)) => get(c, u.to_kpa(), pr),
+            None => Some(spec.normal_stress_kpa.unwrap_or(f64::NAN)),
+        };
+        let qv = match (&cols.shear, &cols.friction) {
+            (Some((c, u)), _) => get(c, u.to_kpa(), pr),
+            (None, Some(c)) => get(c, 1.0, pr).zip(nv).map(|(f, n)| f * n),
+            (None, None) => Some(f64::NAN),
+        };
+        if let (Some(tv), Some(sv), Some(qv), Some(nv)) = (tv, sv, qv, nv) {
+            rows.time_s.push(tv);
+            rows.slip_mm.push(sv);
+            rows.shear_kpa.push(qv);
+            rows.normal_kpa.push(nv);
+            rows.line_of_row.push(line_no);
+        }
+    }
+    rows
+}
+
+/// The test's constant normal stress: the given one, else the median of the normal column.
+fn spec_normal(spec: &ImportSpec, cols: &Columns, normal_kpa: &[f64]) -> f64 {
+    match (&cols.normal, spec.normal_stress_kpa) {
+        (_, Some(x)) => x,
+        (Some(_), None) => {
+            let mut v: Vec<f64> = normal_kpa
+                .iter()
+                .copied()
+                .filter(|x| x.is_finite())
+                .collect();
+            v.sort_by(f64::total_cmp);
+            v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+        }
+        (None, None) => f64::NAN,
+    }
+}
+
+/// Reads a lab file into a test (not yet written); problems name the lab file and its lines.
+pub fn read_lab_file(
+    lab_file: &Path,
+    spec: &ImportSpec,
+    target: &Path,
+) -> Result<TestData, DataError> {
+    let lf = lab_file;
+    spec_problems(lf, spec).into_result(())?;
+    let text = read_lab_text(lf)?;
+    let (lines, mut comments) = content_lines(&text, spec.skip_lines);
     let Some(&(first_line, first)) = lines.first() else {
         return Err(DataError::Problems(vec![Problem::new(
             lf,
@@ -427,132 +653,10 @@ pub fn read_lab_file(
     } else {
         (Vec::new(), &lines[..])
     };
-    let resolve = |c: &ColumnRef, what: &str, pr: &mut Problems| -> Option<(usize, String)> {
-        match c {
-            ColumnRef::Index(i) => {
-                let label = names
-                    .get(i.wrapping_sub(1))
-                    .cloned()
-                    .unwrap_or_else(|| format!("column {i}"));
-                Some((i.saturating_sub(1), label))
-            }
-            ColumnRef::Name(n) => {
-                if !spec.has_header {
-                    pr.add(
-                        lf,
-                        Some(first_line),
-                        Some(what),
-                        format!("column `{n}` named but the file has no header (expected a 1-based column index)"),
-                    );
-                    return None;
-                }
-                match names
-                    .iter()
-                    .position(|h| h.trim().eq_ignore_ascii_case(n.trim()))
-                {
-                    Some(k) => Some((k, names[k].clone())),
-                    None => {
-                        pr.add(
-                            lf,
-                            Some(first_line),
-                            Some(what),
-                            format!(
-                                "no column `{n}` in the header (expected one of: {})",
-                                names.join(", ")
-                            ),
-                        );
-                        None
-                    }
-                }
-            }
-        }
-    };
-    let time = resolve(&spec.time, "time", &mut pr);
-    let slip = resolve(&spec.slip, "slip", &mut pr);
-    let shear = spec
-        .shear
-        .as_ref()
-        .map(|(c, u)| (resolve(c, "shear", &mut pr), *u));
-    let friction = if spec.shear.is_none() {
-        spec.friction
-            .as_ref()
-            .map(|c| resolve(c, "friction", &mut pr))
-    } else {
-        None
-    };
-    let normal = spec
-        .normal
-        .as_ref()
-        .map(|(c, u)| (resolve(c, "normal", &mut pr), *u));
-    if !pr.is_empty() {
-        return Err(DataError::Problems(pr.into_vec()));
-    }
-    let (Some(time), Some(slip)) = (time, slip) else {
-        return Err(DataError::Problems(pr.into_vec()));
-    };
-    let shear = shear.and_then(|(c, u)| c.map(|c| (c, u)));
-    let friction = friction.flatten();
-    let normal = normal.and_then(|(c, u)| c.map(|c| (c, u)));
-
-    let n = data_lines.len();
-    let mut t_s = Vec::with_capacity(n);
-    let mut slip_mm = Vec::with_capacity(n);
-    let mut shear_kpa = Vec::with_capacity(n);
-    let mut normal_kpa = Vec::with_capacity(n);
-    let mut line_of_row = Vec::with_capacity(n);
-    let decimal_comma = delim != Delimiter::Comma;
-    for &(line_no, line) in data_lines {
-        let cells = split_cells(line, delim);
-        let mut ok = true;
-        let mut get = |col: &(usize, String), factor: f64, pr: &mut Problems| -> f64 {
-            let Some(cell) = cells.get(col.0) else {
-                pr.add(
-                    lf,
-                    Some(line_no),
-                    Some(&col.1),
-                    format!(
-                        "row has {} cells (expected at least {} to reach {})",
-                        cells.len(),
-                        col.0 + 1,
-                        col.1
-                    ),
-                );
-                ok = false;
-                return f64::NAN;
-            };
-            let mut c = cell.clone();
-            if decimal_comma && c.contains(',') && !c.contains('.') {
-                c = c.replace(',', ".");
-            }
-            match crate::set::parse_number(&c) {
-                Ok(x) => x * factor,
-                Err(msg) => {
-                    pr.add(lf, Some(line_no), Some(&col.1), msg);
-                    ok = false;
-                    f64::NAN
-                }
-            }
-        };
-        let tv = get(&time, spec.time_unit.to_s(), &mut pr);
-        let sv = get(&slip, spec.slip_unit.to_mm(), &mut pr);
-        let nv = match &normal {
-            Some((c, u)) => get(c, u.to_kpa(), &mut pr),
-            None => spec.normal_stress_kpa.unwrap_or(f64::NAN),
-        };
-        let qv = match (&shear, &friction) {
-            (Some((c, u)), _) => get(c, u.to_kpa(), &mut pr),
-            (None, Some(c)) => get(c, 1.0, &mut pr) * nv,
-            (None, None) => f64::NAN,
-        };
-        if ok {
-            t_s.push(tv);
-            slip_mm.push(sv);
-            shear_kpa.push(qv);
-            normal_kpa.push(nv);
-            line_of_row.push(line_no);
-        }
-    }
-    if n == 0 {
+    let cols = resolve_columns(lf, spec, first_line, &names)?;
+    let mut pr = Problems::default();
+    let rows = read_rows(lf, spec, &cols, data_lines, delim, &mut pr);
+    if data_lines.is_empty() {
         pr.add(
             lf,
             Some(first_line),
@@ -560,19 +664,6 @@ pub fn read_lab_file(
             "the file has a header but no data rows (expected rows of numbers)",
         );
     }
-    let spec_normal = match (&normal, spec.normal_stress_kpa) {
-        (_, Some(x)) => x,
-        (Some(_), None) => {
-            let mut v: Vec<f64> = normal_kpa
-                .iter()
-                .copied()
-                .filter(|x| x.is_finite())
-                .collect();
-            v.sort_by(f64::total_cmp);
-            v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
-        }
-        (None, None) => f64::NAN,
-    };
     let file_name = lab_file
         .file_name()
         .map(|s| s.to_string_lossy().to_string())
@@ -583,25 +674,110 @@ pub fn read_lab_file(
             name: spec.test_name.trim().to_string(),
             file: file_name_for(&spec.test_name),
             control: spec.control,
-            normal_stress_kpa: spec_normal,
+            normal_stress_kpa: spec_normal(spec, &cols, &rows.normal_kpa),
             initial: None,
             extra: Map::new(),
         },
         path: lab_file.to_path_buf(),
-        time_s: t_s,
-        slip_mm,
-        shear_kpa,
-        normal_kpa,
-        friction_given: shear.is_none(),
-        line_of_row,
+        time_s: rows.time_s,
+        slip_mm: rows.slip_mm,
+        shear_kpa: rows.shear_kpa,
+        normal_kpa: rows.normal_kpa,
+        friction_given: cols.shear.is_none(),
+        line_of_row: rows.line_of_row,
         comments,
     };
     if pr.is_empty() {
-        pr.extend(validate_data(&td, normal.is_some()));
+        pr.extend(validate_data(&td, cols.normal.is_some()));
     }
     let mut td = pr.into_result(td)?;
     td.path = target.join(&td.spec.file);
     Ok(td)
+}
+
+/// The description of the set `test` joins: the existing one (refusing a duplicate test name
+/// or file), or a new one.
+fn set_meta_for(
+    lab_file: &Path,
+    spec: &ImportSpec,
+    out_dir: &Path,
+    test: &TestData,
+) -> Result<ExperimentMeta, DataError> {
+    let json_path = out_dir.join(EXPERIMENT_JSON);
+    let csv_path = out_dir.join(&test.spec.file);
+    let csv_taken = PathKind::of(&csv_path) != PathKind::Absent;
+    match PathKind::of(&json_path) {
+        PathKind::Absent => {}
+        PathKind::File | PathKind::DanglingLink => {
+            let existing = load_set(out_dir)?;
+            let mut pr = Problems::default();
+            if existing.meta.tests.iter().any(|t| t.name == test.spec.name) {
+                pr.add(
+                    &json_path,
+                    None,
+                    Some("tests"),
+                    format!(
+                        "the set already has a test named `{}` (expected a new test name)",
+                        test.spec.name
+                    ),
+                );
+            }
+            if existing.meta.tests.iter().any(|t| t.file == test.spec.file) || csv_taken {
+                pr.add(
+                    &csv_path,
+                    None,
+                    Some("file"),
+                    format!(
+                        "file `{}` already exists (expected a new test name, or remove the file)",
+                        test.spec.file
+                    ),
+                );
+            }
+            pr.into_result(())?;
+            return Ok(existing.meta);
+        }
+        kind => {
+            return Err(DataError::Problems(vec![Problem::new(
+                &json_path,
+                None,
+                None,
+                format!(
+                    "{EXPERIMENT_JSON} {} (expected a file, or nothing for a new set)",
+                    kind.describe()
+                ),
+            )]))
+        }
+    }
+    if csv_taken {
+        return Err(DataError::Problems(vec![Problem::new(
+            &csv_path,
+            None,
+            Some("file"),
+            "file already exists (expected an empty or new folder)",
+        )]));
+    }
+    let file_name = lab_file
+        .file_name()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_default();
+    Ok(ExperimentMeta {
+        name: spec.set_name.clone(),
+        title: spec.title.clone().unwrap_or_else(|| spec.set_name.clone()),
+        source: spec
+            .source
+            .clone()
+            .unwrap_or_else(|| format!("lab file `{file_name}`")),
+        provenance: Some(format!("imported with subfric from lab file `{file_name}`")),
+        interface: Interface {
+            soil: spec.soil.clone(),
+            surface: spec.surface.clone(),
+            roughness_rmax_um: None,
+            extra: Map::new(),
+        },
+        tests: Vec::new(),
+        reference_parameters: None,
+        extra: Map::new(),
+    })
 }
 
 /// Imports a lab file as a test of the experiment set in `out_dir`.
@@ -609,8 +785,10 @@ pub fn read_lab_file(
 /// Units are converted to mm, s and kPa; shear is computed as friction × normal when only
 /// friction is given. The result is validated like [`load_set`] does. If `out_dir` already
 /// holds an `experiment.json`, the test is appended to that set (a duplicate test name or an
-/// existing file of the same name is refused); otherwise a new set is created. Returns the set
-/// as loaded back from `out_dir`.
+/// existing file of the same name is refused); otherwise a new set is created. Nothing is
+/// overwritten, and the write is all or nothing: the CSV and the new `experiment.json` are
+/// written in full to temporary files first, then renamed into place, the description last
+/// (if that fails the new CSV is removed again). Returns the set as loaded back from `out_dir`.
 pub fn import(
     lab_file: &Path,
     spec: &ImportSpec,
@@ -619,68 +797,26 @@ pub fn import(
     let test = read_lab_file(lab_file, spec, out_dir)?;
     let json_path = out_dir.join(EXPERIMENT_JSON);
     let csv_path: PathBuf = out_dir.join(&test.spec.file);
-    let mut meta = if json_path.is_file() {
-        let existing = load_set(out_dir)?;
-        let mut pr = Problems::default();
-        if existing.meta.tests.iter().any(|t| t.name == test.spec.name) {
-            pr.add(
-                &json_path,
-                None,
-                Some("tests"),
-                format!(
-                    "the set already has a test named `{}` (expected a new test name)",
-                    test.spec.name
-                ),
-            );
-        }
-        if existing.meta.tests.iter().any(|t| t.file == test.spec.file) || csv_path.exists() {
-            pr.add(
-                &csv_path,
-                None,
-                Some("file"),
-                format!(
-                    "file `{}` already exists (expected a new test name, or remove the file)",
-                    test.spec.file
-                ),
-            );
-        }
-        pr.into_result(())?;
-        existing.meta
-    } else {
-        if csv_path.exists() {
-            return Err(DataError::Problems(vec![Problem::new(
-                &csv_path,
-                None,
-                Some("file"),
-                "file already exists (expected an empty or new folder)",
-            )]));
-        }
-        let file_name = lab_file
-            .file_name()
-            .map(|s| s.to_string_lossy().to_string())
-            .unwrap_or_default();
-        ExperimentMeta {
-            name: spec.set_name.clone(),
-            title: spec.title.clone().unwrap_or_else(|| spec.set_name.clone()),
-            source: spec
-                .source
-                .clone()
-                .unwrap_or_else(|| format!("lab file `{file_name}`")),
-            provenance: Some(format!("imported with subfric from lab file `{file_name}`")),
-            interface: Interface {
-                soil: spec.soil.clone(),
-                surface: spec.surface.clone(),
-                roughness_rmax_um: None,
-                extra: Map::new(),
-            },
-            tests: Vec::new(),
-            reference_parameters: None,
-            extra: Map::new(),
+    let mut meta = set_meta_for(lab_file, spec, out_dir, &test)?;
+    meta.tests.push(test.spec.clone());
+    let json_text = meta_json_text(&meta)?;
+    std::fs::create_dir_all(out_dir).map_err(|e| DataError::io(out_dir, e))?;
+    prepare_parent(out_dir, &csv_path)?;
+    let csv_tmp = stage_file(&csv_path, test_csv_text(&test).as_bytes())?;
+    let json_tmp = match stage_file(&json_path, json_text.as_bytes()) {
+        Ok(t) => t,
+        Err(e) => {
+            let _ = std::fs::remove_file(&csv_tmp);
+            return Err(e);
         }
     };
-    meta.tests.push(test.spec.clone());
-    std::fs::create_dir_all(out_dir).map_err(|e| DataError::io(out_dir, e))?;
-    write_file(&csv_path, &test_csv_text(&test))?;
-    write_file(&json_path, &meta_json_text(&meta)?)?;
+    if let Err(e) = commit_file(&csv_tmp, &csv_path) {
+        let _ = std::fs::remove_file(&json_tmp);
+        return Err(e);
+    }
+    if let Err(e) = commit_file(&json_tmp, &json_path) {
+        let _ = std::fs::remove_file(&csv_path);
+        return Err(e);
+    }
     load_set(out_dir)
 }

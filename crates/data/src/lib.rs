@@ -11,6 +11,8 @@
 //!   unloading, reversals) and cycles, for fitting, plots and diagnosis.
 //! - [`summary()`]: a readable table for `subfric check`.
 //! - [`import()`]: lab files in other delimiters, units and column names.
+//! - [`plausibility`]: warnings about valid but unlikely data (a unit off by 10³, all zeros).
+//! - [`write_atomic`]: every file this crate writes is written whole or not at all.
 //!
 //! ```
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -30,19 +32,23 @@
 pub mod condition;
 mod error;
 pub mod events;
+pub mod fsio;
 pub mod import;
 mod jsonpos;
 pub mod meta;
 pub mod noise;
+pub mod plausible;
 pub mod segment;
 pub mod set;
 pub mod summary;
 
 pub use condition::{condition_imposed, condition_imposed_with, Conditioned};
 pub use error::{DataError, Problem};
+pub use fsio::{write_atomic, PathKind};
 pub use import::{import, ColumnRef, Delimiter, ImportSpec, LengthUnit, StressUnit, TimeUnit};
 pub use meta::{parse_meta, Control, ExperimentMeta, InitialSpec, Interface, TestSpec};
 pub use noise::{estimate_noise, NoiseEstimate};
+pub use plausible::{plausibility, Warning};
 pub use segment::{
     segment, RateLevel, Segment, SegmentKind, SegmentOptions, Segmentation, Start, StartKind,
 };

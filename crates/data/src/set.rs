@@ -5,10 +5,16 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::error::{DataError, Problem, Problems};
+use crate::fsio::{commit_file, set_file_problem, stage_file};
 use crate::meta::{file_name_problem, parse_meta, Control, ExperimentMeta, TestSpec};
 
 /// Name of the description file inside a set's folder.
 pub const EXPERIMENT_JSON: &str = "experiment.json";
+
+/// Largest magnitude accepted in any column (s, mm, kPa): 10¹² s is 30 000 years, 10¹² mm a
+/// million kilometres. Beyond it a value is no measurement, and the model's arithmetic on it
+/// would overflow.
+pub const MAX_MAGNITUDE: f64 = 1e12;
 
 /// Column names accepted in a test CSV.
 pub const ACCEPTED_COLUMNS: [&str; 5] =
@@ -142,6 +148,16 @@ fn read_text(path: &Path) -> Result<String, DataError> {
 /// ```
 pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
     let json_path = dir.join(EXPERIMENT_JSON);
+    if dir.is_dir() {
+        if let Some(msg) = set_file_problem(dir, &json_path).filter(|_| json_path.exists()) {
+            return Err(DataError::Problems(vec![Problem::new(
+                &json_path,
+                None,
+                None,
+                format!("{EXPERIMENT_JSON} {msg}"),
+            )]));
+        }
+    }
     let text = match read_text(&json_path) {
         Ok(t) => t,
         Err(DataError::Io { path, source }) if source.kind() == std::io::ErrorKind::NotFound => {
@@ -166,7 +182,7 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
     let mut tests = Vec::with_capacity(meta.tests.len());
     for (i, spec) in meta.tests.iter().enumerate() {
         let csv_path = dir.join(&spec.file);
-        if !csv_path.is_file() {
+        if let Some(msg) = set_file_problem(dir, &csv_path) {
             let field = format!("tests[{i}].file");
             let line = positions.get(&field).map(|p| p.0);
             problems.push(Problem::new(
@@ -174,7 +190,7 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
                 line,
                 Some(&field),
                 format!(
-                    "file `{}` of test `{}` is absent (expected a CSV file {})",
+                    "file `{}` of test `{}` {msg} (expected a CSV file {})",
                     spec.file,
                     spec.name,
                     csv_path.display()
@@ -231,13 +247,13 @@ fn load_test_inner(dir: &Path, spec: &TestSpec, check_spec: bool) -> Result<Test
         }
     }
     let path = dir.join(&spec.file);
-    if !path.is_file() {
+    if let Some(msg) = set_file_problem(dir, &path) {
         problems.add(
             &path,
             None,
             Some("file"),
             format!(
-                "file `{}` named in {EXPERIMENT_JSON} for test `{}` is absent (expected a CSV file)",
+                "file `{}` named in {EXPERIMENT_JSON} for test `{}` {msg} (expected a CSV file)",
                 spec.file, spec.name
             ),
         );
@@ -324,6 +340,175 @@ pub fn parse_test(text: &str, path: &Path, spec: &TestSpec) -> Result<TestData, 
     parse_test_csv(text, path, spec).map_err(DataError::Problems)
 }
 
+/// The header line of a test CSV: which known column each cell is.
+struct Header {
+    /// 1-based line.
+    line: usize,
+    /// Known column of each cell (`None`: unknown name, already reported).
+    cols: Vec<Option<Col>>,
+    /// Names as written.
+    names: Vec<String>,
+}
+
+impl Header {
+    fn idx(&self, c: Col) -> Option<usize> {
+        self.cols.iter().position(|x| *x == Some(c))
+    }
+
+    /// Parses the header line, reporting unknown, empty, repeated and missing columns.
+    fn parse(line_no: usize, trimmed: &str, path: &Path, pr: &mut Problems) -> Header {
+        let names: Vec<String> = trimmed.split(',').map(|c| unquote(c).to_string()).collect();
+        let mut cols = Vec::with_capacity(names.len());
+        let mut seen = HashSet::new();
+        let expected = ACCEPTED_COLUMNS.join(", ");
+        for name in &names {
+            let col = Col::from_name(name);
+            if name.is_empty() {
+                pr.add(
+                    path,
+                    Some(line_no),
+                    None,
+                    format!("empty column name in the header (expected one of {expected})"),
+                );
+            } else if col.is_none() {
+                pr.add(
+                    path,
+                    Some(line_no),
+                    Some(name),
+                    format!("unknown column `{name}` (expected one of {expected})"),
+                );
+            } else if !seen.insert(col) {
+                pr.add(
+                    path,
+                    Some(line_no),
+                    Some(name),
+                    format!("column `{name}` appears twice (expected each column once)"),
+                );
+            }
+            cols.push(col);
+        }
+        let h = Header {
+            line: line_no,
+            cols,
+            names,
+        };
+        let required = "(expected a header with time_s, slip_mm and shear_kpa or friction)";
+        for (c, name) in [(Col::Time, "time_s"), (Col::Slip, "slip_mm")] {
+            if h.idx(c).is_none() {
+                pr.add(
+                    path,
+                    Some(line_no),
+                    Some(name),
+                    format!("missing required column `{name}` {required}"),
+                );
+            }
+        }
+        if h.idx(Col::Shear).is_none() && h.idx(Col::Friction).is_none() {
+            pr.add(
+                path,
+                Some(line_no),
+                Some("shear_kpa"),
+                format!("missing required column `shear_kpa` {required}"),
+            );
+        }
+        h
+    }
+
+    /// Parses a data row; `None` when a cell is bad (reported).
+    fn row(
+        &self,
+        line_no: usize,
+        trimmed: &str,
+        path: &Path,
+        pr: &mut Problems,
+    ) -> Option<Vec<f64>> {
+        let cells: Vec<&str> = trimmed.split(',').collect();
+        if cells.len() != self.cols.len() {
+            pr.add(
+                path,
+                Some(line_no),
+                None,
+                format!(
+                    "row has {} cell{} (expected {}: {})",
+                    cells.len(),
+                    if cells.len() == 1 { "" } else { "s" },
+                    self.cols.len(),
+                    self.names.join(",")
+                ),
+            );
+            return None;
+        }
+        let mut values = vec![f64::NAN; self.cols.len()];
+        let mut ok = true;
+        for (k, cell) in cells.iter().enumerate() {
+            if self.cols[k].is_none() {
+                continue;
+            }
+            match parse_number(cell) {
+                Ok(x) => values[k] = x,
+                Err(msg) => {
+                    ok = false;
+                    pr.add(path, Some(line_no), Some(&self.names[k]), msg);
+                }
+            }
+        }
+        if ok {
+            if let (Some(ks), Some(kf)) = (self.idx(Col::Shear), self.idx(Col::Friction)) {
+                let normal = self.idx(Col::Normal).map(|k| (values[k], cells[k]));
+                if let Some(msg) =
+                    friction_disagrees((values[kf], cells[kf]), (values[ks], cells[ks]), normal)
+                {
+                    pr.add(path, Some(line_no), Some("friction"), msg);
+                }
+            }
+        }
+        ok.then_some(values)
+    }
+}
+
+/// Half a unit in the last written digit of a number cell: how far rounding may have moved it.
+fn rounding_half_unit(cell: &str) -> f64 {
+    let c = unquote(cell);
+    let (mantissa, exponent) = match c.find(['e', 'E']) {
+        Some(i) => (&c[..i], c[i + 1..].parse::<i32>().unwrap_or(0)),
+        None => (c, 0),
+    };
+    let decimals = mantissa
+        .find('.')
+        .map_or(0, |i| mantissa.len() - i - 1)
+        .min(300) as i32;
+    0.5 * 10f64.powi(exponent - decimals)
+}
+
+/// When a row gives both `friction` and `shear_kpa`, they must agree (friction × normal =
+/// shear) within the rounding of the written digits. `normal` is the row's `normal_kpa` cell,
+/// if any; the check is done at the end for the spec's constant normal stress.
+fn friction_disagrees(
+    friction: (f64, &str),
+    shear: (f64, &str),
+    normal: Option<(f64, &str)>,
+) -> Option<String> {
+    // Without a normal column the spec's normal stress is applied later (see `check_pairs`).
+    let (n, n_cell) = normal?;
+    pair_problem(friction, shear, (n, rounding_half_unit(n_cell)))
+}
+
+/// The message when friction × normal and shear disagree beyond rounding.
+fn pair_problem(friction: (f64, &str), shear: (f64, &str), normal: (f64, f64)) -> Option<String> {
+    let (f, n) = (friction.0, normal.0);
+    let s = shear.0;
+    let tol = rounding_half_unit(friction.1) * n.abs()
+        + f.abs() * normal.1
+        + rounding_half_unit(shear.1)
+        + 1e-9 * s.abs().max(1.0);
+    let implied = f * n;
+    ((implied - s).abs() > tol).then(|| {
+        format!(
+            "friction {f} × normal stress {n} kPa = {implied} kPa, but shear_kpa is {s} (expected the two columns to agree within their rounding; give only one of them)"
+        )
+    })
+}
+
 /// Parses and validates the text of a test CSV. Problems name `path`.
 pub(crate) fn parse_test_csv(
     text: &str,
@@ -332,8 +517,10 @@ pub(crate) fn parse_test_csv(
 ) -> Result<TestData, Vec<Problem>> {
     let mut pr = Problems::default();
     let mut comments = Vec::new();
-    let mut header: Option<(usize, Vec<Option<Col>>, Vec<String>)> = None;
+    let mut header: Option<Header> = None;
     let mut rows: Vec<(usize, Vec<f64>)> = Vec::new();
+    // Rows giving both friction and shear without a normal column: checked against the spec.
+    let mut pairs: Vec<(usize, String, String)> = Vec::new();
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     for (idx, raw) in text.split('\n').enumerate() {
         let line_no = idx + 1;
@@ -347,102 +534,21 @@ pub(crate) fn parse_test_csv(
             continue;
         }
         match &header {
-            None => {
-                let names: Vec<String> =
-                    trimmed.split(',').map(|c| unquote(c).to_string()).collect();
-                let mut cols = Vec::with_capacity(names.len());
-                let mut seen = HashSet::new();
-                for name in &names {
-                    let col = Col::from_name(name);
-                    if name.is_empty() {
-                        pr.add(
-                            path,
-                            Some(line_no),
-                            None,
-                            format!(
-                                "empty column name in the header (expected one of {})",
-                                ACCEPTED_COLUMNS.join(", ")
-                            ),
-                        );
-                    } else if col.is_none() {
-                        pr.add(
-                            path,
-                            Some(line_no),
-                            Some(name),
-                            format!(
-                                "unknown column `{name}` (expected one of {})",
-                                ACCEPTED_COLUMNS.join(", ")
-                            ),
-                        );
-                    } else if !seen.insert(col) {
-                        pr.add(
-                            path,
-                            Some(line_no),
-                            Some(name),
-                            format!("column `{name}` appears twice (expected each column once)"),
-                        );
+            None => header = Some(Header::parse(line_no, trimmed, path, &mut pr)),
+            Some(h) => {
+                if let Some(values) = h.row(line_no, trimmed, path, &mut pr) {
+                    if let (Some(ks), Some(kf), None) =
+                        (h.idx(Col::Shear), h.idx(Col::Friction), h.idx(Col::Normal))
+                    {
+                        let cells: Vec<&str> = trimmed.split(',').collect();
+                        pairs.push((line_no, cells[kf].to_string(), cells[ks].to_string()));
                     }
-                    cols.push(col);
-                }
-                let has = |c: Col| cols.contains(&Some(c));
-                for (c, name) in [(Col::Time, "time_s"), (Col::Slip, "slip_mm")] {
-                    if !has(c) {
-                        pr.add(
-                            path,
-                            Some(line_no),
-                            Some(name),
-                            format!("missing required column `{name}` (expected a header with time_s, slip_mm and shear_kpa or friction)"),
-                        );
-                    }
-                }
-                if !has(Col::Shear) && !has(Col::Friction) {
-                    pr.add(
-                        path,
-                        Some(line_no),
-                        Some("shear_kpa"),
-                        "missing required column `shear_kpa` (expected a header with time_s, slip_mm and shear_kpa or friction)",
-                    );
-                }
-                header = Some((line_no, cols, names));
-            }
-            Some((_, cols, names)) => {
-                let cells: Vec<&str> = trimmed.split(',').collect();
-                if cells.len() != cols.len() {
-                    pr.add(
-                        path,
-                        Some(line_no),
-                        None,
-                        format!(
-                            "row has {} cell{} (expected {}: {})",
-                            cells.len(),
-                            if cells.len() == 1 { "" } else { "s" },
-                            cols.len(),
-                            names.join(",")
-                        ),
-                    );
-                    continue;
-                }
-                let mut values = vec![f64::NAN; cols.len()];
-                let mut ok = true;
-                for (k, cell) in cells.iter().enumerate() {
-                    if cols[k].is_none() {
-                        continue;
-                    }
-                    match parse_number(cell) {
-                        Ok(x) => values[k] = x,
-                        Err(msg) => {
-                            ok = false;
-                            pr.add(path, Some(line_no), Some(&names[k]), msg);
-                        }
-                    }
-                }
-                if ok {
                     rows.push((line_no, values));
                 }
             }
         }
     }
-    let Some((header_line, cols, _)) = header else {
+    let Some(header) = header else {
         pr.add(
             path,
             None,
@@ -451,21 +557,41 @@ pub(crate) fn parse_test_csv(
         );
         return Err(pr.into_vec());
     };
-    let idx = |c: Col| cols.iter().position(|x| *x == Some(c));
-    let (Some(it), Some(is)) = (idx(Col::Time), idx(Col::Slip)) else {
+    for (line, f, s) in &pairs {
+        let (fv, sv) = (parse_number(f), parse_number(s));
+        if let (Ok(fv), Ok(sv)) = (fv, sv) {
+            let normal = (spec.normal_stress_kpa, 0.0);
+            if let Some(msg) = pair_problem((fv, f), (sv, s), normal) {
+                pr.add(path, Some(*line), Some("friction"), msg);
+            }
+        }
+    }
+    assemble_test(header, rows, comments, path, spec, pr)
+}
+
+/// Builds the test from parsed rows and validates its numbers.
+fn assemble_test(
+    header: Header,
+    rows: Vec<(usize, Vec<f64>)>,
+    comments: Vec<String>,
+    path: &Path,
+    spec: &TestSpec,
+    mut pr: Problems,
+) -> Result<TestData, Vec<Problem>> {
+    let (Some(it), Some(is)) = (header.idx(Col::Time), header.idx(Col::Slip)) else {
         return Err(pr.into_vec());
     };
-    let shear_idx = idx(Col::Shear);
-    let friction_idx = idx(Col::Friction);
+    let shear_idx = header.idx(Col::Shear);
+    let friction_idx = header.idx(Col::Friction);
     if shear_idx.is_none() && friction_idx.is_none() {
         return Err(pr.into_vec());
     }
-    let normal_idx = idx(Col::Normal);
+    let normal_idx = header.idx(Col::Normal);
     if rows.is_empty() {
         if pr.is_empty() {
             pr.add(
                 path,
-                Some(header_line),
+                Some(header.line),
                 None,
                 "the test has a header but no data rows (expected at least one row of numbers)",
             );
@@ -496,8 +622,7 @@ pub(crate) fn parse_test_csv(
         td.normal_kpa.push(normal);
         td.line_of_row.push(*line);
     }
-    let normal_from_column = normal_idx.is_some();
-    pr.extend(validate_data(&td, normal_from_column));
+    pr.extend(validate_data(&td, normal_idx.is_some()));
     pr.into_result(td).map_err(|e| match e {
         DataError::Problems(p) => p,
         other => vec![Problem::new(path, None, None, other.to_string())],
@@ -553,6 +678,15 @@ pub(crate) fn validate_data(td: &TestData, normal_from_column: bool) -> Vec<Prob
                     line,
                     Some(name),
                     format!("value {x} is not finite (expected a finite number)"),
+                );
+            } else if x.abs() > MAX_MAGNITUDE {
+                pr.add(
+                    path,
+                    line,
+                    Some(name),
+                    format!(
+                        "value {x:e} is beyond ±{MAX_MAGNITUDE:e} (expected a measurement in s, mm or kPa: a corrupt cell?)"
+                    ),
                 );
             }
         }
@@ -639,15 +773,41 @@ pub fn meta_json_text(meta: &ExperimentMeta) -> Result<String, DataError> {
         })
 }
 
-pub(crate) fn write_file(path: &Path, text: &str) -> Result<(), DataError> {
-    std::fs::write(path, text).map_err(|e| DataError::io(path, e))
+/// Creates the folder of `file` (inside `dir`) and checks that it does not lead out of `dir`
+/// through a symbolic link.
+pub(crate) fn prepare_parent(dir: &Path, file: &Path) -> Result<(), DataError> {
+    let Some(parent) = file.parent() else {
+        return Ok(());
+    };
+    std::fs::create_dir_all(parent).map_err(|e| DataError::io(parent, e))?;
+    let inside = match (std::fs::canonicalize(dir), std::fs::canonicalize(parent)) {
+        (Ok(d), Ok(p)) => p.starts_with(d),
+        _ => false,
+    };
+    if inside {
+        Ok(())
+    } else {
+        Err(DataError::Problems(vec![Problem::new(
+            parent,
+            None,
+            None,
+            format!(
+                "the folder leads outside the set folder {} through a symbolic link (expected a folder inside the set)",
+                dir.display()
+            ),
+        )]))
+    }
 }
 
 /// Writes an experiment set to `dir` (created if needed): `experiment.json` from `set.meta` and
 /// one CSV per test (named by its spec's `file`), keeping the comment lines.
 ///
 /// Friction data are written as `shear_kpa`; the `normal_kpa` column is written only when the
-/// normal stress varies.
+/// normal stress varies. Every file is first written in full to a temporary file beside it,
+/// then the CSVs and last `experiment.json` replace their old versions by renaming: a failure
+/// (a full disk, a kill) leaves each file either as it was or complete, and a symbolic link in
+/// the folder is replaced, never written through. Whether replacing an existing set is wanted
+/// is the caller's decision.
 pub fn write_set(set: &ExperimentSet, dir: &Path) -> Result<(), DataError> {
     let mut pr = Problems::default();
     let json = dir.join(EXPERIMENT_JSON);
@@ -680,9 +840,38 @@ pub fn write_set(set: &ExperimentSet, dir: &Path) -> Result<(), DataError> {
     }
     pr.into_result(())?;
     std::fs::create_dir_all(dir).map_err(|e| DataError::io(dir, e))?;
-    write_file(&json, &meta_json_text(&set.meta)?)?;
+    let mut staged: Vec<(PathBuf, PathBuf)> = Vec::new();
+    let mut stage = |path: PathBuf, text: String| -> Result<(), DataError> {
+        prepare_parent(dir, &path)?;
+        let tmp = stage_file(&path, text.as_bytes())?;
+        staged.push((tmp, path));
+        Ok(())
+    };
+    let mut result = Ok(());
     for t in &set.tests {
-        write_file(&dir.join(&t.spec.file), &test_csv_text(t))?;
+        result = stage(dir.join(&t.spec.file), test_csv_text(t));
+        if result.is_err() {
+            break;
+        }
+    }
+    if result.is_ok() {
+        result = meta_json_text(&set.meta).and_then(|text| stage(json.clone(), text));
+    }
+    if let Err(e) = result {
+        for (tmp, _) in &staged {
+            let _ = std::fs::remove_file(tmp);
+        }
+        return Err(e);
+    }
+    // experiment.json is staged last, so it is committed last.
+    let mut staged = staged.into_iter();
+    for (tmp, path) in staged.by_ref() {
+        if let Err(e) = commit_file(&tmp, &path) {
+            for (tmp, _) in staged {
+                let _ = std::fs::remove_file(tmp);
+            }
+            return Err(e);
+        }
     }
     Ok(())
 }

@@ -1,12 +1,12 @@
 //! Segmentation and conditioning on a lab-style set (noise on both columns): a copy of
-//! `withheld-dev/pair-01` (without its truth file) in `tests/fixtures/pair-01`.
+//! `withheld-dev/pair-01` (without its truth file), the golden data in `tests/golden/pair-01`.
 
 use std::path::PathBuf;
 
 use subfric_data::{condition_imposed, load_set, segment, summary, SegmentKind, SegmentOptions};
 
 fn fixture() -> subfric_data::ExperimentSet {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/pair-01");
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/golden/pair-01");
     load_set(&dir).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -16,7 +16,11 @@ fn loads_four_tests() {
     let rows: Vec<usize> = set.tests.iter().map(|t| t.len()).collect();
     assert_eq!(rows, vec![1101, 1181, 3401, 801]);
     assert_eq!(set.tests[2].normal_kpa[0], 200.0);
-    assert!(set.meta.provenance.is_none());
+    assert!(set
+        .meta
+        .provenance
+        .as_deref()
+        .is_some_and(|p| p.contains("withheld-dev/pair-01")));
 }
 
 #[test]

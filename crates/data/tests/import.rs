@@ -230,7 +230,7 @@ fn parse_units_and_refs() {
 
 #[test]
 fn write_set_then_load_set_round_trips() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/pair-01");
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/golden/pair-01");
     let set = load_set(&src).unwrap();
     let dir = tempfile::tempdir().unwrap();
     write_set(&set, dir.path()).unwrap();
@@ -256,7 +256,7 @@ fn write_set_then_load_set_round_trips() {
 
 #[test]
 fn write_set_refuses_invalid_data() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/pair-01");
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/golden/pair-01");
     let mut set = load_set(&src).unwrap();
     set.tests[0].time_s[5] = set.tests[0].time_s[4];
     set.tests[1].spec.file = "../escape.csv".into();
@@ -267,7 +267,7 @@ fn write_set_refuses_invalid_data() {
             let text = text.join("\n");
             assert!(text.contains("not a plain relative path"), "{text}");
             assert!(
-                text.contains("velocity-steps.csv:7: field `time_s`"),
+                text.contains("velocity-steps.csv:8: field `time_s`"),
                 "{text}"
             );
         }

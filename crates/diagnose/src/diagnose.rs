@@ -51,6 +51,8 @@ pub struct DiagnoseOptions {
     pub folds: usize,
     /// Fraction of each test held out at its end in the extra tail folds.
     pub tail_fraction: f64,
+    /// Least-squares iterations that rank the forms of a family.
+    pub screening_iterations: usize,
     /// Least-squares iterations of a candidate fit on all data.
     pub candidate_iterations: usize,
     /// Least-squares iterations of a refit in a fold (warm-started).
@@ -65,12 +67,13 @@ impl Default for DiagnoseOptions {
     fn default() -> Self {
         DiagnoseOptions {
             seed: 1,
-            global_evaluations: 1500,
+            global_evaluations: 1000,
             starts: 4,
             folds: 4,
             tail_fraction: 0.4,
-            candidate_iterations: 40,
-            fold_iterations: 12,
+            screening_iterations: 12,
+            candidate_iterations: 30,
+            fold_iterations: 8,
             template: Model::base(subfric_model::Params::sample())
                 .expect("sample parameters are valid"),
             thresholds: Thresholds::default(),
@@ -98,10 +101,11 @@ pub struct FormReport {
     pub form: String,
     /// Fitted extra parameters.
     pub parameters: BTreeMap<String, f64>,
-    /// In-sample SSR (noise units, fitted rows).
+    /// In-sample SSR (noise units, fitted rows, with the weights it was fitted with).
     pub ssr: f64,
-    /// In-sample BIC improvement over the base.
-    pub delta_bic: f64,
+    /// In-sample evidence over the base, piece by piece like the held-out score, less
+    /// ln(n_eff) per extra parameter (a BIC on the effective number of observations).
+    pub in_sample_score: f64,
     /// The fit converged (a form that did not is reported, and only chosen if it still wins).
     pub converged: bool,
     /// How the best start stopped.
@@ -282,13 +286,26 @@ pub struct Diagnosis {
 /// Prints the time of each stage to stderr when `SUBFRIC_TRACE` is set (for tuning).
 fn trace(t0: Instant, what: &str) {
     if std::env::var_os("SUBFRIC_TRACE").is_some() {
-        eprintln!("[{:7.2} s] {what}", t0.elapsed().as_secs_f64());
+        eprintln!(
+            "[{:7.2} s, {:6} model runs] {what}",
+            t0.elapsed().as_secs_f64(),
+            subfric_fit::problem::model_runs()
+        );
     }
 }
 
+/// Rounds of reweighting when model error dominates.
+const REWEIGHTING_ROUNDS: usize = 1;
+
 /// The fitted tests and everything derived once from them.
 struct Context<'a> {
+    /// The tests (rows weighted as the rows of the record they stand for).
     tests: Vec<FitTest>,
+    /// Model error dominates: every spec is fitted with a variance per piece (see
+    /// [`Context::weighted_for`]).
+    reweight: bool,
+    /// The base model's residuals on all data (what candidates are scored in-sample against).
+    base_residuals: HeldOut,
     features: DataFeatures,
     base_free: Vec<Param>,
     pieces: Vec<Piece>,
@@ -298,14 +315,114 @@ struct Context<'a> {
     opts: &'a DiagnoseOptions,
 }
 
+/// A spec fitted to all data, with the tests as weighted for it.
+#[derive(Clone)]
+struct Fitted {
+    result: FitResult,
+    fit_tests: Vec<FitTest>,
+}
+
 impl Context<'_> {
     fn space(&self, template: &Model, spec: &Spec) -> Space {
         space_of(template, &self.base_free, spec, self.features.v_ref)
     }
 
-    /// Held-out residuals of `spec`, refitted in each fold from `starts`.
-    fn held_out(&self, template: &Model, spec: &Spec, starts: &[Model]) -> HeldOut {
+    /// The tests as fitted by a model whose residuals are `res`: when model error dominates,
+    /// each piece's rows weigh n_eff / SSR of that model on the piece (a Gaussian likelihood
+    /// with one unknown variance per piece, reweighted at the model), never more than the noise
+    /// would give, normalised to keep the total weight. Pieces the model misses most (a run-in,
+    /// one long relaxation) then stop deciding the fit, as they do not decide the score.
+    fn weighted_for(&self, res: &HeldOut) -> Vec<FitTest> {
+        if !self.reweight {
+            return self.tests.clone();
+        }
+        let mut factor: Vec<Vec<f64>> = self.tests.iter().map(|t| vec![1.0; t.len()]).collect();
+        let (mut before, mut after) = (0.0, 0.0);
+        for p in &self.pieces {
+            let r = &res[p.test][p.start..p.end];
+            let n = r.len() as f64;
+            let ssr: f64 = r
+                .iter()
+                .map(|v| if v.is_finite() { v * v } else { FAILED_ROW })
+                .sum();
+            let c = crate::score::effective_rows(r) / ssr.max(n);
+            let rows = &mut factor[p.test][p.start..p.end];
+            for (f, w) in rows.iter_mut().zip(&self.weights[p.test][p.start..p.end]) {
+                *f = c;
+                before += w;
+                after += w * c;
+            }
+        }
+        let norm = if after > 0.0 { before / after } else { 1.0 };
+        self.tests
+            .iter()
+            .zip(&factor)
+            .map(|(t, f)| {
+                let mut t = t.clone();
+                t.row_weight = (0..t.len()).map(|i| t.weight_of(i) * f[i] * norm).collect();
+                t
+            })
+            .collect()
+    }
+
+    /// Fits `spec` to all data from `starts` (the `keep` best of them) by least squares, then,
+    /// when model error dominates, reweighted at its own residuals.
+    fn fit_spec(
+        &self,
+        template: &Model,
+        spec: &Spec,
+        starts: &[Model],
+        keep: usize,
+        iterations: usize,
+    ) -> Fitted {
+        self.fit_spec_with(template, spec, starts, keep, iterations, self.reweight)
+    }
+
+    /// [`Context::fit_spec`], reweighting only when `reweight`.
+    fn fit_spec_with(
+        &self,
+        template: &Model,
+        spec: &Spec,
+        starts: &[Model],
+        keep: usize,
+        iterations: usize,
+        reweight: bool,
+    ) -> Fitted {
+        let space = self.space(template, spec);
+        let detrended = |mut ts: Vec<FitTest>| {
+            for t in ts.iter_mut() {
+                t.detrend = spec.drift;
+            }
+            ts
+        };
+        // Plain least squares first: weights from another model's residuals would make the
+        // pieces where this one differs most weightless, and the fit would never see them.
+        let mut fit_tests = detrended(self.tests.clone());
+        let mut result = fit(&fit_tests, &space, starts, keep, iterations);
+        if reweight {
+            for _ in 0..REWEIGHTING_ROUNDS {
+                let own = residuals(
+                    &self.tests,
+                    &result.model,
+                    spec.drift.then_some(&fit_tests[..]),
+                );
+                fit_tests = detrended(self.weighted_for(&own));
+                result = fit(&fit_tests, &space, &[result.model], 1, iterations / 2 + 1);
+            }
+        }
+        Fitted { result, fit_tests }
+    }
+
+    /// Held-out residuals of `spec` fitted on `fit_tests`, refitted in each fold from `starts`.
+    fn held_out(
+        &self,
+        template: &Model,
+        spec: &Spec,
+        fit_tests: &[FitTest],
+        starts: &[Model],
+    ) -> HeldOut {
         cross_validate(
+            fit_tests,
             &self.tests,
             &self.folds,
             &self.space(template, spec),
@@ -315,10 +432,15 @@ impl Context<'_> {
         )
     }
 
-    fn rows(&self) -> usize {
-        self.tests.iter().map(|t| t.len()).sum()
+    /// In-sample comparison of a model's residuals with the base's, piece by piece.
+    fn in_sample(&self, model: &Model, spec: &Spec, fit_tests: &[FitTest]) -> Comparison {
+        let own = residuals(&self.tests, model, spec.drift.then_some(fit_tests));
+        compare(&self.pieces, &self.weights, &self.base_residuals, &own)
     }
 }
+
+/// Squared residual (noise units) counted for a row the model cannot simulate.
+const FAILED_ROW: f64 = 1e6;
 
 /// `model` with the forms of `spec` switched off (their neutral values): a start for refits
 /// that lets an effect the training rows cannot see stay off.
@@ -353,37 +475,43 @@ fn base_fit(cx: &Context, template: &Model) -> Result<Model, FitError> {
     Ok(report.model)
 }
 
-/// 2. Every form fitted to all data from its starts.
-fn fit_forms(cx: &Context, base: &Model, base_ssr: f64, forms: &[Form]) -> Vec<FormReport> {
-    let n = cx.rows() as f64;
+/// 2. Every form fitted to all data from its starts, scored in-sample against the base.
+fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, Fitted)> {
     forms
         .par_iter()
         .map(|f| {
             let spec = Spec::with(f);
-            let space = cx.space(base, &spec);
             let starts: Vec<Model> = f
                 .starts
                 .iter()
                 .map(|s| with_values(base, &spec, std::slice::from_ref(s)))
                 .collect();
-            let r: FitResult = fit(&cx.tests, &space, &starts, cx.opts.candidate_iterations);
+            // Screening: a few iterations rank the forms; the best of each family is then
+            // polished (see `polish`).
+            let fitted =
+                cx.fit_spec_with(base, &spec, &starts, 1, cx.opts.screening_iterations, false);
+            let r = &fitted.result;
+            let c = cx.in_sample(&r.model, &spec, &fitted.fit_tests);
             let k = f.params.len() as f64;
-            FormReport {
-                effect: f.effect,
-                form: f.name.to_string(),
-                parameters: parameters_of(&r.model, std::slice::from_ref(f)),
-                ssr: r.ssr,
-                delta_bic: n * (base_ssr / r.ssr.max(1e-300)).ln() - k * n.ln(),
-                converged: r.converged && r.ssr.is_finite(),
-                termination: r.termination,
-                chosen: false,
-                model: r.model,
-            }
+            (
+                FormReport {
+                    effect: f.effect,
+                    form: f.name.to_string(),
+                    parameters: parameters_of(&r.model, std::slice::from_ref(f)),
+                    ssr: r.ssr,
+                    in_sample_score: c.score - k * c.n_eff.max(1.0).ln(),
+                    converged: r.converged && r.ssr.is_finite(),
+                    termination: r.termination.clone(),
+                    chosen: false,
+                    model: r.model,
+                },
+                fitted,
+            )
         })
         .collect()
 }
 
-/// The best form of each family (largest in-sample ΔBIC), marked `chosen`.
+/// The best form of each family (largest penalised in-sample score), marked `chosen`.
 fn choose_forms(reports: &mut [FormReport]) -> Vec<usize> {
     let mut best: BTreeMap<Effect, usize> = BTreeMap::new();
     for (i, r) in reports.iter().enumerate() {
@@ -391,7 +519,7 @@ fn choose_forms(reports: &mut [FormReport]) -> Vec<usize> {
             continue;
         }
         match best.get(&r.effect) {
-            Some(&j) if reports[j].delta_bic >= r.delta_bic => {}
+            Some(&j) if reports[j].in_sample_score >= r.in_sample_score => {}
             _ => {
                 best.insert(r.effect, i);
             }
@@ -436,65 +564,130 @@ fn candidate_score(
     }
 }
 
-/// The current model of the selection: its spec, fitted model and held-out residuals.
+/// The current model of the selection: its spec, fitted model, weighted tests and held-out
+/// residuals.
+#[derive(Clone)]
 struct Current {
     spec: Spec,
     model: Model,
+    fit_tests: Vec<FitTest>,
     held: HeldOut,
 }
 
-/// 3. One stage of the forward selection: every remaining family added to the current model,
-/// fitted on all data and compared on held-out pieces.
+/// A family's best form with its fit alone on the base.
+#[derive(Clone)]
+struct Family {
+    effect: Effect,
+    form: Form,
+    alone: Fitted,
+}
+
+/// Step 3, one stage of the forward selection: every remaining family added to the current
+/// model, fitted on all data and compared on held-out pieces.
 fn selection_stage(
     cx: &Context,
     current: &Current,
-    families: &[(Effect, Form, Model)],
+    families: &[Family],
     with_drift: bool,
-) -> (Stage, Vec<(Spec, Model, HeldOut)>) {
+) -> (Stage, Vec<Current>) {
     let reference_chi2 =
         compare(&cx.pieces, &cx.weights, &current.held, &current.held).reference_chi2;
-    let results: Vec<(Effect, Spec, Model, HeldOut)> = families
+    let first_stage = current.spec.forms.is_empty();
+    if !first_stage && reference_chi2 <= cx.opts.thresholds.gap_chi2 {
+        // Nothing left to explain: no candidate is fitted.
+        return (
+            Stage {
+                reference: current.spec.describe(),
+                reference_chi2,
+                candidates: Vec::new(),
+                drift: None,
+                decision: Decision::NoGap,
+            },
+            Vec::new(),
+        );
+    }
+    let results: Vec<(Effect, Current)> = families
         .par_iter()
-        .filter(|(e, _, _)| !current.spec.forms.iter().any(|f| f.effect == *e))
-        .map(|(e, form, alone)| {
-            let spec = current.spec.plus(form);
-            let space = cx.space(&current.model, &spec);
-            // Starts: the current model with the form as fitted alone, and switched off.
-            let own: Vec<f64> = form
-                .params
-                .iter()
-                .map(|p| p.get(alone).unwrap_or(0.0))
-                .collect();
-            let with_form = with_values(&current.model, &Spec::with(form), &[own]);
-            let starts = [with_form, switched_off(&with_form, &Spec::with(form))];
-            let r = fit(&cx.tests, &space, &starts, cx.opts.candidate_iterations);
-            let held = cx.held_out(&current.model, &spec, &[r.model, current.model]);
-            (*e, spec, r.model, held)
+        .filter(|f| !current.spec.forms.iter().any(|g| g.effect == f.effect))
+        .map(|f| {
+            let spec = current.spec.plus(&f.form);
+            // On the base, the form was fitted to all data already.
+            let fitted = if first_stage {
+                f.alone.clone()
+            } else {
+                // Starts: the current model with the form as fitted alone, and switched off.
+                let own: Vec<f64> = f
+                    .form
+                    .params
+                    .iter()
+                    .map(|p| p.get(&f.alone.result.model).unwrap_or(0.0))
+                    .collect();
+                let alone = Spec::with(&f.form);
+                let with_form = with_values(&current.model, &alone, &[own]);
+                let starts = [with_form, switched_off(&with_form, &alone)];
+                cx.fit_spec(
+                    &current.model,
+                    &spec,
+                    &starts,
+                    1,
+                    // Both parts start near their own fits: a short polish suffices.
+                    cx.opts.screening_iterations,
+                )
+            };
+            let model = fitted.result.model;
+            let held = cx.held_out(
+                &current.model,
+                &spec,
+                &fitted.fit_tests,
+                &[model, current.model],
+            );
+            (
+                f.effect,
+                Current {
+                    spec,
+                    model,
+                    fit_tests: fitted.fit_tests,
+                    held,
+                },
+            )
         })
         .collect();
     let mut candidates = Vec::new();
     let mut kept = Vec::new();
-    for (e, spec, model, held) in results {
-        candidates.push(candidate_score(cx, e, &spec, model, &current.held, &held));
-        kept.push((spec, model, held));
+    for (e, c) in results {
+        candidates.push(candidate_score(
+            cx,
+            e,
+            &c.spec,
+            c.model,
+            &current.held,
+            &c.held,
+        ));
+        kept.push(c);
     }
     let drift = with_drift.then(|| {
         let spec = Spec {
             forms: current.spec.forms.clone(),
             drift: true,
         };
-        let space = cx.space(&current.model, &spec);
-        let mut dt = cx.tests.clone();
-        for t in dt.iter_mut() {
-            t.detrend = true;
-        }
-        let r = fit(&dt, &space, &[current.model], cx.opts.candidate_iterations);
-        let held = cx.held_out(&current.model, &spec, &[r.model, current.model]);
+        let fitted = cx.fit_spec(
+            &current.model,
+            &spec,
+            &[current.model],
+            1,
+            cx.opts.candidate_iterations,
+        );
+        let held = cx.held_out(
+            &current.model,
+            &spec,
+            &fitted.fit_tests,
+            &[fitted.result.model, current.model],
+        );
         candidate_score(
             cx,
             Effect::Unexplained,
             &spec,
-            r.model,
+            fitted.result.model,
             &current.held,
             &held,
         )
@@ -524,27 +717,29 @@ fn selection_stage(
 /// Shrink of `spec` against the base on extra folds (tail of each test, each test left out).
 fn extra_shrinks(
     cx: &Context,
-    base: &Model,
+    base: &Current,
     spec: &Spec,
     model: &Model,
+    fit_tests: &[FitTest],
 ) -> (Option<f64>, Option<f64>) {
     let (tail, loto) = extra_folds(&cx.tests, cx.opts.tail_fraction);
     let shrink = |folds: &[Fold]| -> Option<f64> {
         if folds.is_empty() {
             return None;
         }
-        let cv = |s: &Spec, starts: &[Model]| {
+        let cv = |s: &Spec, ft: &[FitTest], starts: &[Model]| {
             cross_validate(
+                ft,
                 &cx.tests,
                 folds,
-                &cx.space(base, s),
+                &cx.space(&base.model, s),
                 starts,
                 cx.opts.fold_iterations,
                 false,
             )
         };
-        let b = cv(&Spec::base(), &[*base]);
-        let c = cv(spec, &[*model, switched_off(model, spec)]);
+        let b = cv(&Spec::base(), &base.fit_tests, &[base.model]);
+        let c = cv(spec, fit_tests, &[*model]);
         let whole: Vec<Piece> = cx
             .tests
             .iter()
@@ -586,8 +781,10 @@ pub fn diagnose(
         .iter()
         .map(|t| (0..t.len()).map(|i| t.weight_of(i)).collect())
         .collect();
-    let cx = Context {
+    let mut cx = Context {
         weights,
+        reweight: false,
+        base_residuals: Vec::new(),
         tests,
         features,
         base_free,
@@ -596,41 +793,102 @@ pub fn diagnose(
         opts,
     };
 
-    // 1. Base fit; where it misses (all rows).
-    let base = base_fit(&cx, &template)?;
+    // 1. Base fit; where it misses (all rows). When model error dominates, every spec from here
+    // on is fitted with a variance per piece, the base included.
+    let mut base = base_fit(&cx, &template)?;
     trace(t0, "base fit");
-    let base_ssr = ssr_of(&residuals(&cx.tests, &base, None));
+    cx.base_residuals = residuals(&cx.tests, &base, None);
+    cx.reweight = model_error_dominates(&cx);
+    let base_spec = Spec::base();
+    let base_fitted = cx.fit_spec(&base, &base_spec, &[base], 1, opts.candidate_iterations);
+    if cx.reweight {
+        base = base_fitted.result.model;
+        cx.base_residuals = residuals(&cx.tests, &base, None);
+        trace(t0, "base refitted with a variance per piece");
+    }
     let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();
     let localisation = localise(prepared, &residuals(&fulls, &base, None));
 
     // 2. Every form; the best of each family.
     let lib = library(&cx.features);
-    let mut forms = fit_forms(&cx, &base, base_ssr, &lib);
+    let (mut forms, fits): (Vec<FormReport>, Vec<Fitted>) =
+        fit_forms(&cx, &base, &lib).into_iter().unzip();
     let chosen = choose_forms(&mut forms);
-    trace(t0, "every form fitted");
-    let families: Vec<(Effect, Form, Model)> = chosen
-        .iter()
-        .map(|&i| (forms[i].effect, lib[i].clone(), forms[i].model))
+    trace(t0, "every form screened");
+    let families: Vec<Family> = chosen
+        .par_iter()
+        .map(|&i| {
+            let spec = Spec::with(&lib[i]);
+            let polished = cx.fit_spec(
+                &base,
+                &spec,
+                &[fits[i].result.model],
+                1,
+                opts.candidate_iterations,
+            );
+            Family {
+                effect: forms[i].effect,
+                form: lib[i].clone(),
+                alone: polished,
+            }
+        })
         .collect();
+    for (f, &i) in families.iter().zip(&chosen) {
+        let r = &f.alone.result;
+        let c = cx.in_sample(&r.model, &Spec::with(&f.form), &f.alone.fit_tests);
+        forms[i].parameters = parameters_of(&r.model, std::slice::from_ref(&f.form));
+        forms[i].ssr = r.ssr;
+        forms[i].in_sample_score = c.score - f.form.params.len() as f64 * c.n_eff.max(1.0).ln();
+        forms[i].converged = r.converged && r.ssr.is_finite();
+        forms[i].termination = r.termination.clone();
+        forms[i].model = r.model;
+    }
+    trace(t0, "best forms polished");
 
     // 3. Forward selection on held-out pieces.
-    let base_held = cx.held_out(&base, &Spec::base(), &[base]);
-    let mut current = Current {
-        spec: Spec::base(),
+    let base_held = cx.held_out(&base, &base_spec, &base_fitted.fit_tests, &[base]);
+    let base_current = Current {
+        spec: base_spec,
         model: base,
+        fit_tests: base_fitted.fit_tests,
         held: base_held.clone(),
     };
-    let mut selection = Vec::new();
-    let mut named: Vec<(Effect, Form, Comparison)> = Vec::new();
+    let mut current = base_current.clone();
+    let mut selection: Vec<Stage> = Vec::new();
+    let mut named: Vec<(Effect, Form, Comparison, Current)> = Vec::new();
     for stage_no in 0..opts.thresholds.max_effects {
-        let (stage, kept) = selection_stage(&cx, &current, &families, stage_no == 0);
+        // After the first stage only families with held-out evidence of their own compete.
+        let competing: Vec<Family> = match selection.first() {
+            None => families.clone(),
+            Some(first) => families
+                .iter()
+                .filter(|f| {
+                    first
+                        .candidates
+                        .iter()
+                        .any(|c| c.effect == f.effect && c.held_out.score > 0.0)
+                })
+                .cloned()
+                .collect(),
+        };
+        let (stage, kept) = selection_stage(&cx, &current, &competing, stage_no == 0);
         trace(t0, &format!("selection stage {}", stage_no + 1));
         let decision = stage.decision;
         if let Decision::Named(i) = decision {
-            let (spec, model, held) = kept[i].clone();
-            let form = spec.forms.last().expect("a named spec has a form").clone();
-            named.push((form.effect, form, stage.candidates[i].held_out.clone()));
-            current = Current { spec, model, held };
+            let next = kept[i].clone();
+            let form = next
+                .spec
+                .forms
+                .last()
+                .expect("a named spec has a form")
+                .clone();
+            named.push((
+                form.effect,
+                form,
+                stage.candidates[i].held_out.clone(),
+                next.clone(),
+            ));
+            current = next;
         }
         selection.push(stage);
         if !matches!(decision, Decision::Named(_)) {
@@ -654,7 +912,7 @@ pub fn diagnose(
     );
 
     // 5. Verdict, with the extra checks for the named effects.
-    let verdict = make_verdict(&cx, &base, &current, &named, &selection, &evidence);
+    let verdict = make_verdict(&cx, &base_current, &current, &named, &selection, &evidence);
     trace(t0, "verdict and extra folds");
     let remaining = localise(prepared, &residuals(&fulls, &current.model, None)).by_segment;
     let base_misfits = misfits(&fulls, &base);
@@ -680,9 +938,9 @@ pub fn diagnose(
         base: BaseFit {
             model: base,
             free: cx.base_free.iter().map(|p| p.key().to_string()).collect(),
-            ssr: base_ssr,
+            ssr: ssr_of(&cx.base_residuals),
             rows,
-            fitted_rows: cx.rows(),
+            fitted_rows: cx.tests.iter().map(|t| t.len()).sum(),
             reduced_chi2: all_ssr / (rows as f64 - cx.base_free.len() as f64).max(1.0),
             tests: base_misfits,
         },
@@ -703,10 +961,18 @@ pub fn diagnose(
     })
 }
 
+/// The base misses by more than `model_error_chi2` × the noise variance per row.
+fn model_error_dominates(cx: &Context) -> bool {
+    let rows: usize = cx.base_residuals.iter().map(|r| r.len()).sum();
+    let represented: f64 = cx.weights.iter().flatten().sum();
+    let chi2 = 1.0 + (ssr_of(&cx.base_residuals) - rows as f64) / represented.max(1.0);
+    chi2 >= cx.opts.thresholds.model_error_chi2
+}
+
 fn ssr_of(r: &HeldOut) -> f64 {
     r.iter()
         .flatten()
-        .map(|v| if v.is_finite() { v * v } else { 1e6 })
+        .map(|v| if v.is_finite() { v * v } else { FAILED_ROW })
         .sum()
 }
 
@@ -723,16 +989,16 @@ fn fold_index(cx: &Context) -> Vec<usize> {
 
 fn make_verdict(
     cx: &Context,
-    base: &Model,
+    base: &Current,
     current: &Current,
-    named: &[(Effect, Form, Comparison)],
+    named: &[(Effect, Form, Comparison, Current)],
     selection: &[Stage],
     evidence: &ResidualEvidence,
 ) -> Verdict {
     let effects: Vec<NamedEffect> = named
         .iter()
-        .map(|(e, form, c)| {
-            let (tail, loto) = extra_shrinks(cx, base, &Spec::with(form), &current.model);
+        .map(|(e, form, c, at)| {
+            let (tail, loto) = extra_shrinks(cx, base, &Spec::with(form), &at.model, &at.fit_tests);
             NamedEffect {
                 effect: *e,
                 form: form.name.to_string(),
@@ -794,14 +1060,26 @@ fn explain_named(effects: &[NamedEffect], base_chi2: f64, final_chi2: f64) -> St
     let parts: Vec<String> = effects
         .iter()
         .map(|e| {
-            format!(
-                "{} ({}) removes {:.0}% of the held-out misfit left before it ({:.0}% of its excess over the noise; evidence D = {:.0})",
+            let mut t = format!(
+                "{} ({}): evidence D = {:.0} on held-out pieces; the misfit of a typical held-out piece falls by {:.0}%",
                 e.effect,
                 e.form,
-                100.0 * e.relative_shrink,
-                100.0 * e.held_out_shrink.max(0.0),
-                e.score
-            )
+                e.score,
+                100.0 * e.typical_shrink
+            );
+            if e.relative_shrink >= 0.0 {
+                t.push_str(&format!(
+                    ", and {:.0}% of the held-out misfit is removed ({:.0}% of its excess over the noise)",
+                    100.0 * e.relative_shrink,
+                    100.0 * e.held_out_shrink.max(0.0)
+                ));
+            } else {
+                t.push_str(&format!(
+                    ", but the total held-out misfit grows by {:.0}%: a few pieces it cannot describe get worse (see the misfit per kind of piece)",
+                    -100.0 * e.relative_shrink
+                ));
+            }
+            t
         })
         .collect();
     let far = if final_chi2 > 2.0 {

@@ -144,8 +144,8 @@ fn row_features(tests: &[PreparedTest], v_ref: f64, p_ref: f64) -> Vec<Vec<[f64;
             let mut rest_end = vec![f64::NAN; n];
             for &(s, e) in &seg.holds {
                 let t0 = full.time[s.saturating_sub(1)];
-                for i in s..e.min(n) {
-                    rest[i] = (1.0 + full.time[i] - t0).ln();
+                for (r, t) in rest[s..e.min(n)].iter_mut().zip(&full.time[s..e.min(n)]) {
+                    *r = (1.0 + t - t0).ln();
                 }
                 let d = (1.0 + full.time[(e - 1).min(n - 1)] - t0).ln();
                 for i in e.min(n)..n {

@@ -122,17 +122,39 @@ pub struct FitResult {
     pub starts: usize,
 }
 
-/// Least squares from each start (in parallel); the best wins.
-pub fn fit(tests: &[FitTest], space: &Space, starts: &[Model], iterations: usize) -> FitResult {
+/// Least squares from the `keep` best of `starts` (each first evaluated once), in parallel;
+/// the best wins.
+pub fn fit(
+    tests: &[FitTest],
+    space: &Space,
+    starts: &[Model],
+    keep: usize,
+    iterations: usize,
+) -> FitResult {
     let p = Problem::new(tests, space.clone());
     let opts = LmOptions {
         max_iterations: iterations,
         ..LmOptions::default()
     };
-    let runs: Vec<(Vec<f64>, f64, Termination)> = starts
+    let points: Vec<Vec<f64>> = starts.iter().map(|m| space.point_of(m)).collect();
+    let mut ranked: Vec<(f64, usize)> = if points.len() > keep {
+        points
+            .par_iter()
+            .map(|x| p.ssr(x))
+            .enumerate()
+            .map(|(i, c)| (if c.is_finite() { c } else { f64::MAX }, i))
+            .collect()
+    } else {
+        (0..points.len()).map(|i| (0.0, i)).collect()
+    };
+    ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let runs: Vec<(Vec<f64>, f64, Termination)> = ranked
+        .iter()
+        .take(keep.max(1))
+        .collect::<Vec<_>>()
         .par_iter()
-        .map(|m| {
-            let r = levenberg_marquardt(&p, &space.point_of(m), None, &opts);
+        .map(|(_, i)| {
+            let r = levenberg_marquardt(&p, &points[*i], None, &opts);
             (r.x, r.ssr, r.termination)
         })
         .collect();
@@ -177,10 +199,10 @@ pub fn residuals(tests: &[FitTest], m: &Model, drift: Option<&[FitTest]>) -> Hel
                 // The drift is learned where the training weighs, and applied everywhere.
                 let tr = &train[ti];
                 let (mut num, mut den) = (0.0, 0.0);
-                for i in 0..t.len() {
+                for (i, ri) in r.iter().enumerate() {
                     let x = t.weight_of(i).sqrt() * (t.time[i] - t.time[0]);
-                    if tr.weight_of(i) > 0.0 && r[i].is_finite() {
-                        num += r[i] * x;
+                    if tr.weight_of(i) > 0.0 && ri.is_finite() {
+                        num += ri * x;
                         den += x * x;
                     }
                 }
@@ -192,9 +214,11 @@ pub fn residuals(tests: &[FitTest], m: &Model, drift: Option<&[FitTest]>) -> Hel
         .collect()
 }
 
-/// Held-out residuals of a spec: for each fold, refit on the rows it keeps (from each of
-/// `starts`, keeping the best training fit) and predict the rows it holds out.
+/// Held-out residuals of a spec: for each fold, refit `fit_tests` on the rows it keeps (from
+/// the best of `starts` on those rows) and predict the rows of `tests` it holds out
+/// (`fit_tests` are `tests` with the weights the fits use).
 pub fn cross_validate(
+    fit_tests: &[FitTest],
     tests: &[FitTest],
     folds: &[Fold],
     space: &Space,
@@ -205,11 +229,13 @@ pub fn cross_validate(
     let per_fold: Vec<HeldOut> = folds
         .par_iter()
         .map(|f| {
-            let mut train = f.training(tests);
+            let mut train = f.training(fit_tests);
             for t in train.iter_mut() {
                 t.detrend = drift;
             }
-            let r = fit(&train, space, starts, iterations);
+            // The starts are ranked on the training rows by one run each; the best is refitted
+            // (the effect switched off wins where the training rows cannot see it).
+            let r = fit(&train, space, starts, 1, iterations);
             let mut res = residuals(tests, &r.model, drift.then_some(&train[..]));
             for (rt, held) in res.iter_mut().zip(&f.held_rows) {
                 for (v, h) in rt.iter_mut().zip(held) {

@@ -28,7 +28,7 @@ impl Default for Thresholds {
         Thresholds {
             min_score: 20.0,
             min_excess_shrink: 0.7,
-            min_typical_shrink: 0.25,
+            min_typical_shrink: 0.15,
             model_error_chi2: 10.0,
             gap_chi2: 1.3,
             max_effects: 3,

@@ -39,7 +39,7 @@ pub use prepare::{
     control_of, prepare_set, prepare_set_with, prepare_test, reference_model, thin_prepared,
     PrepareOptions, PreparedTest,
 };
-pub use problem::Problem;
+pub use problem::{model_runs, Problem};
 pub use residuals::Residuals;
 pub use space::{Coord, Param, Space};
 pub use stiffness::{resolved_stiffness, Stiffness};

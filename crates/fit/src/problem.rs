@@ -8,6 +8,15 @@ use std::cell::RefCell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use subfric_model::Model;
 
+/// Model runs of every problem of this process (for progress displays).
+static MODEL_RUNS: AtomicUsize = AtomicUsize::new(0);
+
+/// Model runs (all tests simulated once) made by every [`Problem`] of this process so far: a
+/// progress display samples it while a calibration or diagnosis runs.
+pub fn model_runs() -> usize {
+    MODEL_RUNS.load(Ordering::Relaxed)
+}
+
 /// Contribution to the SSR of one row whose residual is not finite: the square of
 /// [`FAILED_RESIDUAL`], so a row that cannot be simulated weighs the same wherever it is counted.
 pub const FAILED_ROW_SQUARED: f64 = FAILED_RESIDUAL * FAILED_RESIDUAL;
@@ -46,6 +55,7 @@ impl<'a> Problem<'a> {
     /// Residual vector at `x` (transformed coordinates).
     pub fn residuals(&self, x: &[f64], out: &mut Vec<f64>, scratch: &mut Vec<f64>) {
         self.evaluations.fetch_add(1, Ordering::Relaxed);
+        MODEL_RUNS.fetch_add(1, Ordering::Relaxed);
         let m = self.space.model_at(x);
         residuals_into(self.tests, &m, out, scratch);
     }

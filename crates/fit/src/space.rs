@@ -136,6 +136,43 @@ impl Param {
         Param::ALL.iter().copied().find(|p| p.key() == s)
     }
 
+    /// Why `lo..hi` (natural units) cannot bound this parameter, if it cannot: both finite,
+    /// `lo < hi`, `lo > 0` for a parameter fitted on a logarithmic scale, `lo >= 0` for μ_k.
+    ///
+    /// ```
+    /// use subfric_fit::Param;
+    /// assert!(Param::Kappa.bounds_problem(0.1, 10.0).is_none());
+    /// assert!(Param::Kappa.bounds_problem(-5.0, -1.0).unwrap().contains("> 0"));
+    /// assert!(Param::MuS.bounds_problem(0.5, 0.1).unwrap().contains("below"));
+    /// ```
+    pub fn bounds_problem(self, lo: f64, hi: f64) -> Option<String> {
+        if !(lo.is_finite() && hi.is_finite()) {
+            return Some(format!(
+                "bounds {lo}:{hi} are not finite (expected two finite numbers lo:hi)"
+            ));
+        }
+        if lo >= hi {
+            return Some(format!(
+                "lower bound {lo} is not below the upper bound {hi} (expected lo < hi)"
+            ));
+        }
+        match self.scale() {
+            Scale::Log if lo <= 0.0 => Some(format!(
+                "lower bound {lo} is not positive (expected bounds > 0: {} is fitted on a logarithmic scale{})",
+                self.key(),
+                if self.unit().is_empty() {
+                    String::new()
+                } else {
+                    format!(", in {}", self.unit())
+                }
+            )),
+            Scale::RatioToMuS if lo < 0.0 => Some(format!(
+                "lower bound {lo} is negative (expected bounds >= 0: a friction coefficient)"
+            )),
+            _ => None,
+        }
+    }
+
     /// The coordinate transform.
     pub fn scale(self) -> Scale {
         match self {
@@ -354,6 +391,10 @@ impl Space {
 
     /// As [`Space::new`], charting μ_k, κ, ξ as combinations at slip rate `v_ref` [mm/s].
     ///
+    /// # Panics
+    ///
+    /// On bounds that [`Space::try_with_rate`] refuses (give user bounds through that).
+    ///
     /// ```
     /// use subfric_fit::{Param, Space};
     /// use subfric_model::{Model, Params};
@@ -372,13 +413,44 @@ impl Space {
         bounds: &[(Param, f64, f64)],
         v_ref: f64,
     ) -> Space {
+        match Space::try_with_rate(base, free, bounds, v_ref) {
+            Ok(s) => s,
+            Err(e) => panic!("invalid bounds: {e}"),
+        }
+    }
+
+    /// As [`Space::with_rate`], with bounds given by a user in natural units: every bound is
+    /// honoured or refused with the reason (`Err` names the parameter). A bound on μ_k, κ or ξ
+    /// keeps the optimiser in those parameters themselves instead of the combined chart; μ_k
+    /// is charted as a share of μ_s, so it can be bounded only while μ_s is fixed.
+    ///
+    /// ```
+    /// use subfric_fit::{Param, Space};
+    /// use subfric_model::{Model, Params};
+    /// let m = Model::base(Params::sample()).unwrap();
+    /// let s = Space::try_with_rate(m, &Param::BASE, &[(Param::Kappa, 1.0, 2.0)], 0.01).unwrap();
+    /// assert_eq!(s.v_ref, 0.0); // no combined chart: the bound on κ is kept as such
+    /// assert!(Space::try_with_rate(m, &Param::BASE, &[(Param::MuK, 0.1, 0.2)], 0.01).is_err());
+    /// let fixed_mu_s = [Param::MuK, Param::Kappa];
+    /// let s = Space::try_with_rate(m, &fixed_mu_s, &[(Param::MuK, 0.1, 0.2)], 0.01).unwrap();
+    /// let hi = s.model_at(&s.hi).params.mu_k;
+    /// assert!((hi - 0.2).abs() < 1e-12);
+    /// ```
+    pub fn try_with_rate(
+        base: Model,
+        free: &[Param],
+        bounds: &[(Param, f64, f64)],
+        v_ref: f64,
+    ) -> Result<Space, String> {
         let mut free: Vec<Param> = free.to_vec();
         free.sort();
         free.dedup();
+        let bounds = user_bounds(&base, &free, bounds)?;
+        let bounded = |p: Param| bounds.iter().any(|(q, _, _)| *q == p);
         let combined = v_ref > 0.0
             && [Param::MuK, Param::Kappa, Param::Xi]
                 .iter()
-                .all(|p| free.contains(p));
+                .all(|p| free.contains(p) && !bounded(*p));
         let mut coords = Vec::new();
         let mut lo = Vec::new();
         let mut hi = Vec::new();
@@ -423,14 +495,14 @@ impl Space {
                 hi.push(b);
             }
         }
-        Space {
+        Ok(Space {
             base,
             free,
             coords,
             v_ref: if combined { v_ref } else { 0.0 },
             lo,
             hi,
-        }
+        })
     }
 
     /// Number of optimiser coordinates.
@@ -547,6 +619,44 @@ impl Space {
             };
         }
     }
+}
+
+/// Checks user bounds (natural units) and converts those of μ_k to the chart's μ_k/μ_s.
+fn user_bounds(
+    base: &Model,
+    free: &[Param],
+    bounds: &[(Param, f64, f64)],
+) -> Result<Vec<(Param, f64, f64)>, String> {
+    let mut out = Vec::with_capacity(bounds.len());
+    for &(p, lo, hi) in bounds {
+        let key = p.key();
+        if let Some(msg) = p.bounds_problem(lo, hi) {
+            return Err(format!("{key}: {msg}"));
+        }
+        if !free.contains(&p) {
+            return Err(format!(
+                "{key} is not free, so a bound on it would have no effect (expected bounds on free parameters only)"
+            ));
+        }
+        if p != Param::MuK {
+            out.push((p, lo, hi));
+            continue;
+        }
+        if free.contains(&Param::MuS) {
+            return Err(format!(
+                "{key}: the optimiser works in mu_k/mu_s while mu_s is free, so bounds on mu_k itself cannot be kept (expected mu_s fixed, e.g. --fix mu_s=VALUE, or no bound on mu_k)"
+            ));
+        }
+        let mu_s = base.params.mu_s;
+        let rhi = RATIO_BOUNDS.1;
+        if lo / mu_s >= rhi {
+            return Err(format!(
+                "{key}: lower bound {lo} is not below mu_s = {mu_s} (expected mu_k < mu_s)"
+            ));
+        }
+        out.push((p, (lo / mu_s).max(1e-9), (hi / mu_s).min(rhi)));
+    }
+    Ok(out)
 }
 
 /// A neutral value for an extension parameter not yet in the model.

@@ -3,7 +3,7 @@
 //! The normal stress is imposed; the plastic return is radial in the tangential plane, so the
 //! same scalar equation as in 1-D is solved, and collinear paths give the 1-D answer.
 
-use crate::integrator::{return_slip, Consts, StepError, StepInput};
+use crate::integrator::{return_slip, surface, Consts, StepError, StepInput};
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
 
@@ -25,6 +25,26 @@ fn scale(a: f64, x: &Vec3) -> Vec3 {
 #[inline]
 fn norm(a: &Vec3) -> f64 {
     dot(a, a).sqrt()
+}
+#[inline]
+fn outer(a: &Vec3, b: &Vec3) -> [[f64; 3]; 3] {
+    [scale(a[0], b), scale(a[1], b), scale(a[2], b)]
+}
+#[inline]
+fn mat_mul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mut c = [[0.0; 3]; 3];
+    for (ci, ai) in c.iter_mut().zip(a) {
+        for (j, cij) in ci.iter_mut().enumerate() {
+            *cij = ai[0] * b[0][j] + ai[1] * b[1][j] + ai[2] * b[2][j];
+        }
+    }
+    c
+}
+/// Central difference of a smooth scalar function (for the step constants that extensions make
+/// depend on the normal stress or the sliding direction).
+#[inline]
+fn central(f: impl Fn(f64) -> f64, x: f64, h: f64) -> f64 {
+    (f(x + h) - f(x - h)) / (2.0 * h)
 }
 
 /// State of a 3-D contact.
@@ -65,6 +85,20 @@ impl State3 {
             theta: model.ext.rate.map_or(0.0, |r| r.neutral_theta()),
         }
     }
+}
+
+/// The consistent tangent of one slip-controlled step, from
+/// [`Contact3::step_slip_with_tangent`] (units: kPa, mm).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tangent3 {
+    /// ∂f_t/∂u [kPa/mm]: `d_slip[i][j]` is the derivative of component i of the tangential
+    /// traction at the end of the step with respect to component j of the imposed slip (global
+    /// components; zero along the normal).
+    pub d_slip: [[f64; 3]; 3],
+    /// ∂f_t/∂p at fixed slip [kPa/kPa] (zero for an elastic step).
+    pub d_pressure: Vec3,
+    /// Plastic slip increment λ n̂ of the step [mm] (zero for an elastic step).
+    pub plastic_slip: Vec3,
 }
 
 /// Integrator of a 3-D contact.
@@ -212,5 +246,196 @@ impl Contact3 {
             age: 0.0,
             theta: pl.theta,
         })
+    }
+
+    /// [`Contact3::step_slip`] with its consistent tangent: the state is exactly the one
+    /// `step_slip` returns, and the tangent is the derivative of that algorithm (not of the
+    /// continuous model), as an implicit finite-element code needs it.
+    ///
+    /// With T = ‖f_trial‖, n̂ = f_trial/T and the converged return g(λ) = T − α λ − p F(λ) = 0,
+    /// F = r μ_eff: dλ = (n̂ − p ∇F)·df_trial/(α + h), h = p ∂F/∂λ, and
+    /// f_t = (T − α λ) n̂ gives
+    ///
+    /// ∂f_t/∂u = α [h/(α+h) n̂⊗n̂ + α p/(α+h) n̂⊗∇F + ‖f_t‖/T (I − n⊗n − n̂⊗n̂)],
+    ///
+    /// ∂f_t/∂p = α (F + p ∂F/∂p)/(α + h) n̂, and α (I − n⊗n), 0 for an elastic step. ∇F and
+    /// ∂F/∂p at fixed λ are zero except when the step restarts from the point of its elastic
+    /// path closest to the origin (r₀ then depends on the trial traction: analytic) and under a
+    /// direction or pressure extension (the step constants depend on the direction or on p:
+    /// central differences of those closed-form constants).
+    pub fn step_slip_with_tangent(
+        &self,
+        st: &State3,
+        slip: &Vec3,
+        p: f64,
+        dt: f64,
+    ) -> Result<(State3, Tangent3), StepError> {
+        let next = self.step_slip(st, slip, p, dt)?;
+        let tangent = self.tangent(st, &next, slip, p, dt);
+        Ok((next, tangent))
+    }
+
+    /// The tangent of the step from `st` to `next` (which `step_slip` returned). The set-up
+    /// repeats `step_slip`'s expressions in the same order, so it takes the same branch.
+    fn tangent(&self, st: &State3, next: &State3, slip: &Vec3, p: f64, dt: f64) -> Tangent3 {
+        let alpha = self.k.alpha;
+        let n = &self.normal;
+        let mut plane = [[0.0; 3]; 3];
+        for (i, row) in plane.iter_mut().enumerate() {
+            for (j, x) in row.iter_mut().enumerate() {
+                *x = f64::from(u8::from(i == j)) - n[i] * n[j];
+            }
+        }
+        let elastic = Tangent3 {
+            d_slip: plane.map(|row| scale(alpha, &row)),
+            d_pressure: [0.0; 3],
+            plastic_slip: [0.0; 3],
+        };
+        let slip = self.tangential(slip);
+        let du = axpy(-1.0, &st.slip, &slip);
+        let trial = axpy(alpha, &du, &st.shear);
+        let magnitude = norm(&trial);
+        if magnitude == 0.0 {
+            return elastic;
+        }
+        let theta_el = self.k.rest_theta(st.theta, dt);
+        let exp_xi_dt = (-self.k.xi * dt).exp();
+        let dir = scale(1.0 / magnitude, &trial);
+        let cos_t = self.cos_forward(&dir);
+        let local = self.k.local(p, cos_t);
+        let mu_el = self.k.rest_mu(&local, st.mu, st.age, dt, exp_xi_dt);
+        // μ_eff of the elastic path's closest point, as a function of p and of the directions
+        // of the trial and of that point (through the step constants only).
+        let m_at = |p: f64, ct: f64, cm: f64| {
+            let lt = self.k.local(p, ct);
+            let mu = self.k.rest_mu(&lt, st.mu, st.age, dt, exp_xi_dt);
+            let lm = self.k.local(p, cm);
+            self.k.elastic_mu_eff(&lm, mu, theta_el, st.slip_path)
+        };
+        let with_direction = self.k.ext.direction.is_some() && self.forward != [0.0; 3];
+        let with_pressure = self.k.ext.pressure.is_some();
+        // ∇ of the direction cosine of a vector `v` of length `len` with respect to `v`.
+        let grad_cos = |v_hat: &Vec3, len: f64| {
+            if with_direction {
+                scale(
+                    1.0 / len,
+                    &axpy(-dot(&self.forward, v_hat), v_hat, &self.forward),
+                )
+            } else {
+                [0.0; 3]
+            }
+        };
+
+        let d = axpy(-1.0, &st.shear, &trial);
+        let dd = dot(&d, &d);
+        let (mut r0, mut c0, mut s0) = (st.r, st.cos_r, st.sin_r);
+        // Gradient of r₀ with respect to the trial traction and its derivative in p, when r₀
+        // is the ratio of the closest point (and not capped by the current r).
+        let mut r0_sens: Option<(Vec3, f64)> = None;
+        if dd > 0.0 {
+            let s_min = -dot(&st.shear, &d) / dd;
+            if s_min > 0.0 && s_min < 1.0 {
+                let f_min = axpy(s_min, &d, &st.shear);
+                let fm = norm(&f_min);
+                let mu_eff = if fm > 0.0 {
+                    let l = self.k.local(p, self.cos_forward(&scale(1.0 / fm, &f_min)));
+                    self.k.elastic_mu_eff(&l, mu_el, theta_el, st.slip_path)
+                } else {
+                    1.0
+                };
+                r0 = (fm / (mu_eff * p)).min(st.r);
+                (s0, c0) = (FRAC_PI_2 * r0).sin_cos();
+                if fm > 0.0 && fm / (mu_eff * p) < st.r {
+                    let f_hat = scale(1.0 / fm, &f_min);
+                    let cos_m = self.cos_forward(&f_hat);
+                    // |f_min| moves as s_min f̂_min with the trial (f_min ⊥ d).
+                    let mut grad = scale(s_min / (mu_eff * p), &f_hat);
+                    let mut dp = -r0 / p;
+                    if with_direction {
+                        // ∇ cos_min = Jᵀ w, J = ∂f_min/∂d, w = ∂cos_min/∂f_min.
+                        let w = grad_cos(&f_hat, fm);
+                        let q = dot(&st.shear, &d);
+                        let dw = dot(&d, &w);
+                        let grad_cm = axpy(
+                            2.0 * q * dw / (dd * dd),
+                            &d,
+                            &axpy(-dw / dd, &st.shear, &scale(-q / dd, &w)),
+                        );
+                        let m_ct = central(|c| m_at(p, c, cos_m), cos_t, 1e-5);
+                        let m_cm = central(|c| m_at(p, cos_t, c), cos_m, 1e-5);
+                        let g = axpy(m_cm, &grad_cm, &scale(m_ct, &grad_cos(&dir, magnitude)));
+                        grad = axpy(-r0 / mu_eff, &g, &grad);
+                    }
+                    if with_pressure {
+                        let m_p = central(|q| m_at(q, cos_t, cos_m), p, 1e-5 * p);
+                        dp -= r0 / mu_eff * m_p;
+                    }
+                    r0_sens = Some((grad, dp));
+                }
+            }
+        }
+        let mu_eff0 = self.k.elastic_mu_eff(&local, mu_el, theta_el, st.slip_path);
+        if magnitude <= r0 * mu_eff0 * p {
+            return elastic;
+        }
+        let xi_dt = self.k.plastic_recovery(dt);
+        let input = StepInput {
+            mu_n: st.mu,
+            c_start: c0,
+            s_start: s0,
+            r_start: r0,
+            p,
+            dt,
+            xi_dt,
+            exp_xi_dt: (-xi_dt).exp(),
+            s_acc: st.slip_path,
+            theta: st.theta,
+            local,
+            lam_guess: 0.0,
+        };
+        let shear = norm(&next.shear);
+        let lam = (magnitude - shear) / alpha;
+        let surf = surface(&self.k, &input, lam);
+        let h = p * surf.dlam;
+        let a = if h.is_finite() {
+            alpha / (alpha + h)
+        } else {
+            0.0
+        };
+
+        // ∇F and ∂F/∂p at fixed λ.
+        let f_at = |p: f64, ct: f64| {
+            let l = self.k.local(p, ct);
+            surface(&self.k, &StepInput { local: l, ..input }, lam).value
+        };
+        let (mut grad_f, mut df_dp) = match r0_sens {
+            Some((g, dp)) => (scale(surf.dr0, &g), surf.dr0 * dp),
+            None => ([0.0; 3], 0.0),
+        };
+        if with_direction {
+            let f_ct = central(|c| f_at(p, c), cos_t, 1e-5);
+            grad_f = axpy(f_ct, &grad_cos(&dir, magnitude), &grad_f);
+        }
+        if with_pressure {
+            df_dp += central(|q| f_at(q, cos_t), p, 1e-5 * p);
+        }
+
+        let along = outer(&dir, &dir);
+        let coupling = outer(&dir, &grad_f);
+        let ratio = shear / magnitude;
+        let mut k_trial = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                k_trial[i][j] = (1.0 - a) * along[i][j]
+                    + a * p * coupling[i][j]
+                    + ratio * (plane[i][j] - along[i][j]);
+            }
+        }
+        let d_slip = mat_mul(&k_trial, &plane).map(|row| scale(alpha, &row));
+        Tangent3 {
+            d_slip,
+            d_pressure: scale(a * (surf.value + p * df_dp), &dir),
+            plastic_slip: scale(lam, &dir),
+        }
     }
 }

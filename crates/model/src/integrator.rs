@@ -453,6 +453,13 @@ pub(crate) fn return_slip(
     let tol = 1e-10 * s.p + 8.0 * f64::EPSILON * trial;
     let mut lo = 0.0;
     let mut hi = trial / alpha;
+    if !(hi > 0.0 && hi.is_finite() && excess.is_finite()) {
+        // A trial traction beyond floating point (absurd input): no return to speak of.
+        return Err(StepError::NoConvergence {
+            iterations: 0,
+            residual: excess,
+        });
+    }
     // Perfectly plastic estimate: the surface does not move; with rate terms the surface moves
     // with the rate, and the previous plastic rate is the better start.
     let mut lam = if s.lam_guess > 0.0 && s.lam_guess < hi {
@@ -571,4 +578,33 @@ pub(crate) fn return_shear(
         iterations: MAX_ITERATIONS,
         residual: res,
     })
+}
+
+/// The friction surface of a plastic step at plastic increment `lam`, for the consistent
+/// tangent: F = r μ_eff, its derivative with respect to λ (so the hardening modulus is
+/// h = p ∂F/∂λ) and with respect to the starting ratio r₀ at fixed λ (μ_eff does not depend
+/// on r₀; cos θ = cos θ₀ e^(−kr λ) with θ = πr/2 gives ∂r/∂r₀ = sin θ₀ e^(−kr λ) / sin θ).
+pub(crate) fn surface(k: &Consts, s: &StepInput, lam: f64) -> Surface {
+    let e = eval(k, s, lam);
+    let dr_dr0 = if e.r < 1.0 && e.sin > 0.0 {
+        s.s_start * exp_neg(s.local.kr * lam) / e.sin
+    } else {
+        0.0
+    };
+    Surface {
+        value: e.r * e.mu_eff,
+        dlam: e.dr * e.mu_eff + e.r * e.dmu_eff,
+        dr0: dr_dr0 * e.mu_eff,
+    }
+}
+
+/// See [`surface`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Surface {
+    /// F = r μ_eff.
+    pub value: f64,
+    /// ∂F/∂λ.
+    pub dlam: f64,
+    /// ∂F/∂r₀ at fixed λ.
+    pub dr0: f64,
 }

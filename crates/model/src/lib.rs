@@ -21,14 +21,14 @@ pub mod scenario;
 pub mod simulate;
 
 pub use contact1::{Contact1, State1};
-pub use contact3::{Contact3, State3, Vec3};
+pub use contact3::{Contact3, State3, Tangent3, Vec3};
 pub use extensions::{
     DirectionEffect, Extensions, Healing, HealingForm, PressureEffect, PressureForm, RateEffect,
     RateForm, SlipForm, SlipHardening, Target,
 };
 pub use integrator::StepError;
-pub use params::{ParamError, ParamIssue, Params};
-pub use scenario::{Scenario, ScenarioError, Stage};
+pub use params::{ParamError, ParamIssue, Params, MAX_ALPHA};
+pub use scenario::{Scenario, ScenarioError, Stage, MAX_SCENARIO_ROWS};
 pub use simulate::{
     simulate, simulate_predicted_into, Control, Initial, Protocol, SimError, Trajectory,
 };

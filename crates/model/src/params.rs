@@ -5,6 +5,14 @@ use serde::{Deserialize, Serialize};
 /// 1 kN/mm³ expressed in kPa/mm: the unit factor of the elastic moduli α_t, α_n.
 pub const KN_PER_MM3_IN_KPA_PER_MM: f64 = 1.0e6;
 
+/// Largest accepted elastic modulus α_t, α_n [kN/mm³].
+///
+/// The step adds α Δu to the traction, so a traction is resolved only to α ε u, ε = 2.2·10⁻¹⁶
+/// the relative resolution of a slip u: at this limit (10¹⁴ kPa/mm) that is 0.02 kPa per mm of
+/// slip; a stiffer contact's elastic slip is lost in rounding and its shear comes out wrong (at
+/// 10¹⁴ kN/mm³ every shear is 0). Sand–metal interfaces lie near 10²–10⁴ kN/mm³.
+pub const MAX_ALPHA: f64 = 1.0e8;
+
 /// Parameters of the subloading-friction model (Table 1–4 of the paper use these keys).
 ///
 /// Units: κ and ũ in 1/mm, ξ in 1/s, α_t and α_n in kN/mm³ (= 10⁶ kPa/mm).
@@ -81,8 +89,18 @@ pub struct ParamIssue {
 
 /// All invalid parameters of a set, reported at once.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("invalid parameters: {}", .0.iter().map(|i| format!("{} = {} (expected {})", i.name, i.value, i.expected)).collect::<Vec<_>>().join("; "))]
+#[error("invalid parameters: {}", .0.iter().map(|i| format!("{} = {} (expected {})", i.name, value_text(i.value), i.expected)).collect::<Vec<_>>().join("; "))]
 pub struct ParamError(pub Vec<ParamIssue>);
+
+/// A value as a user would write it: very large or small magnitudes with an exponent.
+fn value_text(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && a.is_finite() && !(1e-4..1e6).contains(&a) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
 
 impl Params {
     /// A sample parameter set (sand on mild steel, of the order of Table 3).
@@ -155,17 +173,21 @@ impl Params {
             self.u_tilde > 0.0,
             "a finite number > 0 [1/mm]",
         );
+        let alpha_expected = format!(
+            "a finite number in (0, {MAX_ALPHA:e}] [kN/mm^3]: a stiffer contact has an elastic \
+             slip below the floating-point resolution of the slip, and its shear would be lost"
+        );
         need(
             "alpha_t",
             self.alpha_t,
-            self.alpha_t > 0.0,
-            "a finite number > 0 [kN/mm^3]",
+            self.alpha_t > 0.0 && self.alpha_t <= MAX_ALPHA,
+            &alpha_expected,
         );
         need(
             "alpha_n",
             self.alpha_n,
-            self.alpha_n > 0.0,
-            "a finite number > 0 [kN/mm^3]",
+            self.alpha_n > 0.0 && self.alpha_n <= MAX_ALPHA,
+            &alpha_expected,
         );
         if let Some(m0) = self.mu_0 {
             need(

@@ -27,18 +27,47 @@ pub(crate) fn write_rgb_png(
             message: other.to_string(),
         },
     };
-    let file = File::create(path).map_err(io_err)?;
-    let mut out = BufWriter::new(file);
-    {
-        let mut encoder = png::Encoder::new(&mut out, width, height);
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        encoder.set_compression(png::Compression::Fast);
-        let mut writer = encoder.write_header().map_err(enc_err)?;
-        writer.write_image_data(rgb).map_err(enc_err)?;
-        writer.finish().map_err(enc_err)?;
+    // Encoded in full to a temporary file beside `path`, flushed, then renamed over it: a full
+    // disk or a kill leaves the previous figure whole, and a symbolic link at `path` is
+    // replaced, never written through.
+    let tmp = temp_beside(path);
+    let written = (|| {
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+            .map_err(io_err)?;
+        let mut out = BufWriter::new(file);
+        {
+            let mut encoder = png::Encoder::new(&mut out, width, height);
+            encoder.set_color(png::ColorType::Rgb);
+            encoder.set_depth(png::BitDepth::Eight);
+            encoder.set_compression(png::Compression::Fast);
+            let mut writer = encoder.write_header().map_err(enc_err)?;
+            writer.write_image_data(rgb).map_err(enc_err)?;
+            writer.finish().map_err(enc_err)?;
+        }
+        out.flush().map_err(io_err)?;
+        let file = out.into_inner().map_err(|e| io_err(e.into_error()))?;
+        file.sync_all().map_err(io_err)?;
+        drop(file);
+        std::fs::rename(&tmp, path).map_err(io_err)
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
     }
-    out.flush().map_err(io_err)
+    written
+}
+
+/// A hidden temporary file name in the folder of `path`, unique to this process and call.
+fn temp_beside(path: &Path) -> std::path::PathBuf {
+    static COUNTER: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_else(|| "figure.png".into());
+    path.with_file_name(format!(".{name}.subfric-tmp-{}-{n}", std::process::id()))
 }
 
 /// A decoded image as 8-bit RGB (alpha composited over white).
@@ -212,5 +241,34 @@ mod tests {
             write_rgb_png(&bad_dir, 4, 3, &buf),
             Err(PlotError::Io { .. })
         ));
+    }
+
+    #[test]
+    fn a_figure_replaces_its_file_in_one_step() {
+        let dir = tempfile::tempdir().unwrap();
+        let buf = vec![200u8; 4 * 3 * 3];
+        let p = dir.path().join("fig.png");
+        // Over a symbolic link: the link is replaced, its target untouched.
+        #[cfg(unix)]
+        {
+            let victim = dir.path().join("victim.txt");
+            std::fs::write(&victim, "precious").unwrap();
+            std::os::unix::fs::symlink(&victim, &p).unwrap();
+            write_rgb_png(&p, 4, 3, &buf).unwrap();
+            assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
+            assert!(std::fs::symlink_metadata(&p).unwrap().file_type().is_file());
+        }
+        write_rgb_png(&p, 4, 3, &buf).unwrap();
+        assert_eq!(read_rgb(&p).unwrap().width, 4);
+        // A failed write (the target is a folder) leaves no temporary file behind.
+        let folder = dir.path().join("folder.png");
+        std::fs::create_dir(&folder).unwrap();
+        assert!(write_rgb_png(&folder, 4, 3, &buf).is_err());
+        let left: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+            .filter(|n| n.contains("subfric-tmp"))
+            .collect();
+        assert!(left.is_empty(), "{left:?}");
     }
 }

@@ -1,36 +1,19 @@
-//! `subfric plan <set>` end to end: ranked proposals in plan.json, a scenario per proposal that
-//! `subfric simulate --scenario` runs, the top proposal checked by a simulated joint fit, and a
-//! decodable figure of its predicted band.
+//! `subfric plan <set>` end to end (issue 15): ranked proposals in plan.json, a scenario per
+//! proposal that `subfric simulate --scenario` runs, the top proposal checked by a simulated
+//! joint fit, a decodable figure of its predicted band, and the folder protected like every
+//! results folder.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_subfric"))
-}
-
-fn experiments() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments")
-}
+use subfric_e2e::{args, copy_set, read_data_csv, read_json, subfric, text};
 
 #[test]
 fn plan_writes_ranked_runnable_proposals_a_check_and_a_band_figure() {
     let tmp = tempfile::tempdir().unwrap();
+    let set = copy_set("table1-smooth", tmp.path());
     let out = tmp.path().join("plan");
-    let set = experiments().join("table1-smooth");
-    let o = bin()
-        .arg("plan")
-        .arg(&set)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let stdout = String::from_utf8_lossy(&o.stdout);
+    let stdout = subfric!().ok(args!["plan", &set, "--out", &out]);
     assert!(stdout.contains("not determined now:"), "{stdout}");
 
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("plan.json")).unwrap()).unwrap();
+    let v = read_json(&out.join("plan.json"));
     let plan = &v["plan"];
     let undetermined: Vec<&str> = plan["undetermined"]
         .as_array()
@@ -54,37 +37,31 @@ fn plan_writes_ranked_runnable_proposals_a_check_and_a_band_figure() {
 
     // The check: simulated at the planning point, fitted jointly; ξ's achieved interval beside
     // the predicted one.
-    let check = &top["check"];
-    let xi = check["parameters"]
+    let xi = top["check"]["parameters"]
         .as_array()
         .unwrap()
         .iter()
         .find(|p| p["name"] == "xi")
-        .expect("ξ checked");
+        .expect("ξ checked")
+        .clone();
     let ratio = xi["width_ratio"].as_f64().expect("both intervals closed");
     assert!((0.5..=2.0).contains(&ratio), "{xi}");
 
-    // Each proposal's scenario runs through `subfric simulate --scenario`.
+    // The top proposal's scenario runs through `subfric simulate --scenario`.
     let name = top["name"].as_str().unwrap();
     let scenario = out.join("scenarios").join(format!("{name}.json"));
     let sim = tmp.path().join("sim");
-    let o = bin()
-        .args(["simulate", "--scenario"])
-        .arg(&scenario)
-        .arg("--params")
-        .arg(set.join("experiment.json"))
-        .arg("--out")
-        .arg(&sim)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let csv = std::fs::read_to_string(sim.join(format!("{name}.csv"))).unwrap();
-    let rows = csv
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .count()
-        .saturating_sub(1);
-    assert_eq!(rows as u64, top["rows"].as_u64().unwrap());
+    subfric!().ok(args![
+        "simulate",
+        "--scenario",
+        &scenario,
+        "--params",
+        &set.join("experiment.json"),
+        "--out",
+        &sim
+    ]);
+    let (_, rows) = read_data_csv(&sim.join(format!("{name}.csv")));
+    assert_eq!(rows.len() as u64, top["rows"].as_u64().unwrap());
 
     let png = subfric_plot::inspect_png(&out.join("top-proposal.png")).expect("a valid PNG");
     assert_eq!((png.width, png.height), (1000, 750));
@@ -92,4 +69,10 @@ fn plan_writes_ranked_runnable_proposals_a_check_and_a_band_figure() {
         png.inked_fraction > 0.02 && png.inked_fraction < 0.6,
         "{png:?}"
     );
+
+    // A folder holding another set's plan is not overwritten without --force.
+    let other = copy_set("table1-medium", tmp.path());
+    let o = subfric!().run(args!["plan", &other, "--out", &out, "--check", "0"]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stdout));
+    assert!(text(&o.stderr).contains("--force"), "{}", text(&o.stderr));
 }

@@ -1,0 +1,563 @@
+//! The command line: one `Args` struct per subcommand (clap derive), value enums for methods,
+//! units and delimiters, and value parsers for `--fix`, `--bounds` and `--weight`, so that a
+//! malformed option is a usage error naming the flag before anything runs.
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+use subfric_data::{ColumnRef, Control, Delimiter, LengthUnit, StressUnit, TimeUnit};
+use subfric_fit::{Method, Param};
+use subfric_model::MAX_SCENARIO_ROWS;
+
+use crate::progress::ProgressMode;
+
+/// The command line.
+#[derive(Parser, Debug)]
+#[command(
+    name = "subfric",
+    bin_name = "subfric",
+    version,
+    about = "Calibrate the subloading-friction model of sand–metal interfaces and diagnose the sim-to-real gap"
+)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Fit every set of experiments/ and write Tables 1–4, plots and a summary under fits/.
+    Reproduce(ReproduceArgs),
+    /// Simulate every test of a set (or a scenario) with given parameters.
+    Simulate(SimulateArgs),
+    /// Validate a set, print a summary of its tests and warn about implausible data.
+    Check(CheckArgs),
+    /// Turn a laboratory export into a test of a set in the data format.
+    Import(ImportArgs),
+    /// Calibrate μ_s, μ_k, κ, ξ, ũ (or chosen parameters) against one or several sets.
+    Fit(FitArgs),
+    /// Overlay plots of a set: measured, published, and a fit.
+    Plot(PlotArgs),
+    /// Where the calibrated model misses, which unmodelled effect explains it, how far it shrinks.
+    Diagnose(DiagnoseArgs),
+    /// Check the diagnosis on generated sets with withheld effects (or on a folder with truth.json).
+    Selfcheck(SelfcheckArgs),
+    /// Which test to run next: proposals ranked by how far they determine what the data do not.
+    Plan(PlanArgs),
+    /// Speed of the model step, of each paper fit, and of multi-start scaling.
+    Bench(BenchArgs),
+}
+
+/// `subfric reproduce`.
+#[derive(Args, Debug)]
+pub struct ReproduceArgs {
+    /// Folder of experiment sets.
+    #[arg(long, default_value = "experiments")]
+    pub experiments: PathBuf,
+    /// Output folder (subfric's own: results in it are replaced when they come from the same sets).
+    #[arg(long, default_value = "fits")]
+    pub out: PathBuf,
+    /// Seed of the optimiser.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Replace results in the output folder that came from other sets (or not from subfric).
+    #[arg(long)]
+    pub force: bool,
+    /// Progress display on stderr.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
+}
+
+/// `subfric simulate`.
+#[derive(Args, Debug)]
+pub struct SimulateArgs {
+    /// Set folder [default: none: give --scenario instead].
+    #[arg(conflicts_with = "scenario", required_unless_present = "scenario")]
+    pub set: Option<PathBuf>,
+    /// Parameters: params.json, a fit.json, or an experiment.json with reference_parameters.
+    #[arg(long)]
+    pub params: PathBuf,
+    /// Declarative scenario JSON instead of a set [default: none: simulate the set].
+    #[arg(long)]
+    pub scenario: Option<PathBuf>,
+    /// Output folder: a new set in the same format (never the set simulated).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Replace a set already in the output folder (its old CSVs are removed).
+    #[arg(long)]
+    pub force: bool,
+    /// Most rows a scenario may generate (it is refused beyond, before any is generated).
+    #[arg(long, default_value_t = MAX_SCENARIO_ROWS)]
+    pub max_rows: usize,
+}
+
+/// `subfric check`.
+#[derive(Args, Debug)]
+pub struct CheckArgs {
+    /// Set folder.
+    pub set: PathBuf,
+}
+
+/// Which column the apparatus imposed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ControlArg {
+    /// Slip imposed, shear measured.
+    Slip,
+    /// Shear imposed, slip measured.
+    Shear,
+}
+
+impl From<ControlArg> for Control {
+    fn from(c: ControlArg) -> Control {
+        match c {
+            ControlArg::Slip => Control::Slip,
+            ControlArg::Shear => Control::Shear,
+        }
+    }
+}
+
+/// Unit of a time column.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum TimeUnitArg {
+    /// seconds
+    #[value(alias = "sec", alias = "second", alias = "seconds")]
+    S,
+    /// minutes
+    #[value(alias = "minute", alias = "minutes")]
+    Min,
+    /// hours
+    #[value(alias = "hr", alias = "hour", alias = "hours")]
+    H,
+    /// milliseconds
+    #[value(alias = "millisecond", alias = "milliseconds")]
+    Ms,
+}
+
+impl From<TimeUnitArg> for TimeUnit {
+    fn from(u: TimeUnitArg) -> TimeUnit {
+        match u {
+            TimeUnitArg::S => TimeUnit::S,
+            TimeUnitArg::Min => TimeUnit::Min,
+            TimeUnitArg::H => TimeUnit::H,
+            TimeUnitArg::Ms => TimeUnit::Ms,
+        }
+    }
+}
+
+/// Unit of a slip column.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LengthUnitArg {
+    /// millimetres
+    Mm,
+    /// micrometres
+    #[value(alias = "µm", alias = "μm", alias = "micron", alias = "microns")]
+    Um,
+    /// metres
+    M,
+    /// inches
+    #[value(alias = "inch", alias = "inches")]
+    In,
+}
+
+impl From<LengthUnitArg> for LengthUnit {
+    fn from(u: LengthUnitArg) -> LengthUnit {
+        match u {
+            LengthUnitArg::Mm => LengthUnit::Mm,
+            LengthUnitArg::Um => LengthUnit::Um,
+            LengthUnitArg::M => LengthUnit::M,
+            LengthUnitArg::In => LengthUnit::In,
+        }
+    }
+}
+
+/// Unit of a stress column.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum StressUnitArg {
+    /// kilopascals
+    #[value(name = "kPa")]
+    KPa,
+    /// megapascals
+    #[value(name = "MPa")]
+    MPa,
+    /// pascals
+    #[value(name = "Pa")]
+    Pa,
+    /// pounds per square inch
+    Psi,
+}
+
+impl From<StressUnitArg> for StressUnit {
+    fn from(u: StressUnitArg) -> StressUnit {
+        match u {
+            StressUnitArg::KPa => StressUnit::KPa,
+            StressUnitArg::MPa => StressUnit::MPa,
+            StressUnitArg::Pa => StressUnit::Pa,
+            StressUnitArg::Psi => StressUnit::Psi,
+        }
+    }
+}
+
+/// Cell delimiter of a lab file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DelimiterArg {
+    /// `,`
+    #[value(alias = "csv", alias = ",")]
+    Comma,
+    /// tab
+    #[value(alias = "tsv", alias = "\\t", alias = "\t")]
+    Tab,
+    /// runs of spaces or tabs
+    #[value(alias = "space", alias = "ws", alias = " ")]
+    Whitespace,
+    /// `;` (a decimal comma is then accepted)
+    #[value(alias = ";")]
+    Semicolon,
+    /// detected from the header line: tab, then `;`, then `,`, else whitespace
+    Auto,
+}
+
+impl From<DelimiterArg> for Delimiter {
+    fn from(d: DelimiterArg) -> Delimiter {
+        match d {
+            DelimiterArg::Comma => Delimiter::Comma,
+            DelimiterArg::Tab => Delimiter::Tab,
+            DelimiterArg::Whitespace => Delimiter::Whitespace,
+            DelimiterArg::Semicolon => Delimiter::Semicolon,
+            DelimiterArg::Auto => Delimiter::Auto,
+        }
+    }
+}
+
+/// `subfric import`.
+#[derive(Args, Debug)]
+pub struct ImportArgs {
+    /// Lab file.
+    pub file: PathBuf,
+    /// Output set folder (created, or the test is added to it; nothing in it is overwritten).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Time column (header name or 1-based index).
+    #[arg(long, default_value = "time_s")]
+    pub time: ColumnRef,
+    /// Unit of time.
+    #[arg(long, value_enum, ignore_case = true, default_value = "s")]
+    pub time_unit: TimeUnitArg,
+    /// Slip column.
+    #[arg(long, default_value = "slip_mm")]
+    pub slip: ColumnRef,
+    /// Unit of slip.
+    #[arg(long, value_enum, ignore_case = true, default_value = "mm")]
+    pub slip_unit: LengthUnitArg,
+    /// Shear column [default: shear_kpa, unless --friction is given].
+    #[arg(long)]
+    pub shear: Option<ColumnRef>,
+    /// Unit of shear.
+    #[arg(long, value_enum, ignore_case = true, default_value = "kPa")]
+    pub shear_unit: StressUnitArg,
+    /// Friction (shear/normal) column [default: none].
+    #[arg(long)]
+    pub friction: Option<ColumnRef>,
+    /// Normal stress column [default: none: give --normal-stress].
+    #[arg(long)]
+    pub normal: Option<ColumnRef>,
+    /// Unit of the normal column.
+    #[arg(long, value_enum, ignore_case = true, default_value = "kPa")]
+    pub normal_unit: StressUnitArg,
+    /// Constant normal stress [kPa] when there is no normal column [default: none].
+    #[arg(long)]
+    pub normal_stress: Option<f64>,
+    /// Which column the apparatus imposed.
+    #[arg(long, value_enum, default_value_t = ControlArg::Slip)]
+    pub control: ControlArg,
+    /// Cell delimiter.
+    #[arg(long, value_enum, ignore_case = true, default_value = "auto")]
+    pub delimiter: DelimiterArg,
+    /// Lines to skip before the header.
+    #[arg(long, default_value_t = 0)]
+    pub skip: usize,
+    /// The file has no header line (columns by index).
+    #[arg(long)]
+    pub no_header: bool,
+    /// Test name.
+    #[arg(long, default_value = "test")]
+    pub test_name: String,
+    /// Set name, for a new set [default: the --out folder's name].
+    #[arg(long)]
+    pub set_name: Option<String>,
+    /// Soil, for a new set [default: none].
+    #[arg(long)]
+    pub soil: Option<String>,
+    /// Surface, for a new set [default: none].
+    #[arg(long)]
+    pub surface: Option<String>,
+    /// Title, for a new set [default: the set name].
+    #[arg(long)]
+    pub title: Option<String>,
+}
+
+/// Local optimiser.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MethodArg {
+    /// Levenberg–Marquardt least squares
+    #[value(alias = "lm")]
+    Lsq,
+    /// Nelder–Mead simplex
+    #[value(alias = "nelder-mead")]
+    Nm,
+}
+
+impl From<MethodArg> for Method {
+    fn from(m: MethodArg) -> Method {
+        match m {
+            MethodArg::Lsq => Method::Lsq,
+            MethodArg::Nm => Method::NelderMead,
+        }
+    }
+}
+
+/// `subfric fit`.
+#[derive(Args, Debug)]
+pub struct FitArgs {
+    /// Set folders (several: a joint fit sharing parameters).
+    #[arg(required = true)]
+    pub sets: Vec<PathBuf>,
+    /// Only these tests, comma separated [default: all tests].
+    #[arg(long, value_delimiter = ',')]
+    pub tests: Vec<String>,
+    /// Free parameters, comma separated (alpha_t and extension parameters may be added).
+    #[arg(long, value_delimiter = ',', value_parser = parse_param, default_value = "mu_s,mu_k,kappa,xi,u_tilde")]
+    pub free: Vec<Param>,
+    /// Fixed values, key=value, comma separated [default: none].
+    #[arg(long, value_delimiter = ',', value_parser = parse_fix, value_name = "KEY=VALUE")]
+    pub fix: Vec<(Param, f64)>,
+    /// Bounds of free parameters in their own units, key=lo:hi, comma separated [default: none].
+    #[arg(long, value_delimiter = ',', value_parser = parse_bound, value_name = "KEY=LO:HI")]
+    pub bounds: Vec<(Param, f64, f64)>,
+    /// Test weights, name=w with w > 0, comma separated [default: 1 for every test].
+    #[arg(long, value_delimiter = ',', value_parser = parse_weight, value_name = "TEST=W")]
+    pub weight: Vec<(String, f64)>,
+    /// Local method.
+    #[arg(long, value_enum, default_value_t = MethodArg::Lsq)]
+    pub method: MethodArg,
+    /// Local starts.
+    #[arg(long, default_value_t = 8)]
+    pub starts: usize,
+    /// Seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Model runs of the global stage.
+    #[arg(long, default_value_t = 3000)]
+    pub global_evals: usize,
+    /// Skip profile intervals.
+    #[arg(long)]
+    pub no_profiles: bool,
+    /// Output folder [default: fits/<set name>].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Replace results in the output folder that came from another set (or not from subfric).
+    #[arg(long)]
+    pub force: bool,
+    /// Progress display on stderr.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
+}
+
+/// `subfric plot`.
+#[derive(Args, Debug)]
+pub struct PlotArgs {
+    /// Set folder.
+    pub set: PathBuf,
+    /// Fitted parameters, fit.json or params.json [default: none: measured and published only].
+    #[arg(long)]
+    pub params: Option<PathBuf>,
+    /// Output folder [default: fits/<set name>/plots].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Replace figures in the output folder that came from another set (or not from subfric).
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// `subfric diagnose`.
+#[derive(Args, Debug)]
+pub struct DiagnoseArgs {
+    /// Set folder.
+    pub set: PathBuf,
+    /// Output folder for diagnosis.json and plots [default: fits/<set name>/diagnosis].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Replace results in the output folder that came from another set (or not from subfric).
+    #[arg(long)]
+    pub force: bool,
+    /// Progress display on stderr.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
+}
+
+/// `subfric plan`.
+#[derive(Args, Debug)]
+pub struct PlanArgs {
+    /// Set folder.
+    pub set: PathBuf,
+    /// Output folder for plan.json, plan.txt, scenarios/ and the figure [default: fits/<set name>/plan].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Seed of the fits and of the simulated check's noise.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// How many of the top proposals to check by fitting a simulated joint campaign.
+    #[arg(long, default_value_t = 1)]
+    pub check: usize,
+    /// Lab time of a new test beyond its duration (specimen, set-up) [h].
+    #[arg(long, default_value_t = 0.5)]
+    pub setup_hours: f64,
+    /// Replace results in the output folder that came from another set (or not from subfric).
+    #[arg(long)]
+    pub force: bool,
+    /// Progress display on stderr.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
+}
+
+/// `subfric selfcheck`.
+#[derive(Args, Debug)]
+pub struct SelfcheckArgs {
+    /// Sets per class.
+    #[arg(long, default_value_t = 2)]
+    pub per_class: usize,
+    /// Seed.
+    #[arg(long, default_value_t = 7)]
+    pub seed: u64,
+    /// Score the sets of this folder against its truth.json [default: generate sets].
+    #[arg(long)]
+    pub sets: Option<PathBuf>,
+    /// Write the scores as JSON to this file [default: none].
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Also write every generated set (a folder per set and a truth.json, which
+    /// `selfcheck --sets` scores again) to this new folder [default: none].
+    #[arg(long)]
+    pub write_sets: Option<PathBuf>,
+    /// Only these classes (1-based numbers as printed, comma separated) [default: all].
+    #[arg(long, value_delimiter = ',')]
+    pub classes: Vec<usize>,
+    /// Replace an existing --json file.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// `subfric bench`.
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Folder of experiment sets.
+    #[arg(long, default_value = "experiments")]
+    pub experiments: PathBuf,
+}
+
+/// A parameter key.
+pub fn parse_param(s: &str) -> Result<Param, String> {
+    Param::from_key(s.trim()).ok_or_else(|| {
+        format!(
+            "unknown parameter `{}` (expected one of {})",
+            s.trim(),
+            Param::ALL
+                .iter()
+                .map(|p| p.key())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    })
+}
+
+fn key_value<'a>(s: &'a str, form: &str) -> Result<(&'a str, &'a str), String> {
+    s.split_once('=')
+        .map(|(k, v)| (k.trim(), v.trim()))
+        .ok_or_else(|| format!("`{s}` is not of the form {form} (expected key=value)"))
+}
+
+fn number(s: &str, what: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .parse()
+        .map_err(|_| format!("{what}: `{s}` is not a number (expected a decimal number)"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{what}: `{s}` is not a finite number (expected a finite number)"
+        ))
+    }
+}
+
+/// `key=value` of `--fix`.
+pub fn parse_fix(s: &str) -> Result<(Param, f64), String> {
+    let (k, v) = key_value(s, "key=value")?;
+    let p = parse_param(k)?;
+    Ok((p, number(v, k)?))
+}
+
+/// `key=lo:hi` of `--bounds`, checked against the parameter's domain.
+pub fn parse_bound(s: &str) -> Result<(Param, f64, f64), String> {
+    let (k, v) = key_value(s, "key=lo:hi")?;
+    let p = parse_param(k)?;
+    let (a, b) = v
+        .split_once(':')
+        .ok_or_else(|| format!("{k}: `{v}` is not of the form lo:hi (expected key=lo:hi)"))?;
+    let (lo, hi) = (
+        number(a.trim(), &format!("{k} lower bound"))?,
+        number(b.trim(), &format!("{k} upper bound"))?,
+    );
+    match p.bounds_problem(lo, hi) {
+        Some(msg) => Err(format!("{k}: {msg}")),
+        None => Ok((p, lo, hi)),
+    }
+}
+
+/// `name=w` of `--weight`.
+pub fn parse_weight(s: &str) -> Result<(String, f64), String> {
+    let (k, v) = key_value(s, "test=weight")?;
+    let w = number(v, k)?;
+    if w > 0.0 {
+        Ok((k.to_string(), w))
+    } else {
+        Err(format!(
+            "{k}: weight {w} is not positive (expected a weight > 0)"
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn the_command_line_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn option_values_are_parsed_or_refused_with_the_reason() {
+        assert_eq!(parse_fix("kappa=2").unwrap(), (Param::Kappa, 2.0));
+        assert!(parse_fix("kappa").unwrap_err().contains("key=value"));
+        assert!(parse_fix("kappa=abc").unwrap_err().contains("not a number"));
+        assert!(parse_fix("kapa=1")
+            .unwrap_err()
+            .contains("unknown parameter"));
+        assert_eq!(parse_bound("xi=1e-3:1").unwrap(), (Param::Xi, 1e-3, 1.0));
+        let e = parse_bound("kappa=-5:-1").unwrap_err();
+        assert!(e.contains("kappa") && e.contains("> 0"), "{e}");
+        assert!(parse_bound("mu_s=0.5:0.1").unwrap_err().contains("below"));
+        assert!(parse_bound("mu_s=0.1").unwrap_err().contains("lo:hi"));
+        assert!(parse_bound("mu_k=-0.1:0.2").unwrap_err().contains(">= 0"));
+        assert_eq!(parse_weight("a=2").unwrap(), ("a".to_string(), 2.0));
+        assert!(parse_weight("a=0").unwrap_err().contains("> 0"));
+        assert!(parse_weight("a=inf").unwrap_err().contains("finite"));
+    }
+}

@@ -1,0 +1,172 @@
+//! Progress on stderr for the long jobs (fit, diagnose, reproduce): the stage, the model runs
+//! done (sampled from [`subfric_fit::model_runs`]) and the elapsed time. A live bar (indicatif)
+//! on a terminal; nothing when stderr is not a terminal, unless asked for with
+//! `--progress always`, which then prints one plain line per stage.
+
+use clap::ValueEnum;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+use subfric_fit::{model_runs, Stage};
+
+/// When to show progress.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum ProgressMode {
+    /// A live bar when stderr is a terminal, nothing otherwise
+    #[default]
+    Auto,
+    /// Always: a live bar on a terminal, one line per stage otherwise (logs)
+    Always,
+    /// Never
+    Never,
+}
+
+#[derive(Default)]
+struct State {
+    stage: String,
+    /// Model runs expected in this stage, when known.
+    budget: Option<usize>,
+    /// Model runs when the stage began.
+    runs_at_stage: usize,
+}
+
+struct Shared {
+    t0: Instant,
+    runs0: usize,
+    state: Mutex<State>,
+    stop: AtomicBool,
+}
+
+impl Shared {
+    fn line(&self) -> String {
+        let runs = model_runs().saturating_sub(self.runs0);
+        let s = self.state.lock().map(|s| {
+            let in_stage = model_runs().saturating_sub(s.runs_at_stage);
+            match s.budget {
+                Some(b) => format!("{} ({in_stage}/{b} model runs)", s.stage),
+                None => s.stage.clone(),
+            }
+        });
+        format!(
+            "{} · {runs} model runs · {:.1} s",
+            s.unwrap_or_default(),
+            self.t0.elapsed().as_secs_f64()
+        )
+    }
+}
+
+/// A progress display; inactive ones cost nothing.
+pub struct Progress {
+    shared: Arc<Shared>,
+    bar: Option<ProgressBar>,
+    lines: bool,
+    ticker: Option<JoinHandle<()>>,
+}
+
+impl Progress {
+    /// A display in `mode`.
+    pub fn new(mode: ProgressMode) -> Progress {
+        let terminal = std::io::stderr().is_terminal();
+        let (bar, lines) = match (mode, terminal) {
+            (ProgressMode::Never, _) | (ProgressMode::Auto, false) => (false, false),
+            (_, true) => (true, false),
+            (ProgressMode::Always, false) => (false, true),
+        };
+        let shared = Arc::new(Shared {
+            t0: Instant::now(),
+            runs0: model_runs(),
+            state: Mutex::new(State::default()),
+            stop: AtomicBool::new(false),
+        });
+        let bar = bar.then(|| {
+            let b = ProgressBar::new_spinner();
+            if let Ok(style) = ProgressStyle::with_template("{spinner} {msg}") {
+                b.set_style(style);
+            }
+            b.enable_steady_tick(Duration::from_millis(120));
+            b
+        });
+        let ticker = bar.clone().map(|b| {
+            let sh = Arc::clone(&shared);
+            std::thread::spawn(move || {
+                while !sh.stop.load(Ordering::Relaxed) {
+                    b.set_message(sh.line());
+                    std::thread::sleep(Duration::from_millis(200));
+                }
+            })
+        });
+        Progress {
+            shared,
+            bar,
+            lines,
+            ticker,
+        }
+    }
+
+    /// Starts a stage, with the model runs it is expected to take when known.
+    pub fn stage(&self, stage: impl Into<String>, budget: Option<usize>) {
+        if self.bar.is_none() && !self.lines {
+            return;
+        }
+        let stage = stage.into();
+        if let Ok(mut s) = self.shared.state.lock() {
+            if s.stage == stage {
+                return;
+            }
+            s.stage = stage;
+            s.budget = budget;
+            s.runs_at_stage = model_runs();
+        }
+        if self.lines {
+            eprintln!("progress: {}", self.shared.line());
+        }
+        if let Some(b) = &self.bar {
+            b.set_message(self.shared.line());
+        }
+    }
+
+    /// Shows a calibration stage.
+    pub fn fit_stage(&self, s: Stage, global_budget: usize) {
+        match s {
+            Stage::Global => self.stage(
+                "global search (differential evolution)",
+                Some(global_budget),
+            ),
+            Stage::Local(k, n) => self.stage(format!("least-squares polish {k}/{n}"), None),
+            Stage::Profiles => self.stage("profile intervals", None),
+            Stage::Done => self.stage("done", None),
+        }
+    }
+
+    /// Prints a line on stderr without garbling the live display.
+    pub fn println(&self, line: &str) {
+        match &self.bar {
+            Some(b) => b.suspend(|| eprintln!("{line}")),
+            None => eprintln!("{line}"),
+        }
+    }
+
+    /// Clears the display.
+    pub fn finish(mut self) {
+        self.stop();
+    }
+
+    fn stop(&mut self) {
+        self.shared.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.ticker.take() {
+            let _ = t.join();
+        }
+        if let Some(b) = self.bar.take() {
+            b.finish_and_clear();
+        }
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        self.stop();
+    }
+}

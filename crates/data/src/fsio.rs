@@ -1,0 +1,149 @@
+//! Files on disk: writes that never leave a half-written file, and what kind of thing a path
+//! names before it is read.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use crate::error::DataError;
+
+static TEMP_COUNTER: AtomicUsize = AtomicUsize::new(0);
+
+/// A temporary file beside `path` (same folder, so that a rename replaces `path` in one step),
+/// hidden, and unique to this process and call.
+fn temp_path(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_else(|| "file".into());
+    let n = TEMP_COUNTER.fetch_add(1, Ordering::Relaxed);
+    path.with_file_name(format!(".{name}.subfric-tmp-{}-{n}", std::process::id()))
+}
+
+/// Writes `bytes` to a new temporary file beside `path`, flushed to disk; returns its path.
+/// On failure nothing is left behind.
+pub fn stage_file(path: &Path, bytes: &[u8]) -> Result<PathBuf, DataError> {
+    let tmp = temp_path(path);
+    // `create_new` never follows a link planted at the temporary name.
+    let written = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)
+        .and_then(|mut f| {
+            f.write_all(bytes)?;
+            f.sync_all()
+        });
+    match written {
+        Ok(()) => Ok(tmp),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(DataError::io(path, e))
+        }
+    }
+}
+
+/// Moves a file written by [`stage_file`] to `path`, replacing what was there in one step (a
+/// symbolic link at `path` is replaced, never written through). On failure the staged file is
+/// removed.
+pub fn commit_file(staged: &Path, path: &Path) -> Result<(), DataError> {
+    if let Err(e) = std::fs::rename(staged, path) {
+        let _ = std::fs::remove_file(staged);
+        return Err(DataError::io(path, e));
+    }
+    // Make the rename itself durable (best effort: not every platform can sync a folder).
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        if let Ok(d) = std::fs::File::open(dir) {
+            let _ = d.sync_all();
+        }
+    }
+    Ok(())
+}
+
+/// Writes a file atomically: readers see the old content or the new one, never a mix, even
+/// when the disk fills up or the process is killed while writing (the new content goes to a
+/// temporary file in the same folder, flushed, then renamed over `path`).
+///
+/// ```
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let dir = tempfile::tempdir()?;
+/// let f = dir.path().join("a.txt");
+/// subfric_data::write_atomic(&f, b"one")?;
+/// subfric_data::write_atomic(&f, b"two")?;
+/// assert_eq!(std::fs::read_to_string(&f)?, "two");
+/// assert_eq!(std::fs::read_dir(dir.path())?.count(), 1); // no temporary file left
+/// # Ok(()) }
+/// ```
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), DataError> {
+    let staged = stage_file(path, bytes)?;
+    commit_file(&staged, path)
+}
+
+/// What a path names, for messages that say what is there instead of "absent".
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PathKind {
+    /// Nothing.
+    Absent,
+    /// A symbolic link whose target does not exist.
+    DanglingLink,
+    /// A regular file (possibly through a symbolic link).
+    File,
+    /// A folder.
+    Folder,
+    /// A FIFO, socket or device.
+    Special,
+}
+
+impl PathKind {
+    /// What `path` names (following symbolic links).
+    pub fn of(path: &Path) -> PathKind {
+        match std::fs::metadata(path) {
+            Ok(m) if m.is_file() => PathKind::File,
+            Ok(m) if m.is_dir() => PathKind::Folder,
+            Ok(_) => PathKind::Special,
+            Err(_) => match std::fs::symlink_metadata(path) {
+                Ok(_) => PathKind::DanglingLink,
+                Err(_) => PathKind::Absent,
+            },
+        }
+    }
+
+    /// A phrase for messages: "is absent", "is a folder", ...
+    pub fn describe(self) -> &'static str {
+        match self {
+            PathKind::Absent => "is absent",
+            PathKind::DanglingLink => "is a symbolic link to nothing",
+            PathKind::File => "is a file",
+            PathKind::Folder => "is a folder, not a file",
+            PathKind::Special => "is not a regular file (a FIFO, socket or device)",
+        }
+    }
+}
+
+/// Why `file` (inside the set folder `dir`) cannot be read as a data file of the set, if it
+/// cannot: not a regular file, or a symbolic link leading out of the set folder (whose target
+/// is then never opened).
+pub fn set_file_problem(dir: &Path, file: &Path) -> Option<String> {
+    let kind = PathKind::of(file);
+    if kind != PathKind::File {
+        return Some(kind.describe().to_string());
+    }
+    let is_link = std::fs::symlink_metadata(file)
+        .map(|m| m.file_type().is_symlink())
+        .unwrap_or(false);
+    let inside = match (std::fs::canonicalize(dir), std::fs::canonicalize(file)) {
+        (Ok(d), Ok(f)) => f.starts_with(d),
+        _ => false,
+    };
+    if !inside {
+        return Some(format!(
+            "{} outside the set folder (expected the set's own files inside {})",
+            if is_link {
+                "is a symbolic link that leads"
+            } else {
+                "lies"
+            },
+            dir.display()
+        ));
+    }
+    None
+}

@@ -1,0 +1,330 @@
+//! Bad input gives an error naming the file, the line and the field and what was expected —
+//! never a panic, never output written: missing folders and files, broken CSV cells, invalid
+//! parameter files, malformed options, lab files without the named columns.
+
+use std::ffi::OsStr;
+
+use subfric_e2e::{args, assert_mentions, copy_set, experiments, line_of, replace_line, subfric};
+
+fn run_err(a: &[&OsStr]) -> String {
+    subfric!().err(a)
+}
+
+#[test]
+fn a_missing_set_folder_is_named_by_every_command() {
+    let tmp = tempfile::tempdir().unwrap();
+    let missing = tmp.path().join("no-such-set");
+    let params = experiments().join("table1-medium/experiment.json");
+    let out = tmp.path().join("out");
+    for a in [
+        args!["check", &missing].to_vec(),
+        args!["fit", &missing, "--no-profiles", "--out", &out].to_vec(),
+        args!["simulate", &missing, "--params", &params, "--out", &out].to_vec(),
+        args!["plot", &missing, "--out", &out].to_vec(),
+        args!["diagnose", &missing, "--out", &out].to_vec(),
+    ] {
+        let err = run_err(&a);
+        assert_mentions(&err, &["no-such-set", "does not exist", "expected"]);
+    }
+    let err = run_err(args!["reproduce", "--experiments", &missing, "--out", &out]);
+    assert_mentions(&err, &["no-such-set"]);
+    // An experiments folder without any set.
+    let empty = tmp.path().join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let err = run_err(args!["reproduce", "--experiments", &empty, "--out", &out]);
+    assert_mentions(&err, &["empty", "experiment.json"]);
+    assert!(!out.exists(), "nothing is written on error");
+}
+
+#[test]
+fn an_absent_csv_is_reported_at_its_line_of_experiment_json() {
+    let tmp = tempfile::tempdir().unwrap();
+    let set = copy_set("table1-medium", tmp.path());
+    std::fs::remove_file(set.join("monotonic.csv")).unwrap();
+    let line = line_of(&set.join("experiment.json"), "\"file\"");
+    let err = run_err(args!["check", &set]);
+    assert_mentions(
+        &err,
+        &[
+            &format!("experiment.json:{line}"),
+            "tests[0].file",
+            "monotonic.csv",
+            "absent",
+            "expected",
+        ],
+    );
+    // fit goes through the same loader.
+    let out = tmp.path().join("out");
+    let err = run_err(args!["fit", &set, "--no-profiles", "--out", &out]);
+    assert_mentions(&err, &[&format!("experiment.json:{line}"), "monotonic.csv"]);
+    assert!(!out.exists());
+}
+
+#[test]
+fn csv_errors_name_file_line_and_field() {
+    let tmp = tempfile::tempdir().unwrap();
+    // (what, line to edit, its time cell before, new text, words the message must hold)
+    let header_line = 2;
+    let cases: [(&str, usize, &str, &str, &[&str]); 5] = [
+        (
+            "wrong column name",
+            header_line,
+            "time_s",
+            "time_s,slip_mm,shear_kPa_x",
+            &[":2", "shear_kPa_x", "unknown column", "shear_kpa"],
+        ),
+        (
+            "NaN cell",
+            7,
+            "0.240",
+            "0.240,0.00400,NaN",
+            &[":7", "shear_kpa", "NaN", "finite"],
+        ),
+        (
+            "non-increasing time",
+            7,
+            "0.240",
+            "0.120,0.00400,28.4797",
+            &[":7", "time_s", "increasing"],
+        ),
+        (
+            "text in a cell",
+            9,
+            "0.360",
+            "0.360,abc,28.0",
+            &[":9", "slip_mm", "abc"],
+        ),
+        (
+            "a missing cell",
+            12,
+            "0.540",
+            "0.540,0.00900",
+            &[":12", "2 cells", "expected 3"],
+        ),
+    ];
+    for (i, (what, line, was, new, words)) in cases.iter().enumerate() {
+        let root = tmp.path().join(format!("case{i}"));
+        let set = copy_set("table1-medium", &root);
+        let csv = set.join("monotonic.csv");
+        // The edit must land where the case expects it.
+        let before = std::fs::read_to_string(&csv).unwrap();
+        let old = before.lines().nth(line - 1).unwrap();
+        assert_eq!(old.split(',').next(), Some(*was), "{what}: {old}");
+        replace_line(&csv, *line, new);
+        let err = run_err(args!["check", &set]);
+        assert_mentions(&err, &["monotonic.csv", "expected"]);
+        assert_mentions(&err, words);
+        // The message points at monotonic.csv:<line>, not at another file or line.
+        assert!(
+            err.contains(&format!("monotonic.csv:{line}")),
+            "{what}: {err}"
+        );
+        // The same problem stops a fit and a simulation before any output is written.
+        let out = root.join("out");
+        let err = run_err(args!["fit", &set, "--no-profiles", "--out", &out]);
+        assert!(
+            err.contains(&format!("monotonic.csv:{line}")),
+            "{what}: {err}"
+        );
+        let err = run_err(args![
+            "simulate",
+            &set,
+            "--params",
+            &set.join("experiment.json"),
+            "--out",
+            &out
+        ]);
+        assert!(
+            err.contains(&format!("monotonic.csv:{line}")),
+            "{what}: {err}"
+        );
+        assert!(!out.exists(), "{what}: output written despite the error");
+    }
+}
+
+#[test]
+fn invalid_parameter_files_are_errors_naming_every_bad_field() {
+    let tmp = tempfile::tempdir().unwrap();
+    let set = experiments().join("table1-medium");
+    let params = tmp.path().join("params.json");
+    let out = tmp.path().join("out");
+    // μ_k above μ_s and a negative κ: both reported in one message.
+    std::fs::write(
+        &params,
+        r#"{"mu_s": 0.3, "mu_k": 0.5, "kappa": -1, "xi": 0.01, "u_tilde": 10, "alpha_t": 100}"#,
+    )
+    .unwrap();
+    for a in [
+        args!["simulate", &set, "--params", &params, "--out", &out].to_vec(),
+        args!["plot", &set, "--params", &params, "--out", &out].to_vec(),
+    ] {
+        let err = run_err(&a);
+        let first = err.lines().next().unwrap();
+        assert_mentions(first, &["params.json", "mu_k", "kappa", "expected"]);
+    }
+    assert!(!out.exists());
+
+    // Not JSON: the line and column of the mistake.
+    std::fs::write(&params, "{\"mu_s\": 0.3,\n  \"mu_k\": }").unwrap();
+    let err = run_err(args!["simulate", &set, "--params", &params, "--out", &out]);
+    assert_mentions(&err, &["params.json:2:11", "JSON", "expected"]);
+
+    // A missing and a mistyped field.
+    std::fs::write(
+        &params,
+        r#"{"mu_s": 0.3, "mu_k": 0.1, "kappa": 1, "xi": 0.01, "u_tilde": 10}"#,
+    )
+    .unwrap();
+    let err = run_err(args!["simulate", &set, "--params", &params, "--out", &out]);
+    assert_mentions(&err, &["params.json", "alpha_t", "missing", "expected"]);
+    std::fs::write(
+        &params,
+        r#"{"mu_s": "high", "mu_k": 0.1, "kappa": 1, "xi": 0.01, "u_tilde": 10, "alpha_t": 1}"#,
+    )
+    .unwrap();
+    let err = run_err(args!["simulate", &set, "--params", &params, "--out", &out]);
+    assert_mentions(&err, &["params.json", "mu_s", "high", "expected a number"]);
+    let absent = tmp.path().join("absent.json");
+    let err = run_err(args!["simulate", &set, "--params", &absent, "--out", &out]);
+    assert_mentions(&err, &["absent.json"]);
+    assert!(!out.exists());
+}
+
+#[test]
+fn bad_fit_options_are_errors_that_say_what_is_expected() {
+    let tmp = tempfile::tempdir().unwrap();
+    let set = experiments().join("table1-medium");
+    let out = tmp.path().join("out");
+    let fit = |extra: &[&str]| {
+        let mut a: Vec<std::ffi::OsString> = vec!["fit".into(), set.clone().into()];
+        a.extend(extra.iter().map(|s| s.into()));
+        a.extend(["--no-profiles".into(), "--out".into(), out.clone().into()]);
+        a
+    };
+    // Malformed option values: usage errors (exit code 2) naming the flag, before anything runs.
+    let usage: [(&[&str], &[&str]); 6] = [
+        (
+            &["--free", "nonsense"],
+            &["--free", "nonsense", "expected one of", "mu_s", "u_tilde"],
+        ),
+        (&["--free", "mu_s,bogus"], &["--free", "bogus", "mu_s"]),
+        (
+            &["--fix", "kappa=abc"],
+            &["--fix", "kappa", "abc", "not a number"],
+        ),
+        (&["--fix", "kappa"], &["--fix", "kappa", "key=value"]),
+        (
+            &["--bounds", "mu_s=0.5:0.1"],
+            &["--bounds", "mu_s", "lower bound"],
+        ),
+        (
+            &["--weight", "monotonic=-1"],
+            &["--weight", "monotonic", "> 0"],
+        ),
+    ];
+    for (extra, words) in usage {
+        let a = fit(extra);
+        let err = subfric!().usage_err(&a.iter().map(|s| s.as_os_str()).collect::<Vec<_>>());
+        assert_mentions(&err, words);
+    }
+    // Values that parse but do not fit the set or the model: errors (exit code 1).
+    let cases: [(&[&str], &[&str]); 4] = [
+        (
+            &["--fix", "mu_k=0.9"],
+            &["--fix", "mu_k", "0.9", "expected"],
+        ),
+        (&["--tests", "nope"], &["--tests", "nope", "monotonic"]),
+        (&["--weight", "nope=2"], &["--weight", "nope", "monotonic"]),
+        (&["--fix", "alpha_t=1e15"], &["alpha_t", "1e15", "expected"]),
+    ];
+    for (extra, words) in cases {
+        let a = fit(extra);
+        let err = run_err(&a.iter().map(|s| s.as_os_str()).collect::<Vec<_>>());
+        assert_mentions(&err, words);
+    }
+    assert!(!out.exists(), "a rejected fit wrote output");
+}
+
+#[test]
+fn import_with_a_missing_column_names_file_line_and_column() {
+    let tmp = tempfile::tempdir().unwrap();
+    let lab = tmp.path().join("lab.tsv");
+    std::fs::write(
+        &lab,
+        "t_min\tslip_um\tshear_MPa\n0\t0\t0.001\n1\t10\t0.002\n2\t20\t0.003\n",
+    )
+    .unwrap();
+    let out = tmp.path().join("set");
+    let err = run_err(args![
+        "import",
+        &lab,
+        "--out",
+        &out,
+        "--time",
+        "t_min",
+        "--time-unit",
+        "min",
+        "--slip",
+        "displacement",
+        "--shear",
+        "shear_MPa",
+        "--shear-unit",
+        "MPa",
+        "--normal-stress",
+        "100"
+    ]);
+    assert_mentions(
+        &err,
+        &["lab.tsv:1", "slip", "displacement", "expected", "slip_um"],
+    );
+    // Without --shear the default column shear_kpa is looked for and reported missing.
+    let err = run_err(args![
+        "import",
+        &lab,
+        "--out",
+        &out,
+        "--time",
+        "t_min",
+        "--slip",
+        "slip_um",
+        "--normal-stress",
+        "100"
+    ]);
+    assert_mentions(&err, &["lab.tsv:1", "shear", "shear_kpa", "expected"]);
+    // No normal stress at all.
+    let err = run_err(args![
+        "import",
+        &lab,
+        "--out",
+        &out,
+        "--time",
+        "t_min",
+        "--slip",
+        "slip_um",
+        "--shear",
+        "shear_MPa"
+    ]);
+    assert_mentions(&err, &["lab.tsv", "normal", "expected"]);
+    // An unknown unit: a usage error listing the units.
+    let err = subfric!().usage_err(args![
+        "import",
+        &lab,
+        "--out",
+        &out,
+        "--time",
+        "t_min",
+        "--time-unit",
+        "fortnight",
+        "--slip",
+        "slip_um",
+        "--shear",
+        "shear_MPa",
+        "--normal-stress",
+        "100"
+    ]);
+    assert_mentions(
+        &err,
+        &["--time-unit", "fortnight", "possible values", "min"],
+    );
+    assert!(!out.exists(), "a failed import wrote a set");
+}
