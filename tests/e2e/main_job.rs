@@ -599,6 +599,7 @@ fn help_lists_every_subcommand_and_every_option_with_its_default() {
         "plot",
         "diagnose",
         "selfcheck",
+        "plan",
         "bench",
     ];
     for c in commands {

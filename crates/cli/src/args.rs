@@ -43,6 +43,8 @@ pub enum Command {
     Diagnose(DiagnoseArgs),
     /// Check the diagnosis on generated sets with withheld effects (or on a folder with truth.json).
     Selfcheck(SelfcheckArgs),
+    /// Which test to run next: proposals ranked by how far they determine what the data do not.
+    Plan(PlanArgs),
     /// Speed of the model step, of each paper fit, and of multi-start scaling.
     Bench(BenchArgs),
 }
@@ -388,6 +390,31 @@ pub struct DiagnoseArgs {
     /// Seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Replace results in the output folder that came from another set (or not from subfric).
+    #[arg(long)]
+    pub force: bool,
+    /// Progress display on stderr.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
+}
+
+/// `subfric plan`.
+#[derive(Args, Debug)]
+pub struct PlanArgs {
+    /// Set folder.
+    pub set: PathBuf,
+    /// Output folder for plan.json, plan.txt, scenarios/ and the figure [default: fits/<set name>/plan].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Seed of the fits and of the simulated check's noise.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// How many of the top proposals to check by fitting a simulated joint campaign.
+    #[arg(long, default_value_t = 1)]
+    pub check: usize,
+    /// Lab time of a new test beyond its duration (specimen, set-up) [h].
+    #[arg(long, default_value_t = 0.5)]
+    pub setup_hours: f64,
     /// Replace results in the output folder that came from another set (or not from subfric).
     #[arg(long)]
     pub force: bool,

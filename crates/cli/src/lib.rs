@@ -10,6 +10,7 @@ mod fit_cmd;
 mod import_cmd;
 mod io;
 pub mod output;
+mod plan_cmd;
 mod progress;
 mod reproduce;
 mod simulate_cmd;
@@ -48,6 +49,7 @@ pub fn run(command: Command) -> Result<()> {
         Command::Plot(a) => plot(a),
         Command::Diagnose(a) => diagnose(a),
         Command::Selfcheck(a) => selfcheck(a),
+        Command::Plan(a) => plan_cmd::run(a),
         Command::Bench(a) => bench::run(a),
     }
 }

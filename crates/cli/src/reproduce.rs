@@ -36,6 +36,8 @@ pub struct SetResult {
     pub outcome: FitOutcome,
     /// PNG files.
     pub plots: Vec<PathBuf>,
+    /// The next test `subfric plan` proposes (when some parameter is not determined).
+    pub next: Option<crate::plan_cmd::NextTest>,
 }
 
 /// A set to fit: its folder, output name, description.
@@ -110,6 +112,7 @@ fn fit_one(job: &Job, claim: ResultsDir, options: FitOptions) -> Result<(SetResu
         Some(&outcome.report.model),
         &set_out,
     )?;
+    let next = crate::plan_cmd::next_test(&outcome, &set_out.join(crate::plan_cmd::PLAN_DIR))?;
     claim.commit()?;
     Ok((
         SetResult {
@@ -117,6 +120,7 @@ fn fit_one(job: &Job, claim: ResultsDir, options: FitOptions) -> Result<(SetResu
             table: job.table.clone(),
             outcome,
             plots,
+            next,
         },
         notes,
     ))
@@ -145,7 +149,11 @@ pub fn reproduce(
     let claims = jobs
         .iter()
         .map(|j| {
-            let mut files = vec!["fit.json".to_string(), "fit.txt".to_string()];
+            let mut files = vec![
+                "fit.json".to_string(),
+                "fit.txt".to_string(),
+                crate::plan_cmd::PLAN_DIR.to_string(),
+            ];
             files.extend(
                 j.meta
                     .tests
@@ -213,6 +221,9 @@ fn write_tables(out: &Path, sets: &[SetResult]) -> Result<()> {
                 "- **{}** (misfit {:.2}× noise variance): [fit.json]({}/fit.json), [report]({}/fit.txt)",
                 s.name, s.outcome.report.reduced_chi2, s.name, s.name
             );
+            if let Some(n) = &s.next {
+                let _ = writeln!(readme, "\n  {}", n.markdown(&s.name));
+            }
             for p in &s.plots {
                 if let Some(f) = p.file_name() {
                     let f = f.to_string_lossy();
@@ -347,6 +358,9 @@ fn table_files(table: &str, sets: &[&SetResult]) -> (String, String) {
                     }
                 );
             }
+        }
+        if let Some(n) = &s.next {
+            let _ = writeln!(md, "\n{}", n.markdown(&s.name));
         }
         let _ = writeln!(md);
     }

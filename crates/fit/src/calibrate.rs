@@ -9,7 +9,8 @@ use crate::lm::{levenberg_marquardt, LmOptions, LmResult, Termination};
 use crate::problem::{fold_into_box, Problem};
 use crate::space::{Coord, Param, Scale, Space};
 use crate::uncertainty::{
-    linearise, natural_interval, profiles, variance_scale, FlatDirection, Linearised, Profile,
+    linearise_scaled, natural_interval, noise_correlation, profiles_scaled, variance_scale,
+    FlatDirection, Linearised, Profile,
 };
 use argmin::core::{Executor, State, TerminationReason, TerminationStatus};
 use argmin::solver::neldermead::NelderMead;
@@ -225,6 +226,10 @@ pub struct FitReport {
     pub rows: usize,
     /// SSR/(rows − free parameters): about 1 when the misfit is at the noise level.
     pub reduced_chi2: f64,
+    /// Variance inflation for correlated residuals, τ ≥ 1 ([`noise_correlation`]): the
+    /// residuals' integrated autocorrelation time in rows. Every standard error and interval
+    /// is computed as if the fit had rows/τ independent rows (s² = max(1, reduced χ²)·τ).
+    pub noise_correlation: f64,
     /// Per-test misfit.
     pub tests: Vec<TestMisfit>,
     /// Optimiser report.
@@ -459,6 +464,18 @@ struct Uncertainty {
     profiles: Vec<Profile>,
     /// Whether the optimum came from re-polishing a profile point.
     repolished: bool,
+    /// Variance inflation for correlated residuals at the optimum.
+    correlation: f64,
+}
+
+/// The variance scale of a fit at `x`: max(1, reduced χ²) times the residuals' correlation
+/// factor; returns (s², factor).
+fn scale_at(p: &Problem, x: &[f64], ssr: f64) -> (f64, f64) {
+    let mut r = Vec::new();
+    let mut scratch = Vec::new();
+    p.residuals(x, &mut r, &mut scratch);
+    let tau = noise_correlation(p.tests, &r);
+    (variance_scale(ssr, p.rows(), x.len()) * tau, tau)
 }
 
 fn uncertainty(
@@ -467,18 +484,20 @@ fn uncertainty(
     opts: &FitOptions,
     progress: &(dyn Fn(Stage) + Sync),
 ) -> Uncertainty {
-    let lin = linearise(p, &best.x, best.ssr);
+    let (s2, correlation) = scale_at(p, &best.x, best.ssr);
+    let lin = linearise_scaled(p, &best.x, s2);
     let mut u = Uncertainty {
         best,
         lin,
         profiles: Vec::new(),
         repolished: false,
+        correlation,
     };
     if !opts.profiles {
         return u;
     }
     progress(Stage::Profiles);
-    u.profiles = profiles(p, &u.best.x, u.best.ssr, &u.lin.std_errors_x);
+    u.profiles = profiles_scaled(p, &u.best.x, u.best.ssr, s2, &u.lin.std_errors_x);
     let better = u
         .profiles
         .iter()
@@ -489,8 +508,10 @@ fn uncertainty(
         if r.ssr < u.best.ssr {
             u.best = r.into();
             u.repolished = true;
-            u.lin = linearise(p, &u.best.x, u.best.ssr);
-            u.profiles = profiles(p, &u.best.x, u.best.ssr, &u.lin.std_errors_x);
+            let (s2, correlation) = scale_at(p, &u.best.x, u.best.ssr);
+            u.correlation = correlation;
+            u.lin = linearise_scaled(p, &u.best.x, s2);
+            u.profiles = profiles_scaled(p, &u.best.x, u.best.ssr, s2, &u.lin.std_errors_x);
         }
     }
     u
@@ -671,6 +692,7 @@ pub fn calibrate(
         ssr: u.best.ssr,
         rows,
         reduced_chi2: u.best.ssr / (rows.saturating_sub(m)).max(1) as f64,
+        noise_correlation: u.correlation,
         tests: misfits(tests, &model),
         optimizer: OptimizerReport {
             method: opts.method,
@@ -707,12 +729,12 @@ pub fn compare_with_published(report: &mut FitReport, published: &Model) {
     }
 }
 
-/// The variance scale of a report (s² ≥ 1).
+/// The variance scale of a report (s² ≥ 1), the correlation factor included.
 pub fn report_variance_scale(r: &FitReport) -> f64 {
     let m = r
         .parameters
         .iter()
         .filter(|p| p.status != Status::Fixed)
         .count();
-    variance_scale(r.ssr, r.rows, m)
+    variance_scale(r.ssr, r.rows, m) * r.noise_correlation.max(1.0)
 }

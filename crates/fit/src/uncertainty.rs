@@ -5,6 +5,7 @@ use crate::interval::Interval;
 use crate::lm::{jacobian, levenberg_marquardt, LmOptions};
 use crate::problem::Problem;
 use crate::residuals::Residuals;
+use crate::space::Space;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -47,6 +48,87 @@ pub struct FlatDirection {
 /// above the noise widens every interval accordingly.
 pub fn variance_scale(ssr: f64, rows: usize, m: usize) -> f64 {
     (ssr / (rows.saturating_sub(m)).max(1) as f64).max(1.0)
+}
+
+/// Sokal's window constant: the autocorrelations are summed up to the first lag W with
+/// W ≥ c·τ(W), where the sum has settled and the noise of further terms would only add
+/// variance.
+const SOKAL_WINDOW: f64 = 5.0;
+
+/// Fewest residuals of a test for its autocorrelation to be estimated (fewer: taken as
+/// independent).
+const MIN_CORRELATION_ROWS: usize = 20;
+
+/// Integrated autocorrelation time τ = 1 + 2 Σ_{k=1}^{W} ρ_k of a residual sequence (rows, in
+/// row order), with Sokal's automatic window; at least 1. For independent residuals τ ≈ 1;
+/// for residuals correlated over many rows τ is the number of rows that carry as much
+/// information as one independent row: n_eff = n/τ (for an AR(1) sequence of lag-one
+/// correlation ρ, τ = (1 + ρ)/(1 − ρ)).
+///
+/// ```
+/// use subfric_fit::uncertainty::correlation_time;
+/// // An AR(1) sequence with ρ = 0.8 (τ = 9), from a small deterministic generator.
+/// let mut state = 12345u64;
+/// let mut uniform = || { state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407); (state >> 11) as f64 / (1u64 << 53) as f64 };
+/// let mut r = vec![0.0f64];
+/// for _ in 0..20_000 {
+///     let u: f64 = (0..12).map(|_| uniform()).sum::<f64>() - 6.0;
+///     let last = *r.last().unwrap();
+///     r.push(0.8 * last + 0.6 * u);
+/// }
+/// let tau = correlation_time(&r);
+/// assert!((tau - 9.0).abs() < 1.5, "{tau}");
+/// ```
+pub fn correlation_time(r: &[f64]) -> f64 {
+    let v: Vec<f64> = r.iter().copied().filter(|x| x.is_finite()).collect();
+    let n = v.len();
+    if n < MIN_CORRELATION_ROWS {
+        return 1.0;
+    }
+    let mean = v.iter().sum::<f64>() / n as f64;
+    let d: Vec<f64> = v.iter().map(|x| x - mean).collect();
+    let c0 = d.iter().map(|x| x * x).sum::<f64>();
+    if c0 <= 0.0 {
+        return 1.0;
+    }
+    let mut tau = 1.0;
+    for k in 1..n / 2 {
+        let ck: f64 = d[..n - k].iter().zip(&d[k..]).map(|(a, b)| a * b).sum();
+        tau += 2.0 * ck / c0;
+        if k as f64 >= SOKAL_WINDOW * tau {
+            break;
+        }
+    }
+    tau.max(1.0)
+}
+
+/// The variance inflation for correlated residuals of a joint fit: each test's
+/// [`correlation_time`] of its counted residuals (thinned tests: of their bins), averaged with
+/// the test's share of the sum of squares as weight (a test whose residuals carry more of the
+/// misfit matters more); at least 1. Multiplying s² by it widens every interval as if the fit
+/// had n/τ independent rows instead of n.
+pub fn noise_correlation(tests: &[crate::dataset::FitTest], residuals: &[f64]) -> f64 {
+    let (mut num, mut den) = (0.0, 0.0);
+    let mut start = 0;
+    for t in tests {
+        let rows = t.counted_rows();
+        let end = start + t.len();
+        if end > residuals.len() {
+            break;
+        }
+        let r = &residuals[start + rows.start..start + rows.end];
+        let ssr: f64 = r.iter().filter(|v| v.is_finite()).map(|v| v * v).sum();
+        if ssr > 0.0 {
+            num += ssr * correlation_time(r);
+            den += ssr;
+        }
+        start = end;
+    }
+    if den > 0.0 {
+        (num / den).max(1.0)
+    } else {
+        1.0
+    }
 }
 
 /// Relative curvature (eigenvalue of JᵀJ over the largest) below which a direction is reported
@@ -99,13 +181,28 @@ impl CoordinateStats {
 /// Covariance, standard errors and flat directions of the coordinates at `x` (an optimum with
 /// sum of squares `ssr`).
 pub fn coordinate_stats<R: Residuals + ?Sized>(p: &R, x: &[f64], ssr: f64) -> CoordinateStats {
-    let m = x.len();
+    let s2 = variance_scale(ssr, p.observations(), x.len());
+    coordinate_stats_scaled(p, x, s2)
+}
+
+/// As [`coordinate_stats`], with the variance scale s² given (e.g. widened for correlated
+/// residuals, [`noise_correlation`]).
+pub fn coordinate_stats_scaled<R: Residuals + ?Sized>(
+    p: &R,
+    x: &[f64],
+    s2: f64,
+) -> CoordinateStats {
     let mut r = Vec::new();
     p.residuals_at(x, &mut r);
     let j = jacobian(p, x, &r, None);
-    let jtj = j.transpose() * &j;
-    let s2 = variance_scale(ssr, p.observations(), m);
-    let eig = SymmetricEigen::new(jtj);
+    stats_of_information(&(j.transpose() * &j), s2)
+}
+
+/// Covariance s²(JᵀJ)⁺, standard errors and flat directions from the information matrix JᵀJ
+/// of the coordinates (noise-normalised residuals).
+pub fn stats_of_information(jtj: &DMatrix<f64>, s2: f64) -> CoordinateStats {
+    let m = jtj.nrows();
+    let eig = SymmetricEigen::new(jtj.clone());
     let max_ev = eig.eigenvalues.iter().cloned().fold(0.0, f64::max);
     let mut flat = Vec::new();
     let mut curvature_free = Vec::new();
@@ -145,21 +242,39 @@ pub fn coordinate_stats<R: Residuals + ?Sized>(p: &R, x: &[f64], ssr: f64) -> Co
 /// Standard errors, correlations and flat directions of the natural parameters at `x`: the
 /// coordinates' statistics carried through the chart by its Jacobian T = ∂natural/∂x.
 pub fn linearise(p: &Problem, x: &[f64], ssr: f64) -> Linearised {
+    linearise_scaled(p, x, variance_scale(ssr, p.observations(), x.len()))
+}
+
+/// As [`linearise`], with the variance scale s² given.
+pub fn linearise_scaled(p: &Problem, x: &[f64], s2: f64) -> Linearised {
+    let stats = coordinate_stats_scaled(p, x, s2);
+    linearise_stats(&p.space, x, &stats)
+}
+
+/// The chart's Jacobian T = ∂natural/∂x at `x` (by differences: μ_k depends on μ_s and its
+/// ratio, ξ and κ on the combined coordinates).
+pub fn chart_jacobian(space: &Space, x: &[f64]) -> DMatrix<f64> {
     let m = x.len();
-    let stats = coordinate_stats(p, x, ssr);
-    // Natural = T(x): its Jacobian by differences (μ_k depends on μ_s and its ratio).
-    let nat0 = p.space.natural(x);
+    let nat0 = space.natural(x);
     let mut t = DMatrix::zeros(m, m);
     for k in 0..m {
         let mut xp = x.to_vec();
         let h = CHART_STEP * (1.0 + x[k].abs());
         xp[k] += h;
-        let nat = p.space.natural(&xp);
+        let nat = space.natural(&xp);
         for i in 0..m {
             t[(i, k)] = (nat[i] - nat0[i]) / h;
         }
     }
-    let names: Vec<String> = p.space.coords.iter().map(|c| c.name()).collect();
+    t
+}
+
+/// Standard errors, correlations and flat directions of the natural parameters from the
+/// coordinates' statistics at `x`.
+pub fn linearise_stats(space: &Space, x: &[f64], stats: &CoordinateStats) -> Linearised {
+    let m = x.len();
+    let t = chart_jacobian(space, x);
+    let names: Vec<String> = space.coords.iter().map(|c| c.name()).collect();
     let flat = stats
         .flat
         .iter()
@@ -202,7 +317,7 @@ pub fn linearise(p: &Problem, x: &[f64], ssr: f64) -> Linearised {
     Linearised {
         covariance: Some(cov),
         std_errors: se,
-        std_errors_x: stats.std_errors,
+        std_errors_x: stats.std_errors.clone(),
         correlation: corr,
         flat_directions: flat,
     }
@@ -268,34 +383,50 @@ const BETTER_BY: f64 = 1e-6;
 /// with the others re-minimised, until the SSR has risen by χ²₁(0.95)·s² or the box wall is
 /// reached (then that side is open: the data set no bound there).
 pub fn profiles<R: Residuals + ?Sized>(p: &R, x: &[f64], ssr: f64, se_x: &[f64]) -> Vec<Profile> {
-    let m = x.len();
-    let s2 = variance_scale(ssr, p.observations(), m);
-    (0..m)
+    let s2 = variance_scale(ssr, p.observations(), x.len());
+    profiles_scaled(p, x, ssr, s2, se_x)
+}
+
+/// As [`profiles`], with the variance scale s² given: each profile ends where the SSR has risen
+/// by χ²₁(0.95)·s².
+pub fn profiles_scaled<R: Residuals + ?Sized>(
+    p: &R,
+    x: &[f64],
+    ssr: f64,
+    s2: f64,
+    se_x: &[f64],
+) -> Vec<Profile> {
+    (0..x.len())
         .into_par_iter()
-        .map(|k| {
-            let mut trace = vec![TracePoint {
-                x: x.to_vec(),
-                delta: 0.0,
-                open_wall: false,
-            }];
-            let mut better: Option<(Vec<f64>, f64)> = None;
-            let walk = ProfileWalk {
-                x,
-                k,
-                ssr,
-                s2,
-                se: se_x[k],
-            };
-            let lower = walk.side(p, -1.0, &mut trace, &mut better);
-            let upper = walk.side(p, 1.0, &mut trace, &mut better);
-            Profile {
-                lower,
-                upper,
-                trace,
-                better,
-            }
-        })
+        .map(|k| profile_one(p, x, ssr, s2, se_x[k], k))
         .collect()
+}
+
+/// The profile of coordinate `k` alone (standard error `se` of the coordinate, may be
+/// infinite).
+pub fn profile_one<R: Residuals + ?Sized>(
+    p: &R,
+    x: &[f64],
+    ssr: f64,
+    s2: f64,
+    se: f64,
+    k: usize,
+) -> Profile {
+    let mut trace = vec![TracePoint {
+        x: x.to_vec(),
+        delta: 0.0,
+        open_wall: false,
+    }];
+    let mut better: Option<(Vec<f64>, f64)> = None;
+    let walk = ProfileWalk { x, k, ssr, s2, se };
+    let lower = walk.side(p, -1.0, &mut trace, &mut better);
+    let upper = walk.side(p, 1.0, &mut trace, &mut better);
+    Profile {
+        lower,
+        upper,
+        trace,
+        better,
+    }
 }
 
 /// One coordinate's profile: where it starts and how far the SSR may rise.

@@ -1,0 +1,378 @@
+//! `subfric plan <set>`: which test to run next. Fits the set, proposes one more test of each
+//! kind under the rig's control, ranks them by how far they would take the parameters the data
+//! do not determine towards "determined", per hour of lab time, and checks the top one by
+//! fitting a simulated joint campaign (the planning logic is `subfric_fit::plan`).
+//!
+//! Writes `plan.json`, `plan.txt`, one scenario JSON per proposal (`scenarios/<name>.json`,
+//! runnable with `subfric simulate --scenario`) and `top-proposal.png`: the top proposal's
+//! predicted curve with the band the undetermined parameters still allow.
+
+use crate::args::PlanArgs;
+use crate::fit_cmd::{fit_setup, setup_fit, FitOutcome, FitRequest};
+use crate::io::{write_json, write_text};
+use crate::output::{default_results_dir, ResultsDir};
+use crate::progress::Progress;
+use anyhow::{bail, Result};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use subfric_fit::interval::short_number as num;
+use subfric_fit::plan::{plan, Band, Plan, PlanOptions};
+use subfric_fit::{FitOptions, FitTest, Param, Status};
+use subfric_model::Control;
+use subfric_plot::{render_png, Figure, Panel, Series, Style};
+
+/// The folder of a set's results that holds its plan.
+pub const PLAN_DIR: &str = "plan";
+
+/// What a plan folder holds (scenarios/ is a folder of one JSON per proposal).
+fn plan_files() -> Vec<String> {
+    ["plan.json", "plan.txt", "top-proposal.png", "scenarios"]
+        .map(String::from)
+        .to_vec()
+}
+
+/// Runs `subfric plan`: the set is checked and the output folder claimed before the fit.
+pub fn run(a: PlanArgs) -> Result<()> {
+    if !(a.setup_hours >= 0.0 && a.setup_hours.is_finite()) {
+        bail!(
+            "--setup-hours {}: expected a finite number of hours >= 0",
+            a.setup_hours
+        );
+    }
+    let options = FitOptions {
+        seed: a.seed,
+        ..FitOptions::default()
+    };
+    let mut req = FitRequest::of_set(a.set.clone(), options);
+    req.progress = a.progress;
+    let progress = Progress::new(req.progress);
+    let setup = setup_fit(&req, &progress)?;
+    for w in &setup.warnings {
+        progress.println(&format!("warning: {w}"));
+    }
+    let dir = a
+        .out
+        .unwrap_or_else(|| default_results_dir(&setup.name()).join(PLAN_DIR));
+    let claim = ResultsDir::claim(&dir, std::slice::from_ref(&a.set), &plan_files(), a.force)?;
+    let outcome = fit_setup(&req, setup, &progress).map_err(|e| crate::located(e, &a.set))?;
+    progress.stage("planning: the valley, the proposals, the check", None);
+    let opts = PlanOptions {
+        setup_hours: a.setup_hours,
+        check: a.check,
+        fit: options,
+        ..PlanOptions::default()
+    };
+    let p = plan_outcome(&outcome, &opts).map_err(|e| crate::located(e, &a.set))?;
+    progress.finish();
+    let text = plan_text(&outcome.name, &p);
+    println!("{text}");
+    let files = write_plan(claim.path(), &outcome.name, &p, &text)?;
+    claim.commit()?;
+    for f in files {
+        println!("wrote {}", f.display());
+    }
+    Ok(())
+}
+
+/// Plans the next test for a finished fit.
+pub fn plan_outcome(outcome: &FitOutcome, opts: &PlanOptions) -> Result<Plan> {
+    let tests: Vec<FitTest> = outcome.tests.iter().map(|t| t.fit.clone()).collect();
+    Ok(plan(&tests, &outcome.report, opts)?)
+}
+
+/// Writes plan.json, plan.txt, the scenarios and the band figure under `dir`.
+pub fn write_plan(dir: &Path, name: &str, p: &Plan, text: &str) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let json = dir.join("plan.json");
+    write_json(
+        &json,
+        &serde_json::json!({
+            "set": name,
+            "ranking": "share of the valley (the parameter vectors the current data allow) over which every undetermined parameter is predicted determined within ±5 %, per hour of lab time; ties by ln(shrink) per hour",
+            "plan": p,
+        }),
+    )?;
+    files.push(json);
+    let txt = dir.join("plan.txt");
+    write_text(&txt, &format!("{text}\n"))?;
+    files.push(txt);
+    for prop in &p.proposals {
+        let f = dir.join("scenarios").join(format!("{}.json", prop.name));
+        write_json(&f, &prop.scenario)?;
+        files.push(f);
+    }
+    if let (Some(band), Some(top)) = (&p.band, p.proposals.first()) {
+        let f = dir.join("top-proposal.png");
+        render_png(&band_figure(name, &top.name, band), &f)?;
+        files.push(f);
+    }
+    Ok(files)
+}
+
+/// The top proposal's predicted curve against time, with the envelope of the curves of every
+/// parameter vector the current data allow, and the width of that envelope below.
+fn band_figure(set: &str, proposal: &str, b: &Band) -> Figure {
+    let slip = b.control == Control::Slip;
+    let y = |v: &[f64]| -> Vec<f64> {
+        if slip {
+            v.iter().zip(&b.normal).map(|(a, n)| a / n).collect()
+        } else {
+            v.to_vec()
+        }
+    };
+    let (lo, hi) = (y(&b.lo), y(&b.hi));
+    let spread: Vec<f64> = hi.iter().zip(&lo).map(|(a, c)| a - c).collect();
+    let t = b.time.clone();
+    let main = Panel::new(
+        if slip {
+            "friction τ/σ_n [-]"
+        } else {
+            "slip u [mm]"
+        },
+        vec![
+            Series::new(
+                format!("range over the {} parameter sets the data allow", b.curves),
+                t.clone(),
+                lo,
+                Style::Published,
+            ),
+            Series::new(
+                format!("range over the {} parameter sets the data allow", b.curves),
+                t.clone(),
+                hi,
+                Style::Published,
+            ),
+            Series::new("current fit", t.clone(), y(&b.fit), Style::Other(2)),
+            Series::new("planning point", t.clone(), y(&b.centre), Style::Fitted),
+        ],
+    );
+    let residual = Panel::new(
+        if slip { "range [-]" } else { "range [mm]" },
+        vec![Series::new(
+            "width of the range",
+            t,
+            spread,
+            Style::Other(1),
+        )],
+    )
+    .with_zero_line();
+    Figure::new(
+        format!("{set}: next test {proposal}, predicted"),
+        "time t [s]",
+        main,
+    )
+    .with_residual(residual)
+}
+
+fn interval_or_dash(i: Option<subfric_fit::Interval>) -> String {
+    i.map(|i| i.to_string())
+        .unwrap_or_else(|| "unbounded".into())
+}
+
+/// The readable plan printed by `subfric plan` and written to plan.txt.
+pub fn plan_text(name: &str, p: &Plan) -> String {
+    let mut s = String::new();
+    let r = &p.rig;
+    let (noise_unit, control) = match r.control {
+        Control::Slip => ("kPa", "slip"),
+        Control::Shear => ("mm", "traction"),
+    };
+    let _ = writeln!(
+        s,
+        "plan for {name}: {control} control at {} mm/s, {:.0} kPa, sampled every {} s, noise {} {noise_unit}",
+        num(r.rate_mm_s),
+        r.normal_stress_kpa,
+        num(r.dt_s),
+        num(r.noise_sd)
+    );
+    if p.undetermined.is_empty() {
+        let _ = writeln!(
+            s,
+            "the data determine every free parameter; proposals are ranked by how far they would narrow them further"
+        );
+    } else {
+        let _ = writeln!(s, "not determined now: {}", p.undetermined.join(", "));
+    }
+    let range = |key: &str| {
+        let q = Param::from_key(key)?;
+        let v: Vec<f64> = p.valley.iter().filter_map(|v| q.get(&v.model)).collect();
+        let lo = v.iter().cloned().fold(f64::INFINITY, f64::min);
+        let hi = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        (lo <= hi).then_some((lo, hi))
+    };
+    if let Some((lo, hi)) = range("xi") {
+        let _ = writeln!(
+            s,
+            "{} parameter vectors the data allow (the valley): ξ from {} to {} 1/s",
+            p.valley.len(),
+            num(lo),
+            num(hi)
+        );
+    }
+    let pp = &p.planning_point.params;
+    let _ = writeln!(
+        s,
+        "planning point (middle of the valley): mu_s {} mu_k {} kappa {} xi {} u_tilde {}",
+        num(pp.mu_s),
+        num(pp.mu_k),
+        num(pp.kappa),
+        num(pp.xi),
+        num(pp.u_tilde)
+    );
+    let _ = writeln!(
+        s,
+        "{:<4} {:<28} {:>7} {:>6} {:>11} {:>8} {:>8}  {:<28} still undetermined there",
+        "rank",
+        "proposal",
+        "lab h",
+        "rows",
+        "determines",
+        "shrink",
+        "score",
+        "ξ predicted (planning point)",
+    );
+    for (i, prop) in p.proposals.iter().enumerate() {
+        let xi = prop.predicted.iter().find(|x| x.name == "xi");
+        let left: Vec<&str> = prop
+            .predicted
+            .iter()
+            .filter(|x| !x.determined)
+            .map(|x| x.name.as_str())
+            .collect();
+        let _ = writeln!(
+            s,
+            "{:<4} {:<28} {:>7.2} {:>6} {:>10.0}% {:>7.1}× {:>8.3}  {:<28} {}",
+            i + 1,
+            prop.name,
+            prop.hours,
+            prop.rows,
+            100.0 * prop.determines_share,
+            prop.shrink,
+            prop.score,
+            xi.map(|x| match x.predicted {
+                Some(i) => format!("{i} ±{:.1}%", x.predicted_half_width_percent),
+                None => "unbounded".into(),
+            })
+            .unwrap_or_default(),
+            if left.is_empty() {
+                "none".to_string()
+            } else {
+                left.join(", ")
+            }
+        );
+    }
+    let _ = writeln!(
+        s,
+        "determines: share of the valley where every undetermined parameter is predicted within ±5 %; shrink: geometric-mean narrowing of their intervals; score: determines per lab hour (test + set-up)"
+    );
+    for (n, why) in &p.rejected {
+        let _ = writeln!(s, "not proposed: {n}: {why}");
+    }
+    if let Some(top) = p.proposals.first() {
+        let _ = writeln!(s, "top proposal: {}: {}", top.name, top.description);
+        if let Some(c) = &top.check {
+            let _ = writeln!(
+                s,
+                "check: {} simulated at the planning point with noise {} {noise_unit} (seed {}), fitted with the current tests: misfit {:.2}, {}",
+                top.name,
+                num(r.noise_sd),
+                c.seed,
+                c.reduced_chi2,
+                if c.determines_all {
+                    "every parameter determined"
+                } else {
+                    "not every parameter determined"
+                }
+            );
+            let _ = writeln!(
+                s,
+                "  {:<10} {:>11} {:>26} {:>26} {:>7}  status",
+                "parameter", "simulated", "predicted", "achieved", "ratio"
+            );
+            for q in &c.parameters {
+                let _ = writeln!(
+                    s,
+                    "  {:<10} {:>11} {:>26} {:>26} {:>7}  {}",
+                    q.name,
+                    num(q.truth),
+                    interval_or_dash(q.predicted),
+                    interval_or_dash(q.achieved),
+                    q.width_ratio.map(|v| format!("{v:.2}")).unwrap_or_default(),
+                    q.status.describe()
+                );
+            }
+        }
+    }
+    s.trim_end().to_string()
+}
+
+/// What `subfric reproduce` reports of a set's plan: the top proposal and its ξ interval.
+pub struct NextTest {
+    /// Proposal name.
+    pub name: String,
+    /// What it is.
+    pub description: String,
+    /// Lab hours.
+    pub hours: f64,
+    /// Predicted ξ interval at the planning point, with its ±%.
+    pub xi: String,
+    /// Share of the valley where it determines every parameter.
+    pub determines_share: f64,
+}
+
+impl NextTest {
+    /// One Markdown paragraph for the set `set` (links relative to the folder holding the sets).
+    pub fn markdown(&self, set: &str) -> String {
+        format!(
+            "Next test (`subfric plan`, [plan]({set}/plan/plan.txt)): **{}**, {:.2} h of lab time — {}. Predicted ξ: {}. Every undetermined parameter is predicted within ±5 % over {:.0} % of the parameter values the data allow.",
+            self.name,
+            self.hours,
+            self.description,
+            self.xi,
+            100.0 * self.determines_share
+        )
+    }
+}
+
+/// Plans the next test of a fitted set for `reproduce` (no check fit, to keep it quick), and
+/// writes the plan under `dir`; `None` when the fit determines every parameter.
+pub fn next_test(outcome: &FitOutcome, dir: &Path) -> Result<Option<NextTest>> {
+    let r = &outcome.report;
+    if r.parameters
+        .iter()
+        .all(|p| matches!(p.status, Status::Fixed | Status::Determined))
+    {
+        return Ok(None);
+    }
+    let p = plan_outcome(
+        outcome,
+        &PlanOptions {
+            check: 0,
+            ..PlanOptions::default()
+        },
+    )?;
+    let text = plan_text(&outcome.name, &p);
+    write_plan(dir, &outcome.name, &p, &text)?;
+    Ok(p.proposals.first().map(|top| {
+        let xi = top.predicted.iter().find(|x| x.name == "xi");
+        NextTest {
+            name: top.name.clone(),
+            description: top.description.clone(),
+            hours: top.hours,
+            xi: xi
+                .map(|x| match x.predicted {
+                    Some(i) => format!(
+                        "{i} (±{:.1} %) if ξ = {} 1/s, the middle of the values the data allow",
+                        x.predicted_half_width_percent,
+                        num(x.value)
+                    ),
+                    None => format!(
+                        "still unbounded at ξ = {} 1/s, the middle of the values the data allow",
+                        num(x.value)
+                    ),
+                })
+                .unwrap_or_default(),
+            determines_share: top.determines_share,
+        }
+    }))
+}
