@@ -137,6 +137,13 @@ pub fn diagnosis_figures(
     out: &Path,
 ) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(out)?;
+    // The folder is claimed with the results: figures of an earlier diagnosis (other events,
+    // other tests) would be read as this one's.
+    for e in std::fs::read_dir(out)?.flatten() {
+        if e.path().extension().is_some_and(|x| x == "png") {
+            std::fs::remove_file(e.path())?;
+        }
+    }
     let mut files = Vec::new();
     for p in tests {
         let t = &p.full;

@@ -168,26 +168,20 @@ fn diagnose(a: DiagnoseArgs) -> Result<()> {
     let set = load_set(&a.set)?;
     print_warnings(&plausibility(&set));
     let name = set.meta.name.clone();
-    // The per-test figures are named after the tests.
-    let test_figures: Vec<String> = set
-        .tests
-        .iter()
-        .map(|t| format!("{}.png", figures::sanitize(&t.spec.name)))
-        .collect();
     drop(set);
     let dir = a
         .out
         .unwrap_or_else(|| default_results_dir(&name).join("diagnosis"));
+    // The per-test and per-event figures go to `figures/`, claimed as a whole.
     let files: Vec<String> = [
         "diagnosis.json",
         "diagnosis.txt",
         "residual-by-segment.png",
         "residual-by-test.png",
+        "figures",
     ]
     .map(String::from)
-    .into_iter()
-    .chain(test_figures)
-    .collect();
+    .to_vec();
     let claim = ResultsDir::claim(&dir, std::slice::from_ref(&a.set), &files, a.force)?;
     let opts = DiagnoseOptions {
         seed: a.seed,

@@ -169,12 +169,6 @@ pub fn compare(
         // Below the noise an improvement is no evidence: one unit per row at least.
         let floor = nb.saturating_sub(1).max(1) as f64;
         shape_score += ne * (wb.max(floor) / wc.max(floor)).ln();
-        if std::env::var_os("SUBFRIC_SCORE_TRACE").is_some() {
-            eprintln!(
-                "piece {:?} test {} rows {nb} n_eff {ne:.1} shape {wb:.1} -> {wc:.1} level {mb:.3} -> {mc:.3} contrib {:.1}",
-                p.kind, p.test, ne * (wb.max(floor) / wc.max(floor)).ln()
-            );
-        }
         n_eff += ne;
         levels.entry(p.test).or_default().push((sw, mb, mc));
         let (b, c) = (ssr(&rb[p.start..end]).0, ssr(&rc[p.start..end]).0);
