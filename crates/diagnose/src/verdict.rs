@@ -160,10 +160,12 @@ mod tests {
     #[test]
     fn near_the_noise_a_candidate_must_remove_most_of_the_excess() {
         let th = Thresholds::default();
+        // Near the noise the typical-piece route is closed: a partial explanation stays
+        // tentative however much a typical piece improves.
         let partial = cmp(300.0, 0.6, 0.5, 4.0);
         assert_eq!(
             decide(4.0, &[(Effect::Rate, partial)], None, &th),
-            Decision::Unexplained
+            Decision::Tentative(0)
         );
         let full = cmp(300.0, 0.71, 0.5, 4.0);
         assert_eq!(
@@ -175,15 +177,22 @@ mod tests {
     #[test]
     fn when_model_error_dominates_a_typical_improvement_is_enough() {
         let th = Thresholds::default();
-        let c = cmp(300.0, 0.3, 0.26, 5000.0);
+        let c = cmp(300.0, 0.3, th.min_typical_shrink + 0.01, 5000.0);
         assert_eq!(
             decide(5000.0, &[(Effect::Rate, c)], None, &th),
             Decision::Named(0)
         );
-        let weak = cmp(300.0, 0.3, 0.24, 5000.0);
+        // Just under the typical threshold: significant, so kept only tentatively.
+        let weak = cmp(300.0, 0.3, th.min_typical_shrink - 0.01, 5000.0);
         assert_eq!(
             decide(5000.0, &[(Effect::Rate, weak)], None, &th),
-            Decision::Unexplained
+            Decision::Tentative(0)
+        );
+        // The same typical improvement near the noise does not count.
+        let near_noise = cmp(300.0, 0.3, th.min_typical_shrink + 0.01, 5.0);
+        assert_eq!(
+            decide(5.0, &[(Effect::Rate, near_noise)], None, &th),
+            Decision::Tentative(0)
         );
     }
 
