@@ -52,9 +52,13 @@ def test_simulate_gives_the_command_s_scenario_output_exactly(set_name, cli, tmp
         assert mu.shape == r.shape == predicted.shape
         assert np.all((r >= 0) & (r <= 1))
         assert np.all((mu >= ref["mu_k"] - 1e-12) & (mu <= ref["mu_s"] + 1e-12))
-    # One number for the normal stress of every row.
+    # One number for the normal stress of every row; a list; NumPy scalars among the parameters.
     p2, _, _ = subfric.simulate(ref, t.time_s, list(t.imposed), float(t.normal_kpa[0]), t.control)
     np.testing.assert_array_equal(p2, t.measured)
+    ref_np = {k: (np.float64(v) if isinstance(v, float) else v) for k, v in ref.items()}
+    ref_np["alpha_t"] = np.int64(ref["alpha_t"])
+    p3, _, _ = subfric.simulate(ref_np, t.time_s, t.imposed, t.normal_kpa, t.control)
+    np.testing.assert_array_equal(p3, t.measured)
 
 
 @pytest.mark.parametrize("name", BUNDLED)

@@ -72,7 +72,11 @@ fn the_python_package_installs_from_the_repository_and_its_tests_pass() {
         "python -m venv",
         Command::new(&interpreter).arg("-m").arg("venv").arg(&venv),
     );
-    let python = venv.join("bin").join("python");
+    let python = if cfg!(windows) {
+        venv.join("Scripts").join("python.exe")
+    } else {
+        venv.join("bin").join("python")
+    };
     let pip_env = |c: &mut Command| {
         c.env("PIP_CACHE_DIR", work.join("pip-cache"))
             .env("PIP_DISABLE_PIP_VERSION_CHECK", "1")
