@@ -411,6 +411,13 @@ pub fn report_table_timed(name: &str, r: &FitReport) -> String {
 /// data, the code and the seed only.
 pub fn write_fit(dir: &Path, out: &FitOutcome) -> Result<PathBuf> {
     let file = dir.join("fit.json");
+    crate::io::write_json(&file, &fit_json(out)?)?;
+    Ok(file)
+}
+
+/// The content of `fit.json`: the set, the tests, the fitted parameters and model, and the
+/// report without the wall time (what `subfric fit` writes and the Python package returns).
+pub fn fit_json(out: &FitOutcome) -> Result<serde_json::Value> {
     let mut report = serde_json::to_value(&out.report)?;
     if let Some(o) = report
         .get_mut("optimizer")
@@ -418,13 +425,11 @@ pub fn write_fit(dir: &Path, out: &FitOutcome) -> Result<PathBuf> {
     {
         o.remove("elapsed_s");
     }
-    let v = serde_json::json!({
+    Ok(serde_json::json!({
         "set": out.name,
         "tests": out.tests.iter().map(|t| t.fit.name.clone()).collect::<Vec<_>>(),
         "params": out.report.model.params,
         "model": out.report.model,
         "report": report,
-    });
-    crate::io::write_json(&file, &v)?;
-    Ok(file)
+    }))
 }

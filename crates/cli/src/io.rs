@@ -28,6 +28,13 @@ pub fn load_model(path: &Path) -> Result<Model> {
             e
         )
     })?;
+    model_from_json(&v, &path.display().to_string())
+}
+
+/// A model from the JSON value of a `params.json` (keys of `reference_parameters`), a
+/// `fit.json` (its `model`: parameters and extensions) or an `experiment.json` (its
+/// `reference_parameters`); `origin` names where the value came from in messages (a file).
+pub fn model_from_json(v: &serde_json::Value, origin: &str) -> Result<Model> {
     let (obj, ext) = if let Some(m) = v.get("model") {
         (
             m.get("params").cloned().unwrap_or_default(),
@@ -39,29 +46,25 @@ pub fn load_model(path: &Path) -> Result<Model> {
         (v.clone(), None)
     };
     if !obj.is_object() {
-        bail!("{}: expected a JSON object of parameters (mu_s, mu_k, kappa, xi, u_tilde, alpha_t, ...)", path.display());
+        bail!("{origin}: expected a JSON object of parameters (mu_s, mu_k, kappa, xi, u_tilde, alpha_t, ...)");
     }
     for key in ["mu_s", "mu_k", "kappa", "xi", "u_tilde", "alpha_t"] {
         match obj.get(key) {
-            None => bail!(
-                "{}: field `{key}` is missing (expected a number)",
-                path.display()
-            ),
-            Some(x) if !x.is_number() => bail!(
-                "{}: field `{key}` is {x} (expected a number)",
-                path.display()
-            ),
+            None => bail!("{origin}: field `{key}` is missing (expected a number)"),
+            Some(x) if !x.is_number() => {
+                bail!("{origin}: field `{key}` is {x} (expected a number)")
+            }
             _ => {}
         }
     }
-    let params: Params =
-        serde_json::from_value(obj).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let params: Params = serde_json::from_value(obj).map_err(|e| anyhow!("{origin}: {e}"))?;
     let ext: Extensions = match ext {
-        Some(e) => serde_json::from_value(e)
-            .map_err(|e| anyhow!("{}: field `model.ext`: {e}", path.display()))?,
+        Some(e) => {
+            serde_json::from_value(e).map_err(|e| anyhow!("{origin}: field `model.ext`: {e}"))?
+        }
         None => Extensions::default(),
     };
-    Model::new(params, ext).map_err(|e| anyhow!("{}: {e}", path.display()))
+    Model::new(params, ext).map_err(|e| anyhow!("{origin}: {e}"))
 }
 
 /// Writes pretty JSON, creating the folder; atomically (see [`write_text`]).

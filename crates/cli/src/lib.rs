@@ -2,6 +2,7 @@
 //! per subcommand. Errors are printed once, each cause once, with exit code 1 (usage errors:
 //! clap's exit code 2); no input makes it panic.
 
+pub mod api;
 pub mod args;
 mod bench;
 mod diagnose_cmd;
@@ -195,15 +196,10 @@ fn diagnose(a: DiagnoseArgs) -> Result<()> {
     let (d, plots) =
         diagnose_cmd::run_diagnose(&a.set, claim.path(), &opts).map_err(|e| located(e, &a.set))?;
     progress.finish();
-    if !(d.base.reduced_chi2.is_finite() && d.verdict.held_out_shrink.is_finite()) {
+    if let Err(e) = api::check_diagnosis_finite(&a.set, &d) {
         // Not left for a script to read as a result.
         let _ = std::fs::remove_file(claim.path().join("diagnosis.json"));
-        bail!(
-            "{}: the diagnosis ended with a number that is not finite (base misfit {}, held-out shrink {}); its result is not to be trusted",
-            a.set.display(),
-            d.base.reduced_chi2,
-            d.verdict.held_out_shrink
-        );
+        return Err(e);
     }
     println!("{}", diagnose_cmd::report_text(&name, &d));
     claim.commit()?;

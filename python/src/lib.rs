@@ -1,0 +1,369 @@
+//! `subfric._native`: the extension module behind the Python package `subfric`
+//! (`python/subfric/__init__.py` wraps these functions, normalises their arguments and documents
+//! them). Everything here calls the library crates — the same loader, simulator, calibration and
+//! diagnosis as the `subfric` command (through `subfric::api`) — and converts at the border:
+//! NumPy arrays in and out, JSON text for the results that the command writes as JSON files
+//! (so that the Python dicts hold exactly what `json.load` gives for those files). Errors become
+//! `subfric.SubfricError` with the command's located message; the long calls run with the GIL
+//! released.
+
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyException, PyTypeError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyList, PyString, PyTuple};
+use std::path::PathBuf;
+use subfric::api::{self, FitRequest, ProgressMode};
+use subfric::args::{parse_bound, parse_fix, parse_param};
+use subfric_data::{load_set as load_set_rs, plausibility, InitialSpec};
+use subfric_diagnose::DiagnoseOptions;
+use subfric_fit::{control_of, FitOptions, Method, Param};
+use subfric_model::{simulate as simulate_rs, Control, Initial, Model, Protocol, Trajectory};
+
+create_exception!(
+    subfric,
+    SubfricError,
+    PyException,
+    "An error of subfric: bad input (the message names the file, the line and the field, and what was expected), an impossible parameter, or a result withheld because it cannot be trusted."
+);
+
+/// The error as the command prints it (each cause once), raised as `SubfricError`.
+fn error(e: anyhow::Error) -> PyErr {
+    SubfricError::new_err(subfric::error_text(&e))
+}
+
+fn fail(message: impl Into<String>) -> PyErr {
+    SubfricError::new_err(message.into())
+}
+
+fn array<'py>(py: Python<'py>, v: Vec<f64>) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_vec(py, v)
+}
+
+fn column(a: &PyReadonlyArray1<'_, f64>, name: &str) -> PyResult<Vec<f64>> {
+    a.as_slice()
+        .map(<[f64]>::to_vec)
+        .map_err(|e| fail(format!("{name}: {e} (expected a contiguous 1-D array)")))
+}
+
+/// A JSON value from a Python value made of dicts (str keys), lists, tuples, str, bool, int,
+/// float and None. Numbers are taken as the doubles they are (no decimal text in between, so
+/// parameters reach the model bit for bit); `what` names the value in messages.
+fn json_of(v: &Bound<'_, PyAny>, what: &str) -> PyResult<serde_json::Value> {
+    use serde_json::Value;
+    if v.is_none() {
+        return Ok(Value::Null);
+    }
+    if let Ok(b) = v.cast::<PyBool>() {
+        return Ok(Value::Bool(b.is_true()));
+    }
+    if let Ok(s) = v.cast::<PyString>() {
+        return Ok(Value::String(s.to_cow()?.into_owned()));
+    }
+    if let Ok(d) = v.cast::<PyDict>() {
+        let mut m = serde_json::Map::new();
+        for (k, x) in d.iter() {
+            let k: String = k
+                .extract()
+                .map_err(|_| fail(format!("{what}: a key {k} (expected str keys)")))?;
+            let x = json_of(&x, &format!("{what}[{k:?}]"))?;
+            m.insert(k, x);
+        }
+        return Ok(Value::Object(m));
+    }
+    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
+        let items = v
+            .try_iter()?
+            .enumerate()
+            .map(|(i, x)| json_of(&x?, &format!("{what}[{i}]")))
+            .collect::<PyResult<_>>()?;
+        return Ok(Value::Array(items));
+    }
+    if v.is_instance_of::<PyFloat>() || v.hasattr("__float__")? && !v.hasattr("__index__")? {
+        let x: f64 = v.extract()?;
+        return serde_json::Number::from_f64(x)
+            .map(Value::Number)
+            .ok_or_else(|| fail(format!("{what}: {x} (expected a finite number)")));
+    }
+    if let Ok(i) = v.extract::<i64>() {
+        return Ok(Value::from(i));
+    }
+    if let Ok(i) = v.extract::<u64>() {
+        return Ok(Value::from(i));
+    }
+    Err(fail(format!(
+        "{what}: a {} (expected a number, a string, a dict or a list)",
+        v.get_type().name()?
+    )))
+}
+
+/// The model from a dict as `params.json`, a fit.json or an experiment.json hold (see
+/// `subfric::api::model_from_json`), or from such a file, read as `subfric simulate --params`
+/// reads it.
+fn model_of(params: &Bound<'_, PyAny>) -> PyResult<Model> {
+    if params.is_instance_of::<PyDict>() {
+        let v = json_of(params, "params")?;
+        return api::model_from_json(&v, "params").map_err(error);
+    }
+    match params.extract::<PathBuf>() {
+        Ok(path) => subfric::api::load_model(&path).map_err(error),
+        Err(_) => Err(PyTypeError::new_err(format!(
+            "params: a {} (expected a dict of parameters or the path of a JSON file)",
+            params.get_type().name()?
+        ))),
+    }
+}
+
+fn control_from(s: &str) -> PyResult<Control> {
+    s.parse::<subfric_data::Control>()
+        .map(control_of)
+        .map_err(|e| fail(format!("control: {e}")))
+}
+
+/// The predicted column, μ and r.
+type Simulated<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+);
+
+/// Simulates one test: the model's response to an imposed slip or shear history.
+#[pyfunction]
+#[pyo3(signature = (params, time, imposed, normal, control, *, initial=None, initial_slip=0.0))]
+#[allow(clippy::too_many_arguments)]
+fn simulate<'py>(
+    py: Python<'py>,
+    params: &Bound<'py, PyAny>,
+    time: PyReadonlyArray1<'py, f64>,
+    imposed: PyReadonlyArray1<'py, f64>,
+    normal: PyReadonlyArray1<'py, f64>,
+    control: &str,
+    initial: Option<&Bound<'py, PyAny>>,
+    initial_slip: f64,
+) -> PyResult<Simulated<'py>> {
+    let model = model_of(params)?;
+    let control = control_from(control)?;
+    let initial: Initial = match initial {
+        None => Initial::Rest,
+        Some(v) if v.is_none() => Initial::Rest,
+        Some(v) if v.extract::<String>().is_ok_and(|s| s == "rest") => Initial::Rest,
+        Some(v) => serde_json::from_value(json_of(v, "initial")?).map_err(|e| {
+            fail(format!(
+                "initial: {e} (expected None, \"rest\", {{\"kind\": \"loaded\", \"shear_kpa\": …}} or {{\"kind\": \"sliding\", \"shear_kpa\": …, \"rate_mm_s\": …}})"
+            ))
+        })?,
+    };
+    let (t, x, n) = (
+        column(&time, "time")?,
+        column(&imposed, "imposed")?,
+        column(&normal, "normal")?,
+    );
+    let run = py.detach(move || {
+        simulate_rs(
+            &model,
+            &Protocol {
+                control,
+                time: &t,
+                imposed: &x,
+                normal: &n,
+                initial_slip,
+                initial,
+            },
+        )
+    });
+    let traj: Trajectory = run.map_err(|e| fail(format!("simulate: {e}")))?;
+    let predicted = traj.predicted(control).to_vec();
+    Ok((array(py, predicted), array(py, traj.mu), array(py, traj.r)))
+}
+
+/// Loads and validates a set folder: a dict of its description (as JSON text), its tests with
+/// their columns as arrays, and its plausibility warnings.
+#[pyfunction]
+fn load_set<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>> {
+    let set = py
+        .detach(|| load_set_rs(&path))
+        .map_err(|e| error(e.into()))?;
+    let out = PyDict::new(py);
+    out.set_item("path", set.dir.display().to_string())?;
+    let meta = serde_json::to_string(&set.meta).map_err(|e| error(e.into()))?;
+    out.set_item("meta_json", meta)?;
+    let warnings: Vec<String> = plausibility(&set).iter().map(|w| w.to_string()).collect();
+    out.set_item("warnings", warnings)?;
+    let tests = PyList::empty(py);
+    for t in set.tests {
+        let d = PyDict::new(py);
+        d.set_item("name", &t.spec.name)?;
+        d.set_item("file", &t.spec.file)?;
+        d.set_item("path", t.path.display().to_string())?;
+        d.set_item("control", t.spec.control.name())?;
+        d.set_item("normal_stress_kpa", t.spec.normal_stress_kpa)?;
+        d.set_item(
+            "initial",
+            t.spec.initial.map(|i| match i {
+                InitialSpec::Rest => "rest",
+                InitialSpec::Sliding => "sliding",
+            }),
+        )?;
+        d.set_item("friction_given", t.friction_given)?;
+        d.set_item("comments", t.comments)?;
+        d.set_item("time_s", array(py, t.time_s))?;
+        d.set_item("slip_mm", array(py, t.slip_mm))?;
+        d.set_item("shear_kpa", array(py, t.shear_kpa))?;
+        d.set_item("normal_kpa", array(py, t.normal_kpa))?;
+        tests.append(d)?;
+    }
+    out.set_item("tests", tests)?;
+    Ok(out)
+}
+
+fn method_of(s: &str) -> PyResult<Method> {
+    match s.trim().to_ascii_lowercase().as_str() {
+        "lsq" | "lm" => Ok(Method::Lsq),
+        "nm" | "nelder-mead" => Ok(Method::NelderMead),
+        other => Err(fail(format!(
+            "method: unknown method `{other}` (expected `lsq` (Levenberg–Marquardt) or `nm` (Nelder–Mead))"
+        ))),
+    }
+}
+
+/// Calibrates one set, or several jointly, as `subfric fit` does. Returns the text of the
+/// fit.json it would write, the fitted curves per test (arrays), and the plausibility warnings.
+#[pyfunction]
+#[pyo3(signature = (dirs, *, tests, free, fix, bounds, weights, method, starts, seed, global_evals, profiles))]
+#[allow(clippy::too_many_arguments)]
+fn fit<'py>(
+    py: Python<'py>,
+    dirs: Vec<PathBuf>,
+    tests: Vec<String>,
+    free: Option<Vec<String>>,
+    fix: Vec<(String, f64)>,
+    bounds: Vec<(String, f64, f64)>,
+    weights: Vec<(String, f64)>,
+    method: &str,
+    starts: usize,
+    seed: u64,
+    global_evals: usize,
+    profiles: bool,
+) -> PyResult<(String, Bound<'py, PyDict>, Vec<String>)> {
+    // The command line's own parsers, so that a value is refused with the same reason.
+    let free = match free {
+        None => Param::BASE.to_vec(),
+        Some(keys) => keys
+            .iter()
+            .map(|k| parse_param(k).map_err(|e| fail(format!("free: {e}"))))
+            .collect::<PyResult<_>>()?,
+    };
+    let fix = fix
+        .iter()
+        .map(|(k, v)| parse_fix(&format!("{k}={v}")).map_err(|e| fail(format!("fix: {e}"))))
+        .collect::<PyResult<_>>()?;
+    let bounds = bounds
+        .iter()
+        .map(|(k, lo, hi)| {
+            parse_bound(&format!("{k}={lo}:{hi}")).map_err(|e| fail(format!("bounds: {e}")))
+        })
+        .collect::<PyResult<_>>()?;
+    for (name, w) in &weights {
+        if !(w.is_finite() && *w > 0.0) {
+            return Err(fail(format!(
+                "weights: {name}: weight {w} is not a finite positive number (expected a weight > 0)"
+            )));
+        }
+    }
+    let req = FitRequest {
+        dirs,
+        tests,
+        free,
+        fix,
+        bounds,
+        weights,
+        options: FitOptions {
+            method: method_of(method)?,
+            starts,
+            seed,
+            global_evaluations: global_evals,
+            profiles,
+            ..FitOptions::default()
+        },
+        progress: ProgressMode::Never,
+    };
+    let run = py.detach(move || -> anyhow::Result<_> {
+        let fitted = api::fit(&req)?;
+        let model = fitted.outcome.report.model;
+        let mut curves = Vec::new();
+        for t in &fitted.outcome.tests {
+            let traj = simulate_rs(&model, &t.full.protocol())
+                .map_err(|e| anyhow::anyhow!("test `{}`: {e}", t.fit.name))?;
+            curves.push((t.fit.name.clone(), t.full.clone(), traj));
+        }
+        let text = serde_json::to_string(&fitted.json)?;
+        let warnings: Vec<String> = fitted.warnings.iter().map(|w| w.to_string()).collect();
+        Ok((text, curves, warnings))
+    });
+    let (text, curves, warnings) = run.map_err(error)?;
+    let out = PyDict::new(py);
+    for (name, t, traj) in curves {
+        let d = PyDict::new(py);
+        let control = match t.control {
+            Control::Slip => "slip",
+            Control::Shear => "shear",
+        };
+        d.set_item("control", control)?;
+        d.set_item("fitted", array(py, traj.predicted(t.control).to_vec()))?;
+        d.set_item("time_s", array(py, t.time))?;
+        d.set_item("imposed", array(py, t.imposed))?;
+        d.set_item("measured", array(py, t.measured))?;
+        d.set_item("normal_kpa", array(py, t.normal))?;
+        d.set_item("mu", array(py, traj.mu))?;
+        d.set_item("r", array(py, traj.r))?;
+        // How the fit started the model (what `simulate` needs to reproduce `fitted`).
+        let initial = PyDict::new(py);
+        match t.initial {
+            Initial::Rest => initial.set_item("kind", "rest")?,
+            Initial::Loaded { shear_kpa } => {
+                initial.set_item("kind", "loaded")?;
+                initial.set_item("shear_kpa", shear_kpa)?;
+            }
+            Initial::Sliding {
+                shear_kpa,
+                rate_mm_s,
+            } => {
+                initial.set_item("kind", "sliding")?;
+                initial.set_item("shear_kpa", shear_kpa)?;
+                initial.set_item("rate_mm_s", rate_mm_s)?;
+            }
+        }
+        d.set_item("initial", initial)?;
+        d.set_item("initial_slip", t.initial_slip)?;
+        out.set_item(name, d)?;
+    }
+    Ok((text, out, warnings))
+}
+
+/// Diagnoses a set as `subfric diagnose` does. Returns the text of the diagnosis.json it would
+/// write and the plausibility warnings.
+#[pyfunction]
+#[pyo3(signature = (dir, *, seed))]
+fn diagnose(py: Python<'_>, dir: PathBuf, seed: u64) -> PyResult<(String, Vec<String>)> {
+    let opts = DiagnoseOptions {
+        seed,
+        ..DiagnoseOptions::default()
+    };
+    let run = py.detach(move || -> anyhow::Result<_> {
+        let d = api::diagnose(&dir, &opts)?;
+        let text = serde_json::to_string(&d.json)?;
+        Ok((text, d.warnings.iter().map(|w| w.to_string()).collect()))
+    });
+    run.map_err(error)
+}
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("SubfricError", m.py().get_type::<SubfricError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(load_set, m)?)?;
+    m.add_function(wrap_pyfunction!(fit, m)?)?;
+    m.add_function(wrap_pyfunction!(diagnose, m)?)?;
+    Ok(())
+}

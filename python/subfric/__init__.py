@@ -1,0 +1,277 @@
+"""subfric: calibrate the subloading-friction model of sand-metal interfaces and diagnose where
+the calibrated model and the laboratory disagree.
+
+The same code as the ``subfric`` command (a Rust library), from Python::
+
+    import subfric
+    s = subfric.load_set("experiments/table1-medium")      # tests as NumPy arrays
+    r = subfric.fit(s)                                       # fit.json's content + fitted curves
+    r["report"]["parameters"][0]["value"]                    # mu_s
+    c = r["curves"]["monotonic"]                             # time_s, measured, fitted, mu, r
+    shear, mu, ratio = subfric.simulate(r, c["time_s"], c["imposed"], 78.4)
+    d = subfric.diagnose(s)                                  # diagnosis.json's content
+    d["verdict"]["effect"]
+
+Units: slip mm, time s, traction kPa; kappa, u_tilde in 1/mm; xi in 1/s; alpha_t, alpha_n in
+kN/mm^3. Every error of the data or the parameters raises :class:`SubfricError` with the message
+the command prints (file, line, field, and what was expected). The long calls (``fit``,
+``diagnose``, ``simulate``) release the GIL, so other Python threads run meanwhile.
+"""
+
+import json
+import os
+import warnings as _warnings
+
+import numpy as np
+
+from . import _native
+from ._native import SubfricError
+
+__version__ = _native.__version__
+
+__all__ = [
+    "SubfricError",
+    "SubfricWarning",
+    "ExperimentSet",
+    "Test",
+    "simulate",
+    "load_set",
+    "fit",
+    "diagnose",
+]
+
+
+class SubfricWarning(UserWarning):
+    """Valid but implausible data (a unit off by 10^3, a shear of 0 on every row, ...): the
+    warnings ``subfric check``, ``fit`` and ``diagnose`` print, naming the file and the column."""
+
+
+def _warn(messages):
+    for m in messages:
+        _warnings.warn(m, SubfricWarning, stacklevel=3)
+
+
+class Test:
+    """One test of a set: its description from experiment.json and its columns as NumPy arrays
+    (one entry per data row of the CSV)."""
+
+    def __init__(self, d):
+        self.name = d["name"]
+        #: CSV file name, relative to the set's folder
+        self.file = d["file"]
+        #: path of the CSV file
+        self.path = d["path"]
+        #: "slip" (slip imposed, shear measured) or "shear" (shear imposed, slip measured)
+        self.control = d["control"]
+        self.normal_stress_kpa = d["normal_stress_kpa"]
+        #: None (decided from the data), "rest" or "sliding"
+        self.initial = d["initial"]
+        #: True when the CSV gave `friction` instead of `shear_kpa`
+        self.friction_given = d["friction_given"]
+        #: the CSV's comment lines (provenance)
+        self.comments = d["comments"]
+        self.time_s = d["time_s"]
+        self.slip_mm = d["slip_mm"]
+        self.shear_kpa = d["shear_kpa"]
+        #: normal stress per row (the `normal_kpa` column, else the test's normal stress)
+        self.normal_kpa = d["normal_kpa"]
+
+    @property
+    def imposed(self):
+        """The column the apparatus imposed: slip under slip control, shear under shear control."""
+        return self.slip_mm if self.control == "slip" else self.shear_kpa
+
+    @property
+    def measured(self):
+        """The measured column: shear under slip control, slip under shear control."""
+        return self.shear_kpa if self.control == "slip" else self.slip_mm
+
+    @property
+    def friction(self):
+        """Friction ratio shear / normal per row."""
+        return self.shear_kpa / self.normal_kpa
+
+    def __len__(self):
+        return len(self.time_s)
+
+    def __repr__(self):
+        return (
+            f"<subfric.Test {self.name!r}: {len(self)} rows, {self.control} control, "
+            f"{self.normal_stress_kpa} kPa>"
+        )
+
+
+class ExperimentSet:
+    """A set folder as :func:`load_set` read it: ``experiment.json`` (``meta``, with ``name``,
+    ``title``, ``source``, ``reference_parameters`` ... as attributes) and its ``tests``
+    (:class:`Test`, also by name: ``s["monotonic"]``). :func:`fit` and :func:`diagnose` accept
+    it in place of its folder (they read the folder ``path``)."""
+
+    def __init__(self, d):
+        #: the set's folder
+        self.path = d["path"]
+        #: experiment.json's content
+        self.meta = json.loads(d["meta_json"])
+        self.name = self.meta["name"]
+        self.title = self.meta["title"]
+        self.source = self.meta["source"]
+        self.provenance = self.meta.get("provenance")
+        self.interface = self.meta.get("interface", {})
+        #: published parameters (a dict, as in experiment.json), or None
+        self.reference_parameters = self.meta.get("reference_parameters")
+        self.tests = [Test(t) for t in d["tests"]]
+        #: plausibility warnings (also issued as SubfricWarning)
+        self.warnings = list(d["warnings"])
+
+    def __getitem__(self, key):
+        if isinstance(key, str):
+            for t in self.tests:
+                if t.name == key:
+                    return t
+            names = ", ".join(t.name for t in self.tests)
+            raise KeyError(f"{key!r}: no such test in set {self.name!r} (it has: {names})")
+        return self.tests[key]
+
+    def __iter__(self):
+        return iter(self.tests)
+
+    def __len__(self):
+        return len(self.tests)
+
+    def __fspath__(self):
+        return self.path
+
+    def __repr__(self):
+        names = ", ".join(t.name for t in self.tests)
+        return f"<subfric.ExperimentSet {self.name!r} from {self.path!r}: {names}>"
+
+
+def load_set(path):
+    """Loads and validates a set folder (``experiment.json`` and one CSV per test).
+
+    Returns an :class:`ExperimentSet`. Every problem of every file is reported together in one
+    :class:`SubfricError` naming the file, the line and the field; plausibility warnings are
+    issued as :class:`SubfricWarning` (and kept in ``.warnings``).
+    """
+    s = ExperimentSet(_native.load_set(os.fspath(path)))
+    _warn(s.warnings)
+    return s
+
+
+def _column(name, x):
+    a = np.ascontiguousarray(x, dtype=np.float64)
+    if a.ndim != 1:
+        raise SubfricError(f"{name}: an array of {a.ndim} dimensions (expected a 1-D array)")
+    return a
+
+
+def simulate(params, time, imposed, normal, control="slip", *, initial=None, initial_slip=0.0):
+    """Drives the model through one test: rows of time [s], the imposed column (slip [mm] under
+    ``control="slip"``, shear [kPa] under ``control="shear"``) and the normal stress [kPa] (an
+    array, or one number for every row).
+
+    ``params`` is a dict of parameters (``mu_s, mu_k, kappa, xi, u_tilde, alpha_t``, optional
+    ``alpha_n, mu_0``: the keys of ``reference_parameters``), a dict as :func:`fit` returns or as
+    fit.json holds (its ``model``: parameters and extensions), an experiment.json's content, or the
+    path of such a JSON file (as ``subfric simulate --params`` reads it).
+
+    ``initial``: None or ``"rest"`` (an unloaded interface at rest), or
+    ``{"kind": "loaded", "shear_kpa": ...}``, or
+    ``{"kind": "sliding", "shear_kpa": ..., "rate_mm_s": ...}`` (already sliding at the first row).
+    ``initial_slip``: the slip at the first row under shear control [mm].
+
+    Returns three arrays: the predicted column (shear [kPa] under slip control, slip [mm] under
+    shear control), the friction coefficient mu and the normal-yield ratio r. A row the model
+    cannot follow (runaway sliding under shear control, time not increasing, ...) raises
+    :class:`SubfricError` naming the row (counted from 0).
+    """
+    if isinstance(params, dict) and "model" in params:
+        params = {"model": params["model"]}  # a fit result: its model, not its curves
+    elif isinstance(params, os.PathLike):
+        params = os.fspath(params)
+    time = _column("time", time)
+    imposed = _column("imposed", imposed)
+    if np.ndim(normal) == 0:
+        normal = np.full(time.shape, float(normal))
+    normal = _column("normal", normal)
+    return _native.simulate(
+        params, time, imposed, normal, str(control), initial=initial, initial_slip=float(initial_slip)
+    )
+
+
+def _set_paths(sets):
+    if isinstance(sets, (str, os.PathLike, ExperimentSet)):
+        sets = [sets]
+    paths = [os.fspath(s) for s in sets]
+    if not paths:
+        raise SubfricError("sets: no set folder given (expected one or more)")
+    return paths
+
+
+def fit(
+    sets,
+    *,
+    tests=None,
+    free=None,
+    fix=None,
+    bounds=None,
+    weights=None,
+    method="lsq",
+    starts=8,
+    seed=1,
+    global_evals=3000,
+    profiles=True,
+):
+    """Calibrates the model against one set, or several jointly, exactly as ``subfric fit``.
+
+    ``sets``: a set folder, an :class:`ExperimentSet`, or a list of them (a joint fit sharing the
+    parameters; tests are then named ``set/test``). Options, as the command's flags:
+    ``tests`` (names; all by default), ``free`` (parameter keys; default
+    ``["mu_s", "mu_k", "kappa", "xi", "u_tilde"]``), ``fix`` (``{"xi": 0.003}``), ``bounds``
+    (``{"kappa": (0.1, 10)}``, in the parameters' own units), ``weights`` (``{"test": 2.0}``),
+    ``method`` (``"lsq"`` Levenberg-Marquardt or ``"nm"`` Nelder-Mead), ``starts``, ``seed``,
+    ``global_evals`` (model runs of the global stage), ``profiles`` (profile intervals).
+
+    Returns a dict with the content of the fit.json that ``subfric fit`` writes (``set``,
+    ``tests``, ``params``, ``model``, ``report``: parameters with standard errors, intervals and
+    identifiability, combinations, per-test misfits, optimiser) and ``curves``: per test, arrays
+    ``time_s``, ``imposed`` (as the model was driven: the imposed column conditioned),
+    ``measured``, ``fitted`` (the model's prediction of the measured column), ``normal_kpa``,
+    ``mu`` and ``r``, its ``control``, and how the model was started (``initial``,
+    ``initial_slip``): ``simulate(result, c["time_s"], c["imposed"], c["normal_kpa"],
+    c["control"], initial=c["initial"], initial_slip=c["initial_slip"])`` gives ``c["fitted"]``
+    again. Deterministic for a seed.
+    """
+    free_keys = None if free is None else [str(k) for k in free]
+    text, curves, warns = _native.fit(
+        _set_paths(sets),
+        tests=[str(t) for t in (tests or [])],
+        free=free_keys,
+        fix=[(str(k), float(v)) for k, v in (fix or {}).items()],
+        bounds=[(str(k), float(lo), float(hi)) for k, (lo, hi) in (bounds or {}).items()],
+        weights=[(str(k), float(w)) for k, w in (weights or {}).items()],
+        method=str(method),
+        starts=int(starts),
+        seed=int(seed),
+        global_evals=int(global_evals),
+        profiles=bool(profiles),
+    )
+    _warn(warns)
+    result = json.loads(text)
+    result["curves"] = curves
+    return result
+
+
+def diagnose(set, *, seed=1):
+    """Diagnoses the gap between the calibrated model and the data of one set, exactly as
+    ``subfric diagnose``: where the base model misses, which unmodelled effect explains it, and
+    how far it shrinks on held-out data. Takes several seconds for a few thousand rows.
+
+    ``set``: a set folder or an :class:`ExperimentSet`. Returns the content of the
+    diagnosis.json that ``subfric diagnose`` writes: ``set``, ``verdict`` (``effect``,
+    ``held_out_shrink``, ``explanation``, ``extra_parameters``) and ``diagnosis`` (everything
+    else: the base fit, localisation by test and segment, candidates, selection, evidence).
+    """
+    text, warns = _native.diagnose(os.fspath(set), seed=int(seed))
+    _warn(warns)
+    return json.loads(text)

@@ -1,0 +1,43 @@
+"""diagnose: the content of the diagnosis.json that `subfric diagnose` writes. A diagnosis takes
+seconds, so there are few of them here."""
+
+import pytest
+
+import subfric
+from conftest import GOLDEN, set_cell
+
+
+def without_wall_times(v):
+    """The diagnosis records its wall time (`elapsed_s`): the one thing two runs differ in."""
+    if isinstance(v, dict):
+        return {k: without_wall_times(x) for k, x in v.items() if k != "elapsed_s"}
+    if isinstance(v, list):
+        return [without_wall_times(x) for x in v]
+    return v
+
+
+def test_diagnose_returns_what_the_command_writes_to_diagnosis_json(cli, tmp_path):
+    # Four lab-style tests (6 500 rows) with an effect the base model lacks: a whole diagnosis.
+    d = GOLDEN / "pair-01"
+    out = tmp_path / "diag"
+    cli.run("diagnose", d, "--out", out, "--seed", "2")
+    want = cli.json(out / "diagnosis.json")
+    got = subfric.diagnose(subfric.load_set(d), seed=2)
+    assert set(got) == {"set", "verdict", "diagnosis"}
+    assert got["set"] == "pair-01"
+    assert "elapsed_s" in got["diagnosis"]
+    assert without_wall_times(got) == without_wall_times(want)
+    v = got["verdict"]
+    assert isinstance(v["effect"], str) and v["effect"]
+    assert isinstance(v["held_out_shrink"], float)
+
+
+def test_a_bad_set_is_refused_with_the_command_s_message(copy_set, cli):
+    d = copy_set("pair-01", GOLDEN)
+    set_cell(d / "velocity-steps.csv", 30, "time_s", "-1")
+    with pytest.raises(subfric.SubfricError) as e:
+        subfric.diagnose(d)
+    msg = str(e.value)
+    assert "velocity-steps.csv:30" in msg and "time_s" in msg, msg
+    err = cli.run("diagnose", d, "--out", d.parent / "out", ok=False).stderr
+    assert msg in err, f"python: {msg}\ncommand: {err}"

@@ -1,0 +1,136 @@
+"""fit: the content of the fit.json that `subfric fit` writes, plus the fitted curves."""
+
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import subfric
+from conftest import EXPERIMENTS, set_cell
+
+
+def cli_fit(cli, tmp_path, *args):
+    out = tmp_path / "fit-out"
+    cli.run("fit", *args, "--out", out)
+    return cli.json(out / "fit.json")
+
+
+def without_curves(r):
+    return {k: v for k, v in r.items() if k != "curves"}
+
+
+@pytest.mark.parametrize(
+    "name, profiles",
+    [("table1-medium", True), ("table2-ring-torsion", True), ("table3-pulsating", False)],
+)
+def test_fit_returns_what_the_command_writes_to_fit_json(name, profiles, cli, tmp_path):
+    r = subfric.fit(EXPERIMENTS / name, profiles=profiles)
+    flags = [] if profiles else ["--no-profiles"]
+    assert without_curves(r) == cli_fit(cli, tmp_path, EXPERIMENTS / name, *flags)
+    assert r["set"] == name and r["tests"] == list(r["curves"])
+    # At the noise level, as the README says of every bundled set.
+    assert 0.9 < r["report"]["reduced_chi2"] < 1.1
+    intervals = [p["interval"] for p in r["report"]["parameters"] if p["interval"]]
+    assert bool(intervals) == profiles
+
+
+def test_the_fitted_curves_are_the_model_s_prediction_with_the_reported_misfit():
+    s = subfric.load_set(EXPERIMENTS / "table4-two-way")
+    r = subfric.fit(s, profiles=False)
+    (name,) = r["curves"]
+    assert name == s.tests[0].name == r["tests"][0]
+    c = r["curves"][name]
+    t = s[name]
+    assert c["control"] == t.control
+    for k in ("time_s", "imposed", "measured", "fitted", "normal_kpa", "mu", "r"):
+        assert isinstance(c[k], np.ndarray) and c[k].shape == (len(t),), k
+    np.testing.assert_array_equal(c["time_s"], t.time_s)
+    np.testing.assert_array_equal(c["measured"], t.measured)
+    np.testing.assert_array_equal(c["normal_kpa"], t.normal_kpa)
+    # The imposed column as conditioned: within the slip's noise of the data.
+    assert np.max(np.abs(c["imposed"] - t.imposed)) < 0.01 * np.ptp(t.imposed)
+    (m,) = r["report"]["tests"]
+    rms = np.sqrt(np.mean((c["fitted"] - c["measured"]) ** 2))
+    assert rms == pytest.approx(m["rms"], rel=1e-12)
+    # The fitted model through simulate gives the curve again, exactly.
+    again, mu, ratio = subfric.simulate(
+        r, c["time_s"], c["imposed"], c["normal_kpa"], c["control"],
+        initial=c["initial"], initial_slip=c["initial_slip"],
+    )
+    np.testing.assert_array_equal(again, c["fitted"])
+    np.testing.assert_array_equal(mu, c["mu"])
+    np.testing.assert_array_equal(ratio, c["r"])
+
+
+def test_a_joint_fit_with_every_option_matches_the_command(cli, tmp_path):
+    a, b = EXPERIMENTS / "table1-medium", EXPERIMENTS / "table1-rough"
+    r = subfric.fit(
+        [subfric.load_set(a), b],
+        free=["mu_s", "mu_k", "kappa", "u_tilde"],
+        fix={"xi": 0.025},
+        bounds={"kappa": (1, 80)},
+        weights={"table1-rough/monotonic": 2},
+        method="nm",
+        starts=3,
+        seed=5,
+        global_evals=400,
+        profiles=False,
+    )
+    want = cli_fit(
+        cli, tmp_path, a, b,
+        "--free", "mu_s,mu_k,kappa,u_tilde", "--fix", "xi=0.025", "--bounds", "kappa=1:80",
+        "--weight", "table1-rough/monotonic=2", "--method", "nm", "--starts", "3",
+        "--seed", "5", "--global-evals", "400", "--no-profiles",
+    )
+    assert without_curves(r) == want
+    assert r["set"] == "table1-medium+table1-rough"
+    assert list(r["curves"]) == ["table1-medium/monotonic", "table1-rough/monotonic"]
+    assert r["params"]["xi"] == 0.025
+    assert 1 <= r["params"]["kappa"] <= 80
+    # Only some tests.
+    one = subfric.fit([a, b], tests=["table1-rough/monotonic"], profiles=False, global_evals=300)
+    assert one["tests"] == ["table1-rough/monotonic"]
+
+
+def test_bad_options_and_bad_data_raise_subfric_error(copy_set, cli):
+    s = EXPERIMENTS / "table1-smooth"
+    for kw, words in [
+        (dict(free=["kapa"]), ["free", "unknown parameter `kapa`"]),
+        (dict(fix={"xi": float("nan")}), ["fix", "not a finite number"]),
+        (dict(bounds={"kappa": (-5, -1)}), ["bounds", "kappa", "> 0"]),
+        (dict(weights={"monotonic": 0}), ["weights", "monotonic", "> 0"]),
+        (dict(weights={"nope": 1}), ["nope", "not found", "monotonic"]),
+        (dict(tests=["nope"]), ["nope", "not found", "monotonic"]),
+        (dict(method="newton"), ["method", "newton"]),
+    ]:
+        with pytest.raises(subfric.SubfricError) as e:
+            subfric.fit(s, **kw)
+        for w in words:
+            assert w in str(e.value), (kw, str(e.value))
+    with pytest.raises(subfric.SubfricError, match="no set folder"):
+        subfric.fit([])
+    d = copy_set("table1-smooth")
+    set_cell(d / "monotonic.csv", 21, "shear_kpa", "nan")
+    with pytest.raises(subfric.SubfricError) as e:
+        subfric.fit(d)
+    assert "monotonic.csv:21" in str(e.value) and "shear_kpa" in str(e.value)
+    err = cli.run("fit", d, "--out", d.parent / "out", ok=False).stderr
+    assert str(e.value) in err
+
+
+def test_a_fit_releases_the_gil():
+    done = {}
+    th = threading.Thread(
+        target=lambda: done.setdefault("r", subfric.fit(EXPERIMENTS / "table4-two-way", profiles=False))
+    )
+    ticks = 0
+    t0 = time.perf_counter()
+    th.start()
+    while th.is_alive():
+        ticks += 1
+        time.sleep(0.001)
+    elapsed = time.perf_counter() - t0
+    assert done["r"]["set"] == "table4-two-way"
+    # With the GIL held the loop could not run during the fit.
+    assert elapsed > 0.1 and ticks > 20, f"{ticks} ticks in {elapsed:.2f} s"

@@ -1,0 +1,130 @@
+//! The Python package (`python/`), installed as a user installs it and tested against this
+//! subfric program: a fresh virtual environment under `target/python/`, `pip install
+//! ./python[test]` from the repository's files (pip builds the wheel with maturin, which
+//! compiles the extension with cargo into the same `target/`), then the pytest suite of
+//! `python/tests`, which compares the package with the program whose path Cargo hands this test
+//! (`CARGO_BIN_EXE_subfric-e2e`).
+//!
+//! Needs CPython ≥ 3.9 with `venv` (`python3`, or the interpreter named by `SUBFRIC_PYTHON`) and
+//! PyPI (maturin, numpy, pytest). Without them the test fails, it does not skip. pip's
+//! downloads are cached in `target/python/pip-cache`; nothing is written outside `target/`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::Instant;
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+/// Runs `cmd`; panics with its output unless it succeeds.
+fn run(what: &str, cmd: &mut Command) -> Output {
+    let t0 = Instant::now();
+    let o = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("{what}: cannot run {cmd:?}: {e}"));
+    eprintln!("{what}: {:.1} s", t0.elapsed().as_secs_f64());
+    assert!(
+        o.status.success(),
+        "{what} failed ({}): {cmd:?}\n{}",
+        o.status,
+        text(&o)
+    );
+    o
+}
+
+#[test]
+fn the_python_package_installs_from_the_repository_and_its_tests_pass() {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("tests/ is inside the repository")
+        .to_path_buf();
+    let program = PathBuf::from(env!("CARGO_BIN_EXE_subfric-e2e"));
+    // target/<profile>/subfric-e2e: the work folder is target/python.
+    let target = program
+        .parent()
+        .and_then(Path::parent)
+        .expect("the program lies in target/<profile>/");
+    let work = target.join("python");
+    let venv = work.join("venv");
+    if venv.exists() {
+        std::fs::remove_dir_all(&venv).expect("remove the previous virtual environment");
+    }
+    std::fs::create_dir_all(&work).unwrap();
+    let interpreter = std::env::var("SUBFRIC_PYTHON").unwrap_or_else(|_| "python3".into());
+    let version = Command::new(&interpreter)
+        .args(["-c", "import sys; print(sys.version_info >= (3, 9))"])
+        .output()
+        .unwrap_or_else(|e| {
+            panic!("{interpreter}: {e} (the Python package's tests need CPython 3.9 or later with venv; SUBFRIC_PYTHON names another interpreter)")
+        });
+    assert_eq!(
+        String::from_utf8_lossy(&version.stdout).trim(),
+        "True",
+        "{interpreter}: expected Python 3.9 or later\n{}",
+        text(&version)
+    );
+    run(
+        "python -m venv",
+        Command::new(&interpreter).arg("-m").arg("venv").arg(&venv),
+    );
+    let python = if cfg!(windows) {
+        venv.join("Scripts").join("python.exe")
+    } else {
+        venv.join("bin").join("python")
+    };
+    let pip_env = |c: &mut Command| {
+        c.env("PIP_CACHE_DIR", work.join("pip-cache"))
+            .env("PIP_DISABLE_PIP_VERSION_CHECK", "1")
+            .env("PIP_NO_INPUT", "1")
+            .env("PYTHONDONTWRITEBYTECODE", "1")
+            .current_dir(&repo);
+    };
+    // What the README tells a user to run: build and install from the repository's files.
+    let mut install = Command::new(&python);
+    install.args(["-m", "pip", "install", "./python[test]"]);
+    pip_env(&mut install);
+    run("pip install ./python[test] (maturin build)", &mut install);
+    // pytest from target/python, so that `import subfric` is the installed package, not the
+    // source folder python/subfric (which has no compiled module); no cache in the repository.
+    let mut pytest = Command::new(&python);
+    pytest
+        .args(["-m", "pytest", "-p", "no:cacheprovider", "-q", "-rA"])
+        .arg(repo.join("python").join("tests"))
+        .env("SUBFRIC_BIN", &program)
+        .env("PYTHONDONTWRITEBYTECODE", "1")
+        .current_dir(&work);
+    let o = run("pytest python/tests", &mut pytest);
+    let out = text(&o);
+    println!("{out}");
+    let summary = out
+        .lines()
+        .rev()
+        .find(|l| l.contains(" passed"))
+        .unwrap_or_else(|| panic!("pytest printed no summary of passed tests:\n{out}"));
+    for bad in ["failed", "error", "skipped", "xfail", "no tests ran"] {
+        assert!(!summary.contains(bad), "pytest: {summary}\n{out}");
+    }
+    let passed: usize = summary
+        .split_whitespace()
+        .zip(summary.split_whitespace().skip(1))
+        .find(|(_, w)| w.trim_end_matches(',') == "passed")
+        .and_then(|(n, _)| n.trim_start_matches('=').parse().ok())
+        .unwrap_or(0);
+    assert!(passed >= 20, "expected the whole suite to run: {summary}");
+    // The package is the one this repository builds: its version is the workspace's.
+    let v = run(
+        "import subfric",
+        Command::new(&python)
+            .args(["-c", "import subfric; print(subfric.__version__)"])
+            .current_dir(&work),
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&v.stdout).trim(),
+        env!("CARGO_PKG_VERSION")
+    );
+}
