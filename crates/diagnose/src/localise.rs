@@ -2,7 +2,7 @@
 //! of segment, per test and segment, early against late cycles, and per normal-stress level, as
 //! a share of the excess over the noise.
 
-use crate::score::HeldOut;
+use crate::score::{squared_or_failed, HeldOut};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use subfric_fit::PreparedTest;
@@ -44,7 +44,7 @@ fn group_misfit<F: Fn(usize, usize) -> Option<String>>(res: &HeldOut, key: F) ->
             if let Some(k) = key(t, i) {
                 let e = acc.entry(k).or_insert((0, 0.0));
                 e.0 += 1;
-                e.1 += if v.is_finite() { v * v } else { 1e6 };
+                e.1 += squared_or_failed(*v);
             }
         }
     }
@@ -98,12 +98,7 @@ pub fn localise(prepared: &[PreparedTest], res: &HeldOut) -> Localisation {
         by_normal_stress: group_misfit(res, |t, _| Some(stress(t))),
         total_excess: res
             .iter()
-            .map(|r| {
-                r.iter()
-                    .map(|v| if v.is_finite() { v * v } else { 1e6 })
-                    .sum::<f64>()
-                    - r.len() as f64
-            })
+            .map(|r| r.iter().map(|&v| squared_or_failed(v)).sum::<f64>() - r.len() as f64)
             .sum::<f64>()
             .max(0.0),
     }

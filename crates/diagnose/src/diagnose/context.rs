@@ -1,0 +1,299 @@
+//! The fitted tests of a diagnosis and everything derived once from them: pieces, folds,
+//! weights, and the fits of one model spec on all data and in the folds.
+
+use super::DiagnoseOptions;
+use crate::candidates::Form;
+use crate::features::{data_features, DataFeatures};
+use crate::fits::{cross_validate, fit, residuals, space_of, with_values, FitResult, Spec};
+use crate::folds::{piece_folds, pieces, Fold, Piece};
+use crate::score::{compare, squared_or_failed, Comparison, HeldOut, Weights};
+use std::collections::BTreeMap;
+use std::time::Instant;
+use subfric_fit::{
+    calibrate, FitError, FitOptions, FitTest, Param, PreparedTest, Space, Stiffness,
+};
+use subfric_model::Model;
+
+/// Rounds of reweighting when model error dominates.
+pub(super) const REWEIGHTING_ROUNDS: usize = 1;
+
+/// The fitted tests and everything derived once from them.
+pub(super) struct Context<'a> {
+    /// The tests (rows weighted as the rows of the record they stand for).
+    pub(super) tests: Vec<FitTest>,
+    /// Model error dominates: every spec is fitted with a variance per piece (see
+    /// [`Context::weighted_for`]).
+    pub(super) reweight: bool,
+    /// The base model's residuals on all data (what candidates are scored in-sample against).
+    pub(super) base_residuals: HeldOut,
+    pub(super) features: DataFeatures,
+    pub(super) base_free: Vec<Param>,
+    pub(super) pieces: Vec<Piece>,
+    pub(super) folds: Vec<Fold>,
+    /// Rows of the record each fitted row stands for.
+    pub(super) weights: Weights,
+    pub(super) opts: &'a DiagnoseOptions,
+    /// When the diagnosis began (for [`Context::trace`]).
+    pub(super) started: Instant,
+}
+
+/// A spec fitted to all data, with the tests as weighted for it.
+#[derive(Clone)]
+pub(super) struct Fitted {
+    pub(super) result: FitResult,
+    pub(super) fit_tests: Vec<FitTest>,
+}
+
+impl<'a> Context<'a> {
+    /// The tests, pieces and folds of `prepared`, and the template the base fit starts from
+    /// (α_t from the data when they resolve it, then also fitted).
+    pub(super) fn new(
+        prepared: &[PreparedTest],
+        stiffness: Option<&Stiffness>,
+        opts: &'a DiagnoseOptions,
+    ) -> (Self, Model) {
+        let tests: Vec<FitTest> = prepared.iter().map(|p| p.fit.clone()).collect();
+        let mut template = opts.template;
+        let mut base_free = Param::BASE.to_vec();
+        if let Some(s) = stiffness {
+            template.params.alpha_t = s.alpha_t;
+            template.params.alpha_n = s.alpha_t;
+            base_free.push(Param::AlphaT);
+        }
+        let all_pieces = pieces(prepared);
+        let folds = piece_folds(&tests, &all_pieces, opts.folds);
+        let weights: Weights = tests
+            .iter()
+            .map(|t| (0..t.len()).map(|i| t.weight_of(i)).collect())
+            .collect();
+        let cx = Context {
+            weights,
+            reweight: false,
+            base_residuals: Vec::new(),
+            tests,
+            features: data_features(prepared),
+            base_free,
+            pieces: all_pieces,
+            folds,
+            opts,
+            started: Instant::now(),
+        };
+        (cx, template)
+    }
+
+    /// Prints the time of each stage to stderr when `SUBFRIC_TRACE` is set (for tuning).
+    pub(super) fn trace(&self, what: &str) {
+        if std::env::var_os("SUBFRIC_TRACE").is_some() {
+            eprintln!(
+                "[{:7.2} s, {:6} model runs] {what}",
+                self.started.elapsed().as_secs_f64(),
+                subfric_fit::problem::model_runs()
+            );
+        }
+    }
+    pub(super) fn space(&self, template: &Model, spec: &Spec) -> Space {
+        space_of(template, &self.base_free, spec, self.features.v_ref)
+    }
+
+    /// The tests as fitted by a model whose residuals are `res`: when model error dominates,
+    /// each piece's rows weigh n_eff / SSR of that model on the piece (a Gaussian likelihood
+    /// with one unknown variance per piece, reweighted at the model), never more than the noise
+    /// would give, normalised to keep the total weight. Pieces the model misses most (a run-in,
+    /// one long relaxation) then stop deciding the fit, as they do not decide the score.
+    pub(super) fn weighted_for(&self, res: &HeldOut) -> Vec<FitTest> {
+        if !self.reweight {
+            return self.tests.clone();
+        }
+        let mut factor: Vec<Vec<f64>> = self.tests.iter().map(|t| vec![1.0; t.len()]).collect();
+        let (mut before, mut after) = (0.0, 0.0);
+        for p in &self.pieces {
+            let r = &res[p.test][p.start..p.end];
+            let n = r.len() as f64;
+            let ssr: f64 = r.iter().map(|&v| squared_or_failed(v)).sum();
+            let c = crate::score::effective_rows(r) / ssr.max(n);
+            let rows = &mut factor[p.test][p.start..p.end];
+            for (f, w) in rows.iter_mut().zip(&self.weights[p.test][p.start..p.end]) {
+                *f = c;
+                before += w;
+                after += w * c;
+            }
+        }
+        let norm = if after > 0.0 { before / after } else { 1.0 };
+        self.tests
+            .iter()
+            .zip(&factor)
+            .map(|(t, f)| {
+                let mut t = t.clone();
+                t.row_weight = (0..t.len()).map(|i| t.weight_of(i) * f[i] * norm).collect();
+                t
+            })
+            .collect()
+    }
+
+    /// Fits `spec` to all data from `starts` (the `keep` best of them) by least squares, then,
+    /// when model error dominates, reweighted at its own residuals.
+    pub(super) fn fit_spec(
+        &self,
+        template: &Model,
+        spec: &Spec,
+        starts: &[Model],
+        keep: usize,
+        iterations: usize,
+    ) -> Fitted {
+        self.fit_spec_with(template, spec, starts, keep, iterations, self.reweight)
+    }
+
+    /// [`Context::fit_spec`], reweighting only when `reweight`.
+    pub(super) fn fit_spec_with(
+        &self,
+        template: &Model,
+        spec: &Spec,
+        starts: &[Model],
+        keep: usize,
+        iterations: usize,
+        reweight: bool,
+    ) -> Fitted {
+        let space = self.space(template, spec);
+        let detrended = |mut ts: Vec<FitTest>| {
+            for t in ts.iter_mut() {
+                t.detrend = spec.drift;
+            }
+            ts
+        };
+        // Plain least squares first: weights from another model's residuals would make the
+        // pieces where this one differs most weightless, and the fit would never see them.
+        let mut fit_tests = detrended(self.tests.clone());
+        let mut result = fit(&fit_tests, &space, starts, keep, iterations);
+        if reweight {
+            for _ in 0..REWEIGHTING_ROUNDS {
+                let own = residuals(
+                    &self.tests,
+                    &result.model,
+                    spec.drift.then_some(&fit_tests[..]),
+                );
+                fit_tests = detrended(self.weighted_for(&own));
+                result = fit(&fit_tests, &space, &[result.model], 1, iterations / 2 + 1);
+            }
+        }
+        Fitted { result, fit_tests }
+    }
+
+    /// Held-out residuals of `spec` fitted on `fit_tests`, refitted in each fold from `starts`.
+    pub(super) fn held_out(
+        &self,
+        template: &Model,
+        spec: &Spec,
+        fit_tests: &[FitTest],
+        starts: &[Model],
+    ) -> HeldOut {
+        cross_validate(
+            fit_tests,
+            &self.tests,
+            &self.folds,
+            &self.space(template, spec),
+            starts,
+            self.opts.fold_iterations,
+            spec.drift,
+        )
+    }
+
+    /// In-sample comparison of a model's residuals with the base's, piece by piece.
+    pub(super) fn in_sample(
+        &self,
+        model: &Model,
+        spec: &Spec,
+        fit_tests: &[FitTest],
+    ) -> Comparison {
+        let own = residuals(&self.tests, model, spec.drift.then_some(fit_tests));
+        compare(&self.pieces, &self.weights, &self.base_residuals, &own)
+    }
+}
+
+/// `model` with the forms of `spec` switched off (their neutral values): a start for refits
+/// that lets an effect the training rows cannot see stay off.
+pub(super) fn switched_off(model: &Model, spec: &Spec) -> Model {
+    let values: Vec<Vec<f64>> = spec.forms.iter().map(|f| f.neutral.clone()).collect();
+    with_values(model, spec, &values)
+}
+
+pub(super) fn parameters_of(model: &Model, forms: &[Form]) -> BTreeMap<String, f64> {
+    forms
+        .iter()
+        .flat_map(|f| f.params.iter())
+        .map(|p| (p.key().to_string(), p.get(model).unwrap_or(f64::NAN)))
+        .collect()
+}
+
+/// The current model of the selection: its spec, fitted model, weighted tests and held-out
+/// residuals.
+#[derive(Clone)]
+pub(super) struct Current {
+    pub(super) spec: Spec,
+    pub(super) model: Model,
+    pub(super) fit_tests: Vec<FitTest>,
+    pub(super) held: HeldOut,
+}
+
+/// Step 1: the base fit and its held-out residuals. When model error dominates, every spec
+/// from here on is fitted with a variance per piece, the base included.
+pub(super) fn fit_base(cx: &mut Context, template: &Model) -> Result<Current, FitError> {
+    let mut base = calibrated_base(cx, template)?;
+    cx.trace("base fit");
+    cx.base_residuals = residuals(&cx.tests, &base, None);
+    cx.reweight = model_error_dominates(cx);
+    let spec = Spec::base();
+    let fitted = cx.fit_spec(&base, &spec, &[base], 1, cx.opts.candidate_iterations);
+    if cx.reweight {
+        base = fitted.result.model;
+        cx.base_residuals = residuals(&cx.tests, &base, None);
+        cx.trace("base refitted with a variance per piece");
+    }
+    let held = cx.held_out(&base, &spec, &fitted.fit_tests, &[base]);
+    Ok(Current {
+        spec,
+        model: base,
+        fit_tests: fitted.fit_tests,
+        held,
+    })
+}
+
+/// The base calibration (global stage and polish), with α_t free when the data resolve it.
+fn calibrated_base(cx: &Context, template: &Model) -> Result<Model, FitError> {
+    let space = cx.space(template, &Spec::base());
+    let report = calibrate(
+        &cx.tests,
+        space,
+        &FitOptions {
+            seed: cx.opts.seed,
+            global_evaluations: cx.opts.global_evaluations,
+            starts: cx.opts.starts,
+            profiles: false,
+            ..FitOptions::default()
+        },
+        &|_| {},
+    )?;
+    Ok(report.model)
+}
+
+/// The base misses by more than `model_error_chi2` × the noise variance per row.
+fn model_error_dominates(cx: &Context) -> bool {
+    let rows: usize = cx.base_residuals.iter().map(|r| r.len()).sum();
+    let represented: f64 = cx.weights.iter().flatten().sum();
+    let chi2 = 1.0 + (ssr_of(&cx.base_residuals) - rows as f64) / represented.max(1.0);
+    chi2 >= cx.opts.thresholds.model_error_chi2
+}
+
+pub(super) fn ssr_of(r: &HeldOut) -> f64 {
+    r.iter().flatten().map(|&v| squared_or_failed(v)).sum()
+}
+
+/// The fold that holds out each piece (pieces never held out get fold 0).
+pub(super) fn fold_index(cx: &Context) -> Vec<usize> {
+    let mut out = vec![0; cx.pieces.len()];
+    for (fi, f) in cx.folds.iter().enumerate() {
+        for &k in &f.held {
+            out[k] = fi;
+        }
+    }
+    out
+}

@@ -1,0 +1,196 @@
+//! The verdict and its explanation in words, with the extra checks of the named effects.
+
+use super::context::{parameters_of, Context, Current};
+use super::report::{NamedEffect, SelectionStage, Verdict};
+use super::selection::Selection;
+use crate::candidates::Effect;
+use crate::evidence::ResidualEvidence;
+use crate::fits::{cross_validate, Spec};
+use crate::folds::{extra_folds, Fold, Piece, PieceKind};
+use crate::score::compare;
+use crate::verdict::Decision;
+use subfric_fit::FitTest;
+use subfric_model::Model;
+
+/// Reduced χ² of the final model above which the explanation says part of the gap remains.
+const REMAINING_GAP_CHI2: f64 = 2.0;
+
+/// Share of the residual a feature must carry to count as support for the named effect.
+const SUPPORTING_SHARE: f64 = 0.1;
+
+/// Shrink of `spec` against the base on extra folds (tail of each test, each test left out).
+fn extra_shrinks(
+    cx: &Context,
+    base: &Current,
+    spec: &Spec,
+    model: &Model,
+    fit_tests: &[FitTest],
+) -> (Option<f64>, Option<f64>) {
+    let (tail, loto) = extra_folds(&cx.tests, cx.opts.tail_fraction);
+    let shrink = |folds: &[Fold]| -> Option<f64> {
+        if folds.is_empty() {
+            return None;
+        }
+        let cv = |s: &Spec, ft: &[FitTest], starts: &[Model]| {
+            cross_validate(
+                ft,
+                &cx.tests,
+                folds,
+                &cx.space(&base.model, s),
+                starts,
+                cx.opts.fold_iterations,
+                false,
+            )
+        };
+        let b = cv(&Spec::base(), &base.fit_tests, &[base.model]);
+        let c = cv(spec, fit_tests, &[*model]);
+        let whole: Vec<Piece> = cx
+            .tests
+            .iter()
+            .enumerate()
+            .map(|(i, t)| Piece {
+                test: i,
+                start: 0,
+                end: t.len(),
+                kind: PieceKind::InitialLoading,
+            })
+            .collect();
+        Some(compare(&whole, &cx.weights, &b, &c).excess_shrink)
+    };
+    (shrink(&tail), shrink(&loto))
+}
+
+/// Step 5: the verdict on the selection, each named effect checked on the extra folds (the
+/// tail of each test, each test left out).
+pub(super) fn make_verdict(
+    cx: &Context,
+    base: &Current,
+    selection: &Selection,
+    evidence: &ResidualEvidence,
+) -> Verdict {
+    let current = &selection.current;
+    let effects: Vec<NamedEffect> = selection
+        .named
+        .iter()
+        .map(|s| {
+            let (form, c, at) = (&s.form, &s.own, &s.at);
+            let (tail, loto) = extra_shrinks(cx, base, &Spec::with(form), &at.model, &at.fit_tests);
+            NamedEffect {
+                effect: form.effect,
+                form: form.name.to_string(),
+                parameters: parameters_of(&current.model, std::slice::from_ref(form)),
+                held_out_shrink: c.excess_shrink,
+                relative_shrink: c.relative_shrink,
+                typical_shrink: c.typical_shrink,
+                score: c.score,
+                tail_shrink: tail,
+                leave_one_test_out_shrink: loto,
+            }
+        })
+        .collect();
+    let first = selection.stages.first();
+    let base_chi2 = first.map_or(0.0, |s| s.reference_chi2);
+    let final_chi2 = compare(&cx.pieces, &cx.weights, &current.held, &current.held).reference_chi2;
+    let (effect, explanation) = match (effects.first(), first.map(|s| s.decision)) {
+        (Some(e), _) => (e.effect, explain_named(&effects, base_chi2, final_chi2)),
+        (None, Some(Decision::NoGap)) | (None, None) => (
+            Effect::None,
+            format!(
+                "the base model predicts the held-out pieces at {base_chi2:.2}× the noise variance: the gap is noise"
+            ),
+        ),
+        (None, Some(Decision::Drift)) => (
+            Effect::Unexplained,
+            format!(
+                "the base misfit is {base_chi2:.2}× the noise variance; no physical candidate explains it, but a drift of each measurement linear in time does better than all of them: the gap looks like a drift of the measurement, not friction; {}",
+                evidence.summary
+            ),
+        ),
+        (None, Some(_)) => (
+            Effect::Unexplained,
+            explain_unexplained(first, base_chi2, evidence),
+        ),
+    };
+    let evidence_supports = effects.first().map(|e| {
+        evidence
+            .features
+            .iter()
+            .take(2)
+            .any(|f| f.family == Some(e.effect) && f.share > SUPPORTING_SHARE)
+    });
+    Verdict {
+        effect,
+        held_out_shrink: effects.first().map_or(0.0, |e| e.held_out_shrink),
+        extra_parameters: effects
+            .first()
+            .map(|e| e.parameters.clone())
+            .unwrap_or_default(),
+        effects,
+        explanation,
+        final_chi2,
+        evidence_supports,
+    }
+}
+
+fn explain_named(effects: &[NamedEffect], base_chi2: f64, final_chi2: f64) -> String {
+    let parts: Vec<String> = effects
+        .iter()
+        .map(|e| {
+            let mut t = format!(
+                "{} ({}): evidence D = {:.0} on held-out pieces; the misfit of a typical held-out piece falls by {:.0}%",
+                e.effect,
+                e.form,
+                e.score,
+                100.0 * e.typical_shrink
+            );
+            if e.relative_shrink >= 0.0 {
+                t.push_str(&format!(
+                    ", and {:.0}% of the held-out misfit is removed ({:.0}% of its excess over the noise)",
+                    100.0 * e.relative_shrink,
+                    100.0 * e.held_out_shrink.max(0.0)
+                ));
+            } else {
+                t.push_str(&format!(
+                    ", but the total held-out misfit grows by {:.0}%: a few pieces it cannot describe get worse (see the misfit per kind of piece)",
+                    -100.0 * e.relative_shrink
+                ));
+            }
+            t
+        })
+        .collect();
+    let far = if final_chi2 > REMAINING_GAP_CHI2 {
+        format!(
+            "; with {} the model still misses by {final_chi2:.1}× the noise variance on held-out pieces (base {base_chi2:.1}×): part of the gap remains",
+            if effects.len() > 1 { "them" } else { "it" }
+        )
+    } else {
+        format!("; with it the held-out misfit is {final_chi2:.2}× the noise variance (base {base_chi2:.1}×)")
+    };
+    format!("{}{far}", parts.join("; then "))
+}
+
+fn explain_unexplained(
+    stage: Option<&SelectionStage>,
+    base_chi2: f64,
+    evidence: &ResidualEvidence,
+) -> String {
+    let best = stage.and_then(|s| {
+        s.candidates
+            .iter()
+            .max_by(|a, b| a.held_out.score.total_cmp(&b.held_out.score))
+    });
+    let best_text = best
+        .map(|c| {
+            format!(
+                "the best candidate, {}, removes {:.0}% of the held-out excess (evidence D = {:.0})",
+                c.spec,
+                100.0 * c.held_out.excess_shrink.max(0.0),
+                c.held_out.score
+            )
+        })
+        .unwrap_or_else(|| "no candidate applies to these data".into());
+    format!(
+        "the base model misses the held-out pieces by {base_chi2:.2}× the noise variance and none of the candidates explains it: {best_text}; {}",
+        evidence.summary
+    )
+}

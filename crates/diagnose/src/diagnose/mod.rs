@@ -1,0 +1,195 @@
+//! The diagnosis: fit the base model, localise its residual, fit every form of every candidate
+//! family, compare the best form of each family with the base on held-out pieces, name the
+//! effects one after the other by forward selection, read the residual for supporting
+//! evidence, and say how much of the held-out gap the named effects remove.
+
+mod context;
+mod explain;
+mod report;
+mod selection;
+
+pub use report::{
+    BaseFit, CandidateScore, Diagnosis, FormReport, KindShrink, NamedEffect, SelectionStage,
+    TestStart, Verdict,
+};
+
+use crate::candidates::library;
+use crate::evidence::residual_evidence;
+use crate::fits::residuals;
+use crate::localise::localise;
+use crate::verdict::Thresholds;
+use context::{fit_base, fold_index, ssr_of, Context, Current};
+use explain::make_verdict;
+use selection::{forward_selection, screen_and_polish};
+use std::collections::BTreeMap;
+use subfric_fit::{misfits, resolved_stiffness, FitError, FitTest, PreparedTest};
+use subfric_model::Model;
+
+/// Rows the longest test must reach for a diagnosis to run at all.
+const MIN_ROWS: usize = 20;
+
+/// Rows a diagnosis fits a set on: longer sets are thinned to about this many (it refits many
+/// candidate models many times; the misfit is always reported on all rows).
+pub const DIAGNOSIS_BUDGET_ROWS: usize = 3000;
+
+/// Prepares a set for a diagnosis (conditioned, segmented, thinned to
+/// [`DIAGNOSIS_BUDGET_ROWS`]).
+pub fn prepare_for_diagnosis(set: &subfric_data::ExperimentSet) -> Vec<PreparedTest> {
+    subfric_fit::prepare_set_with(
+        set,
+        false,
+        &subfric_fit::PrepareOptions {
+            budget_rows: DIAGNOSIS_BUDGET_ROWS,
+            ..Default::default()
+        },
+    )
+}
+
+/// Options of a diagnosis.
+#[derive(Clone, Debug)]
+pub struct DiagnoseOptions {
+    /// Seed of the base fit.
+    pub seed: u64,
+    /// Global-stage budget of the base fit (model runs).
+    pub global_evaluations: usize,
+    /// Local starts of the base fit.
+    pub starts: usize,
+    /// Held-out folds of pieces.
+    pub folds: usize,
+    /// Fraction of each test held out at its end in the extra tail folds.
+    pub tail_fraction: f64,
+    /// Least-squares iterations that rank the forms of a family.
+    pub screening_iterations: usize,
+    /// Least-squares iterations of a candidate fit on all data.
+    pub candidate_iterations: usize,
+    /// Least-squares iterations of a refit in a fold (warm-started).
+    pub fold_iterations: usize,
+    /// Model supplying fixed parameters (α) and the first template.
+    pub template: Model,
+    /// Verdict thresholds.
+    pub thresholds: Thresholds,
+}
+
+impl Default for DiagnoseOptions {
+    fn default() -> Self {
+        DiagnoseOptions {
+            seed: 1,
+            global_evaluations: 1000,
+            starts: 4,
+            folds: 4,
+            tail_fraction: 0.4,
+            screening_iterations: 12,
+            candidate_iterations: 30,
+            fold_iterations: 8,
+            template: Model::base(subfric_model::Params::sample())
+                .expect("sample parameters are valid"),
+            thresholds: Thresholds::default(),
+        }
+    }
+}
+
+/// Why a diagnosis could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum DiagnoseError {
+    /// The base fit failed.
+    #[error("base fit: {0}")]
+    Fit(#[from] FitError),
+    /// Not enough data.
+    #[error("a diagnosis needs at least one test with {MIN_ROWS} rows or more")]
+    TooLittleData,
+}
+
+/// Runs the whole diagnosis on prepared tests of one interface: 1. the base fit, 2. every
+/// form screened and the best of each family polished, 3. forward selection on held-out
+/// pieces, 4. evidence from the base's held-out residual, 5. the verdict.
+pub fn diagnose(
+    prepared: &[PreparedTest],
+    opts: &DiagnoseOptions,
+) -> Result<Diagnosis, DiagnoseError> {
+    if prepared.iter().all(|p| p.full.len() < MIN_ROWS) {
+        return Err(DiagnoseError::TooLittleData);
+    }
+    let stiffness = resolved_stiffness(prepared);
+    let (mut cx, template) = Context::new(prepared, stiffness.as_ref(), opts);
+    let base = fit_base(&mut cx, &template)?;
+    let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();
+    let localisation = localise(prepared, &residuals(&fulls, &base.model, None));
+
+    let lib = library(&cx.features);
+    let (forms, families) = screen_and_polish(&cx, &base.model, &lib);
+    let selection = forward_selection(&cx, &base, &families, &lib);
+
+    let evidence = residual_evidence(
+        prepared,
+        &cx.pieces,
+        &base.held,
+        &fold_index(&cx),
+        cx.features.v_ref,
+        cx.features.p_ref,
+    );
+    let verdict = make_verdict(&cx, &base, &selection, &evidence);
+    cx.trace("verdict and extra folds");
+
+    let final_model = selection.current.model;
+    let candidates: Vec<CandidateScore> = selection
+        .stages
+        .first()
+        .map(|s| s.candidates.iter().chain(&s.drift).cloned().collect())
+        .unwrap_or_default();
+    Ok(Diagnosis {
+        verdict,
+        base: base_report(&cx, &fulls, &base),
+        data: cx.features.clone(),
+        starts: test_starts(prepared),
+        stiffness,
+        localisation,
+        forms,
+        candidates,
+        selection: selection.stages,
+        evidence,
+        remaining_by_segment: localise(prepared, &residuals(&fulls, &final_model, None)).by_segment,
+        final_model,
+        folds: cx.folds.iter().map(|f| f.name.clone()).collect(),
+        pieces: pieces_by_kind(&cx),
+        thresholds: opts.thresholds,
+        elapsed_s: cx.started.elapsed().as_secs_f64(),
+    })
+}
+
+/// The base fit as reported: its misfit on all rows of the record, per test and in total.
+fn base_report(cx: &Context, fulls: &[FitTest], base: &Current) -> BaseFit {
+    let rows: usize = fulls.iter().map(|t| t.len()).sum();
+    let all_ssr = ssr_of(&residuals(fulls, &base.model, None));
+    BaseFit {
+        model: base.model,
+        free: cx.base_free.iter().map(|p| p.key().to_string()).collect(),
+        ssr: ssr_of(&cx.base_residuals),
+        rows,
+        fitted_rows: cx.tests.iter().map(|t| t.len()).sum(),
+        reduced_chi2: all_ssr / (rows as f64 - cx.base_free.len() as f64).max(1.0),
+        tests: misfits(fulls, &base.model),
+    }
+}
+
+/// How each test starts (at rest, loaded, sliding) and its noise estimate.
+fn test_starts(prepared: &[PreparedTest]) -> Vec<TestStart> {
+    prepared
+        .iter()
+        .map(|p| TestStart {
+            test: p.full.name.clone(),
+            start: p.segmentation.start.kind,
+            from_spec: p.segmentation.start.from_spec,
+            reason: p.segmentation.start.reason.clone(),
+            noise_sd: p.full.noise_sd,
+            noise_floor: subfric_data::estimate_noise(&p.full.time, &p.full.measured).floor,
+        })
+        .collect()
+}
+
+fn pieces_by_kind(cx: &Context) -> BTreeMap<String, usize> {
+    let mut out: BTreeMap<String, usize> = BTreeMap::new();
+    for p in &cx.pieces {
+        *out.entry(p.kind.name().into()).or_default() += 1;
+    }
+    out
+}

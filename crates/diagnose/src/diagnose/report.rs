@@ -1,0 +1,203 @@
+//! What a diagnosis reports: the types of `diagnosis.json`.
+
+use crate::candidates::Effect;
+use crate::evidence::ResidualEvidence;
+use crate::features::DataFeatures;
+use crate::localise::{GroupMisfit, Localisation};
+use crate::score::Comparison;
+use crate::verdict::{Decision, Thresholds};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use subfric_fit::{Stiffness, TestMisfit};
+use subfric_model::Model;
+
+/// One form fitted to all data.
+#[derive(Clone, Debug, Serialize)]
+pub struct FormReport {
+    /// Family.
+    pub effect: Effect,
+    /// Form.
+    pub form: String,
+    /// Fitted extra parameters.
+    pub parameters: BTreeMap<String, f64>,
+    /// In-sample SSR (noise units, fitted rows, with the weights it was fitted with).
+    pub ssr: f64,
+    /// In-sample evidence over the base, piece by piece like the held-out score, less
+    /// ln(n_eff) per extra parameter (a BIC on the effective number of observations).
+    pub in_sample_score: f64,
+    /// The fit converged (a form that did not is reported, and only chosen if it still wins).
+    pub converged: bool,
+    /// How the best start stopped.
+    pub termination: String,
+    /// The best form of its family (the one compared on held-out data).
+    pub chosen: bool,
+    /// The fitted model.
+    pub model: Model,
+}
+
+/// A candidate (the best form of a family, or the drift) against a reference model.
+#[derive(Clone, Debug, Serialize)]
+pub struct CandidateScore {
+    /// Family (`unexplained` for the drift alternative).
+    pub effect: Effect,
+    /// The model compared, in words.
+    pub spec: String,
+    /// Fitted extra parameters.
+    pub extra_parameters: BTreeMap<String, f64>,
+    /// The fitted model.
+    pub model: Model,
+    /// Held-out comparison with the reference.
+    pub held_out: Comparison,
+    /// Fraction of the held-out excess removed (= `held_out.excess_shrink`), for scripts.
+    pub held_out_shrink: f64,
+    /// Shrink per kind of piece: (kind, reference χ², candidate χ²).
+    pub by_kind: Vec<KindShrink>,
+}
+
+/// Held-out misfit of the reference and a candidate on one kind of piece.
+#[derive(Clone, Debug, Serialize)]
+pub struct KindShrink {
+    /// Kind of piece.
+    pub kind: String,
+    /// Held-out rows.
+    pub rows: usize,
+    /// Reference RMS / noise.
+    pub reference_rms_over_noise: f64,
+    /// Candidate RMS / noise.
+    pub candidate_rms_over_noise: f64,
+    /// Fraction of the reference's SSR removed.
+    pub shrink: f64,
+}
+
+/// One stage of the forward selection.
+#[derive(Clone, Debug, Serialize)]
+pub struct SelectionStage {
+    /// The model every candidate is added to.
+    pub reference: String,
+    /// Held-out reduced χ² of the reference.
+    pub reference_chi2: f64,
+    /// Each family added to it.
+    pub candidates: Vec<CandidateScore>,
+    /// The drift alternative (first stage only).
+    pub drift: Option<CandidateScore>,
+    /// What was decided.
+    pub decision: Decision,
+}
+
+/// An effect the diagnosis names.
+#[derive(Clone, Debug, Serialize)]
+pub struct NamedEffect {
+    /// Family.
+    pub effect: Effect,
+    /// Best form.
+    pub form: String,
+    /// Fitted parameters of the form.
+    pub parameters: BTreeMap<String, f64>,
+    /// Fraction of the held-out excess misfit (over the noise) of the model before it that it
+    /// removes.
+    pub held_out_shrink: f64,
+    /// Fraction of the held-out misfit of the model before it that it removes.
+    pub relative_shrink: f64,
+    /// How much the misfit of a typical held-out piece falls.
+    pub typical_shrink: f64,
+    /// Held-out evidence D (deviance units).
+    pub score: f64,
+    /// Extra checks: shrink on the tail of each test, and on each test left out.
+    pub tail_shrink: Option<f64>,
+    /// Shrink with each test left out in turn (an effect seen in one test cannot be learned
+    /// without it).
+    pub leave_one_test_out_shrink: Option<f64>,
+}
+
+/// The answer for scripts.
+#[derive(Clone, Debug, Serialize)]
+pub struct Verdict {
+    /// The first effect named, or `none`, or `unexplained`.
+    pub effect: Effect,
+    /// Held-out shrink of that effect (0 for none/unexplained).
+    pub held_out_shrink: f64,
+    /// Every named effect, in the order named.
+    pub effects: Vec<NamedEffect>,
+    /// Plain-language reason.
+    pub explanation: String,
+    /// Fitted extra parameters of the first effect.
+    pub extra_parameters: BTreeMap<String, f64>,
+    /// Held-out misfit with every named effect, reduced χ² in noise units: how far from the
+    /// noise the final model still is.
+    pub final_chi2: f64,
+    /// Whether the residual evidence supports the first family named.
+    pub evidence_supports: Option<bool>,
+}
+
+/// The base model's fit.
+#[derive(Clone, Debug, Serialize)]
+pub struct BaseFit {
+    /// Fitted model.
+    pub model: Model,
+    /// Free parameters.
+    pub free: Vec<String>,
+    /// SSR on the fitted rows (noise units).
+    pub ssr: f64,
+    /// Rows of the record.
+    pub rows: usize,
+    /// Rows fitted (bins of a thinned record).
+    pub fitted_rows: usize,
+    /// Reduced χ² on all rows.
+    pub reduced_chi2: f64,
+    /// Per-test misfit on all rows.
+    pub tests: Vec<TestMisfit>,
+}
+
+/// How each test starts.
+#[derive(Clone, Debug, Serialize)]
+pub struct TestStart {
+    /// Test.
+    pub test: String,
+    /// The state.
+    pub start: subfric_data::StartKind,
+    /// From `experiment.json`, or decided from the data.
+    pub from_spec: bool,
+    /// Why.
+    pub reason: String,
+    /// Noise SD of the measured column, and whether it is only a quantisation floor.
+    pub noise_sd: f64,
+    /// Noise is a floor.
+    pub noise_floor: bool,
+}
+
+/// A complete diagnosis.
+#[derive(Clone, Debug, Serialize)]
+pub struct Diagnosis {
+    /// The verdict (first, for scripts).
+    pub verdict: Verdict,
+    /// Base fit.
+    pub base: BaseFit,
+    /// What the data contain.
+    pub data: DataFeatures,
+    /// Starts and noise of each test.
+    pub starts: Vec<TestStart>,
+    /// The elastic stiffness, when the data resolve it (then α_t is fitted).
+    pub stiffness: Option<Stiffness>,
+    /// Where the base residual lies (all rows).
+    pub localisation: Localisation,
+    /// Every form fitted to all data.
+    pub forms: Vec<FormReport>,
+    /// The best form of each family against the base, and the drift alternative.
+    pub candidates: Vec<CandidateScore>,
+    /// The forward selection, stage by stage.
+    pub selection: Vec<SelectionStage>,
+    /// What the base model's held-out residual follows.
+    pub evidence: ResidualEvidence,
+    /// Where the residual lies with every named effect (all rows).
+    pub remaining_by_segment: Vec<GroupMisfit>,
+    /// The model with every named effect.
+    pub final_model: Model,
+    /// Held-out folds used.
+    pub folds: Vec<String>,
+    /// Pieces per kind.
+    pub pieces: BTreeMap<String, usize>,
+    /// Thresholds used.
+    pub thresholds: Thresholds,
+    /// Wall time [s].
+    pub elapsed_s: f64,
+}

@@ -1,0 +1,407 @@
+//! Screening every form, polishing the best of each family, and the forward selection on
+//! held-out pieces.
+
+use super::context::{parameters_of, switched_off, Context, Current, Fitted};
+use super::report::{CandidateScore, FormReport, KindShrink, SelectionStage};
+use crate::candidates::{Effect, Form};
+use crate::fits::{residuals, with_values, Spec};
+use crate::score::{by_kind, compare, Comparison, HeldOut};
+use crate::verdict::{decide, named_count, Decision};
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use subfric_model::Model;
+
+/// 2. Every form fitted to all data from its starts, scored in-sample against the base.
+fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, Fitted)> {
+    forms
+        .par_iter()
+        .map(|f| {
+            let spec = Spec::with(f);
+            let starts: Vec<Model> = f
+                .starts
+                .iter()
+                .map(|s| with_values(base, &spec, std::slice::from_ref(s)))
+                .collect();
+            // Screening: a few iterations rank the forms; the best of each family is then
+            // polished (see `polish`).
+            let fitted =
+                cx.fit_spec_with(base, &spec, &starts, 1, cx.opts.screening_iterations, false);
+            let r = &fitted.result;
+            let c = cx.in_sample(&r.model, &spec, &fitted.fit_tests);
+            (
+                FormReport {
+                    effect: f.effect,
+                    form: f.name.to_string(),
+                    parameters: parameters_of(&r.model, std::slice::from_ref(f)),
+                    ssr: r.ssr,
+                    in_sample_score: penalised(&c, f.params.len()),
+                    converged: r.converged && r.ssr.is_finite(),
+                    termination: r.termination.clone(),
+                    chosen: false,
+                    model: r.model,
+                },
+                fitted,
+            )
+        })
+        .collect()
+}
+
+/// The best form of each family (largest penalised in-sample score), marked `chosen`.
+fn choose_forms(reports: &mut [FormReport]) -> Vec<usize> {
+    let mut best: BTreeMap<Effect, usize> = BTreeMap::new();
+    for (i, r) in reports.iter().enumerate() {
+        if !r.ssr.is_finite() {
+            continue;
+        }
+        match best.get(&r.effect) {
+            Some(&j) if reports[j].in_sample_score >= r.in_sample_score => {}
+            _ => {
+                best.insert(r.effect, i);
+            }
+        }
+    }
+    for &i in best.values() {
+        reports[i].chosen = true;
+    }
+    best.into_values().collect()
+}
+
+/// The best form of every family not yet in `current`, each fitted on top of it: an effect
+/// masked by another one not yet modelled may show its best form only now. Starts: the current
+/// model with the form switched off, and at the form's own starts (ranked by one run each).
+fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
+    let own_residuals = residuals(&cx.tests, &current.model, None);
+    let scored: Vec<(usize, f64, Fitted)> = lib
+        .par_iter()
+        .enumerate()
+        .filter(|(_, f)| !current.spec.forms.iter().any(|g| g.effect == f.effect))
+        .map(|(i, f)| {
+            let spec = current.spec.plus(f);
+            let alone = Spec::with(f);
+            let mut starts = vec![switched_off(
+                &with_values(&current.model, &alone, std::slice::from_ref(&f.neutral)),
+                &alone,
+            )];
+            starts.extend(
+                f.starts
+                    .iter()
+                    .map(|v| with_values(&current.model, &alone, std::slice::from_ref(v))),
+            );
+            let fitted = cx.fit_spec_with(
+                &current.model,
+                &spec,
+                &starts,
+                1,
+                cx.opts.screening_iterations,
+                false,
+            );
+            let r = residuals(&cx.tests, &fitted.result.model, None);
+            let c = compare(&cx.pieces, &cx.weights, &own_residuals, &r);
+            let score = penalised(&c, f.params.len());
+            (i, score, fitted)
+        })
+        .collect();
+    let mut best: BTreeMap<Effect, (usize, f64, Fitted)> = BTreeMap::new();
+    for (i, score, fitted) in scored {
+        let e = lib[i].effect;
+        if best.get(&e).is_none_or(|b| score > b.1) {
+            best.insert(e, (i, score, fitted));
+        }
+    }
+    best.into_values()
+        .map(|(i, _, fitted)| Family {
+            effect: lib[i].effect,
+            form: lib[i].clone(),
+            alone: fitted,
+        })
+        .collect()
+}
+
+fn kind_shrinks(c: &Comparison) -> Vec<KindShrink> {
+    by_kind(c)
+        .into_iter()
+        .map(|(k, b, cc, n)| KindShrink {
+            kind: k.name().into(),
+            rows: n,
+            reference_rms_over_noise: (b / n.max(1) as f64).sqrt(),
+            candidate_rms_over_noise: (cc / n.max(1) as f64).sqrt(),
+            shrink: if b > 0.0 { (b - cc) / b } else { 0.0 },
+        })
+        .collect()
+}
+
+fn candidate_score(
+    cx: &Context,
+    effect: Effect,
+    spec: &Spec,
+    model: Model,
+    reference: &HeldOut,
+    held: &HeldOut,
+) -> CandidateScore {
+    let c = compare(&cx.pieces, &cx.weights, reference, held);
+    CandidateScore {
+        effect,
+        spec: spec.describe(),
+        extra_parameters: parameters_of(&model, &spec.forms),
+        model,
+        held_out_shrink: c.excess_shrink,
+        by_kind: kind_shrinks(&c),
+        held_out: c,
+    }
+}
+
+/// A family's best form with its fit alone on the base.
+#[derive(Clone)]
+pub(super) struct Family {
+    pub(super) effect: Effect,
+    pub(super) form: Form,
+    pub(super) alone: Fitted,
+}
+
+/// Step 2: every form fitted to all data and screened; the best form of each family polished
+/// on the base (reweighted when model error dominates). Returns every form's report, the
+/// chosen ones updated with their polished fits, and the families.
+pub(super) fn screen_and_polish(
+    cx: &Context,
+    base: &Model,
+    lib: &[Form],
+) -> (Vec<FormReport>, Vec<Family>) {
+    let (mut forms, fits): (Vec<FormReport>, Vec<Fitted>) =
+        fit_forms(cx, base, lib).into_iter().unzip();
+    let chosen = choose_forms(&mut forms);
+    cx.trace("every form screened");
+    let families: Vec<Family> = chosen
+        .par_iter()
+        .map(|&i| {
+            let spec = Spec::with(&lib[i]);
+            let polished = cx.fit_spec(
+                base,
+                &spec,
+                &[fits[i].result.model],
+                1,
+                cx.opts.candidate_iterations,
+            );
+            Family {
+                effect: forms[i].effect,
+                form: lib[i].clone(),
+                alone: polished,
+            }
+        })
+        .collect();
+    for (f, &i) in families.iter().zip(&chosen) {
+        let r = &f.alone.result;
+        let c = cx.in_sample(&r.model, &Spec::with(&f.form), &f.alone.fit_tests);
+        let report = &mut forms[i];
+        report.parameters = parameters_of(&r.model, std::slice::from_ref(&f.form));
+        report.ssr = r.ssr;
+        report.in_sample_score = penalised(&c, f.form.params.len());
+        report.converged = r.converged && r.ssr.is_finite();
+        report.termination = r.termination.clone();
+        report.model = r.model;
+    }
+    cx.trace("best forms polished");
+    (forms, families)
+}
+
+/// In-sample evidence less ln(n_eff) per extra parameter (a BIC on the effective number of
+/// observations), so that forms with more parameters do not win by fitting noise.
+fn penalised(c: &Comparison, extra_parameters: usize) -> f64 {
+    c.score - extra_parameters as f64 * c.n_eff.max(1.0).ln()
+}
+
+/// An effect the selection took, with its comparison against the model before it and the
+/// model holding it.
+#[derive(Clone)]
+pub(super) struct Selected {
+    pub(super) form: Form,
+    pub(super) own: Comparison,
+    pub(super) at: Current,
+}
+
+/// What the forward selection decided: every stage, the effects named, and the final model.
+pub(super) struct Selection {
+    pub(super) stages: Vec<SelectionStage>,
+    pub(super) named: Vec<Selected>,
+    pub(super) current: Current,
+}
+
+/// Step 3: forward selection on held-out pieces. Each stage adds every remaining family to
+/// the current model (re-ranked on top of it after the first) and takes the one the verdict
+/// names or keeps tentatively; at the end the smallest set that explains the gap is named.
+pub(super) fn forward_selection(
+    cx: &Context,
+    base: &Current,
+    families: &[Family],
+    lib: &[Form],
+) -> Selection {
+    let mut current = base.clone();
+    let mut stages: Vec<SelectionStage> = Vec::new();
+    let mut selected: Vec<Selected> = Vec::new();
+    // The base against each model holding the first k + 1 selected effects.
+    let mut joint: Vec<Comparison> = Vec::new();
+    for stage_no in 0..cx.opts.thresholds.max_effects {
+        let stage_families = if stage_no == 0 {
+            families.to_vec()
+        } else {
+            rescreen(cx, &current, lib)
+        };
+        let (stage, kept) = selection_stage(cx, &current, &stage_families, stage_no == 0);
+        cx.trace(&format!("selection stage {}", stage_no + 1));
+        let chosen = match stage.decision {
+            Decision::Named(i) | Decision::Tentative(i) => Some(i),
+            _ => None,
+        };
+        if let Some(i) = chosen {
+            let next = kept[i].clone();
+            let form = next
+                .spec
+                .forms
+                .last()
+                .expect("a selected spec has a form")
+                .clone();
+            joint.push(compare(&cx.pieces, &cx.weights, &base.held, &next.held));
+            selected.push(Selected {
+                form,
+                own: stage.candidates[i].held_out.clone(),
+                at: next.clone(),
+            });
+            current = next;
+        }
+        stages.push(stage);
+        if chosen.is_none() {
+            break;
+        }
+    }
+    let own: Vec<Comparison> = selected.iter().map(|s| s.own.clone()).collect();
+    selected.truncate(named_count(&joint, &own, &cx.opts.thresholds));
+    let current = selected
+        .last()
+        .map_or_else(|| base.clone(), |s| s.at.clone());
+    Selection {
+        stages,
+        named: selected,
+        current,
+    }
+}
+
+/// One stage of the forward selection: every remaining family added to the current
+/// model, fitted on all data and compared on held-out pieces.
+fn selection_stage(
+    cx: &Context,
+    current: &Current,
+    families: &[Family],
+    with_drift: bool,
+) -> (SelectionStage, Vec<Current>) {
+    let reference_chi2 =
+        compare(&cx.pieces, &cx.weights, &current.held, &current.held).reference_chi2;
+    let first_stage = current.spec.forms.is_empty();
+    if !first_stage && reference_chi2 <= cx.opts.thresholds.gap_chi2 {
+        // Nothing left to explain: no candidate is fitted.
+        return (
+            SelectionStage {
+                reference: current.spec.describe(),
+                reference_chi2,
+                candidates: Vec::new(),
+                drift: None,
+                decision: Decision::NoGap,
+            },
+            Vec::new(),
+        );
+    }
+    let results: Vec<(Effect, Current)> = families
+        .par_iter()
+        .filter(|f| !current.spec.forms.iter().any(|g| g.effect == f.effect))
+        .map(|f| {
+            let spec = current.spec.plus(&f.form);
+            // The family's best form was fitted on top of the current model already (on the
+            // base in the first stage); later stages polish it, reweighted.
+            let fitted = if first_stage {
+                f.alone.clone()
+            } else {
+                cx.fit_spec(
+                    &current.model,
+                    &spec,
+                    &[f.alone.result.model],
+                    1,
+                    cx.opts.screening_iterations,
+                )
+            };
+            let model = fitted.result.model;
+            let held = cx.held_out(
+                &current.model,
+                &spec,
+                &fitted.fit_tests,
+                &[model, current.model],
+            );
+            (
+                f.effect,
+                Current {
+                    spec,
+                    model,
+                    fit_tests: fitted.fit_tests,
+                    held,
+                },
+            )
+        })
+        .collect();
+    let mut candidates = Vec::new();
+    let mut kept = Vec::new();
+    for (e, c) in results {
+        candidates.push(candidate_score(
+            cx,
+            e,
+            &c.spec,
+            c.model,
+            &current.held,
+            &c.held,
+        ));
+        kept.push(c);
+    }
+    let drift = with_drift.then(|| {
+        let spec = Spec {
+            forms: current.spec.forms.clone(),
+            drift: true,
+        };
+        let fitted = cx.fit_spec(
+            &current.model,
+            &spec,
+            &[current.model],
+            1,
+            cx.opts.candidate_iterations,
+        );
+        let held = cx.held_out(
+            &current.model,
+            &spec,
+            &fitted.fit_tests,
+            &[fitted.result.model, current.model],
+        );
+        candidate_score(
+            cx,
+            Effect::Unexplained,
+            &spec,
+            fitted.result.model,
+            &current.held,
+            &held,
+        )
+    });
+    let pairs: Vec<(Effect, Comparison)> = candidates
+        .iter()
+        .map(|c| (c.effect, c.held_out.clone()))
+        .collect();
+    let decision = decide(
+        reference_chi2,
+        &pairs,
+        drift.as_ref().map(|d| &d.held_out),
+        &cx.opts.thresholds,
+    );
+    (
+        SelectionStage {
+            reference: current.spec.describe(),
+            reference_chi2,
+            candidates,
+            drift,
+            decision,
+        },
+        kept,
+    )
+}
