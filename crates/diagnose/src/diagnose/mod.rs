@@ -9,8 +9,8 @@ mod report;
 mod selection;
 
 pub use report::{
-    BaseFit, CandidateScore, Diagnosis, FormReport, KindShrink, NamedEffect, SelectionStage,
-    TestStart, Verdict,
+    BaseFit, CandidateScore, Diagnosis, DroppedEffect, FormReport, KindShrink, NamedEffect,
+    SelectionStage, TestStart, Verdict,
 };
 
 use crate::candidates::library;
@@ -146,6 +146,7 @@ pub fn diagnose(
         forms,
         candidates,
         selection: selection.stages,
+        dropped: selection.dropped,
         evidence,
         remaining_by_segment: localise(prepared, &residuals(&fulls, &final_model, None)).by_segment,
         final_model,

@@ -84,6 +84,19 @@ pub struct SelectionStage {
     pub decision: Decision,
 }
 
+/// An effect the forward selection took that the backward step dropped: the effects named
+/// after it explain the gap without it.
+#[derive(Clone, Debug, Serialize)]
+pub struct DroppedEffect {
+    /// Family.
+    pub effect: Effect,
+    /// Form.
+    pub form: String,
+    /// Held-out evidence D of the final model with it over the final model without it (below
+    /// the verdict's `min_score`).
+    pub score_given_the_others: f64,
+}
+
 /// An effect the diagnosis names.
 #[derive(Clone, Debug, Serialize)]
 pub struct NamedEffect {
@@ -94,7 +107,7 @@ pub struct NamedEffect {
     /// Fitted parameters of the form.
     pub parameters: BTreeMap<String, f64>,
     /// Fraction of the held-out excess misfit (over the noise) of the model before it that it
-    /// removes.
+    /// removes (with several effects named: of the final model without it).
     pub held_out_shrink: f64,
     /// Fraction of the held-out misfit of the model before it that it removes.
     pub relative_shrink: f64,
@@ -186,6 +199,8 @@ pub struct Diagnosis {
     pub candidates: Vec<CandidateScore>,
     /// The forward selection, stage by stage.
     pub selection: Vec<SelectionStage>,
+    /// Effects the forward selection took and the backward step dropped.
+    pub dropped: Vec<DroppedEffect>,
     /// What the base model's held-out residual follows.
     pub evidence: ResidualEvidence,
     /// Where the residual lies with every named effect (all rows).

@@ -2,11 +2,11 @@
 //! held-out pieces.
 
 use super::context::{parameters_of, switched_off, Context, Current, Fitted};
-use super::report::{CandidateScore, FormReport, KindShrink, SelectionStage};
+use super::report::{CandidateScore, DroppedEffect, FormReport, KindShrink, SelectionStage};
 use crate::candidates::{Effect, Form};
 use crate::fits::{residuals, with_values, Spec};
 use crate::score::{by_kind, compare, Comparison, HeldOut};
-use crate::verdict::{decide, named_count, Decision};
+use crate::verdict::{decide, material, named_count, Decision};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use subfric_model::Model;
@@ -216,6 +216,8 @@ pub(super) struct Selected {
     pub(super) form: Form,
     pub(super) own: Comparison,
     pub(super) at: Current,
+    /// Taken on its own evidence but explaining too little alone (see [`Decision::Tentative`]).
+    pub(super) tentative: bool,
 }
 
 /// What the forward selection decided: every stage, the effects named, and the final model.
@@ -223,6 +225,8 @@ pub(super) struct Selection {
     pub(super) stages: Vec<SelectionStage>,
     pub(super) named: Vec<Selected>,
     pub(super) current: Current,
+    /// Effects the backward step dropped.
+    pub(super) dropped: Vec<DroppedEffect>,
 }
 
 /// Step 3: forward selection on held-out pieces. Each stage adds every remaining family to
@@ -264,6 +268,7 @@ pub(super) fn forward_selection(
                 form,
                 own: stage.candidates[i].held_out.clone(),
                 at: next.clone(),
+                tentative: matches!(stage.decision, Decision::Tentative(_)),
             });
             current = next;
         }
@@ -277,10 +282,107 @@ pub(super) fn forward_selection(
     let current = selected
         .last()
         .map_or_else(|| base.clone(), |s| s.at.clone());
-    Selection {
+    let mut selection = Selection {
         stages,
         named: selected,
         current,
+        dropped: Vec::new(),
+    };
+    backward_elimination(cx, base, &mut selection);
+    selection
+}
+
+/// The final model refitted without its form `i`, started from the fit with it switched off,
+/// with its held-out residuals.
+fn without(cx: &Context, current: &Current, i: usize) -> Current {
+    let mut spec = current.spec.clone();
+    let form = spec.forms.remove(i);
+    let start = switched_off(&current.model, &Spec::with(&form));
+    let fitted = cx.fit_spec(
+        &current.model,
+        &spec,
+        &[start],
+        1,
+        cx.opts.candidate_iterations,
+    );
+    let held = cx.held_out(
+        &current.model,
+        &spec,
+        &fitted.fit_tests,
+        &[fitted.result.model, start],
+    );
+    Current {
+        spec,
+        model: fitted.result.model,
+        fit_tests: fitted.fit_tests,
+        held,
+    }
+}
+
+/// Backward step after the forward selection: a tentative step can take an effect that
+/// only stood in for the ones after it (a slip hardening mimicking a pressure and a rate effect
+/// together). Each tentative effect is removed in turn from the final model; while one adds no
+/// significant held-out evidence given the others and the rest still explains the gap, the
+/// weakest such effect is dropped. An effect named on its own evidence is never dropped.
+fn backward_elimination(cx: &Context, base: &Current, selection: &mut Selection) {
+    let th = &cx.opts.thresholds;
+    loop {
+        let current = &selection.current;
+        let tentative: Vec<usize> = (0..selection.named.len())
+            .filter(|&i| selection.named[i].tentative)
+            .collect();
+        if selection.named.len() < 2 || tentative.is_empty() {
+            break;
+        }
+        let mut reduced: Vec<(usize, Current, Comparison)> = tentative
+            .par_iter()
+            .map(|&i| {
+                let r = without(cx, current, i);
+                let c = compare(&cx.pieces, &cx.weights, &r.held, &current.held);
+                (i, r, c)
+            })
+            .collect();
+        cx.trace("backward step");
+        let still_explains =
+            |r: &Current| material(&compare(&cx.pieces, &cx.weights, &base.held, &r.held), th);
+        let weakest = (0..reduced.len())
+            .filter(|&k| reduced[k].2.score < th.min_score && still_explains(&reduced[k].1))
+            .min_by(|&a, &b| reduced[a].2.score.total_cmp(&reduced[b].2.score));
+        let Some(k) = weakest else {
+            break;
+        };
+        let (i, model_without, c) = reduced.swap_remove(k);
+        let gone = selection.named.remove(i);
+        selection.dropped.push(DroppedEffect {
+            effect: gone.form.effect,
+            form: gone.form.name.to_string(),
+            score_given_the_others: c.score,
+        });
+        selection.current = model_without;
+    }
+    if selection.dropped.is_empty() {
+        return;
+    }
+    // What each remaining effect adds to the others (to the base when it is alone).
+    let current = selection.current.clone();
+    let own: Vec<Comparison> = if selection.named.len() == 1 {
+        vec![compare(&cx.pieces, &cx.weights, &base.held, &current.held)]
+    } else {
+        (0..selection.named.len())
+            .into_par_iter()
+            .map(|i| {
+                compare(
+                    &cx.pieces,
+                    &cx.weights,
+                    &without(cx, &current, i).held,
+                    &current.held,
+                )
+            })
+            .collect()
+    };
+    for (s, c) in selection.named.iter_mut().zip(own) {
+        s.own = c;
+        s.at = current.clone();
     }
 }
 
