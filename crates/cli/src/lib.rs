@@ -6,6 +6,7 @@ pub mod api;
 pub mod args;
 mod bench;
 mod diagnose_cmd;
+mod diagnose_report;
 mod figures;
 mod fit_cmd;
 mod import_cmd;
@@ -201,7 +202,7 @@ fn diagnose(a: DiagnoseArgs) -> Result<()> {
         let _ = std::fs::remove_file(claim.path().join("diagnosis.json"));
         return Err(e);
     }
-    println!("{}", diagnose_cmd::report_text(&name, &d));
+    println!("{}", diagnose_report::report_text(&name, &d));
     claim.commit()?;
     println!("wrote {}", dir.join("diagnosis.json").display());
     for p in plots {

@@ -1,0 +1,293 @@
+//! The terminal report of `subfric diagnose` (also written as diagnosis.txt), one section per
+//! step of the diagnosis.
+
+use std::fmt::Write as _;
+use subfric_diagnose::localise::GroupMisfit;
+use subfric_diagnose::verdict::Decision;
+use subfric_diagnose::{Diagnosis, NamedEffect};
+
+/// Localised groups listed in section 1 (the largest shares of the gap first).
+const WORST_GROUPS_SHOWN: usize = 8;
+
+/// Width of the candidate column of section 3.
+const CANDIDATE_WIDTH: usize = 58;
+
+/// The terminal report.
+pub fn report_text(name: &str, d: &Diagnosis) -> String {
+    let mut s = String::new();
+    header(&mut s, name, d);
+    where_it_misses(&mut s, d);
+    every_form(&mut s, d);
+    held_out_selection(&mut s, d);
+    let _ = writeln!(
+        s,
+        "\n4. what the held-out residual of the base model follows:"
+    );
+    let _ = writeln!(s, "   {}", d.evidence.summary);
+    verdict(&mut s, d);
+    let _ = write!(s, "({:.1} s)", d.elapsed_s);
+    s
+}
+
+fn row(s: &mut String, x: &GroupMisfit) {
+    let _ = writeln!(
+        s,
+        "   {:<48} {:>6} rows  {:8.2}× noise  {:5.1}% of the gap",
+        x.group,
+        x.rows,
+        x.rms_over_noise,
+        100.0 * x.share_of_gap
+    );
+}
+
+fn parameter_list(parameters: &std::collections::BTreeMap<String, f64>) -> String {
+    parameters
+        .iter()
+        .map(|(k, v)| format!("{k}={v:.4e}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Rows, how each test starts, the noise estimate when it is a floor, and the base fit.
+fn header(s: &mut String, name: &str, d: &Diagnosis) {
+    let p = &d.base.model.params;
+    let _ = writeln!(
+        s,
+        "diagnosis of {name}: {} rows{}",
+        d.base.rows,
+        if d.base.fitted_rows < d.base.rows {
+            format!(
+                ", fitted on {} bins (dense where the data change, thin in steady sliding)",
+                d.base.fitted_rows
+            )
+        } else {
+            String::new()
+        }
+    );
+    for st in &d.starts {
+        if !st.from_spec && st.start != subfric_data::StartKind::Rest {
+            let _ = writeln!(s, "   {}: {}", st.test, st.reason);
+        }
+        if st.noise_floor {
+            let _ = writeln!(
+                s,
+                "   {}: the noise estimate {:.3e} is the quantisation floor, not a measurement",
+                st.test, st.noise_sd
+            );
+        }
+    }
+    if let Some(k) = &d.stiffness {
+        let _ = writeln!(s, "   α_t fitted: {}", k.evidence);
+    }
+    let _ = writeln!(
+        s,
+        "base model: misfit {:.2}× the noise variance on all rows (μ_s {:.3}, μ_k {:.3}, κ {:.4}, ξ {:.3e}, ũ {:.3}, α_t {:.4})",
+        d.base.reduced_chi2, p.mu_s, p.mu_k, p.kappa, p.xi, p.u_tilde, p.alpha_t
+    );
+}
+
+/// 1. Where the base misses, on all rows.
+fn where_it_misses(s: &mut String, d: &Diagnosis) {
+    let _ = writeln!(
+        s,
+        "\n1. where the base model misses (all rows; share of the excess over the noise):"
+    );
+    // The excess of a sum of n squared unit normals has an SD of √(2n).
+    if d.localisation.total_excess < 3.0 * (2.0 * d.base.rows as f64).sqrt() {
+        let _ = writeln!(
+            s,
+            "   (the total excess over the noise is within its scatter: the shares below are of nothing significant)"
+        );
+    }
+    let mut g = d.localisation.by_test_segment.clone();
+    g.sort_by(|a, b| b.share_of_gap.total_cmp(&a.share_of_gap));
+    for x in g.iter().take(WORST_GROUPS_SHOWN) {
+        row(s, x);
+    }
+    for x in d
+        .localisation
+        .by_cycle
+        .iter()
+        .chain(&d.localisation.by_normal_stress)
+    {
+        row(s, x);
+    }
+}
+
+/// 2. Every form of every family, in-sample.
+fn every_form(s: &mut String, d: &Diagnosis) {
+    let _ = writeln!(
+        s,
+        "\n2. every form of every candidate family, fitted to all data (in-sample):"
+    );
+    let _ = writeln!(
+        s,
+        "   {:<15} {:<44} {:>10}  {:<10} parameters",
+        "family", "form", "score", "fit"
+    );
+    for f in &d.forms {
+        let _ = writeln!(
+            s,
+            "   {:<15} {:<44} {:>10.1}  {:<10} {}{}",
+            f.effect.name(),
+            f.form,
+            f.in_sample_score,
+            if f.converged {
+                "converged"
+            } else {
+                "NOT conv."
+            },
+            parameter_list(&f.parameters),
+            if f.chosen {
+                "  ← best of its family"
+            } else {
+                ""
+            }
+        );
+    }
+}
+
+/// 3. The forward selection on held-out pieces, stage by stage, and the backward step.
+fn held_out_selection(s: &mut String, d: &Diagnosis) {
+    let counts: Vec<String> = d.pieces.iter().map(|(k, n)| format!("{n} {k}")).collect();
+    let _ = writeln!(
+        s,
+        "\n3. held out: pieces ({}) left out in {} folds, each predicted after refitting without it",
+        counts.join(", "),
+        d.folds.len()
+    );
+    for (k, st) in d.selection.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "   stage {}: added to {} (held-out misfit {:.2}× noise)",
+            k + 1,
+            st.reference,
+            st.reference_chi2
+        );
+        let _ = writeln!(
+            s,
+            "     {:<CANDIDATE_WIDTH$} {:>10} {:>9} {:>9} {:>9}",
+            "candidate", "evidence D", "excess", "relative", "typical"
+        );
+        for c in st.candidates.iter().chain(&st.drift) {
+            let _ = writeln!(
+                s,
+                "     {:<CANDIDATE_WIDTH$} {:>10.1} {:>8.0}% {:>8.0}% {:>8.0}%",
+                truncate(&c.spec, CANDIDATE_WIDTH),
+                c.held_out.score,
+                100.0 * c.held_out.excess_shrink.max(-9.99),
+                100.0 * c.held_out.relative_shrink.max(-9.99),
+                100.0 * c.held_out.typical_shrink.max(-9.99),
+            );
+        }
+        let _ = writeln!(
+            s,
+            "     → {}",
+            decision_text(st.decision, k, &st.candidates)
+        );
+        if let Decision::Named(i) | Decision::Tentative(i) = st.decision {
+            for x in &st.candidates[i].by_kind {
+                let _ = writeln!(
+                    s,
+                    "       {:<18} {:>6} rows  {:8.2} → {:8.2}× noise ({:+.0}% of its misfit)",
+                    x.kind,
+                    x.rows,
+                    x.reference_rms_over_noise,
+                    x.candidate_rms_over_noise,
+                    -100.0 * x.shrink
+                );
+            }
+        }
+    }
+    for x in &d.dropped {
+        let _ = writeln!(
+            s,
+            "   backward step: {} ({}) dropped — the effects after it explain the gap without it (evidence D = {:.1} given them)",
+            x.effect, x.form, x.score_given_the_others
+        );
+    }
+}
+
+fn decision_text(
+    decision: Decision,
+    stage: usize,
+    candidates: &[subfric_diagnose::diagnose::CandidateScore],
+) -> String {
+    match decision {
+        Decision::Named(i) => format!("selected: {}", candidates[i].spec),
+        Decision::Tentative(i) => format!(
+            "selected tentatively (significant, too little on its own): {}",
+            candidates[i].spec
+        ),
+        Decision::NoGap if stage == 0 => "nothing to explain: the base fits at the noise".into(),
+        Decision::NoGap => "nothing left to explain".into(),
+        Decision::Drift => "a drift of the measurement explains more than any candidate".into(),
+        Decision::Unexplained if stage == 0 => "no candidate explains enough".into(),
+        Decision::Unexplained => "no further effect".into(),
+    }
+}
+
+/// 5. The verdict with each named effect's parameters and extra checks.
+fn verdict(s: &mut String, d: &Diagnosis) {
+    let _ = writeln!(
+        s,
+        "\n5. verdict: {}",
+        if d.verdict.effects.is_empty() {
+            d.verdict.effect.to_string()
+        } else {
+            d.verdict
+                .effects
+                .iter()
+                .map(|e| e.effect.to_string())
+                .collect::<Vec<_>>()
+                .join(" + ")
+        }
+    );
+    for e in &d.verdict.effects {
+        named_effect(s, e);
+    }
+    let _ = writeln!(s, "   {}", d.verdict.explanation);
+    if let Some(sup) = d.verdict.evidence_supports {
+        let _ = writeln!(
+            s,
+            "   the residual evidence {} this",
+            if sup {
+                "supports"
+            } else {
+                "does not single out"
+            }
+        );
+    }
+}
+
+fn named_effect(s: &mut String, e: &NamedEffect) {
+    let _ = writeln!(
+        s,
+        "   {} — {}: {}",
+        e.effect,
+        e.form,
+        parameter_list(&e.parameters)
+    );
+    let checks: Vec<String> = [
+        ("tail of each test", e.tail_shrink),
+        ("each test left out", e.leave_one_test_out_shrink),
+    ]
+    .iter()
+    .filter_map(|(n, v)| v.map(|v| format!("{n}: {:.0}%", 100.0 * v)))
+    .collect();
+    if !checks.is_empty() {
+        let _ = writeln!(
+            s,
+            "     extra held-out checks (share of the excess removed) — {}",
+            checks.join(", ")
+        );
+    }
+}
+
+pub(crate) fn truncate(s: &str, n: usize) -> String {
+    if s.chars().count() <= n {
+        s.to_string()
+    } else {
+        format!("{}…", s.chars().take(n - 1).collect::<String>())
+    }
+}
