@@ -37,7 +37,7 @@ pub enum Feature {
 
 impl Feature {
     /// Every feature.
-    pub const ALL: [Feature; 8] = [
+    pub const ALL: [Feature; FEATURES] = [
         Feature::LogRate,
         Feature::RateChange,
         Feature::TimeAtRest,
@@ -104,7 +104,7 @@ pub struct ResidualEvidence {
 }
 
 /// Features of every fitted row of each test (rows: per test, per fitted row).
-fn row_features(tests: &[PreparedTest], v_ref: f64, p_ref: f64) -> Vec<Vec<[f64; 8]>> {
+fn row_features(tests: &[PreparedTest], v_ref: f64, p_ref: f64) -> Vec<Vec<[f64; FEATURES]>> {
     tests
         .iter()
         .map(|p| {
@@ -186,19 +186,19 @@ fn row_features(tests: &[PreparedTest], v_ref: f64, p_ref: f64) -> Vec<Vec<[f64;
 }
 
 /// Weighted lasso by coordinate descent on standardised columns; returns coefficients.
-fn lasso(x: &[[f64; 8]], y: &[f64], w: &[f64], lambda: f64) -> [f64; 8] {
+fn lasso(x: &[[f64; FEATURES]], y: &[f64], w: &[f64], lambda: f64) -> [f64; FEATURES] {
     let mut beta = [0.0; 8];
     let wsum: f64 = w.iter().sum();
     if wsum <= 0.0 {
         return beta;
     }
-    let norm: Vec<f64> = (0..8)
+    let norm: Vec<f64> = (0..FEATURES)
         .map(|j| x.iter().zip(w).map(|(r, wi)| wi * r[j] * r[j]).sum::<f64>() / wsum)
         .collect();
     let mut resid: Vec<f64> = y.to_vec();
     for _ in 0..200 {
         let mut change = 0.0f64;
-        for j in 0..8 {
+        for j in 0..FEATURES {
             if norm[j] <= 1e-12 {
                 continue;
             }
@@ -232,10 +232,10 @@ fn lasso(x: &[[f64; 8]], y: &[f64], w: &[f64], lambda: f64) -> [f64; 8] {
     beta
 }
 
-fn weighted_r2(x: &[[f64; 8]], y: &[f64], w: &[f64], beta: &[f64; 8]) -> f64 {
+fn weighted_r2(x: &[[f64; FEATURES]], y: &[f64], w: &[f64], beta: &[f64; FEATURES]) -> f64 {
     let (mut sse, mut sst) = (0.0, 0.0);
     for ((r, yi), wi) in x.iter().zip(y).zip(w) {
-        let pred: f64 = (0..8).map(|j| beta[j] * r[j]).sum();
+        let pred: f64 = (0..FEATURES).map(|j| beta[j] * r[j]).sum();
         sse += wi * (yi - pred).powi(2);
         sst += wi * yi * yi;
     }
@@ -255,33 +255,8 @@ pub fn residual_evidence(
     v_ref: f64,
     p_ref: f64,
 ) -> ResidualEvidence {
-    let feats = row_features(tests, v_ref, p_ref);
-    // Rows: (features, friction residual, weight, fold).
-    let (mut x, mut y, mut w, mut fold) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for (pi, piece) in pieces.iter().enumerate() {
-        let p = &tests[piece.test];
-        let t = &p.fit;
-        for i in piece.start..piece.end.min(t.len()) {
-            let r = held[piece.test][i];
-            if !r.is_finite() {
-                continue;
-            }
-            let wi = t.weight_of(i);
-            let scale = t.noise_sd / (t.weight.sqrt() * wi.sqrt().max(1e-12));
-            let unit = if t.control == Control::Slip {
-                t.normal[i]
-            } else {
-                1.0
-            };
-            x.push(feats[piece.test][i]);
-            y.push(r * scale / unit);
-            // Weighted as the rows a bin stands for, each test as its noise allows.
-            let sd = t.noise_sd / unit;
-            w.push(wi / (sd * sd).max(1e-300));
-            fold.push(fold_of_piece[pi]);
-        }
-    }
-    if x.len() < 20 {
+    let mut rows = held_out_rows(tests, pieces, held, fold_of_piece, v_ref, p_ref);
+    if rows.x.len() < MIN_EVIDENCE_ROWS {
         return ResidualEvidence {
             r2: 0.0,
             features: Vec::new(),
@@ -289,75 +264,19 @@ pub fn residual_evidence(
             summary: "too few held-out rows to read the residual".into(),
         };
     }
-    // Standardise (weighted), centre the residual.
-    let wsum: f64 = w.iter().sum();
-    let ym = y.iter().zip(&w).map(|(a, b)| a * b).sum::<f64>() / wsum;
-    for v in y.iter_mut() {
-        *v -= ym;
-    }
-    let mut mean = [0.0; 8];
-    let mut sd = [0.0; 8];
-    for j in 0..8 {
-        mean[j] = x.iter().zip(&w).map(|(r, wi)| wi * r[j]).sum::<f64>() / wsum;
-        sd[j] = (x
-            .iter()
-            .zip(&w)
-            .map(|(r, wi)| wi * (r[j] - mean[j]).powi(2))
-            .sum::<f64>()
-            / wsum)
-            .sqrt();
-    }
-    for r in x.iter_mut() {
-        for j in 0..8 {
-            r[j] = if sd[j] > 1e-12 {
-                (r[j] - mean[j]) / sd[j]
-            } else {
-                0.0
-            };
-        }
-    }
-    let lambda_max = (0..8)
-        .map(|j| {
-            (x.iter()
-                .zip(&y)
-                .zip(&w)
-                .map(|((r, e), wi)| wi * r[j] * e)
-                .sum::<f64>()
-                / wsum)
-                .abs()
-        })
-        .fold(0.0, f64::max);
-    let folds = fold.iter().copied().max().unwrap_or(0) + 1;
-    // λ by cross-validation over the held-out pieces' folds.
-    let mut best = (f64::INFINITY, lambda_max);
-    for k in 0..20 {
-        let lambda = lambda_max * 10f64.powf(-3.0 * k as f64 / 19.0);
-        let mut sse = 0.0;
-        for f in 0..folds {
-            let train: Vec<usize> = (0..x.len()).filter(|&i| fold[i] != f).collect();
-            let xs: Vec<[f64; 8]> = train.iter().map(|&i| x[i]).collect();
-            let ys: Vec<f64> = train.iter().map(|&i| y[i]).collect();
-            let ws: Vec<f64> = train.iter().map(|&i| w[i]).collect();
-            let b = lasso(&xs, &ys, &ws, lambda);
-            for i in (0..x.len()).filter(|&i| fold[i] == f) {
-                let pred: f64 = (0..8).map(|j| b[j] * x[i][j]).sum();
-                sse += w[i] * (y[i] - pred).powi(2);
-            }
-        }
-        if sse < best.0 {
-            best = (sse, lambda);
-        }
-    }
-    let sst: f64 = y.iter().zip(&w).map(|(e, wi)| wi * e * e).sum();
-    let r2 = if sst > 0.0 { 1.0 - best.0 / sst } else { 0.0 };
-    let beta = lasso(&x, &y, &w, best.1);
-    let full_r2 = weighted_r2(&x, &y, &w, &beta);
-    let mut features: Vec<FeatureWeight> = (0..8)
+    rows.standardise();
+    let (cv_sse, lambda) = rows.cross_validated_lambda();
+    let Rows { x, y, w, .. } = &rows;
+    let sst: f64 = y.iter().zip(w).map(|(e, wi)| wi * e * e).sum();
+    let r2 = if sst > 0.0 { 1.0 - cv_sse / sst } else { 0.0 };
+    let beta = lasso(x, y, w, lambda);
+    let full_r2 = weighted_r2(x, y, w, &beta);
+    let mut features: Vec<FeatureWeight> = (0..FEATURES)
         .filter(|&j| beta[j] != 0.0)
         .map(|j| {
             let mut without = beta;
             without[j] = 0.0;
-            let loss = (full_r2 - weighted_r2(&x, &y, &w, &without)).max(0.0);
+            let loss = (full_r2 - weighted_r2(x, y, w, &without)).max(0.0);
             FeatureWeight {
                 feature: Feature::ALL[j],
                 name: Feature::ALL[j].name().into(),
@@ -368,7 +287,7 @@ pub fn residual_evidence(
         })
         .collect();
     features.sort_by(|a, b| b.share.total_cmp(&a.share));
-    let leading_family = if r2 > 0.05 {
+    let leading_family = if r2 > NOTHING_PREDICTED_R2 {
         features.first().and_then(|f| f.family)
     } else {
         None
@@ -382,8 +301,140 @@ pub fn residual_evidence(
     }
 }
 
+/// Number of features the residual is regressed on.
+const FEATURES: usize = 8;
+
+/// Held-out rows below which the residual is not read.
+const MIN_EVIDENCE_ROWS: usize = 20;
+
+/// Cross-validated R² at or below which no feature predicts the residual.
+const NOTHING_PREDICTED_R2: f64 = 0.05;
+
+/// Penalties tried for the lasso, log-spaced over this many decades below the largest useful.
+const LAMBDA_GRID: usize = 20;
+const LAMBDA_DECADES: f64 = 3.0;
+
+/// The held-out rows the residual is regressed on: features, friction residual, weight and
+/// the fold that held each row out.
+struct Rows {
+    x: Vec<[f64; FEATURES]>,
+    y: Vec<f64>,
+    w: Vec<f64>,
+    fold: Vec<usize>,
+}
+
+/// The held-out residual of every piece as a friction residual (traction over normal stress
+/// under slip control), each row weighted as the rows a bin stands for and each test as its
+/// noise allows.
+fn held_out_rows(
+    tests: &[PreparedTest],
+    pieces: &[Piece],
+    held: &HeldOut,
+    fold_of_piece: &[usize],
+    v_ref: f64,
+    p_ref: f64,
+) -> Rows {
+    let feats = row_features(tests, v_ref, p_ref);
+    let mut rows = Rows {
+        x: Vec::new(),
+        y: Vec::new(),
+        w: Vec::new(),
+        fold: Vec::new(),
+    };
+    for (pi, piece) in pieces.iter().enumerate() {
+        let t = &tests[piece.test].fit;
+        for i in piece.start..piece.end.min(t.len()) {
+            let r = held[piece.test][i];
+            if !r.is_finite() {
+                continue;
+            }
+            let wi = t.weight_of(i);
+            let scale = t.noise_sd / (t.weight.sqrt() * wi.sqrt().max(1e-12));
+            let unit = if t.control == Control::Slip {
+                t.normal[i]
+            } else {
+                1.0
+            };
+            let sd = t.noise_sd / unit;
+            rows.x.push(feats[piece.test][i]);
+            rows.y.push(r * scale / unit);
+            rows.w.push(wi / (sd * sd).max(1e-300));
+            rows.fold.push(fold_of_piece[pi]);
+        }
+    }
+    rows
+}
+
+impl Rows {
+    /// Centres the residual and standardises each feature (weighted); a constant feature
+    /// becomes 0.
+    fn standardise(&mut self) {
+        let wsum: f64 = self.w.iter().sum();
+        let ym = self.y.iter().zip(&self.w).map(|(a, b)| a * b).sum::<f64>() / wsum;
+        for v in self.y.iter_mut() {
+            *v -= ym;
+        }
+        for j in 0..FEATURES {
+            let weighted = |f: &dyn Fn(f64) -> f64| {
+                self.x
+                    .iter()
+                    .zip(&self.w)
+                    .map(|(r, wi)| wi * f(r[j]))
+                    .sum::<f64>()
+                    / wsum
+            };
+            let mean = weighted(&|v| v);
+            let sd = weighted(&|v| (v - mean).powi(2)).sqrt();
+            for r in self.x.iter_mut() {
+                r[j] = if sd > 1e-12 { (r[j] - mean) / sd } else { 0.0 };
+            }
+        }
+    }
+
+    /// The lasso penalty with the least held-out error, chosen by cross-validation over the
+    /// folds that held the pieces out; returns (that error, the penalty).
+    fn cross_validated_lambda(&self) -> (f64, f64) {
+        let (x, y, w, fold) = (&self.x, &self.y, &self.w, &self.fold);
+        let wsum: f64 = w.iter().sum();
+        // The smallest penalty that keeps every coefficient at zero.
+        let lambda_max = (0..FEATURES)
+            .map(|j| {
+                (x.iter()
+                    .zip(y)
+                    .zip(w)
+                    .map(|((r, e), wi)| wi * r[j] * e)
+                    .sum::<f64>()
+                    / wsum)
+                    .abs()
+            })
+            .fold(0.0, f64::max);
+        let folds = fold.iter().copied().max().unwrap_or(0) + 1;
+        let mut best = (f64::INFINITY, lambda_max);
+        for k in 0..LAMBDA_GRID {
+            let lambda =
+                lambda_max * 10f64.powf(-LAMBDA_DECADES * k as f64 / (LAMBDA_GRID - 1) as f64);
+            let mut sse = 0.0;
+            for f in 0..folds {
+                let train: Vec<usize> = (0..x.len()).filter(|&i| fold[i] != f).collect();
+                let xs: Vec<[f64; FEATURES]> = train.iter().map(|&i| x[i]).collect();
+                let ys: Vec<f64> = train.iter().map(|&i| y[i]).collect();
+                let ws: Vec<f64> = train.iter().map(|&i| w[i]).collect();
+                let b = lasso(&xs, &ys, &ws, lambda);
+                for i in (0..x.len()).filter(|&i| fold[i] == f) {
+                    let pred: f64 = (0..FEATURES).map(|j| b[j] * x[i][j]).sum();
+                    sse += w[i] * (y[i] - pred).powi(2);
+                }
+            }
+            if sse < best.0 {
+                best = (sse, lambda);
+            }
+        }
+        best
+    }
+}
+
 fn describe(r2: f64, features: &[FeatureWeight]) -> String {
-    if r2 <= 0.05 || features.is_empty() {
+    if r2 <= NOTHING_PREDICTED_R2 || features.is_empty() {
         return format!(
             "no feature predicts the held-out residual (cross-validated R² {:.2}): it looks like noise or a shape none of the features describes",
             r2.max(0.0)

@@ -386,6 +386,36 @@ fn backward_elimination(cx: &Context, base: &Current, selection: &mut Selection)
     }
 }
 
+/// The drift alternative: the current model with each measurement free to drift linearly in
+/// time, which no physical candidate models.
+fn drift_candidate(cx: &Context, current: &Current) -> CandidateScore {
+    let spec = Spec {
+        forms: current.spec.forms.clone(),
+        drift: true,
+    };
+    let fitted = cx.fit_spec(
+        &current.model,
+        &spec,
+        &[current.model],
+        1,
+        cx.opts.candidate_iterations,
+    );
+    let held = cx.held_out(
+        &current.model,
+        &spec,
+        &fitted.fit_tests,
+        &[fitted.result.model, current.model],
+    );
+    candidate_score(
+        cx,
+        Effect::Unexplained,
+        &spec,
+        fitted.result.model,
+        &current.held,
+        &held,
+    )
+}
+
 /// One stage of the forward selection: every remaining family added to the current
 /// model, fitted on all data and compared on held-out pieces.
 fn selection_stage(
@@ -459,33 +489,7 @@ fn selection_stage(
         ));
         kept.push(c);
     }
-    let drift = with_drift.then(|| {
-        let spec = Spec {
-            forms: current.spec.forms.clone(),
-            drift: true,
-        };
-        let fitted = cx.fit_spec(
-            &current.model,
-            &spec,
-            &[current.model],
-            1,
-            cx.opts.candidate_iterations,
-        );
-        let held = cx.held_out(
-            &current.model,
-            &spec,
-            &fitted.fit_tests,
-            &[fitted.result.model, current.model],
-        );
-        candidate_score(
-            cx,
-            Effect::Unexplained,
-            &spec,
-            fitted.result.model,
-            &current.held,
-            &held,
-        )
-    });
+    let drift = with_drift.then(|| drift_candidate(cx, current));
     let pairs: Vec<(Effect, Comparison)> = candidates
         .iter()
         .map(|c| (c.effect, c.held_out.clone()))
