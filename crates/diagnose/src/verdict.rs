@@ -17,8 +17,12 @@ pub struct Thresholds {
     pub min_typical_shrink: f64,
     /// Held-out reduced χ² (noise units) of the reference above which model error dominates.
     pub model_error_chi2: f64,
-    /// Reduced χ² above which a gap over the noise is real (below: nothing to explain).
+    /// Reduced χ² at or below which the gap is noise, unless a candidate passes on its own.
     pub gap_chi2: f64,
+    /// At or below `gap_chi2`, the fraction of the excess a significant candidate must remove
+    /// (less than `min_excess_shrink`: there the excess is partly an imprecise noise estimate,
+    /// which no candidate removes).
+    pub near_noise_excess_shrink: f64,
     /// Most effects a diagnosis names.
     pub max_effects: usize,
 }
@@ -31,6 +35,7 @@ impl Default for Thresholds {
             min_typical_shrink: 0.15,
             model_error_chi2: 10.0,
             gap_chi2: 1.3,
+            near_noise_excess_shrink: 0.5,
             max_effects: 3,
         }
     }
@@ -40,7 +45,7 @@ impl Default for Thresholds {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case", tag = "decision", content = "index")]
 pub enum Decision {
-    /// The reference already fits at the noise level: nothing to explain.
+    /// The reference fits at the noise level and no candidate passes: nothing to explain.
     NoGap,
     /// Candidate `index` is named.
     Named(usize),
@@ -55,10 +60,12 @@ pub enum Decision {
 }
 
 /// True when comparison `c` explains enough of the reference's gap: most of its excess over
-/// the noise, or, when model error dominates, a material part of a typical piece's misfit.
+/// the noise, or, when model error dominates, a material part of a typical piece's misfit, or,
+/// near the noise overall, half its excess.
 pub fn material(c: &Comparison, th: &Thresholds) -> bool {
     c.excess_shrink >= th.min_excess_shrink
         || (c.reference_chi2 >= th.model_error_chi2 && c.typical_shrink >= th.min_typical_shrink)
+        || (c.reference_chi2 <= th.gap_chi2 && c.excess_shrink >= th.near_noise_excess_shrink)
 }
 
 /// True when comparison `c` is both significant and material.
@@ -79,7 +86,11 @@ pub fn passes(c: &Comparison, th: &Thresholds) -> bool {
 ///     reference_chi2: 12.0, candidate_chi2: 1.5, rows: 2000, n_eff: 1500.0, pieces: vec![] };
 /// let d = decide(12.0, &[(Effect::Rate, good.clone())], None, &Thresholds::default());
 /// assert_eq!(d, Decision::Named(0));
-/// assert_eq!(decide(1.1, &[(Effect::Rate, good)], None, &Thresholds::default()), Decision::NoGap);
+/// // Near the noise overall, a candidate that explains too little is no gap.
+/// let weak = Comparison { excess_shrink: 0.3, typical_shrink: 0.1, ..good.clone() };
+/// assert_eq!(decide(1.1, &[(Effect::Rate, weak)], None, &Thresholds::default()), Decision::NoGap);
+/// // ... but one that passes is named: an effect confined to a few pieces.
+/// assert_eq!(decide(1.1, &[(Effect::Rate, good)], None, &Thresholds::default()), Decision::Named(0));
 /// ```
 pub fn decide(
     reference_chi2: f64,
@@ -87,9 +98,6 @@ pub fn decide(
     drift: Option<&Comparison>,
     th: &Thresholds,
 ) -> Decision {
-    if reference_chi2 <= th.gap_chi2 {
-        return Decision::NoGap;
-    }
     let best = (0..candidates.len())
         .max_by(|&a, &b| candidates[a].1.score.total_cmp(&candidates[b].1.score));
     let best_score = best.map_or(f64::NEG_INFINITY, |i| candidates[i].1.score);
@@ -98,8 +106,12 @@ pub fn decide(
             return Decision::Drift;
         }
     }
+    // Near the noise overall, an effect confined to a few pieces (healing seen only after the
+    // holds) can still be real: it is named when it passes; anything less is no gap.
+    let near_noise = reference_chi2 <= th.gap_chi2;
     match best {
         Some(i) if passes(&candidates[i].1, th) => Decision::Named(i),
+        _ if near_noise => Decision::NoGap,
         Some(i) if candidates[i].1.score >= th.min_score && candidates[i].1.excess_shrink > 0.0 => {
             Decision::Tentative(i)
         }
@@ -264,16 +276,27 @@ mod tests {
     }
 
     #[test]
-    fn no_gap_below_the_gap_threshold() {
+    fn no_gap_below_the_gap_threshold_unless_a_candidate_passes() {
         let th = Thresholds::default();
+        let partial = cmp(50.0, th.near_noise_excess_shrink - 0.01, 0.5, 1.25);
         assert_eq!(
-            decide(
-                1.25,
-                &[(Effect::Rate, cmp(50.0, 0.9, 0.5, 1.25))],
-                None,
-                &th
-            ),
+            decide(1.25, &[(Effect::Rate, partial)], None, &th),
             Decision::NoGap
+        );
+        let half = cmp(50.0, th.near_noise_excess_shrink + 0.01, 0.5, 1.25);
+        assert_eq!(
+            decide(1.25, &[(Effect::LogHealing, half)], None, &th),
+            Decision::Named(0)
+        );
+        let insignificant = cmp(10.0, 0.9, 0.5, 1.25);
+        assert_eq!(
+            decide(1.25, &[(Effect::Rate, insignificant)], None, &th),
+            Decision::NoGap
+        );
+        let confined = cmp(50.0, 0.9, 0.5, 1.25);
+        assert_eq!(
+            decide(1.25, &[(Effect::LogHealing, confined)], None, &th),
+            Decision::Named(0)
         );
     }
 }

@@ -232,64 +232,142 @@ pub(super) struct Selection {
 /// Step 3: forward selection on held-out pieces. Each stage adds every remaining family to
 /// the current model (re-ranked on top of it after the first) and takes the one the verdict
 /// names or keeps tentatively; at the end the smallest set that explains the gap is named.
+/// When the first step is only tentative, the two most significant candidates are both
+/// followed (two effects of similar size can rank either way alone) and the path whose named
+/// effects explain the gap with the most held-out evidence is kept.
 pub(super) fn forward_selection(
     cx: &Context,
     base: &Current,
     families: &[Family],
     lib: &[Form],
 ) -> Selection {
-    let mut current = base.clone();
-    let mut stages: Vec<SelectionStage> = Vec::new();
-    let mut selected: Vec<Selected> = Vec::new();
-    // The base against each model holding the first k + 1 selected effects.
-    let mut joint: Vec<Comparison> = Vec::new();
-    for stage_no in 0..cx.opts.thresholds.max_effects {
-        let stage_families = if stage_no == 0 {
-            families.to_vec()
-        } else {
-            rescreen(cx, &current, lib)
-        };
-        let (stage, kept) = selection_stage(cx, &current, &stage_families, stage_no == 0);
-        cx.trace(&format!("selection stage {}", stage_no + 1));
-        let chosen = match stage.decision {
-            Decision::Named(i) | Decision::Tentative(i) => Some(i),
-            _ => None,
-        };
-        if let Some(i) = chosen {
-            let next = kept[i].clone();
-            let form = next
-                .spec
-                .forms
-                .last()
-                .expect("a selected spec has a form")
-                .clone();
-            joint.push(compare(&cx.pieces, &cx.weights, &base.held, &next.held));
-            selected.push(Selected {
-                form,
-                own: stage.candidates[i].held_out.clone(),
-                at: next.clone(),
-                tentative: matches!(stage.decision, Decision::Tentative(_)),
-            });
-            current = next;
+    let (first, kept) = selection_stage(cx, base, families, true);
+    cx.trace("selection stage 1");
+    let th = &cx.opts.thresholds;
+    let firsts: Vec<usize> = match first.decision {
+        Decision::Named(i) => vec![i],
+        Decision::Tentative(i) => {
+            let runner_up = (0..first.candidates.len())
+                .filter(|&j| j != i)
+                .filter(|&j| {
+                    let c = &first.candidates[j].held_out;
+                    c.score >= th.min_score && c.excess_shrink > 0.0
+                })
+                .max_by(|&a, &b| {
+                    let score = |k: usize| first.candidates[k].held_out.score;
+                    score(a).total_cmp(&score(b))
+                });
+            std::iter::once(i).chain(runner_up).collect()
         }
-        stages.push(stage);
-        if chosen.is_none() {
-            break;
-        }
-    }
-    let own: Vec<Comparison> = selected.iter().map(|s| s.own.clone()).collect();
-    selected.truncate(named_count(&joint, &own, &cx.opts.thresholds));
-    let current = selected
+        _ => Vec::new(),
+    };
+    let paths: Vec<Path> = firsts
+        .iter()
+        .map(|&i| {
+            let mut stage = first.clone();
+            if let Decision::Tentative(_) = stage.decision {
+                stage.decision = Decision::Tentative(i);
+            }
+            let mut path = Path::default();
+            path.take(cx, base, stage, kept[i].clone(), i);
+            path.go_on(cx, base, lib);
+            path
+        })
+        .collect();
+    let best = (0..paths.len())
+        .filter(|&k| paths[k].named_count(th) > 0)
+        .max_by(|&a, &b| paths[a].evidence(th).total_cmp(&paths[b].evidence(th)));
+    let mut path = match best {
+        Some(k) => paths.into_iter().nth(k).expect("index of a path"),
+        None => paths.into_iter().next().unwrap_or_else(|| Path {
+            stages: vec![first],
+            ..Path::default()
+        }),
+    };
+    path.selected.truncate(path.named_count(th));
+    let current = path
+        .selected
         .last()
         .map_or_else(|| base.clone(), |s| s.at.clone());
     let mut selection = Selection {
-        stages,
-        named: selected,
+        stages: path.stages,
+        named: path.selected,
         current,
         dropped: Vec::new(),
     };
     backward_elimination(cx, base, &mut selection);
     selection
+}
+
+/// One path of the forward selection: its stages, the effects taken in turn, and the base
+/// against each model holding the first k + 1 of them.
+#[derive(Default)]
+struct Path {
+    stages: Vec<SelectionStage>,
+    selected: Vec<Selected>,
+    joint: Vec<Comparison>,
+}
+
+impl Path {
+    /// Takes candidate `i` of `stage` (its fitted model `next`).
+    fn take(
+        &mut self,
+        cx: &Context,
+        base: &Current,
+        stage: SelectionStage,
+        next: Current,
+        i: usize,
+    ) {
+        let form = next
+            .spec
+            .forms
+            .last()
+            .expect("a selected spec has a form")
+            .clone();
+        self.joint
+            .push(compare(&cx.pieces, &cx.weights, &base.held, &next.held));
+        self.selected.push(Selected {
+            form,
+            own: stage.candidates[i].held_out.clone(),
+            at: next,
+            tentative: matches!(stage.decision, Decision::Tentative(_)),
+        });
+        self.stages.push(stage);
+    }
+
+    /// The later stages, until one takes nothing or the most effects are taken.
+    fn go_on(&mut self, cx: &Context, base: &Current, lib: &[Form]) {
+        while self.selected.len() < cx.opts.thresholds.max_effects {
+            let current = self.selected.last().map_or(base, |s| &s.at).clone();
+            let families = rescreen(cx, &current, lib);
+            let (stage, kept) = selection_stage(cx, &current, &families, false);
+            cx.trace(&format!("selection stage {}", self.stages.len() + 1));
+            match stage.decision {
+                Decision::Named(i) | Decision::Tentative(i) => {
+                    let next = kept[i].clone();
+                    self.take(cx, base, stage, next, i);
+                }
+                _ => {
+                    self.stages.push(stage);
+                    return;
+                }
+            }
+        }
+    }
+
+    /// How many of the effects taken to name (see [`named_count`]).
+    fn named_count(&self, th: &crate::verdict::Thresholds) -> usize {
+        let own: Vec<Comparison> = self.selected.iter().map(|s| s.own.clone()).collect();
+        named_count(&self.joint, &own, th)
+    }
+
+    /// Held-out evidence of the named effects together over the base.
+    fn evidence(&self, th: &crate::verdict::Thresholds) -> f64 {
+        match self.named_count(th) {
+            0 => f64::NEG_INFINITY,
+            n => self.joint[n - 1].score,
+        }
+    }
 }
 
 /// The final model refitted without its form `i`, started from the fit with it switched off,
@@ -319,11 +397,15 @@ fn without(cx: &Context, current: &Current, i: usize) -> Current {
     }
 }
 
+/// Fewest named effects the backward step looks at.
+const MIN_EFFECTS_TO_PRUNE: usize = 3;
+
 /// Backward step after the forward selection: a tentative step can take an effect that
 /// only stood in for the ones after it (a slip hardening mimicking a pressure and a rate effect
 /// together). Each tentative effect is removed in turn from the final model; while one adds no
 /// significant held-out evidence given the others and the rest still explains the gap, the
-/// weakest such effect is dropped. An effect named on its own evidence is never dropped.
+/// weakest such effect is dropped, down to two effects. An effect named on its own evidence
+/// is never dropped.
 fn backward_elimination(cx: &Context, base: &Current, selection: &mut Selection) {
     let th = &cx.opts.thresholds;
     loop {
@@ -331,7 +413,10 @@ fn backward_elimination(cx: &Context, base: &Current, selection: &mut Selection)
         let tentative: Vec<usize> = (0..selection.named.len())
             .filter(|&i| selection.named[i].tentative)
             .collect();
-        if selection.named.len() < 2 || tentative.is_empty() {
+        // With two effects the forward step has shown already that the first alone does not
+        // explain the gap; dropping it would rest on a refit of the second alone from the
+        // pair's values, which can trade one effect for the other.
+        if selection.named.len() < MIN_EFFECTS_TO_PRUNE || tentative.is_empty() {
             break;
         }
         let mut reduced: Vec<(usize, Current, Comparison)> = tentative
