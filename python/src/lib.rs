@@ -115,7 +115,7 @@ fn model_of(params: &Bound<'_, PyAny>) -> PyResult<Model> {
 }
 
 fn control_from(s: &str) -> PyResult<Control> {
-    s.parse::<subfric_data::Control>()
+    s.parse::<subfric_data::ControlColumn>()
         .map(control_of)
         .map_err(|e| fail(format!("control: {e}")))
 }

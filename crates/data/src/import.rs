@@ -8,7 +8,7 @@ use serde_json::Map;
 
 use crate::error::{DataError, Problem, Problems};
 use crate::fsio::{commit_file, stage_file, PathKind};
-use crate::meta::{Control, ExperimentMeta, Interface, TestSpec};
+use crate::meta::{ControlColumn, ExperimentMeta, Interface, TestSpec};
 use crate::set::{
     comment_text, load_set, meta_json_text, prepare_parent, test_csv_text, validate_data,
     ExperimentSet, TestData, EXPERIMENT_JSON,
@@ -244,7 +244,7 @@ pub struct ImportSpec {
     /// Constant normal stress, kPa, when there is no normal column.
     pub normal_stress_kpa: Option<f64>,
     /// Which column the apparatus imposed.
-    pub control: Control,
+    pub control: ControlColumn,
     /// Name of the test (unique within the set); the CSV is named after it.
     pub test_name: String,
     /// Name of the set (used when a new set is created).
@@ -274,7 +274,7 @@ impl Default for ImportSpec {
             friction: None,
             normal: None,
             normal_stress_kpa: None,
-            control: Control::Slip,
+            control: ControlColumn::Slip,
             test_name: "test".into(),
             set_name: "imported".into(),
             title: None,

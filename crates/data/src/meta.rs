@@ -11,46 +11,47 @@ use serde_json::{Map, Value};
 use crate::error::{DataError, Problems};
 use crate::jsonpos::value_positions;
 
-/// Which column the apparatus imposed.
+/// Which column the apparatus imposed, as declared in `experiment.json` (the model's
+/// counterpart is `subfric_model::Control`; `subfric_fit::control_of` converts).
 ///
 /// ```
-/// use subfric_data::Control;
-/// let c: Control = serde_json::from_str("\"shear\"").unwrap();
-/// assert_eq!(c, Control::Shear);
-/// assert_eq!("slip".parse::<Control>().unwrap(), Control::Slip);
-/// assert_eq!(Control::Slip.to_string(), "slip");
+/// use subfric_data::ControlColumn;
+/// let c: ControlColumn = serde_json::from_str("\"shear\"").unwrap();
+/// assert_eq!(c, ControlColumn::Shear);
+/// assert_eq!("slip".parse::<ControlColumn>().unwrap(), ControlColumn::Slip);
+/// assert_eq!(ControlColumn::Slip.to_string(), "slip");
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Control {
+pub enum ControlColumn {
     /// Slip history imposed, shear measured (displacement control).
     Slip,
     /// Shear traction imposed, slip measured (stress control: pulsating loading, creep).
     Shear,
 }
 
-impl Control {
+impl ControlColumn {
     /// `"slip"` or `"shear"`.
     pub fn name(self) -> &'static str {
         match self {
-            Control::Slip => "slip",
-            Control::Shear => "shear",
+            ControlColumn::Slip => "slip",
+            ControlColumn::Shear => "shear",
         }
     }
 }
 
-impl fmt::Display for Control {
+impl fmt::Display for ControlColumn {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
     }
 }
 
-impl FromStr for Control {
+impl FromStr for ControlColumn {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.trim().to_ascii_lowercase().as_str() {
-            "slip" => Ok(Control::Slip),
-            "shear" => Ok(Control::Shear),
+            "slip" => Ok(ControlColumn::Slip),
+            "shear" => Ok(ControlColumn::Shear),
             other => Err(format!(
                 "unknown control `{other}` (expected `slip` or `shear`)"
             )),
@@ -83,7 +84,7 @@ pub struct TestSpec {
     /// CSV file name, relative to the set's folder.
     pub file: String,
     /// Which column the apparatus imposed.
-    pub control: Control,
+    pub control: ControlColumn,
     /// Constant normal stress, kPa (a `normal_kpa` CSV column overrides it per row).
     pub normal_stress_kpa: f64,
     /// How the test starts: from rest, or already sliding (a segment cut out of a longer run).
@@ -108,7 +109,7 @@ pub enum InitialSpec {
 
 impl TestSpec {
     /// A test spec without extra fields.
-    pub fn new(name: &str, file: &str, control: Control, normal_stress_kpa: f64) -> Self {
+    pub fn new(name: &str, file: &str, control: ControlColumn, normal_stress_kpa: f64) -> Self {
         TestSpec {
             name: name.to_string(),
             file: file.to_string(),

@@ -30,7 +30,7 @@ use serde::{Deserialize, Serialize};
 use crate::condition::{analyze, Conditioned};
 use crate::events::velocity_steps;
 pub use crate::events::SegmentOptions;
-use crate::meta::{Control, InitialSpec};
+use crate::meta::{ControlColumn, InitialSpec};
 use crate::noise::{estimate_noise, median};
 use crate::set::TestData;
 
@@ -240,7 +240,7 @@ fn rate_between(t: &[f64], y: &[f64], a: usize, b: usize) -> f64 {
 /// windowed rate estimates so that noise does not create segments.
 ///
 /// ```
-/// use subfric_data::{segment, Control, SegmentKind, SegmentOptions, TestData, TestSpec};
+/// use subfric_data::{segment, ControlColumn, SegmentKind, SegmentOptions, TestData, TestSpec};
 /// // slip-controlled triangle 0 → 1 → -1 → 1 mm at 0.01 mm/s
 /// let time: Vec<f64> = (0..=500).map(|i| i as f64).collect();
 /// let slip: Vec<f64> = time.iter().map(|&t| {
@@ -248,7 +248,7 @@ fn rate_between(t: &[f64], y: &[f64], a: usize, b: usize) -> f64 {
 /// }).collect();
 /// let n = time.len();
 /// let test = TestData {
-///     spec: TestSpec::new("cyc", "cyc.csv", Control::Slip, 100.0), path: "cyc.csv".into(),
+///     spec: TestSpec::new("cyc", "cyc.csv", ControlColumn::Slip, 100.0), path: "cyc.csv".into(),
 ///     time_s: time, slip_mm: slip, shear_kpa: vec![0.0; n], normal_kpa: vec![100.0; n],
 ///     friction_given: false, line_of_row: (2..n + 2).collect(), comments: vec![],
 /// };
@@ -383,8 +383,8 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         seg.cycle_of_row[i] = reversals_before.div_ceil(2) as u32;
         let e = current.0;
         travel = match control {
-            Control::Slip => (y[i] - y[e]).abs(),
-            Control::Shear => {
+            ControlColumn::Slip => (y[i] - y[e]).abs(),
+            ControlColumn::Shear => {
                 let d = match (measured_slip.get(i), measured_slip.get(e)) {
                     (Some(a), Some(b)) if (a - b).is_finite() => (a - b).abs(),
                     _ => 0.0,
@@ -394,7 +394,7 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         };
         let kind = if in_hold[i] {
             SegmentKind::Hold
-        } else if control == Control::Shear && unloading(&y, i) {
+        } else if control == ControlColumn::Shear && unloading(&y, i) {
             SegmentKind::Unloading
         } else if travel <= opts.transient_mm {
             match current.1 {
@@ -470,8 +470,8 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
     let in_hold = seg.holds.first().is_some_and(|h| h.0 <= 1);
     let control = test.spec.control;
     let shear_at_start = match control {
-        Control::Slip => shear0,
-        Control::Shear => test.shear_kpa.first().copied().unwrap_or(0.0),
+        ControlColumn::Slip => shear0,
+        ControlColumn::Shear => test.shear_kpa.first().copied().unwrap_or(0.0),
     };
     let make = |kind, from_spec, reason: String| Start {
         kind,
@@ -484,7 +484,7 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
         Some(InitialSpec::Rest) => {
             return make(StartKind::Rest, true, "`initial`: rest".into());
         }
-        Some(InitialSpec::Sliding) if control == Control::Slip && in_hold => {
+        Some(InitialSpec::Sliding) if control == ControlColumn::Slip && in_hold => {
             return make(
                 StartKind::Loaded,
                 true,
@@ -498,7 +498,7 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
         }
         None => {}
     }
-    if control == Control::Shear || n < 3 {
+    if control == ControlColumn::Shear || n < 3 {
         return make(StartKind::Rest, false, "from rest".into());
     }
     let noise = estimate_noise(&test.time_s, measured_shear).sd;
@@ -618,11 +618,11 @@ mod tests {
     use super::*;
     use crate::meta::TestSpec;
 
-    pub(crate) fn data(control: Control, t: Vec<f64>, imposed: Vec<f64>) -> TestData {
+    pub(crate) fn data(control: ControlColumn, t: Vec<f64>, imposed: Vec<f64>) -> TestData {
         let n = t.len();
         let (slip, shear) = match control {
-            Control::Slip => (imposed, vec![0.0; n]),
-            Control::Shear => (vec![0.0; n], imposed),
+            ControlColumn::Slip => (imposed, vec![0.0; n]),
+            ControlColumn::Shear => (vec![0.0; n], imposed),
         };
         TestData {
             spec: TestSpec::new("x", "x.csv", control, 100.0),
@@ -652,7 +652,7 @@ mod tests {
         add(1.0, 0.01, 100);
         add(0.1, 0.1, 100);
         add(1.0, 0.01, 100);
-        let d = data(Control::Slip, t, y);
+        let d = data(ControlColumn::Slip, t, y);
         let s = segment(&d, &SegmentOptions::default());
         assert_eq!(s.rate_changes, vec![100, 200]);
         assert!(s.holds.is_empty());
@@ -668,7 +668,7 @@ mod tests {
     fn segments_cover_all_rows() {
         let t: Vec<f64> = (0..50).map(|i| i as f64).collect();
         let y: Vec<f64> = t.iter().map(|t| (t * 0.3).sin()).collect();
-        let s = segment(&data(Control::Slip, t, y), &SegmentOptions::default());
+        let s = segment(&data(ControlColumn::Slip, t, y), &SegmentOptions::default());
         let mut next = 0;
         for sg in &s.segments {
             assert_eq!(sg.start, next);
@@ -729,7 +729,10 @@ mod tests {
         for n in 0..4 {
             let t: Vec<f64> = (0..n).map(|i| i as f64).collect();
             let y = vec![1.0; n];
-            let s = segment(&data(Control::Shear, t, y), &SegmentOptions::default());
+            let s = segment(
+                &data(ControlColumn::Shear, t, y),
+                &SegmentOptions::default(),
+            );
             assert_eq!(s.row_kind.len(), n);
         }
     }

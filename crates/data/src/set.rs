@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{DataError, Problem, Problems};
 use crate::fsio::{commit_file, set_file_problem, stage_file};
-use crate::meta::{file_name_problem, parse_meta, Control, ExperimentMeta, TestSpec};
+use crate::meta::{file_name_problem, parse_meta, ControlColumn, ExperimentMeta, TestSpec};
 
 /// Name of the description file inside a set's folder.
 pub const EXPERIMENT_JSON: &str = "experiment.json";
@@ -49,16 +49,16 @@ impl TestData {
     /// The column the apparatus imposed: slip for slip control, shear for shear control.
     pub fn imposed(&self) -> &[f64] {
         match self.spec.control {
-            Control::Slip => &self.slip_mm,
-            Control::Shear => &self.shear_kpa,
+            ControlColumn::Slip => &self.slip_mm,
+            ControlColumn::Shear => &self.shear_kpa,
         }
     }
 
     /// The measured column: shear for slip control, slip for shear control.
     pub fn measured(&self) -> &[f64] {
         match self.spec.control {
-            Control::Slip => &self.shear_kpa,
-            Control::Shear => &self.slip_mm,
+            ControlColumn::Slip => &self.shear_kpa,
+            ControlColumn::Shear => &self.slip_mm,
         }
     }
 
@@ -329,8 +329,8 @@ pub(crate) fn comment_text(trimmed: &str) -> String {
 /// name `path`.
 ///
 /// ```
-/// use subfric_data::{set::parse_test, Control, TestSpec};
-/// let spec = TestSpec::new("a", "a.csv", Control::Slip, 50.0);
+/// use subfric_data::{set::parse_test, ControlColumn, TestSpec};
+/// let spec = TestSpec::new("a", "a.csv", ControlColumn::Slip, 50.0);
 /// let t = parse_test("time_s,slip_mm,shear_kpa\n0,0,0\n1,0.5,20\n", "a.csv".as_ref(), &spec).unwrap();
 /// assert_eq!(t.normal_kpa, vec![50.0, 50.0]);
 /// let e = parse_test("time_s,slip_mm,shear_kpa\n1,0,0\n1,0.5,20\n", "a.csv".as_ref(), &spec).unwrap_err();

@@ -4,7 +4,7 @@ use std::fmt;
 
 use serde::Serialize;
 
-use crate::meta::Control;
+use crate::meta::ControlColumn;
 use crate::noise::{estimate_noise, NoiseEstimate};
 use crate::segment::{segment, SegmentOptions, Start, StartKind};
 use crate::set::{ExperimentSet, TestData};
@@ -43,7 +43,7 @@ pub struct TestSummary {
     /// CSV file name.
     pub file: String,
     /// Imposed column.
-    pub control: Control,
+    pub control: ControlColumn,
     /// Number of rows.
     pub rows: usize,
     /// First and last time, s.
@@ -280,7 +280,7 @@ impl fmt::Display for SetSummary {
             .tests
             .iter()
             .map(|t| {
-                let (unit, measured_unit) = if t.control == Control::Slip {
+                let (unit, measured_unit) = if t.control == ControlColumn::Slip {
                     ("mm", "kPa")
                 } else {
                     ("kPa", "mm")

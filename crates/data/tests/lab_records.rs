@@ -5,7 +5,7 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use subfric_data::{segment, Control, SegmentOptions, StartKind, TestData, TestSpec};
+use subfric_data::{segment, ControlColumn, SegmentOptions, StartKind, TestData, TestSpec};
 
 /// One stage of a generated protocol: slide at `rate` mm/s over `distance` mm, or hold.
 #[derive(Clone, Copy, Debug)]
@@ -88,7 +88,7 @@ fn generate(stages: &[Stage], seed: u64, start_offset_mm: f64) -> Built {
     // Friction 0.6 while sliding (a segment of a longer run), relaxing in holds.
     let shear: Vec<f64> = (0..n).map(|_| 6000.0 + 5.0 * gauss(&mut rng)).collect();
     let test = TestData {
-        spec: TestSpec::new("lab", "lab.csv", Control::Slip, 10_000.0),
+        spec: TestSpec::new("lab", "lab.csv", ControlColumn::Slip, 10_000.0),
         path: "lab.csv".into(),
         time_s: t,
         slip_mm: slip,
@@ -232,7 +232,7 @@ fn a_stiff_curve_printed_to_five_decimals_starts_at_rest() {
         })
         .collect();
     let test = TestData {
-        spec: TestSpec::new("mono", "mono.csv", Control::Slip, 78.4),
+        spec: TestSpec::new("mono", "mono.csv", ControlColumn::Slip, 78.4),
         path: "mono.csv".into(),
         time_s: time,
         slip_mm: slip,
