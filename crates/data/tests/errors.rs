@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use subfric_data::{load_set, load_test, ControlColumn, DataError, Problem, TestSpec};
+use subfric_data::{load_set, load_test, ControlColumn, DataError, InputProblem, TestSpec};
 
 const JSON_ONE: &str = r#"{
   "name": "s",
@@ -13,7 +13,7 @@ const JSON_ONE: &str = r#"{
   ]
 }"#;
 
-fn set_with_csv(csv: &str) -> (tempfile::TempDir, Vec<Problem>) {
+fn set_with_csv(csv: &str) -> (tempfile::TempDir, Vec<InputProblem>) {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("experiment.json"), JSON_ONE).unwrap();
     std::fs::write(dir.path().join("a.csv"), csv).unwrap();
@@ -26,7 +26,12 @@ fn set_with_csv(csv: &str) -> (tempfile::TempDir, Vec<Problem>) {
 }
 
 /// Asserts one problem is in `a.csv` at `line`, about `field`, containing `words`.
-fn assert_problem(problems: &[Problem], line: Option<usize>, field: Option<&str>, words: &[&str]) {
+fn assert_problem(
+    problems: &[InputProblem],
+    line: Option<usize>,
+    field: Option<&str>,
+    words: &[&str],
+) {
     let found = problems.iter().any(|p| {
         p.file.ends_with("a.csv")
             && p.line == line
