@@ -27,7 +27,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::condition::{analyze, Conditioned};
+use crate::condition::{analyze, Analysis, Conditioned};
 use crate::events::velocity_steps;
 pub use crate::events::SegmentOptions;
 use crate::meta::{ControlColumn, InitialSpec};
@@ -263,15 +263,14 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
     let n = test.time_s.len().min(test.imposed().len());
     let t = &test.time_s[..n];
     let an = analyze(t, &test.imposed()[..n], opts);
+    // The rows are classified on the conditioned column before the levels are smoothed.
     let y = an.conditioned.values.clone();
-    let reversals = an.reversals.clone();
-    let holds = an.holds.clone();
     let mut seg = Segmentation {
         segments: Vec::new(),
         row_kind: vec![SegmentKind::InitialLoading; n],
         cycle_of_row: vec![0; n],
-        reversals,
-        holds,
+        reversals: an.reversals.clone(),
+        holds: an.holds.clone(),
         rate_changes: Vec::new(),
         levels: Vec::new(),
         reference_rate: an.ref_rate,
@@ -287,24 +286,59 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
     if n == 0 {
         return seg;
     }
+    let in_hold = hold_mask(n, &seg.holds);
+    find_rate_levels(t, &y, &in_hold, &an, opts, &mut seg);
+    smooth_levels(
+        t,
+        &mut seg.conditioned.values,
+        &seg.levels,
+        LEVEL_SMOOTHING_BANDS * seg.conditioned.band,
+    );
+    let event_at = events_at_rows(n, &seg);
+    classify_rows(test, &y, &in_hold, &event_at, opts, &mut seg);
+    seg.segments = collect_segments(t, &y, &event_at, &seg);
+    seg.start = decide_start(test, &seg);
+    seg
+}
+
+/// Which of the `n` rows lie in a hold.
+fn hold_mask(n: usize, holds: &[(usize, usize)]) -> Vec<bool> {
     let mut in_hold = vec![false; n];
-    for &(s, e) in &seg.holds {
+    for &(s, e) in holds {
         for v in &mut in_hold[s..e.min(n)] {
             *v = true;
         }
     }
-    // run index of each row (row i in run k when k reversals lie before i)
+    in_hold
+}
+
+/// Run index of each of the `n` rows: row i is in run k when k reversals lie before i.
+fn run_index(n: usize, reversals: &[usize]) -> Vec<usize> {
     let mut run_of = vec![0usize; n];
-    {
-        let mut k = 0;
-        for (i, r) in run_of.iter_mut().enumerate() {
-            while k < seg.reversals.len() && seg.reversals[k] < i {
-                k += 1;
-            }
-            *r = k;
+    let mut k = 0;
+    for (i, r) in run_of.iter_mut().enumerate() {
+        while k < reversals.len() && reversals[k] < i {
+            k += 1;
         }
+        *r = k;
     }
-    // sliding stretches: maximal ranges of rows (intervals) in one run, outside holds
+    run_of
+}
+
+/// The constant-rate levels and the velocity steps between them, stretch by stretch: a
+/// stretch is a maximal range of rows in one run, outside holds (no steps are looked for
+/// across a reversal or a hold, which are events of their own). Nothing is found when a
+/// value is not finite.
+fn find_rate_levels(
+    t: &[f64],
+    y: &[f64],
+    in_hold: &[bool],
+    an: &Analysis,
+    opts: &SegmentOptions,
+    seg: &mut Segmentation,
+) {
+    let n = t.len();
+    let run_of = run_index(n, &seg.reversals);
     let finite = y.iter().chain(t).all(|v| v.is_finite());
     let mut i = 1;
     while finite && i < n {
@@ -318,14 +352,14 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         }
         // intervals s..i (rows s-1 ..= i-1)
         let (p, q) = (s - 1, i - 1);
-        let steps = velocity_steps(t, &y, p, q, an.chunk_travel, opts);
+        let steps = velocity_steps(t, y, p, q, an.chunk_travel, opts);
         let mut a = p;
         for &c in steps.iter().chain(std::iter::once(&q)) {
             if c > a {
                 seg.levels.push(RateLevel {
                     start: a + 1,
                     end: c + 1,
-                    rate: rate_between(t, &y, a, c),
+                    rate: rate_between(t, y, a, c),
                 });
             }
             a = c;
@@ -333,40 +367,56 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         seg.rate_changes.extend(steps);
     }
     seg.rate_changes.sort_unstable();
-    smooth_levels(
-        t,
-        &mut seg.conditioned.values,
-        &seg.levels,
-        LEVEL_SMOOTHING_BANDS * seg.conditioned.band,
-    );
+}
 
-    // events at rows, the most significant one kept when several coincide
+impl Event {
+    /// Which event wins when several fall on one row: a reversal over the end of a hold over
+    /// a velocity step over the start.
+    fn rank(self) -> u8 {
+        match self {
+            Event::Start => 0,
+            Event::Step => 1,
+            Event::HoldEnd => 2,
+            Event::Reversal => 3,
+        }
+    }
+}
+
+/// The event at each of the `n` rows (the end of a hold, a velocity step, a reversal), the
+/// most significant one kept when several coincide.
+fn events_at_rows(n: usize, seg: &Segmentation) -> Vec<Option<Event>> {
     let mut event_at: Vec<Option<Event>> = vec![None; n];
-    let set_event = |row: usize, e: Event, event_at: &mut Vec<Option<Event>>| {
-        if row < n {
-            let rank = |e: Event| match e {
-                Event::Start => 0,
-                Event::Step => 1,
-                Event::HoldEnd => 2,
-                Event::Reversal => 3,
-            };
-            if event_at[row].is_none_or(|old| rank(e) > rank(old)) {
-                event_at[row] = Some(e);
-            }
+    let mut set_event = |row: usize, e: Event| {
+        if row < n && event_at[row].is_none_or(|old| e.rank() > old.rank()) {
+            event_at[row] = Some(e);
         }
     };
     for &(s, e) in &seg.holds {
         // a rest before any motion ends in the start of the test, not in an after-hold phase
         let ev = if s <= 1 { Event::Start } else { Event::HoldEnd };
-        set_event(e - 1, ev, &mut event_at);
+        set_event(e - 1, ev);
     }
     for &c in &seg.rate_changes {
-        set_event(c, Event::Step, &mut event_at);
+        set_event(c, Event::Step);
     }
     for &r in &seg.reversals {
-        set_event(r, Event::Reversal, &mut event_at);
+        set_event(r, Event::Reversal);
     }
+    event_at
+}
 
+/// Kind and cycle of every row: a row is in the transient after the last event until the
+/// slip since that event exceeds [`SegmentOptions::transient_mm`] (under traction control the
+/// measured slip, whose largest excursion counts), steady sliding after.
+fn classify_rows(
+    test: &TestData,
+    y: &[f64],
+    in_hold: &[bool],
+    event_at: &[Option<Event>],
+    opts: &SegmentOptions,
+    seg: &mut Segmentation,
+) {
+    let n = event_at.len();
     let control = test.spec.control;
     let measured_slip = &test.slip_mm;
     let mut current = (0usize, Event::Start);
@@ -394,7 +444,7 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         };
         let kind = if in_hold[i] {
             SegmentKind::Hold
-        } else if control == ControlColumn::Shear && unloading(&y, i) {
+        } else if control == ControlColumn::Shear && unloading(y, i) {
             SegmentKind::Unloading
         } else if travel <= opts.transient_mm {
             match current.1 {
@@ -411,8 +461,17 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
     if n > 1 {
         seg.row_kind[0] = seg.row_kind[1];
     }
+}
 
-    // segments
+/// The segments: maximal runs of rows of one kind and cycle, also cut at every event.
+fn collect_segments(
+    t: &[f64],
+    y: &[f64],
+    event_at: &[Option<Event>],
+    seg: &Segmentation,
+) -> Vec<Segment> {
+    let n = event_at.len();
+    let mut segments = Vec::new();
     let mut start = 0usize;
     for i in 1..=n {
         let boundary = i == n
@@ -422,12 +481,12 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         if boundary {
             let from = start.saturating_sub(1);
             let to = i - 1;
-            seg.segments.push(Segment {
+            segments.push(Segment {
                 kind: seg.row_kind[start],
                 start,
                 end: i,
                 rate: if to > from {
-                    rate_between(t, &y, from, to)
+                    rate_between(t, y, from, to)
                 } else {
                     0.0
                 },
@@ -436,9 +495,27 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
             start = i;
         }
     }
-    seg.start = decide_start(test, &seg);
-    seg
+    segments
 }
+
+/// Rows at most over which the traction at the start is taken (while the imposed column has
+/// not moved): enough for a median to reject a spike, few enough to stay at the start.
+const START_ROWS: usize = 5;
+
+/// The imposed column has "not moved" while within this many noise SDs of its first value
+/// (three: a noisy still column stays inside with 99.7 % probability per row).
+const STILL_BAND_SDS: f64 = 3.0;
+
+/// A first traction within this many noise SDs of zero is rest …
+const REST_NOISE_SDS: f64 = 5.0;
+
+/// … or within this share of the typical traction (for quiet data, where 5 SDs is tiny).
+const REST_SHARE_OF_LEVEL: f64 = 0.05;
+
+/// A test that starts moving below this share of the typical traction is loaded but not yet
+/// sliding; at or above it, already sliding (a segment cut out of a longer run starts at about
+/// the sliding level, a test from rest well below it).
+const SLIDING_SHARE_OF_LEVEL: f64 = 0.8;
 
 /// The initial state: the `initial` field when given, else from the first rows — a traction
 /// within the noise of zero is rest; a traction well below the sliding level, or a file that
@@ -448,13 +525,13 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
     let n = test.len();
     let measured_shear = &test.shear_kpa;
     // The traction at the start: over the first rows that have not moved beyond the noise of the
-    // imposed column (at most five).
+    // imposed column (at most [`START_ROWS`]).
     let noise = &seg.conditioned.noise;
-    let band = (3.0 * noise.sd).max(0.5 * noise.quantum);
+    let band = (STILL_BAND_SDS * noise.sd).max(0.5 * noise.quantum);
     let imposed = test.imposed();
     let still = imposed
         .iter()
-        .take(5)
+        .take(START_ROWS)
         .take_while(|v| (*v - imposed[0]).abs() <= band)
         .count()
         .max(1);
@@ -504,7 +581,7 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
     let noise = estimate_noise(&test.time_s, measured_shear).sd;
     let mut mags: Vec<f64> = measured_shear.iter().map(|v| v.abs()).collect();
     let level = median(&mut mags);
-    if shear0.abs() <= (5.0 * noise).max(0.05 * level) {
+    if shear0.abs() <= (REST_NOISE_SDS * noise).max(REST_SHARE_OF_LEVEL * level) {
         return make(
             StartKind::Rest,
             false,
@@ -518,7 +595,7 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
             format!("starts still under a traction of {shear0:.4} kPa: loaded at rest"),
         );
     }
-    if shear0.abs() < 0.8 * level {
+    if shear0.abs() < SLIDING_SHARE_OF_LEVEL * level {
         return make(
             StartKind::Loaded,
             false,
