@@ -573,6 +573,10 @@ const SETTLE_DECAY_LENGTHS: f64 = 5.0;
 /// Fewest rows of a stretch that is to show a transient or a level.
 const MIN_STRETCH_ROWS: f64 = 20.0;
 
+/// Slip of the first slide from rest, in settle lengths: the rise from rest is slower than the
+/// recovery after a perturbation.
+const FIRST_SLIDE_SETTLES: f64 = 3.0;
+
 /// Fewest holds of a slide–hold–slide series: the healing's growth with the hold needs three
 /// points.
 const MIN_HOLDS: usize = 3;
@@ -608,7 +612,7 @@ impl SlipGeometry {
             v,
             d,
             settle,
-            first: (3.0 * settle).min(d).max(settle),
+            first: (FIRST_SLIDE_SETTLES * settle).min(d).max(settle),
             p: rig.normal_stress_kpa,
             dt: rig.dt_s,
         }
@@ -794,6 +798,10 @@ const DEFAULT_PERIOD_ROWS: f64 = 200.0;
 /// than run away.
 const CREEP_CAPACITY_SHARE: f64 = 0.95;
 
+/// Each creep hold lasts this many periods of the rig's traction cycles: long against the
+/// time scale the current tests resolve.
+const CREEP_HOLD_PERIODS: f64 = 5.0;
+
 /// Levels and times of the traction-controlled proposals.
 struct ShearGeometry {
     /// Normal stress [kPa].
@@ -882,7 +890,7 @@ fn creep_holds(g: &ShearGeometry, fit: &Model) -> Candidate {
         .iter()
         .map(|f| (f * g.tmax).min(cap))
         .collect();
-    let hold = 5.0 * g.period;
+    let hold = CREEP_HOLD_PERIODS * g.period;
     let mut stages = Vec::new();
     for l in &levels {
         stages.push(Stage::ShearRamp {
@@ -951,17 +959,20 @@ fn pulsating_double_normal_stress(g: &ShearGeometry) -> Candidate {
     }
 }
 
+/// A proposal keeps at least this many rows, whatever [`PlanOptions::max_rows`] says.
+const FEWEST_ROWS: usize = 10;
+
 /// The scenario with its time step coarsened so that it has at most `max_rows` rows.
 fn within_rows(
     mut sc: Scenario,
     max_rows: usize,
 ) -> Option<(Scenario, subfric_model::scenario::ScenarioRows)> {
     let rows = sc.rows().ok()?;
-    if rows.time.len() <= max_rows.max(10) {
+    if rows.time.len() <= max_rows.max(FEWEST_ROWS) {
         return Some((sc, rows));
     }
     let duration = rows.time.last().copied().unwrap_or(0.0);
-    sc.dt_s = duration / max_rows.max(10) as f64;
+    sc.dt_s = duration / max_rows.max(FEWEST_ROWS) as f64;
     let rows = sc.rows().ok()?;
     Some((sc, rows))
 }
@@ -1012,6 +1023,14 @@ fn information(tests: &[FitTest], space: &Space, x: &[f64]) -> Option<DMatrix<f6
     Some(j.transpose() * j)
 }
 
+/// Iterations of each held re-fit of a walk: it starts next to its answer (the previous
+/// point), so a few suffice.
+const WALK_MAX_ITERATIONS: usize = 40;
+
+/// Round-off allowance on the χ²₁(95 %) threshold of a walk point (the walk's own end points
+/// sit on it).
+const WALK_CHI2_SLACK: f64 = 1e-6;
+
 /// A point of a valley walk: optimiser coordinates and (SSR − SSR_min)/s².
 type WalkPoint = (Vec<f64>, f64);
 
@@ -1038,7 +1057,7 @@ fn walk(
         .collect();
     let fixed: Vec<bool> = (0..x0.len()).map(|i| i == k || Some(i) == hold).collect();
     let opts = LmOptions {
-        max_iterations: 40,
+        max_iterations: WALK_MAX_ITERATIONS,
         ..LmOptions::default()
     };
     let mut out = Vec::new();
@@ -1057,7 +1076,7 @@ fn walk(
             start[k] = t;
             let r = levenberg_marquardt(p, &start, Some(&fixed), &opts);
             let delta = (r.ssr - ssr0) / s2;
-            if delta <= CHI2_1_95 + 1e-6 {
+            if delta <= CHI2_1_95 + WALK_CHI2_SLACK {
                 out.push((r.x.clone(), delta.max(0.0)));
             }
             prev = r.x;
