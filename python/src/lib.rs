@@ -17,7 +17,7 @@ use subfric::api::{self, FitRequest, ProgressMode};
 use subfric::args::{parse_bound, parse_fix, parse_param};
 use subfric_data::{load_set as load_set_rs, plausibility, InitialSpec};
 use subfric_diagnose::DiagnoseOptions;
-use subfric_fit::{control_of, FitOptions, Method, Param};
+use subfric_fit::{control_of, FitOptions, FitTest, Method, Param};
 use subfric_model::{simulate as simulate_rs, Control, Initial, Model, Protocol, Trajectory};
 
 create_exception!(
@@ -115,7 +115,7 @@ fn model_of(params: &Bound<'_, PyAny>) -> PyResult<Model> {
 }
 
 fn control_from(s: &str) -> PyResult<Control> {
-    s.parse::<subfric_data::Control>()
+    s.parse::<subfric_data::ControlColumn>()
         .map(control_of)
         .map_err(|e| fail(format!("control: {e}")))
 }
@@ -226,6 +226,61 @@ fn method_of(s: &str) -> PyResult<Method> {
     }
 }
 
+/// Refuses a weight that is not a finite positive number (as the command line does).
+fn check_weights(weights: &[(String, f64)]) -> PyResult<()> {
+    for (name, w) in weights {
+        if !(w.is_finite() && *w > 0.0) {
+            return Err(fail(format!(
+                "weights: {name}: weight {w} is not a finite positive number (expected a weight > 0)"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// One test of a fit for Python: its columns, the fitted curve, μ and r, and how the fit
+/// started the model.
+fn curve_dict<'py>(py: Python<'py>, t: FitTest, traj: Trajectory) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let control = match t.control {
+        Control::Slip => "slip",
+        Control::Shear => "shear",
+    };
+    d.set_item("control", control)?;
+    d.set_item("fitted", array(py, traj.predicted(t.control).to_vec()))?;
+    d.set_item("time_s", array(py, t.time))?;
+    d.set_item("imposed", array(py, t.imposed))?;
+    d.set_item("measured", array(py, t.measured))?;
+    d.set_item("normal_kpa", array(py, t.normal))?;
+    d.set_item("mu", array(py, traj.mu))?;
+    d.set_item("r", array(py, traj.r))?;
+    // How the fit started the model (what `simulate` needs to reproduce `fitted`).
+    d.set_item("initial", initial_dict(py, t.initial)?)?;
+    d.set_item("initial_slip", t.initial_slip)?;
+    Ok(d)
+}
+
+/// The initial state as `simulate` takes it: {"kind": ..., "shear_kpa": ..., "rate_mm_s": ...}.
+fn initial_dict(py: Python<'_>, initial: Initial) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    match initial {
+        Initial::Rest => d.set_item("kind", "rest")?,
+        Initial::Loaded { shear_kpa } => {
+            d.set_item("kind", "loaded")?;
+            d.set_item("shear_kpa", shear_kpa)?;
+        }
+        Initial::Sliding {
+            shear_kpa,
+            rate_mm_s,
+        } => {
+            d.set_item("kind", "sliding")?;
+            d.set_item("shear_kpa", shear_kpa)?;
+            d.set_item("rate_mm_s", rate_mm_s)?;
+        }
+    }
+    Ok(d)
+}
+
 /// Calibrates one set, or several jointly, as `subfric fit` does. Returns the text of the
 /// fit.json it would write, the fitted curves per test (arrays), and the plausibility warnings.
 #[pyfunction]
@@ -263,13 +318,7 @@ fn fit<'py>(
             parse_bound(&format!("{k}={lo}:{hi}")).map_err(|e| fail(format!("bounds: {e}")))
         })
         .collect::<PyResult<_>>()?;
-    for (name, w) in &weights {
-        if !(w.is_finite() && *w > 0.0) {
-            return Err(fail(format!(
-                "weights: {name}: weight {w} is not a finite positive number (expected a weight > 0)"
-            )));
-        }
-    }
+    check_weights(&weights)?;
     let req = FitRequest {
         dirs,
         tests,
@@ -303,39 +352,7 @@ fn fit<'py>(
     let (text, curves, warnings) = run.map_err(error)?;
     let out = PyDict::new(py);
     for (name, t, traj) in curves {
-        let d = PyDict::new(py);
-        let control = match t.control {
-            Control::Slip => "slip",
-            Control::Shear => "shear",
-        };
-        d.set_item("control", control)?;
-        d.set_item("fitted", array(py, traj.predicted(t.control).to_vec()))?;
-        d.set_item("time_s", array(py, t.time))?;
-        d.set_item("imposed", array(py, t.imposed))?;
-        d.set_item("measured", array(py, t.measured))?;
-        d.set_item("normal_kpa", array(py, t.normal))?;
-        d.set_item("mu", array(py, traj.mu))?;
-        d.set_item("r", array(py, traj.r))?;
-        // How the fit started the model (what `simulate` needs to reproduce `fitted`).
-        let initial = PyDict::new(py);
-        match t.initial {
-            Initial::Rest => initial.set_item("kind", "rest")?,
-            Initial::Loaded { shear_kpa } => {
-                initial.set_item("kind", "loaded")?;
-                initial.set_item("shear_kpa", shear_kpa)?;
-            }
-            Initial::Sliding {
-                shear_kpa,
-                rate_mm_s,
-            } => {
-                initial.set_item("kind", "sliding")?;
-                initial.set_item("shear_kpa", shear_kpa)?;
-                initial.set_item("rate_mm_s", rate_mm_s)?;
-            }
-        }
-        d.set_item("initial", initial)?;
-        d.set_item("initial_slip", t.initial_slip)?;
-        out.set_item(name, d)?;
+        out.set_item(name, curve_dict(py, t, traj)?)?;
     }
     Ok((text, out, warnings))
 }

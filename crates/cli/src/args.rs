@@ -4,7 +4,7 @@
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
-use subfric_data::{ColumnRef, Control, Delimiter, LengthUnit, StressUnit, TimeUnit};
+use subfric_data::{ColumnRef, ControlColumn, Delimiter, LengthUnit, StressUnit, TimeUnit};
 use subfric_fit::{Method, Param};
 use subfric_model::MAX_SCENARIO_ROWS;
 
@@ -108,11 +108,11 @@ pub enum ControlArg {
     Shear,
 }
 
-impl From<ControlArg> for Control {
-    fn from(c: ControlArg) -> Control {
+impl From<ControlArg> for ControlColumn {
+    fn from(c: ControlArg) -> ControlColumn {
         match c {
-            ControlArg::Slip => Control::Slip,
-            ControlArg::Shear => Control::Shear,
+            ControlArg::Slip => ControlColumn::Slip,
+            ControlArg::Shear => ControlColumn::Shear,
         }
     }
 }

@@ -2,7 +2,7 @@
 
 use anyhow::Result;
 use std::path::{Path, PathBuf};
-use subfric_fit::PreparedTest;
+use subfric_fit::{FitTest, PreparedTest};
 use subfric_model::{Control, Model};
 use subfric_plot::{render_png, Figure, Panel, Series, Style};
 
@@ -136,109 +136,45 @@ pub fn diagnosis_figures(
     with_effects: Option<(&Model, &str)>,
     out: &Path,
 ) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(out)?;
-    // The folder is claimed with the results: figures of an earlier diagnosis (other events,
-    // other tests) would be read as this one's.
-    for e in std::fs::read_dir(out)?.flatten() {
-        if e.path().extension().is_some_and(|x| x == "png") {
-            std::fs::remove_file(e.path())?;
-        }
-    }
+    claim_folder(out)?;
     let mut files = Vec::new();
     for p in tests {
         let t = &p.full;
         if t.control != Control::Slip {
             continue;
         }
-        let friction =
-            |v: &[f64]| -> Vec<f64> { v.iter().zip(&t.normal).map(|(a, n)| a / n).collect() };
-        let measured = friction(&t.measured);
-        let base_pred = t.predict(base).ok().map(|v| friction(&v));
-        let eff_pred = with_effects.and_then(|(m, _)| t.predict(m).ok().map(|v| friction(&v)));
-        let label = with_effects.map_or("", |(_, l)| l).to_string();
-        let series = |x: &[f64], range: std::ops::Range<usize>| {
-            let mut v = vec![Series::new(
-                "measured",
-                x[range.clone()].to_vec(),
-                measured[range.clone()].to_vec(),
-                Style::Measured,
-            )];
-            if let Some(b) = &base_pred {
-                v.push(Series::new(
-                    "base model",
-                    x[range.clone()].to_vec(),
-                    b[range.clone()].to_vec(),
-                    Style::Published,
-                ));
-            }
-            if let Some(e) = &eff_pred {
-                v.push(Series::new(
-                    format!("with {label}"),
-                    x[range.clone()].to_vec(),
-                    e[range.clone()].to_vec(),
-                    Style::Fitted,
-                ));
-            }
-            v
-        };
+        let curves = FrictionCurves::of(t, base, with_effects);
         let all = 0..t.len();
         let fig = Figure::new(
             format!("{set_name}: {} ({} kPa)", t.name, mean(&t.normal).round()),
             "time t [s]",
-            Panel::new("friction τ/σ_n [-]", series(&t.time, all)),
+            Panel::new("friction τ/σ_n [-]", curves.series(&t.time, all)),
         );
         let file = out.join(format!("{}.png", sanitize(&t.name)));
         render_png(&fig, &file)?;
         files.push(file);
-        let seg = &p.segmentation;
-        let mut events: Vec<(usize, String)> = seg
-            .rate_changes
-            .iter()
-            .zip(seg.step_rates())
-            .map(|(&c, (a, b))| {
-                (
-                    c,
-                    format!("velocity step {} → {} µm/s", rate_text(a), rate_text(b)),
-                )
-            })
-            .collect();
-        for &(s, e) in &seg.holds {
-            if s > 1 {
-                let d = t.time[(e - 1).min(t.len() - 1)] - t.time[s - 1];
-                events.push((s - 1, format!("hold of {d:.0} s")));
-            }
-        }
-        events.sort_by_key(|e| e.0);
+        let events = events_of(p);
         for (k, (row, what)) in events.iter().enumerate() {
-            // From 0.1 mm of slip before the event to 0.3 mm after (or the next event).
-            let u0 = t.imposed[*row];
-            let next = events.get(k + 1).map_or(t.len(), |e| e.0 + 1);
-            let mut a = *row;
-            while a > 0 && (u0 - t.imposed[a - 1]).abs() <= 0.1 {
-                a -= 1;
-            }
-            let mut b = *row + 1;
-            while b < next.min(t.len()) && (t.imposed[b] - u0).abs() <= 0.3 {
-                b += 1;
-            }
-            if b <= *row + 2 {
+            let Some((a, b)) = event_window(t, &events, k) else {
                 continue;
-            }
-            let x: Vec<f64> = t.imposed.iter().map(|u| 1e3 * (u - u0)).collect();
-            let is_hold = what.starts_with("hold");
-            let (xs, xlabel) = if is_hold {
+            };
+            let (xs, xlabel) = if what.starts_with("hold") {
                 // A hold has no slip: against time from its start.
                 (
                     t.time.iter().map(|v| v - t.time[*row]).collect::<Vec<_>>(),
                     "time from the start of the hold [s]",
                 )
             } else {
-                (x, "slip from the step [µm]")
+                let u0 = t.imposed[*row];
+                (
+                    t.imposed.iter().map(|u| 1e3 * (u - u0)).collect(),
+                    "slip from the step [µm]",
+                )
             };
             let fig = Figure::new(
                 format!("{}: {} at t = {:.0} s", t.name, what, t.time[*row]),
                 xlabel,
-                Panel::new("friction τ/σ_n [-]", series(&xs, a..b)),
+                Panel::new("friction τ/σ_n [-]", curves.series(&xs, a..b)),
             );
             let file = out.join(format!("{}-event-{:02}.png", sanitize(&t.name), k + 1));
             render_png(&fig, &file)?;
@@ -246,6 +182,116 @@ pub fn diagnosis_figures(
         }
     }
     Ok(files)
+}
+
+/// Creates `out` and removes its PNG files: the folder is claimed with the results, and
+/// figures of an earlier diagnosis (other events, other tests) would be read as this one's.
+fn claim_folder(out: &Path) -> Result<()> {
+    std::fs::create_dir_all(out)?;
+    for e in std::fs::read_dir(out)?.flatten() {
+        if e.path().extension().is_some_and(|x| x == "png") {
+            std::fs::remove_file(e.path())?;
+        }
+    }
+    Ok(())
+}
+
+/// The friction of one test: measured, of the base model and of the model with the effects.
+struct FrictionCurves {
+    measured: Vec<f64>,
+    base: Option<Vec<f64>>,
+    effects: Option<Vec<f64>>,
+    /// Name of the effects, for the legend.
+    label: String,
+}
+
+impl FrictionCurves {
+    fn of(t: &FitTest, base: &Model, with_effects: Option<(&Model, &str)>) -> Self {
+        let friction =
+            |v: &[f64]| -> Vec<f64> { v.iter().zip(&t.normal).map(|(a, n)| a / n).collect() };
+        FrictionCurves {
+            measured: friction(&t.measured),
+            base: t.predict(base).ok().map(|v| friction(&v)),
+            effects: with_effects.and_then(|(m, _)| t.predict(m).ok().map(|v| friction(&v))),
+            label: with_effects.map_or("", |(_, l)| l).to_string(),
+        }
+    }
+
+    /// The curves over rows `range`, against `x`.
+    fn series(&self, x: &[f64], range: std::ops::Range<usize>) -> Vec<Series> {
+        let mut v = vec![Series::new(
+            "measured",
+            x[range.clone()].to_vec(),
+            self.measured[range.clone()].to_vec(),
+            Style::Measured,
+        )];
+        if let Some(b) = &self.base {
+            v.push(Series::new(
+                "base model",
+                x[range.clone()].to_vec(),
+                b[range.clone()].to_vec(),
+                Style::Published,
+            ));
+        }
+        if let Some(e) = &self.effects {
+            v.push(Series::new(
+                format!("with {}", self.label),
+                x[range.clone()].to_vec(),
+                e[range.clone()].to_vec(),
+                Style::Fitted,
+            ));
+        }
+        v
+    }
+}
+
+/// The velocity steps and holds (except a rest at the start) of a test: (row, what), in
+/// order.
+fn events_of(p: &PreparedTest) -> Vec<(usize, String)> {
+    let t = &p.full;
+    let seg = &p.segmentation;
+    let mut events: Vec<(usize, String)> = seg
+        .rate_changes
+        .iter()
+        .zip(seg.step_rates())
+        .map(|(&c, (a, b))| {
+            (
+                c,
+                format!("velocity step {} → {} µm/s", rate_text(a), rate_text(b)),
+            )
+        })
+        .collect();
+    for &(s, e) in &seg.holds {
+        if s > 1 {
+            let d = t.time[(e - 1).min(t.len() - 1)] - t.time[s - 1];
+            events.push((s - 1, format!("hold of {d:.0} s")));
+        }
+    }
+    events.sort_by_key(|e| e.0);
+    events
+}
+
+/// Slip shown before an event [mm]: a stretch of the level it leaves.
+const SLIP_BEFORE_EVENT_MM: f64 = 0.1;
+
+/// Slip shown after an event [mm]: the transient and the start of the level it settles to.
+const SLIP_AFTER_EVENT_MM: f64 = 0.3;
+
+/// Rows a..b of the figure of event `k`: from [`SLIP_BEFORE_EVENT_MM`] of slip before it to
+/// [`SLIP_AFTER_EVENT_MM`] after (or the next event); `None` when fewer than two rows follow.
+fn event_window(t: &FitTest, events: &[(usize, String)], k: usize) -> Option<(usize, usize)> {
+    let row = events[k].0;
+    let u0 = t.imposed[row];
+    let next = events.get(k + 1).map_or(t.len(), |e| e.0 + 1);
+    let mut a = row;
+    while a > 0 && (u0 - t.imposed[a - 1]).abs() <= SLIP_BEFORE_EVENT_MM {
+        a -= 1;
+    }
+    let mut b = row + 1;
+    while b < next.min(t.len()) && (t.imposed[b] - u0).abs() <= SLIP_AFTER_EVENT_MM {
+        b += 1;
+    }
+    (b > row + 2).then_some((a, b))
 }
 
 /// A rate in µm/s with three significant digits.

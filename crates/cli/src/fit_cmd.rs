@@ -296,6 +296,37 @@ pub fn report_table(name: &str, r: &FitReport) -> String {
         "fit of {name}: {} rows, misfit {:.3}× the noise variance (reduced χ²)",
         r.rows, r.reduced_chi2
     );
+    write_parameter_rows(&mut s, r);
+    write_combinations(&mut s, r);
+    write_undetermined_note(&mut s, r);
+    let _ = writeln!(s, "per test:");
+    for t in &r.tests {
+        let _ = writeln!(
+            s,
+            "  {:<30} {:>6} rows  RMS {:>9} {:<3} ({:.2}% of scale, {:.2}× noise)",
+            t.name,
+            t.rows,
+            fmt_num(t.rms),
+            t.unit,
+            t.rms_percent,
+            t.rms_over_noise
+        );
+    }
+    let o = &r.optimizer;
+    let _ = write!(
+        s,
+        "optimiser: {:?}, {} starts of which {} reached the best, {} informed guesses, {} global + {} total model runs",
+        o.method, o.starts, o.starts_at_best, o.informed_guesses, o.global_evaluations, o.evaluations
+    );
+    if o.repolished_from_profile {
+        let _ = write!(s, " (profiling found a better optimum; re-polished)");
+    }
+    s
+}
+
+/// One line per parameter: value, standard error (∞: unbounded), interval, verdict, and the
+/// published value with the difference from it.
+fn write_parameter_rows(s: &mut String, r: &FitReport) {
     let _ = writeln!(
         s,
         "{:<18} {:>11} {:>10} {:>26}  {:<34} {:>10} {:>8}",
@@ -336,24 +367,33 @@ pub fn report_table(name: &str, r: &FitReport) -> String {
                 .unwrap_or_default(),
         );
     }
-    if !r.combinations.is_empty() {
-        let _ = writeln!(s, "combinations the data determine:");
-        for c in &r.combinations {
-            let iv = c.interval.map(|i| i.to_string()).unwrap_or_default();
-            let _ = writeln!(
-                s,
-                "  {:<58} {:>11} {:>26}  {}",
-                c.name,
-                fmt_num(c.value),
-                iv,
-                if c.determined {
-                    "determined"
-                } else {
-                    "not determined"
-                }
-            );
-        }
+}
+
+/// The combinations of parameters the data determine (when the fit charted any).
+fn write_combinations(s: &mut String, r: &FitReport) {
+    if r.combinations.is_empty() {
+        return;
     }
+    let _ = writeln!(s, "combinations the data determine:");
+    for c in &r.combinations {
+        let iv = c.interval.map(|i| i.to_string()).unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "  {:<58} {:>11} {:>26}  {}",
+            c.name,
+            fmt_num(c.value),
+            iv,
+            if c.determined {
+                "determined"
+            } else {
+                "not determined"
+            }
+        );
+    }
+}
+
+/// A warning that the values of undetermined parameters are not estimates.
+fn write_undetermined_note(s: &mut String, r: &FitReport) {
     let undetermined: Vec<&str> = r
         .parameters
         .iter()
@@ -372,29 +412,6 @@ pub fn report_table(name: &str, r: &FitReport) -> String {
             undetermined.join(", ")
         );
     }
-    let _ = writeln!(s, "per test:");
-    for t in &r.tests {
-        let _ = writeln!(
-            s,
-            "  {:<30} {:>6} rows  RMS {:>9} {:<3} ({:.2}% of scale, {:.2}× noise)",
-            t.name,
-            t.rows,
-            fmt_num(t.rms),
-            t.unit,
-            t.rms_percent,
-            t.rms_over_noise
-        );
-    }
-    let o = &r.optimizer;
-    let _ = write!(
-        s,
-        "optimiser: {:?}, {} starts of which {} reached the best, {} informed guesses, {} global + {} total model runs",
-        o.method, o.starts, o.starts_at_best, o.informed_guesses, o.global_evaluations, o.evaluations
-    );
-    if o.repolished_from_profile {
-        let _ = write!(s, " (profiling found a better optimum; re-polished)");
-    }
-    s
 }
 
 /// The table with the wall time, for the terminal (files get [`report_table`]: no timings, so

@@ -16,7 +16,7 @@ use anyhow::{bail, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use subfric_fit::interval::short_number as num;
-use subfric_fit::plan::{plan, Band, Plan, PlanOptions};
+use subfric_fit::plan::{plan, Band, Check, Plan, PlanOptions, Proposal};
 use subfric_fit::{FitOptions, FitTest, Param, Status};
 use subfric_model::Control;
 use subfric_plot::{render_png, Figure, Panel, Series, Style};
@@ -172,6 +172,27 @@ fn interval_or_dash(i: Option<subfric_fit::Interval>) -> String {
 /// The readable plan printed by `subfric plan` and written to plan.txt.
 pub fn plan_text(name: &str, p: &Plan) -> String {
     let mut s = String::new();
+    let noise_unit = match p.rig.control {
+        Control::Slip => "kPa",
+        Control::Shear => "mm",
+    };
+    write_rig_and_valley(&mut s, name, p);
+    write_proposal_table(&mut s, p);
+    for (n, why) in &p.rejected {
+        let _ = writeln!(s, "not proposed: {n}: {why}");
+    }
+    if let Some(top) = p.proposals.first() {
+        let _ = writeln!(s, "top proposal: {}: {}", top.name, top.description);
+        if let Some(c) = &top.check {
+            write_check(&mut s, top, c, p.rig.noise_sd, noise_unit);
+        }
+    }
+    s.trim_end().to_string()
+}
+
+/// The head of the plan: what the rig did, what is not determined, the valley and the
+/// planning point.
+fn write_rig_and_valley(s: &mut String, name: &str, p: &Plan) {
     let r = &p.rig;
     let (noise_unit, control) = match r.control {
         Control::Slip => ("kPa", "slip"),
@@ -193,14 +214,7 @@ pub fn plan_text(name: &str, p: &Plan) -> String {
     } else {
         let _ = writeln!(s, "not determined now: {}", p.undetermined.join(", "));
     }
-    let range = |key: &str| {
-        let q = Param::from_key(key)?;
-        let v: Vec<f64> = p.valley.iter().filter_map(|v| q.get(&v.model)).collect();
-        let lo = v.iter().cloned().fold(f64::INFINITY, f64::min);
-        let hi = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-        (lo <= hi).then_some((lo, hi))
-    };
-    if let Some((lo, hi)) = range("xi") {
+    if let Some((lo, hi)) = valley_range(p, "xi") {
         let _ = writeln!(
             s,
             "{} parameter vectors the data allow (the valley): ξ from {} to {} 1/s",
@@ -219,6 +233,19 @@ pub fn plan_text(name: &str, p: &Plan) -> String {
         num(pp.xi),
         num(pp.u_tilde)
     );
+}
+
+/// Smallest and largest value of parameter `key` over the valley.
+fn valley_range(p: &Plan, key: &str) -> Option<(f64, f64)> {
+    let q = Param::from_key(key)?;
+    let v: Vec<f64> = p.valley.iter().filter_map(|v| q.get(&v.model)).collect();
+    let lo = v.iter().cloned().fold(f64::INFINITY, f64::min);
+    let hi = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// The ranked proposals, one line each, and the legend of the columns.
+fn write_proposal_table(s: &mut String, p: &Plan) {
     let _ = writeln!(
         s,
         "{:<4} {:<28} {:>7} {:>6} {:>11} {:>8} {:>8}  {:<28} still undetermined there",
@@ -265,45 +292,40 @@ pub fn plan_text(name: &str, p: &Plan) -> String {
         s,
         "determines: share of the valley where every undetermined parameter is predicted within ±5 %; shrink: geometric-mean narrowing of their intervals; score: determines per lab hour (test + set-up)"
     );
-    for (n, why) in &p.rejected {
-        let _ = writeln!(s, "not proposed: {n}: {why}");
-    }
-    if let Some(top) = p.proposals.first() {
-        let _ = writeln!(s, "top proposal: {}: {}", top.name, top.description);
-        if let Some(c) = &top.check {
-            let _ = writeln!(
-                s,
-                "check: {} simulated at the planning point with noise {} {noise_unit} (seed {}), fitted with the current tests: misfit {:.2}, {}",
-                top.name,
-                num(r.noise_sd),
-                c.seed,
-                c.reduced_chi2,
-                if c.determines_all {
-                    "every parameter determined"
-                } else {
-                    "not every parameter determined"
-                }
-            );
-            let _ = writeln!(
-                s,
-                "  {:<10} {:>11} {:>26} {:>26} {:>7}  status",
-                "parameter", "simulated", "predicted", "achieved", "ratio"
-            );
-            for q in &c.parameters {
-                let _ = writeln!(
-                    s,
-                    "  {:<10} {:>11} {:>26} {:>26} {:>7}  {}",
-                    q.name,
-                    num(q.truth),
-                    interval_or_dash(q.predicted),
-                    interval_or_dash(q.achieved),
-                    q.width_ratio.map(|v| format!("{v:.2}")).unwrap_or_default(),
-                    q.status.describe()
-                );
-            }
+}
+
+/// The check of the top proposal: achieved intervals beside the predicted ones.
+fn write_check(s: &mut String, top: &Proposal, c: &Check, noise_sd: f64, noise_unit: &str) {
+    let _ = writeln!(
+        s,
+        "check: {} simulated at the planning point with noise {} {noise_unit} (seed {}), fitted with the current tests: misfit {:.2}, {}",
+        top.name,
+        num(noise_sd),
+        c.seed,
+        c.reduced_chi2,
+        if c.determines_all {
+            "every parameter determined"
+        } else {
+            "not every parameter determined"
         }
+    );
+    let _ = writeln!(
+        s,
+        "  {:<10} {:>11} {:>26} {:>26} {:>7}  status",
+        "parameter", "simulated", "predicted", "achieved", "ratio"
+    );
+    for q in &c.parameters {
+        let _ = writeln!(
+            s,
+            "  {:<10} {:>11} {:>26} {:>26} {:>7}  {}",
+            q.name,
+            num(q.truth),
+            interval_or_dash(q.predicted),
+            interval_or_dash(q.achieved),
+            q.width_ratio.map(|v| format!("{v:.2}")).unwrap_or_default(),
+            q.status.describe()
+        );
     }
-    s.trim_end().to_string()
 }
 
 /// What `subfric reproduce` reports of a set's plan: the top proposal and its ξ interval.

@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
-use subfric_fit::{model_runs, Stage};
+use subfric_fit::{model_runs, CalibrationStage};
 
 /// When to show progress.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -129,15 +129,17 @@ impl Progress {
     }
 
     /// Shows a calibration stage.
-    pub fn fit_stage(&self, s: Stage, global_budget: usize) {
+    pub fn fit_stage(&self, s: CalibrationStage, global_budget: usize) {
         match s {
-            Stage::Global => self.stage(
+            CalibrationStage::Global => self.stage(
                 "global search (differential evolution)",
                 Some(global_budget),
             ),
-            Stage::Local(k, n) => self.stage(format!("least-squares polish {k}/{n}"), None),
-            Stage::Profiles => self.stage("profile intervals", None),
-            Stage::Done => self.stage("done", None),
+            CalibrationStage::Local(k, n) => {
+                self.stage(format!("least-squares polish {k}/{n}"), None)
+            }
+            CalibrationStage::Profiles => self.stage("profile intervals", None),
+            CalibrationStage::Done => self.stage("done", None),
         }
     }
 

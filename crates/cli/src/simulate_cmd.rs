@@ -8,8 +8,8 @@ use anyhow::{anyhow, Context, Result};
 use std::path::{Path, PathBuf};
 use subfric_data::import::file_name_for;
 use subfric_data::{
-    load_set, write_set, Control as DataControl, ExperimentMeta, ExperimentSet, Interface,
-    PathKind, TestData, TestSpec, EXPERIMENT_JSON,
+    load_set, write_set, ControlColumn, ExperimentMeta, ExperimentSet, Interface, PathKind,
+    TestData, TestSpec, EXPERIMENT_JSON,
 };
 use subfric_fit::prepare_set;
 use subfric_model::{simulate, Control, Model, Scenario};
@@ -119,8 +119,8 @@ pub fn simulate_scenario(
         )
     })?;
     let control = match sc.control {
-        Control::Slip => DataControl::Slip,
-        Control::Shear => DataControl::Shear,
+        Control::Slip => ControlColumn::Slip,
+        Control::Shear => ControlColumn::Shear,
     };
     let file = file_name_for(&sc.name);
     let spec = TestSpec::new(&sc.name, &file, control, sc.normal_stress_kpa);

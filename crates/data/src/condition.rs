@@ -32,12 +32,12 @@ pub use crate::events::REVERSAL_SDS;
 /// Conditions the imposed column of a test with the default [`SegmentOptions`].
 ///
 /// ```
-/// use subfric_data::{condition_imposed, Control, TestData, TestSpec};
+/// use subfric_data::{condition_imposed, ControlColumn, TestData, TestSpec};
 /// // a ramp, a noisy hold that goes backwards, a ramp
 /// let slip = [0.0, 0.1, 0.2, 0.3, 0.3002, 0.2998, 0.3001, 0.2999, 0.3003, 0.2997, 0.3, 0.4, 0.5, 0.6];
 /// let n = slip.len();
 /// let t = TestData {
-///     spec: TestSpec::new("shs", "shs.csv", Control::Slip, 100.0),
+///     spec: TestSpec::new("shs", "shs.csv", ControlColumn::Slip, 100.0),
 ///     path: "shs.csv".into(),
 ///     time_s: (0..n).map(|i| i as f64).collect(),
 ///     slip_mm: slip.to_vec(),

@@ -9,12 +9,12 @@ use std::path::{Path, PathBuf};
 /// (column name or JSON path). The message says what is wrong and what was expected.
 ///
 /// ```
-/// use subfric_data::Problem;
-/// let p = Problem::new("set/a.csv", Some(7), Some("time_s"), "`x` is not a number (expected a decimal number)");
+/// use subfric_data::InputProblem;
+/// let p = InputProblem::new("set/a.csv", Some(7), Some("time_s"), "`x` is not a number (expected a decimal number)");
 /// assert_eq!(p.to_string(), "set/a.csv:7: field `time_s`: `x` is not a number (expected a decimal number)");
 /// ```
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
-pub struct Problem {
+pub struct InputProblem {
     /// File the problem is in.
     pub file: PathBuf,
     /// 1-based line number in that file, when the problem is tied to a line.
@@ -25,7 +25,7 @@ pub struct Problem {
     pub message: String,
 }
 
-impl Problem {
+impl InputProblem {
     /// Builds a problem.
     pub fn new(
         file: impl AsRef<Path>,
@@ -33,7 +33,7 @@ impl Problem {
         field: Option<&str>,
         message: impl Into<String>,
     ) -> Self {
-        Problem {
+        InputProblem {
             file: file.as_ref().to_path_buf(),
             line,
             field: field.map(str::to_string),
@@ -42,7 +42,7 @@ impl Problem {
     }
 }
 
-impl fmt::Display for Problem {
+impl fmt::Display for InputProblem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}", self.file.display())?;
         if let Some(line) = self.line {
@@ -57,7 +57,7 @@ impl fmt::Display for Problem {
 }
 
 /// Joins problems into one line each.
-fn list_problems(problems: &[Problem]) -> String {
+fn list_problems(problems: &[InputProblem]) -> String {
     let mut s = format!(
         "{} problem{} in the experiment data:",
         problems.len(),
@@ -98,12 +98,12 @@ pub enum DataError {
     },
     /// Validation found problems (all of them are listed).
     #[error("{}", list_problems(.0))]
-    Problems(Vec<Problem>),
+    Problems(Vec<InputProblem>),
 }
 
 impl DataError {
     /// The problems, if this is [`DataError::Problems`]; empty otherwise.
-    pub fn problems(&self) -> &[Problem] {
+    pub fn problems(&self) -> &[InputProblem] {
         match self {
             DataError::Problems(p) => p,
             _ => &[],
@@ -122,7 +122,7 @@ impl DataError {
 /// rows gives a readable report.
 #[derive(Debug, Default)]
 pub(crate) struct Problems {
-    list: Vec<Problem>,
+    list: Vec<InputProblem>,
     dropped: usize,
     file_of_dropped: Option<PathBuf>,
 }
@@ -131,7 +131,7 @@ pub(crate) struct Problems {
 pub(crate) const MAX_PROBLEMS: usize = 60;
 
 impl Problems {
-    pub(crate) fn push(&mut self, p: Problem) {
+    pub(crate) fn push(&mut self, p: InputProblem) {
         if self.list.len() < MAX_PROBLEMS {
             self.list.push(p);
         } else {
@@ -149,10 +149,10 @@ impl Problems {
         field: Option<&str>,
         message: impl Into<String>,
     ) {
-        self.push(Problem::new(file, line, field, message));
+        self.push(InputProblem::new(file, line, field, message));
     }
 
-    pub(crate) fn extend(&mut self, ps: Vec<Problem>) {
+    pub(crate) fn extend(&mut self, ps: Vec<InputProblem>) {
         for p in ps {
             self.push(p);
         }
@@ -162,10 +162,10 @@ impl Problems {
         self.list.is_empty() && self.dropped == 0
     }
 
-    pub(crate) fn into_vec(mut self) -> Vec<Problem> {
+    pub(crate) fn into_vec(mut self) -> Vec<InputProblem> {
         if self.dropped > 0 {
             let file = self.file_of_dropped.take().unwrap_or_default();
-            self.list.push(Problem::new(
+            self.list.push(InputProblem::new(
                 file,
                 None,
                 None,

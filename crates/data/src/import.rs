@@ -6,9 +6,9 @@ use std::str::FromStr;
 
 use serde_json::Map;
 
-use crate::error::{DataError, Problem, Problems};
+use crate::error::{DataError, InputProblem, Problems};
 use crate::fsio::{commit_file, stage_file, PathKind};
-use crate::meta::{Control, ExperimentMeta, Interface, TestSpec};
+use crate::meta::{ControlColumn, ExperimentMeta, Interface, TestSpec};
 use crate::set::{
     comment_text, load_set, meta_json_text, prepare_parent, test_csv_text, validate_data,
     ExperimentSet, TestData, EXPERIMENT_JSON,
@@ -244,7 +244,7 @@ pub struct ImportSpec {
     /// Constant normal stress, kPa, when there is no normal column.
     pub normal_stress_kpa: Option<f64>,
     /// Which column the apparatus imposed.
-    pub control: Control,
+    pub control: ControlColumn,
     /// Name of the test (unique within the set); the CSV is named after it.
     pub test_name: String,
     /// Name of the set (used when a new set is created).
@@ -274,7 +274,7 @@ impl Default for ImportSpec {
             friction: None,
             normal: None,
             normal_stress_kpa: None,
-            control: Control::Slip,
+            control: ControlColumn::Slip,
             test_name: "test".into(),
             set_name: "imported".into(),
             title: None,
@@ -392,7 +392,7 @@ fn spec_problems(lf: &Path, spec: &ImportSpec) -> Problems {
 fn read_lab_text(lf: &Path) -> Result<String, DataError> {
     let kind = PathKind::of(lf);
     if kind != PathKind::File {
-        return Err(DataError::Problems(vec![Problem::new(
+        return Err(DataError::Problems(vec![InputProblem::new(
             lf,
             None,
             None,
@@ -637,7 +637,7 @@ pub fn read_lab_file(
     let text = read_lab_text(lf)?;
     let (lines, mut comments) = content_lines(&text, spec.skip_lines);
     let Some(&(first_line, first)) = lines.first() else {
-        return Err(DataError::Problems(vec![Problem::new(
+        return Err(DataError::Problems(vec![InputProblem::new(
             lf,
             None,
             None,
@@ -737,7 +737,7 @@ fn set_meta_for(
             return Ok(existing.meta);
         }
         kind => {
-            return Err(DataError::Problems(vec![Problem::new(
+            return Err(DataError::Problems(vec![InputProblem::new(
                 &json_path,
                 None,
                 None,
@@ -749,7 +749,7 @@ fn set_meta_for(
         }
     }
     if csv_taken {
-        return Err(DataError::Problems(vec![Problem::new(
+        return Err(DataError::Problems(vec![InputProblem::new(
             &csv_path,
             None,
             Some("file"),

@@ -4,7 +4,7 @@
 //! holding `experiment.json` and one CSV per test (see `DATA-FORMAT.md`).
 //!
 //! - [`load_set`], [`load_test`], [`write_set`]: read and write sets; every problem of every
-//!   file is reported at once, naming the file, line and field ([`DataError`], [`Problem`]).
+//!   file is reported at once, naming the file, line and field ([`DataError`], [`InputProblem`]).
 //! - [`condition_imposed`]: the imposed column with measurement noise removed where it would
 //!   create spurious reversals (isotonic fit per monotone run, flat holds).
 //! - [`segment()`]: loading phases (initial loading, steady sliding, velocity steps, holds,
@@ -43,10 +43,10 @@ pub mod set;
 pub mod summary;
 
 pub use condition::{condition_imposed, condition_imposed_with, Conditioned};
-pub use error::{DataError, Problem};
+pub use error::{DataError, InputProblem};
 pub use fsio::{write_atomic, PathKind};
 pub use import::{import, ColumnRef, Delimiter, ImportSpec, LengthUnit, StressUnit, TimeUnit};
-pub use meta::{parse_meta, Control, ExperimentMeta, InitialSpec, Interface, TestSpec};
+pub use meta::{parse_meta, ControlColumn, ExperimentMeta, InitialSpec, Interface, TestSpec};
 pub use noise::{estimate_noise, NoiseEstimate};
 pub use plausible::{plausibility, Warning};
 pub use segment::{

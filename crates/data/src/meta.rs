@@ -11,46 +11,47 @@ use serde_json::{Map, Value};
 use crate::error::{DataError, Problems};
 use crate::jsonpos::value_positions;
 
-/// Which column the apparatus imposed.
+/// Which column the apparatus imposed, as declared in `experiment.json` (the model's
+/// counterpart is `subfric_model::Control`; `subfric_fit::control_of` converts).
 ///
 /// ```
-/// use subfric_data::Control;
-/// let c: Control = serde_json::from_str("\"shear\"").unwrap();
-/// assert_eq!(c, Control::Shear);
-/// assert_eq!("slip".parse::<Control>().unwrap(), Control::Slip);
-/// assert_eq!(Control::Slip.to_string(), "slip");
+/// use subfric_data::ControlColumn;
+/// let c: ControlColumn = serde_json::from_str("\"shear\"").unwrap();
+/// assert_eq!(c, ControlColumn::Shear);
+/// assert_eq!("slip".parse::<ControlColumn>().unwrap(), ControlColumn::Slip);
+/// assert_eq!(ControlColumn::Slip.to_string(), "slip");
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Control {
+pub enum ControlColumn {
     /// Slip history imposed, shear measured (displacement control).
     Slip,
     /// Shear traction imposed, slip measured (stress control: pulsating loading, creep).
     Shear,
 }
 
-impl Control {
+impl ControlColumn {
     /// `"slip"` or `"shear"`.
     pub fn name(self) -> &'static str {
         match self {
-            Control::Slip => "slip",
-            Control::Shear => "shear",
+            ControlColumn::Slip => "slip",
+            ControlColumn::Shear => "shear",
         }
     }
 }
 
-impl fmt::Display for Control {
+impl fmt::Display for ControlColumn {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
     }
 }
 
-impl FromStr for Control {
+impl FromStr for ControlColumn {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.trim().to_ascii_lowercase().as_str() {
-            "slip" => Ok(Control::Slip),
-            "shear" => Ok(Control::Shear),
+            "slip" => Ok(ControlColumn::Slip),
+            "shear" => Ok(ControlColumn::Shear),
             other => Err(format!(
                 "unknown control `{other}` (expected `slip` or `shear`)"
             )),
@@ -83,7 +84,7 @@ pub struct TestSpec {
     /// CSV file name, relative to the set's folder.
     pub file: String,
     /// Which column the apparatus imposed.
-    pub control: Control,
+    pub control: ControlColumn,
     /// Constant normal stress, kPa (a `normal_kpa` CSV column overrides it per row).
     pub normal_stress_kpa: f64,
     /// How the test starts: from rest, or already sliding (a segment cut out of a longer run).
@@ -108,7 +109,7 @@ pub enum InitialSpec {
 
 impl TestSpec {
     /// A test spec without extra fields.
-    pub fn new(name: &str, file: &str, control: Control, normal_stress_kpa: f64) -> Self {
+    pub fn new(name: &str, file: &str, control: ControlColumn, normal_stress_kpa: f64) -> Self {
         TestSpec {
             name: name.to_string(),
             file: file.to_string(),
@@ -279,6 +280,8 @@ fn join(prefix: &str, key: &str) -> String {
     }
 }
 
+/// Checks the shape of `experiment.json` before it is deserialised, so that every problem is
+/// reported at once with its line and field (serde would stop at the first).
 fn check_shape(v: &Value, path: &Path, pos: &HashMap<String, (usize, usize)>, pr: &mut Problems) {
     let cx = Ctx { path, pos };
     let Value::Object(root) = v else {
@@ -293,64 +296,12 @@ fn check_shape(v: &Value, path: &Path, pos: &HashMap<String, (usize, usize)>, pr
         );
         return;
     };
-    if let Some(name) = cx.string(root, "", "name", true, pr) {
-        if name.trim().is_empty() {
-            cx.problem(
-                pr,
-                "name",
-                "empty name (expected a short name for the set)".into(),
-            );
-        }
-    }
-    cx.string(root, "", "title", true, pr);
-    cx.string(root, "", "source", true, pr);
-    cx.string(root, "", "provenance", false, pr);
-    match root.get("interface") {
-        None | Some(Value::Null) => {}
-        Some(Value::Object(iface)) => {
-            cx.string(iface, "interface", "soil", false, pr);
-            cx.string(iface, "interface", "surface", false, pr);
-            match iface.get("roughness_rmax_um") {
-                None | Some(Value::Null) | Some(Value::Number(_)) => {}
-                Some(v) => cx.problem(
-                    pr,
-                    "interface.roughness_rmax_um",
-                    format!("found {} (expected a number, µm)", kind_of(v)),
-                ),
-            }
-        }
-        Some(v) => cx.problem(
-            pr,
-            "interface",
-            format!(
-                "found {} (expected an object with soil, surface, roughness_rmax_um)",
-                kind_of(v)
-            ),
-        ),
-    }
-    let tests = match root.get("tests") {
-        Some(Value::Array(t)) => t,
-        None => {
-            pr.add(
-                path,
-                cx.line(""),
-                Some("tests"),
-                "missing required field `tests` (expected an array of tests)",
-            );
-            return;
-        }
-        Some(v) => {
-            cx.problem(
-                pr,
-                "tests",
-                format!("found {} (expected an array of tests)", kind_of(v)),
-            );
-            return;
-        }
+    cx.check_header(root, pr);
+    cx.check_interface(root, pr);
+    let Some(tests) = cx.tests_array(root, pr) else {
+        return;
     };
-    if tests.is_empty() {
-        cx.problem(pr, "tests", "no tests (expected at least one test)".into());
-    }
+    // First index of each test name and file, for the duplicates' messages.
     let mut names: HashMap<String, usize> = HashMap::new();
     let mut files: HashMap<String, usize> = HashMap::new();
     for (i, t) in tests.iter().enumerate() {
@@ -366,78 +317,201 @@ fn check_shape(v: &Value, path: &Path, pos: &HashMap<String, (usize, usize)>, pr
             );
             continue;
         };
-        if let Some(name) = cx.string(t, &prefix, "name", true, pr) {
-            let field = format!("{prefix}.name");
+        cx.check_test_name(t, &prefix, i, &mut names, pr);
+        cx.check_test_file(t, &prefix, i, &mut files, pr);
+        cx.check_control(t, &prefix, pr);
+        cx.check_initial(t, &prefix, pr);
+        cx.check_normal_stress(t, &prefix, pr);
+    }
+}
+
+/// The parts of [`check_shape`].
+impl Ctx<'_> {
+    /// name (not empty), title, source, provenance.
+    fn check_header(&self, root: &Map<String, Value>, pr: &mut Problems) {
+        if let Some(name) = self.string(root, "", "name", true, pr) {
             if name.trim().is_empty() {
-                cx.problem(
+                self.problem(
                     pr,
-                    &field,
-                    "empty test name (expected a unique name)".into(),
+                    "name",
+                    "empty name (expected a short name for the set)".into(),
                 );
-            } else if let Some(first) = names.get(name) {
-                cx.problem(
-                    pr,
-                    &field,
-                    format!("duplicate test name `{name}`, already used by tests[{first}] (expected unique test names)"),
-                );
-            } else {
-                names.insert(name.to_string(), i);
             }
         }
-        if let Some(file) = cx.string(t, &prefix, "file", true, pr) {
-            let field = format!("{prefix}.file");
-            if let Some(msg) = file_name_problem(file) {
-                cx.problem(pr, &field, msg);
-            } else if let Some(first) = files.get(file) {
-                cx.problem(
-                    pr,
-                    &field,
-                    format!("file `{file}` is already used by tests[{first}] (expected one CSV per test)"),
-                );
-            } else {
-                files.insert(file.to_string(), i);
+        self.string(root, "", "title", true, pr);
+        self.string(root, "", "source", true, pr);
+        self.string(root, "", "provenance", false, pr);
+    }
+
+    /// The optional `interface` object.
+    fn check_interface(&self, root: &Map<String, Value>, pr: &mut Problems) {
+        match root.get("interface") {
+            None | Some(Value::Null) => {}
+            Some(Value::Object(iface)) => {
+                self.string(iface, "interface", "soil", false, pr);
+                self.string(iface, "interface", "surface", false, pr);
+                match iface.get("roughness_rmax_um") {
+                    None | Some(Value::Null) | Some(Value::Number(_)) => {}
+                    Some(v) => self.problem(
+                        pr,
+                        "interface.roughness_rmax_um",
+                        format!("found {} (expected a number, µm)", kind_of(v)),
+                    ),
+                }
             }
+            Some(v) => self.problem(
+                pr,
+                "interface",
+                format!(
+                    "found {} (expected an object with soil, surface, roughness_rmax_um)",
+                    kind_of(v)
+                ),
+            ),
         }
+    }
+
+    /// The `tests` array (`None`, with the problem recorded, when it is missing or not an
+    /// array; an empty array is a problem too, but returned).
+    fn tests_array<'v>(
+        &self,
+        root: &'v Map<String, Value>,
+        pr: &mut Problems,
+    ) -> Option<&'v Vec<Value>> {
+        let tests = match root.get("tests") {
+            Some(Value::Array(t)) => t,
+            None => {
+                pr.add(
+                    self.path,
+                    self.line(""),
+                    Some("tests"),
+                    "missing required field `tests` (expected an array of tests)",
+                );
+                return None;
+            }
+            Some(v) => {
+                self.problem(
+                    pr,
+                    "tests",
+                    format!("found {} (expected an array of tests)", kind_of(v)),
+                );
+                return None;
+            }
+        };
+        if tests.is_empty() {
+            self.problem(pr, "tests", "no tests (expected at least one test)".into());
+        }
+        Some(tests)
+    }
+
+    /// A test's name: present, not empty, not used by an earlier test (`names`: first index).
+    fn check_test_name(
+        &self,
+        t: &Map<String, Value>,
+        prefix: &str,
+        i: usize,
+        names: &mut HashMap<String, usize>,
+        pr: &mut Problems,
+    ) {
+        let Some(name) = self.string(t, prefix, "name", true, pr) else {
+            return;
+        };
+        let field = format!("{prefix}.name");
+        if name.trim().is_empty() {
+            self.problem(
+                pr,
+                &field,
+                "empty test name (expected a unique name)".into(),
+            );
+        } else if let Some(first) = names.get(name) {
+            self.problem(
+                pr,
+                &field,
+                format!("duplicate test name `{name}`, already used by tests[{first}] (expected unique test names)"),
+            );
+        } else {
+            names.insert(name.to_string(), i);
+        }
+    }
+
+    /// A test's file: present, a plain file name, not used by an earlier test (`files`: first
+    /// index).
+    fn check_test_file(
+        &self,
+        t: &Map<String, Value>,
+        prefix: &str,
+        i: usize,
+        files: &mut HashMap<String, usize>,
+        pr: &mut Problems,
+    ) {
+        let Some(file) = self.string(t, prefix, "file", true, pr) else {
+            return;
+        };
+        let field = format!("{prefix}.file");
+        if let Some(msg) = file_name_problem(file) {
+            self.problem(pr, &field, msg);
+        } else if let Some(first) = files.get(file) {
+            self.problem(
+                pr,
+                &field,
+                format!(
+                    "file `{file}` is already used by tests[{first}] (expected one CSV per test)"
+                ),
+            );
+        } else {
+            files.insert(file.to_string(), i);
+        }
+    }
+
+    /// A test's required `control`: "slip" or "shear".
+    fn check_control(&self, t: &Map<String, Value>, prefix: &str, pr: &mut Problems) {
         let field = format!("{prefix}.control");
         match t.get("control") {
             Some(Value::String(s)) if s == "slip" || s == "shear" => {}
-            Some(Value::String(s)) => cx.problem(
+            Some(Value::String(s)) => self.problem(
                 pr,
                 &field,
                 format!("unknown control `{s}` (expected \"slip\" or \"shear\")"),
             ),
-            Some(v) => cx.problem(
+            Some(v) => self.problem(
                 pr,
                 &field,
                 format!("found {} (expected \"slip\" or \"shear\")", kind_of(v)),
             ),
             None => pr.add(
-                path,
-                cx.line(&prefix),
+                self.path,
+                self.line(prefix),
                 Some(&field),
                 "missing required field `control` (expected \"slip\" or \"shear\")",
             ),
         }
+    }
+
+    /// A test's optional `initial`: "rest" or "sliding".
+    fn check_initial(&self, t: &Map<String, Value>, prefix: &str, pr: &mut Problems) {
         let field = format!("{prefix}.initial");
         match t.get("initial") {
             None | Some(Value::Null) => {}
             Some(Value::String(s)) if s == "rest" || s == "sliding" => {}
-            Some(Value::String(s)) => cx.problem(
+            Some(Value::String(s)) => self.problem(
                 pr,
                 &field,
                 format!("unknown initial state `{s}` (expected \"rest\" or \"sliding\")"),
             ),
-            Some(v) => cx.problem(
+            Some(v) => self.problem(
                 pr,
                 &field,
                 format!("found {} (expected \"rest\" or \"sliding\")", kind_of(v)),
             ),
         }
+    }
+
+    /// A test's required `normal_stress_kpa`: a finite number > 0.
+    fn check_normal_stress(&self, t: &Map<String, Value>, prefix: &str, pr: &mut Problems) {
         let field = format!("{prefix}.normal_stress_kpa");
         match t.get("normal_stress_kpa") {
             Some(Value::Number(n)) => match n.as_f64() {
                 Some(x) if x > 0.0 && x.is_finite() => {}
-                _ => cx.problem(
+                _ => self.problem(
                     pr,
                     &field,
                     format!(
@@ -445,14 +519,14 @@ fn check_shape(v: &Value, path: &Path, pos: &HashMap<String, (usize, usize)>, pr
                     ),
                 ),
             },
-            Some(v) => cx.problem(
+            Some(v) => self.problem(
                 pr,
                 &field,
                 format!("found {} (expected a number, kPa)", kind_of(v)),
             ),
             None => pr.add(
-                path,
-                cx.line(&prefix),
+                self.path,
+                self.line(prefix),
                 Some(&field),
                 "missing required field `normal_stress_kpa` (expected a number, kPa)",
             ),

@@ -6,7 +6,7 @@
 use std::fmt;
 use std::path::PathBuf;
 
-use crate::meta::Control;
+use crate::meta::ControlColumn;
 use crate::set::{ExperimentSet, TestData};
 
 /// One plausibility warning, naming the file and field.
@@ -155,7 +155,7 @@ pub fn test_warnings(t: &TestData) -> Vec<Warning> {
                 num(rate)
             ),
         );
-    } else if t.spec.control == Control::Slip && t.len() > 1 && span(&t.slip_mm) == 0.0 {
+    } else if t.spec.control == ControlColumn::Slip && t.len() > 1 && span(&t.slip_mm) == 0.0 {
         warn(
             "slip_mm",
             "the imposed slip never changes (expected a slip history under slip control)".into(),

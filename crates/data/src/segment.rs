@@ -27,10 +27,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::condition::{analyze, Conditioned};
+use crate::condition::{analyze, Analysis, Conditioned};
 use crate::events::velocity_steps;
 pub use crate::events::SegmentOptions;
-use crate::meta::{Control, InitialSpec};
+use crate::meta::{ControlColumn, InitialSpec};
 use crate::noise::{estimate_noise, median};
 use crate::set::TestData;
 
@@ -240,7 +240,7 @@ fn rate_between(t: &[f64], y: &[f64], a: usize, b: usize) -> f64 {
 /// windowed rate estimates so that noise does not create segments.
 ///
 /// ```
-/// use subfric_data::{segment, Control, SegmentKind, SegmentOptions, TestData, TestSpec};
+/// use subfric_data::{segment, ControlColumn, SegmentKind, SegmentOptions, TestData, TestSpec};
 /// // slip-controlled triangle 0 → 1 → -1 → 1 mm at 0.01 mm/s
 /// let time: Vec<f64> = (0..=500).map(|i| i as f64).collect();
 /// let slip: Vec<f64> = time.iter().map(|&t| {
@@ -248,7 +248,7 @@ fn rate_between(t: &[f64], y: &[f64], a: usize, b: usize) -> f64 {
 /// }).collect();
 /// let n = time.len();
 /// let test = TestData {
-///     spec: TestSpec::new("cyc", "cyc.csv", Control::Slip, 100.0), path: "cyc.csv".into(),
+///     spec: TestSpec::new("cyc", "cyc.csv", ControlColumn::Slip, 100.0), path: "cyc.csv".into(),
 ///     time_s: time, slip_mm: slip, shear_kpa: vec![0.0; n], normal_kpa: vec![100.0; n],
 ///     friction_given: false, line_of_row: (2..n + 2).collect(), comments: vec![],
 /// };
@@ -263,15 +263,14 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
     let n = test.time_s.len().min(test.imposed().len());
     let t = &test.time_s[..n];
     let an = analyze(t, &test.imposed()[..n], opts);
+    // The rows are classified on the conditioned column before the levels are smoothed.
     let y = an.conditioned.values.clone();
-    let reversals = an.reversals.clone();
-    let holds = an.holds.clone();
     let mut seg = Segmentation {
         segments: Vec::new(),
         row_kind: vec![SegmentKind::InitialLoading; n],
         cycle_of_row: vec![0; n],
-        reversals,
-        holds,
+        reversals: an.reversals.clone(),
+        holds: an.holds.clone(),
         rate_changes: Vec::new(),
         levels: Vec::new(),
         reference_rate: an.ref_rate,
@@ -287,24 +286,59 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
     if n == 0 {
         return seg;
     }
+    let in_hold = hold_mask(n, &seg.holds);
+    find_rate_levels(t, &y, &in_hold, &an, opts, &mut seg);
+    smooth_levels(
+        t,
+        &mut seg.conditioned.values,
+        &seg.levels,
+        LEVEL_SMOOTHING_BANDS * seg.conditioned.band,
+    );
+    let event_at = events_at_rows(n, &seg);
+    classify_rows(test, &y, &in_hold, &event_at, opts, &mut seg);
+    seg.segments = collect_segments(t, &y, &event_at, &seg);
+    seg.start = decide_start(test, &seg);
+    seg
+}
+
+/// Which of the `n` rows lie in a hold.
+fn hold_mask(n: usize, holds: &[(usize, usize)]) -> Vec<bool> {
     let mut in_hold = vec![false; n];
-    for &(s, e) in &seg.holds {
+    for &(s, e) in holds {
         for v in &mut in_hold[s..e.min(n)] {
             *v = true;
         }
     }
-    // run index of each row (row i in run k when k reversals lie before i)
+    in_hold
+}
+
+/// Run index of each of the `n` rows: row i is in run k when k reversals lie before i.
+fn run_index(n: usize, reversals: &[usize]) -> Vec<usize> {
     let mut run_of = vec![0usize; n];
-    {
-        let mut k = 0;
-        for (i, r) in run_of.iter_mut().enumerate() {
-            while k < seg.reversals.len() && seg.reversals[k] < i {
-                k += 1;
-            }
-            *r = k;
+    let mut k = 0;
+    for (i, r) in run_of.iter_mut().enumerate() {
+        while k < reversals.len() && reversals[k] < i {
+            k += 1;
         }
+        *r = k;
     }
-    // sliding stretches: maximal ranges of rows (intervals) in one run, outside holds
+    run_of
+}
+
+/// The constant-rate levels and the velocity steps between them, stretch by stretch: a
+/// stretch is a maximal range of rows in one run, outside holds (no steps are looked for
+/// across a reversal or a hold, which are events of their own). Nothing is found when a
+/// value is not finite.
+fn find_rate_levels(
+    t: &[f64],
+    y: &[f64],
+    in_hold: &[bool],
+    an: &Analysis,
+    opts: &SegmentOptions,
+    seg: &mut Segmentation,
+) {
+    let n = t.len();
+    let run_of = run_index(n, &seg.reversals);
     let finite = y.iter().chain(t).all(|v| v.is_finite());
     let mut i = 1;
     while finite && i < n {
@@ -318,14 +352,14 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         }
         // intervals s..i (rows s-1 ..= i-1)
         let (p, q) = (s - 1, i - 1);
-        let steps = velocity_steps(t, &y, p, q, an.chunk_travel, opts);
+        let steps = velocity_steps(t, y, p, q, an.chunk_travel, opts);
         let mut a = p;
         for &c in steps.iter().chain(std::iter::once(&q)) {
             if c > a {
                 seg.levels.push(RateLevel {
                     start: a + 1,
                     end: c + 1,
-                    rate: rate_between(t, &y, a, c),
+                    rate: rate_between(t, y, a, c),
                 });
             }
             a = c;
@@ -333,40 +367,56 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         seg.rate_changes.extend(steps);
     }
     seg.rate_changes.sort_unstable();
-    smooth_levels(
-        t,
-        &mut seg.conditioned.values,
-        &seg.levels,
-        LEVEL_SMOOTHING_BANDS * seg.conditioned.band,
-    );
+}
 
-    // events at rows, the most significant one kept when several coincide
+impl Event {
+    /// Which event wins when several fall on one row: a reversal over the end of a hold over
+    /// a velocity step over the start.
+    fn rank(self) -> u8 {
+        match self {
+            Event::Start => 0,
+            Event::Step => 1,
+            Event::HoldEnd => 2,
+            Event::Reversal => 3,
+        }
+    }
+}
+
+/// The event at each of the `n` rows (the end of a hold, a velocity step, a reversal), the
+/// most significant one kept when several coincide.
+fn events_at_rows(n: usize, seg: &Segmentation) -> Vec<Option<Event>> {
     let mut event_at: Vec<Option<Event>> = vec![None; n];
-    let set_event = |row: usize, e: Event, event_at: &mut Vec<Option<Event>>| {
-        if row < n {
-            let rank = |e: Event| match e {
-                Event::Start => 0,
-                Event::Step => 1,
-                Event::HoldEnd => 2,
-                Event::Reversal => 3,
-            };
-            if event_at[row].is_none_or(|old| rank(e) > rank(old)) {
-                event_at[row] = Some(e);
-            }
+    let mut set_event = |row: usize, e: Event| {
+        if row < n && event_at[row].is_none_or(|old| e.rank() > old.rank()) {
+            event_at[row] = Some(e);
         }
     };
     for &(s, e) in &seg.holds {
         // a rest before any motion ends in the start of the test, not in an after-hold phase
         let ev = if s <= 1 { Event::Start } else { Event::HoldEnd };
-        set_event(e - 1, ev, &mut event_at);
+        set_event(e - 1, ev);
     }
     for &c in &seg.rate_changes {
-        set_event(c, Event::Step, &mut event_at);
+        set_event(c, Event::Step);
     }
     for &r in &seg.reversals {
-        set_event(r, Event::Reversal, &mut event_at);
+        set_event(r, Event::Reversal);
     }
+    event_at
+}
 
+/// Kind and cycle of every row: a row is in the transient after the last event until the
+/// slip since that event exceeds [`SegmentOptions::transient_mm`] (under traction control the
+/// measured slip, whose largest excursion counts), steady sliding after.
+fn classify_rows(
+    test: &TestData,
+    y: &[f64],
+    in_hold: &[bool],
+    event_at: &[Option<Event>],
+    opts: &SegmentOptions,
+    seg: &mut Segmentation,
+) {
+    let n = event_at.len();
     let control = test.spec.control;
     let measured_slip = &test.slip_mm;
     let mut current = (0usize, Event::Start);
@@ -383,8 +433,8 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         seg.cycle_of_row[i] = reversals_before.div_ceil(2) as u32;
         let e = current.0;
         travel = match control {
-            Control::Slip => (y[i] - y[e]).abs(),
-            Control::Shear => {
+            ControlColumn::Slip => (y[i] - y[e]).abs(),
+            ControlColumn::Shear => {
                 let d = match (measured_slip.get(i), measured_slip.get(e)) {
                     (Some(a), Some(b)) if (a - b).is_finite() => (a - b).abs(),
                     _ => 0.0,
@@ -394,7 +444,7 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         };
         let kind = if in_hold[i] {
             SegmentKind::Hold
-        } else if control == Control::Shear && unloading(&y, i) {
+        } else if control == ControlColumn::Shear && unloading(y, i) {
             SegmentKind::Unloading
         } else if travel <= opts.transient_mm {
             match current.1 {
@@ -411,8 +461,17 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
     if n > 1 {
         seg.row_kind[0] = seg.row_kind[1];
     }
+}
 
-    // segments
+/// The segments: maximal runs of rows of one kind and cycle, also cut at every event.
+fn collect_segments(
+    t: &[f64],
+    y: &[f64],
+    event_at: &[Option<Event>],
+    seg: &Segmentation,
+) -> Vec<Segment> {
+    let n = event_at.len();
+    let mut segments = Vec::new();
     let mut start = 0usize;
     for i in 1..=n {
         let boundary = i == n
@@ -422,12 +481,12 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         if boundary {
             let from = start.saturating_sub(1);
             let to = i - 1;
-            seg.segments.push(Segment {
+            segments.push(Segment {
                 kind: seg.row_kind[start],
                 start,
                 end: i,
                 rate: if to > from {
-                    rate_between(t, &y, from, to)
+                    rate_between(t, y, from, to)
                 } else {
                     0.0
                 },
@@ -436,9 +495,27 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
             start = i;
         }
     }
-    seg.start = decide_start(test, &seg);
-    seg
+    segments
 }
+
+/// Rows at most over which the traction at the start is taken (while the imposed column has
+/// not moved): enough for a median to reject a spike, few enough to stay at the start.
+const START_ROWS: usize = 5;
+
+/// The imposed column has "not moved" while within this many noise SDs of its first value
+/// (three: a noisy still column stays inside with 99.7 % probability per row).
+const STILL_BAND_SDS: f64 = 3.0;
+
+/// A first traction within this many noise SDs of zero is rest …
+const REST_NOISE_SDS: f64 = 5.0;
+
+/// … or within this share of the typical traction (for quiet data, where 5 SDs is tiny).
+const REST_SHARE_OF_LEVEL: f64 = 0.05;
+
+/// A test that starts moving below this share of the typical traction is loaded but not yet
+/// sliding; at or above it, already sliding (a segment cut out of a longer run starts at about
+/// the sliding level, a test from rest well below it).
+const SLIDING_SHARE_OF_LEVEL: f64 = 0.8;
 
 /// The initial state: the `initial` field when given, else from the first rows — a traction
 /// within the noise of zero is rest; a traction well below the sliding level, or a file that
@@ -448,13 +525,13 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
     let n = test.len();
     let measured_shear = &test.shear_kpa;
     // The traction at the start: over the first rows that have not moved beyond the noise of the
-    // imposed column (at most five).
+    // imposed column (at most [`START_ROWS`]).
     let noise = &seg.conditioned.noise;
-    let band = (3.0 * noise.sd).max(0.5 * noise.quantum);
+    let band = (STILL_BAND_SDS * noise.sd).max(0.5 * noise.quantum);
     let imposed = test.imposed();
     let still = imposed
         .iter()
-        .take(5)
+        .take(START_ROWS)
         .take_while(|v| (*v - imposed[0]).abs() <= band)
         .count()
         .max(1);
@@ -470,8 +547,8 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
     let in_hold = seg.holds.first().is_some_and(|h| h.0 <= 1);
     let control = test.spec.control;
     let shear_at_start = match control {
-        Control::Slip => shear0,
-        Control::Shear => test.shear_kpa.first().copied().unwrap_or(0.0),
+        ControlColumn::Slip => shear0,
+        ControlColumn::Shear => test.shear_kpa.first().copied().unwrap_or(0.0),
     };
     let make = |kind, from_spec, reason: String| Start {
         kind,
@@ -484,7 +561,7 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
         Some(InitialSpec::Rest) => {
             return make(StartKind::Rest, true, "`initial`: rest".into());
         }
-        Some(InitialSpec::Sliding) if control == Control::Slip && in_hold => {
+        Some(InitialSpec::Sliding) if control == ControlColumn::Slip && in_hold => {
             return make(
                 StartKind::Loaded,
                 true,
@@ -498,13 +575,13 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
         }
         None => {}
     }
-    if control == Control::Shear || n < 3 {
+    if control == ControlColumn::Shear || n < 3 {
         return make(StartKind::Rest, false, "from rest".into());
     }
     let noise = estimate_noise(&test.time_s, measured_shear).sd;
     let mut mags: Vec<f64> = measured_shear.iter().map(|v| v.abs()).collect();
     let level = median(&mut mags);
-    if shear0.abs() <= (5.0 * noise).max(0.05 * level) {
+    if shear0.abs() <= (REST_NOISE_SDS * noise).max(REST_SHARE_OF_LEVEL * level) {
         return make(
             StartKind::Rest,
             false,
@@ -518,7 +595,7 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
             format!("starts still under a traction of {shear0:.4} kPa: loaded at rest"),
         );
     }
-    if shear0.abs() < 0.8 * level {
+    if shear0.abs() < SLIDING_SHARE_OF_LEVEL * level {
         return make(
             StartKind::Loaded,
             false,
@@ -618,11 +695,11 @@ mod tests {
     use super::*;
     use crate::meta::TestSpec;
 
-    pub(crate) fn data(control: Control, t: Vec<f64>, imposed: Vec<f64>) -> TestData {
+    pub(crate) fn data(control: ControlColumn, t: Vec<f64>, imposed: Vec<f64>) -> TestData {
         let n = t.len();
         let (slip, shear) = match control {
-            Control::Slip => (imposed, vec![0.0; n]),
-            Control::Shear => (vec![0.0; n], imposed),
+            ControlColumn::Slip => (imposed, vec![0.0; n]),
+            ControlColumn::Shear => (vec![0.0; n], imposed),
         };
         TestData {
             spec: TestSpec::new("x", "x.csv", control, 100.0),
@@ -652,7 +729,7 @@ mod tests {
         add(1.0, 0.01, 100);
         add(0.1, 0.1, 100);
         add(1.0, 0.01, 100);
-        let d = data(Control::Slip, t, y);
+        let d = data(ControlColumn::Slip, t, y);
         let s = segment(&d, &SegmentOptions::default());
         assert_eq!(s.rate_changes, vec![100, 200]);
         assert!(s.holds.is_empty());
@@ -668,7 +745,7 @@ mod tests {
     fn segments_cover_all_rows() {
         let t: Vec<f64> = (0..50).map(|i| i as f64).collect();
         let y: Vec<f64> = t.iter().map(|t| (t * 0.3).sin()).collect();
-        let s = segment(&data(Control::Slip, t, y), &SegmentOptions::default());
+        let s = segment(&data(ControlColumn::Slip, t, y), &SegmentOptions::default());
         let mut next = 0;
         for sg in &s.segments {
             assert_eq!(sg.start, next);
@@ -729,7 +806,10 @@ mod tests {
         for n in 0..4 {
             let t: Vec<f64> = (0..n).map(|i| i as f64).collect();
             let y = vec![1.0; n];
-            let s = segment(&data(Control::Shear, t, y), &SegmentOptions::default());
+            let s = segment(
+                &data(ControlColumn::Shear, t, y),
+                &SegmentOptions::default(),
+            );
             assert_eq!(s.row_kind.len(), n);
         }
     }

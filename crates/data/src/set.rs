@@ -4,9 +4,9 @@ use std::collections::HashSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::error::{DataError, Problem, Problems};
+use crate::error::{DataError, InputProblem, Problems};
 use crate::fsio::{commit_file, set_file_problem, stage_file};
-use crate::meta::{file_name_problem, parse_meta, Control, ExperimentMeta, TestSpec};
+use crate::meta::{file_name_problem, parse_meta, ControlColumn, ExperimentMeta, TestSpec};
 
 /// Name of the description file inside a set's folder.
 pub const EXPERIMENT_JSON: &str = "experiment.json";
@@ -49,16 +49,16 @@ impl TestData {
     /// The column the apparatus imposed: slip for slip control, shear for shear control.
     pub fn imposed(&self) -> &[f64] {
         match self.spec.control {
-            Control::Slip => &self.slip_mm,
-            Control::Shear => &self.shear_kpa,
+            ControlColumn::Slip => &self.slip_mm,
+            ControlColumn::Shear => &self.shear_kpa,
         }
     }
 
     /// The measured column: shear for slip control, slip for shear control.
     pub fn measured(&self) -> &[f64] {
         match self.spec.control {
-            Control::Slip => &self.shear_kpa,
-            Control::Shear => &self.slip_mm,
+            ControlColumn::Slip => &self.shear_kpa,
+            ControlColumn::Shear => &self.slip_mm,
         }
     }
 
@@ -120,7 +120,7 @@ fn read_text(path: &Path) -> Result<String, DataError> {
             let valid = e.utf8_error().valid_up_to();
             let bytes = e.into_bytes();
             let line = 1 + bytes[..valid].iter().filter(|&&b| b == b'\n').count();
-            Err(DataError::Problems(vec![Problem::new(
+            Err(DataError::Problems(vec![InputProblem::new(
                 path,
                 Some(line),
                 None,
@@ -150,7 +150,7 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
     let json_path = dir.join(EXPERIMENT_JSON);
     if dir.is_dir() {
         if let Some(msg) = set_file_problem(dir, &json_path).filter(|_| json_path.exists()) {
-            return Err(DataError::Problems(vec![Problem::new(
+            return Err(DataError::Problems(vec![InputProblem::new(
                 &json_path,
                 None,
                 None,
@@ -166,7 +166,7 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
             } else {
                 format!("folder {} does not exist", dir.display())
             };
-            return Err(DataError::Problems(vec![Problem::new(
+            return Err(DataError::Problems(vec![InputProblem::new(
                 path,
                 None,
                 None,
@@ -178,14 +178,14 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
     let meta = parse_meta(&text, &json_path)?;
     let positions = crate::jsonpos::value_positions(&text);
     // each file's problems are capped on their own; the set keeps them all
-    let mut problems: Vec<Problem> = Vec::new();
+    let mut problems: Vec<InputProblem> = Vec::new();
     let mut tests = Vec::with_capacity(meta.tests.len());
     for (i, spec) in meta.tests.iter().enumerate() {
         let csv_path = dir.join(&spec.file);
         if let Some(msg) = set_file_problem(dir, &csv_path) {
             let field = format!("tests[{i}].file");
             let line = positions.get(&field).map(|p| p.0);
-            problems.push(Problem::new(
+            problems.push(InputProblem::new(
                 &json_path,
                 line,
                 Some(&field),
@@ -329,8 +329,8 @@ pub(crate) fn comment_text(trimmed: &str) -> String {
 /// name `path`.
 ///
 /// ```
-/// use subfric_data::{set::parse_test, Control, TestSpec};
-/// let spec = TestSpec::new("a", "a.csv", Control::Slip, 50.0);
+/// use subfric_data::{set::parse_test, ControlColumn, TestSpec};
+/// let spec = TestSpec::new("a", "a.csv", ControlColumn::Slip, 50.0);
 /// let t = parse_test("time_s,slip_mm,shear_kpa\n0,0,0\n1,0.5,20\n", "a.csv".as_ref(), &spec).unwrap();
 /// assert_eq!(t.normal_kpa, vec![50.0, 50.0]);
 /// let e = parse_test("time_s,slip_mm,shear_kpa\n1,0,0\n1,0.5,20\n", "a.csv".as_ref(), &spec).unwrap_err();
@@ -514,7 +514,7 @@ pub(crate) fn parse_test_csv(
     text: &str,
     path: &Path,
     spec: &TestSpec,
-) -> Result<TestData, Vec<Problem>> {
+) -> Result<TestData, Vec<InputProblem>> {
     let mut pr = Problems::default();
     let mut comments = Vec::new();
     let mut header: Option<Header> = None;
@@ -577,7 +577,7 @@ fn assemble_test(
     path: &Path,
     spec: &TestSpec,
     mut pr: Problems,
-) -> Result<TestData, Vec<Problem>> {
+) -> Result<TestData, Vec<InputProblem>> {
     let (Some(it), Some(is)) = (header.idx(Col::Time), header.idx(Col::Slip)) else {
         return Err(pr.into_vec());
     };
@@ -625,13 +625,13 @@ fn assemble_test(
     pr.extend(validate_data(&td, normal_idx.is_some()));
     pr.into_result(td).map_err(|e| match e {
         DataError::Problems(p) => p,
-        other => vec![Problem::new(path, None, None, other.to_string())],
+        other => vec![InputProblem::new(path, None, None, other.to_string())],
     })
 }
 
 /// Semantic checks of a test's numbers: all columns the same length, finite values, time
 /// strictly increasing, positive normal stress. Used for loaded and imported tests alike.
-pub(crate) fn validate_data(td: &TestData, normal_from_column: bool) -> Vec<Problem> {
+pub(crate) fn validate_data(td: &TestData, normal_from_column: bool) -> Vec<InputProblem> {
     let mut pr = Problems::default();
     let path = td.path.as_path();
     let n = td.time_s.len();
@@ -764,7 +764,7 @@ pub fn meta_json_text(meta: &ExperimentMeta) -> Result<String, DataError> {
             s
         })
         .map_err(|e| {
-            DataError::Problems(vec![Problem::new(
+            DataError::Problems(vec![InputProblem::new(
                 EXPERIMENT_JSON,
                 None,
                 None,
@@ -787,7 +787,7 @@ pub(crate) fn prepare_parent(dir: &Path, file: &Path) -> Result<(), DataError> {
     if inside {
         Ok(())
     } else {
-        Err(DataError::Problems(vec![Problem::new(
+        Err(DataError::Problems(vec![InputProblem::new(
             parent,
             None,
             None,

@@ -4,7 +4,7 @@ use std::fmt;
 
 use serde::Serialize;
 
-use crate::meta::Control;
+use crate::meta::ControlColumn;
 use crate::noise::{estimate_noise, NoiseEstimate};
 use crate::segment::{segment, SegmentOptions, Start, StartKind};
 use crate::set::{ExperimentSet, TestData};
@@ -43,7 +43,7 @@ pub struct TestSummary {
     /// CSV file name.
     pub file: String,
     /// Imposed column.
-    pub control: Control,
+    pub control: ControlColumn,
     /// Number of rows.
     pub rows: usize,
     /// First and last time, s.
@@ -102,7 +102,13 @@ fn range(v: &[f64]) -> (f64, f64) {
         })
 }
 
-/// Groups rates that differ by less than 30 % and returns one (the median) per group.
+/// Rates within this factor of the slowest of their group count as one rate: the scatter of
+/// a nominal rate across a test stays well under 30 %, deliberate velocity steps (×3, ×10) are
+/// far larger.
+const SAME_RATE_FACTOR: f64 = 1.3;
+
+/// Groups rates that differ by less than 30 % ([`SAME_RATE_FACTOR`]) and returns one (the
+/// median) per group.
 fn distinct_rates(mut rates: Vec<f64>) -> Vec<f64> {
     rates.retain(|r| r.is_finite() && *r > 0.0);
     rates.sort_by(f64::total_cmp);
@@ -110,7 +116,7 @@ fn distinct_rates(mut rates: Vec<f64>) -> Vec<f64> {
     let mut group: Vec<f64> = Vec::new();
     for r in rates {
         if let Some(&first) = group.first() {
-            if r > first * 1.3 {
+            if r > first * SAME_RATE_FACTOR {
                 out.push(group[group.len() / 2]);
                 group.clear();
             }
@@ -253,141 +259,159 @@ fn pair(p: (f64, f64)) -> String {
     }
 }
 
+/// Columns of the summary table, one row per test.
+const TABLE_HEADER: [&str; 15] = [
+    "test",
+    "control",
+    "rows",
+    "time s",
+    "slip mm",
+    "shear kPa",
+    "normal kPa",
+    "start",
+    "imposed noise",
+    "measured noise",
+    "rates /s",
+    "holds",
+    "steps",
+    "revs",
+    "cycles",
+];
+
+/// The cells of a test's row of the table ([`TABLE_HEADER`]).
+fn table_row(t: &TestSummary) -> [String; 15] {
+    let (unit, measured_unit) = if t.control == ControlColumn::Slip {
+        ("mm", "kPa")
+    } else {
+        ("kPa", "mm")
+    };
+    [
+        t.name.clone(),
+        t.control.to_string(),
+        t.rows.to_string(),
+        pair(t.time_span_s),
+        pair(t.slip_range_mm),
+        pair(t.shear_range_kpa),
+        pair(t.normal_range_kpa),
+        format!(
+            "{}{}",
+            start_name(t.start.kind),
+            if t.start.from_spec { "" } else { "†" }
+        ),
+        format!(
+            "{}{}",
+            noise_text(&t.imposed_noise, unit),
+            if t.imposed_conditioned { "*" } else { "" }
+        ),
+        noise_text(&t.measured_noise, measured_unit),
+        t.sliding_rates
+            .iter()
+            .map(|r| num(*r))
+            .collect::<Vec<_>>()
+            .join(","),
+        t.holds.len().to_string(),
+        t.velocity_steps.len().to_string(),
+        t.reversals.to_string(),
+        t.cycles.to_string(),
+    ]
+}
+
+/// The table: header, rule and rows, each column as wide as its widest cell.
+fn write_table(f: &mut fmt::Formatter<'_>, rows: &[[String; 15]]) -> fmt::Result {
+    let mut widths: Vec<usize> = TABLE_HEADER.iter().map(|h| h.chars().count()).collect();
+    for r in rows {
+        for (w, c) in widths.iter_mut().zip(r) {
+            *w = (*w).max(c.chars().count());
+        }
+    }
+    let line = |f: &mut fmt::Formatter<'_>, cells: &[String]| -> fmt::Result {
+        let mut s = String::from(" ");
+        for (c, w) in cells.iter().zip(&widths) {
+            s.push_str(&format!(" {c:<w$}"));
+        }
+        writeln!(f, "{}", s.trim_end())
+    };
+    line(f, &TABLE_HEADER.map(str::to_string))?;
+    line(
+        f,
+        &widths.iter().map(|w| "-".repeat(*w)).collect::<Vec<_>>(),
+    )?;
+    for r in rows {
+        line(f, r)?;
+    }
+    Ok(())
+}
+
+/// The lines under the table about one test: why its start was decided so, its holds and
+/// its velocity steps.
+fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result {
+    if !t.start.from_spec && t.start.kind != StartKind::Rest {
+        writeln!(f, "  {}: {}", t.name, t.start.reason)?;
+    }
+    if !t.holds.is_empty() {
+        let hs: Vec<String> = t
+            .holds
+            .iter()
+            .map(|h| format!("{} s at t={}", num(h.duration_s), num(h.start_time_s)))
+            .collect();
+        writeln!(f, "  {}: holds {}", t.name, hs.join(", "))?;
+    }
+    if !t.velocity_steps.is_empty() {
+        let ss: Vec<String> = t
+            .velocity_steps
+            .iter()
+            .map(|s| {
+                format!(
+                    "{}→{} at t={}",
+                    num(s.from_rate.abs()),
+                    num(s.to_rate.abs()),
+                    num(s.time_s)
+                )
+            })
+            .collect();
+        writeln!(f, "  {}: velocity steps {}", t.name, ss.join(", "))?;
+    }
+    Ok(())
+}
+
+/// The explanations of the table's marks (†, ≤, *), each only when it appears.
+fn write_footnotes(f: &mut fmt::Formatter<'_>, tests: &[TestSummary]) -> fmt::Result {
+    if tests.iter().any(|t| !t.start.from_spec) {
+        writeln!(
+            f,
+            "  † start decided from the data (set \"initial\": \"rest\" or \"sliding\" per test in experiment.json to say it)"
+        )?;
+    }
+    if tests
+        .iter()
+        .any(|t| t.imposed_noise.floor || t.measured_noise.floor)
+    {
+        writeln!(
+            f,
+            "  ≤ noise at the quantisation floor q/√12: the data scatter no more than their resolution"
+        )?;
+    }
+    if tests.iter().any(|t| t.imposed_conditioned) {
+        writeln!(
+            f,
+            "  * noisy imposed column: conditioned (isotonic per monotone run, flat holds)"
+        )?;
+    }
+    Ok(())
+}
+
 impl fmt::Display for SetSummary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "{}: {}", self.name, self.title)?;
         if let Some(p) = &self.provenance {
             writeln!(f, "  provenance: {p}")?;
         }
-        let header = [
-            "test",
-            "control",
-            "rows",
-            "time s",
-            "slip mm",
-            "shear kPa",
-            "normal kPa",
-            "start",
-            "imposed noise",
-            "measured noise",
-            "rates /s",
-            "holds",
-            "steps",
-            "revs",
-            "cycles",
-        ];
-        let rows: Vec<[String; 15]> = self
-            .tests
-            .iter()
-            .map(|t| {
-                let (unit, measured_unit) = if t.control == Control::Slip {
-                    ("mm", "kPa")
-                } else {
-                    ("kPa", "mm")
-                };
-                [
-                    t.name.clone(),
-                    t.control.to_string(),
-                    t.rows.to_string(),
-                    pair(t.time_span_s),
-                    pair(t.slip_range_mm),
-                    pair(t.shear_range_kpa),
-                    pair(t.normal_range_kpa),
-                    format!(
-                        "{}{}",
-                        start_name(t.start.kind),
-                        if t.start.from_spec { "" } else { "†" }
-                    ),
-                    format!(
-                        "{}{}",
-                        noise_text(&t.imposed_noise, unit),
-                        if t.imposed_conditioned { "*" } else { "" }
-                    ),
-                    noise_text(&t.measured_noise, measured_unit),
-                    t.sliding_rates
-                        .iter()
-                        .map(|r| num(*r))
-                        .collect::<Vec<_>>()
-                        .join(","),
-                    t.holds.len().to_string(),
-                    t.velocity_steps.len().to_string(),
-                    t.reversals.to_string(),
-                    t.cycles.to_string(),
-                ]
-            })
-            .collect();
-        let mut widths: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
-        for r in &rows {
-            for (w, c) in widths.iter_mut().zip(r) {
-                *w = (*w).max(c.chars().count());
-            }
-        }
-        let line = |f: &mut fmt::Formatter<'_>, cells: &[String]| -> fmt::Result {
-            let mut s = String::from(" ");
-            for (c, w) in cells.iter().zip(&widths) {
-                s.push_str(&format!(" {c:<w$}"));
-            }
-            writeln!(f, "{}", s.trim_end())
-        };
-        line(f, &header.map(str::to_string))?;
-        line(
-            f,
-            &widths.iter().map(|w| "-".repeat(*w)).collect::<Vec<_>>(),
-        )?;
-        for r in &rows {
-            line(f, r)?;
-        }
+        let rows: Vec<[String; 15]> = self.tests.iter().map(table_row).collect();
+        write_table(f, &rows)?;
         for t in &self.tests {
-            if !t.start.from_spec && t.start.kind != StartKind::Rest {
-                writeln!(f, "  {}: {}", t.name, t.start.reason)?;
-            }
-            if !t.holds.is_empty() {
-                let hs: Vec<String> = t
-                    .holds
-                    .iter()
-                    .map(|h| format!("{} s at t={}", num(h.duration_s), num(h.start_time_s)))
-                    .collect();
-                writeln!(f, "  {}: holds {}", t.name, hs.join(", "))?;
-            }
-            if !t.velocity_steps.is_empty() {
-                let ss: Vec<String> = t
-                    .velocity_steps
-                    .iter()
-                    .map(|s| {
-                        format!(
-                            "{}→{} at t={}",
-                            num(s.from_rate.abs()),
-                            num(s.to_rate.abs()),
-                            num(s.time_s)
-                        )
-                    })
-                    .collect();
-                writeln!(f, "  {}: velocity steps {}", t.name, ss.join(", "))?;
-            }
+            write_test_notes(f, t)?;
         }
-        if self.tests.iter().any(|t| !t.start.from_spec) {
-            writeln!(
-                f,
-                "  † start decided from the data (set \"initial\": \"rest\" or \"sliding\" per test in experiment.json to say it)"
-            )?;
-        }
-        if self
-            .tests
-            .iter()
-            .any(|t| t.imposed_noise.floor || t.measured_noise.floor)
-        {
-            writeln!(
-                f,
-                "  ≤ noise at the quantisation floor q/√12: the data scatter no more than their resolution"
-            )?;
-        }
-        if self.tests.iter().any(|t| t.imposed_conditioned) {
-            writeln!(
-                f,
-                "  * noisy imposed column: conditioned (isotonic per monotone run, flat holds)"
-            )?;
-        }
-        Ok(())
+        write_footnotes(f, &self.tests)
     }
 }
 

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use subfric_data::{load_set, segment, Control, ExperimentSet, SegmentKind, SegmentOptions};
+use subfric_data::{load_set, segment, ControlColumn, ExperimentSet, SegmentKind, SegmentOptions};
 
 fn experiments_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../experiments")
@@ -23,12 +23,22 @@ fn every_bundled_set_loads() {
         .collect();
     names.sort();
     let expected = [
-        ("table1-medium", "monotonic", 481, Control::Slip),
-        ("table1-rough", "monotonic", 481, Control::Slip),
-        ("table1-smooth", "monotonic", 481, Control::Slip),
-        ("table2-ring-torsion", "monotonic", 1151, Control::Slip),
-        ("table3-pulsating", "pulsating", 2401, Control::Shear),
-        ("table4-two-way", "two-way-cyclic", 3151, Control::Slip),
+        ("table1-medium", "monotonic", 481, ControlColumn::Slip),
+        ("table1-rough", "monotonic", 481, ControlColumn::Slip),
+        ("table1-smooth", "monotonic", 481, ControlColumn::Slip),
+        (
+            "table2-ring-torsion",
+            "monotonic",
+            1151,
+            ControlColumn::Slip,
+        ),
+        ("table3-pulsating", "pulsating", 2401, ControlColumn::Shear),
+        (
+            "table4-two-way",
+            "two-way-cyclic",
+            3151,
+            ControlColumn::Slip,
+        ),
     ];
     assert_eq!(
         names,
@@ -69,7 +79,7 @@ fn every_bundled_set_loads() {
 fn table3_is_shear_controlled_pulsating() {
     let set = load("table3-pulsating");
     let t = &set.tests[0];
-    assert_eq!(t.spec.control, Control::Shear);
+    assert_eq!(t.spec.control, ControlColumn::Shear);
     assert_eq!(t.imposed(), &t.shear_kpa[..]);
     assert_eq!(t.spec.normal_stress_kpa, 98.0);
     let seg = segment(t, &SegmentOptions::default());

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use subfric_data::{load_set, load_test, Control, DataError, Problem, TestSpec};
+use subfric_data::{load_set, load_test, ControlColumn, DataError, InputProblem, TestSpec};
 
 const JSON_ONE: &str = r#"{
   "name": "s",
@@ -13,7 +13,7 @@ const JSON_ONE: &str = r#"{
   ]
 }"#;
 
-fn set_with_csv(csv: &str) -> (tempfile::TempDir, Vec<Problem>) {
+fn set_with_csv(csv: &str) -> (tempfile::TempDir, Vec<InputProblem>) {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("experiment.json"), JSON_ONE).unwrap();
     std::fs::write(dir.path().join("a.csv"), csv).unwrap();
@@ -26,7 +26,12 @@ fn set_with_csv(csv: &str) -> (tempfile::TempDir, Vec<Problem>) {
 }
 
 /// Asserts one problem is in `a.csv` at `line`, about `field`, containing `words`.
-fn assert_problem(problems: &[Problem], line: Option<usize>, field: Option<&str>, words: &[&str]) {
+fn assert_problem(
+    problems: &[InputProblem],
+    line: Option<usize>,
+    field: Option<&str>,
+    words: &[&str],
+) {
     let found = problems.iter().any(|p| {
         p.file.ends_with("a.csv")
             && p.line == line
@@ -182,7 +187,7 @@ fn non_positive_normal_stress_from_spec() {
     assert_eq!(p.field.as_deref(), Some("tests[0].normal_stress_kpa"));
     assert!(p.message.contains("not positive") && p.message.contains("expected"));
     // load_test checks the spec too
-    let spec = TestSpec::new("a", "a.csv", Control::Slip, -1.0);
+    let spec = TestSpec::new("a", "a.csv", ControlColumn::Slip, -1.0);
     let e = load_test(dir.path(), &spec).unwrap_err();
     assert!(e.to_string().contains("field `normal_stress_kpa`"), "{e}");
 }
@@ -199,7 +204,7 @@ fn absent_file() {
         ),
         "{text}"
     );
-    let spec = TestSpec::new("b", "b.csv", Control::Shear, 50.0);
+    let spec = TestSpec::new("b", "b.csv", ControlColumn::Shear, 50.0);
     let e = load_test(dir.path(), &spec).unwrap_err();
     assert!(e.to_string().contains("b.csv: field `file`"), "{e}");
 }

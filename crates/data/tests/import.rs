@@ -3,8 +3,8 @@
 use std::path::Path;
 
 use subfric_data::{
-    import, load_set, write_set, ColumnRef, Control, DataError, Delimiter, ImportSpec, LengthUnit,
-    StressUnit, TimeUnit,
+    import, load_set, write_set, ColumnRef, ControlColumn, DataError, Delimiter, ImportSpec,
+    LengthUnit, StressUnit, TimeUnit,
 };
 
 fn close(a: &[f64], b: &[f64]) {
@@ -29,7 +29,7 @@ fn tab_spec() -> ImportSpec {
         friction: None,
         normal: None,
         normal_stress_kpa: Some(100.0),
-        control: Control::Slip,
+        control: ControlColumn::Slip,
         test_name: "monotonic 100 kPa".into(),
         set_name: "lab-x".into(),
         title: Some("Lab X: sand on steel".into()),
@@ -51,7 +51,7 @@ fn tab_file_in_micrometres_megapascals_minutes() {
     let t = &set.tests[0];
     assert_eq!(t.spec.name, "monotonic 100 kPa");
     assert_eq!(t.spec.file, "monotonic-100-kPa.csv");
-    assert_eq!(t.spec.control, Control::Slip);
+    assert_eq!(t.spec.control, ControlColumn::Slip);
     close(&t.time_s, &[0.0, 30.0, 60.0, 90.0]);
     close(&t.slip_mm, &[0.0, 0.15, 0.3, 0.45]);
     close(&t.shear_kpa, &[0.0, 12.0, 30.5, 40.2]);
@@ -119,13 +119,13 @@ fn headerless_file_by_index_and_semicolon_decimal_comma() {
         slip_unit: LengthUnit::M,
         shear: Some((ColumnRef::Index(3), StressUnit::Pa)),
         normal_stress_kpa: Some(50.0),
-        control: Control::Shear,
+        control: ControlColumn::Shear,
         test_name: "creep".into(),
         ..ImportSpec::default()
     };
     let set = import(&lab, &spec, &dir.path().join("out")).unwrap_or_else(|e| panic!("{e}"));
     let t = &set.tests[0];
-    assert_eq!(t.spec.control, Control::Shear);
+    assert_eq!(t.spec.control, ControlColumn::Shear);
     close(&t.time_s, &[0.0, 1.0, 2.0]);
     close(&t.slip_mm, &[0.0, 1.0, 3.0]);
     close(&t.shear_kpa, &[0.0, 0.01, 0.02]);

@@ -5,11 +5,11 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use subfric_data::{segment, Control, SegmentOptions, StartKind, TestData, TestSpec};
+use subfric_data::{segment, ControlColumn, SegmentOptions, StartKind, TestData, TestSpec};
 
 /// One stage of a generated protocol: slide at `rate` mm/s over `distance` mm, or hold.
 #[derive(Clone, Copy, Debug)]
-enum Stage {
+enum LabStage {
     Slide { rate: f64, distance: f64 },
     Hold { seconds: f64 },
 }
@@ -41,7 +41,7 @@ fn sampling_hz(rate: f64) -> f64 {
 /// Generates a record: the true load-point path through the stages, sampled by a jittering
 /// adaptive clock, read with noise and quantisation; friction that follows the rate (so the
 /// start is a loaded, sliding interface).
-fn generate(stages: &[Stage], seed: u64, start_offset_mm: f64) -> Built {
+fn generate(stages: &[LabStage], seed: u64, start_offset_mm: f64) -> Built {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let quantum = 1e-4; // 0.1 µm
     let noise = 3e-5; // 0.03 µm
@@ -52,15 +52,15 @@ fn generate(stages: &[Stage], seed: u64, start_offset_mm: f64) -> Built {
     let mut last_rate: Option<f64> = None;
     for st in stages {
         let (duration, rate) = match *st {
-            Stage::Slide { rate, distance } => (distance / rate, rate),
-            Stage::Hold { seconds } => (seconds, 0.0),
+            LabStage::Slide { rate, distance } => (distance / rate, rate),
+            LabStage::Hold { seconds } => (seconds, 0.0),
         };
-        if let (Some(prev), Stage::Slide { .. }) = (last_rate, st) {
+        if let (Some(prev), LabStage::Slide { .. }) = (last_rate, st) {
             if prev > 0.0 && (rate / prev - 1.0).abs() > 0.01 {
                 step_times.push(t0);
             }
         }
-        if let Stage::Hold { seconds } = st {
+        if let LabStage::Hold { seconds } = st {
             holds.push((t0, *seconds));
         }
         let dt = 1.0 / sampling_hz(rate);
@@ -88,7 +88,7 @@ fn generate(stages: &[Stage], seed: u64, start_offset_mm: f64) -> Built {
     // Friction 0.6 while sliding (a segment of a longer run), relaxing in holds.
     let shear: Vec<f64> = (0..n).map(|_| 6000.0 + 5.0 * gauss(&mut rng)).collect();
     let test = TestData {
-        spec: TestSpec::new("lab", "lab.csv", Control::Slip, 10_000.0),
+        spec: TestSpec::new("lab", "lab.csv", ControlColumn::Slip, 10_000.0),
         path: "lab.csv".into(),
         time_s: t,
         slip_mm: slip,
@@ -105,23 +105,23 @@ fn generate(stages: &[Stage], seed: u64, start_offset_mm: f64) -> Built {
     }
 }
 
-fn ladder() -> Vec<Stage> {
+fn ladder() -> Vec<LabStage> {
     let um = 1e-3;
-    let mut v = vec![Stage::Slide {
+    let mut v = vec![LabStage::Slide {
         rate: 10.0 * um,
         distance: 0.6,
     }];
-    v.push(Stage::Hold { seconds: 200.0 });
+    v.push(LabStage::Hold { seconds: 200.0 });
     for r in [
         1.0, 3.0, 10.0, 30.0, 100.0, 300.0, 100.0, 30.0, 10.0, 3.0, 1.0,
     ] {
-        v.push(Stage::Slide {
+        v.push(LabStage::Slide {
             rate: r * um,
             distance: 0.4,
         });
     }
-    v.push(Stage::Hold { seconds: 30.0 });
-    v.push(Stage::Slide {
+    v.push(LabStage::Hold { seconds: 30.0 });
+    v.push(LabStage::Slide {
         rate: 10.0 * um,
         distance: 0.3,
     });
@@ -196,7 +196,7 @@ fn a_record_cut_out_of_a_run_starts_sliding() {
 
 #[test]
 fn a_record_that_starts_in_a_hold_under_load_starts_loaded() {
-    let mut stages = vec![Stage::Hold { seconds: 60.0 }];
+    let mut stages = vec![LabStage::Hold { seconds: 60.0 }];
     stages.extend(ladder());
     let built = generate(&stages, 4, 2.0);
     let seg = segment(&built.test, &SegmentOptions::default());
@@ -232,7 +232,7 @@ fn a_stiff_curve_printed_to_five_decimals_starts_at_rest() {
         })
         .collect();
     let test = TestData {
-        spec: TestSpec::new("mono", "mono.csv", Control::Slip, 78.4),
+        spec: TestSpec::new("mono", "mono.csv", ControlColumn::Slip, 78.4),
         path: "mono.csv".into(),
         time_s: time,
         slip_mm: slip,

@@ -3,8 +3,8 @@
 use proptest::prelude::*;
 use subfric_data::set::parse_test;
 use subfric_data::{
-    condition_imposed, import, load_set, parse_meta, segment, Control, ImportSpec, SegmentOptions,
-    StressUnit, TestData, TestSpec,
+    condition_imposed, import, load_set, parse_meta, segment, ControlColumn, ImportSpec,
+    SegmentOptions, StressUnit, TestData, TestSpec,
 };
 
 const VALID_CSV: &str = "# comment\ntime_s,slip_mm,shear_kpa,normal_kpa\n0,0,0,100\n0.5,0.005,20.5,100\n1.0,0.010,30.25,101\n1.5,0.0149,35,99\n2.0,0.0201,36.5,100\n";
@@ -58,7 +58,7 @@ fn check_invariants(t: &TestData) {
 }
 
 fn spec() -> TestSpec {
-    TestSpec::new("a", "a.csv", Control::Slip, 100.0)
+    TestSpec::new("a", "a.csv", ControlColumn::Slip, 100.0)
 }
 
 proptest! {
@@ -112,7 +112,7 @@ proptest! {
             t.push(acc);
             acc += dt;
         }
-        let control = if shear { Control::Shear } else { Control::Slip };
+        let control = if shear { ControlColumn::Shear } else { ControlColumn::Slip };
         let d = TestData {
             spec: TestSpec::new("x", "x.csv", control, 100.0),
             path: "x.csv".into(),
@@ -146,7 +146,7 @@ proptest! {
         let n = t.len();
         let ys: Vec<f64> = y.iter().zip(&noise).map(|(a, b)| a + b).collect();
         let d = TestData {
-            spec: TestSpec::new("x", "x.csv", Control::Slip, 100.0),
+            spec: TestSpec::new("x", "x.csv", ControlColumn::Slip, 100.0),
             path: "x.csv".into(),
             time_s: t,
             slip_mm: ys,

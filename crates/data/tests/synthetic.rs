@@ -2,7 +2,7 @@
 
 use rand::{Rng, SeedableRng};
 use subfric_data::{
-    condition_imposed, segment, Control, SegmentKind, SegmentOptions, TestData, TestSpec,
+    condition_imposed, segment, ControlColumn, SegmentKind, SegmentOptions, TestData, TestSpec,
 };
 
 fn gauss(rng: &mut impl Rng) -> f64 {
@@ -11,11 +11,11 @@ fn gauss(rng: &mut impl Rng) -> f64 {
     (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
 }
 
-fn data(control: Control, time: Vec<f64>, imposed: Vec<f64>) -> TestData {
+fn data(control: ControlColumn, time: Vec<f64>, imposed: Vec<f64>) -> TestData {
     let n = time.len();
     let (slip, shear) = match control {
-        Control::Slip => (imposed, vec![0.0; n]),
-        Control::Shear => (vec![0.0; n], imposed),
+        ControlColumn::Slip => (imposed, vec![0.0; n]),
+        ControlColumn::Shear => (vec![0.0; n], imposed),
     };
     TestData {
         spec: TestSpec::new("syn", "syn.csv", control, 100.0),
@@ -76,7 +76,7 @@ fn noisy_triangle_keeps_real_reversals_only() {
     let (t, truth, revs) = triangle(1.0, 7, 0.5, 0.01);
     let sd = 0.0003;
     let noisy: Vec<f64> = truth.iter().map(|y| y + sd * gauss(&mut rng)).collect();
-    let d = data(Control::Slip, t, noisy.clone());
+    let d = data(ControlColumn::Slip, t, noisy.clone());
     let seg = segment(&d, &SegmentOptions::default());
     assert_eq!(seg.reversals.len(), revs.len());
     for (found, want) in seg.reversals.iter().zip(&revs) {
@@ -118,7 +118,7 @@ fn oversampled_noisy_triangle_is_made_monotone() {
     let sd = 0.0003;
     let noisy: Vec<f64> = truth.iter().map(|y| y + sd * gauss(&mut rng)).collect();
     assert!(noisy.windows(2).filter(|w| w[1] < w[0]).count() > 100);
-    let d = data(Control::Slip, t, noisy);
+    let d = data(ControlColumn::Slip, t, noisy);
     let seg = segment(&d, &SegmentOptions::default());
     assert_eq!(seg.reversals.len(), revs.len());
     for (found, want) in seg.reversals.iter().zip(&revs) {
@@ -152,7 +152,7 @@ fn noisy_ramp_hold_ramp() {
     }
     let sd = 0.0003;
     let noisy: Vec<f64> = truth.iter().map(|y| y + sd * gauss(&mut rng)).collect();
-    let d = data(Control::Slip, t.clone(), noisy.clone());
+    let d = data(ControlColumn::Slip, t.clone(), noisy.clone());
     let seg = segment(&d, &SegmentOptions::default());
     assert!(seg.reversals.is_empty(), "{:?}", seg.reversals);
     assert_eq!(seg.holds.len(), 1);
@@ -191,7 +191,7 @@ fn noisy_ramp_hold_ramp() {
 #[test]
 fn clean_signals_are_not_changed() {
     let (t, y, revs) = triangle(1.5, 4, 0.5, 0.02);
-    let d = data(Control::Slip, t, y.clone());
+    let d = data(ControlColumn::Slip, t, y.clone());
     let c = condition_imposed(&d);
     assert!(!c.changed);
     assert_eq!(c.values, y);
@@ -208,7 +208,7 @@ fn a_single_spike_is_not_a_reversal() {
         .map(|t| 0.005 * t + 0.0002 * gauss(&mut rng))
         .collect();
     y[200] += 0.05;
-    let d = data(Control::Slip, t, y);
+    let d = data(ControlColumn::Slip, t, y);
     let seg = segment(&d, &SegmentOptions::default());
     assert!(seg.reversals.is_empty(), "{:?}", seg.reversals);
     assert!(seg.conditioned.values.windows(2).all(|w| w[1] >= w[0]));
@@ -240,7 +240,7 @@ fn shear_controlled_creep_hold_and_unloading() {
     }
     // end at rest at zero shear for a while
     let n = t.len();
-    let mut d = data(Control::Shear, t.clone(), tau);
+    let mut d = data(ControlColumn::Shear, t.clone(), tau);
     d.slip_mm = slip;
     assert_eq!(d.len(), n);
     let seg = segment(&d, &SegmentOptions::default());
@@ -275,7 +275,7 @@ fn noisy_pulsating_shear_counts_cycles() {
         t.push(ti);
         tau.push(1.6 * s + 0.05 * gauss(&mut rng));
     }
-    let d = data(Control::Shear, t, tau);
+    let d = data(ControlColumn::Shear, t, tau);
     let seg = segment(&d, &SegmentOptions::default());
     assert_eq!(seg.reversals.len(), 19, "{:?}", seg.reversals);
     assert_eq!(seg.cycles(), 10);
@@ -306,7 +306,10 @@ fn velocity_steps_with_noise() {
         }
     }
     let noisy: Vec<f64> = y.iter().map(|v| v + 0.0002 * gauss(&mut rng)).collect();
-    let seg = segment(&data(Control::Slip, t, noisy), &SegmentOptions::default());
+    let seg = segment(
+        &data(ControlColumn::Slip, t, noisy),
+        &SegmentOptions::default(),
+    );
     assert_eq!(seg.rate_changes.len(), 3, "{:?}", seg.rate_changes);
     for (f, w) in seg.rate_changes.iter().zip(&steps) {
         assert!(f.abs_diff(*w) <= 2, "{f} vs {w}");
@@ -318,7 +321,7 @@ fn velocity_steps_with_noise() {
     };
     let seg4 = segment(
         &data(
-            Control::Slip,
+            ControlColumn::Slip,
             seg.conditioned
                 .values
                 .iter()

@@ -12,7 +12,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 use subfric_data::{
-    Control as DataControl, ExperimentMeta, ExperimentSet, Interface, TestData, TestSpec,
+    ControlColumn as DataControl, ExperimentMeta, ExperimentSet, Interface, TestData, TestSpec,
 };
 use subfric_model::{
     simulate, Control, DirectionEffect, Extensions, Healing, HealingForm, Initial, Model, Params,

@@ -65,7 +65,7 @@ impl Default for FitOptions {
 
 /// How far a calibration has got (for progress bars).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Stage {
+pub enum CalibrationStage {
     /// Global search running.
     Global,
     /// Local runs: (finished, total).
@@ -433,17 +433,17 @@ fn local_runs(
     p: &Problem,
     starts: &[Vec<f64>],
     opts: &FitOptions,
-    progress: &(dyn Fn(Stage) + Sync),
+    progress: &(dyn Fn(CalibrationStage) + Sync),
 ) -> Vec<LocalRun> {
     let total = starts.len();
     let done = AtomicUsize::new(0);
-    progress(Stage::Local(0, total));
+    progress(CalibrationStage::Local(0, total));
     starts
         .par_iter()
         .map(|x0| {
             let r = local(p, x0, opts);
             let k = done.fetch_add(1, Ordering::Relaxed) + 1;
-            progress(Stage::Local(k, total));
+            progress(CalibrationStage::Local(k, total));
             r
         })
         .collect()
@@ -482,7 +482,7 @@ fn uncertainty(
     p: &Problem,
     best: LocalRun,
     opts: &FitOptions,
-    progress: &(dyn Fn(Stage) + Sync),
+    progress: &(dyn Fn(CalibrationStage) + Sync),
 ) -> Uncertainty {
     let (s2, correlation) = scale_at(p, &best.x, best.ssr);
     let lin = linearise_scaled(p, &best.x, s2);
@@ -496,7 +496,7 @@ fn uncertainty(
     if !opts.profiles {
         return u;
     }
-    progress(Stage::Profiles);
+    progress(CalibrationStage::Profiles);
     u.profiles = profiles_scaled(p, &u.best.x, u.best.ssr, s2, &u.lin.std_errors_x);
     let better = u
         .profiles
@@ -641,7 +641,7 @@ pub fn calibrate(
     tests: &[FitTest],
     space: Space,
     opts: &FitOptions,
-    progress: &(dyn Fn(Stage) + Sync),
+    progress: &(dyn Fn(CalibrationStage) + Sync),
 ) -> Result<FitReport, FitError> {
     let t0 = Instant::now();
     if tests.iter().all(|t| t.is_empty()) {
@@ -665,7 +665,7 @@ pub fn calibrate(
     let guesses = ranked_guesses(&p, tests, &base);
 
     // 2. Global stage, and distinct starts from its population and the guesses.
-    progress(Stage::Global);
+    progress(CalibrationStage::Global);
     let pool = global_stage(&p, &guesses, opts);
     let starts = distinct_starts(&pool, opts.starts.max(1));
 
@@ -711,7 +711,7 @@ pub fn calibrate(
         combinations: combinations(&p, &u),
         profiles: profile_traces(&p, &u.profiles),
     };
-    progress(Stage::Done);
+    progress(CalibrationStage::Done);
     Ok(report)
 }
 

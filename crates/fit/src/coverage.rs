@@ -19,9 +19,7 @@ use crate::space::{Param, Space};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
-use subfric_data::{
-    Control as DataControl, ExperimentMeta, ExperimentSet, Interface, TestData, TestSpec,
-};
+use subfric_data::{ControlColumn, ExperimentMeta, ExperimentSet, Interface, TestData, TestSpec};
 use subfric_model::{simulate, Control, Model, Params, Protocol};
 
 /// The noise added to the measured shear of a campaign: white plus a stationary AR(1) process
@@ -255,7 +253,7 @@ pub fn generate_campaign(seed: u64, index: usize, ranges: &CampaignRanges) -> Ca
         let spec = TestSpec::new(
             test_name,
             &format!("{test_name}.csv"),
-            DataControl::Slip,
+            ControlColumn::Slip,
             normal,
         );
         specs.push(spec.clone());

@@ -29,8 +29,8 @@ pub mod uncertainty;
 mod test_problems;
 
 pub use calibrate::{
-    calibrate, compare_with_published, Combination, FitError, FitOptions, FitReport, LocalRun,
-    Method, ParamReport, Stage, Status,
+    calibrate, compare_with_published, CalibrationStage, Combination, FitError, FitOptions,
+    FitReport, LocalRun, Method, ParamReport, Status,
 };
 pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
 pub use interval::Interval;

@@ -567,30 +567,92 @@ fn slip_candidates(rig: &Rig, start: Option<(f64, f64)>) -> Vec<Candidate> {
     out
 }
 
+/// Decay lengths 1/λ after which a transient counts as settled (e^−5 < 1 %).
+const SETTLE_DECAY_LENGTHS: f64 = 5.0;
+
+/// Fewest rows of a stretch that is to show a transient or a level.
+const MIN_STRETCH_ROWS: f64 = 20.0;
+
+/// Slip of the first slide from rest, in settle lengths: the rise from rest is slower than the
+/// recovery after a perturbation.
+const FIRST_SLIDE_SETTLES: f64 = 3.0;
+
+/// Fewest holds of a slide–hold–slide series: the healing's growth with the hold needs three
+/// points.
+const MIN_HOLDS: usize = 3;
+
+/// Cycles of a two-way (or traction) cycle proposal.
+const CYCLE_COUNT: u32 = 3;
+
+/// Lengths and levels of the slip-controlled proposals, from what the data determine.
+struct SlipGeometry {
+    /// Current sliding rate v [mm/s].
+    v: f64,
+    /// Slip of a monotonic test [mm]: the current range, at least ten rows at v.
+    d: f64,
+    /// Slip to settle after a perturbation [mm].
+    settle: f64,
+    /// Slip to reach steady sliding from rest [mm].
+    first: f64,
+    /// Normal stress [kPa].
+    p: f64,
+    /// Sampling interval [s].
+    dt: f64,
+}
+
+impl SlipGeometry {
+    fn of(rig: &Rig) -> Self {
+        let v = rig.rate_mm_s;
+        let d = rig.slip_range_mm.max(10.0 * v * rig.dt_s);
+        let lam = rig.decay_rate_per_mm.max(1e-6);
+        let settle = (SETTLE_DECAY_LENGTHS / lam)
+            .max(MIN_STRETCH_ROWS * v * rig.dt_s)
+            .min(d);
+        SlipGeometry {
+            v,
+            d,
+            settle,
+            first: (FIRST_SLIDE_SETTLES * settle).min(d).max(settle),
+            p: rig.normal_stress_kpa,
+            dt: rig.dt_s,
+        }
+    }
+
+    /// A slip-controlled scenario at the rig's sampling interval.
+    fn scenario(&self, name: &str, normal: f64, stages: Vec<Stage>) -> Scenario {
+        Scenario {
+            name: name.into(),
+            control: Control::Slip,
+            normal_stress_kpa: normal,
+            dt_s: self.dt,
+            stages,
+        }
+    }
+}
+
+/// The slip-controlled candidates (without a slow start).
 fn slip_tests(rig: &Rig) -> Vec<Candidate> {
-    let v = rig.rate_mm_s;
-    let d = rig.slip_range_mm.max(10.0 * v * rig.dt_s);
-    let lam = rig.decay_rate_per_mm.max(1e-6);
-    // Slip to settle after a perturbation: five decay lengths, at least 20 rows at v.
-    let settle = (5.0 / lam).max(20.0 * v * rig.dt_s).min(d);
-    // Slip to reach steady sliding from rest.
-    let first = (3.0 * settle).min(d).max(settle);
-    let p = rig.normal_stress_kpa;
+    let g = SlipGeometry::of(rig);
+    let mut out = slide_hold_slide(&g);
+    out.extend(velocity_steps(&g));
+    out.extend(constant_rates(&g));
+    out.push(two_way_cycles(&g));
+    out.extend(other_normal_stresses(&g));
+    out
+}
+
+/// Slide–hold–slide series of holds 1, 3, 10, 30, 100 × 3, 10 or 30 s (holds shorter than
+/// three rows dropped; a series needs [`MIN_HOLDS`]).
+fn slide_hold_slide(g: &SlipGeometry) -> Vec<Candidate> {
+    let (v, settle, first) = (g.v, g.settle, g.first);
     let mut out = Vec::new();
-    let sc = |name: &str, normal: f64, stages: Vec<Stage>| Scenario {
-        name: name.into(),
-        control: Control::Slip,
-        normal_stress_kpa: normal,
-        dt_s: rig.dt_s,
-        stages,
-    };
     for t0 in [3.0, 10.0, 30.0] {
         let holds: Vec<f64> = [1.0, 3.0, 10.0, 30.0, 100.0]
             .iter()
             .map(|f| f * t0)
-            .filter(|h| *h >= 3.0 * rig.dt_s)
+            .filter(|h| *h >= 3.0 * g.dt)
             .collect();
-        if holds.len() < 3 {
+        if holds.len() < MIN_HOLDS {
             continue;
         }
         let mut stages = vec![slide(v, first)];
@@ -614,15 +676,22 @@ fn slip_tests(rig: &Rig) -> Vec<Candidate> {
                     .join(", "),
                 0.5 * settle
             ),
-            scenario: sc(&name, p, stages),
+            scenario: g.scenario(&name, g.p, stages),
             name,
             kind: ProposalKind::SlideHoldSlide,
         });
     }
+    out
+}
+
+/// Velocity steps ×3 and ×10 up from v, back, down and back.
+fn velocity_steps(g: &SlipGeometry) -> Vec<Candidate> {
+    let (v, first) = (g.v, g.first);
+    let mut out = Vec::new();
     for f in [3.0, 10.0] {
         let name = format!("velocity-steps-x{f:.0}");
         // Each step long enough to settle, and to hold 20 rows at the fastest rate.
-        let step = settle.max(20.0 * f * v * rig.dt_s).min(d);
+        let step = g.settle.max(MIN_STRETCH_ROWS * f * v * g.dt).min(g.d);
         out.push(Candidate {
             description: format!(
                 "slide {first:.3} mm at {}, then steps to {}, {}, {} and back to {}, {step:.3} mm each",
@@ -632,9 +701,9 @@ fn slip_tests(rig: &Rig) -> Vec<Candidate> {
                 um_s(v / f),
                 um_s(v)
             ),
-            scenario: sc(
+            scenario: g.scenario(
                 &name,
-                p,
+                g.p,
                 vec![
                     slide(v, first),
                     Stage::VelocitySteps {
@@ -647,157 +716,251 @@ fn slip_tests(rig: &Rig) -> Vec<Candidate> {
             kind: ProposalKind::VelocitySteps,
         });
     }
-    for (f, tag) in [
+    out
+}
+
+/// A monotonic test at another constant rate (÷10, ÷3, ×3, ×10).
+fn constant_rates(g: &SlipGeometry) -> Vec<Candidate> {
+    let (v, d) = (g.v, g.d);
+    [
         (0.1, "div10"),
         (1.0 / 3.0, "div3"),
         (3.0, "x3"),
         (10.0, "x10"),
-    ] {
+    ]
+    .into_iter()
+    .map(|(f, tag)| {
         let name = format!("constant-rate-{tag}");
-        out.push(Candidate {
+        Candidate {
             description: format!(
                 "a monotonic test over {d:.3} mm at {} instead of {}",
                 um_s(f * v),
                 um_s(v)
             ),
-            scenario: sc(&name, p, vec![slide(f * v, d)]),
+            scenario: g.scenario(&name, g.p, vec![slide(f * v, d)]),
             name,
             kind: ProposalKind::ConstantRate,
-        });
-    }
-    let amplitude = (2.0 * settle).max(0.25 * d).min(0.5 * d);
-    out.push(Candidate {
+        }
+    })
+    .collect()
+}
+
+/// Two-way cycles whose amplitude lets the transient after each reversal settle.
+fn two_way_cycles(g: &SlipGeometry) -> Candidate {
+    let amplitude = (2.0 * g.settle).max(0.25 * g.d).min(0.5 * g.d);
+    Candidate {
         name: "two-way-cycles".into(),
         kind: ProposalKind::TwoWayCycles,
-        description: format!("three two-way cycles of ±{amplitude:.3} mm at {}", um_s(v)),
-        scenario: sc(
+        description: format!(
+            "three two-way cycles of ±{amplitude:.3} mm at {}",
+            um_s(g.v)
+        ),
+        scenario: g.scenario(
             "two-way-cycles",
-            p,
+            g.p,
             vec![Stage::Cycles {
                 amplitude_mm: amplitude,
-                rate_mm_s: v,
-                count: 3,
+                rate_mm_s: g.v,
+                count: CYCLE_COUNT,
             }],
         ),
-    });
-    for (f, tag) in [(2.0, "x2"), (0.5, "half")] {
-        let name = format!("normal-stress-{tag}");
-        out.push(Candidate {
-            description: format!(
-                "a monotonic test over {d:.3} mm at {} under {:.0} kPa instead of {p:.0} kPa",
-                um_s(v),
-                f * p
-            ),
-            scenario: sc(&name, f * p, vec![slide(v, d)]),
-            name,
-            kind: ProposalKind::NormalStress,
-        });
     }
-    out
+}
+
+/// The monotonic test under twice and half the normal stress.
+fn other_normal_stresses(g: &SlipGeometry) -> Vec<Candidate> {
+    let (v, d, p) = (g.v, g.d, g.p);
+    [(2.0, "x2"), (0.5, "half")]
+        .into_iter()
+        .map(|(f, tag)| {
+            let name = format!("normal-stress-{tag}");
+            Candidate {
+                description: format!(
+                    "a monotonic test over {d:.3} mm at {} under {:.0} kPa instead of {p:.0} kPa",
+                    um_s(v),
+                    f * p
+                ),
+                scenario: g.scenario(&name, f * p, vec![slide(v, d)]),
+                name,
+                kind: ProposalKind::NormalStress,
+            }
+        })
+        .collect()
+}
+
+/// Cycles of a pulsating proposal.
+const PULSE_COUNT: u32 = 5;
+
+/// Period of the traction cycles when the rig's could not be read off the tests, in rows.
+const DEFAULT_PERIOD_ROWS: f64 = 200.0;
+
+/// Creep levels stay below this share of the static capacity μ_s p, so that they hold rather
+/// than run away.
+const CREEP_CAPACITY_SHARE: f64 = 0.95;
+
+/// Each creep hold lasts this many periods of the rig's traction cycles: long against the
+/// time scale the current tests resolve.
+const CREEP_HOLD_PERIODS: f64 = 5.0;
+
+/// Levels and times of the traction-controlled proposals.
+struct ShearGeometry {
+    /// Normal stress [kPa].
+    p: f64,
+    /// Largest imposed traction [kPa].
+    tmax: f64,
+    /// Period of the traction cycles [s].
+    period: f64,
+    /// Loading rate of those cycles [kPa/s].
+    ramp: f64,
+    /// Sampling interval [s].
+    dt: f64,
+}
+
+impl ShearGeometry {
+    fn of(rig: &Rig) -> Self {
+        let tmax = rig.max_shear_kpa.max(1e-6);
+        let period = if rig.period_s > 0.0 {
+            rig.period_s
+        } else {
+            DEFAULT_PERIOD_ROWS * rig.dt_s
+        };
+        ShearGeometry {
+            p: rig.normal_stress_kpa,
+            tmax,
+            period,
+            ramp: 2.0 * tmax / period,
+            dt: rig.dt_s,
+        }
+    }
+
+    /// A traction-controlled scenario at the rig's sampling interval.
+    fn scenario(&self, name: &str, normal: f64, stages: Vec<Stage>) -> Scenario {
+        Scenario {
+            name: name.into(),
+            control: Control::Shear,
+            normal_stress_kpa: normal,
+            dt_s: self.dt,
+            stages,
+        }
+    }
 }
 
 /// The candidates under traction control.
 fn shear_candidates(rig: &Rig, fit: &Model) -> Vec<Candidate> {
-    let p = rig.normal_stress_kpa;
-    let tmax = rig.max_shear_kpa.max(1e-6);
-    let period = if rig.period_s > 0.0 {
-        rig.period_s
-    } else {
-        200.0 * rig.dt_s
-    };
-    let ramp = 2.0 * tmax / period;
-    let sc = |name: &str, normal: f64, stages: Vec<Stage>| Scenario {
-        name: name.into(),
-        control: Control::Shear,
-        normal_stress_kpa: normal,
-        dt_s: rig.dt_s,
-        stages,
-    };
-    let mut out = Vec::new();
-    for (f, tag) in [(0.1, "div10"), (10.0, "x10")] {
-        let name = format!("pulsating-period-{tag}");
-        out.push(Candidate {
-            description: format!(
-                "five pulsating cycles 0 → {tmax:.1} kPa → 0 with a period of {:.0} s instead of {period:.0} s",
-                f * period
-            ),
-            scenario: sc(
-                &name,
-                p,
-                vec![Stage::Pulsating {
-                    max_kpa: tmax,
-                    period_s: f * period,
-                    count: 5,
-                }],
-            ),
-            name,
-            kind: ProposalKind::Pulsating,
-        });
-    }
-    // Creep: traction held at levels between the largest imposed and the static capacity.
-    let cap = 0.95 * fit.params.mu_s * p;
+    let g = ShearGeometry::of(rig);
+    let mut out = pulsating_periods(&g);
+    out.push(creep_holds(&g, fit));
+    out.push(shear_cycles(&g));
+    out.push(pulsating_double_normal_stress(&g));
+    out
+}
+
+/// Pulsating cycles at a tenth and ten times the period.
+fn pulsating_periods(g: &ShearGeometry) -> Vec<Candidate> {
+    let (tmax, period) = (g.tmax, g.period);
+    [(0.1, "div10"), (10.0, "x10")]
+        .into_iter()
+        .map(|(f, tag)| {
+            let name = format!("pulsating-period-{tag}");
+            Candidate {
+                description: format!(
+                    "five pulsating cycles 0 → {tmax:.1} kPa → 0 with a period of {:.0} s instead of {period:.0} s",
+                    f * period
+                ),
+                scenario: g.scenario(
+                    &name,
+                    g.p,
+                    vec![Stage::Pulsating {
+                        max_kpa: tmax,
+                        period_s: f * period,
+                        count: PULSE_COUNT,
+                    }],
+                ),
+                name,
+                kind: ProposalKind::Pulsating,
+            }
+        })
+        .collect()
+}
+
+/// Creep: traction held at levels between the largest imposed and the static capacity.
+fn creep_holds(g: &ShearGeometry, fit: &Model) -> Candidate {
+    let cap = CREEP_CAPACITY_SHARE * fit.params.mu_s * g.p;
     let levels: Vec<f64> = [1.0, 1.1, 1.2]
         .iter()
-        .map(|f| (f * tmax).min(cap))
+        .map(|f| (f * g.tmax).min(cap))
         .collect();
-    let hold = 5.0 * period;
+    let hold = CREEP_HOLD_PERIODS * g.period;
     let mut stages = Vec::new();
     for l in &levels {
         stages.push(Stage::ShearRamp {
             to_kpa: *l,
-            rate_kpa_s: ramp,
+            rate_kpa_s: g.ramp,
         });
         stages.push(Stage::Hold { duration_s: hold });
     }
-    out.push(Candidate {
+    Candidate {
         name: "creep-holds".into(),
         kind: ProposalKind::Creep,
         description: format!(
-            "traction ramped at {ramp:.2} kPa/s and held {hold:.0} s at each of {} kPa",
+            "traction ramped at {:.2} kPa/s and held {hold:.0} s at each of {} kPa",
+            g.ramp,
             levels
                 .iter()
                 .map(|l| format!("{l:.1}"))
                 .collect::<Vec<_>>()
                 .join(", ")
         ),
-        scenario: sc("creep-holds", p, stages),
-    });
-    out.push(Candidate {
+        scenario: g.scenario("creep-holds", g.p, stages),
+    }
+}
+
+/// Two-way traction cycles to the largest imposed traction.
+fn shear_cycles(g: &ShearGeometry) -> Candidate {
+    let (tmax, period) = (g.tmax, g.period);
+    Candidate {
         name: "shear-cycles".into(),
         kind: ProposalKind::ShearCycles,
         description: format!(
             "three two-way traction cycles of ±{tmax:.1} kPa, period {period:.0} s"
         ),
-        scenario: sc(
+        scenario: g.scenario(
             "shear-cycles",
-            p,
+            g.p,
             vec![Stage::ShearCycles {
                 amplitude_kpa: tmax,
                 period_s: period,
-                count: 3,
+                count: CYCLE_COUNT,
             }],
         ),
-    });
-    out.push(Candidate {
+    }
+}
+
+/// The pulsating test under twice the normal stress, to twice the traction.
+fn pulsating_double_normal_stress(g: &ShearGeometry) -> Candidate {
+    let p = g.p;
+    Candidate {
         name: "normal-stress-x2".into(),
         kind: ProposalKind::NormalStress,
         description: format!(
             "five pulsating cycles to {:.1} kPa under {:.0} kPa instead of {p:.0} kPa",
-            2.0 * tmax,
+            2.0 * g.tmax,
             2.0 * p
         ),
-        scenario: sc(
+        scenario: g.scenario(
             "normal-stress-x2",
             2.0 * p,
             vec![Stage::Pulsating {
-                max_kpa: 2.0 * tmax,
-                period_s: period,
-                count: 5,
+                max_kpa: 2.0 * g.tmax,
+                period_s: g.period,
+                count: PULSE_COUNT,
             }],
         ),
-    });
-    out
+    }
 }
+
+/// A proposal keeps at least this many rows, whatever [`PlanOptions::max_rows`] says.
+const FEWEST_ROWS: usize = 10;
 
 /// The scenario with its time step coarsened so that it has at most `max_rows` rows.
 fn within_rows(
@@ -805,11 +968,11 @@ fn within_rows(
     max_rows: usize,
 ) -> Option<(Scenario, subfric_model::scenario::ScenarioRows)> {
     let rows = sc.rows().ok()?;
-    if rows.time.len() <= max_rows.max(10) {
+    if rows.time.len() <= max_rows.max(FEWEST_ROWS) {
         return Some((sc, rows));
     }
     let duration = rows.time.last().copied().unwrap_or(0.0);
-    sc.dt_s = duration / max_rows.max(10) as f64;
+    sc.dt_s = duration / max_rows.max(FEWEST_ROWS) as f64;
     let rows = sc.rows().ok()?;
     Some((sc, rows))
 }
@@ -860,6 +1023,14 @@ fn information(tests: &[FitTest], space: &Space, x: &[f64]) -> Option<DMatrix<f6
     Some(j.transpose() * j)
 }
 
+/// Iterations of each held re-fit of a walk: it starts next to its answer (the previous
+/// point), so a few suffice.
+const WALK_MAX_ITERATIONS: usize = 40;
+
+/// Round-off allowance on the χ²₁(95 %) threshold of a walk point (the walk's own end points
+/// sit on it).
+const WALK_CHI2_SLACK: f64 = 1e-6;
+
 /// A point of a valley walk: optimiser coordinates and (SSR − SSR_min)/s².
 type WalkPoint = (Vec<f64>, f64);
 
@@ -886,7 +1057,7 @@ fn walk(
         .collect();
     let fixed: Vec<bool> = (0..x0.len()).map(|i| i == k || Some(i) == hold).collect();
     let opts = LmOptions {
-        max_iterations: 40,
+        max_iterations: WALK_MAX_ITERATIONS,
         ..LmOptions::default()
     };
     let mut out = Vec::new();
@@ -905,7 +1076,7 @@ fn walk(
             start[k] = t;
             let r = levenberg_marquardt(p, &start, Some(&fixed), &opts);
             let delta = (r.ssr - ssr0) / s2;
-            if delta <= CHI2_1_95 + 1e-6 {
+            if delta <= CHI2_1_95 + WALK_CHI2_SLACK {
                 out.push((r.x.clone(), delta.max(0.0)));
             }
             prev = r.x;
@@ -920,48 +1091,125 @@ pub fn plan(tests: &[FitTest], report: &FitReport, opts: &PlanOptions) -> Result
     if tests.iter().all(|t| t.is_empty()) {
         return Err(PlanError::NoData);
     }
-    let free: Vec<Param> = report
-        .parameters
-        .iter()
-        .filter(|p| p.status != Status::Fixed)
-        .filter_map(|p| Param::from_key(&p.name))
-        .collect();
+    let free = params_where(report, |s| s != Status::Fixed);
     if free.is_empty() {
         return Err(PlanError::NothingFree);
     }
     let fit = report.model;
     let space = Space::with_rate(fit, &free, &[], typical_rate(tests));
+    let undetermined = params_where(report, |s| !matches!(s, Status::Fixed | Status::Determined));
+    let rig = rig_of(tests, &fit);
+
+    // 1. The valley: walk every coordinate whose interval is not determined.
+    let valley = walk_valley(tests, report, &space, opts);
+    let planning_point = valley.points[valley.planning_index].model;
+
+    // 2. Candidates, as tests simulated at the planning point.
+    let (built, mut rejected) = build_candidates(&rig, report, &fit, &planning_point, opts);
+
+    // 3. Predictions at every valley point.
+    let ctx = PredictionContext {
+        space: &space,
+        valley: &valley,
+        a_now: valley
+            .xs
+            .par_iter()
+            .map(|x| information(tests, &space, x))
+            .collect(),
+        free: &free,
+        undetermined: &undetermined,
+        current: free
+            .iter()
+            .map(|q| report.param(q.key()).and_then(|p| p.interval))
+            .collect(),
+        s2: report_variance_scale(report),
+        planning_point: &planning_point,
+        setup_hours: opts.setup_hours,
+    };
+    let proposals: Vec<Proposal> = built
+        .into_par_iter()
+        .map(|(c, scenario, test)| ctx.evaluate(c, scenario, test))
+        .collect();
+    let mut proposals = rank(proposals, valley.planning_index, &mut rejected);
+
+    // 4. Checks of the top proposals, and the band of the top one.
+    for (i, prop) in proposals.iter_mut().take(opts.check).enumerate() {
+        prop.check = Some(check(
+            tests,
+            report,
+            &free,
+            prop,
+            &planning_point,
+            &rig,
+            opts,
+            i as u64,
+        )?);
+    }
+    let band = proposals
+        .first()
+        .and_then(|p| band_of(&p.scenario, &valley.points, &planning_point, &fit));
+    Ok(Plan {
+        rig,
+        free: free.iter().map(|q| q.key().to_string()).collect(),
+        undetermined: undetermined.iter().map(|q| q.key().to_string()).collect(),
+        fit,
+        planning_point,
+        planning_index: valley.planning_index,
+        valley: valley.points,
+        proposals,
+        rejected,
+        band,
+    })
+}
+
+/// The parameters of `report` whose status passes `keep`, in the report's order.
+fn params_where(report: &FitReport, keep: impl Fn(Status) -> bool) -> Vec<Param> {
+    report
+        .parameters
+        .iter()
+        .filter(|p| keep(p.status))
+        .filter_map(|p| Param::from_key(&p.name))
+        .collect()
+}
+
+/// The parameter vectors the current data allow, with their optimiser coordinates.
+struct Valley {
+    /// The current fit first, then the primary walk, then the others.
+    points: Vec<ValleyPoint>,
+    /// Optimiser coordinates of each point.
+    xs: Vec<Vec<f64>>,
+    /// The planning point: the primary walk's point nearest the middle of its interval.
+    planning_index: usize,
+}
+
+impl Valley {
+    /// Appends the points of the walk along coordinate `k`.
+    fn push_walk(&mut self, space: &Space, k: usize, pts: Vec<WalkPoint>) {
+        for (x, d) in pts {
+            self.points.push(ValleyPoint {
+                model: space.model_at(&x),
+                delta: d,
+                walked: space.coords[k].name(),
+            });
+            self.xs.push(x);
+        }
+    }
+}
+
+/// Walks the valley (step 1 of the module documentation): the primary undetermined
+/// coordinate from the current fit, the others from the planning point with the primary one
+/// held.
+fn walk_valley(tests: &[FitTest], report: &FitReport, space: &Space, opts: &PlanOptions) -> Valley {
+    let fit = report.model;
     let problem = Problem::new(tests, space.clone());
     let x_fit = space.point_of(&fit);
     let ssr_fit = problem.ssr(&x_fit);
     let s2 = report_variance_scale(report);
-    let undetermined: Vec<Param> = report
-        .parameters
-        .iter()
-        .filter(|p| !matches!(p.status, Status::Fixed | Status::Determined))
-        .filter_map(|p| Param::from_key(&p.name))
-        .collect();
-    let rig = rig_of(tests, &fit);
-
-    // 1. The valley: walk every coordinate whose interval is not determined.
-    let a_fit = information(tests, &space, &x_fit);
-    let se_x: Vec<f64> = match &a_fit {
-        Some(a) => stats_of_information(a, s2).std_errors,
+    let se_x: Vec<f64> = match information(tests, space, &x_fit) {
+        Some(a) => stats_of_information(&a, s2).std_errors,
         None => vec![f64::INFINITY; space.dim()],
     };
-    let mut combos = report.combinations.iter();
-    let walked: Vec<usize> = space
-        .coords
-        .iter()
-        .enumerate()
-        .filter(|(_, c)| match c {
-            Coord::Natural(q) => report
-                .param(q.key())
-                .is_some_and(|p| p.status != Status::Determined),
-            _ => combos.next().is_some_and(|c| !c.determined),
-        })
-        .map(|(k, _)| k)
-        .collect();
+    let walked = walked_coords(space, report);
     // The planning point: the walked point nearest the middle of the primary walk (the
     // recovery share when the combined chart is used: the paper's κ–ξ valley). The other
     // undetermined coordinates are walked from it, not from the optimiser's point, which often
@@ -970,24 +1218,15 @@ pub fn plan(tests: &[FitTest], report: &FitReport, opts: &PlanOptions) -> Result
         .iter()
         .position(|&k| space.coords[k] == Coord::RecoveryShare)
         .unwrap_or(0);
-    let mut valley = vec![ValleyPoint {
-        model: fit,
-        delta: 0.0,
-        walked: "the current fit".into(),
-    }];
-    let mut xs = vec![x_fit.clone()];
-    let mut planning_index = 0;
-    let push =
-        |k: usize, pts: Vec<WalkPoint>, valley: &mut Vec<ValleyPoint>, xs: &mut Vec<Vec<f64>>| {
-            for (x, d) in pts {
-                valley.push(ValleyPoint {
-                    model: space.model_at(&x),
-                    delta: d,
-                    walked: space.coords[k].name(),
-                });
-                xs.push(x);
-            }
-        };
+    let mut valley = Valley {
+        points: vec![ValleyPoint {
+            model: fit,
+            delta: 0.0,
+            walked: "the current fit".into(),
+        }],
+        xs: vec![x_fit.clone()],
+        planning_index: 0,
+    };
     if let Some(&k) = walked.get(primary) {
         let pts = walk(
             &problem,
@@ -999,20 +1238,12 @@ pub fn plan(tests: &[FitTest], report: &FitReport, opts: &PlanOptions) -> Result
             opts.valley_points,
             None,
         );
-        let (lo, hi) = pts.iter().fold((f64::MAX, f64::MIN), |(a, b), (x, _)| {
-            (a.min(x[k]), b.max(x[k]))
-        });
-        let mid = 0.5 * (lo + hi);
-        if let Some(i) = (0..pts.len()).min_by(|&i, &j| {
-            (pts[i].0[k] - mid)
-                .abs()
-                .total_cmp(&(pts[j].0[k] - mid).abs())
-        }) {
-            planning_index = 1 + i;
+        if let Some(i) = nearest_middle(&pts, k) {
+            valley.planning_index = 1 + i;
         }
-        push(k, pts, &mut valley, &mut xs);
+        valley.push_walk(space, k, pts);
     }
-    let x_centre = xs[planning_index].clone();
+    let x_centre = valley.xs[valley.planning_index].clone();
     let others: Vec<(usize, Vec<WalkPoint>)> = walked
         .par_iter()
         .enumerate()
@@ -1034,21 +1265,58 @@ pub fn plan(tests: &[FitTest], report: &FitReport, opts: &PlanOptions) -> Result
         })
         .collect();
     for (k, pts) in others {
-        push(k, pts, &mut valley, &mut xs);
+        valley.push_walk(space, k, pts);
     }
-    let x_plan = xs[planning_index].clone();
-    let planning_point = valley[planning_index].model;
+    valley
+}
 
-    // Information of the current tests at every valley point.
-    let a_now: Vec<Option<DMatrix<f64>>> = xs
-        .par_iter()
-        .map(|x| information(tests, &space, x))
-        .collect();
+/// The optimiser coordinates whose interval (or combination) the report does not call
+/// determined.
+fn walked_coords(space: &Space, report: &FitReport) -> Vec<usize> {
+    let mut combos = report.combinations.iter();
+    space
+        .coords
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| match c {
+            Coord::Natural(q) => report
+                .param(q.key())
+                .is_some_and(|p| p.status != Status::Determined),
+            _ => combos.next().is_some_and(|c| !c.determined),
+        })
+        .map(|(k, _)| k)
+        .collect()
+}
 
-    // 2. Candidates, as tests simulated at the planning point.
+/// Index of the walk point whose coordinate `k` is nearest the middle of the walk's range.
+fn nearest_middle(pts: &[WalkPoint], k: usize) -> Option<usize> {
+    let (lo, hi) = pts.iter().fold((f64::MAX, f64::MIN), |(a, b), (x, _)| {
+        (a.min(x[k]), b.max(x[k]))
+    });
+    let mid = 0.5 * (lo + hi);
+    (0..pts.len()).min_by(|&i, &j| {
+        (pts[i].0[k] - mid)
+            .abs()
+            .total_cmp(&(pts[j].0[k] - mid).abs())
+    })
+}
+
+/// A candidate with its (possibly coarsened) scenario and its test simulated at the planning
+/// point.
+type Built = (Candidate, Scenario, FitTest);
+
+/// The candidates for the rig's control, each simulated at the planning point (step 2); those
+/// that cannot be are returned as rejected (name, why).
+fn build_candidates(
+    rig: &Rig,
+    report: &FitReport,
+    fit: &Model,
+    planning_point: &Model,
+    opts: &PlanOptions,
+) -> (Vec<Built>, Vec<(String, String)>) {
     let candidates = match rig.control {
-        Control::Slip => slip_candidates(&rig, slow_start(&rig, report)),
-        Control::Shear => shear_candidates(&rig, &fit),
+        Control::Slip => slip_candidates(rig, slow_start(rig, report)),
+        Control::Shear => shear_candidates(rig, fit),
     };
     let mut rejected = Vec::new();
     let mut built = Vec::new();
@@ -1057,7 +1325,7 @@ pub fn plan(tests: &[FitTest], report: &FitReport, opts: &PlanOptions) -> Result
             rejected.push((c.name.clone(), "the scenario generates no rows".into()));
             continue;
         };
-        match candidate_test(&c.name, rig.control, &rows, &planning_point, rig.noise_sd) {
+        match candidate_test(&c.name, rig.control, &rows, planning_point, rig.noise_sd) {
             Ok(t) => built.push((c, scenario, t)),
             Err(e) => rejected.push((
                 c.name.clone(),
@@ -1065,121 +1333,161 @@ pub fn plan(tests: &[FitTest], report: &FitReport, opts: &PlanOptions) -> Result
             )),
         }
     }
+    (built, rejected)
+}
 
-    // 3. Predictions at every valley point.
-    let current: Vec<Option<Interval>> = free
-        .iter()
-        .map(|q| report.param(q.key()).and_then(|p| p.interval))
-        .collect();
-    let mut proposals: Vec<Proposal> = built
-        .into_par_iter()
-        .map(|(c, scenario, test)| {
-            let one = [test];
-            let mut valley_pred = Vec::new();
-            let mut failed = 0;
-            let mut at_plan: Option<Vec<f64>> = None;
-            for (j, x) in xs.iter().enumerate() {
-                let (Some(now), Some(add)) = (&a_now[j], information(&one, &space, x)) else {
-                    failed += 1;
-                    continue;
-                };
-                let joint = now + add;
-                let stats = stats_of_information(&joint, s2);
-                let lin = linearise_stats(&space, x, &stats);
-                let nat = space.natural(x);
-                let mu_s = valley[j].model.params.mu_s;
-                let hw: Vec<f64> = free
-                    .iter()
-                    .enumerate()
-                    .map(|(i, q)| half_width(*q, nat[i], lin.std_errors[i]))
-                    .collect();
-                let mut on_target = true;
-                let shrinks: Vec<f64> = free
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, q)| undetermined.contains(q))
-                    .filter_map(|(i, q)| {
-                        let target = target_width(*q, nat[i], mu_s);
-                        let pred = 2.0 * hw[i] / width_scale(*q, nat[i], mu_s);
-                        on_target &= pred <= target;
-                        let cur = current_width(*q, nat[i], current[i].as_ref()?, mu_s);
-                        Some(if pred.is_finite() {
-                            (cur / pred.max(target)).ln().max(0.0)
-                        } else {
-                            0.0
-                        })
-                    })
-                    .collect();
-                let log_shrink = if shrinks.is_empty() {
-                    0.0
+/// What the prediction of every proposal shares (step 3).
+struct PredictionContext<'a> {
+    space: &'a Space,
+    valley: &'a Valley,
+    /// Information of the current tests at every valley point (`None`: not simulable there).
+    a_now: Vec<Option<DMatrix<f64>>>,
+    free: &'a [Param],
+    undetermined: &'a [Param],
+    /// Reported interval of each free parameter now.
+    current: Vec<Option<Interval>>,
+    /// Variance scale of the current fit.
+    s2: f64,
+    planning_point: &'a Model,
+    setup_hours: f64,
+}
+
+impl PredictionContext<'_> {
+    /// The proposal of a built candidate: its predictions over the valley, its share,
+    /// shrink and score.
+    fn evaluate(&self, c: Candidate, scenario: Scenario, test: FitTest) -> Proposal {
+        let one = [test];
+        let n_points = self.valley.xs.len();
+        let valley_pred: Vec<ValleyPrediction> = (0..n_points)
+            .filter_map(|j| self.predict_at(&one, j))
+            .collect();
+        let failed = n_points - valley_pred.len();
+        let at_plan = valley_pred
+            .iter()
+            .find(|v| v.point == self.valley.planning_index)
+            .map(|v| v.half_width.clone());
+        // Points where the proposal cannot be simulated count as no shrink, not on target.
+        let shrink =
+            (valley_pred.iter().map(|v| v.log_shrink).sum::<f64>() / n_points.max(1) as f64).exp();
+        let determines_share =
+            valley_pred.iter().filter(|v| v.on_target).count() as f64 / n_points.max(1) as f64;
+        let test_hours = scenario_hours(&one[0]);
+        let hours = test_hours + self.setup_hours;
+        Proposal {
+            name: c.name,
+            kind: c.kind,
+            description: c.description,
+            rows: one[0].len(),
+            scenario,
+            test_hours,
+            hours,
+            shrink,
+            determines_share,
+            score: determines_share / hours.max(MIN_HOURS),
+            shrink_per_hour: shrink.ln() / hours.max(MIN_HOURS),
+            predicted: self.predicted_at_plan(at_plan.as_deref()),
+            valley: valley_pred,
+            failed_points: failed,
+            check: None,
+        }
+    }
+
+    /// Predicted half-widths after adding `one` at valley point `j` (`None` when the current
+    /// tests or the proposal cannot be simulated there).
+    fn predict_at(&self, one: &[FitTest], j: usize) -> Option<ValleyPrediction> {
+        let x = &self.valley.xs[j];
+        let (Some(now), Some(add)) = (&self.a_now[j], information(one, self.space, x)) else {
+            return None;
+        };
+        let joint = now + add;
+        let stats = stats_of_information(&joint, self.s2);
+        let lin = linearise_stats(self.space, x, &stats);
+        let nat = self.space.natural(x);
+        let mu_s = self.valley.points[j].model.params.mu_s;
+        let hw: Vec<f64> = self
+            .free
+            .iter()
+            .enumerate()
+            .map(|(i, q)| half_width(*q, nat[i], lin.std_errors[i]))
+            .collect();
+        let mut on_target = true;
+        let shrinks: Vec<f64> = self
+            .free
+            .iter()
+            .enumerate()
+            .filter(|(_, q)| self.undetermined.contains(q))
+            .filter_map(|(i, q)| {
+                let target = target_width(*q, nat[i], mu_s);
+                let pred = 2.0 * hw[i] / width_scale(*q, nat[i], mu_s);
+                on_target &= pred <= target;
+                let cur = current_width(*q, nat[i], self.current[i].as_ref()?, mu_s);
+                // Shrinking below the target earns nothing more.
+                Some(if pred.is_finite() {
+                    (cur / pred.max(target)).ln().max(0.0)
                 } else {
-                    shrinks.iter().sum::<f64>() / shrinks.len() as f64
-                };
-                if j == planning_index {
-                    at_plan = Some(hw.clone());
-                }
-                valley_pred.push(ValleyPrediction {
-                    point: j,
-                    half_width: hw,
-                    log_shrink,
-                    on_target,
-                });
-            }
-            // Points where the proposal cannot be simulated count as no shrink, not on target.
-            let shrink = (valley_pred.iter().map(|v| v.log_shrink).sum::<f64>()
-                / xs.len().max(1) as f64)
-                .exp();
-            let determines_share =
-                valley_pred.iter().filter(|v| v.on_target).count() as f64 / xs.len().max(1) as f64;
-            let test_hours = scenario_hours(&one[0]);
-            let hours = test_hours + opts.setup_hours;
-            let nat = space.natural(&x_plan);
-            let mu_s = planning_point.params.mu_s;
-            let predicted = free
-                .iter()
-                .enumerate()
-                .map(|(i, q)| {
-                    let h = at_plan.as_ref().map_or(f64::INFINITY, |hw| hw[i]);
-                    let iv = h.is_finite().then(|| interval_of(*q, nat[i], h));
-                    let pct = match q.scale() {
-                        Scale::Log => 100.0 * h.exp_m1(),
-                        _ => 100.0 * h / width_scale(*q, nat[i], mu_s).max(nat[i].abs()),
-                    };
-                    let scale = match q.scale() {
-                        Scale::Linear => nat[i].abs().max(LINEAR_SCALE_FLOOR),
-                        _ => nat[i].abs(),
-                    };
-                    PredictedParam {
-                        name: q.key().into(),
-                        value: nat[i],
-                        current: current[i],
-                        predicted: iv,
-                        predicted_half_width_percent: pct,
-                        determined: iv
-                            .is_some_and(|iv| iv.half_width() <= DETERMINED_HALF_WIDTH * scale),
-                        undetermined_now: undetermined.contains(q),
-                    }
+                    0.0
                 })
-                .collect();
-            Proposal {
-                name: c.name,
-                kind: c.kind,
-                description: c.description,
-                rows: one[0].len(),
-                scenario,
-                test_hours,
-                hours,
-                shrink,
-                determines_share,
-                score: determines_share / hours.max(1e-9),
-                shrink_per_hour: shrink.ln() / hours.max(1e-9),
-                predicted,
-                valley: valley_pred,
-                failed_points: failed,
-                check: None,
-            }
+            })
+            .collect();
+        let log_shrink = if shrinks.is_empty() {
+            0.0
+        } else {
+            shrinks.iter().sum::<f64>() / shrinks.len() as f64
+        };
+        Some(ValleyPrediction {
+            point: j,
+            half_width: hw,
+            log_shrink,
+            on_target,
         })
-        .collect();
+    }
+
+    /// The predicted intervals at the planning point from its half-widths (`None`: the
+    /// proposal could not be simulated there).
+    fn predicted_at_plan(&self, at_plan: Option<&[f64]>) -> Vec<PredictedParam> {
+        let nat = self
+            .space
+            .natural(&self.valley.xs[self.valley.planning_index]);
+        let mu_s = self.planning_point.params.mu_s;
+        self.free
+            .iter()
+            .enumerate()
+            .map(|(i, q)| {
+                let h = at_plan.map_or(f64::INFINITY, |hw| hw[i]);
+                let iv = h.is_finite().then(|| interval_of(*q, nat[i], h));
+                let pct = match q.scale() {
+                    Scale::Log => 100.0 * h.exp_m1(),
+                    _ => 100.0 * h / width_scale(*q, nat[i], mu_s).max(nat[i].abs()),
+                };
+                let scale = match q.scale() {
+                    Scale::Linear => nat[i].abs().max(LINEAR_SCALE_FLOOR),
+                    _ => nat[i].abs(),
+                };
+                PredictedParam {
+                    name: q.key().into(),
+                    value: nat[i],
+                    current: self.current[i],
+                    predicted: iv,
+                    predicted_half_width_percent: pct,
+                    determined: iv
+                        .is_some_and(|iv| iv.half_width() <= DETERMINED_HALF_WIDTH * scale),
+                    undetermined_now: self.undetermined.contains(q),
+                }
+            })
+            .collect()
+    }
+}
+
+/// Lab time below which a score is not divided further [h] (guards a zero-hour proposal).
+const MIN_HOURS: f64 = 1e-9;
+
+/// Drops (to `rejected`) the proposals that could not be simulated at the planning point and
+/// orders the rest: best score, then shrink per hour, then the shorter.
+fn rank(
+    mut proposals: Vec<Proposal>,
+    planning_index: usize,
+    rejected: &mut Vec<(String, String)>,
+) -> Vec<Proposal> {
     for p in proposals
         .iter()
         .filter(|p| p.valley.iter().all(|v| v.point != planning_index))
@@ -1196,35 +1504,7 @@ pub fn plan(tests: &[FitTest], report: &FitReport, opts: &PlanOptions) -> Result
             .then(b.shrink_per_hour.total_cmp(&a.shrink_per_hour))
             .then(a.hours.total_cmp(&b.hours))
     });
-
-    // 4. Checks of the top proposals, and the band of the top one.
-    for (i, prop) in proposals.iter_mut().take(opts.check).enumerate() {
-        prop.check = Some(check(
-            tests,
-            report,
-            &free,
-            prop,
-            &planning_point,
-            &rig,
-            opts,
-            i as u64,
-        )?);
-    }
-    let band = proposals
-        .first()
-        .and_then(|p| band_of(&p.scenario, &valley, &planning_point, &fit));
-    Ok(Plan {
-        rig,
-        free: free.iter().map(|q| q.key().to_string()).collect(),
-        undetermined: undetermined.iter().map(|q| q.key().to_string()).collect(),
-        fit,
-        planning_point,
-        planning_index,
-        valley,
-        proposals,
-        rejected,
-        band,
-    })
+    proposals
 }
 
 /// Duration of a test [h].

@@ -59,10 +59,10 @@ impl Default for PrepareOptions {
 }
 
 /// The model's control for the data's control.
-pub fn control_of(c: subfric_data::Control) -> Control {
+pub fn control_of(c: subfric_data::ControlColumn) -> Control {
     match c {
-        subfric_data::Control::Slip => Control::Slip,
-        subfric_data::Control::Shear => Control::Shear,
+        subfric_data::ControlColumn::Slip => Control::Slip,
+        subfric_data::ControlColumn::Shear => Control::Shear,
     }
 }
 

@@ -5,9 +5,7 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use subfric_data::{
-    Control as DataControl, ExperimentMeta, ExperimentSet, Interface, TestData, TestSpec,
-};
+use subfric_data::{ControlColumn, ExperimentMeta, ExperimentSet, Interface, TestData, TestSpec};
 use subfric_fit::{
     calibrate, misfits, prepare_set_with, typical_rate, FitOptions, Param, PrepareOptions, Space,
 };
@@ -82,7 +80,7 @@ fn long_record() -> ExperimentSet {
     .expect("simulates")
     .shear;
     let measured: Vec<f64> = shear.iter().map(|s| s + 0.2 * gauss(&mut rng)).collect();
-    let spec = TestSpec::new("steps", "steps.csv", DataControl::Slip, 100.0);
+    let spec = TestSpec::new("steps", "steps.csv", ControlColumn::Slip, 100.0);
     ExperimentSet {
         dir: "long".into(),
         meta: ExperimentMeta {

@@ -3,7 +3,7 @@
 //! The normal stress is imposed; the plastic return is radial in the tangential plane, so the
 //! same scalar equation as in 1-D is solved, and collinear paths give the 1-D answer.
 
-use crate::integrator::{return_slip, surface, Consts, StepError, StepInput};
+use crate::integrator::{return_slip, surface, Consts, Local, StepError, StepInput};
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
 
@@ -45,6 +45,92 @@ fn mat_mul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
 #[inline]
 fn central(f: impl Fn(f64) -> f64, x: f64, h: f64) -> f64 {
     (f(x + h) - f(x - h)) / (2.0 * h)
+}
+
+/// Step in a direction cosine of the central differences of the closed-form step constants:
+/// they vary on the scale of the cosine (≤ 1), so the truncation error (∝ h²) is ~1e-10 while
+/// the round-off (∝ ε/h) stays ~1e-11.
+const COSINE_STEP: f64 = 1e-5;
+
+/// The same step relative to the normal stress, for the derivatives in p.
+const RELATIVE_PRESSURE_STEP: f64 = 1e-5;
+
+/// I − n⊗n: projection onto the plane of unit normal `n`.
+#[inline]
+fn plane_projector(n: &Vec3) -> [[f64; 3]; 3] {
+    let mut plane = [[0.0; 3]; 3];
+    for (i, row) in plane.iter_mut().enumerate() {
+        for (j, x) in row.iter_mut().enumerate() {
+            *x = f64::from(u8::from(i == j)) - n[i] * n[j];
+        }
+    }
+    plane
+}
+
+/// ∂f_t/∂u of a plastic step: α [(1 − a) n̂⊗n̂ + a p n̂⊗∇F + ‖f_t‖/T (P − n̂⊗n̂)] P, with
+/// a = α/(α + h), `ratio` = ‖f_t‖/T and P = I − n⊗n (`plane`).
+#[inline]
+fn plastic_d_slip(
+    alpha: f64,
+    a: f64,
+    p: f64,
+    dir: &Vec3,
+    grad_f: &Vec3,
+    ratio: f64,
+    plane: &[[f64; 3]; 3],
+) -> [[f64; 3]; 3] {
+    let along = outer(dir, dir);
+    let coupling = outer(dir, grad_f);
+    let mut k_trial = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            k_trial[i][j] = (1.0 - a) * along[i][j]
+                + a * p * coupling[i][j]
+                + ratio * (plane[i][j] - along[i][j]);
+        }
+    }
+    mat_mul(&k_trial, plane).map(|row| scale(alpha, &row))
+}
+
+/// What the pieces of [`Contact3::tangent`] share about one step's trial traction.
+struct TrialTraction {
+    /// Normal stress [kPa].
+    p: f64,
+    /// Time step [s].
+    dt: f64,
+    /// Trial traction f_trial (elastic predictor).
+    trial: Vec3,
+    /// T = ‖f_trial‖ (> 0).
+    magnitude: f64,
+    /// n̂ = f_trial/T.
+    dir: Vec3,
+    /// Cosine of n̂ with the forward axis.
+    cos_t: f64,
+    /// Step constants at (p, cos_t).
+    local: Local,
+    /// μ after the elastic (resting) part of the step.
+    mu_el: f64,
+    /// θ after the elastic part of the step.
+    theta_el: f64,
+    /// exp(−ξ dt).
+    exp_xi_dt: f64,
+    /// The step constants depend on the sliding direction.
+    with_direction: bool,
+    /// The step constants depend on the normal stress.
+    with_pressure: bool,
+}
+
+/// Where the plastic return of a step starts.
+struct RestartPoint {
+    /// Normal-yield ratio r₀ at the start.
+    r0: f64,
+    /// cos(π r₀/2).
+    c0: f64,
+    /// sin(π r₀/2).
+    s0: f64,
+    /// When r₀ is the ratio of the elastic path's closest point: its gradient with respect to
+    /// the trial traction, and its derivative in p.
+    sens: Option<(Vec3, f64)>,
 }
 
 /// State of a 3-D contact.
@@ -279,13 +365,7 @@ impl Contact3 {
     /// repeats `step_slip`'s expressions in the same order, so it takes the same branch.
     fn tangent(&self, st: &State3, next: &State3, slip: &Vec3, p: f64, dt: f64) -> Tangent3 {
         let alpha = self.k.alpha;
-        let n = &self.normal;
-        let mut plane = [[0.0; 3]; 3];
-        for (i, row) in plane.iter_mut().enumerate() {
-            for (j, x) in row.iter_mut().enumerate() {
-                *x = f64::from(u8::from(i == j)) - n[i] * n[j];
-            }
-        }
+        let plane = plane_projector(&self.normal);
         let elastic = Tangent3 {
             d_slip: plane.map(|row| scale(alpha, &row)),
             d_pressure: [0.0; 3],
@@ -298,101 +378,30 @@ impl Contact3 {
         if magnitude == 0.0 {
             return elastic;
         }
-        let theta_el = self.k.rest_theta(st.theta, dt);
-        let exp_xi_dt = (-self.k.xi * dt).exp();
-        let dir = scale(1.0 / magnitude, &trial);
-        let cos_t = self.cos_forward(&dir);
-        let local = self.k.local(p, cos_t);
-        let mu_el = self.k.rest_mu(&local, st.mu, st.age, dt, exp_xi_dt);
-        // μ_eff of the elastic path's closest point, as a function of p and of the directions
-        // of the trial and of that point (through the step constants only).
-        let m_at = |p: f64, ct: f64, cm: f64| {
-            let lt = self.k.local(p, ct);
-            let mu = self.k.rest_mu(&lt, st.mu, st.age, dt, exp_xi_dt);
-            let lm = self.k.local(p, cm);
-            self.k.elastic_mu_eff(&lm, mu, theta_el, st.slip_path)
-        };
-        let with_direction = self.k.ext.direction.is_some() && self.forward != [0.0; 3];
-        let with_pressure = self.k.ext.pressure.is_some();
-        // ∇ of the direction cosine of a vector `v` of length `len` with respect to `v`.
-        let grad_cos = |v_hat: &Vec3, len: f64| {
-            if with_direction {
-                scale(
-                    1.0 / len,
-                    &axpy(-dot(&self.forward, v_hat), v_hat, &self.forward),
-                )
-            } else {
-                [0.0; 3]
-            }
-        };
-
-        let d = axpy(-1.0, &st.shear, &trial);
-        let dd = dot(&d, &d);
-        let (mut r0, mut c0, mut s0) = (st.r, st.cos_r, st.sin_r);
-        // Gradient of r₀ with respect to the trial traction and its derivative in p, when r₀
-        // is the ratio of the closest point (and not capped by the current r).
-        let mut r0_sens: Option<(Vec3, f64)> = None;
-        if dd > 0.0 {
-            let s_min = -dot(&st.shear, &d) / dd;
-            if s_min > 0.0 && s_min < 1.0 {
-                let f_min = axpy(s_min, &d, &st.shear);
-                let fm = norm(&f_min);
-                let mu_eff = if fm > 0.0 {
-                    let l = self.k.local(p, self.cos_forward(&scale(1.0 / fm, &f_min)));
-                    self.k.elastic_mu_eff(&l, mu_el, theta_el, st.slip_path)
-                } else {
-                    1.0
-                };
-                r0 = (fm / (mu_eff * p)).min(st.r);
-                (s0, c0) = (FRAC_PI_2 * r0).sin_cos();
-                if fm > 0.0 && fm / (mu_eff * p) < st.r {
-                    let f_hat = scale(1.0 / fm, &f_min);
-                    let cos_m = self.cos_forward(&f_hat);
-                    // |f_min| moves as s_min f̂_min with the trial (f_min ⊥ d).
-                    let mut grad = scale(s_min / (mu_eff * p), &f_hat);
-                    let mut dp = -r0 / p;
-                    if with_direction {
-                        // ∇ cos_min = Jᵀ w, J = ∂f_min/∂d, w = ∂cos_min/∂f_min.
-                        let w = grad_cos(&f_hat, fm);
-                        let q = dot(&st.shear, &d);
-                        let dw = dot(&d, &w);
-                        let grad_cm = axpy(
-                            2.0 * q * dw / (dd * dd),
-                            &d,
-                            &axpy(-dw / dd, &st.shear, &scale(-q / dd, &w)),
-                        );
-                        let m_ct = central(|c| m_at(p, c, cos_m), cos_t, 1e-5);
-                        let m_cm = central(|c| m_at(p, cos_t, c), cos_m, 1e-5);
-                        let g = axpy(m_cm, &grad_cm, &scale(m_ct, &grad_cos(&dir, magnitude)));
-                        grad = axpy(-r0 / mu_eff, &g, &grad);
-                    }
-                    if with_pressure {
-                        let m_p = central(|q| m_at(q, cos_t, cos_m), p, 1e-5 * p);
-                        dp -= r0 / mu_eff * m_p;
-                    }
-                    r0_sens = Some((grad, dp));
-                }
-            }
-        }
-        let mu_eff0 = self.k.elastic_mu_eff(&local, mu_el, theta_el, st.slip_path);
-        if magnitude <= r0 * mu_eff0 * p {
+        let t = self.trial_traction(st, trial, magnitude, p, dt);
+        let start = self.restart_point(st, &t);
+        let mu_eff0 = self
+            .k
+            .elastic_mu_eff(&t.local, t.mu_el, t.theta_el, st.slip_path);
+        if magnitude <= start.r0 * mu_eff0 * p {
             return elastic;
         }
         let xi_dt = self.k.plastic_recovery(dt);
         let input = StepInput {
             mu_n: st.mu,
-            c_start: c0,
-            s_start: s0,
-            r_start: r0,
+            c_start: start.c0,
+            s_start: start.s0,
+            r_start: start.r0,
             p,
             dt,
             xi_dt,
             exp_xi_dt: (-xi_dt).exp(),
             s_acc: st.slip_path,
             theta: st.theta,
-            local,
+            local: t.local,
             lam_guess: 0.0,
         };
+        // λ from the end state: the return converged, so g(λ) = 0 there.
         let shear = norm(&next.shear);
         let lam = (magnitude - shear) / alpha;
         let surf = surface(&self.k, &input, lam);
@@ -402,40 +411,179 @@ impl Contact3 {
         } else {
             0.0
         };
+        let (grad_f, df_dp) = self.surface_sensitivity(&t, &input, lam, surf.dr0, start.sens);
+        Tangent3 {
+            d_slip: plastic_d_slip(alpha, a, p, &t.dir, &grad_f, shear / magnitude, &plane),
+            d_pressure: scale(a * (surf.value + p * df_dp), &t.dir),
+            plastic_slip: scale(lam, &t.dir),
+        }
+    }
 
-        // ∇F and ∂F/∂p at fixed λ.
+    /// What the tangent's pieces share about the trial traction of a step (as `step_slip`
+    /// computes it).
+    #[inline]
+    fn trial_traction(
+        &self,
+        st: &State3,
+        trial: Vec3,
+        magnitude: f64,
+        p: f64,
+        dt: f64,
+    ) -> TrialTraction {
+        let theta_el = self.k.rest_theta(st.theta, dt);
+        let exp_xi_dt = (-self.k.xi * dt).exp();
+        let dir = scale(1.0 / magnitude, &trial);
+        let cos_t = self.cos_forward(&dir);
+        let local = self.k.local(p, cos_t);
+        let mu_el = self.k.rest_mu(&local, st.mu, st.age, dt, exp_xi_dt);
+        TrialTraction {
+            p,
+            dt,
+            trial,
+            magnitude,
+            dir,
+            cos_t,
+            local,
+            mu_el,
+            theta_el,
+            exp_xi_dt,
+            with_direction: self.k.ext.direction.is_some() && self.forward != [0.0; 3],
+            with_pressure: self.k.ext.pressure.is_some(),
+        }
+    }
+
+    /// μ_eff of the elastic path's closest point, as a function of p and of the directions
+    /// of the trial (cosine `ct`) and of that point (`cm`), through the step constants only.
+    #[inline]
+    fn closest_mu_eff(&self, st: &State3, t: &TrialTraction, p: f64, ct: f64, cm: f64) -> f64 {
+        let lt = self.k.local(p, ct);
+        let mu = self.k.rest_mu(&lt, st.mu, st.age, t.dt, t.exp_xi_dt);
+        let lm = self.k.local(p, cm);
+        self.k.elastic_mu_eff(&lm, mu, t.theta_el, st.slip_path)
+    }
+
+    /// ∇ of the direction cosine of a vector `v` of length `len` with respect to `v`
+    /// (`v_hat` = v/len); zero without a direction effect.
+    #[inline]
+    fn grad_cos(&self, t: &TrialTraction, v_hat: &Vec3, len: f64) -> Vec3 {
+        if t.with_direction {
+            scale(
+                1.0 / len,
+                &axpy(-dot(&self.forward, v_hat), v_hat, &self.forward),
+            )
+        } else {
+            [0.0; 3]
+        }
+    }
+
+    /// Where the plastic return starts, as in `step_slip`: the current r, or the ratio r₀ of
+    /// the elastic path's closest point to the origin when the path passes closer than both
+    /// ends (a reversal). In the latter case r₀ depends on the trial traction, and its
+    /// gradient and p-derivative are returned with it.
+    #[inline]
+    fn restart_point(&self, st: &State3, t: &TrialTraction) -> RestartPoint {
+        let p = t.p;
+        let d = axpy(-1.0, &st.shear, &t.trial);
+        let dd = dot(&d, &d);
+        let mut out = RestartPoint {
+            r0: st.r,
+            c0: st.cos_r,
+            s0: st.sin_r,
+            sens: None,
+        };
+        if dd <= 0.0 {
+            return out;
+        }
+        let s_min = -dot(&st.shear, &d) / dd;
+        if !(s_min > 0.0 && s_min < 1.0) {
+            return out;
+        }
+        let f_min = axpy(s_min, &d, &st.shear);
+        let fm = norm(&f_min);
+        let mu_eff = if fm > 0.0 {
+            let l = self.k.local(p, self.cos_forward(&scale(1.0 / fm, &f_min)));
+            self.k.elastic_mu_eff(&l, t.mu_el, t.theta_el, st.slip_path)
+        } else {
+            1.0
+        };
+        let r0 = (fm / (mu_eff * p)).min(st.r);
+        out.r0 = r0;
+        (out.s0, out.c0) = (FRAC_PI_2 * r0).sin_cos();
+        // Capped by the current r, r₀ does not move with the trial.
+        if !(fm > 0.0 && fm / (mu_eff * p) < st.r) {
+            return out;
+        }
+        let f_hat = scale(1.0 / fm, &f_min);
+        let cos_m = self.cos_forward(&f_hat);
+        // |f_min| moves as s_min f̂_min with the trial (f_min ⊥ d).
+        let mut grad = scale(s_min / (mu_eff * p), &f_hat);
+        let mut dp = -r0 / p;
+        if t.with_direction {
+            // ∇ cos_min = Jᵀ w, J = ∂f_min/∂d, w = ∂cos_min/∂f_min.
+            let w = self.grad_cos(t, &f_hat, fm);
+            let q = dot(&st.shear, &d);
+            let dw = dot(&d, &w);
+            let grad_cm = axpy(
+                2.0 * q * dw / (dd * dd),
+                &d,
+                &axpy(-dw / dd, &st.shear, &scale(-q / dd, &w)),
+            );
+            let m_ct = central(
+                |c| self.closest_mu_eff(st, t, p, c, cos_m),
+                t.cos_t,
+                COSINE_STEP,
+            );
+            let m_cm = central(
+                |c| self.closest_mu_eff(st, t, p, t.cos_t, c),
+                cos_m,
+                COSINE_STEP,
+            );
+            let g = axpy(
+                m_cm,
+                &grad_cm,
+                &scale(m_ct, &self.grad_cos(t, &t.dir, t.magnitude)),
+            );
+            grad = axpy(-r0 / mu_eff, &g, &grad);
+        }
+        if t.with_pressure {
+            let m_p = central(
+                |q| self.closest_mu_eff(st, t, q, t.cos_t, cos_m),
+                p,
+                RELATIVE_PRESSURE_STEP * p,
+            );
+            dp -= r0 / mu_eff * m_p;
+        }
+        out.sens = Some((grad, dp));
+        out
+    }
+
+    /// ∇F (with respect to the trial traction) and ∂F/∂p at fixed λ, F = r μ_eff: through r₀
+    /// when the step restarts from the closest point (`r0_sens`, weighted by ∂F/∂r₀ = `dr0`),
+    /// and through the step constants under a direction or pressure extension.
+    #[inline]
+    fn surface_sensitivity(
+        &self,
+        t: &TrialTraction,
+        input: &StepInput,
+        lam: f64,
+        dr0: f64,
+        r0_sens: Option<(Vec3, f64)>,
+    ) -> (Vec3, f64) {
         let f_at = |p: f64, ct: f64| {
             let l = self.k.local(p, ct);
-            surface(&self.k, &StepInput { local: l, ..input }, lam).value
+            surface(&self.k, &StepInput { local: l, ..*input }, lam).value
         };
         let (mut grad_f, mut df_dp) = match r0_sens {
-            Some((g, dp)) => (scale(surf.dr0, &g), surf.dr0 * dp),
+            Some((g, dp)) => (scale(dr0, &g), dr0 * dp),
             None => ([0.0; 3], 0.0),
         };
-        if with_direction {
-            let f_ct = central(|c| f_at(p, c), cos_t, 1e-5);
-            grad_f = axpy(f_ct, &grad_cos(&dir, magnitude), &grad_f);
+        if t.with_direction {
+            let f_ct = central(|c| f_at(t.p, c), t.cos_t, COSINE_STEP);
+            grad_f = axpy(f_ct, &self.grad_cos(t, &t.dir, t.magnitude), &grad_f);
         }
-        if with_pressure {
-            df_dp += central(|q| f_at(q, cos_t), p, 1e-5 * p);
+        if t.with_pressure {
+            df_dp += central(|q| f_at(q, t.cos_t), t.p, RELATIVE_PRESSURE_STEP * t.p);
         }
-
-        let along = outer(&dir, &dir);
-        let coupling = outer(&dir, &grad_f);
-        let ratio = shear / magnitude;
-        let mut k_trial = [[0.0; 3]; 3];
-        for i in 0..3 {
-            for j in 0..3 {
-                k_trial[i][j] = (1.0 - a) * along[i][j]
-                    + a * p * coupling[i][j]
-                    + ratio * (plane[i][j] - along[i][j]);
-            }
-        }
-        let d_slip = mat_mul(&k_trial, &plane).map(|row| scale(alpha, &row));
-        Tangent3 {
-            d_slip,
-            d_pressure: scale(a * (surf.value + p * df_dp), &dir),
-            plastic_slip: scale(lam, &dir),
-        }
+        (grad_f, df_dp)
     }
 }

@@ -218,7 +218,7 @@ impl Consts {
         // H is monotone in s with the sign of h: bracket s₀ by doubling, then bisect.
         let target = need / h.h.signum();
         let value = |s: f64| h.term(s).0 / h.h.signum();
-        // NaN targets fail here too.
+        // NaN counts as "no positive target" too.
         if target.is_nan() || target <= 0.0 || h.h == 0.0 {
             return None;
         }
