@@ -39,7 +39,7 @@ pub(super) struct Context<'a> {
 
 /// A spec fitted to all data, with the tests as weighted for it.
 #[derive(Clone)]
-pub(super) struct Fitted {
+pub(super) struct SpecFit {
     pub(super) result: FitResult,
     pub(super) fit_tests: Vec<FitTest>,
 }
@@ -139,7 +139,7 @@ impl<'a> Context<'a> {
         starts: &[Model],
         keep: usize,
         iterations: usize,
-    ) -> Fitted {
+    ) -> SpecFit {
         self.fit_spec_with(template, spec, starts, keep, iterations, self.reweight)
     }
 
@@ -152,7 +152,7 @@ impl<'a> Context<'a> {
         keep: usize,
         iterations: usize,
         reweight: bool,
-    ) -> Fitted {
+    ) -> SpecFit {
         let space = self.space(template, spec);
         let detrended = |mut ts: Vec<FitTest>| {
             for t in ts.iter_mut() {
@@ -175,7 +175,7 @@ impl<'a> Context<'a> {
                 result = fit(&fit_tests, &space, &[result.model], 1, iterations / 2 + 1);
             }
         }
-        Fitted { result, fit_tests }
+        SpecFit { result, fit_tests }
     }
 
     /// Held-out residuals of `spec` fitted on `fit_tests`, refitted in each fold from `starts`.

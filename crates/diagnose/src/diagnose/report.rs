@@ -18,7 +18,7 @@ pub struct FormReport {
     pub effect: Effect,
     /// Form.
     pub form: String,
-    /// Fitted extra parameters.
+    /// SpecFit extra parameters.
     pub parameters: BTreeMap<String, f64>,
     /// In-sample SSR (noise units, fitted rows, with the weights it was fitted with).
     pub ssr: f64,
@@ -42,7 +42,7 @@ pub struct CandidateScore {
     pub effect: Effect,
     /// The model compared, in words.
     pub spec: String,
-    /// Fitted extra parameters.
+    /// SpecFit extra parameters.
     pub extra_parameters: BTreeMap<String, f64>,
     /// The fitted model.
     pub model: Model,
@@ -104,7 +104,7 @@ pub struct NamedEffect {
     pub effect: Effect,
     /// Best form.
     pub form: String,
-    /// Fitted parameters of the form.
+    /// SpecFit parameters of the form.
     pub parameters: BTreeMap<String, f64>,
     /// Fraction of the held-out excess misfit (over the noise) of the model before it that it
     /// removes (with several effects named: of the final model without it).
@@ -133,7 +133,7 @@ pub struct Verdict {
     pub effects: Vec<NamedEffect>,
     /// Plain-language reason.
     pub explanation: String,
-    /// Fitted extra parameters of the first effect.
+    /// SpecFit extra parameters of the first effect.
     pub extra_parameters: BTreeMap<String, f64>,
     /// Held-out misfit with every named effect, reduced χ² in noise units: how far from the
     /// noise the final model still is.
@@ -145,7 +145,7 @@ pub struct Verdict {
 /// The base model's fit.
 #[derive(Clone, Debug, Serialize)]
 pub struct BaseFit {
-    /// Fitted model.
+    /// SpecFit model.
     pub model: Model,
     /// Free parameters.
     pub free: Vec<String>,

@@ -1,7 +1,7 @@
 //! Screening every form, polishing the best of each family, and the forward selection on
 //! held-out pieces.
 
-use super::context::{parameters_of, switched_off, Context, Current, Fitted};
+use super::context::{parameters_of, switched_off, Context, Current, SpecFit};
 use super::report::{CandidateScore, DroppedEffect, FormReport, KindShrink, SelectionStage};
 use crate::candidates::{Effect, Form};
 use crate::fits::{residuals, with_values, Spec};
@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 use subfric_model::Model;
 
 /// 2. Every form fitted to all data from its starts, scored in-sample against the base.
-fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, Fitted)> {
+fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, SpecFit)> {
     forms
         .par_iter()
         .map(|f| {
@@ -71,7 +71,7 @@ fn choose_forms(reports: &mut [FormReport]) -> Vec<usize> {
 /// model with the form switched off, and at the form's own starts (ranked by one run each).
 fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
     let own_residuals = residuals(&cx.tests, &current.model, None);
-    let scored: Vec<(usize, f64, Fitted)> = lib
+    let scored: Vec<(usize, f64, SpecFit)> = lib
         .par_iter()
         .enumerate()
         .filter(|(_, f)| !current.spec.forms.iter().any(|g| g.effect == f.effect))
@@ -101,7 +101,7 @@ fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
             (i, score, fitted)
         })
         .collect();
-    let mut best: BTreeMap<Effect, (usize, f64, Fitted)> = BTreeMap::new();
+    let mut best: BTreeMap<Effect, (usize, f64, SpecFit)> = BTreeMap::new();
     for (i, score, fitted) in scored {
         let e = lib[i].effect;
         if best.get(&e).is_none_or(|b| score > b.1) {
@@ -155,7 +155,7 @@ fn candidate_score(
 pub(super) struct Family {
     pub(super) effect: Effect,
     pub(super) form: Form,
-    pub(super) alone: Fitted,
+    pub(super) alone: SpecFit,
 }
 
 /// Step 2: every form fitted to all data and screened; the best form of each family polished
@@ -166,7 +166,7 @@ pub(super) fn screen_and_polish(
     base: &Model,
     lib: &[Form],
 ) -> (Vec<FormReport>, Vec<Family>) {
-    let (mut forms, fits): (Vec<FormReport>, Vec<Fitted>) =
+    let (mut forms, fits): (Vec<FormReport>, Vec<SpecFit>) =
         fit_forms(cx, base, lib).into_iter().unzip();
     let chosen = choose_forms(&mut forms);
     cx.trace("every form screened");
