@@ -1,6 +1,6 @@
 //! `subfric diagnose` and `subfric selfcheck`.
 
-use crate::diagnose_report::{report_text, truncate};
+use crate::diagnose_report::{effects_label, report_text, truncate};
 use crate::io::{write_json, write_text};
 use anyhow::Result;
 use std::path::{Path, PathBuf};
@@ -19,17 +19,10 @@ pub fn run_diagnose(
     let set = load_set(dir)?;
     let prepared = prepare_for_diagnosis(&set);
     let d = diagnose(&prepared, opts)?;
-    let v = serde_json::json!({
-        "set": set.meta.name,
-        "verdict": {
-            "effect": d.verdict.effect.name(),
-            "held_out_shrink": d.verdict.held_out_shrink,
-            "explanation": d.verdict.explanation,
-            "extra_parameters": d.verdict.extra_parameters,
-        },
-        "diagnosis": d,
-    });
-    write_json(&out.join("diagnosis.json"), &v)?;
+    write_json(
+        &out.join("diagnosis.json"),
+        &crate::api::diagnosis_json(&set.meta.name, &d),
+    )?;
     write_text(
         &out.join("diagnosis.txt"),
         &(report_text(&set.meta.name, &d) + "\n"),
@@ -50,16 +43,6 @@ pub fn run_diagnose(
     render_bars_png(&residual_by_test(&set.meta.name, &d, &prepared), &f)?;
     plots.push(f);
     Ok((d, plots))
-}
-
-/// The named effects joined with " + " (empty when none).
-fn effects_label(d: &Diagnosis) -> String {
-    d.verdict
-        .effects
-        .iter()
-        .map(|e| e.effect.to_string())
-        .collect::<Vec<_>>()
-        .join(" + ")
 }
 
 /// Residual by segment on all rows: the base model, and with the named effects.

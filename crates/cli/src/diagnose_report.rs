@@ -29,6 +29,16 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
     s
 }
 
+/// The named effects joined with " + " (empty when none).
+pub(crate) fn effects_label(d: &Diagnosis) -> String {
+    d.verdict
+        .effects
+        .iter()
+        .map(|e| e.effect.to_string())
+        .collect::<Vec<_>>()
+        .join(" + ")
+}
+
 fn row(s: &mut String, x: &GroupMisfit) {
     let _ = writeln!(
         s,
@@ -235,12 +245,7 @@ fn verdict(s: &mut String, d: &Diagnosis) {
         if d.verdict.effects.is_empty() {
             d.verdict.effect.to_string()
         } else {
-            d.verdict
-                .effects
-                .iter()
-                .map(|e| e.effect.to_string())
-                .collect::<Vec<_>>()
-                .join(" + ")
+            effects_label(d)
         }
     );
     for e in &d.verdict.effects {
