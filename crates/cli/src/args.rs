@@ -396,6 +396,28 @@ pub struct DiagnoseArgs {
     /// Progress display on stderr.
     #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
     pub progress: ProgressMode,
+    /// Leave this candidate form out (its name as in the report's list of forms; repeat the
+    /// flag for several): is the effect still named through the family's other forms?
+    /// [default: every form]
+    #[arg(long, value_parser = known_form)]
+    pub without_form: Vec<String>,
+}
+
+/// A candidate form's name, as `--without-form` takes it.
+fn known_form(s: &str) -> Result<String, String> {
+    let names = subfric_diagnose::candidates::all_form_names();
+    if names.contains(&s) {
+        Ok(s.to_string())
+    } else {
+        Err(format!(
+            "no candidate form is called {s:?}; the forms are: {}",
+            names
+                .iter()
+                .map(|n| format!("{n:?}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ))
+    }
 }
 
 /// `subfric plan`.
@@ -445,6 +467,10 @@ pub struct SelfcheckArgs {
     /// Only these classes (1-based numbers as printed, comma separated) [default: all].
     #[arg(long, value_delimiter = ',')]
     pub classes: Vec<usize>,
+    /// Diagnose each generated set without the candidate forms that made it: is the family
+    /// still named through its other forms? (generated sets only) [default: off]
+    #[arg(long, conflicts_with = "sets")]
+    pub unlisted: bool,
     /// Replace an existing --json file.
     #[arg(long)]
     pub force: bool,

@@ -130,6 +130,13 @@ fn every_form(s: &mut String, d: &Diagnosis) {
         s,
         "\n2. every form of every candidate family, fitted to all data (in-sample):"
     );
+    if !d.excluded_forms.is_empty() {
+        let _ = writeln!(
+            s,
+            "   left out on request (--without-form): {}",
+            d.excluded_forms.join("; ")
+        );
+    }
     let _ = writeln!(
         s,
         "   {:<15} {:<44} {:>10}  {:<10} parameters",

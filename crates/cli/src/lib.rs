@@ -187,6 +187,7 @@ fn diagnose(a: DiagnoseArgs) -> Result<()> {
     let claim = ResultsDir::claim(&dir, std::slice::from_ref(&a.set), &files, a.force)?;
     let opts = DiagnoseOptions {
         seed: a.seed,
+        excluded_forms: a.without_form.clone(),
         ..DiagnoseOptions::default()
     };
     let progress = Progress::new(a.progress);
@@ -253,6 +254,7 @@ fn selfcheck(a: SelfcheckArgs) -> Result<()> {
                     classes,
                     per_class: a.per_class,
                     seed: a.seed,
+                    unlisted: a.unlisted,
                     ..SelfcheckOptions::default()
                 },
                 a.write_sets.as_deref(),

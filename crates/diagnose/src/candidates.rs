@@ -110,7 +110,7 @@ pub struct Form {
     pub starts: Vec<Vec<f64>>,
     /// Values that switch the effect off.
     pub neutral: Vec<f64>,
-    /// Bounds of the extra parameters tighter than the defaults.
+    /// Bounds of the extra parameters other than the defaults.
     pub bounds: Vec<(Param, f64, f64)>,
 }
 
@@ -136,6 +136,7 @@ fn ext_pressure(form: PressureForm, target: Target, p_ref: f64) -> Extensions {
             form,
             target,
             p_ref,
+            beta_k: 0.0,
         }),
         ..Extensions::default()
     }
@@ -166,7 +167,11 @@ fn ext_healing(form: HealingForm) -> Extensions {
 
 fn ext_direction(target: Target) -> Extensions {
     Extensions {
-        direction: Some(DirectionEffect { d: 0.0, target }),
+        direction: Some(DirectionEffect {
+            d: 0.0,
+            target,
+            d_k: 0.0,
+        }),
         ..Extensions::default()
     }
 }
@@ -240,6 +245,37 @@ fn rate_forms(f: &DataFeatures) -> Vec<Form> {
 /// The candidate forms that the data can tell anything about (no pressure forms with one normal
 /// stress, no direction without reversals, no healing without holds).
 pub fn library(f: &DataFeatures) -> Vec<Form> {
+    library_for(f)
+}
+
+/// The name of every form of the library, whatever the data show (the names
+/// `diagnose --without-form` accepts).
+///
+/// ```
+/// let names = subfric_diagnose::candidates::all_form_names();
+/// assert_eq!(names.len(), 25);
+/// assert!(names.contains(&"rate and state, slip law"));
+/// ```
+pub fn all_form_names() -> Vec<&'static str> {
+    let every_family = DataFeatures {
+        v_ref: 0.01,
+        p_ref: 100.0,
+        pressure_levels: 2,
+        sliding_rates: 2,
+        holds: 1,
+        reversals: 1,
+        slip_span_mm: 1.0,
+        steps: crate::features::StepSignature {
+            direct: 0.01,
+            steady: 0.0,
+            decay_mm: 0.01,
+            steps: 1,
+        },
+    };
+    library_for(&every_family).iter().map(|f| f.name).collect()
+}
+
+fn library_for(f: &DataFeatures) -> Vec<Form> {
     let mut out = Vec::new();
     if f.sliding_rates > 1 || f.holds > 0 {
         out.extend(rate_forms(f));
@@ -277,6 +313,18 @@ pub fn library(f: &DataFeatures) -> Vec<Form> {
                 bounds: vec![],
             });
         }
+        // The general form of the family: μ_s and μ_k each with its own exponent holds μ as a
+        // whole, μ_s only and μ_k only, and whatever lies between, for effects in forms that
+        // none of the above names.
+        out.push(Form {
+            effect: Effect::Pressure,
+            name: "power law on mu_s and mu_k, each its own beta",
+            template: ext_pressure(PressureForm::Power, Target::Bounds, p),
+            params: vec![Param::PressureBeta, Param::PressureBetaK],
+            starts: vec![vec![0.1, 0.1], vec![-0.1, -0.1], vec![0.1, -0.1]],
+            neutral: vec![0.0, 0.0],
+            bounds: vec![],
+        });
     }
     let s = f.slip_span_mm.max(0.1);
     for (form, name) in [
@@ -321,6 +369,20 @@ pub fn library(f: &DataFeatures) -> Vec<Form> {
             neutral: vec![0.0, 0.3],
             bounds: vec![],
         });
+        // The general form of the family (see the pressure family's).
+        out.push(Form {
+            effect: Effect::LogHealing,
+            name: "general time, b ((1 + t/t_c)^n - 1)/n at rest",
+            template: ext_healing(HealingForm::General),
+            params: vec![Param::HealB, Param::HealTc, Param::HealN],
+            starts: vec![
+                vec![0.01, 1.0, 0.05],
+                vec![0.01, 10.0, 0.3],
+                vec![0.003, 1.0, 0.6],
+            ],
+            neutral: vec![0.0, 10.0, 0.3],
+            bounds: vec![(Param::HealN, 0.0, 1.0)],
+        });
     }
     if f.reversals > 0 {
         for (target, name) in [
@@ -340,6 +402,16 @@ pub fn library(f: &DataFeatures) -> Vec<Form> {
                 bounds: vec![],
             });
         }
+        // The general form on the friction bounds (see the pressure family's).
+        out.push(Form {
+            effect: Effect::Direction,
+            name: "backward mu_s x (1 - d), mu_k x (1 - d_k)",
+            template: ext_direction(Target::Bounds),
+            params: vec![Param::DirectionD, Param::DirectionDK],
+            starts: vec![vec![0.15, 0.15], vec![-0.15, -0.15], vec![0.15, -0.15]],
+            neutral: vec![0.0, 0.0],
+            bounds: vec![],
+        });
     }
     out
 }

@@ -312,6 +312,9 @@ pub struct SelfcheckOptions {
     pub synth: SynthOptions,
     /// Diagnosis settings.
     pub diagnose: DiagnoseOptions,
+    /// Diagnose each set without the candidate forms that generated it: the family must be
+    /// named through another of its forms (effects in forms the library does not list).
+    pub unlisted: bool,
 }
 
 impl Default for SelfcheckOptions {
@@ -322,6 +325,7 @@ impl Default for SelfcheckOptions {
             seed: 7,
             synth: SynthOptions::default(),
             diagnose: DiagnoseOptions::default(),
+            unlisted: false,
         }
     }
 }
@@ -349,6 +353,14 @@ pub fn selfcheck(
             let prepared = prepare_for_diagnosis(&set);
             let mut dopts = opts.diagnose.clone();
             dopts.seed = opts.seed.wrapping_add((ci * 1000 + k) as u64);
+            if opts.unlisted {
+                dopts.excluded_forms = truth
+                    .effects
+                    .iter()
+                    .filter_map(|&b| crate::synth::library_name(b))
+                    .map(String::from)
+                    .collect();
+            }
             let families = truth.families();
             let mut case = match diagnose(&prepared, &dopts) {
                 Ok(d) => Case::new(&name, families, truth.label(), &d),

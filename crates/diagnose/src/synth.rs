@@ -52,6 +52,44 @@ pub fn form_names(effect: Effect) -> &'static [&'static str] {
     }
 }
 
+/// The name in the candidate library ([`crate::library`]) of the form that `b` builds.
+pub fn library_name(b: Built) -> Option<&'static str> {
+    let names: &[&str] = match b.effect {
+        Effect::Rate => &[
+            "direct effect a ln(1 + v/v_c)",
+            "rate and state, ageing law",
+            "rate and state, slip law",
+            "power law ((v + v_c)/v_ref)^n",
+            "steady state only, mu_k + a ln(v/v_ref)",
+        ],
+        Effect::Pressure => &[
+            "power law on mu, (p/p_ref)^-beta",
+            "linear on mu, 1 - beta (p/p_ref - 1)",
+            "exponential on mu, exp(-beta (p/p_ref - 1))",
+            "power law on mu_s only",
+            "power law on mu_k only",
+        ],
+        Effect::SlipHardening => &[
+            "exponential, h s_h (1 - exp(-s/s_h))",
+            "capped linear, h min(s, s_h)",
+            "hyperbolic, h s / (1 + s/s_h)",
+        ],
+        Effect::LogHealing => &[
+            "log time, b ln(1 + t/t_c) at rest",
+            "power-law time, b t^n at rest",
+        ],
+        Effect::Direction => &[
+            "backward mu x (1 - d)",
+            "backward mu_s x (1 - d)",
+            "backward mu_k x (1 - d)",
+            "backward kappa x (1 - d)",
+            "backward u_tilde x (1 - d)",
+        ],
+        Effect::None | Effect::Unexplained => &[],
+    };
+    names.get(b.form).copied()
+}
+
 /// What a generated set holds (kept from the diagnosis, used to score it).
 #[derive(Clone, Debug, Serialize)]
 pub struct Truth {
@@ -201,6 +239,7 @@ fn add_effect(ext: &mut Extensions, b: Built, rng: &mut ChaCha8Rng) {
                 form,
                 target,
                 p_ref: uniform(rng, 100.0, 200.0),
+                beta_k: 0.0,
             });
         }
         Effect::SlipHardening => {
@@ -245,7 +284,11 @@ fn add_effect(ext: &mut Extensions, b: Built, rng: &mut ChaCha8Rng) {
                 3 => (Target::Kappa, signed(rng, 0.4, 0.6)),
                 _ => (Target::UTilde, signed(rng, 0.4, 0.6)),
             };
-            ext.direction = Some(DirectionEffect { d, target });
+            ext.direction = Some(DirectionEffect {
+                d,
+                target,
+                d_k: 0.0,
+            });
         }
         Effect::None | Effect::Unexplained => {}
     }

@@ -156,12 +156,14 @@ fn cases(dir: &Path) -> Vec<Case> {
             direction: Some(DirectionEffect {
                 d: 0.15,
                 target: Target::MuK,
+                d_k: 0.0,
             }),
             pressure: Some(PressureEffect {
                 beta: 0.2,
                 form: PressureForm::Exponential,
                 target: Target::MuS,
                 p_ref: 100.0,
+                beta_k: 0.0,
             }),
             slip_hardening: Some(SlipHardening {
                 h: 0.02,

@@ -36,6 +36,8 @@ pub enum Param {
     RateN,
     /// Pressure effect: β.
     PressureBeta,
+    /// Pressure effect on μ_s and μ_k separately: β of μ_k.
+    PressureBetaK,
     /// Slip hardening: h.
     SlipH,
     /// Slip hardening: s_h [mm].
@@ -48,6 +50,8 @@ pub enum Param {
     HealN,
     /// Direction effect: d.
     DirectionD,
+    /// Direction effect on μ_s and μ_k separately: d of μ_k.
+    DirectionDK,
 }
 
 /// How a parameter is mapped to the optimiser's coordinate.
@@ -72,7 +76,7 @@ impl Param {
     ];
 
     /// Every parameter.
-    pub const ALL: [Param; 18] = [
+    pub const ALL: [Param; 20] = [
         Param::MuS,
         Param::MuK,
         Param::Kappa,
@@ -85,12 +89,14 @@ impl Param {
         Param::RateDc,
         Param::RateN,
         Param::PressureBeta,
+        Param::PressureBetaK,
         Param::SlipH,
         Param::SlipSh,
         Param::HealTc,
         Param::HealB,
         Param::HealN,
         Param::DirectionD,
+        Param::DirectionDK,
     ];
 
     /// Key as in `params.json` (extension parameters as `effect.name`).
@@ -108,12 +114,14 @@ impl Param {
             Param::RateDc => "rate.d_c",
             Param::RateN => "rate.n",
             Param::PressureBeta => "pressure.beta",
+            Param::PressureBetaK => "pressure.beta_k",
             Param::SlipH => "slip_hardening.h",
             Param::SlipSh => "slip_hardening.s_h",
             Param::HealTc => "healing.t_c",
             Param::HealB => "healing.b",
             Param::HealN => "healing.n",
             Param::DirectionD => "direction.d",
+            Param::DirectionDK => "direction.d_k",
         }
     }
 
@@ -181,8 +189,10 @@ impl Param {
             | Param::RateB
             | Param::RateN
             | Param::PressureBeta
+            | Param::PressureBetaK
             | Param::SlipH
             | Param::DirectionD
+            | Param::DirectionDK
             | Param::HealB
             | Param::HealN => Scale::Linear,
             _ => Scale::Log,
@@ -203,13 +213,13 @@ impl Param {
             Param::RateB => (-0.2, 0.2),
             Param::RateDc => (1e-4, 10.0),
             Param::RateN => (-0.5, 0.5),
-            Param::PressureBeta => (-1.0, 1.0),
+            Param::PressureBeta | Param::PressureBetaK => (-1.0, 1.0),
             Param::SlipH => (-1.0, 1.0),
             Param::SlipSh => (0.01, 1000.0),
             Param::HealTc => (1e-3, 1e6),
             Param::HealB => (0.0, 0.3),
             Param::HealN => (0.05, 1.0),
-            Param::DirectionD => (-0.9, 0.9),
+            Param::DirectionD | Param::DirectionDK => (-0.9, 0.9),
         }
     }
 
@@ -230,12 +240,14 @@ impl Param {
             Param::RateDc => e.rate?.d_c,
             Param::RateN => e.rate?.n,
             Param::PressureBeta => e.pressure?.beta,
+            Param::PressureBetaK => e.pressure?.beta_k,
             Param::SlipH => e.slip_hardening?.h,
             Param::SlipSh => e.slip_hardening?.s_h,
             Param::HealTc => e.healing?.t_c,
             Param::HealB => e.healing?.b,
             Param::HealN => e.healing?.n,
             Param::DirectionD => e.direction?.d,
+            Param::DirectionDK => e.direction?.d_k,
         })
     }
 
@@ -257,29 +269,15 @@ impl Param {
             Param::RateB => rate(e).b = v,
             Param::RateDc => rate(e).d_c = v,
             Param::RateN => rate(e).n = v,
-            Param::PressureBeta => {
-                e.pressure
-                    .get_or_insert(PressureEffect {
-                        beta: 0.0,
-                        form: PressureForm::Power,
-                        target: Target::Friction,
-                        p_ref: subfric_model::extensions::PRESSURE_REF_KPA,
-                    })
-                    .beta = v
-            }
+            Param::PressureBeta => pressure(e).beta = v,
+            Param::PressureBetaK => pressure(e).beta_k = v,
             Param::SlipH => hardening(e).h = v,
             Param::SlipSh => hardening(e).s_h = v,
             Param::HealTc => healing(e).t_c = v,
             Param::HealB => healing(e).b = v,
             Param::HealN => healing(e).n = v,
-            Param::DirectionD => {
-                e.direction
-                    .get_or_insert(DirectionEffect {
-                        d: 0.0,
-                        target: Target::Friction,
-                    })
-                    .d = v
-            }
+            Param::DirectionD => direction(e).d = v,
+            Param::DirectionDK => direction(e).d_k = v,
         }
     }
 }
@@ -287,6 +285,24 @@ impl Param {
 // An extension switched on by setting one of its parameters starts in its first form.
 fn rate(e: &mut subfric_model::Extensions) -> &mut RateEffect {
     e.rate.get_or_insert(RateEffect::log_direct(0.0, 1e-4))
+}
+
+fn pressure(e: &mut subfric_model::Extensions) -> &mut PressureEffect {
+    e.pressure.get_or_insert(PressureEffect {
+        beta: 0.0,
+        form: PressureForm::Power,
+        target: Target::Friction,
+        p_ref: subfric_model::extensions::PRESSURE_REF_KPA,
+        beta_k: 0.0,
+    })
+}
+
+fn direction(e: &mut subfric_model::Extensions) -> &mut DirectionEffect {
+    e.direction.get_or_insert(DirectionEffect {
+        d: 0.0,
+        target: Target::Friction,
+        d_k: 0.0,
+    })
 }
 
 fn hardening(e: &mut subfric_model::Extensions) -> &mut SlipHardening {

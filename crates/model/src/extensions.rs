@@ -126,6 +126,9 @@ pub enum Target {
     Kappa,
     /// ũ only (direction effect).
     UTilde,
+    /// μ_s and μ_k, each by its own size (β and β_k, or d and d_k): a form that holds μ as a
+    /// whole (equal sizes), μ_s only and μ_k only as special cases.
+    Bounds,
 }
 
 /// How friction depends on the normal stress p.
@@ -148,12 +151,15 @@ pub struct PressureEffect {
     /// The form of P.
     #[serde(default = "power_form")]
     pub form: PressureForm,
-    /// What P scales: `Friction` (all of μ), `MuS` or `MuK`.
+    /// What P scales: `Friction` (all of μ), `MuS`, `MuK` or `Bounds`.
     #[serde(default = "friction_target")]
     pub target: Target,
     /// Reference normal stress p_ref where P = 1 [kPa].
     #[serde(default = "pressure_ref")]
     pub p_ref: f64,
+    /// With the target `Bounds`: β of μ_k (β is then that of μ_s).
+    #[serde(default)]
+    pub beta_k: f64,
 }
 
 fn power_form() -> PressureForm {
@@ -170,11 +176,28 @@ impl PressureEffect {
     /// The factor P(p).
     #[inline]
     pub fn factor(&self, p: f64) -> f64 {
+        self.factor_with(self.beta, p)
+    }
+
+    /// P(p) with the size `beta`.
+    #[inline]
+    fn factor_with(&self, beta: f64, p: f64) -> f64 {
         let x = p / self.p_ref;
         match self.form {
-            PressureForm::Power => x.powf(-self.beta),
-            PressureForm::Linear => (1.0 - self.beta * (x - 1.0)).max(0.05),
-            PressureForm::Exponential => (-self.beta * (x - 1.0)).exp(),
+            PressureForm::Power => x.powf(-beta),
+            PressureForm::Linear => (1.0 - beta * (x - 1.0)).max(0.05),
+            PressureForm::Exponential => (-beta * (x - 1.0)).exp(),
+        }
+    }
+
+    /// The factor on `target` (1 where this effect does not scale it).
+    #[inline]
+    pub fn factor_on(&self, target: Target, p: f64) -> f64 {
+        match (self.target, target) {
+            (t, u) if t == u => self.factor(p),
+            (Target::Bounds, Target::MuS) => self.factor(p),
+            (Target::Bounds, Target::MuK) => self.factor_with(self.beta_k, p),
+            _ => 1.0,
         }
     }
 }
@@ -240,6 +263,9 @@ pub enum HealingForm {
     Log,
     /// Δμ = b (θ / 1 s)^n after a time θ at rest.
     Power,
+    /// Δμ = b ((1 + θ/t_c)^n − 1)/n: the log form as n → 0, a power law in θ for θ ≫ t_c, linear
+    /// at n = 1 — one form that holds the others, for healing laws none of them names.
+    General,
 }
 
 /// Time healing at rest instead of the exponential recovery ξ(μ_s − μ) of Eq. (24): a contact
@@ -277,6 +303,18 @@ impl Healing {
         match self.form {
             HealingForm::Log => self.b * ((self.t_c + age + dt) / (self.t_c + age)).ln(),
             HealingForm::Power => self.b * ((age + dt).powf(self.n) - age.max(0.0).powf(self.n)),
+            HealingForm::General => self.general(age + dt) - self.general(age.max(0.0)),
+        }
+    }
+
+    /// Δμ(θ) of the general form; expm1 keeps it exact as n → 0, where it becomes b ln(1 + θ/t_c).
+    #[inline]
+    fn general(&self, theta: f64) -> f64 {
+        let l = (theta / self.t_c).ln_1p();
+        if self.n.abs() < 1e-12 {
+            self.b * l
+        } else {
+            self.b * (self.n * l).exp_m1() / self.n
         }
     }
 }
@@ -287,9 +325,12 @@ impl Healing {
 pub struct DirectionEffect {
     /// Relative weakening d of backward sliding (negative: backward is stronger).
     pub d: f64,
-    /// What is scaled: `Friction` (μ as a whole), `MuS`, `MuK`, `Kappa` or `UTilde`.
+    /// What is scaled: `Friction` (μ as a whole), `MuS`, `MuK`, `Kappa`, `UTilde` or `Bounds`.
     #[serde(default = "friction_target")]
     pub target: Target,
+    /// With the target `Bounds`: d of μ_k (d is then that of μ_s).
+    #[serde(default)]
+    pub d_k: f64,
 }
 
 impl DirectionEffect {
@@ -297,6 +338,17 @@ impl DirectionEffect {
     #[inline]
     pub fn factor(&self, cos_forward: f64) -> f64 {
         1.0 - self.d * 0.5 * (1.0 - cos_forward)
+    }
+
+    /// The factor on `target` (1 where this effect does not scale it).
+    #[inline]
+    pub fn factor_on(&self, target: Target, cos_forward: f64) -> f64 {
+        match (self.target, target) {
+            (t, u) if t == u => self.factor(cos_forward),
+            (Target::Bounds, Target::MuS) => self.factor(cos_forward),
+            (Target::Bounds, Target::MuK) => 1.0 - self.d_k * 0.5 * (1.0 - cos_forward),
+            _ => 1.0,
+        }
     }
 }
 
@@ -360,7 +412,14 @@ impl Extensions {
                 v.push(("pressure.p_ref", e.p_ref, "a finite stress > 0 [kPa]"));
             }
             if matches!(e.target, Target::Kappa | Target::UTilde) {
-                v.push(("pressure.target", f64::NAN, "friction, mu-s or mu-k"));
+                v.push((
+                    "pressure.target",
+                    f64::NAN,
+                    "friction, mu-s, mu-k or bounds",
+                ));
+            }
+            if !(e.beta_k.is_finite() && e.beta_k.abs() < 5.0) {
+                v.push(("pressure.beta_k", e.beta_k, "a finite number in (-5, 5)"));
             }
         }
         if let Some(e) = self.slip_hardening {
@@ -378,13 +437,20 @@ impl Extensions {
             if !finite_positive(e.t_c) {
                 v.push(("healing.t_c", e.t_c, "a finite time > 0 [s]"));
             }
-            if !(e.n > 0.0 && e.n <= 1.0) {
+            if e.form == HealingForm::General {
+                if !(0.0..=1.0).contains(&e.n) {
+                    v.push(("healing.n", e.n, "an exponent in [0, 1]"));
+                }
+            } else if !(e.n > 0.0 && e.n <= 1.0) {
                 v.push(("healing.n", e.n, "an exponent in (0, 1]"));
             }
         }
         if let Some(e) = self.direction {
             if !(e.d.is_finite() && e.d < 1.0 && e.d > -1.0) {
                 v.push(("direction.d", e.d, "a number in (-1, 1)"));
+            }
+            if !(e.d_k.is_finite() && e.d_k < 1.0 && e.d_k > -1.0) {
+                v.push(("direction.d_k", e.d_k, "a number in (-1, 1)"));
             }
         }
         v
@@ -421,14 +487,10 @@ impl Extensions {
     pub fn bound_factor(&self, target: Target, p: f64, cos_forward: f64) -> f64 {
         let mut f = 1.0;
         if let Some(e) = self.pressure {
-            if e.target == target {
-                f *= e.factor(p);
-            }
+            f *= e.factor_on(target, p);
         }
         if let Some(e) = self.direction {
-            if e.target == target {
-                f *= e.factor(cos_forward);
-            }
+            f *= e.factor_on(target, cos_forward);
         }
         f
     }
@@ -476,6 +538,7 @@ mod tests {
                 form,
                 target: Target::Friction,
                 p_ref: 250.0,
+                beta_k: 0.0,
             };
             assert!((e.factor(250.0) - 1.0).abs() < 1e-15);
             assert!(e.factor(500.0) < 1.0 && e.factor(100.0) > 1.0, "{form:?}");
@@ -499,11 +562,36 @@ mod tests {
     }
 
     #[test]
+    fn general_healing_holds_the_log_form_and_a_linear_law() {
+        let h = |form, n| Healing {
+            b: 0.01,
+            t_c: 5.0,
+            n,
+            form,
+        };
+        for (age, dt) in [(0.0, 1.0), (3.0, 10.0), (100.0, 500.0)] {
+            let log = h(HealingForm::Log, 0.5).gain(age, dt);
+            let general = h(HealingForm::General, 0.0).gain(age, dt);
+            assert!((log - general).abs() < 1e-15, "{log} vs {general}");
+            let near_zero = h(HealingForm::General, 1e-9).gain(age, dt);
+            assert!((near_zero - log).abs() < 1e-9, "{near_zero} vs {log}");
+            let linear = h(HealingForm::General, 1.0).gain(age, dt);
+            assert!((linear - 0.01 * dt / 5.0).abs() < 1e-15);
+        }
+        let e = Extensions {
+            healing: Some(h(HealingForm::General, 0.0)),
+            ..Extensions::default()
+        };
+        assert!(e.issues().is_empty());
+    }
+
+    #[test]
     fn factors_apply_only_to_their_target() {
         let ext = Extensions {
             direction: Some(DirectionEffect {
                 d: 0.2,
                 target: Target::MuK,
+                d_k: 0.0,
             }),
             ..Extensions::default()
         };

@@ -274,12 +274,14 @@ fn direction_pressure_and_slip_extensions() {
             direction: Some(DirectionEffect {
                 d: 0.2,
                 target: Target::Friction,
+                d_k: 0.0,
             }),
             pressure: Some(PressureEffect {
                 beta: 0.1,
                 form: PressureForm::Power,
                 target: Target::Friction,
                 p_ref: 100.0,
+                beta_k: 0.0,
             }),
             ..Extensions::default()
         },
@@ -287,12 +289,14 @@ fn direction_pressure_and_slip_extensions() {
             direction: Some(DirectionEffect {
                 d: 0.15,
                 target: Target::MuK,
+                d_k: 0.0,
             }),
             pressure: Some(PressureEffect {
                 beta: 0.2,
                 form: PressureForm::Exponential,
                 target: Target::MuS,
                 p_ref: 100.0,
+                beta_k: 0.0,
             }),
             slip_hardening: Some(SlipHardening {
                 h: 0.02,

@@ -293,6 +293,7 @@ fn direction_on_mu_k_weakens_backward_sliding_but_not_the_peak() {
             direction: Some(DirectionEffect {
                 d,
                 target: Target::MuK,
+                d_k: 0.0,
             }),
             ..Extensions::default()
         },
@@ -339,6 +340,7 @@ fn pressure_on_mu_k_only_keeps_the_peak_and_lowers_residual_friction() {
             form,
             target: Target::MuK,
             p_ref: 100.0,
+            beta_k: 0.0,
         };
         let m = model(
             base,
@@ -359,6 +361,57 @@ fn pressure_on_mu_k_only_keeps_the_peak_and_lowers_residual_friction() {
             eff.factor(400.0)
         );
     }
+}
+
+/// The general form on the bounds holds μ_s only and μ_k only as special cases (one of its
+/// sizes zero), and its two sizes act independently.
+#[test]
+fn effects_on_both_bounds_reduce_to_one_bound_when_the_other_size_is_zero() {
+    let base = Params {
+        mu_s: 0.6,
+        mu_k: 0.4,
+        kappa: 3.0,
+        xi: 0.0,
+        u_tilde: 50.0,
+        ..flat_base()
+    };
+    let pressure = |beta: f64, target: Target, beta_k: f64| {
+        model(
+            base,
+            Extensions {
+                pressure: Some(PressureEffect {
+                    beta,
+                    form: PressureForm::Power,
+                    target,
+                    p_ref: 100.0,
+                    beta_k,
+                }),
+                ..Extensions::default()
+            },
+        )
+    };
+    let h = History::new().slide(0.01, 4.0, 0.002);
+    let at = |m: &Model| run(m, &h, 400.0, Initial::Rest);
+    assert_eq!(
+        at(&pressure(0.0, Target::Bounds, 0.15)),
+        at(&pressure(0.15, Target::MuK, 0.0))
+    );
+    assert_eq!(
+        at(&pressure(0.15, Target::Bounds, 0.0)),
+        at(&pressure(0.15, Target::MuS, 0.0))
+    );
+    let both = at(&pressure(0.1, Target::Bounds, 0.2));
+    let residual = both.last().unwrap();
+    let expected = 0.4 * 4f64.powf(-0.2);
+    assert!(
+        (residual - expected).abs() < 2e-3,
+        "residual friction {residual}, expected μ_k (p/p_ref)^-β_k = {expected}"
+    );
+    let peak = both.iter().cloned().fold(f64::MIN, f64::max);
+    assert!(
+        peak < 0.6 * 4f64.powf(-0.1) + 1e-9,
+        "peak {peak} above the scaled μ_s"
+    );
 }
 
 #[test]
@@ -552,6 +605,7 @@ fn collinear_3d_equals_1d_for_every_form() {
             direction: Some(DirectionEffect {
                 d: 0.15,
                 target: Target::Kappa,
+                d_k: 0.0,
             }),
             ..Extensions::default()
         },
@@ -559,12 +613,14 @@ fn collinear_3d_equals_1d_for_every_form() {
             direction: Some(DirectionEffect {
                 d: 0.15,
                 target: Target::UTilde,
+                d_k: 0.0,
             }),
             pressure: Some(PressureEffect {
                 beta: 0.1,
                 form: PressureForm::Exponential,
                 target: Target::MuS,
                 p_ref: 50.0,
+                beta_k: 0.0,
             }),
             healing: Some(Healing {
                 b: 0.01,

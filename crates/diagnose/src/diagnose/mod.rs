@@ -68,6 +68,10 @@ pub struct DiagnoseOptions {
     pub template: Model,
     /// Verdict thresholds.
     pub thresholds: Thresholds,
+    /// Candidate forms left out of the library, by name (as in [`crate::library`]): how
+    /// `selfcheck --unlisted` asks whether a family is still named when the form that made
+    /// the data is not among the candidates.
+    pub excluded_forms: Vec<String>,
 }
 
 impl Default for DiagnoseOptions {
@@ -84,6 +88,7 @@ impl Default for DiagnoseOptions {
             template: Model::base(subfric_model::Params::sample())
                 .expect("sample parameters are valid"),
             thresholds: Thresholds::default(),
+            excluded_forms: Vec::new(),
         }
     }
 }
@@ -115,7 +120,8 @@ pub fn diagnose(
     let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();
     let localisation = localise(prepared, &residuals(&fulls, &base.model, None));
 
-    let lib = library(&cx.features);
+    let mut lib = library(&cx.features);
+    lib.retain(|f| !opts.excluded_forms.iter().any(|x| x == f.name));
     let (forms, families) = screen_and_polish(&cx, &base.model, &lib);
     let selection = forward_selection(&cx, &base, &families, &lib);
 
@@ -153,6 +159,7 @@ pub fn diagnose(
         folds: cx.folds.iter().map(|f| f.name.clone()).collect(),
         pieces: pieces_by_kind(&cx),
         thresholds: opts.thresholds,
+        excluded_forms: opts.excluded_forms.clone(),
         elapsed_s: cx.started.elapsed().as_secs_f64(),
     })
 }

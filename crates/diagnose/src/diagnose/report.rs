@@ -213,6 +213,8 @@ pub struct Diagnosis {
     pub pieces: BTreeMap<String, usize>,
     /// Thresholds used.
     pub thresholds: Thresholds,
+    /// Candidate forms left out on request.
+    pub excluded_forms: Vec<String>,
     /// Wall time [s].
     pub elapsed_s: f64,
 }
