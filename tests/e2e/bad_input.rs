@@ -328,3 +328,32 @@ fn import_with_a_missing_column_names_file_line_and_column() {
     );
     assert!(!out.exists(), "a failed import wrote a set");
 }
+
+#[test]
+fn unknown_candidate_forms_and_unlisted_with_sets_are_usage_errors() {
+    let tmp = tempfile::tempdir().unwrap();
+    let set = experiments().join("table1-medium");
+    let out = tmp.path().join("out");
+    let err = subfric!().usage_err(args![
+        "diagnose",
+        &set,
+        "--without-form",
+        "log time",
+        "--out",
+        &out
+    ]);
+    // The message lists the names the flag takes, so the user can copy one.
+    assert_mentions(
+        &err,
+        &[
+            "--without-form",
+            "log time",
+            "no candidate form",
+            "log time, b ln(1 + t/t_c) at rest",
+            "rate and state, slip law",
+        ],
+    );
+    let err = subfric!().usage_err(args!["selfcheck", "--unlisted", "--sets", &set]);
+    assert_mentions(&err, &["--unlisted", "--sets"]);
+    assert!(!out.exists(), "a rejected diagnosis wrote output");
+}
