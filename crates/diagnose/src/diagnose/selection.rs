@@ -262,7 +262,7 @@ pub(super) fn forward_selection(
         _ => Vec::new(),
     };
     let paths: Vec<Path> = firsts
-        .iter()
+        .par_iter()
         .map(|&i| {
             let mut stage = first.clone();
             if let Decision::Tentative(_) = stage.decision {
