@@ -281,52 +281,70 @@ fn library_for(f: &DataFeatures) -> Vec<Form> {
         out.extend(rate_forms(f));
     }
     if f.pressure_levels > 1 {
-        let p = f.p_ref;
-        for (form, target, name) in [
-            (
-                PressureForm::Power,
-                Target::Friction,
-                "power law on mu, (p/p_ref)^-beta",
-            ),
-            (
-                PressureForm::Linear,
-                Target::Friction,
-                "linear on mu, 1 - beta (p/p_ref - 1)",
-            ),
-            (
-                PressureForm::Exponential,
-                Target::Friction,
-                "exponential on mu, exp(-beta (p/p_ref - 1))",
-            ),
-            (PressureForm::Power, Target::MuS, "power law on mu_s only"),
-            (PressureForm::Power, Target::MuK, "power law on mu_k only"),
-            (PressureForm::Linear, Target::MuS, "linear on mu_s only"),
-            (PressureForm::Linear, Target::MuK, "linear on mu_k only"),
-        ] {
-            out.push(Form {
-                effect: Effect::Pressure,
-                name,
-                template: ext_pressure(form, target, p),
-                params: vec![Param::PressureBeta],
-                starts: vec![vec![0.1], vec![-0.1]],
-                neutral: vec![0.0],
-                bounds: vec![],
-            });
-        }
-        // The general form of the family: μ_s and μ_k each with its own exponent holds μ as a
-        // whole, μ_s only and μ_k only, and whatever lies between, for effects in forms that
-        // none of the above names.
+        out.extend(pressure_forms(f.p_ref));
+    }
+    out.extend(slip_forms(f.slip_span_mm.max(0.1)));
+    if f.holds > 0 {
+        out.extend(healing_forms());
+    }
+    if f.reversals > 0 {
+        out.extend(direction_forms());
+    }
+    out
+}
+
+/// The pressure family at the reference normal stress `p` [kPa].
+fn pressure_forms(p: f64) -> Vec<Form> {
+    let mut out = Vec::new();
+    for (form, target, name) in [
+        (
+            PressureForm::Power,
+            Target::Friction,
+            "power law on mu, (p/p_ref)^-beta",
+        ),
+        (
+            PressureForm::Linear,
+            Target::Friction,
+            "linear on mu, 1 - beta (p/p_ref - 1)",
+        ),
+        (
+            PressureForm::Exponential,
+            Target::Friction,
+            "exponential on mu, exp(-beta (p/p_ref - 1))",
+        ),
+        (PressureForm::Power, Target::MuS, "power law on mu_s only"),
+        (PressureForm::Power, Target::MuK, "power law on mu_k only"),
+        (PressureForm::Linear, Target::MuS, "linear on mu_s only"),
+        (PressureForm::Linear, Target::MuK, "linear on mu_k only"),
+    ] {
         out.push(Form {
             effect: Effect::Pressure,
-            name: "power law on mu_s and mu_k, each its own beta",
-            template: ext_pressure(PressureForm::Power, Target::Bounds, p),
-            params: vec![Param::PressureBeta, Param::PressureBetaK],
-            starts: vec![vec![0.1, 0.1], vec![-0.1, -0.1], vec![0.1, -0.1]],
-            neutral: vec![0.0, 0.0],
+            name,
+            template: ext_pressure(form, target, p),
+            params: vec![Param::PressureBeta],
+            starts: vec![vec![0.1], vec![-0.1]],
+            neutral: vec![0.0],
             bounds: vec![],
         });
     }
-    let s = f.slip_span_mm.max(0.1);
+    // The general form of the family: μ_s and μ_k each with its own exponent holds μ as a
+    // whole, μ_s only and μ_k only, and whatever lies between, for effects in forms that
+    // none of the above names.
+    out.push(Form {
+        effect: Effect::Pressure,
+        name: "power law on mu_s and mu_k, each its own beta",
+        template: ext_pressure(PressureForm::Power, Target::Bounds, p),
+        params: vec![Param::PressureBeta, Param::PressureBetaK],
+        starts: vec![vec![0.1, 0.1], vec![-0.1, -0.1], vec![0.1, -0.1]],
+        neutral: vec![0.0, 0.0],
+        bounds: vec![],
+    });
+    out
+}
+
+/// The slip-hardening family for tests that travel about `s` mm.
+fn slip_forms(s: f64) -> Vec<Form> {
+    let mut out = Vec::new();
     for (form, name) in [
         (
             SlipForm::Exponential,
@@ -350,8 +368,13 @@ fn library_for(f: &DataFeatures) -> Vec<Form> {
             bounds: vec![],
         });
     }
-    if f.holds > 0 {
-        out.push(Form {
+    out
+}
+
+/// The healing family (data with holds).
+fn healing_forms() -> Vec<Form> {
+    vec![
+        Form {
             effect: Effect::LogHealing,
             name: "log time, b ln(1 + t/t_c) at rest",
             template: ext_healing(HealingForm::Log),
@@ -359,8 +382,8 @@ fn library_for(f: &DataFeatures) -> Vec<Form> {
             starts: vec![vec![0.01, 1.0], vec![0.01, 30.0], vec![0.03, 10.0]],
             neutral: vec![0.0, 10.0],
             bounds: vec![],
-        });
-        out.push(Form {
+        },
+        Form {
             effect: Effect::LogHealing,
             name: "power-law time, b t^n at rest",
             template: ext_healing(HealingForm::Power),
@@ -368,9 +391,9 @@ fn library_for(f: &DataFeatures) -> Vec<Form> {
             starts: vec![vec![0.005, 0.3], vec![0.002, 0.6], vec![0.01, 0.15]],
             neutral: vec![0.0, 0.3],
             bounds: vec![],
-        });
+        },
         // The general form of the family (see the pressure family's).
-        out.push(Form {
+        Form {
             effect: Effect::LogHealing,
             name: "general time, b ((1 + t/t_c)^n - 1)/n at rest",
             template: ext_healing(HealingForm::General),
@@ -382,36 +405,39 @@ fn library_for(f: &DataFeatures) -> Vec<Form> {
             ],
             neutral: vec![0.0, 10.0, 0.3],
             bounds: vec![(Param::HealN, 0.0, 1.0)],
-        });
-    }
-    if f.reversals > 0 {
-        for (target, name) in [
-            (Target::Friction, "backward mu x (1 - d)"),
-            (Target::MuS, "backward mu_s x (1 - d)"),
-            (Target::MuK, "backward mu_k x (1 - d)"),
-            (Target::Kappa, "backward kappa x (1 - d)"),
-            (Target::UTilde, "backward u_tilde x (1 - d)"),
-        ] {
-            out.push(Form {
-                effect: Effect::Direction,
-                name,
-                template: ext_direction(target),
-                params: vec![Param::DirectionD],
-                starts: vec![vec![0.15], vec![-0.15]],
-                neutral: vec![0.0],
-                bounds: vec![],
-            });
-        }
-        // The general form on the friction bounds (see the pressure family's).
+        },
+    ]
+}
+
+/// The direction family (data with reversals).
+fn direction_forms() -> Vec<Form> {
+    let mut out = Vec::new();
+    for (target, name) in [
+        (Target::Friction, "backward mu x (1 - d)"),
+        (Target::MuS, "backward mu_s x (1 - d)"),
+        (Target::MuK, "backward mu_k x (1 - d)"),
+        (Target::Kappa, "backward kappa x (1 - d)"),
+        (Target::UTilde, "backward u_tilde x (1 - d)"),
+    ] {
         out.push(Form {
             effect: Effect::Direction,
-            name: "backward mu_s x (1 - d), mu_k x (1 - d_k)",
-            template: ext_direction(Target::Bounds),
-            params: vec![Param::DirectionD, Param::DirectionDK],
-            starts: vec![vec![0.15, 0.15], vec![-0.15, -0.15], vec![0.15, -0.15]],
-            neutral: vec![0.0, 0.0],
+            name,
+            template: ext_direction(target),
+            params: vec![Param::DirectionD],
+            starts: vec![vec![0.15], vec![-0.15]],
+            neutral: vec![0.0],
             bounds: vec![],
         });
     }
+    // The general form on the friction bounds (see the pressure family's).
+    out.push(Form {
+        effect: Effect::Direction,
+        name: "backward mu_s x (1 - d), mu_k x (1 - d_k)",
+        template: ext_direction(Target::Bounds),
+        params: vec![Param::DirectionD, Param::DirectionDK],
+        starts: vec![vec![0.15, 0.15], vec![-0.15, -0.15], vec![0.15, -0.15]],
+        neutral: vec![0.0, 0.0],
+        bounds: vec![],
+    });
     out
 }
