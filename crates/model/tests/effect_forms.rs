@@ -63,6 +63,44 @@ fn run(model: &Model, h: &History, p: f64, initial: Initial) -> Vec<f64> {
 
 /// A base model without slip softening or recovery, so that every change of friction comes from
 /// the effect under test.
+/// `full` run from rest, and its tail from row `c` started as sliding at `rate` [mm/s] under
+/// the traction the full run had there.
+struct Restart {
+    /// Largest difference in friction between the two over the tail.
+    worst: f64,
+    /// The tail of the history.
+    tail: History,
+    /// Friction of the full run at row `c`.
+    friction_at_cut: f64,
+}
+
+fn restart(m: &Model, full: &History, c: usize, rate: f64) -> Restart {
+    let f = run(m, full, 100.0, Initial::Rest);
+    let cut = History {
+        t: full.t[c..].to_vec(),
+        u: full.u[c..].to_vec(),
+    };
+    let g = run(
+        m,
+        &cut,
+        100.0,
+        Initial::Sliding {
+            shear_kpa: f[c] * 100.0,
+            rate_mm_s: rate,
+        },
+    );
+    let worst = g
+        .iter()
+        .zip(&f[c..])
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    Restart {
+        worst,
+        tail: cut,
+        friction_at_cut: f[c],
+    }
+}
+
 fn flat_base() -> Params {
     Params {
         mu_s: 0.5,
@@ -455,31 +493,12 @@ fn sliding_start_continues_a_run_without_a_new_initial_loading() {
         let m = model(base, ext);
         let du = 0.002;
         let full = History::new().slide(0.01, 6.0, du).slide(0.003, 1.0, du);
-        let f = run(&m, &full, 100.0, Initial::Rest);
         // Cut the history at 4 mm, well into steady sliding.
-        let c = (4.0 / du).round() as usize;
-        let cut = History {
-            t: full.t[c..].to_vec(),
-            u: full.u[c..].to_vec(),
-        };
-        let g = run(
-            &m,
-            &cut,
-            100.0,
-            Initial::Sliding {
-                shear_kpa: f[c] * 100.0,
-                rate_mm_s: 0.01,
-            },
-        );
-        let worst = g
-            .iter()
-            .zip(&f[c..])
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
-        assert!(worst < 2e-3, "{ext:?}: largest difference {worst}");
+        let r = restart(&m, &full, (4.0 / du).round() as usize, 0.01);
+        assert!(r.worst < 2e-3, "{ext:?}: largest difference {}", r.worst);
         // From rest the same cut would load from zero: far off at its start.
-        let from_rest = run(&m, &cut, 100.0, Initial::Rest);
-        assert!((from_rest[0] - f[c]).abs() > 0.1);
+        let from_rest = run(&m, &r.tail, 100.0, Initial::Rest);
+        assert!((from_rest[0] - r.friction_at_cut).abs() > 0.1);
     }
 }
 
@@ -551,26 +570,7 @@ fn sliding_start_matches(base: Params, ext: Extensions) {
         let m = model(base, ext);
         // Cut after 3 mm: 6 decay lengths 1/(κ + ξ/v) into the run, steady to 1e-4.
         let full = History::new().slide(0.01, 4.0, 0.005);
-        let f = run(&m, &full, 100.0, Initial::Rest);
-        let c = (3.0 / 0.005) as usize;
-        let cut = History {
-            t: full.t[c..].to_vec(),
-            u: full.u[c..].to_vec(),
-        };
-        let g = run(
-            &m,
-            &cut,
-            100.0,
-            Initial::Sliding {
-                shear_kpa: f[c] * 100.0,
-                rate_mm_s: 0.01,
-            },
-        );
-        let worst = g
-            .iter()
-            .zip(&f[c..])
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let worst = restart(&m, &full, (3.0 / 0.005) as usize, 0.01).worst;
         assert!(worst < 1e-3, "{ext:?}: largest difference {worst}");
     }
 }
