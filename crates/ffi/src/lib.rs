@@ -222,6 +222,31 @@ fn vec_name(v: &[f64; 3]) -> String {
     format!("[{}, {}, {}]", v[0], v[1], v[2])
 }
 
+/// Builds the handle on the plane `normal` (default e₃) with the forward axis `forward`
+/// (default e₁) and writes it to `out`: the end of every constructor.
+///
+/// # Safety
+/// `normal` and `forward` are NULL or valid for reads of three doubles; `out` is not NULL and
+/// valid for writes.
+unsafe fn hand_out(
+    model: Model,
+    normal: *const f64,
+    forward: *const f64,
+    out: *mut *mut SubfricModel,
+) -> Result<(), Failure> {
+    // SAFETY: NULL or three doubles by the caller's contract.
+    let (n, f) = unsafe {
+        (
+            read_vec3_or(normal, [0.0, 0.0, 1.0]),
+            read_vec3_or(forward, [1.0, 0.0, 0.0]),
+        )
+    };
+    let handle = build(model, n, f)?;
+    // SAFETY: not NULL and valid for writes by the caller's contract.
+    unsafe { write(out, Box::into_raw(handle)) };
+    Ok(())
+}
+
 /// Builds the handle, checking the plane's normal and forward axis.
 fn build(model: Model, normal: [f64; 3], forward: [f64; 3]) -> Result<Box<SubfricModel>, Failure> {
     let len = (normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]).sqrt();
@@ -395,17 +420,8 @@ pub unsafe extern "C" fn subfric_model_new(
         // SAFETY: `params` is NULL or valid by the contract.
         let p = unsafe { read(params, "params") }?;
         let model = Model::base(params_of(&p)).map_err(invalid_parameters)?;
-        // SAFETY: NULL or three doubles by the contract.
-        let (n, f) = unsafe {
-            (
-                read_vec3_or(normal, [0.0, 0.0, 1.0]),
-                read_vec3_or(forward, [1.0, 0.0, 0.0]),
-            )
-        };
-        let handle = build(model, n, f)?;
-        // SAFETY: `out` is not NULL (checked) and valid for writes by the contract.
-        unsafe { write(out, Box::into_raw(handle)) };
-        Ok(())
+        // SAFETY: the pointers as in this function's contract; `out` checked not NULL.
+        unsafe { hand_out(model, normal, forward, out) }
     };
     // SAFETY: `msg` is NULL or valid for `msg_len` bytes by this function's contract.
     unsafe { guard(msg, msg_len, body) }
@@ -444,17 +460,8 @@ pub unsafe extern "C" fn subfric_model_from_json(
             )
         })?;
         let model = model_from_json(text)?;
-        // SAFETY: NULL or three doubles by the contract.
-        let (n, f) = unsafe {
-            (
-                read_vec3_or(normal, [0.0, 0.0, 1.0]),
-                read_vec3_or(forward, [1.0, 0.0, 0.0]),
-            )
-        };
-        let handle = build(model, n, f)?;
-        // SAFETY: `out` is not NULL (checked) and valid for writes by the contract.
-        unsafe { write(out, Box::into_raw(handle)) };
-        Ok(())
+        // SAFETY: the pointers as in this function's contract; `out` checked not NULL.
+        unsafe { hand_out(model, normal, forward, out) }
     };
     // SAFETY: `msg` is NULL or valid for `msg_len` bytes by this function's contract.
     unsafe { guard(msg, msg_len, body) }
@@ -495,17 +502,8 @@ pub unsafe extern "C" fn subfric_model_from_file(
         })?;
         let model =
             model_from_json(&text).map_err(|Failure(s, m)| Failure(s, format!("{path}: {m}")))?;
-        // SAFETY: NULL or three doubles by the contract.
-        let (n, f) = unsafe {
-            (
-                read_vec3_or(normal, [0.0, 0.0, 1.0]),
-                read_vec3_or(forward, [1.0, 0.0, 0.0]),
-            )
-        };
-        let handle = build(model, n, f)?;
-        // SAFETY: `out` is not NULL (checked) and valid for writes by the contract.
-        unsafe { write(out, Box::into_raw(handle)) };
-        Ok(())
+        // SAFETY: the pointers as in this function's contract; `out` checked not NULL.
+        unsafe { hand_out(model, normal, forward, out) }
     };
     // SAFETY: `msg` is NULL or valid for `msg_len` bytes by this function's contract.
     unsafe { guard(msg, msg_len, body) }
