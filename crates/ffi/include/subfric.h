@@ -15,7 +15,7 @@
  * Number of doubles in a [`SubfricState`] (the number of solution-dependent state variables
  * of a friction subroutine that stores it).
  */
-#define SUBFRIC_STATE_LEN 13
+#define SUBFRIC_STATE_LEN 15
 
 /**
  * What a call did.
@@ -99,7 +99,7 @@ typedef struct SubfricParams {
 } SubfricParams;
 
 /**
- * The state of one material point (13 doubles, no padding: it can live in the state-variable
+ * The state of one material point (15 doubles, no padding: it can live in the state-variable
  * array of a friction subroutine). Vectors are in the same frame as the slip increments.
  */
 typedef struct SubfricState {
@@ -139,6 +139,15 @@ typedef struct SubfricState {
    * State variable θ of the rate-and-state extension [s] (unused otherwise).
    */
   double theta;
+  /**
+   * Additive rate term R of the last plastic step (kept at rest by a rate extension that is
+   * locked at rest; 0 for a new state).
+   */
+  double rate_add;
+  /**
+   * Rate factor V of the last plastic step (as `rate_add`; 1 for a new state).
+   */
+  double rate_factor;
 } SubfricState;
 
 /**

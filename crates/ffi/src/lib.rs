@@ -26,11 +26,11 @@
 use serde_json::Value;
 use std::ffi::{c_char, c_int, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use subfric_model::{Contact3, Extensions, Model, Params, State3, StepError};
+use subfric_model::{Contact3, Extensions, Model, Params, RateHeld, State3, StepError};
 
 /// Number of doubles in a [`SubfricState`] (the number of solution-dependent state variables
 /// of a friction subroutine that stores it).
-pub const SUBFRIC_STATE_LEN: usize = 13;
+pub const SUBFRIC_STATE_LEN: usize = 15;
 
 /// What a call did.
 #[repr(C)]
@@ -76,7 +76,7 @@ pub struct SubfricParams {
     pub mu_0: f64,
 }
 
-/// The state of one material point (13 doubles, no padding: it can live in the state-variable
+/// The state of one material point (15 doubles, no padding: it can live in the state-variable
 /// array of a friction subroutine). Vectors are in the same frame as the slip increments.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -99,6 +99,11 @@ pub struct SubfricState {
     pub age: f64,
     /// State variable θ of the rate-and-state extension [s] (unused otherwise).
     pub theta: f64,
+    /// Additive rate term R of the last plastic step (kept at rest by a rate extension that is
+    /// locked at rest; 0 for a new state).
+    pub rate_add: f64,
+    /// Rate factor V of the last plastic step (as `rate_add`; 1 for a new state).
+    pub rate_factor: f64,
 }
 
 /// What one step returns besides the new state.
@@ -606,6 +611,8 @@ fn to_c(s: &State3) -> SubfricState {
         slip_path: s.slip_path,
         age: s.age,
         theta: s.theta,
+        rate_add: s.rate_held.add,
+        rate_factor: s.rate_held.factor,
     }
 }
 
@@ -618,6 +625,7 @@ fn from_c(s: &SubfricState) -> Result<State3, Failure> {
         ("slip_path", s.slip_path),
         ("age", s.age),
         ("theta", s.theta),
+        ("rate_add", s.rate_add),
     ];
     for (name, v) in [("slip", s.slip), ("shear", s.shear)] {
         if !v.iter().all(|x| x.is_finite()) {
@@ -635,6 +643,15 @@ fn from_c(s: &SubfricState) -> Result<State3, Failure> {
             );
         }
     }
+    if !(s.rate_factor > 0.0 && s.rate_factor.is_finite()) {
+        return fail(
+            SubfricStatus::InvalidInput,
+            format!(
+                "state.rate_factor = {} (expected a finite number > 0; 1 for a new state)",
+                s.rate_factor
+            ),
+        );
+    }
     if !(0.0..=1.0).contains(&s.r) {
         return fail(
             SubfricStatus::InvalidInput,
@@ -651,6 +668,10 @@ fn from_c(s: &SubfricState) -> Result<State3, Failure> {
         slip_path: s.slip_path,
         age: s.age,
         theta: s.theta,
+        rate_held: RateHeld {
+            add: s.rate_add,
+            factor: s.rate_factor,
+        },
     })
 }
 

@@ -136,6 +136,7 @@ fn cases(dir: &Path) -> Vec<Case> {
                 d_c: 0.02,
                 n: 0.0,
                 v_ref: 0.001,
+                at_rest: subfric_model::AtRest::Creep,
             }),
             ..Extensions::default()
         },
@@ -302,7 +303,17 @@ fn write_cases(cases: &[Case]) -> (String, usize) {
             for x in n.slip.iter().chain(&n.shear) {
                 num(&mut out, *x);
             }
-            for x in [n.mu, n.r, n.cos_r, n.sin_r, n.slip_path, n.age, n.theta] {
+            for x in [
+                n.mu,
+                n.r,
+                n.cos_r,
+                n.sin_r,
+                n.slip_path,
+                n.age,
+                n.theta,
+                n.rate_held.add,
+                n.rate_held.factor,
+            ] {
                 num(&mut out, x);
             }
             tan.d_slip.iter().flatten().for_each(|&x| num(&mut out, x));

@@ -42,6 +42,7 @@ fn long_record() -> ExperimentSet {
                 v_c: 1e-6,
                 n: 0.0,
                 v_ref: 0.01,
+                at_rest: subfric_model::AtRest::Creep,
             }),
             ..Extensions::default()
         },

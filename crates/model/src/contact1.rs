@@ -1,6 +1,8 @@
 //! One-dimensional contact: the paper's tests (direct shear, ring torsion, cyclic shear).
 
-use crate::integrator::{return_shear, return_slip, Consts, Local, Plastic, StepError, StepInput};
+use crate::integrator::{
+    return_shear, return_slip, Consts, Local, Plastic, RateHeld, StepError, StepInput,
+};
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
 
@@ -29,6 +31,8 @@ pub struct State1 {
     pub theta: f64,
     /// Time increment of the last step [s].
     pub last_dt: f64,
+    /// The rate terms of the last plastic step (kept at rest by a locked rate form).
+    pub rate_held: RateHeld,
 }
 
 impl State1 {
@@ -46,6 +50,7 @@ impl State1 {
             last_plastic: 0.0,
             theta: model.ext.rate.map_or(0.0, |r| r.neutral_theta()),
             last_dt: 0.0,
+            rate_held: RateHeld::NEUTRAL,
         }
     }
 
@@ -144,6 +149,7 @@ impl Contact1 {
             last_plastic: 0.0,
             theta,
             last_dt: dt,
+            rate_held: st.rate_held,
         }
     }
 
@@ -184,10 +190,12 @@ impl Contact1 {
             ));
         }
         let (r0, c0, s0) = Self::start_surface(st, sign);
-        let mu_eff0 = self.k.elastic_mu_eff(&local, mu_el, theta_el, st.slip_path);
+        let mu_eff0 = self
+            .k
+            .elastic_mu_eff(&local, mu_el, theta_el, st.slip_path, st.rate_held);
         let magnitude = traction.abs();
         let excess = magnitude - r0 * mu_eff0 * p;
-        if excess <= 0.0 {
+        if excess <= self.k.rest_tolerance(magnitude, p) {
             return Begin::Elastic(Self::elastic(
                 st,
                 traction,
@@ -253,6 +261,7 @@ impl Contact1 {
             last_plastic: sign * pl.lam,
             theta: pl.theta,
             last_dt: input.dt,
+            rate_held: pl.held,
         }
     }
 

@@ -3,7 +3,7 @@
 //! The normal stress is imposed; the plastic return is radial in the tangential plane, so the
 //! same scalar equation as in 1-D is solved, and collinear paths give the 1-D answer.
 
-use crate::integrator::{return_slip, surface, Consts, Local, StepError, StepInput};
+use crate::integrator::{return_slip, surface, Consts, Local, RateHeld, StepError, StepInput};
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
 
@@ -154,6 +154,8 @@ pub struct State3 {
     pub age: f64,
     /// State variable θ of the rate-and-state forms [s] (unused otherwise).
     pub theta: f64,
+    /// The rate terms of the last plastic step (kept at rest by a locked rate form).
+    pub rate_held: RateHeld,
 }
 
 impl State3 {
@@ -169,6 +171,7 @@ impl State3 {
             slip_path: 0.0,
             age: 0.0,
             theta: model.ext.rate.map_or(0.0, |r| r.neutral_theta()),
+            rate_held: RateHeld::NEUTRAL,
         }
     }
 }
@@ -266,6 +269,7 @@ impl Contact3 {
                 slip_path: st.slip_path,
                 age: st.age + dt,
                 theta: theta_el,
+                rate_held: st.rate_held,
             }
         };
         if magnitude == 0.0 {
@@ -292,7 +296,8 @@ impl Contact3 {
                 let fm = norm(&f_min);
                 let mu_eff = if fm > 0.0 {
                     let l = self.k.local(p, self.cos_forward(&scale(1.0 / fm, &f_min)));
-                    self.k.elastic_mu_eff(&l, mu_el, theta_el, st.slip_path)
+                    self.k
+                        .elastic_mu_eff(&l, mu_el, theta_el, st.slip_path, st.rate_held)
                 } else {
                     1.0
                 };
@@ -300,8 +305,10 @@ impl Contact3 {
                 (s0, c0) = (FRAC_PI_2 * r0).sin_cos();
             }
         }
-        let mu_eff0 = self.k.elastic_mu_eff(&local, mu_el, theta_el, st.slip_path);
-        if magnitude <= r0 * mu_eff0 * p {
+        let mu_eff0 = self
+            .k
+            .elastic_mu_eff(&local, mu_el, theta_el, st.slip_path, st.rate_held);
+        if magnitude - r0 * mu_eff0 * p <= self.k.rest_tolerance(magnitude, p) {
             let r = (magnitude / (mu_eff0 * p)).min(1.0);
             return Ok(elastic_end(trial, mu_el, r));
         }
@@ -331,6 +338,7 @@ impl Contact3 {
             slip_path: st.slip_path + pl.lam,
             age: 0.0,
             theta: pl.theta,
+            rate_held: pl.held,
         })
     }
 
@@ -380,10 +388,10 @@ impl Contact3 {
         }
         let t = self.trial_traction(st, trial, magnitude, p, dt);
         let start = self.restart_point(st, &t);
-        let mu_eff0 = self
-            .k
-            .elastic_mu_eff(&t.local, t.mu_el, t.theta_el, st.slip_path);
-        if magnitude <= start.r0 * mu_eff0 * p {
+        let mu_eff0 =
+            self.k
+                .elastic_mu_eff(&t.local, t.mu_el, t.theta_el, st.slip_path, st.rate_held);
+        if magnitude - start.r0 * mu_eff0 * p <= self.k.rest_tolerance(magnitude, p) {
             return elastic;
         }
         let xi_dt = self.k.plastic_recovery(dt);
@@ -459,7 +467,8 @@ impl Contact3 {
         let lt = self.k.local(p, ct);
         let mu = self.k.rest_mu(&lt, st.mu, st.age, t.dt, t.exp_xi_dt);
         let lm = self.k.local(p, cm);
-        self.k.elastic_mu_eff(&lm, mu, t.theta_el, st.slip_path)
+        self.k
+            .elastic_mu_eff(&lm, mu, t.theta_el, st.slip_path, st.rate_held)
     }
 
     /// ∇ of the direction cosine of a vector `v` of length `len` with respect to `v`
@@ -502,7 +511,8 @@ impl Contact3 {
         let fm = norm(&f_min);
         let mu_eff = if fm > 0.0 {
             let l = self.k.local(p, self.cos_forward(&scale(1.0 / fm, &f_min)));
-            self.k.elastic_mu_eff(&l, t.mu_el, t.theta_el, st.slip_path)
+            self.k
+                .elastic_mu_eff(&l, t.mu_el, t.theta_el, st.slip_path, st.rate_held)
         } else {
             1.0
         };

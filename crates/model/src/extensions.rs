@@ -60,6 +60,35 @@ pub struct RateEffect {
     /// (the direct effect is then a ln(1 + v/v_c)).
     #[serde(default)]
     pub v_ref: f64,
+    /// What the rate terms do while the contact is at rest (see [`AtRest`]).
+    #[serde(default, skip_serializing_if = "AtRest::is_creep")]
+    pub at_rest: AtRest,
+}
+
+/// What the rate terms of friction do while the contact does not slide plastically.
+///
+/// Two readings of the same laws are common. In the spring-slider reading (`Creep`) the rate
+/// terms hold at every instant: a contact at rest has a vanishing slip rate, so its strength
+/// falls by the direct effect a ln(1 + v_ref/v_c) and a held traction relaxes by creep. In the
+/// reading of a stiff interface that is locked between slides (`Locked`), the rate terms are
+/// those of the last plastic step while no slip occurs — the traction stays where the slide left
+/// it — and only the state variable evolves (it ages under the ageing law); the next slide
+/// starts from the aged state, so the healing shows at once as a peak.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AtRest {
+    /// The rate terms at a vanishing slip rate: relaxation by creep.
+    #[default]
+    Creep,
+    /// The rate terms of the last plastic step: no creep, the state still evolves.
+    Locked,
+}
+
+impl AtRest {
+    /// True for the default reading (kept out of serialised models).
+    pub fn is_creep(&self) -> bool {
+        *self == AtRest::Creep
+    }
 }
 
 fn one() -> f64 {
@@ -77,7 +106,15 @@ impl RateEffect {
             d_c: 1.0,
             n: 0.0,
             v_ref: 0.0,
+            at_rest: AtRest::Creep,
         }
+    }
+
+    /// True when the rate terms keep their last sliding values at rest ([`AtRest::Locked`]);
+    /// the steady-state form has no term that could creep.
+    #[inline]
+    pub fn locked(&self) -> bool {
+        self.at_rest == AtRest::Locked && self.form != RateForm::SteadyState
     }
 
     /// True for the forms with a state variable.

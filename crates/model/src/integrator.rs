@@ -37,6 +37,10 @@ pub enum StepError {
 
 const MAX_ITERATIONS: usize = 80;
 
+/// Tolerance of the slip-controlled return on the consistency condition, per kPa of normal
+/// stress.
+const RETURN_TOLERANCE: f64 = 1e-10;
+
 /// Constants of a model, precomputed once (units: kPa, mm, s).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Consts {
@@ -250,11 +254,58 @@ impl Consts {
         (mu * factor + add).max(MIN_MU_EFF_FRACTION * l.mu_s)
     }
 
-    /// μ_eff of an elastic step (plastic slip rate zero) from μ at the step's end.
+    /// How far a traction may lie outside the surface of an elastic step and still count as on
+    /// it. Zero, but for a locked rate form: there the surface at rest is the one the last
+    /// plastic step returned to, to the return's tolerance, and a hold must not turn that
+    /// round-off into a plastic step, whose rate terms at a vanishing rate would make it creep.
     #[inline]
-    pub fn elastic_mu_eff(&self, l: &Local, mu: f64, theta: f64, slip_path: f64) -> f64 {
+    pub fn rest_tolerance(&self, traction: f64, p: f64) -> f64 {
+        match self.ext.rate {
+            Some(rate) if rate.locked() => RETURN_TOLERANCE * p + 8.0 * f64::EPSILON * traction,
+            _ => 0.0,
+        }
+    }
+
+    /// The rate terms (additive R, factor V) of a contact sliding steadily at rate `v` with
+    /// θ = θ_ss(v): what a locked rate form keeps at rest after such a slide.
+    pub fn steady_rate_terms(&self, v: f64) -> RateHeld {
+        let Some(rate) = self.ext.rate else {
+            return RateHeld::NEUTRAL;
+        };
+        let mut held = RateHeld::NEUTRAL;
+        match rate.form {
+            RateForm::LogDirect | RateForm::StateAgeing | RateForm::StateSlip => {
+                held.add = rate.a * ((v / rate.v_c).ln_1p() - rate.direct_at_ref());
+                if rate.has_state() {
+                    held.add += rate.b * (rate.steady_theta(v) * rate.state_ref() / rate.d_c).ln();
+                }
+            }
+            RateForm::Power => {
+                held.factor = ((v + rate.v_c) / (rate.v_ref + rate.v_c)).powf(rate.n);
+            }
+            RateForm::SteadyState => {}
+        }
+        held
+    }
+
+    /// μ_eff of an elastic step (plastic slip rate zero) from μ at the step's end; `held` are
+    /// the rate terms of the last plastic step, which a locked rate form keeps at rest.
+    #[inline]
+    pub fn elastic_mu_eff(
+        &self,
+        l: &Local,
+        mu: f64,
+        theta: f64,
+        slip_path: f64,
+        held: RateHeld,
+    ) -> f64 {
         let mut mu_eff = mu * l.mult;
         if let Some(rate) = self.ext.rate {
+            if rate.locked() {
+                mu_eff = mu_eff * held.factor + held.add;
+                mu_eff += self.slip_term(slip_path).0;
+                return mu_eff.max(MIN_MU_EFF_FRACTION * l.mu_s);
+            }
             match rate.form {
                 RateForm::LogDirect => mu_eff -= rate.a * rate.direct_at_ref(),
                 RateForm::StateAgeing | RateForm::StateSlip => {
@@ -270,6 +321,25 @@ impl Consts {
         mu_eff += self.slip_term(slip_path).0;
         mu_eff.max(MIN_MU_EFF_FRACTION * l.mu_s)
     }
+}
+
+/// The rate terms of friction at the end of a plastic step: the additive R (direct and
+/// state terms) and the factor V (power law). A locked rate form ([`crate::AtRest::Locked`])
+/// keeps them while the contact rests.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RateHeld {
+    /// Additive term R.
+    pub add: f64,
+    /// Factor V on μ.
+    pub factor: f64,
+}
+
+impl RateHeld {
+    /// No rate term: a contact that has not slid, or sliding at the reference rate.
+    pub const NEUTRAL: RateHeld = RateHeld {
+        add: 0.0,
+        factor: 1.0,
+    };
 }
 
 /// What the scalar return needs to know about one step.
@@ -313,6 +383,7 @@ pub(crate) struct Eval {
     pub mu_eff: f64,
     pub dmu_eff: f64,
     pub theta: f64,
+    pub held: RateHeld,
 }
 
 /// e^(−x) for x ≥ 0; a degree-8 Taylor polynomial below 0.01 (error < 1e-20, i.e. exact in
@@ -462,12 +533,17 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
 
     let (mut mu_eff, mut dmu_eff) = (mu * l.mult, dmu * l.mult);
     let mut theta = s.theta;
+    let mut held = RateHeld::NEUTRAL;
     if let Some(t) = rate {
         (mu_eff, dmu_eff) = (
             mu_eff * t.factor + t.add,
             dmu_eff * t.factor + mu * l.mult * t.dfactor + t.dadd,
         );
         theta = t.theta;
+        held = RateHeld {
+            add: t.add,
+            factor: t.factor,
+        };
     }
     if k.ext.slip_hardening.is_some() {
         let (h, dh) = k.slip_term(s.s_acc + lam);
@@ -488,6 +564,7 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
         mu_eff,
         dmu_eff,
         theta,
+        held,
     }
 }
 
@@ -500,6 +577,7 @@ pub(crate) struct Plastic {
     pub s: f64,
     pub mu: f64,
     pub theta: f64,
+    pub held: RateHeld,
 }
 
 impl Plastic {
@@ -511,6 +589,7 @@ impl Plastic {
             s: e.sin,
             mu: e.mu,
             theta: e.theta,
+            held: e.held,
         }
     }
 }
@@ -527,7 +606,7 @@ pub(crate) fn return_slip(
 ) -> Result<Plastic, StepError> {
     let alpha = k.alpha;
     // Precision floor: trial is computed as a sum of terms of size `trial`.
-    let tol = 1e-10 * s.p + 8.0 * f64::EPSILON * trial;
+    let tol = RETURN_TOLERANCE * s.p + 8.0 * f64::EPSILON * trial;
     let mut lo = 0.0;
     let mut hi = trial / alpha;
     if !(hi > 0.0 && hi.is_finite() && excess.is_finite()) {
@@ -571,8 +650,9 @@ pub(crate) fn return_slip(
                 c: e.c * (1.0 - s.local.kr * delta),
                 s: e.sin + e.c * FRAC_PI_2 * e.dr * delta,
                 mu: e.mu + e.dmu * delta,
-                // θ moves by O(δ) ≪ its own scale: kept at λ.
+                // θ and the rate terms move by O(δ) ≪ their own scale: kept at λ.
                 theta: e.theta,
+                held: e.held,
             });
         }
         let next = lam + delta;

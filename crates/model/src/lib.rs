@@ -23,10 +23,10 @@ pub mod simulate;
 pub use contact1::{Contact1, State1};
 pub use contact3::{Contact3, State3, Tangent3, Vec3};
 pub use extensions::{
-    DirectionEffect, Extensions, Healing, HealingForm, PressureEffect, PressureForm, RateEffect,
-    RateForm, SlipForm, SlipHardening, Target,
+    AtRest, DirectionEffect, Extensions, Healing, HealingForm, PressureEffect, PressureForm,
+    RateEffect, RateForm, SlipForm, SlipHardening, Target,
 };
-pub use integrator::StepError;
+pub use integrator::{RateHeld, StepError};
 pub use params::{ParamError, ParamIssue, Params, MAX_ALPHA};
 pub use scenario::{Scenario, ScenarioError, Stage, MAX_SCENARIO_ROWS};
 pub use simulate::{

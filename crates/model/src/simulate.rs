@@ -264,6 +264,7 @@ fn initial_state(model: &Model, proto: &Protocol) -> Result<State1, SimError> {
                 }
                 None => st.mu = k.sliding_mu(&l, shear.abs() / p, v),
             }
+            st.rate_held = k.steady_rate_terms(v);
             // The surface of a contact sliding at that rate (not the one at rest, which a
             // velocity-weakening form puts higher).
             let cap = k.sliding_mu_eff(&l, st.mu, v, st.slip_path) * p;
@@ -275,7 +276,7 @@ fn initial_state(model: &Model, proto: &Protocol) -> Result<State1, SimError> {
             }
         }
         _ => {
-            let cap = k.elastic_mu_eff(&l, st.mu, st.theta, 0.0) * p;
+            let cap = k.elastic_mu_eff(&l, st.mu, st.theta, 0.0, st.rate_held) * p;
             if shear.abs() > cap {
                 if control == Control::Shear {
                     return Err(SimError::Runaway {

@@ -185,6 +185,7 @@ fn rate_and_state() -> Extensions {
             d_c: 0.02,
             n: 0.0,
             v_ref: 0.001,
+            at_rest: subfric_model::AtRest::Creep,
         }),
         ..Extensions::default()
     }
@@ -203,6 +204,16 @@ fn two_way_cycle_base_model_paper_stiffness() {
         t.elastic >= 6 && t.plastic >= 240 && t.skipped == 0,
         "{t:?}"
     );
+}
+
+/// The ageing law read as locked at rest: the rate terms of the last slide hold while the
+/// contact rests.
+fn locked_rate_and_state() -> Extensions {
+    let mut ext = rate_and_state();
+    if let Some(r) = ext.rate.as_mut() {
+        r.at_rest = subfric_model::AtRest::Locked;
+    }
+    ext
 }
 
 #[test]
@@ -231,6 +242,7 @@ fn circle_on_a_tilted_plane_with_and_without_rate_and_state() {
         (Params::sample(), Extensions::default()),
         (penalty_params(), Extensions::default()),
         (penalty_params(), rate_and_state()),
+        (penalty_params(), locked_rate_and_state()),
     ] {
         let m = Model::new(params, ext).unwrap();
         let c = Contact3::new(&m, normal, [1.0, 0.0, 0.0]);

@@ -123,6 +123,14 @@ fn rate_state(form: RateForm) -> RateEffect {
         d_c: 0.02,
         n: 0.0,
         v_ref: 0.001,
+        at_rest: subfric_model::AtRest::Creep,
+    }
+}
+
+fn locked(form: RateForm) -> RateEffect {
+    RateEffect {
+        at_rest: subfric_model::AtRest::Locked,
+        ..rate_state(form)
     }
 }
 
@@ -230,6 +238,71 @@ fn ageing_law_heals_at_rest_log_linearly_and_slip_law_heals_less() {
 }
 
 #[test]
+fn locked_rate_forms_hold_the_traction_at_rest_and_heal_at_once_on_reloading() {
+    // A stiff contact that slides at v, rests t_h with its slip held, and slides at v again.
+    let (v, t_h, p) = (0.001, 500.0, 100.0);
+    let du = 0.0005;
+    let h = History::new()
+        .slide(v, 0.6, du)
+        .hold(t_h, 200)
+        .slide(v, 0.2, du);
+    let i_hold = (0.6 / du).round() as usize;
+    let ext = |rate| Extensions {
+        rate: Some(rate),
+        ..Extensions::default()
+    };
+    // Creep reading: the held traction relaxes (the direct effect at a vanishing rate).
+    let creep = run(
+        &model(flat_base(), ext(rate_state(RateForm::StateAgeing))),
+        &h,
+        p,
+        Initial::Rest,
+    );
+    assert!(
+        creep[i_hold + 200] < creep[i_hold] - 0.02,
+        "creep: {} after the hold, {} before",
+        creep[i_hold + 200],
+        creep[i_hold]
+    );
+    let rate = locked(RateForm::StateAgeing);
+    let f = run(&model(flat_base(), ext(rate)), &h, p, Initial::Rest);
+    for (k, x) in f[i_hold..=i_hold + 200].iter().enumerate() {
+        assert!(
+            (x - f[i_hold]).abs() < 1e-12,
+            "locked: row {k} of the hold moved from {} to {x}",
+            f[i_hold]
+        );
+    }
+    // The ageing law over the hold: θ = θ_ss + t_h with θ_ss = D_c/v, so the state term is
+    // b ln(1 + t_h v/D_c) higher on the first sliding row, where the direct term is back at
+    // its value before the hold (same rate). The evolution over that first row (du = D_c/40)
+    // takes a few per cent of it.
+    let expected = rate.b * (1.0 + t_h * v / rate.d_c).ln();
+    let jump = f[i_hold + 201] - f[i_hold];
+    assert!(
+        (jump - expected).abs() < 0.06 * expected,
+        "locked ageing: peak {jump} on reloading, expected about {expected}"
+    );
+    // Slip law: no healing at rest, so no peak either.
+    let slip = run(
+        &model(flat_base(), ext(locked(RateForm::StateSlip))),
+        &h,
+        p,
+        Initial::Rest,
+    );
+    let peak = slip[i_hold + 201..]
+        .iter()
+        .cloned()
+        .fold(f64::MIN, f64::max);
+    assert!(
+        (peak - slip[i_hold]).abs() < 0.05 * expected,
+        "locked slip law: {} after the hold, {} before",
+        peak,
+        slip[i_hold]
+    );
+}
+
+#[test]
 fn time_healing_forms_grow_with_the_hold_as_their_law_says() {
     let base = Params {
         mu_k: 0.35,
@@ -278,6 +351,7 @@ fn power_law_and_steady_state_rate_forms_change_steady_friction_as_stated() {
                 n,
                 v_c: 1e-7,
                 v_ref: 0.001,
+                at_rest: subfric_model::AtRest::Creep,
                 ..RateEffect::log_direct(0.0, 1e-7)
             }),
             ..Extensions::default()
@@ -302,6 +376,7 @@ fn power_law_and_steady_state_rate_forms_change_steady_friction_as_stated() {
                 a,
                 v_c: 1e-7,
                 v_ref: 0.001,
+                at_rest: subfric_model::AtRest::Creep,
                 ..RateEffect::log_direct(0.0, 1e-7)
             }),
             ..Extensions::default()
@@ -519,6 +594,7 @@ fn sliding_start_is_steady_for_every_rate_form() {
             n: -0.03,
             v_c: 1e-5,
             v_ref: 0.01,
+            at_rest: subfric_model::AtRest::Creep,
             ..RateEffect::log_direct(0.0, 1e-5)
         },
         RateEffect {
@@ -526,15 +602,19 @@ fn sliding_start_is_steady_for_every_rate_form() {
             n: 0.03,
             v_c: 1e-5,
             v_ref: 0.01,
+            at_rest: subfric_model::AtRest::Creep,
             ..RateEffect::log_direct(0.0, 1e-5)
         },
         RateEffect::log_direct(0.015, 5e-5),
         rate_state(RateForm::StateSlip),
+        locked(RateForm::StateAgeing),
+        locked(RateForm::StateSlip),
         RateEffect {
             form: RateForm::SteadyState,
             a: -0.02,
             v_c: 1e-6,
             v_ref: 0.01,
+            at_rest: subfric_model::AtRest::Creep,
             ..RateEffect::log_direct(0.0, 1e-6)
         },
     ] {
@@ -595,6 +675,10 @@ fn collinear_3d_equals_1d_for_every_form() {
     let forms: Vec<Extensions> = vec![
         Extensions {
             rate: Some(rate_state(RateForm::StateAgeing)),
+            ..Extensions::default()
+        },
+        Extensions {
+            rate: Some(locked(RateForm::StateAgeing)),
             ..Extensions::default()
         },
         Extensions {
