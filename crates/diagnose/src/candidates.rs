@@ -6,8 +6,8 @@ use crate::features::DataFeatures;
 use serde::{Deserialize, Serialize};
 use subfric_fit::Param;
 use subfric_model::{
-    DirectionEffect, Extensions, Healing, HealingForm, PressureEffect, PressureForm, RateEffect,
-    RateForm, SlipForm, SlipHardening, Target,
+    AtRest, DirectionEffect, Extensions, Healing, HealingForm, PressureEffect, PressureForm,
+    RateEffect, RateForm, SlipForm, SlipHardening, Target,
 };
 
 /// An effect the diagnosis can name (a family of forms).
@@ -114,7 +114,7 @@ pub struct Form {
     pub bounds: Vec<(Param, f64, f64)>,
 }
 
-fn ext_rate(form: RateForm, v_ref: f64) -> Extensions {
+fn ext_rate(form: RateForm, v_ref: f64, at_rest: AtRest) -> Extensions {
     Extensions {
         rate: Some(RateEffect {
             form,
@@ -124,6 +124,7 @@ fn ext_rate(form: RateForm, v_ref: f64) -> Extensions {
             d_c: 0.01,
             n: 0.0,
             v_ref,
+            at_rest,
         }),
         ..Extensions::default()
     }
@@ -186,10 +187,10 @@ fn rate_forms(f: &DataFeatures) -> Vec<Form> {
     let dc0 = g.decay_mm.clamp(1e-3, 1.0);
     let ss0 = g.steady.clamp(-0.03, 0.03);
     let cut = [1e-4 * v, 1e-2 * v];
-    let state = |form, name| Form {
+    let state = |form, name, at_rest| Form {
         effect: Effect::Rate,
         name,
-        template: ext_rate(form, v),
+        template: ext_rate(form, v, at_rest),
         params: vec![Param::RateA, Param::RateB, Param::RateDc, Param::RateVc],
         starts: vec![
             vec![a0, b0, dc0, cut[0]],
@@ -200,40 +201,56 @@ fn rate_forms(f: &DataFeatures) -> Vec<Form> {
         neutral: vec![0.0, 0.0, dc0, cut[1]],
         bounds: vec![(Param::RateVc, 1e-7 * v, 0.3 * v)],
     };
+    let direct = |name, at_rest| Form {
+        effect: Effect::Rate,
+        name,
+        template: ext_rate(RateForm::LogDirect, v, at_rest),
+        params: vec![Param::RateA, Param::RateVc],
+        starts: vec![
+            vec![a0, cut[0]],
+            vec![a0, cut[1]],
+            vec![ss0, cut[1]],
+            vec![-0.01, 0.1 * v],
+        ],
+        neutral: vec![0.0, cut[1]],
+        bounds: vec![(Param::RateVc, 1e-7 * v, 10.0 * v)],
+    };
+    let power = |name, at_rest| Form {
+        effect: Effect::Rate,
+        name,
+        template: ext_rate(RateForm::Power, v, at_rest),
+        params: vec![Param::RateN, Param::RateVc],
+        starts: vec![
+            vec![(a0 / 0.6).min(0.1), cut[0]],
+            vec![(ss0 / 0.6).clamp(-0.1, 0.1), cut[1]],
+            vec![-0.02, cut[1]],
+        ],
+        neutral: vec![0.0, cut[1]],
+        bounds: vec![(Param::RateVc, 1e-7 * v, 10.0 * v)],
+    };
+    let creep = AtRest::Creep;
+    let locked = AtRest::Locked;
     vec![
-        Form {
-            effect: Effect::Rate,
-            name: "direct effect a ln(1 + v/v_c)",
-            template: ext_rate(RateForm::LogDirect, v),
-            params: vec![Param::RateA, Param::RateVc],
-            starts: vec![
-                vec![a0, cut[0]],
-                vec![a0, cut[1]],
-                vec![ss0, cut[1]],
-                vec![-0.01, 0.1 * v],
-            ],
-            neutral: vec![0.0, cut[1]],
-            bounds: vec![(Param::RateVc, 1e-7 * v, 10.0 * v)],
-        },
-        state(RateForm::StateAgeing, "rate and state, ageing law"),
-        state(RateForm::StateSlip, "rate and state, slip law"),
-        Form {
-            effect: Effect::Rate,
-            name: "power law ((v + v_c)/v_ref)^n",
-            template: ext_rate(RateForm::Power, v),
-            params: vec![Param::RateN, Param::RateVc],
-            starts: vec![
-                vec![(a0 / 0.6).min(0.1), cut[0]],
-                vec![(ss0 / 0.6).clamp(-0.1, 0.1), cut[1]],
-                vec![-0.02, cut[1]],
-            ],
-            neutral: vec![0.0, cut[1]],
-            bounds: vec![(Param::RateVc, 1e-7 * v, 10.0 * v)],
-        },
+        direct("direct effect a ln(1 + v/v_c)", creep),
+        state(RateForm::StateAgeing, "rate and state, ageing law", creep),
+        state(RateForm::StateSlip, "rate and state, slip law", creep),
+        power("power law ((v + v_c)/v_ref)^n", creep),
+        direct("direct effect, locked at rest", locked),
+        state(
+            RateForm::StateAgeing,
+            "rate and state, ageing law, locked at rest",
+            locked,
+        ),
+        state(
+            RateForm::StateSlip,
+            "rate and state, slip law, locked at rest",
+            locked,
+        ),
+        power("power law, locked at rest", locked),
         Form {
             effect: Effect::Rate,
             name: "steady state only, mu_k + a ln(v/v_ref)",
-            template: ext_rate(RateForm::SteadyState, v),
+            template: ext_rate(RateForm::SteadyState, v, creep),
             params: vec![Param::RateA, Param::RateVc],
             starts: vec![vec![ss0, cut[0]], vec![0.01, cut[0]], vec![-0.01, cut[0]]],
             neutral: vec![0.0, cut[0]],
@@ -253,7 +270,7 @@ pub fn library(f: &DataFeatures) -> Vec<Form> {
 ///
 /// ```
 /// let names = subfric_diagnose::candidates::all_form_names();
-/// assert_eq!(names.len(), 25);
+/// assert_eq!(names.len(), 29);
 /// assert!(names.contains(&"rate and state, slip law"));
 /// ```
 pub fn all_form_names() -> Vec<&'static str> {

@@ -197,6 +197,7 @@ fn add_effect(ext: &mut Extensions, b: Built, rng: &mut ChaCha8Rng) {
                     v_c: log_uniform(rng, 1e-6, 1e-5),
                     n: 0.0,
                     v_ref,
+                    at_rest: subfric_model::AtRest::Creep,
                 },
                 3 => RateEffect {
                     form: RateForm::Power,
