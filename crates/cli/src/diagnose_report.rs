@@ -145,7 +145,7 @@ fn every_form(s: &mut String, d: &Diagnosis) {
     for f in &d.forms {
         let _ = writeln!(
             s,
-            "   {:<15} {:<44} {:>10.1}  {:<10} {}{}",
+            "   {:<15} {:<44} {:>10.1}  {:<10} {}{}{}",
             f.effect.name(),
             f.form,
             f.in_sample_score,
@@ -155,6 +155,11 @@ fn every_form(s: &mut String, d: &Diagnosis) {
                 "NOT conv."
             },
             parameter_list(&f.parameters),
+            if f.converged {
+                String::new()
+            } else {
+                format!("  (stopped: {})", f.termination)
+            },
             if f.chosen {
                 "  ← best of its family"
             } else {

@@ -3,6 +3,7 @@
 //! parameters, first guesses read off the curves, and the values that switch it off.
 
 use crate::features::DataFeatures;
+use crate::folds::PieceKind;
 use serde::{Deserialize, Serialize};
 use subfric_fit::Param;
 use subfric_model::{
@@ -74,6 +75,23 @@ impl Effect {
         }
     }
 
+    /// The kinds of held-out piece this family acts on, where an effect of the family must
+    /// show to be credited when the other pieces do not improve (see
+    /// [`crate::verdict::decide_further`]).
+    pub fn own_kinds(self) -> &'static [OwnKind] {
+        match self {
+            Effect::Rate => &[
+                OwnKind::Piece(PieceKind::VelocityStep),
+                OwnKind::Piece(PieceKind::Hold),
+            ],
+            Effect::LogHealing => &[OwnKind::Piece(PieceKind::Hold)],
+            Effect::Direction => &[OwnKind::Piece(PieceKind::Reversal)],
+            Effect::SlipHardening => &[OwnKind::AfterFirstLoading],
+            Effect::Pressure => &[OwnKind::AwayFromReferenceStress],
+            Effect::None | Effect::Unexplained => &[],
+        }
+    }
+
     /// One-line physical description.
     pub fn describe(self) -> &'static str {
         match self {
@@ -91,6 +109,44 @@ impl Effect {
 impl std::fmt::Display for Effect {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
+    }
+}
+
+/// Two normal stresses closer than this in ln(p) count as one level (a few per cent apart).
+const PRESSURE_LEVEL_LOG_GAP: f64 = 0.05;
+
+/// A kind of held-out piece a family acts on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum OwnKind {
+    /// Pieces of one kind (velocity steps, holds, reversals).
+    Piece(PieceKind),
+    /// Every piece but the first loadings: friction after slip.
+    AfterFirstLoading,
+    /// The pieces of tests away from the set's reference normal stress.
+    AwayFromReferenceStress,
+}
+
+impl OwnKind {
+    /// Whether a piece of kind `kind` from a test at normal stress `stress` is of this kind,
+    /// with `p_ref` the set's reference normal stress.
+    pub fn holds(self, kind: PieceKind, stress: f64, p_ref: f64) -> bool {
+        match self {
+            OwnKind::Piece(k) => k == kind,
+            OwnKind::AfterFirstLoading => kind != PieceKind::InitialLoading,
+            OwnKind::AwayFromReferenceStress => {
+                (stress / p_ref).ln().abs() > PRESSURE_LEVEL_LOG_GAP
+            }
+        }
+    }
+
+    /// Name for reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            OwnKind::Piece(k) => k.name(),
+            OwnKind::AfterFirstLoading => "after the first loading",
+            OwnKind::AwayFromReferenceStress => "away from the reference normal stress",
+        }
     }
 }
 

@@ -6,8 +6,8 @@ use crate::folds::Fold;
 use crate::score::HeldOut;
 use rayon::prelude::*;
 use serde::Serialize;
-use subfric_fit::lm::{levenberg_marquardt, LmOptions, Termination};
-use subfric_fit::{FitTest, Param, Problem, Space};
+use subfric_fit::lm::{LmOptions, Termination};
+use subfric_fit::{calibrate_from, FitOptions, FitTest, Param, Space};
 use subfric_model::{Extensions, Model};
 
 /// A model: the base plus some candidate forms (none: the base model).
@@ -107,6 +107,34 @@ pub fn with_values(from: &Model, spec: &Spec, values: &[Vec<f64>]) -> Model {
     m
 }
 
+/// How much work a fit of a spec may take. Every fit goes through the calibration engine of
+/// `subfric fit` ([`subfric_fit::calibrate_from`]): ranked starts (the given models, and with
+/// `informed` the first guesses read off the curves crossed with them), an optional global
+/// stage, and least squares from the best distinct starts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Effort {
+    /// Model runs of the global stage (0: none).
+    pub global_evaluations: usize,
+    /// Local runs from distinct starts.
+    pub local_runs: usize,
+    /// Least-squares iterations of each local run.
+    pub iterations: usize,
+    /// Also start from the first guesses read off the curves (off for warm-started refits).
+    pub informed: bool,
+}
+
+impl Effort {
+    /// A warm-started refit: the best of the given starts, polished for `iterations`.
+    pub fn refit(iterations: usize) -> Effort {
+        Effort {
+            global_evaluations: 0,
+            local_runs: 1,
+            iterations,
+            informed: false,
+        }
+    }
+}
+
 /// How a fit ended.
 #[derive(Clone, Debug, Serialize)]
 pub struct FitResult {
@@ -114,69 +142,46 @@ pub struct FitResult {
     pub model: Model,
     /// Its SSR (noise units).
     pub ssr: f64,
-    /// Converged (or stopped at a point no step could improve).
+    /// Converged: the best local run stopped at a point no step could improve.
     pub converged: bool,
     /// Why the best run stopped.
-    pub termination: String,
-    /// Starts tried.
+    pub termination: Termination,
+    /// Starts given.
     pub starts: usize,
 }
 
-/// Least squares from the `keep` best of `starts` (each first evaluated once), in parallel;
-/// the best wins.
-pub fn fit(
-    tests: &[FitTest],
-    space: &Space,
-    starts: &[Model],
-    keep: usize,
-    iterations: usize,
-) -> FitResult {
-    let p = Problem::new(tests, space.clone());
-    let opts = LmOptions {
-        max_iterations: iterations,
-        ..LmOptions::default()
+/// Fits `space` to `tests` from `starts` (and the informed guesses when asked) with the
+/// calibration engine; a fit that cannot run is a failed result, not an error.
+pub fn fit(tests: &[FitTest], space: &Space, starts: &[Model], effort: Effort) -> FitResult {
+    let opts = FitOptions {
+        starts: effort.local_runs.max(1),
+        global_evaluations: effort.global_evaluations,
+        profiles: false,
+        statistics: false,
+        informed_guesses: effort.informed,
+        lm: LmOptions {
+            max_iterations: effort.iterations,
+            ..LmOptions::default()
+        },
+        ..FitOptions::default()
     };
-    let points: Vec<Vec<f64>> = starts.iter().map(|m| space.point_of(m)).collect();
-    let mut ranked: Vec<(f64, usize)> = if points.len() > keep {
-        points
-            .par_iter()
-            .map(|x| p.ssr(x))
-            .enumerate()
-            .map(|(i, c)| (if c.is_finite() { c } else { f64::MAX }, i))
-            .collect()
-    } else {
-        (0..points.len()).map(|i| (0.0, i)).collect()
+    let failed = |why: String| FitResult {
+        model: space.base,
+        ssr: f64::INFINITY,
+        converged: false,
+        termination: Termination::Failed(why),
+        starts: starts.len(),
     };
-    ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let runs: Vec<(Vec<f64>, f64, Termination)> = ranked
-        .iter()
-        .take(keep.max(1))
-        .collect::<Vec<_>>()
-        .par_iter()
-        .map(|(_, i)| {
-            let r = levenberg_marquardt(&p, &points[*i], None, &opts);
-            (r.x, r.ssr, r.termination)
-        })
-        .collect();
-    let best = runs
-        .iter()
-        .filter(|r| r.1.is_finite())
-        .min_by(|a, b| a.1.total_cmp(&b.1));
-    match best {
-        Some((x, ssr, term)) => FitResult {
-            model: space.model_at(x),
-            ssr: *ssr,
-            converged: *term != Termination::MaxIterations,
-            termination: format!("{term:?}"),
+    match calibrate_from(tests, space.clone(), starts, &opts, &|_| {}) {
+        Ok(r) if r.ssr.is_finite() => FitResult {
+            model: r.model,
+            ssr: r.ssr,
+            converged: r.optimizer.termination.converged(),
+            termination: r.optimizer.termination,
             starts: starts.len(),
         },
-        None => FitResult {
-            model: space.base,
-            ssr: f64::INFINITY,
-            converged: false,
-            termination: "no start could be simulated".into(),
-            starts: starts.len(),
-        },
+        Ok(_) => failed("no start could be simulated".into()),
+        Err(e) => failed(e.to_string()),
     }
 }
 
@@ -226,6 +231,7 @@ pub fn cross_validate(
     iterations: usize,
     drift: bool,
 ) -> HeldOut {
+    let effort = Effort::refit(iterations);
     let per_fold: Vec<HeldOut> = folds
         .par_iter()
         .map(|f| {
@@ -235,7 +241,7 @@ pub fn cross_validate(
             }
             // The starts are ranked on the training rows by one run each; the best is refitted
             // (the effect switched off wins where the training rows cannot see it).
-            let r = fit(&train, space, starts, 1, iterations);
+            let r = fit(&train, space, starts, effort);
             let mut res = residuals(tests, &r.model, drift.then_some(&train[..]));
             for (rt, held) in res.iter_mut().zip(&f.held_rows) {
                 for (v, h) in rt.iter_mut().zip(held) {

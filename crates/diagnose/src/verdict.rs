@@ -119,10 +119,63 @@ pub fn decide(
     }
 }
 
+/// Decides a stage after the first: a further effect is credited on the held-out pieces of
+/// its own kind (`own[i]`, e.g. the velocity steps and holds for a rate effect), where it must
+/// show significant evidence and remove a material part of what the current model leaves
+/// there, even if other pieces do not improve; it must not make the other pieces significantly
+/// worse (`candidates[i].1` over all pieces). An effect that improves only pieces of other
+/// kinds is standing in for something else and is not credited. Among those that qualify, the
+/// one with most evidence on its own kind is named; one with significant evidence on its own
+/// kind that explains too little stays tentative.
+///
+/// ```
+/// use subfric_diagnose::score::Comparison;
+/// use subfric_diagnose::verdict::{decide_further, Decision, Thresholds};
+/// use subfric_diagnose::Effect;
+/// let c = |score: f64, excess: f64| Comparison { score, shape_score: score, level_score: 0.0,
+///     excess_shrink: excess, relative_shrink: excess, typical_shrink: 0.3, reference_chi2: 3.0,
+///     candidate_chi2: 1.2, rows: 1000, n_eff: 900.0, pieces: vec![] };
+/// let th = Thresholds::default();
+/// // Its own pieces improve a lot, the others not at all: credited.
+/// assert_eq!(decide_further(3.0, &[(Effect::Rate, c(25.0, 0.2))], &[c(60.0, 0.8)], &th), Decision::Named(0));
+/// // It improves all pieces but not its own: not credited.
+/// assert_eq!(decide_further(3.0, &[(Effect::Direction, c(80.0, 0.8))], &[c(2.0, 0.05)], &th), Decision::Unexplained);
+/// ```
+pub fn decide_further(
+    reference_chi2: f64,
+    candidates: &[(Effect, Comparison)],
+    own: &[Comparison],
+    th: &Thresholds,
+) -> Decision {
+    let qualifies = |i: usize| candidates[i].1.score > -th.min_score && passes(&own[i], th);
+    let best = (0..candidates.len())
+        .filter(|&i| qualifies(i))
+        .max_by(|&a, &b| own[a].score.total_cmp(&own[b].score));
+    if let Some(i) = best {
+        return Decision::Named(i);
+    }
+    if reference_chi2 <= th.gap_chi2 {
+        return Decision::NoGap;
+    }
+    let tentative = (0..candidates.len())
+        .filter(|&i| {
+            candidates[i].1.score >= th.min_score
+                && own[i].score >= th.min_score
+                && own[i].excess_shrink > 0.0
+        })
+        .max_by(|&a, &b| own[a].score.total_cmp(&own[b].score));
+    match tentative {
+        Some(i) => Decision::Tentative(i),
+        None => Decision::Unexplained,
+    }
+}
+
 /// How many of the effects selected in turn to name: `joint[k]` compares the base with the
 /// model holding the first k + 1 selected effects, `own[k]` the k-th effect with the model
-/// before it. The smallest prefix that jointly explains the base's gap is named, then every
-/// later effect that explains enough of what is left on its own; 0 when no prefix does.
+/// before it (on the pieces of its own kind when it was credited there). The smallest prefix
+/// that jointly explains the base's gap, or whose last effect passes on its own, is named,
+/// then every later effect that explains enough of what is left on its own; 0 when no prefix
+/// does.
 ///
 /// ```
 /// use subfric_diagnose::score::Comparison;
@@ -139,7 +192,11 @@ pub fn decide(
 /// assert_eq!(named_count(&[c(0.3), c(0.5)], &[c(0.3), c(0.3)], &th), 0);
 /// ```
 pub fn named_count(joint: &[Comparison], own: &[Comparison], th: &Thresholds) -> usize {
-    let Some(first) = joint.iter().position(|c| material(c, th)) else {
+    // A prefix counts when it explains the gap together, or when its last effect passes on
+    // its own (for an effect credited on its own kind of piece, `own` is that comparison).
+    let Some(first) = (0..joint.len())
+        .position(|k| material(&joint[k], th) || own.get(k).is_some_and(|c| passes(c, th)))
+    else {
         return 0;
     };
     let mut n = first + 1;

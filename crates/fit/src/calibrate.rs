@@ -45,6 +45,12 @@ pub struct FitOptions {
     pub global: GlobalTuning,
     /// Compute profile intervals.
     pub profiles: bool,
+    /// Start from the first guesses read off the curves as well as from the given model and
+    /// starts (off for warm-started refits, whose starts are the answer already nearly).
+    pub informed_guesses: bool,
+    /// Compute the linearised statistics (standard errors, correlations, flat directions); off
+    /// for fits that only need the optimum (profiles then are off too).
+    pub statistics: bool,
     /// Least-squares settings.
     pub lm: LmOptions,
 }
@@ -58,6 +64,8 @@ impl Default for FitOptions {
             global_evaluations: 3000,
             global: GlobalTuning::default(),
             profiles: true,
+            informed_guesses: true,
+            statistics: true,
             lm: LmOptions::default(),
         }
     }
@@ -348,31 +356,72 @@ fn nelder_mead(p: &Problem, x0: &[f64]) -> LocalRun {
     }
 }
 
-/// Step 1: the given model and the informed guesses read off the curves, ranked by cost.
+/// Step 1: the given model, the given starts and the informed guesses read off the curves,
+/// ranked by cost.
 struct Guesses {
     /// Points, best first.
     ranked: Vec<Vec<f64>>,
     /// Their costs, in the same order.
     costs: Vec<f64>,
-    /// How many were informed guesses (the given model excluded).
+    /// How many were informed guesses (the given model and starts excluded).
     informed: usize,
 }
 
-fn ranked_guesses(p: &Problem, tests: &[FitTest], base: &Model) -> Guesses {
+/// Informed guesses carried over to each given start: the base parameters read off the curves
+/// with the extension parameters of the start (an effect's size is not on the curves of the
+/// base parameters, and a base bent to mimic an effect is no start for a model that has it).
+const GUESSES_PER_START: usize = 4;
+
+fn ranked_guesses(
+    p: &Problem,
+    tests: &[FitTest],
+    base: &Model,
+    starts: &[Model],
+    informed: bool,
+) -> Guesses {
     let mut points: Vec<Vec<f64>> = vec![p.space.point_of(base)];
-    let informed: Vec<Model> = first_guesses(tests, base)
-        .into_iter()
-        .filter(|g| Model::new(g.params, g.ext).is_ok())
-        .collect();
-    points.extend(informed.iter().map(|g| p.space.point_of(g)));
-    let cost = evaluate_all(p, &points);
+    points.extend(starts.iter().map(|m| p.space.point_of(m)));
+    let guesses: Vec<Model> = if informed {
+        first_guesses(tests, base)
+            .into_iter()
+            .filter(|g| Model::new(g.params, g.ext).is_ok())
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let guess_points: Vec<Vec<f64>> = guesses.iter().map(|g| p.space.point_of(g)).collect();
+    let guess_cost = evaluate_all(p, &guess_points);
+    let mut crossed = Vec::new();
+    if !starts.is_empty() && !guesses.is_empty() {
+        let mut order: Vec<usize> = (0..guesses.len()).collect();
+        order.sort_by(|&a, &b| guess_cost[a].total_cmp(&guess_cost[b]));
+        for &i in order.iter().take(GUESSES_PER_START) {
+            for s in starts {
+                crossed.push(p.space.point_of(&with_base_of(s, &guesses[i])));
+            }
+        }
+    }
+    let mut cost = evaluate_all(p, &points);
+    cost.extend(guess_cost);
+    cost.extend(evaluate_all(p, &crossed));
+    points.extend(guess_points);
+    points.extend(crossed);
     let mut order: Vec<usize> = (0..points.len()).collect();
     order.sort_by(|&a, &b| cost[a].total_cmp(&cost[b]));
     Guesses {
         ranked: order.iter().map(|&i| points[i].clone()).collect(),
         costs: order.iter().map(|&i| cost[i]).collect(),
-        informed: informed.len(),
+        informed: points.len() - 1 - starts.len(),
     }
+}
+
+/// `start` with the five base parameters of `guess` (μ₀ following μ_s).
+fn with_base_of(start: &Model, guess: &Model) -> Model {
+    let mut m = *start;
+    let (p, g) = (&mut m.params, &guess.params);
+    (p.mu_s, p.mu_k, p.kappa, p.xi, p.u_tilde) = (g.mu_s, g.mu_k, g.kappa, g.xi, g.u_tilde);
+    p.mu_0 = None;
+    m
 }
 
 /// Step 2: the global stage's population (seeded with the guesses) followed by the guesses,
@@ -484,6 +533,15 @@ fn uncertainty(
     opts: &FitOptions,
     progress: &(dyn Fn(CalibrationStage) + Sync),
 ) -> Uncertainty {
+    if !opts.statistics {
+        return Uncertainty {
+            lin: Linearised::unknown(p.space.dim()),
+            best,
+            profiles: Vec::new(),
+            repolished: false,
+            correlation: 1.0,
+        };
+    }
     let (s2, correlation) = scale_at(p, &best.x, best.ssr);
     let lin = linearise_scaled(p, &best.x, s2);
     let mut u = Uncertainty {
@@ -643,6 +701,20 @@ pub fn calibrate(
     opts: &FitOptions,
     progress: &(dyn Fn(CalibrationStage) + Sync),
 ) -> Result<FitReport, FitError> {
+    calibrate_from(tests, space, &[], opts, progress)
+}
+
+/// [`calibrate`] from given starting models as well as from the space's model and the informed
+/// guesses: each start, and each start with the base parameters of the best informed guesses,
+/// joins the points the global stage and the local runs start from. This is how a model with
+/// an extension is fitted: the starts carry the extension's first guesses.
+pub fn calibrate_from(
+    tests: &[FitTest],
+    space: Space,
+    starts: &[Model],
+    opts: &FitOptions,
+    progress: &(dyn Fn(CalibrationStage) + Sync),
+) -> Result<FitReport, FitError> {
     let t0 = Instant::now();
     if tests.iter().all(|t| t.is_empty()) {
         return Err(FitError::NoData);
@@ -662,7 +734,7 @@ pub fn calibrate(
     let m = p.space.dim();
 
     // 1. Informed guesses, plus the given model.
-    let guesses = ranked_guesses(&p, tests, &base);
+    let guesses = ranked_guesses(&p, tests, &base, starts, opts.informed_guesses);
 
     // 2. Global stage, and distinct starts from its population and the guesses.
     progress(CalibrationStage::Global);

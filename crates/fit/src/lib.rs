@@ -29,8 +29,8 @@ pub mod uncertainty;
 mod test_problems;
 
 pub use calibrate::{
-    calibrate, compare_with_published, CalibrationStage, Combination, FitError, FitOptions,
-    FitReport, LocalRun, Method, ParamReport, Status,
+    calibrate, calibrate_from, compare_with_published, CalibrationStage, Combination, FitError,
+    FitOptions, FitReport, LocalRun, Method, ParamReport, Status,
 };
 pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
 pub use interval::Interval;

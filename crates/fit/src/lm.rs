@@ -32,6 +32,15 @@ pub enum Termination {
     Failed(String),
 }
 
+impl Termination {
+    /// True when the run stopped at a point no step could improve: a stationary point by one of
+    /// the tolerances, or the damping limit (a minimum, or a kink). An iteration limit or a
+    /// failure is not convergence.
+    pub fn converged(&self) -> bool {
+        !matches!(self, Termination::MaxIterations | Termination::Failed(_))
+    }
+}
+
 impl std::fmt::Display for Termination {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {

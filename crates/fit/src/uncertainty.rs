@@ -35,6 +35,20 @@ pub struct Linearised {
     pub flat_directions: Vec<FlatDirection>,
 }
 
+impl Linearised {
+    /// Nothing estimated (a fit that did not ask for statistics): every standard error is
+    /// infinite, no correlation or flat direction is known.
+    pub fn unknown(m: usize) -> Linearised {
+        Linearised {
+            covariance: None,
+            std_errors: vec![f64::INFINITY; m],
+            std_errors_x: vec![f64::INFINITY; m],
+            correlation: Vec::new(),
+            flat_directions: Vec::new(),
+        }
+    }
+}
+
 /// A direction in parameter space the data hardly constrain.
 #[derive(Clone, Debug, Serialize)]
 pub struct FlatDirection {

@@ -4,7 +4,7 @@
 use super::DiagnoseOptions;
 use crate::candidates::Form;
 use crate::features::{data_features, DataFeatures};
-use crate::fits::{cross_validate, fit, residuals, space_of, with_values, FitResult, Spec};
+use crate::fits::{cross_validate, fit, residuals, space_of, with_values, Effort, FitResult, Spec};
 use crate::folds::{piece_folds, pieces, Fold, Piece};
 use crate::score::{compare, squared_or_failed, Comparison, HeldOut, Weights};
 use std::collections::BTreeMap;
@@ -130,17 +130,16 @@ impl<'a> Context<'a> {
             .collect()
     }
 
-    /// Fits `spec` to all data from `starts` (the `keep` best of them) by least squares, then,
-    /// when model error dominates, reweighted at its own residuals.
+    /// Fits `spec` to all data from `starts` with `effort`, then, when model error dominates,
+    /// reweighted at its own residuals.
     pub(super) fn fit_spec(
         &self,
         template: &Model,
         spec: &Spec,
         starts: &[Model],
-        keep: usize,
-        iterations: usize,
+        effort: Effort,
     ) -> SpecFit {
-        self.fit_spec_with(template, spec, starts, keep, iterations, self.reweight)
+        self.fit_spec_with(template, spec, starts, effort, self.reweight)
     }
 
     /// [`Context::fit_spec`], reweighting only when `reweight`.
@@ -149,8 +148,7 @@ impl<'a> Context<'a> {
         template: &Model,
         spec: &Spec,
         starts: &[Model],
-        keep: usize,
-        iterations: usize,
+        effort: Effort,
         reweight: bool,
     ) -> SpecFit {
         let space = self.space(template, spec);
@@ -163,7 +161,7 @@ impl<'a> Context<'a> {
         // Plain least squares first: weights from another model's residuals would make the
         // pieces where this one differs most weightless, and the fit would never see them.
         let mut fit_tests = detrended(self.tests.clone());
-        let mut result = fit(&fit_tests, &space, starts, keep, iterations);
+        let mut result = fit(&fit_tests, &space, starts, effort);
         if reweight {
             for _ in 0..REWEIGHTING_ROUNDS {
                 let own = residuals(
@@ -172,7 +170,8 @@ impl<'a> Context<'a> {
                     spec.drift.then_some(&fit_tests[..]),
                 );
                 fit_tests = detrended(self.weighted_for(&own));
-                result = fit(&fit_tests, &space, &[result.model], 1, iterations / 2 + 1);
+                let refit = Effort::refit(effort.iterations / 2 + 1);
+                result = fit(&fit_tests, &space, &[result.model], refit);
             }
         }
         SpecFit { result, fit_tests }
@@ -242,7 +241,12 @@ pub(super) fn fit_base(cx: &mut Context, template: &Model) -> Result<Current, Fi
     cx.base_residuals = residuals(&cx.tests, &base, None);
     cx.reweight = model_error_dominates(cx);
     let spec = Spec::base();
-    let fitted = cx.fit_spec(&base, &spec, &[base], 1, cx.opts.candidate_iterations);
+    let fitted = cx.fit_spec(
+        &base,
+        &spec,
+        &[base],
+        Effort::refit(cx.opts.candidate_iterations),
+    );
     if cx.reweight {
         base = fitted.result.model;
         cx.base_residuals = residuals(&cx.tests, &base, None);

@@ -10,12 +10,12 @@ mod selection;
 
 pub use report::{
     BaseFit, CandidateScore, Diagnosis, DroppedEffect, FormReport, KindShrink, NamedEffect,
-    SelectionStage, TestStart, Verdict,
+    OwnKindScore, SelectionStage, TestStart, Verdict,
 };
 
 use crate::candidates::library;
 use crate::evidence::residual_evidence;
-use crate::fits::residuals;
+use crate::fits::{residuals, Effort};
 use crate::localise::localise;
 use crate::verdict::Thresholds;
 use context::{fit_base, fold_index, ssr_of, Context, Current};
@@ -58,9 +58,14 @@ pub struct DiagnoseOptions {
     pub folds: usize,
     /// Fraction of each test held out at its end in the extra tail folds.
     pub tail_fraction: f64,
-    /// Least-squares iterations that rank the forms of a family.
-    pub screening_iterations: usize,
-    /// Least-squares iterations of a candidate fit on all data.
+    /// How every form is fitted to rank the forms of a family (from the base with the form's
+    /// starts and from the informed guesses crossed with them).
+    pub screening: Effort,
+    /// How the best form of each family is then fitted.
+    pub polish: Effort,
+    /// How the shortlisted forms are fitted on top of the model of a later selection stage.
+    pub rescreening: Effort,
+    /// Least-squares iterations of a warm-started refit on all data.
     pub candidate_iterations: usize,
     /// Least-squares iterations of a refit in a fold (warm-started).
     pub fold_iterations: usize,
@@ -82,9 +87,26 @@ impl Default for DiagnoseOptions {
             starts: 4,
             folds: 4,
             tail_fraction: 0.4,
-            screening_iterations: 12,
-            candidate_iterations: 30,
-            fold_iterations: 8,
+            screening: Effort {
+                global_evaluations: 0,
+                local_runs: 1,
+                iterations: 20,
+                informed: true,
+            },
+            polish: Effort {
+                global_evaluations: 0,
+                local_runs: 2,
+                iterations: 100,
+                informed: true,
+            },
+            rescreening: Effort {
+                global_evaluations: 0,
+                local_runs: 1,
+                iterations: 20,
+                informed: false,
+            },
+            candidate_iterations: 60,
+            fold_iterations: 15,
             template: Model::base(subfric_model::Params::sample())
                 .expect("sample parameters are valid"),
             thresholds: Thresholds::default(),
@@ -123,7 +145,8 @@ pub fn diagnose(
     let mut lib = library(&cx.features);
     lib.retain(|f| !opts.excluded_forms.iter().any(|x| x == f.name));
     let (forms, families) = screen_and_polish(&cx, &base.model, &lib);
-    let selection = forward_selection(&cx, &base, &families, &lib);
+    let shortlist = shortlist(&forms, &lib);
+    let selection = forward_selection(&cx, &base, &families, &shortlist);
 
     let evidence = residual_evidence(
         prepared,
@@ -163,6 +186,31 @@ pub fn diagnose(
         elapsed_s: cx.started.elapsed().as_secs_f64(),
     })
 }
+
+/// Forms of each family that later selection stages refit on top of the model they reach:
+/// the best [`SHORTLIST_PER_FAMILY`] of each family by their in-sample score on the base.
+fn shortlist(forms: &[FormReport], lib: &[crate::Form]) -> Vec<crate::Form> {
+    let mut by_family: BTreeMap<crate::Effect, Vec<(f64, usize)>> = BTreeMap::new();
+    for (i, f) in forms.iter().enumerate() {
+        if f.ssr.is_finite() {
+            by_family
+                .entry(f.effect)
+                .or_default()
+                .push((f.in_sample_score, i));
+        }
+    }
+    let mut out = Vec::new();
+    for mut ranked in by_family.into_values() {
+        ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for (_, i) in ranked.into_iter().take(SHORTLIST_PER_FAMILY) {
+            out.push(lib[i].clone());
+        }
+    }
+    out
+}
+
+/// Forms per family kept for the later selection stages.
+const SHORTLIST_PER_FAMILY: usize = 2;
 
 /// The base fit as reported: its misfit on all rows of the record, per test and in total.
 fn base_report(cx: &Context, fulls: &[FitTest], base: &Current) -> BaseFit {

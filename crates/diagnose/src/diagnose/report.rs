@@ -27,8 +27,8 @@ pub struct FormReport {
     pub in_sample_score: f64,
     /// The fit converged (a form that did not is reported, and only chosen if it still wins).
     pub converged: bool,
-    /// How the best start stopped.
-    pub termination: String,
+    /// How the best local run stopped (why not, when it did not converge).
+    pub termination: subfric_fit::Termination,
     /// The best form of its family (the one compared on held-out data).
     pub chosen: bool,
     /// The fitted model.
@@ -52,6 +52,34 @@ pub struct CandidateScore {
     pub held_out_shrink: f64,
     /// Shrink per kind of piece: (kind, reference χ², candidate χ²).
     pub by_kind: Vec<KindShrink>,
+    /// The comparison on the held-out pieces of each kind the family acts on
+    /// ([`crate::Effect::own_kinds`]), on which an effect is credited when the other pieces do
+    /// not improve.
+    pub own_kinds: Vec<OwnKindScore>,
+}
+
+/// A candidate against the reference on the held-out pieces of one kind its family acts on.
+#[derive(Clone, Debug, Serialize)]
+pub struct OwnKindScore {
+    /// The kind.
+    pub kind: crate::candidates::OwnKind,
+    /// The comparison on those pieces.
+    pub held_out: Comparison,
+}
+
+impl CandidateScore {
+    /// The comparison on the own kind with most evidence among those that pass `th`, else on
+    /// the own kind with most evidence; `None` for a family without own kinds.
+    pub fn best_own_kind(&self, th: &crate::verdict::Thresholds) -> Option<&Comparison> {
+        let by_score =
+            |a: &&OwnKindScore, b: &&OwnKindScore| a.held_out.score.total_cmp(&b.held_out.score);
+        self.own_kinds
+            .iter()
+            .filter(|k| crate::verdict::passes(&k.held_out, th))
+            .max_by(by_score)
+            .or_else(|| self.own_kinds.iter().max_by(by_score))
+            .map(|k| &k.held_out)
+    }
 }
 
 /// Held-out misfit of the reference and a candidate on one kind of piece.

@@ -2,11 +2,13 @@
 //! held-out pieces.
 
 use super::context::{parameters_of, switched_off, Context, Current, SpecFit};
-use super::report::{CandidateScore, DroppedEffect, FormReport, KindShrink, SelectionStage};
+use super::report::{
+    CandidateScore, DroppedEffect, FormReport, KindShrink, OwnKindScore, SelectionStage,
+};
 use crate::candidates::{Effect, Form};
-use crate::fits::{residuals, with_values, Spec};
+use crate::fits::{residuals, with_values, Effort, Spec};
 use crate::score::{by_kind, compare, Comparison, HeldOut};
-use crate::verdict::{decide, material, named_count, Decision};
+use crate::verdict::{decide, decide_further, material, named_count, Decision};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use subfric_model::Model;
@@ -24,8 +26,7 @@ fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, Spe
                 .collect();
             // Screening: a few iterations rank the forms; the best of each family is then
             // polished (see `polish`).
-            let fitted =
-                cx.fit_spec_with(base, &spec, &starts, 1, cx.opts.screening_iterations, false);
+            let fitted = cx.fit_spec_with(base, &spec, &starts, cx.opts.screening, false);
             let r = &fitted.result;
             let c = cx.in_sample(&r.model, &spec, &fitted.fit_tests);
             (
@@ -87,14 +88,8 @@ fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
                     .iter()
                     .map(|v| with_values(&current.model, &alone, std::slice::from_ref(v))),
             );
-            let fitted = cx.fit_spec_with(
-                &current.model,
-                &spec,
-                &starts,
-                1,
-                cx.opts.screening_iterations,
-                false,
-            );
+            let fitted =
+                cx.fit_spec_with(&current.model, &spec, &starts, cx.opts.rescreening, false);
             let r = residuals(&cx.tests, &fitted.result.model, None);
             let c = compare(&cx.pieces, &cx.weights, &own_residuals, &r);
             let score = penalised(&c, f.params.len());
@@ -139,6 +134,25 @@ fn candidate_score(
     held: &HeldOut,
 ) -> CandidateScore {
     let c = compare(&cx.pieces, &cx.weights, reference, held);
+    let own_kinds = effect
+        .own_kinds()
+        .iter()
+        .filter_map(|&kind| {
+            let own: Vec<_> = cx
+                .pieces
+                .iter()
+                .filter(|p| {
+                    let stress = cx.tests[p.test].normal.first().copied().unwrap_or(f64::NAN);
+                    kind.holds(p.kind, stress, cx.features.p_ref)
+                })
+                .cloned()
+                .collect();
+            (!own.is_empty()).then(|| OwnKindScore {
+                kind,
+                held_out: compare(&own, &cx.weights, reference, held),
+            })
+        })
+        .collect();
     CandidateScore {
         effect,
         spec: spec.describe(),
@@ -147,6 +161,7 @@ fn candidate_score(
         held_out_shrink: c.excess_shrink,
         by_kind: kind_shrinks(&c),
         held_out: c,
+        own_kinds,
     }
 }
 
@@ -174,13 +189,7 @@ pub(super) fn screen_and_polish(
         .par_iter()
         .map(|&i| {
             let spec = Spec::with(&lib[i]);
-            let polished = cx.fit_spec(
-                base,
-                &spec,
-                &[fits[i].result.model],
-                1,
-                cx.opts.candidate_iterations,
-            );
+            let polished = cx.fit_spec(base, &spec, &[fits[i].result.model], cx.opts.polish);
             Family {
                 effect: forms[i].effect,
                 form: lib[i].clone(),
@@ -328,7 +337,11 @@ impl Path {
             .push(compare(&cx.pieces, &cx.weights, &base.held, &next.held));
         self.selected.push(Selected {
             form,
-            own: stage.candidates[i].held_out.clone(),
+            // A further effect is judged on the pieces of its own kind (see `decide_further`).
+            own: stage.candidates[i]
+                .best_own_kind(&cx.opts.thresholds)
+                .unwrap_or(&stage.candidates[i].held_out)
+                .clone(),
             at: next,
             tentative: matches!(stage.decision, Decision::Tentative(_)),
         });
@@ -380,8 +393,7 @@ fn without(cx: &Context, current: &Current, i: usize) -> Current {
         &current.model,
         &spec,
         &[start],
-        1,
-        cx.opts.candidate_iterations,
+        Effort::refit(cx.opts.candidate_iterations),
     );
     let held = cx.held_out(
         &current.model,
@@ -482,8 +494,7 @@ fn drift_candidate(cx: &Context, current: &Current) -> CandidateScore {
         &current.model,
         &spec,
         &[current.model],
-        1,
-        cx.opts.candidate_iterations,
+        Effort::refit(cx.opts.candidate_iterations),
     );
     let held = cx.held_out(
         &current.model,
@@ -539,8 +550,7 @@ fn selection_stage(
                     &current.model,
                     &spec,
                     &[f.alone.result.model],
-                    1,
-                    cx.opts.screening_iterations,
+                    Effort::refit(cx.opts.candidate_iterations),
                 )
             };
             let model = fitted.result.model;
@@ -579,12 +589,32 @@ fn selection_stage(
         .iter()
         .map(|c| (c.effect, c.held_out.clone()))
         .collect();
-    let decision = decide(
-        reference_chi2,
-        &pairs,
-        drift.as_ref().map(|d| &d.held_out),
-        &cx.opts.thresholds,
-    );
+    let th = &cx.opts.thresholds;
+    let own: Vec<Comparison> = candidates
+        .iter()
+        .map(|c| c.best_own_kind(th).unwrap_or(&c.held_out).clone())
+        .collect();
+    let decision = if first_stage {
+        match decide(
+            reference_chi2,
+            &pairs,
+            drift.as_ref().map(|d| &d.held_out),
+            th,
+        ) {
+            // Nothing explains the gap as a whole: an effect that explains the pieces of its
+            // own kind, with significant evidence over all pieces, is still named (the rest
+            // of the gap is then reported as unexplained).
+            d @ (Decision::Tentative(_) | Decision::Unexplained) => {
+                match decide_further(reference_chi2, &pairs, &own, th) {
+                    Decision::Named(i) if pairs[i].1.score >= th.min_score => Decision::Named(i),
+                    _ => d,
+                }
+            }
+            d => d,
+        }
+    } else {
+        decide_further(reference_chi2, &pairs, &own, th)
+    };
     (
         SelectionStage {
             reference: current.spec.describe(),
