@@ -98,12 +98,12 @@ fn json_of(v: &Bound<'_, PyAny>, what: &str) -> PyResult<serde_json::Value> {
 }
 
 /// The model from a dict as `params.json`, a fit.json or an experiment.json hold (see
-/// `subfric::api::model_from_json`), or from such a file, read as `subfric simulate --params`
+/// `subfric_model::model_from_value`), or from such a file, read as `subfric simulate --params`
 /// reads it.
 fn model_of(params: &Bound<'_, PyAny>) -> PyResult<Model> {
     if params.is_instance_of::<PyDict>() {
         let v = json_of(params, "params")?;
-        return api::model_from_json(&v, "params").map_err(error);
+        return subfric_model::model_from_value(&v).map_err(|e| fail(format!("params: {e}")));
     }
     match params.extract::<PathBuf>() {
         Ok(path) => subfric::api::load_model(&path).map_err(error),

@@ -14,7 +14,7 @@ use subfric_diagnose::{prepare_for_diagnosis, DiagnoseOptions, Diagnosis};
 use subfric_fit::PreparedTest;
 
 pub use crate::fit_cmd::{FitOutcome, FitRequest};
-pub use crate::io::{load_model, model_from_json};
+pub use crate::io::load_model;
 pub use crate::progress::ProgressMode;
 
 /// A calibration as `subfric fit` runs it, with the content of its `fit.json`.
