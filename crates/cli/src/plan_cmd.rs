@@ -1,7 +1,7 @@
 //! `subfric plan <set>`: which test to run next. Fits the set, proposes one more test of each
 //! kind under the rig's control, ranks them by how far they would take the parameters the data
 //! do not determine towards "determined", per hour of lab time, and checks the top one by
-//! fitting a simulated joint campaign (the planning logic is `subfric_fit::plan`).
+//! fitting a simulated joint campaign (the planning logic is the `subfric-design` crate).
 //!
 //! Writes `plan.json`, `plan.txt`, one scenario JSON per proposal (`scenarios/<name>.json`,
 //! runnable with `subfric simulate --scenario`) and `top-proposal.png`: the top proposal's
@@ -15,8 +15,8 @@ use crate::progress::Progress;
 use anyhow::{bail, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use subfric_design::{plan, Band, Check, Plan, PlanOptions, Proposal};
 use subfric_fit::interval::short_number as num;
-use subfric_fit::plan::{plan, Band, Check, Plan, PlanOptions, Proposal};
 use subfric_fit::{FitOptions, FitTest, Param, Status};
 use subfric_model::Control;
 use subfric_plot::{render_png, Figure, Panel, Series, Style};

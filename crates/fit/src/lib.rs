@@ -16,7 +16,6 @@ pub mod global;
 pub mod guess;
 pub mod interval;
 pub mod lm;
-pub mod plan;
 pub mod prepare;
 pub mod problem;
 pub mod residuals;
