@@ -10,7 +10,6 @@
 //! "at the noise level".
 
 pub mod calibrate;
-pub mod coverage;
 pub mod dataset;
 pub mod global;
 pub mod guess;
