@@ -13,7 +13,7 @@
 //!   and its figures; [`selfcheck`] the diagnosis scored on sets with a known truth.
 //! - [`plan`]: the next test to run (`plan.json`, `plan.txt`, scenarios, figure).
 //! - [`reproduce`]: every bundled set fitted, the paper's tables beside the published values.
-//! - [`simulate`], [`sets`] (check and import), [`figures`] (overlay plots), [`bench`].
+//! - [`simulate`], [`sets`] (check and import), [`figures`] (overlay plots), [`bench`](mod@bench).
 //! - [`output`]: where results go and what may be replaced there; [`io`] the file helpers
 //!   (atomic writes, the parameter-file reader).
 //! - [`flags`]: values of `--fix`, `--bounds`, `--weight` and `--free` as both front ends take

@@ -31,11 +31,11 @@
 //!    when no proposal determines everything. Valley regions where no test could help (ξ ≈ 0)
 //!    lower every proposal's share alike and do not change the order.
 //! 4. **Check.** The top proposals are simulated at the planning point with the set's noise,
-//!    fitted jointly with the current tests by the default [`subfric_fit::calibrate`], and the achieved
-//!    intervals reported beside the predicted ones.
+//!    fitted jointly with the current tests by the default [`subfric_fit::calibrate()`], and
+//!    the achieved intervals reported beside the predicted ones.
 //!
-//! Modules: [`scenarios`] (the proposals under slip and traction control), [`valley`] (step
-//! 1), [`information`] (step 3), [`rank`], [`check`] (step 4); [`plan`](fn@plan) runs them in
+//! Modules (private): `scenarios` (the proposals under slip and traction control), `valley`
+//! (step 1), `information` (step 3), `rank`, `check` (step 4); [`plan`](fn@plan) runs them in
 //! order. The crate sits on the calibration (`subfric-fit`): it reads a finished fit and
 //! calls the calibration for the check, never the other way round.
 

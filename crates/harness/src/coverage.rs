@@ -1,7 +1,7 @@
 //! Do the reported 95 % intervals hold the truth 95 % of the time? Generated multi-test
 //! campaigns with random sand–steel parameters and a realistic noise model (white sensor noise
 //! plus a slowly correlated component, as real load cells and amplifiers give), fitted with the
-//! default [`calibrate`], counting per parameter how often the interval holds the true value.
+//! default [`calibrate()`], counting per parameter how often the interval holds the true value.
 //!
 //! A campaign is four tests as a sand–steel interface is usually characterised: velocity steps
 //! (×10 either side of the base rate) and slide–hold–slide (holds of 10, 100, 1000 s) at
