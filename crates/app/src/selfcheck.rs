@@ -3,12 +3,12 @@
 
 use crate::diagnose_report::truncate;
 use crate::io::write_json;
-use crate::progress::Progress;
+use crate::progress::{Progress, Silent};
 use anyhow::{anyhow, bail, Result};
 use std::path::{Path, PathBuf};
-use subfric_data::{load_set, PathKind};
+use subfric_data::PathKind;
 use subfric_diagnose::selfcheck::{all_classes, score, selfcheck, Case, Scores, SelfcheckOptions};
-use subfric_diagnose::{prepare_for_diagnosis, DiagnoseOptions, Effect};
+use subfric_diagnose::{DiagnoseOptions, Effect};
 
 /// What to score.
 #[derive(Clone, Debug)]
@@ -110,8 +110,9 @@ fn chosen_classes(numbers: &[usize]) -> Result<Vec<subfric_diagnose::selfcheck::
         .collect()
 }
 
-/// Diagnoses every set under `root` and scores against its truth.json (a set without a truth
-/// there is skipped, with a warning to `progress`).
+/// Diagnoses every set under `root` as `subfric diagnose` does ([`crate::diagnose()`]: a
+/// diagnosis that ends non-finite is an error naming the set) and scores it against the
+/// folder's truth.json (a set without a truth there is skipped, with a warning to `progress`).
 pub fn score_folder(
     root: &Path,
     opts: &DiagnoseOptions,
@@ -157,8 +158,7 @@ pub fn score_folder(
             .map(|e| Effect::from_name(e).unwrap_or(Effect::Unexplained))
             .filter(|e| *e != Effect::None)
             .collect();
-        let set = load_set(&d)?;
-        let diag = subfric_diagnose::diagnose(&prepare_for_diagnosis(&set), opts)?;
+        let diag = crate::diagnose::diagnose(&d, opts, &Silent)?.diagnosis;
         let c = Case::new(&name, families, names.join(" + "), &diag);
         on_case(&c);
         cases.push(c);
