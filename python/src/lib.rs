@@ -1,7 +1,8 @@
 //! `subfric._native`: the extension module behind the Python package `subfric`
 //! (`python/subfric/__init__.py` wraps these functions, normalises their arguments and documents
 //! them). Everything here calls the library crates — the same loader, simulator, calibration and
-//! diagnosis as the `subfric` command (through `subfric::api`) — and converts at the border:
+//! diagnosis as the `subfric` command (through its application layer, `subfric_app`) — and
+//! converts at the border:
 //! NumPy arrays in and out, JSON text for the results that the command writes as JSON files
 //! (so that the Python dicts hold exactly what `json.load` gives for those files). Errors become
 //! `subfric.SubfricError` with the command's located message; the long calls run with the GIL
@@ -13,8 +14,8 @@ use pyo3::exceptions::{PyException, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyList, PyString, PyTuple};
 use std::path::PathBuf;
-use subfric::api::{self, FitRequest, ProgressMode};
-use subfric::args::{parse_bound, parse_fix, parse_param};
+use subfric_app::flags::{parse_bound, parse_fix, parse_param};
+use subfric_app::{self as api, FitRequest, Silent};
 use subfric_data::{load_set as load_set_rs, plausibility, InitialSpec};
 use subfric_diagnose::DiagnoseOptions;
 use subfric_fit::{control_of, FitOptions, FitTest, Method, Param};
@@ -29,7 +30,7 @@ create_exception!(
 
 /// The error as the command prints it (each cause once), raised as `SubfricError`.
 fn error(e: anyhow::Error) -> PyErr {
-    SubfricError::new_err(subfric::error_text(&e))
+    SubfricError::new_err(subfric_app::error_text(&e))
 }
 
 fn fail(message: impl Into<String>) -> PyErr {
@@ -98,15 +99,15 @@ fn json_of(v: &Bound<'_, PyAny>, what: &str) -> PyResult<serde_json::Value> {
 }
 
 /// The model from a dict as `params.json`, a fit.json or an experiment.json hold (see
-/// `subfric::api::model_from_json`), or from such a file, read as `subfric simulate --params`
+/// `subfric_model::model_from_value`), or from such a file, read as `subfric simulate --params`
 /// reads it.
 fn model_of(params: &Bound<'_, PyAny>) -> PyResult<Model> {
     if params.is_instance_of::<PyDict>() {
         let v = json_of(params, "params")?;
-        return api::model_from_json(&v, "params").map_err(error);
+        return subfric_model::model_from_value(&v).map_err(|e| fail(format!("params: {e}")));
     }
     match params.extract::<PathBuf>() {
-        Ok(path) => subfric::api::load_model(&path).map_err(error),
+        Ok(path) => api::load_model(&path).map_err(error),
         Err(_) => Err(PyTypeError::new_err(format!(
             "params: a {} (expected a dict of parameters or the path of a JSON file)",
             params.get_type().name()?
@@ -334,10 +335,9 @@ fn fit<'py>(
             profiles,
             ..FitOptions::default()
         },
-        progress: ProgressMode::Never,
     };
     let run = py.detach(move || -> anyhow::Result<_> {
-        let fitted = api::fit(&req)?;
+        let fitted = api::fit(&req, &Silent)?;
         let model = fitted.outcome.report.model;
         let mut curves = Vec::new();
         for t in &fitted.outcome.tests {
@@ -367,7 +367,7 @@ fn diagnose(py: Python<'_>, dir: PathBuf, seed: u64) -> PyResult<(String, Vec<St
         ..DiagnoseOptions::default()
     };
     let run = py.detach(move || -> anyhow::Result<_> {
-        let d = api::diagnose(&dir, &opts)?;
+        let d = api::diagnose(&dir, &opts, &Silent)?;
         let text = serde_json::to_string(&d.json)?;
         Ok((text, d.warnings.iter().map(|w| w.to_string()).collect()))
     });

@@ -1,32 +1,33 @@
-//! The `subfric` command line: parsed with clap ([`args`]), then dispatched to one function
-//! per subcommand. Errors are printed once, each cause once, with exit code 1 (usage errors:
-//! clap's exit code 2); no input makes it panic.
+//! The `subfric` command line: flags parsed with clap ([`args`]) into the requests of the
+//! application layer (`subfric_app`), which runs the pipelines and writes the result files;
+//! this crate shows progress ([`progress`], indicatif) and prints. Errors are printed once,
+//! each cause once, with exit code 1 (usage errors: clap's exit code 2); no input makes it
+//! panic.
 
-pub mod api;
 pub mod args;
-mod bench;
-mod diagnose_cmd;
-mod diagnose_report;
-mod figures;
-mod fit_cmd;
-mod import_cmd;
-mod io;
-pub mod output;
-mod plan_cmd;
 mod progress;
-mod reproduce;
-mod simulate_cmd;
 
-use anyhow::{bail, Result};
-use args::{CheckArgs, Cli, Command, DiagnoseArgs, FitArgs, PlotArgs, SelfcheckArgs};
+use anyhow::Result;
+use args::{
+    BenchArgs, CheckArgs, Cli, Command, DiagnoseArgs, FitArgs, ImportArgs, PlanArgs, PlotArgs,
+    ReproduceArgs, SelfcheckArgs, SimulateArgs,
+};
 use clap::Parser;
-use output::{default_results_dir, ResultsDir};
-use progress::Progress;
+use progress::{Progress, ProgressMode};
 use std::process::ExitCode;
-use subfric_data::{load_set, plausibility, summary, PathKind, Warning};
-use subfric_diagnose::selfcheck::SelfcheckOptions;
+use subfric_app::fit::{fit_to_folder, FitRequest};
+use subfric_app::fit_report::report_table_timed;
+use subfric_app::output::Destination;
+use subfric_app::plan::{plan_to_folder, PlanRequest};
+use subfric_app::reproduce::{reproduce, ReproduceRequest, TIMINGS_FILE};
+use subfric_app::selfcheck::{case_line, SelfcheckRequest, SelfcheckSource};
+use subfric_app::simulate::{SimulateRequest, SimulateSource};
+use subfric_app::{diagnose, figures, sets};
+use subfric_data::{ColumnRef, ImportSpec, Warning};
 use subfric_diagnose::DiagnoseOptions;
-use subfric_fit::{prepare_set, reference_model, FitOptions};
+use subfric_fit::FitOptions;
+
+pub use subfric_app::error_text;
 
 /// Parses the command line, runs it, prints an error if any; the process's exit code.
 pub fn main() -> ExitCode {
@@ -43,62 +44,114 @@ pub fn main() -> ExitCode {
 /// Runs one subcommand.
 pub fn run(command: Command) -> Result<()> {
     match command {
-        Command::Reproduce(a) => reproduce::run(a),
-        Command::Simulate(a) => simulate_cmd::run(a),
+        Command::Reproduce(a) => run_reproduce(a),
+        Command::Simulate(a) => simulate(a),
         Command::Check(a) => check(a),
-        Command::Import(a) => import_cmd::run(a),
+        Command::Import(a) => import(a),
         Command::Fit(a) => fit(a),
         Command::Plot(a) => plot(a),
-        Command::Diagnose(a) => diagnose(a),
+        Command::Diagnose(a) => run_diagnose(a),
         Command::Selfcheck(a) => selfcheck(a),
-        Command::Plan(a) => plan_cmd::run(a),
-        Command::Bench(a) => bench::run(a),
-    }
-}
-
-/// An error and its causes, each cause once: a cause whose text the message already holds
-/// (such as an OS error that a file error quotes) is not repeated.
-pub fn error_text(e: &anyhow::Error) -> String {
-    let mut text = e.to_string();
-    for cause in e.chain().skip(1) {
-        let c = cause.to_string();
-        if !text.contains(&c) {
-            text.push_str(": ");
-            text.push_str(&c);
-        }
-    }
-    text
-}
-
-/// An error that names `place` (a set folder): as it is when its text already does, else with
-/// `place` in front.
-pub(crate) fn located(e: anyhow::Error, place: &std::path::Path) -> anyhow::Error {
-    let p = place.display().to_string();
-    if error_text(&e).contains(&p) {
-        e
-    } else {
-        anyhow::anyhow!("{p}: {}", error_text(&e))
+        Command::Plan(a) => plan(a),
+        Command::Bench(a) => bench(a),
     }
 }
 
 /// Prints plausibility warnings on stderr.
-pub(crate) fn print_warnings(warnings: &[Warning]) {
+fn print_warnings(warnings: &[Warning]) {
     for w in warnings {
         eprintln!("warning: {w}");
     }
 }
 
+/// Prints "wrote <file>" for each file.
+fn print_written<'a>(files: impl IntoIterator<Item = &'a std::path::PathBuf>) {
+    for f in files {
+        println!("wrote {}", f.display());
+    }
+}
+
 /// `subfric check`: validation, summary, plausibility warnings.
 fn check(a: CheckArgs) -> Result<()> {
-    let set = load_set(&a.set)?;
-    println!("{}", summary(&set));
-    print_warnings(&plausibility(&set));
+    let c = sets::check(&a.set)?;
+    println!("{}", c.summary);
+    print_warnings(&c.warnings);
+    Ok(())
+}
+
+/// `subfric import`: nothing in the output folder is overwritten, and the CSV and the set's
+/// description are written all or nothing.
+fn import(a: ImportArgs) -> Result<()> {
+    let c = sets::import_test(&a.file, &import_spec(&a), &a.out)?;
+    println!("{}", c.summary);
+    print_warnings(&c.warnings);
+    Ok(())
+}
+
+/// The import specification the options describe.
+fn import_spec(a: &ImportArgs) -> ImportSpec {
+    let shear = match (&a.shear, &a.friction) {
+        (Some(c), _) => Some((c.clone(), a.shear_unit.into())),
+        (None, Some(_)) => None,
+        (None, None) => Some((ColumnRef::Name("shear_kpa".into()), a.shear_unit.into())),
+    };
+    ImportSpec {
+        delimiter: a.delimiter.into(),
+        skip_lines: a.skip,
+        has_header: !a.no_header,
+        time: a.time.clone(),
+        time_unit: a.time_unit.into(),
+        slip: a.slip.clone(),
+        slip_unit: a.slip_unit.into(),
+        shear,
+        friction: a.friction.clone(),
+        normal: a.normal.clone().map(|c| (c, a.normal_unit.into())),
+        normal_stress_kpa: a.normal_stress,
+        control: a.control.into(),
+        test_name: a.test_name.clone(),
+        set_name: a.set_name.clone().unwrap_or_else(|| {
+            a.out
+                .file_name()
+                .map(|s| s.to_string_lossy().to_string())
+                .unwrap_or_else(|| "imported".into())
+        }),
+        title: a.title.clone(),
+        soil: a.soil.clone(),
+        surface: a.surface.clone(),
+        source: Some(a.file.display().to_string()),
+    }
+}
+
+/// `subfric simulate`.
+fn simulate(a: SimulateArgs) -> Result<()> {
+    let source = match (a.set, a.scenario) {
+        (Some(dir), None) => SimulateSource::Set(dir),
+        (None, Some(file)) => SimulateSource::Scenario {
+            file,
+            max_rows: a.max_rows,
+        },
+        // clap refuses both and neither; kept for callers that build the arguments themselves.
+        _ => anyhow::bail!("give either a set folder or --scenario <file> (expected exactly one)"),
+    };
+    let s = subfric_app::simulate::simulate(&SimulateRequest {
+        params: a.params,
+        source,
+        out: a.out,
+        force: a.force,
+    })?;
+    for f in &s.removed {
+        eprintln!(
+            "note: removed {} (a test of the set replaced by --force)",
+            f.display()
+        );
+    }
+    print_written(&s.files);
     Ok(())
 }
 
 /// `subfric fit`: everything is checked and the output folder claimed before the fit runs.
 fn fit(a: FitArgs) -> Result<()> {
-    let req = fit_cmd::FitRequest {
+    let req = FitRequest {
         dirs: a.sets,
         tests: a.tests,
         free: a.free,
@@ -113,157 +166,154 @@ fn fit(a: FitArgs) -> Result<()> {
             profiles: !a.no_profiles,
             ..FitOptions::default()
         },
-        progress: a.progress,
     };
-    let progress = Progress::new(req.progress);
-    let setup = fit_cmd::setup_fit(&req, &progress)?;
-    for w in &setup.warnings {
-        progress.println(&format!("warning: {w}"));
-    }
-    let dir = a.out.unwrap_or_else(|| default_results_dir(&setup.name()));
-    let claim = ResultsDir::claim(&dir, &req.dirs, &["fit.json".into()], a.force)?;
-    let outcome = fit_cmd::fit_setup(&req, setup, &progress).map_err(|e| match &req.dirs[..] {
-        [one] => located(e, one),
-        _ => e,
-    })?;
+    let progress = Progress::new(a.progress);
+    let to = Destination {
+        dir: a.out,
+        force: a.force,
+    };
+    let w = fit_to_folder(&req, &to, &progress)?;
     progress.finish();
-    println!(
-        "{}",
-        fit_cmd::report_table_timed(&outcome.name, &outcome.report)
-    );
-    let f = fit_cmd::write_fit(claim.path(), &outcome)?;
-    claim.commit()?;
-    println!("wrote {}", f.display());
+    let outcome = &w.fitted.outcome;
+    println!("{}", report_table_timed(&outcome.name, &outcome.report));
+    print_written([&w.file]);
     Ok(())
 }
 
 /// `subfric plot`: a curve that cannot be drawn is reported, not dropped silently.
 fn plot(a: PlotArgs) -> Result<()> {
-    let set = load_set(&a.set)?;
-    let fitted = a.params.as_deref().map(io::load_model).transpose()?;
-    let prepared = prepare_set(&set, false);
-    let published = reference_model(&set);
-    let dir = a
-        .out
-        .unwrap_or_else(|| default_results_dir(&set.meta.name).join("plots"));
-    let files = figures::figure_files(&prepared);
-    let claim = ResultsDir::claim(&dir, std::slice::from_ref(&a.set), &files, a.force)?;
-    let (written, notes) = figures::plot_set(
-        &set.meta.name,
-        &prepared,
-        published.as_ref(),
-        fitted.as_ref(),
-        claim.path(),
+    let to = Destination {
+        dir: a.out,
+        force: a.force,
+    };
+    let p = figures::plot(
+        &a.set,
+        a.params.as_deref(),
+        &to,
+        &Progress::new(ProgressMode::Never),
     )?;
-    for n in notes {
-        eprintln!("warning: {n}");
-    }
-    claim.commit()?;
-    for f in written {
-        println!("wrote {}", f.display());
-    }
+    print_written(&p.files);
     Ok(())
 }
 
 /// `subfric diagnose`: the set is checked and the output folder claimed before the diagnosis.
-fn diagnose(a: DiagnoseArgs) -> Result<()> {
-    let set = load_set(&a.set)?;
-    print_warnings(&plausibility(&set));
-    let name = set.meta.name.clone();
-    drop(set);
-    let dir = a
-        .out
-        .unwrap_or_else(|| default_results_dir(&name).join("diagnosis"));
-    // The per-test and per-event figures go to `figures/`, claimed as a whole.
-    let files: Vec<String> = [
-        "diagnosis.json",
-        "diagnosis.txt",
-        "residual-by-segment.png",
-        "residual-by-test.png",
-        "figures",
-    ]
-    .map(String::from)
-    .to_vec();
-    let claim = ResultsDir::claim(&dir, std::slice::from_ref(&a.set), &files, a.force)?;
+fn run_diagnose(a: DiagnoseArgs) -> Result<()> {
     let opts = DiagnoseOptions {
         seed: a.seed,
         excluded_forms: a.without_form.clone(),
         ..DiagnoseOptions::default()
     };
+    let to = Destination {
+        dir: a.out,
+        force: a.force,
+    };
     let progress = Progress::new(a.progress);
-    progress.stage(
-        "diagnosing: base fit, candidate effects, held-out folds",
-        None,
-    );
-    let (d, plots) =
-        diagnose_cmd::run_diagnose(&a.set, claim.path(), &opts).map_err(|e| located(e, &a.set))?;
+    let w = diagnose::diagnose_to_folder(&a.set, &opts, &to, &progress)?;
     progress.finish();
-    if let Err(e) = api::check_diagnosis_finite(&a.set, &d) {
-        // Not left for a script to read as a result.
-        let _ = std::fs::remove_file(claim.path().join("diagnosis.json"));
-        return Err(e);
+    println!("{}", w.report);
+    print_written([&w.json_file]);
+    print_written(&w.figures);
+    Ok(())
+}
+
+/// `subfric plan`: the set is checked and the output folder claimed before the fit.
+fn plan(a: PlanArgs) -> Result<()> {
+    let req = PlanRequest {
+        set: a.set,
+        seed: a.seed,
+        check: a.check,
+        setup_hours: a.setup_hours,
+    };
+    let to = Destination {
+        dir: a.out,
+        force: a.force,
+    };
+    let progress = Progress::new(a.progress);
+    let p = plan_to_folder(&req, &to, &progress)?;
+    progress.finish();
+    println!("{}", p.text);
+    print_written(&p.files);
+    Ok(())
+}
+
+/// `subfric reproduce`: the job, the tables on the terminal, the wall times in timings.txt.
+fn run_reproduce(a: ReproduceArgs) -> Result<()> {
+    let progress = Progress::new(a.progress);
+    let req = ReproduceRequest {
+        experiments: a.experiments,
+        out: a.out,
+        seed: a.seed,
+        force: a.force,
+    };
+    let r = reproduce(&req, &progress)?;
+    progress.finish();
+    for s in &r.sets {
+        println!("{}\n", report_table_timed(&s.name, &s.outcome.report));
     }
-    println!("{}", diagnose_report::report_text(&name, &d));
-    claim.commit()?;
-    println!("wrote {}", dir.join("diagnosis.json").display());
-    for p in plots {
-        println!("wrote {}", p.display());
-    }
+    let out = req.out.display();
+    println!(
+        "wrote {} sets to {out} in {:.1} s: {out}/README.md (wall times in {out}/{TIMINGS_FILE})",
+        r.sets.len(),
+        r.elapsed_s,
+    );
     Ok(())
 }
 
 /// `subfric selfcheck`.
 fn selfcheck(a: SelfcheckArgs) -> Result<()> {
-    if let Some(j) = &a.json {
-        if PathKind::of(j) != PathKind::Absent && !a.force {
-            bail!(
-                "--json {}: exists (expected a new file, or --force to replace it)",
-                j.display()
-            );
-        }
-    }
-    if let Some(w) = &a.write_sets {
-        if PathKind::of(w) != PathKind::Absent {
-            bail!(
-                "--write-sets {}: exists (expected a new folder)",
-                w.display()
-            );
-        }
-    }
-    let (cases, scores) = match &a.sets {
-        Some(root) => diagnose_cmd::score_folder(root, &DiagnoseOptions::default())?,
-        None => {
-            let all = subfric_diagnose::selfcheck::all_classes();
-            let classes = if a.classes.is_empty() {
-                all
-            } else {
-                let mut v = Vec::new();
-                for &k in &a.classes {
-                    match all.get(k.wrapping_sub(1)) {
-                        Some(c) => v.push(c.clone()),
-                        None => bail!(
-                            "--classes {k}: no such class (expected numbers from 1 to {})",
-                            all.len()
-                        ),
-                    }
-                }
-                v
-            };
-            diagnose_cmd::run_selfcheck(
-                &SelfcheckOptions {
-                    classes,
-                    per_class: a.per_class,
-                    seed: a.seed,
-                    unlisted: a.unlisted,
-                    ..SelfcheckOptions::default()
-                },
-                a.write_sets.as_deref(),
-            )?
-        }
+    let source = match a.sets {
+        Some(root) => SelfcheckSource::Folder(root),
+        None => SelfcheckSource::Generated {
+            classes: a.classes,
+            per_class: a.per_class,
+            seed: a.seed,
+            unlisted: a.unlisted,
+            write_sets: a.write_sets,
+        },
     };
+    let req = SelfcheckRequest {
+        source,
+        json: a.json,
+        force: a.force,
+    };
+    let print_case = |c: &subfric_diagnose::selfcheck::Case| println!("{}", case_line(c));
+    let (_, scores) =
+        subfric_app::selfcheck::run(&req, &print_case, &Progress::new(ProgressMode::Never))?;
     println!("\n{scores}");
-    if let Some(j) = &a.json {
-        io::write_json(j, &serde_json::json!({"cases": cases, "scores": scores}))?;
+    Ok(())
+}
+
+/// `subfric bench`: the figures, as text or JSON.
+fn bench(a: BenchArgs) -> Result<()> {
+    let r = subfric_app::bench::measure(&a.experiments)?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&r)?);
+        return Ok(());
+    }
+    println!(
+        "model step: {:.2} million steps/s on one core ({})",
+        r.steps_per_second / 1e6,
+        r.step_case
+    );
+    println!(
+        "  identical to the general simulate path: {}",
+        r.identical_to_simulate
+    );
+    println!("one full fit of each paper set:");
+    for (s, t) in &r.fit_seconds {
+        println!("  {s:<24} {t:6.2} s");
+    }
+    let m = &r.multistart;
+    println!(
+        "multi-start fit of {}: {:.2} s on 1 thread, {:.2} s on {} threads: speed-up {:.2}×",
+        m.set, m.one_thread_s, m.all_threads_s, m.threads, m.speedup
+    );
+    println!("whole diagnoses (prepare, fit every candidate, held-out folds, verdict):");
+    for d in &r.diagnoses {
+        println!(
+            "  {:<30} {:>7} rows in {} tests: {:6.2} s, peak memory {:.0} MB (verdict: {})",
+            d.case, d.rows, d.tests, d.seconds, d.peak_memory_mb, d.verdict
+        );
     }
     Ok(())
 }

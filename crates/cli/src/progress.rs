@@ -1,7 +1,9 @@
-//! Progress on stderr for the long jobs (fit, diagnose, reproduce): the stage, the model runs
-//! done (sampled from [`subfric_fit::model_runs`]) and the elapsed time. A live bar (indicatif)
-//! on a terminal; nothing when stderr is not a terminal, unless asked for with
-//! `--progress always`, which then prints one plain line per stage.
+//! Progress on stderr for the long jobs (fit, diagnose, plan, reproduce): the stage, the model
+//! runs done (sampled from [`subfric_fit::model_runs`]) and the elapsed time. A live bar
+//! (indicatif) on a terminal; nothing when stderr is not a terminal, unless asked for with
+//! `--progress always`, which then prints one plain line per stage. Warnings and notes of the
+//! job are printed on stderr in every mode, without garbling the bar. This is the command
+//! line's implementation of [`subfric_app::Progress`].
 
 use clap::ValueEnum;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -10,7 +12,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
-use subfric_fit::{model_runs, CalibrationStage};
+use subfric_fit::model_runs;
 
 /// When to show progress.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -107,11 +109,11 @@ impl Progress {
     }
 
     /// Starts a stage, with the model runs it is expected to take when known.
-    pub fn stage(&self, stage: impl Into<String>, budget: Option<usize>) {
+    fn show_stage(&self, stage: &str, budget: Option<usize>) {
         if self.bar.is_none() && !self.lines {
             return;
         }
-        let stage = stage.into();
+        let stage = stage.to_string();
         if let Ok(mut s) = self.shared.state.lock() {
             if s.stage == stage {
                 return;
@@ -125,21 +127,6 @@ impl Progress {
         }
         if let Some(b) = &self.bar {
             b.set_message(self.shared.line());
-        }
-    }
-
-    /// Shows a calibration stage.
-    pub fn fit_stage(&self, s: CalibrationStage, global_budget: usize) {
-        match s {
-            CalibrationStage::Global => self.stage(
-                "global search (differential evolution)",
-                Some(global_budget),
-            ),
-            CalibrationStage::Local(k, n) => {
-                self.stage(format!("least-squares polish {k}/{n}"), None)
-            }
-            CalibrationStage::Profiles => self.stage("profile intervals", None),
-            CalibrationStage::Done => self.stage("done", None),
         }
     }
 
@@ -170,5 +157,19 @@ impl Progress {
 impl Drop for Progress {
     fn drop(&mut self) {
         self.stop();
+    }
+}
+
+impl subfric_app::Progress for Progress {
+    fn stage(&self, stage: &str, budget: Option<usize>) {
+        self.show_stage(stage, budget);
+    }
+
+    fn warning(&self, text: &str) {
+        self.println(&format!("warning: {text}"));
+    }
+
+    fn note(&self, text: &str) {
+        self.println(&format!("note: {text}"));
     }
 }

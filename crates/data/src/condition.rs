@@ -237,16 +237,14 @@ mod tests {
 
     #[test]
     fn noise_sd_of_white_noise() {
-        use rand::{Rng, SeedableRng};
+        use rand::SeedableRng;
+        use rand_distr::{Distribution, Normal};
         let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+        let noise = Normal::new(0.0, 0.002).expect("a valid SD");
         let t: Vec<f64> = (0..4000).map(|i| i as f64).collect();
         let x: Vec<f64> = t
             .iter()
-            .map(|t| {
-                // Box-Muller
-                let (u1, u2): (f64, f64) = (rng.gen::<f64>().max(1e-12), rng.gen());
-                0.01 * t + 0.002 * (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-            })
+            .map(|t| 0.01 * t + noise.sample(&mut rng))
             .collect();
         let sd = noise_sd(&t, &x);
         assert!((sd - 0.002).abs() < 0.0002, "{sd}");

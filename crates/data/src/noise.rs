@@ -181,11 +181,11 @@ pub fn noise_sd(t: &[f64], x: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rand::{Rng, SeedableRng};
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, StandardNormal};
 
     fn gauss(rng: &mut rand::rngs::StdRng) -> f64 {
-        let (u1, u2): (f64, f64) = (rng.gen::<f64>().max(1e-12), rng.gen());
-        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+        StandardNormal.sample(rng)
     }
 
     #[test]

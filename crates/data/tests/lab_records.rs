@@ -5,6 +5,7 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, StandardNormal};
 use subfric_data::{segment, ControlColumn, SegmentOptions, StartKind, TestData, TestSpec};
 
 /// One stage of a generated protocol: slide at `rate` mm/s over `distance` mm, or hold.
@@ -22,9 +23,7 @@ struct Built {
 }
 
 fn gauss(rng: &mut ChaCha8Rng) -> f64 {
-    let u1: f64 = rng.gen::<f64>().max(1e-300);
-    let u2: f64 = rng.gen();
-    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    StandardNormal.sample(rng)
 }
 
 /// Sampling rate of the logger for a sliding rate (as in the Penn State records): 10 Hz up to

@@ -1,14 +1,13 @@
 //! Conditioning and segmentation on synthetic signals with known answers.
 
 use rand::{Rng, SeedableRng};
+use rand_distr::{Distribution, StandardNormal};
 use subfric_data::{
     condition_imposed, segment, ControlColumn, SegmentKind, SegmentOptions, TestData, TestSpec,
 };
 
 fn gauss(rng: &mut impl Rng) -> f64 {
-    let u1: f64 = rng.gen::<f64>().max(1e-12);
-    let u2: f64 = rng.gen();
-    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    StandardNormal.sample(rng)
 }
 
 fn data(control: ControlColumn, time: Vec<f64>, imposed: Vec<f64>) -> TestData {

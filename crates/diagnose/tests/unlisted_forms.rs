@@ -41,7 +41,7 @@ fn every_generated_form_is_named_in_the_library_of_a_set_that_shows_all_families
         }
     }
     assert_eq!(checked, 20);
-    assert_eq!(lib.len(), 25, "the library's forms: {names:?}");
+    assert_eq!(lib.len(), 29, "the library's forms: {names:?}");
     assert_eq!(
         library_name(Built {
             effect: Effect::Rate,

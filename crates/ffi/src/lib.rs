@@ -23,10 +23,9 @@
 
 #![deny(unsafe_op_in_unsafe_fn)]
 
-use serde_json::Value;
 use std::ffi::{c_char, c_int, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use subfric_model::{Contact3, Extensions, Model, Params, RateHeld, State3, StepError};
+use subfric_model::{Contact3, Model, ModelJsonError, Params, RateHeld, State3, StepError};
 
 /// Number of doubles in a [`SubfricState`] (the number of solution-dependent state variables
 /// of a friction subroutine that stores it).
@@ -282,27 +281,6 @@ fn build(model: Model, normal: [f64; 3], forward: [f64; 3]) -> Result<Box<Subfri
     }))
 }
 
-/// The first key of `input` (an object, recursively) with a non-null value that `back` (what
-/// was read, written back) lacks, as a dotted path.
-fn unknown_key(input: &Value, back: &Value, path: &str) -> Option<String> {
-    let obj = input.as_object()?;
-    for (key, value) in obj {
-        if value.is_null() {
-            continue;
-        }
-        let here = format!("{path}.{key}");
-        match back.get(key) {
-            None => return Some(here),
-            Some(b) => {
-                if let Some(k) = unknown_key(value, b, &here) {
-                    return Some(k);
-                }
-            }
-        }
-    }
-    None
-}
-
 fn params_of(p: &SubfricParams) -> Params {
     Params {
         mu_s: p.mu_s,
@@ -320,83 +298,15 @@ fn invalid_parameters(e: impl std::fmt::Display) -> Failure {
     Failure(SubfricStatus::InvalidParameters, e.to_string())
 }
 
-/// Reads a model from JSON text: a `fit.json` written by `subfric fit` (its `model`), a model
-/// object `{"params": {...}, "ext": {...}}`, an `experiment.json` (its
-/// `reference_parameters`) or a `params.json` (the parameters at the top level).
+/// Reads a model from JSON text with the workspace's one reader
+/// ([`subfric_model::model_from_json`]: a `fit.json`, a model object `{"params", "ext"}`, an
+/// `experiment.json` or a `params.json`): invalid values are `InvalidParameters`, anything
+/// else `InvalidJson`.
 fn model_from_json(text: &str) -> Result<Model, Failure> {
-    let v: Value = serde_json::from_str(text).map_err(|e| {
-        Failure(
-            SubfricStatus::InvalidJson,
-            format!(
-                "not valid JSON at line {} column {}: {e} \
-                 (expected an object with mu_s, mu_k, kappa, xi, u_tilde, alpha_t)",
-                e.line(),
-                e.column()
-            ),
-        )
-    })?;
-    let (obj, ext, at) = if let Some(m) = v.get("model") {
-        (m.get("params"), m.get("ext"), "model.params.")
-    } else if v.get("params").is_some_and(Value::is_object) {
-        (v.get("params"), v.get("ext"), "params.")
-    } else if let Some(r) = v.get("reference_parameters") {
-        (Some(r), None, "reference_parameters.")
-    } else {
-        (Some(&v), None, "")
-    };
-    let Some(obj) = obj.filter(|o| o.is_object()) else {
-        return fail(
-            SubfricStatus::InvalidJson,
-            format!(
-                "expected a JSON object of parameters at `{}` \
-                 (mu_s, mu_k, kappa, xi, u_tilde, alpha_t, ...)",
-                at.trim_end_matches('.')
-            ),
-        );
-    };
-    for key in ["mu_s", "mu_k", "kappa", "xi", "u_tilde", "alpha_t"] {
-        match obj.get(key) {
-            None => {
-                return fail(
-                    SubfricStatus::InvalidJson,
-                    format!("field `{at}{key}` is missing (expected a number)"),
-                )
-            }
-            Some(x) if !x.is_number() => {
-                return fail(
-                    SubfricStatus::InvalidJson,
-                    format!("field `{at}{key}` is {x} (expected a number)"),
-                )
-            }
-            _ => {}
-        }
-    }
-    let params: Params = serde_json::from_value(obj.clone())
-        .map_err(|e| Failure(SubfricStatus::InvalidJson, format!("`{at}`: {e}")))?;
-    let path = if at.starts_with("model") {
-        "model.ext"
-    } else {
-        "ext"
-    };
-    let ext: Extensions = match ext {
-        Some(e) => {
-            let ext: Extensions = serde_json::from_value(e.clone()).map_err(|err| {
-                Failure(SubfricStatus::InvalidJson, format!("field `{path}`: {err}"))
-            })?;
-            // serde ignores unknown keys: a misspelt extension or field would silently give
-            // another model. Everything read is written back, so a key that is not is unknown.
-            let back = serde_json::to_value(ext).unwrap_or_default();
-            if let Some(key) = unknown_key(e, &back, path) {
-                return fail(
-                    SubfricStatus::InvalidJson,
-                    format!("field `{key}` is not a known extension or extension field"),
-                );
-            }
-            ext
-        }
-        None => Extensions::default(),
-    };
-    Model::new(params, ext).map_err(invalid_parameters)
+    subfric_model::model_from_json(text).map_err(|e| match e {
+        ModelJsonError::Invalid(e) => invalid_parameters(e),
+        e => Failure(SubfricStatus::InvalidJson, e.to_string()),
+    })
 }
 
 /// Builds a model of the base parameters `params` on the contact plane of unit normal `normal`.
@@ -803,43 +713,31 @@ mod tests {
     }
 
     #[test]
-    fn json_forms_and_their_errors() {
+    fn json_errors_map_to_their_status() {
         let flat = r#"{"mu_s":0.45,"mu_k":0.3,"kappa":1.2,"xi":0.003,"u_tilde":15,"alpha_t":1000}"#;
-        let m = model_from_json(flat).unwrap();
-        assert_eq!(m.params, Params::sample());
-        let fit = format!(
-            r#"{{"model":{{"params":{flat},"ext":{{"slip_hardening":{{"h":0.01,"s_h":1}}}}}},"report":{{}}}}"#
-        );
-        assert!(model_from_json(&fit).unwrap().ext.slip_hardening.is_some());
-        let exp = format!(r#"{{"name":"x","reference_parameters":{flat}}}"#);
-        assert_eq!(model_from_json(&exp).unwrap().params, Params::sample());
-
+        assert_eq!(model_from_json(flat).unwrap().params, Params::sample());
+        let object =
+            format!(r#"{{"params":{flat},"ext":{{"slip_hardening":{{"h":0.01,"s_h":1}}}}}}"#);
+        assert!(model_from_json(&object)
+            .unwrap()
+            .ext
+            .slip_hardening
+            .is_some());
         let e = model_from_json(r#"{"mu_s":0.4}"#).unwrap_err();
         assert_eq!(e.0, SubfricStatus::InvalidJson);
         assert!(e.1.contains("`mu_k` is missing"), "{}", e.1);
-        let e = model_from_json(&flat.replace("1.2", "\"1.2\"")).unwrap_err();
-        assert!(e.1.contains("`kappa` is \"1.2\""), "{}", e.1);
+        let e = model_from_json(&object.replace("slip_hardening", "slip_softening")).unwrap_err();
+        assert_eq!(e.0, SubfricStatus::InvalidJson);
+        assert!(
+            e.1.contains("`ext.slip_softening` is not a known"),
+            "{}",
+            e.1
+        );
         let e = model_from_json(&flat.replace("0.3", "0.9")).unwrap_err();
         assert_eq!(e.0, SubfricStatus::InvalidParameters);
         assert!(e.1.contains("mu_k = 0.9"), "{}", e.1);
-        let bad_ext = fit.replace(r#""s_h":1"#, r#""s_h":-1"#);
-        let e = model_from_json(&bad_ext).unwrap_err();
-        assert!(e.1.contains("slip_hardening.s_h"), "{}", e.1);
-        let e = model_from_json(&fit.replace("slip_hardening", "slip_softening")).unwrap_err();
-        assert!(
-            e.1.contains("`model.ext.slip_softening` is not a known extension"),
-            "{}",
-            e.1
-        );
-        let e = model_from_json(&fit.replace(r#""s_h":1"#, r#""s_h":1,"sh":2"#)).unwrap_err();
-        assert!(
-            e.1.contains("`model.ext.slip_hardening.sh` is not"),
-            "{}",
-            e.1
-        );
-        let e = model_from_json(&fit.replace(r#""h":0.01"#, r#""h":"x""#)).unwrap_err();
-        assert!(e.1.contains("field `model.ext`"), "{}", e.1);
         let e = model_from_json("{\"mu_s\": ").unwrap_err();
+        assert_eq!(e.0, SubfricStatus::InvalidJson);
         assert!(e.1.contains("line 1"), "{}", e.1);
     }
 
@@ -852,7 +750,7 @@ mod tests {
             if let Ok(text) = std::fs::read_to_string(&file) {
                 let m = model_from_json(&text)
                     .unwrap_or_else(|e| panic!("{}: {}", file.display(), e.1));
-                let v: Value = serde_json::from_str(&text).unwrap();
+                let v: serde_json::Value = serde_json::from_str(&text).unwrap();
                 assert_eq!(
                     m.params.mu_s,
                     v["model"]["params"]["mu_s"].as_f64().unwrap()

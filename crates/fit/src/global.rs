@@ -17,6 +17,9 @@ pub fn latin_hypercube<R: Residuals + ?Sized>(
     let mut pts = vec![vec![0.0; m]; n];
     for k in 0..m {
         let mut perm: Vec<usize> = (0..n).collect();
+        // Fisher–Yates drawing usize indices. rand's `SliceRandom::shuffle` draws u32 indices,
+        // so it permutes differently for the same seed and would change every seeded fit
+        // (and the committed outputs of `reproduce`): kept on purpose.
         for i in (1..n).rev() {
             let j = rng.gen_range(0..=i);
             perm.swap(i, j);

@@ -10,13 +10,11 @@
 //! "at the noise level".
 
 pub mod calibrate;
-pub mod coverage;
 pub mod dataset;
 pub mod global;
 pub mod guess;
 pub mod interval;
 pub mod lm;
-pub mod plan;
 pub mod prepare;
 pub mod problem;
 pub mod residuals;

@@ -7,7 +7,7 @@ use crate::thin::{bins, scale_for_budget, thin_test};
 use subfric_data::{
     segment, ExperimentSet, SegmentKind, SegmentOptions, Segmentation, StartKind, TestData,
 };
-use subfric_model::{Control, Initial, Model, Params};
+use subfric_model::{Control, Initial, Model};
 
 /// A test ready for fitting, with the segmentation its residuals are localised by.
 #[derive(Clone, Debug)]
@@ -154,6 +154,5 @@ pub fn prepare_set_with(
 /// The published parameters of a set (`reference_parameters`), if any and readable.
 pub fn reference_model(set: &ExperimentSet) -> Option<Model> {
     let v = set.meta.reference_parameters.as_ref()?;
-    let p: Params = serde_json::from_value(v.clone()).ok()?;
-    Model::base(p).ok()
+    subfric_model::model_from_value(v).ok()
 }

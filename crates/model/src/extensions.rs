@@ -61,7 +61,7 @@ pub struct RateEffect {
     #[serde(default)]
     pub v_ref: f64,
     /// What the rate terms do while the contact is at rest (see [`AtRest`]).
-    #[serde(default, skip_serializing_if = "AtRest::is_creep")]
+    #[serde(default)]
     pub at_rest: AtRest,
 }
 
@@ -82,13 +82,6 @@ pub enum AtRest {
     Creep,
     /// The rate terms of the last plastic step: no creep, the state still evolves.
     Locked,
-}
-
-impl AtRest {
-    /// True for the default reading (kept out of serialised models).
-    pub fn is_creep(&self) -> bool {
-        *self == AtRest::Creep
-    }
 }
 
 fn one() -> f64 {

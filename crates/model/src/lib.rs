@@ -10,12 +10,15 @@
 //! - tangential associated flow (Eq. 34).
 //!
 //! This crate knows nothing of files, plots or optimisers: it integrates the model through a
-//! loading history given as numbers ([`simulate`]) or as a declarative [`Scenario`].
+//! loading history given as numbers ([`simulate`]) or as a declarative [`Scenario`], and reads
+//! a model from the JSON text of a parameter file ([`model_from_json`]; reading the file is the
+//! caller's business).
 
 pub mod contact1;
 pub mod contact3;
 pub mod extensions;
 mod integrator;
+pub mod json;
 pub mod params;
 pub mod scenario;
 pub mod simulate;
@@ -27,6 +30,7 @@ pub use extensions::{
     RateEffect, RateForm, SlipForm, SlipHardening, Target,
 };
 pub use integrator::{RateHeld, StepError};
+pub use json::{model_from_json, model_from_value, ModelJsonError};
 pub use params::{ParamError, ParamIssue, Params, MAX_ALPHA};
 pub use scenario::{Scenario, ScenarioError, Stage, MAX_SCENARIO_ROWS};
 pub use simulate::{

@@ -22,57 +22,8 @@
 //! [`inspect_png`], [`read_rgb`] and [`figure_layout`] help tests (here and
 //! in other crates) check what was drawn.
 //!
-//! # Why this crate draws with tiny-skia, not with plotters' charts
-//!
-//! Until issue 14 the crate used plotters only as a pixel buffer and drew
-//! anti-aliased lines and dashes with its own rasteriser. Two ways out were
-//! measured: (a) plotters' `ChartBuilder`, `configure_mesh`, `LineSeries`,
-//! `DashedLineSeries` and series labels for both figure kinds (a throwaway
-//! prototype of about 300 lines once formatted, not kept), and (b) this
-//! crate's layout with the hand-made rasteriser replaced by tiny-skia. Same
-//! figures for all three: `examples/measure.rs` (a 1000x750 overlay of a
-//! 20 000-point cycle-coloured measured curve, two 20 000-point model curves
-//! and both residuals below; the grouped bar chart of the tests), release
-//! build, on the 2-core development machine while other engineers were
-//! building (load 1 to 4). Render times are CPU time per render (`perf stat
-//! -e task-clock` of 25 renders minus 5, divided by 20), so they depend
-//! little on that load:
-//!
-//! | | hand-made rasteriser (before) | plotters charts (prototype) | tiny-skia (now) |
-//! |---|---|---|---|
-//! | overlay: CPU per render | 56 ms | about 60 ms | 140 ms |
-//! | bar chart: CPU per render | 2.4 ms | about 2 ms | 3.0 ms |
-//! | overlay / bar chart PNG | 360 / 114 kB | 427 / 103 kB | 345 / 115 kB |
-//! | lines of code (non-test, non-comment, non-blank) | 2 724 | about 300 | 2 735 |
-//! | anti-aliased curves | yes | no: stair steps | yes |
-//! | red of the fitted residual beyond its data | none | up to 52 pixels | none |
-//! | text | correct glyph spacing | "cyc le", "publish ed" | as before |
-//! | clean release build of the crate and its dependencies | 57 s (46 s CPU) | | 37 s (31 s CPU) |
-//!
-//! plotters' prototype is short because it leaves out what makes these
-//! figures readable, and what is left is less readable: lines have no
-//! anti-aliasing, its text ignores glyph bearings, and its thick polylines
-//! have miter joins without limit, so a noisy residual grows spikes up to
-//! 52 pixels beyond the data. Adding back decimation, legend placement in
-//! the emptiest corner, label fitting, "no data" marks and cycle colouring
-//! would bring it back towards this crate's size, still without
-//! anti-aliasing. The figures must stay as readable as before, so the
-//! decision is (b): the layout code stays, tiny-skia draws.
-//!
-//! The new figures match the old ones: layouts are identical, and over the
-//! 14 figures of `examples/demo.rs` at most 0.4 % of the pixels (0.3 % at
-//! 1000x750) differ by more than 60 of 255 levels, at the edges of strokes
-//! and glyphs. plotters and its `image` dependency are gone (31 instead of
-//! 36 crates, a third shorter build), and joins, dashes and discs come from
-//! a maintained library. The price is render time on dense, noisy curves:
-//! tiny-skia's scan converter walks every edge of the stroked outline, so
-//! the 20 000-point overlay takes 2.5 times as long as with the hand-made
-//! rasteriser (about 0.14 s instead of 0.06 s), and `cyclic.png` of
-//! `examples/demo.rs` (3 000 points, with residual) about 40 ms instead of
-//! 20 ms (first render, wall time at load 4 to 5). The code did not get
-//! shorter: the ~150 lines of stroke rasteriser and dash cutter that went
-//! are matched by the typed [`DrawError`] and by splitting the long layout
-//! functions.
+//! Why it draws with tiny-skia rather than plotters' charts, and what that cost, is recorded in
+//! `docs/plot-rasteriser.md`.
 //!
 //! ```
 //! use subfric_plot::{render_png, inspect_png, Figure, Panel, Series, Style};

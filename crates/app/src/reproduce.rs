@@ -5,14 +5,13 @@
 //! (no wall times), so that running the job on a clean checkout leaves it clean; the wall times
 //! go to the terminal and to `timings.txt`, which is not tracked.
 
-use crate::args::ReproduceArgs;
 use crate::figures::{plot_set, sanitize};
-use crate::fit_cmd::{
-    interval_text, report_table, report_table_timed, run_fit, write_fit, FitOutcome, FitRequest,
-};
+use crate::fit::{run_fit, write_fit, FitOutcome, FitRequest};
+use crate::fit_report::{interval_text, report_table};
 use crate::io::write_text;
 use crate::output::{safe_name, ResultsDir};
-use crate::progress::Progress;
+use crate::plan::{next_test, NextTest, PLAN_DIR};
+use crate::progress::{Progress, Silent};
 use anyhow::{anyhow, bail, Result};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -37,7 +36,7 @@ pub struct SetResult {
     /// PNG files.
     pub plots: Vec<PathBuf>,
     /// The next test `subfric plan` proposes (when some parameter is not determined).
-    pub next: Option<crate::plan_cmd::NextTest>,
+    pub next: Option<NextTest>,
 }
 
 /// A set to fit: its folder, output name, description.
@@ -98,7 +97,7 @@ fn jobs(experiments: &Path) -> Result<Vec<Job>> {
 
 /// Fits one set and writes its fit.json, fit.txt and figures into its claimed folder.
 fn fit_one(job: &Job, claim: ResultsDir, options: FitOptions) -> Result<(SetResult, Vec<String>)> {
-    let outcome = run_fit(&FitRequest::of_set(job.dir.clone(), options))?;
+    let outcome = run_fit(&FitRequest::of_set(job.dir.clone(), options), &Silent)?;
     let set_out = claim.path().to_path_buf();
     write_fit(&set_out, &outcome)?;
     write_text(
@@ -112,7 +111,7 @@ fn fit_one(job: &Job, claim: ResultsDir, options: FitOptions) -> Result<(SetResu
         Some(&outcome.report.model),
         &set_out,
     )?;
-    let next = crate::plan_cmd::next_test(&outcome, &set_out.join(crate::plan_cmd::PLAN_DIR))?;
+    let next = next_test(&outcome, &set_out.join(PLAN_DIR))?;
     claim.commit()?;
     Ok((
         SetResult {
@@ -126,13 +125,73 @@ fn fit_one(job: &Job, claim: ResultsDir, options: FitOptions) -> Result<(SetResu
     ))
 }
 
-/// Runs the whole job.
-pub fn reproduce(
+/// What to reproduce.
+#[derive(Clone, Debug)]
+pub struct ReproduceRequest {
+    /// Folder of experiment sets.
+    pub experiments: PathBuf,
+    /// Output folder (subfric's own: results in it are replaced when they come from the same
+    /// sets).
+    pub out: PathBuf,
+    /// Seed of the optimiser.
+    pub seed: u64,
+    /// Replace results in the output folder that came from other sets.
+    pub force: bool,
+}
+
+/// The job done.
+pub struct Reproduced {
+    /// Each set's result.
+    pub sets: Vec<SetResult>,
+    /// Wall time of the whole job [s].
+    pub elapsed_s: f64,
+    /// The file of wall times written.
+    pub timings: PathBuf,
+}
+
+/// `subfric reproduce`: every set fitted and written, the tables, the README, and the wall
+/// times in [`TIMINGS_FILE`].
+pub fn reproduce(req: &ReproduceRequest, progress: &dyn Progress) -> Result<Reproduced> {
+    let t0 = Instant::now();
+    let options = FitOptions {
+        seed: req.seed,
+        ..FitOptions::default()
+    };
+    let sets = fit_all(&req.experiments, &req.out, options, req.force, progress)?;
+    let elapsed_s = t0.elapsed().as_secs_f64();
+    let timings = req.out.join(TIMINGS_FILE);
+    write_text(&timings, &timings_text(&sets, elapsed_s))?;
+    Ok(Reproduced {
+        sets,
+        elapsed_s,
+        timings,
+    })
+}
+
+/// The wall times of each set's fit and of the whole job.
+fn timings_text(sets: &[SetResult], total: f64) -> String {
+    let mut timings = String::from(
+        "# Wall times of the last `subfric reproduce` (not tracked: they vary from run to run)\n",
+    );
+    for r in sets {
+        let o = &r.outcome.report.optimizer;
+        let _ = writeln!(
+            timings,
+            "{:<24} {:8.2} s  {:7} model runs",
+            r.name, o.elapsed_s, o.evaluations
+        );
+    }
+    let _ = writeln!(timings, "{:<24} {total:8.2} s", "total");
+    timings
+}
+
+/// Fits every set, writes their results, the tables and the README.
+fn fit_all(
     experiments: &Path,
     out: &Path,
     options: FitOptions,
     force: bool,
-    progress: &Progress,
+    progress: &dyn Progress,
 ) -> Result<Vec<SetResult>> {
     let jobs = jobs(experiments)?;
     // Every output folder is checked and claimed before the first fit.
@@ -152,7 +211,7 @@ pub fn reproduce(
             let mut files = vec![
                 "fit.json".to_string(),
                 "fit.txt".to_string(),
-                crate::plan_cmd::PLAN_DIR.to_string(),
+                PLAN_DIR.to_string(),
             ];
             files.extend(
                 j.meta
@@ -170,14 +229,14 @@ pub fn reproduce(
         .collect::<Result<Vec<_>>>()?;
     let done = AtomicUsize::new(0);
     let total = jobs.len();
-    progress.stage(format!("fitting {total} sets: 0 done"), None);
+    progress.stage(&format!("fitting {total} sets: 0 done"), None);
     let results: Vec<Result<(SetResult, Vec<String>)>> = jobs
         .par_iter()
         .zip(claims)
         .map(|(j, claim)| {
             let r = fit_one(j, claim, options);
             let k = done.fetch_add(1, Ordering::Relaxed) + 1;
-            progress.stage(format!("fitting {total} sets: {k} done"), None);
+            progress.stage(&format!("fitting {total} sets: {k} done"), None);
             r
         })
         .collect();
@@ -185,7 +244,7 @@ pub fn reproduce(
     for r in results {
         let (set, notes) = r?;
         for n in notes {
-            eprintln!("warning: {n}");
+            progress.warning(&n);
         }
         ok.push(set);
     }
@@ -234,41 +293,6 @@ fn write_tables(out: &Path, sets: &[SetResult]) -> Result<()> {
         let _ = writeln!(readme);
     }
     write_text(&out.join("README.md"), &readme)
-}
-
-/// `subfric reproduce`: the job, the tables on the terminal, the wall times in timings.txt.
-pub fn run(args: ReproduceArgs) -> Result<()> {
-    let t0 = Instant::now();
-    let progress = Progress::new(args.progress);
-    let options = FitOptions {
-        seed: args.seed,
-        ..FitOptions::default()
-    };
-    let res = reproduce(&args.experiments, &args.out, options, args.force, &progress)?;
-    progress.finish();
-    let mut timings = String::from(
-        "# Wall times of the last `subfric reproduce` (not tracked: they vary from run to run)\n",
-    );
-    for r in &res {
-        println!("{}\n", report_table_timed(&r.name, &r.outcome.report));
-        let o = &r.outcome.report.optimizer;
-        let _ = writeln!(
-            timings,
-            "{:<24} {:8.2} s  {:7} model runs",
-            r.name, o.elapsed_s, o.evaluations
-        );
-    }
-    let total = t0.elapsed().as_secs_f64();
-    let _ = writeln!(timings, "{:<24} {total:8.2} s", "total");
-    write_text(&args.out.join(TIMINGS_FILE), &timings)?;
-    println!(
-        "wrote {} sets to {} in {total:.1} s: {}/README.md (wall times in {}/{TIMINGS_FILE})",
-        res.len(),
-        args.out.display(),
-        args.out.display(),
-        args.out.display()
-    );
-    Ok(())
 }
 
 fn table_files(table: &str, sets: &[&SetResult]) -> (String, String) {

@@ -1,7 +1,7 @@
 //! Do the reported 95 % intervals hold the truth 95 % of the time? Generated multi-test
 //! campaigns with random sand–steel parameters and a realistic noise model (white sensor noise
 //! plus a slowly correlated component, as real load cells and amplifiers give), fitted with the
-//! default [`calibrate`], counting per parameter how often the interval holds the true value.
+//! default [`calibrate()`], counting per parameter how often the interval holds the true value.
 //!
 //! A campaign is four tests as a sand–steel interface is usually characterised: velocity steps
 //! (×10 either side of the base rate) and slide–hold–slide (holds of 10, 100, 1000 s) at
@@ -10,16 +10,17 @@
 //! preparation as a set read from disk ([`prepare_set_with`]: conditioning of the noisy imposed
 //! column, segmentation, thinning of long records).
 //!
-//! `cargo run --release -p subfric-fit --example coverage -- --campaigns 40 --seed 1`
+//! `cargo run --release -p subfric-harness --example coverage -- --campaigns 40 --seed 1`
 
-use crate::calibrate::{calibrate, FitOptions, Status};
-use crate::dataset::{typical_rate, FitTest};
-use crate::prepare::{prepare_set_with, PrepareOptions};
-use crate::space::{Param, Space};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, StandardNormal};
 use serde::Serialize;
 use subfric_data::{ControlColumn, ExperimentMeta, ExperimentSet, Interface, TestData, TestSpec};
+use subfric_fit::{
+    calibrate, prepare_set_with, typical_rate, FitOptions, FitTest, Param, PrepareOptions, Space,
+    Status,
+};
 use subfric_model::{simulate, Control, Model, Params, Protocol};
 
 /// The noise added to the measured shear of a campaign: white plus a stationary AR(1) process
@@ -63,11 +64,9 @@ impl NoiseModel {
     }
 }
 
-/// A standard normal draw (Box–Muller).
-pub fn gauss(rng: &mut ChaCha8Rng) -> f64 {
-    let u1: f64 = rng.gen::<f64>().max(1e-300);
-    let u2: f64 = rng.gen();
-    (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+/// A standard normal draw.
+fn gauss(rng: &mut ChaCha8Rng) -> f64 {
+    StandardNormal.sample(rng)
 }
 
 fn log_uniform(rng: &mut ChaCha8Rng, a: f64, b: f64) -> f64 {

@@ -3,15 +3,33 @@
 //! jointly with the original test (from generic starts), determines every parameter; every
 //! published value lies inside its interval; and the achieved interval of ξ is within a factor
 //! 2 of the one the plan predicted for that value of ξ.
+//!
+//! "Inside its interval" is judged family-wise: this file checks 20 intervals (5 parameters on
+//! 4 sets), and 95 % intervals miss one of 20 about as often as not, so each is widened about
+//! the estimate to the Bonferroni level 1 − 0.05/20 (z = 3.02 instead of 1.96). A published
+//! value outside that is a real miss at the 5 % level over the whole file, not one draw of
+//! the noise.
 
 use std::path::Path;
 use subfric_data::load_set;
-use subfric_fit::plan::{plan, simulate_proposal, PlanOptions};
+use subfric_design::{plan, simulate_proposal, PlanOptions};
 use subfric_fit::{
-    calibrate, prepare_set, reference_model, typical_rate, FitOptions, FitReport, FitTest, Param,
-    Space, Status,
+    calibrate, prepare_set, reference_model, typical_rate, FitOptions, FitReport, FitTest,
+    Interval, Param, Space, Status,
 };
 use subfric_model::{Model, Params};
+
+/// Widening of a 95 % interval to the family-wise level over the 20 intervals of this file:
+/// z(1 − 0.05/40) / z(0.975) = 3.023 / 1.960.
+const FAMILY_WISE_WIDENING: f64 = 3.023 / 1.960;
+
+/// `i` (about the estimate `v`) widened by [`FAMILY_WISE_WIDENING`].
+fn family_wise(i: Interval, v: f64) -> Interval {
+    Interval::closed(
+        v - FAMILY_WISE_WIDENING * (v - i.lo),
+        v + FAMILY_WISE_WIDENING * (i.hi - v),
+    )
+}
 
 fn generic_fit(tests: &[FitTest], published: &Model) -> FitReport {
     // Generic start: only α (which these data cannot see) is taken as published.
@@ -93,9 +111,10 @@ fn top_proposal_determines_everything(name: &str) {
             top.name,
             q.key()
         );
+        let wide = family_wise(i, r.value);
         assert!(
-            i.contains(truth),
-            "{name} + {}: published {} = {truth} outside {i}",
+            wide.contains(truth),
+            "{name} + {}: published {} = {truth} outside {i} (family-wise {wide})",
             top.name,
             q.key()
         );

@@ -1,12 +1,12 @@
 //! Coverage of the reported 95 % intervals on generated multi-test campaigns with random
-//! sand–steel parameters and white + slowly correlated noise (see `subfric_fit::coverage`).
+//! sand–steel parameters and white + slowly correlated noise (see `subfric_harness::coverage`).
 //!
-//! `cargo run --release -p subfric-fit --example coverage -- --campaigns 40 --seed 1 [--json FILE]
+//! `cargo run --release -p subfric-harness --example coverage -- --campaigns 40 --seed 1 [--json FILE]
 //! [--white-only] [--slip-noise-mm SD]` (`--white-only`: no correlated part; `--slip-noise-mm`:
 //! the noise of the imposed slip, 0.0002 by default)
 
-use subfric_fit::coverage::{measure_coverage, CampaignRanges};
 use subfric_fit::FitOptions;
+use subfric_harness::coverage::{measure_coverage, CampaignRanges};
 
 fn main() {
     let mut campaigns = 40usize;

@@ -1,14 +1,19 @@
-//! `subfric fit`: calibrate one or several sets, print a table, write fit.json.
+//! The fit: sets loaded and checked, the request checked (tests, weights, fixed values,
+//! bounds), the calibration run, its result withheld when it cannot be trusted, and `fit.json`.
+//! Everything in the request is checked before any output folder is claimed or any fitting
+//! done ([`setup`]); [`fit()`] returns the result, [`fit_to_folder`] writes it as `subfric fit`
+//! does.
 
-use crate::progress::{Progress, ProgressMode};
+use crate::io::write_json;
+use crate::located;
+use crate::output::{default_results_dir, Destination, ResultsDir};
+use crate::progress::Progress;
 use anyhow::{anyhow, bail, Result};
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use subfric_data::{load_set, plausibility, Warning};
-use subfric_fit::interval::short_number as fmt_num;
 use subfric_fit::{
     calibrate, compare_with_published, prepare_set, reference_model, typical_rate, FitOptions,
-    FitReport, FitTest, Param, PreparedTest, Space, Status,
+    FitReport, FitTest, Param, PreparedTest, Space,
 };
 use subfric_model::{Model, Params};
 
@@ -29,12 +34,10 @@ pub struct FitRequest {
     pub weights: Vec<(String, f64)>,
     /// Optimiser options.
     pub options: FitOptions,
-    /// Progress display.
-    pub progress: ProgressMode,
 }
 
 impl FitRequest {
-    /// The default calibration of one set (as `reproduce` and `bench` run it), without progress.
+    /// The default calibration of one set (as `reproduce`, `plan` and `bench` run it).
     pub fn of_set(dir: PathBuf, options: FitOptions) -> FitRequest {
         FitRequest {
             dirs: vec![dir],
@@ -44,7 +47,6 @@ impl FitRequest {
             bounds: vec![],
             weights: vec![],
             options,
-            progress: ProgressMode::Never,
         }
     }
 }
@@ -83,7 +85,8 @@ impl FitSetup {
 
 /// Loads the sets, selects and weights the tests, and checks fixed values and bounds: every
 /// mistake in the request is found here, before any output is prepared or any fitting done.
-pub fn setup_fit(req: &FitRequest, progress: &Progress) -> Result<FitSetup> {
+/// The sets' plausibility warnings go to `progress` (and into the setup).
+pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
     if req.dirs.is_empty() {
         bail!("no set folder given");
     }
@@ -94,7 +97,7 @@ pub fn setup_fit(req: &FitRequest, progress: &Progress) -> Result<FitSetup> {
     let mut warnings = Vec::new();
     let mut files = Vec::new();
     for d in &req.dirs {
-        progress.stage(format!("reading {}", d.display()), None);
+        progress.stage(&format!("reading {}", d.display()), None);
         let set = load_set(d)?;
         if !joint {
             published = reference_model(&set);
@@ -111,7 +114,7 @@ pub fn setup_fit(req: &FitRequest, progress: &Progress) -> Result<FitSetup> {
         }
         let rows: usize = set.tests.iter().map(|t| t.len()).sum();
         progress.stage(
-            format!("segmenting {} tests ({rows} rows)", set.tests.len()),
+            &format!("segmenting {} tests ({rows} rows)", set.tests.len()),
             None,
         );
         tests.extend(prepare_set(&set, joint));
@@ -147,9 +150,12 @@ pub fn setup_fit(req: &FitRequest, progress: &Progress) -> Result<FitSetup> {
     let space = Space::try_with_rate(template, &free, &req.bounds, typical_rate(&fits))
         .map_err(|e| anyhow!("--bounds {e}"))?;
     if space.v_ref == 0.0 && !req.bounds.is_empty() && free_triple(&free) {
-        progress.println(
-            "note: with bounds on mu_k, kappa or xi the optimiser works in those parameters themselves, not in the combinations a single rate determines",
+        progress.note(
+            "with bounds on mu_k, kappa or xi the optimiser works in those parameters themselves, not in the combinations a single rate determines",
         );
+    }
+    for w in &warnings {
+        progress.warning(&w.to_string());
     }
     Ok(FitSetup {
         tests,
@@ -193,10 +199,21 @@ fn select_tests(tests: &mut Vec<PreparedTest>, want: &[String]) -> Result<()> {
     Ok(())
 }
 
-/// Runs the calibration of a checked setup.
-pub fn fit_setup(req: &FitRequest, setup: FitSetup, progress: &Progress) -> Result<FitOutcome> {
+/// Runs the calibration of a checked setup; a single set's errors name its folder.
+pub fn run_setup(req: &FitRequest, setup: FitSetup, progress: &dyn Progress) -> Result<FitOutcome> {
+    calibrate_setup(req, setup, progress).map_err(|e| match &req.dirs[..] {
+        [one] => located(e, one),
+        _ => e,
+    })
+}
+
+fn calibrate_setup(
+    req: &FitRequest,
+    setup: FitSetup,
+    progress: &dyn Progress,
+) -> Result<FitOutcome> {
     let budget = req.options.global_evaluations;
-    let stage = |s| progress.fit_stage(s, budget);
+    let stage = |s| progress.calibration_stage(s, budget);
     let name = setup.name();
     let mut report = calibrate(&setup.fits, setup.space.clone(), &req.options, &stage)?;
     // Fitted on bins of a long record: the misfit is reported on every row.
@@ -274,161 +291,79 @@ fn check_finite(report: &FitReport, setup: &FitSetup, fulls: &[FitTest]) -> Resu
     Ok(())
 }
 
-/// Loads, checks and calibrates in one go.
-pub fn run_fit(req: &FitRequest) -> Result<FitOutcome> {
-    let progress = Progress::new(req.progress);
-    let setup = setup_fit(req, &progress)?;
-    let out = fit_setup(req, setup, &progress);
-    progress.finish();
-    out
+/// Loads, checks and calibrates, without the content of `fit.json` (`reproduce`, `bench`).
+pub fn run_fit(req: &FitRequest, progress: &dyn Progress) -> Result<FitOutcome> {
+    let setup = setup(req, progress)?;
+    run_setup(req, setup, progress)
 }
 
-/// Interval text with open ends marked (empty for a fixed or unprofiled parameter).
-pub fn interval_text(p: &subfric_fit::ParamReport) -> String {
-    p.interval.map(|i| i.to_string()).unwrap_or_default()
+/// A calibration as `subfric fit` runs it, with the content of its `fit.json`.
+pub struct Fitted {
+    /// The calibration.
+    pub outcome: FitOutcome,
+    /// What `subfric fit` writes to `fit.json`.
+    pub json: serde_json::Value,
+    /// Plausibility warnings of the sets (also given to the progress).
+    pub warnings: Vec<Warning>,
 }
 
-/// The readable table printed by `subfric fit`.
-pub fn report_table(name: &str, r: &FitReport) -> String {
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "fit of {name}: {} rows, misfit {:.3}× the noise variance (reduced χ²)",
-        r.rows, r.reduced_chi2
-    );
-    write_parameter_rows(&mut s, r);
-    write_combinations(&mut s, r);
-    write_undetermined_note(&mut s, r);
-    let _ = writeln!(s, "per test:");
-    for t in &r.tests {
-        let _ = writeln!(
-            s,
-            "  {:<30} {:>6} rows  RMS {:>9} {:<3} ({:.2}% of scale, {:.2}× noise)",
-            t.name,
-            t.rows,
-            fmt_num(t.rms),
-            t.unit,
-            t.rms_percent,
-            t.rms_over_noise
-        );
-    }
-    let o = &r.optimizer;
-    let _ = write!(
-        s,
-        "optimiser: {:?}, {} starts of which {} reached the best, {} informed guesses, {} global + {} total model runs",
-        o.method, o.starts, o.starts_at_best, o.informed_guesses, o.global_evaluations, o.evaluations
-    );
-    if o.repolished_from_profile {
-        let _ = write!(s, " (profiling found a better optimum; re-polished)");
-    }
-    s
+/// Loads, checks and calibrates: `subfric fit` without output files (the same checks, the
+/// same calibration, the same errors).
+pub fn fit(req: &FitRequest, progress: &dyn Progress) -> Result<Fitted> {
+    let setup = setup(req, progress)?;
+    let warnings = setup.warnings.clone();
+    let outcome = run_setup(req, setup, progress)?;
+    let json = fit_json(&outcome)?;
+    Ok(Fitted {
+        outcome,
+        json,
+        warnings,
+    })
 }
 
-/// One line per parameter: value, standard error (∞: unbounded), interval, verdict, and the
-/// published value with the difference from it.
-fn write_parameter_rows(s: &mut String, r: &FitReport) {
-    let _ = writeln!(
-        s,
-        "{:<18} {:>11} {:>10} {:>26}  {:<34} {:>10} {:>8}",
-        "parameter",
-        "value",
-        "std.err",
-        "95% profile interval",
-        "identifiability",
-        "published",
-        "diff"
-    );
-    for p in &r.parameters {
-        let _ = writeln!(
-            s,
-            "{:<18} {:>11} {:>10} {:>26}  {:<34} {:>10} {:>8}",
-            format!(
-                "{} {}",
-                p.name,
-                if p.unit.is_empty() {
-                    String::new()
-                } else {
-                    format!("[{}]", p.unit)
-                }
-            ),
-            fmt_num(p.value),
-            p.std_error
-                .map(fmt_num)
-                .unwrap_or_else(|| if p.status == Status::Fixed {
-                    "".into()
-                } else {
-                    "∞".into()
-                }),
-            interval_text(p),
-            p.status.describe(),
-            p.published.map(fmt_num).unwrap_or_default(),
-            p.difference_percent
-                .map(|d| format!("{d:+.1}%"))
-                .unwrap_or_default(),
-        );
-    }
+/// A fit written to its results folder.
+pub struct FitWritten {
+    /// The fit.
+    pub fitted: Fitted,
+    /// The `fit.json` written.
+    pub file: PathBuf,
 }
 
-/// The combinations of parameters the data determine (when the fit charted any).
-fn write_combinations(s: &mut String, r: &FitReport) {
-    if r.combinations.is_empty() {
-        return;
-    }
-    let _ = writeln!(s, "combinations the data determine:");
-    for c in &r.combinations {
-        let iv = c.interval.map(|i| i.to_string()).unwrap_or_default();
-        let _ = writeln!(
-            s,
-            "  {:<58} {:>11} {:>26}  {}",
-            c.name,
-            fmt_num(c.value),
-            iv,
-            if c.determined {
-                "determined"
-            } else {
-                "not determined"
-            }
-        );
-    }
-}
-
-/// A warning that the values of undetermined parameters are not estimates.
-fn write_undetermined_note(s: &mut String, r: &FitReport) {
-    let undetermined: Vec<&str> = r
-        .parameters
-        .iter()
-        .filter(|p| {
-            matches!(
-                p.status,
-                Status::NotDetermined | Status::LowerBoundOnly | Status::UpperBoundOnly
-            )
-        })
-        .map(|p| p.name.as_str())
-        .collect();
-    if !undetermined.is_empty() {
-        let _ = writeln!(
-            s,
-            "the data do not determine {}: their values above are one point of a flat valley, not estimates",
-            undetermined.join(", ")
-        );
-    }
-}
-
-/// The table with the wall time, for the terminal (files get [`report_table`]: no timings, so
-/// that they depend on the data, the code and the seed only).
-pub fn report_table_timed(name: &str, r: &FitReport) -> String {
-    format!(
-        "{}; {:.1} s wall time",
-        report_table(name, r),
-        r.optimizer.elapsed_s
-    )
+/// `subfric fit`: the request checked and the output folder (`fits/<set names>` unless
+/// given) claimed before the fit runs; `fit.json` written, then the folder's record of its
+/// sets.
+pub fn fit_to_folder(
+    req: &FitRequest,
+    to: &Destination,
+    progress: &dyn Progress,
+) -> Result<FitWritten> {
+    let setup = setup(req, progress)?;
+    let dir = to
+        .dir
+        .clone()
+        .unwrap_or_else(|| default_results_dir(&setup.name()));
+    let claim = ResultsDir::claim(&dir, &req.dirs, &["fit.json".into()], to.force)?;
+    let warnings = setup.warnings.clone();
+    let outcome = run_setup(req, setup, progress)?;
+    let json = fit_json(&outcome)?;
+    let file = dir.join("fit.json");
+    write_json(&file, &json)?;
+    claim.commit()?;
+    Ok(FitWritten {
+        fitted: Fitted {
+            outcome,
+            json,
+            warnings,
+        },
+        file,
+    })
 }
 
 /// Writes `fit.json` under `dir` (atomically), without the wall time: a fit.json depends on the
 /// data, the code and the seed only.
 pub fn write_fit(dir: &Path, out: &FitOutcome) -> Result<PathBuf> {
     let file = dir.join("fit.json");
-    crate::io::write_json(&file, &fit_json(out)?)?;
+    write_json(&file, &fit_json(out)?)?;
     Ok(file)
 }
 

@@ -1,10 +1,57 @@
-//! Overlay figures of a set: measured curve, published curve, fitted curve, residual below.
+//! Overlay figures of a set: measured curve, published curve, fitted curve, residual below
+//! (`subfric plot`, and per set in `subfric reproduce`); and the figures of a diagnosis.
 
+use crate::io::load_model;
+use crate::output::{default_results_dir, Destination, ResultsDir};
+use crate::progress::Progress;
 use anyhow::Result;
 use std::path::{Path, PathBuf};
-use subfric_fit::{FitTest, PreparedTest};
+use subfric_data::load_set;
+use subfric_fit::{prepare_set, reference_model, FitTest, PreparedTest};
 use subfric_model::{Control, Model};
 use subfric_plot::{render_png, Figure, Panel, Series, Style};
+
+/// Figures drawn.
+pub struct Plotted {
+    /// The PNG files written.
+    pub files: Vec<PathBuf>,
+    /// Curves that could not be drawn, and why (also given to the progress as warnings).
+    pub notes: Vec<String>,
+}
+
+/// `subfric plot`: one figure per test of the set in `set_dir`, with the published curve
+/// (when the set has reference parameters) and the curve of the model in `params` (a
+/// params.json or fit.json), into `fits/<set name>/plots` unless given. A curve that cannot
+/// be drawn is reported, not dropped silently.
+pub fn plot(
+    set_dir: &Path,
+    params: Option<&Path>,
+    to: &Destination,
+    progress: &dyn Progress,
+) -> Result<Plotted> {
+    let set = load_set(set_dir)?;
+    let fitted = params.map(load_model).transpose()?;
+    let prepared = prepare_set(&set, false);
+    let published = reference_model(&set);
+    let dir = to
+        .dir
+        .clone()
+        .unwrap_or_else(|| default_results_dir(&set.meta.name).join("plots"));
+    let files = figure_files(&prepared);
+    let claim = ResultsDir::claim(&dir, &[set_dir.to_path_buf()], &files, to.force)?;
+    let (files, notes) = plot_set(
+        &set.meta.name,
+        &prepared,
+        published.as_ref(),
+        fitted.as_ref(),
+        claim.path(),
+    )?;
+    for n in &notes {
+        progress.warning(n);
+    }
+    claim.commit()?;
+    Ok(Plotted { files, notes })
+}
 
 /// The figure files `plot_set` writes for `tests`, relative to its output folder.
 pub fn figure_files(tests: &[PreparedTest]) -> Vec<String> {

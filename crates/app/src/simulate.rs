@@ -2,7 +2,7 @@
 //! and write the result as a new set. Never into the set simulated; an existing set in the
 //! output folder only with `--force` (see [`crate::output::SetDir`]).
 
-use crate::args::SimulateArgs;
+use crate::io::load_model;
 use crate::output::SetDir;
 use anyhow::{anyhow, Context, Result};
 use std::path::{Path, PathBuf};
@@ -12,21 +12,52 @@ use subfric_data::{
     TestData, TestSpec, EXPERIMENT_JSON,
 };
 use subfric_fit::prepare_set;
-use subfric_model::{simulate, Control, Model, Scenario};
+use subfric_model::{Control, Model, Scenario};
+
+/// What to simulate.
+#[derive(Clone, Debug)]
+pub enum SimulateSource {
+    /// Every test of the set in this folder.
+    Set(PathBuf),
+    /// A declarative scenario file, refused beyond `max_rows` rows.
+    Scenario {
+        /// The scenario's JSON file.
+        file: PathBuf,
+        /// Most rows it may generate.
+        max_rows: usize,
+    },
+}
+
+/// A simulation: the model's parameter file, what to simulate, where the new set goes.
+#[derive(Clone, Debug)]
+pub struct SimulateRequest {
+    /// params.json, a fit.json, or an experiment.json with reference_parameters.
+    pub params: PathBuf,
+    /// What to simulate.
+    pub source: SimulateSource,
+    /// Folder of the new set (never the set simulated).
+    pub out: PathBuf,
+    /// Replace a set already in `out` (its old CSVs are removed).
+    pub force: bool,
+}
+
+/// The new set written.
+pub struct Simulated {
+    /// Its files: the CSVs and experiment.json.
+    pub files: Vec<PathBuf>,
+    /// CSVs of the set replaced by `force` that the new one does not overwrite, removed.
+    pub removed: Vec<PathBuf>,
+}
 
 /// `subfric simulate`.
-pub fn run(args: SimulateArgs) -> Result<()> {
-    let model = crate::io::load_model(&args.params)?;
-    let written = match (&args.set, &args.scenario) {
-        (Some(dir), None) => simulate_set(dir, &model, &args.out, args.force)?,
-        (None, Some(sc)) => simulate_scenario(sc, &model, &args.out, args.force, args.max_rows)?,
-        // clap refuses both and neither; kept for callers that build the arguments themselves.
-        _ => anyhow::bail!("give either a set folder or --scenario <file> (expected exactly one)"),
-    };
-    for f in written {
-        println!("wrote {}", f.display());
+pub fn simulate(req: &SimulateRequest) -> Result<Simulated> {
+    let model = load_model(&req.params)?;
+    match &req.source {
+        SimulateSource::Set(dir) => simulate_set(dir, &model, &req.out, req.force),
+        SimulateSource::Scenario { file, max_rows } => {
+            simulate_scenario(file, &model, &req.out, req.force, *max_rows)
+        }
     }
-    Ok(())
 }
 
 /// The output folder's file names for a set: its CSVs and experiment.json.
@@ -36,24 +67,19 @@ fn set_files(tests: &[TestSpec]) -> Vec<String> {
     files
 }
 
-/// Writes `set` into the claimed folder; reports old CSVs removed.
-fn write_claimed(set: &ExperimentSet, claim: SetDir) -> Result<Vec<PathBuf>> {
+/// Writes `set` into the claimed folder; the files written and the old CSVs removed.
+fn write_claimed(set: &ExperimentSet, claim: SetDir) -> Result<Simulated> {
     write_set(set, claim.path())?;
     let out = claim.path().to_path_buf();
-    for f in claim.commit() {
-        eprintln!(
-            "note: removed {} (a test of the set replaced by --force)",
-            f.display()
-        );
-    }
-    let mut written: Vec<PathBuf> = set.tests.iter().map(|t| out.join(&t.spec.file)).collect();
-    written.push(out.join(EXPERIMENT_JSON));
-    Ok(written)
+    let removed = claim.commit();
+    let mut files: Vec<PathBuf> = set.tests.iter().map(|t| out.join(&t.spec.file)).collect();
+    files.push(out.join(EXPERIMENT_JSON));
+    Ok(Simulated { files, removed })
 }
 
 /// Simulates every test of the set in `dir`; writes a set of the same shape under `out`, with
-/// the model's output in place of the measured column. Returns the files written.
-pub fn simulate_set(dir: &Path, model: &Model, out: &Path, force: bool) -> Result<Vec<PathBuf>> {
+/// the model's output in place of the measured column.
+pub fn simulate_set(dir: &Path, model: &Model, out: &Path, force: bool) -> Result<Simulated> {
     let mut set = load_set(dir)?;
     let claim = SetDir::claim(out, Some(dir), &set_files(&set.meta.tests), force)?;
     let prepared = prepare_set(&set, false);
@@ -94,7 +120,7 @@ pub fn simulate_scenario(
     out: &Path,
     force: bool,
     max_rows: usize,
-) -> Result<Vec<PathBuf>> {
+) -> Result<Simulated> {
     let kind = PathKind::of(path);
     if kind != PathKind::File {
         anyhow::bail!(
@@ -133,7 +159,8 @@ pub fn simulate_scenario(
         initial_slip: 0.0,
         initial: Default::default(),
     };
-    let traj = simulate(model, &proto).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let traj =
+        subfric_model::simulate(model, &proto).map_err(|e| anyhow!("{}: {e}", path.display()))?;
     let n = rows.time.len();
     let test = TestData {
         spec: spec.clone(),

@@ -20,12 +20,22 @@ use subfric_data::{parse_meta, PathKind, EXPERIMENT_JSON};
 /// The record of the sets a results folder holds the results of.
 pub const SOURCE_FILE: &str = ".subfric-source";
 
+/// Where a command writes its results: a folder (`None`: the command's default under `fits/`)
+/// and whether results there that came from other sets may be replaced.
+#[derive(Clone, Debug, Default)]
+pub struct Destination {
+    /// The results folder; `None`: the command's default, `fits/<set name>[/...]`.
+    pub dir: Option<PathBuf>,
+    /// Replace results of other sets, or files subfric did not write (`--force`).
+    pub force: bool,
+}
+
 /// A plain folder or file name for a set or test name: characters outside
 /// `[A-Za-z0-9._+-]` become `-`, leading dots and dashes are dropped (no `..`, no hidden
 /// file), an empty result becomes `set`.
 ///
 /// ```
-/// # use subfric::output::safe_name;
+/// # use subfric_app::output::safe_name;
 /// assert_eq!(safe_name("table1-medium"), "table1-medium");
 /// assert_eq!(safe_name("../../victim"), "victim");
 /// assert_eq!(safe_name("/etc/passwd"), "etc-passwd");

@@ -1,8 +1,8 @@
-//! `subfric bench`: speed of the model step, of fitting each paper table, and of multi-start
-//! fitting on 1 core versus all cores.
+//! `subfric bench`: speed of the model step, of fitting each paper table, of multi-start
+//! fitting on 1 core versus all cores, and of whole diagnoses.
 
-use crate::args::BenchArgs;
-use crate::fit_cmd::{run_fit, FitRequest};
+use crate::fit::{run_fit, FitRequest};
+use crate::progress::Silent;
 use anyhow::{bail, Result};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -204,7 +204,7 @@ pub fn measure(experiments: &Path) -> Result<BenchReport> {
     let mut fit_seconds = Vec::new();
     for d in &dirs {
         let t0 = Instant::now();
-        run_fit(&request(d.clone()))?;
+        run_fit(&request(d.clone()), &Silent)?;
         fit_seconds.push((
             d.file_name()
                 .unwrap_or_default()
@@ -223,7 +223,7 @@ pub fn measure(experiments: &Path) -> Result<BenchReport> {
             .num_threads(threads)
             .build()?;
         let t0 = Instant::now();
-        pool.install(|| run_fit(&request(probe.clone())))?;
+        pool.install(|| run_fit(&request(probe.clone()), &Silent))?;
         Ok(t0.elapsed().as_secs_f64())
     };
     let threads = rayon::current_num_threads();
@@ -243,39 +243,4 @@ pub fn measure(experiments: &Path) -> Result<BenchReport> {
         },
         diagnoses: diagnoses(),
     })
-}
-
-/// `subfric bench`: the figures, as text or JSON.
-pub fn run(args: BenchArgs) -> Result<()> {
-    let r = measure(&args.experiments)?;
-    if args.json {
-        println!("{}", serde_json::to_string_pretty(&r)?);
-        return Ok(());
-    }
-    println!(
-        "model step: {:.2} million steps/s on one core ({})",
-        r.steps_per_second / 1e6,
-        r.step_case
-    );
-    println!(
-        "  identical to the general simulate path: {}",
-        r.identical_to_simulate
-    );
-    println!("one full fit of each paper set:");
-    for (s, t) in &r.fit_seconds {
-        println!("  {s:<24} {t:6.2} s");
-    }
-    let m = &r.multistart;
-    println!(
-        "multi-start fit of {}: {:.2} s on 1 thread, {:.2} s on {} threads: speed-up {:.2}×",
-        m.set, m.one_thread_s, m.all_threads_s, m.threads, m.speedup
-    );
-    println!("whole diagnoses (prepare, fit every candidate, held-out folds, verdict):");
-    for d in &r.diagnoses {
-        println!(
-            "  {:<30} {:>7} rows in {} tests: {:6.2} s, peak memory {:.0} MB (verdict: {})",
-            d.case, d.rows, d.tests, d.seconds, d.peak_memory_mb, d.verdict
-        );
-    }
-    Ok(())
 }

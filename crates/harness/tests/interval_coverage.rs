@@ -2,15 +2,15 @@
 //! the data's own noise estimate sees; without a correction the 95 % intervals then hold the
 //! truth far less often than 95 % (measured: 54 of 200 on 40 campaigns). The fit widens them by
 //! the residuals' integrated autocorrelation time. The full measurement is
-//! `cargo run --release -p subfric-fit --example coverage -- --campaigns 40 --seed 1`; here
+//! `cargo run --release -p subfric-harness --example coverage -- --campaigns 40 --seed 1`; here
 //! the estimator is checked against theory and the first campaigns of that measurement are
 //! fitted.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use subfric_fit::coverage::{measure_coverage, CampaignRanges, NoiseModel};
 use subfric_fit::uncertainty::correlation_time;
 use subfric_fit::FitOptions;
+use subfric_harness::coverage::{measure_coverage, CampaignRanges, NoiseModel};
 
 /// White noise of SD 1 plus an Ornstein–Uhlenbeck part of SD `c` and correlation time
 /// `tau_s`, sampled every `dt` s, in units of the white SD (as the fit's residuals are).

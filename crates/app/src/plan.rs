@@ -1,22 +1,23 @@
-//! `subfric plan <set>`: which test to run next. Fits the set, proposes one more test of each
-//! kind under the rig's control, ranks them by how far they would take the parameters the data
-//! do not determine towards "determined", per hour of lab time, and checks the top one by
-//! fitting a simulated joint campaign (the planning logic is `subfric_fit::plan`).
+//! The next test to run for a set: the set is fitted, one more test of each kind under the
+//! rig's control is proposed and ranked by how far it would take the parameters the data do
+//! not determine towards "determined", per hour of lab time, and the top one is checked by
+//! fitting a simulated joint campaign (the planning itself is the `subfric-design` crate).
 //!
-//! Writes `plan.json`, `plan.txt`, one scenario JSON per proposal (`scenarios/<name>.json`,
-//! runnable with `subfric simulate --scenario`) and `top-proposal.png`: the top proposal's
-//! predicted curve with the band the undetermined parameters still allow.
+//! [`plan_to_folder`] writes `plan.json`, `plan.txt`, one scenario JSON per proposal
+//! (`scenarios/<name>.json`, runnable with `subfric simulate --scenario`) and
+//! `top-proposal.png`: the top proposal's predicted curve with the band the undetermined
+//! parameters still allow.
 
-use crate::args::PlanArgs;
-use crate::fit_cmd::{fit_setup, setup_fit, FitOutcome, FitRequest};
+use crate::fit::{run_setup, setup, FitOutcome, FitRequest};
 use crate::io::{write_json, write_text};
-use crate::output::{default_results_dir, ResultsDir};
+use crate::located;
+use crate::output::{default_results_dir, Destination, ResultsDir};
 use crate::progress::Progress;
 use anyhow::{bail, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use subfric_design::{plan, Band, Check, Plan, PlanOptions, Proposal};
 use subfric_fit::interval::short_number as num;
-use subfric_fit::plan::{plan, Band, Check, Plan, PlanOptions, Proposal};
 use subfric_fit::{FitOptions, FitTest, Param, Status};
 use subfric_model::Control;
 use subfric_plot::{render_png, Figure, Panel, Series, Style};
@@ -31,47 +32,79 @@ fn plan_files() -> Vec<String> {
         .to_vec()
 }
 
-/// Runs `subfric plan`: the set is checked and the output folder claimed before the fit.
-pub fn run(a: PlanArgs) -> Result<()> {
-    if !(a.setup_hours >= 0.0 && a.setup_hours.is_finite()) {
+/// What to plan for.
+#[derive(Clone, Debug)]
+pub struct PlanRequest {
+    /// The set's folder.
+    pub set: PathBuf,
+    /// Seed of the fits and of the simulated check's noise.
+    pub seed: u64,
+    /// How many of the top proposals to check by fitting a simulated joint campaign.
+    pub check: usize,
+    /// Lab time of a new test beyond its duration (specimen, set-up) [h].
+    pub setup_hours: f64,
+}
+
+/// A plan written to its folder.
+pub struct PlanWritten {
+    /// The set's name.
+    pub name: String,
+    /// The plan.
+    pub plan: Plan,
+    /// The readable plan (also in `plan.txt`).
+    pub text: String,
+    /// The files written.
+    pub files: Vec<PathBuf>,
+}
+
+/// `subfric plan`: the request and the set checked and the output folder
+/// (`fits/<set name>/plan` unless given) claimed before the fit; the plan written, then the
+/// folder's record of its set.
+pub fn plan_to_folder(
+    req: &PlanRequest,
+    to: &Destination,
+    progress: &dyn Progress,
+) -> Result<PlanWritten> {
+    if !(req.setup_hours >= 0.0 && req.setup_hours.is_finite()) {
         bail!(
             "--setup-hours {}: expected a finite number of hours >= 0",
-            a.setup_hours
+            req.setup_hours
         );
     }
     let options = FitOptions {
-        seed: a.seed,
+        seed: req.seed,
         ..FitOptions::default()
     };
-    let mut req = FitRequest::of_set(a.set.clone(), options);
-    req.progress = a.progress;
-    let progress = Progress::new(req.progress);
-    let setup = setup_fit(&req, &progress)?;
-    for w in &setup.warnings {
-        progress.println(&format!("warning: {w}"));
-    }
-    let dir = a
-        .out
+    let fit = FitRequest::of_set(req.set.clone(), options);
+    let setup = setup(&fit, progress)?;
+    let dir = to
+        .dir
+        .clone()
         .unwrap_or_else(|| default_results_dir(&setup.name()).join(PLAN_DIR));
-    let claim = ResultsDir::claim(&dir, std::slice::from_ref(&a.set), &plan_files(), a.force)?;
-    let outcome = fit_setup(&req, setup, &progress).map_err(|e| crate::located(e, &a.set))?;
+    let claim = ResultsDir::claim(
+        &dir,
+        std::slice::from_ref(&req.set),
+        &plan_files(),
+        to.force,
+    )?;
+    let outcome = run_setup(&fit, setup, progress)?;
     progress.stage("planning: the valley, the proposals, the check", None);
     let opts = PlanOptions {
-        setup_hours: a.setup_hours,
-        check: a.check,
+        setup_hours: req.setup_hours,
+        check: req.check,
         fit: options,
         ..PlanOptions::default()
     };
-    let p = plan_outcome(&outcome, &opts).map_err(|e| crate::located(e, &a.set))?;
-    progress.finish();
+    let p = plan_outcome(&outcome, &opts).map_err(|e| located(e, &req.set))?;
     let text = plan_text(&outcome.name, &p);
-    println!("{text}");
     let files = write_plan(claim.path(), &outcome.name, &p, &text)?;
     claim.commit()?;
-    for f in files {
-        println!("wrote {}", f.display());
-    }
-    Ok(())
+    Ok(PlanWritten {
+        name: outcome.name,
+        plan: p,
+        text,
+        files,
+    })
 }
 
 /// Plans the next test for a finished fit.

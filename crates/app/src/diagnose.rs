@@ -1,0 +1,239 @@
+//! The diagnosis of a set: where the calibrated model misses, which unmodelled effect explains
+//! it and how far it shrinks. [`diagnose()`] returns it with the content of `diagnosis.json`;
+//! [`diagnose_to_folder`] writes `diagnosis.json`, `diagnosis.txt` and the figures as
+//! `subfric diagnose` does. A diagnosis that ends with a number that is not finite is refused,
+//! and nothing of it is written.
+
+use crate::diagnose_report::{effects_label, report_text};
+use crate::io::{write_json, write_text};
+use crate::located;
+use crate::output::{default_results_dir, Destination, ResultsDir};
+use crate::progress::Progress;
+use anyhow::{bail, Result};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use subfric_data::{load_set, plausibility, ExperimentSet, Warning};
+use subfric_diagnose::{prepare_for_diagnosis, DiagnoseOptions, Diagnosis};
+use subfric_fit::PreparedTest;
+use subfric_plot::{render_bars_png, BarFigure};
+
+/// What a diagnosis folder holds; the per-test and per-event figures go to `figures/`,
+/// claimed as a whole.
+const DIAGNOSIS_FILES: [&str; 5] = [
+    "diagnosis.json",
+    "diagnosis.txt",
+    "residual-by-segment.png",
+    "residual-by-test.png",
+    "figures",
+];
+
+/// A diagnosis as `subfric diagnose` runs it, with the content of its `diagnosis.json`.
+pub struct Diagnosed {
+    /// The set's name.
+    pub name: String,
+    /// The diagnosis.
+    pub diagnosis: Diagnosis,
+    /// The tests as the diagnosis saw them.
+    pub prepared: Vec<PreparedTest>,
+    /// What `subfric diagnose` writes to `diagnosis.json`.
+    pub json: Value,
+    /// Plausibility warnings of the set (also given to the progress).
+    pub warnings: Vec<Warning>,
+}
+
+/// `subfric diagnose` without output files: the diagnosis of the set in `dir`, refused (with
+/// the set named) when it ends with a number that is not finite.
+pub fn diagnose(dir: &Path, opts: &DiagnoseOptions, progress: &dyn Progress) -> Result<Diagnosed> {
+    let set = load_set(dir).map_err(|e| located(e.into(), dir))?;
+    let warnings = warn(&set, progress);
+    diagnose_set(dir, set, warnings, opts, progress)
+}
+
+/// The set's plausibility warnings, given to `progress` as well.
+fn warn(set: &ExperimentSet, progress: &dyn Progress) -> Vec<Warning> {
+    let warnings = plausibility(set);
+    for w in &warnings {
+        progress.warning(&w.to_string());
+    }
+    warnings
+}
+
+/// Diagnoses the loaded `set` (read from `dir`, which errors name).
+fn diagnose_set(
+    dir: &Path,
+    set: ExperimentSet,
+    warnings: Vec<Warning>,
+    opts: &DiagnoseOptions,
+    progress: &dyn Progress,
+) -> Result<Diagnosed> {
+    progress.stage(
+        "diagnosing: base fit, candidate effects, held-out folds",
+        None,
+    );
+    let prepared = prepare_for_diagnosis(&set);
+    let d = subfric_diagnose::diagnose(&prepared, opts).map_err(|e| located(e.into(), dir))?;
+    check_diagnosis_finite(dir, &d)?;
+    let json = diagnosis_json(&set.meta.name, &d);
+    Ok(Diagnosed {
+        name: set.meta.name,
+        diagnosis: d,
+        prepared,
+        json,
+        warnings,
+    })
+}
+
+/// The content of `diagnosis.json`: the set's name, the verdict, the whole diagnosis.
+pub fn diagnosis_json(set_name: &str, d: &Diagnosis) -> Value {
+    serde_json::json!({
+        "set": set_name,
+        "verdict": {
+            "effect": d.verdict.effect.name(),
+            "held_out_shrink": d.verdict.held_out_shrink,
+            "explanation": d.verdict.explanation,
+            "extra_parameters": d.verdict.extra_parameters,
+        },
+        "diagnosis": d,
+    })
+}
+
+/// A diagnosis whose base misfit or held-out shrink is not finite is not a result: the error
+/// names the set's folder `dir`.
+pub fn check_diagnosis_finite(dir: &Path, d: &Diagnosis) -> Result<()> {
+    if !(d.base.reduced_chi2.is_finite() && d.verdict.held_out_shrink.is_finite()) {
+        bail!(
+            "{}: the diagnosis ended with a number that is not finite (base misfit {}, held-out shrink {}); its result is not to be trusted",
+            dir.display(),
+            d.base.reduced_chi2,
+            d.verdict.held_out_shrink
+        );
+    }
+    Ok(())
+}
+
+/// A diagnosis written to its results folder.
+pub struct DiagnosisWritten {
+    /// The diagnosis.
+    pub diagnosed: Diagnosed,
+    /// The readable report (also in `diagnosis.txt`).
+    pub report: String,
+    /// The `diagnosis.json` written.
+    pub json_file: PathBuf,
+    /// The figures written.
+    pub figures: Vec<PathBuf>,
+}
+
+/// `subfric diagnose`: the set checked and the output folder (`fits/<set name>/diagnosis`
+/// unless given) claimed before the diagnosis; its files written once it is known to be
+/// finite, then the folder's record of its set.
+pub fn diagnose_to_folder(
+    dir: &Path,
+    opts: &DiagnoseOptions,
+    to: &Destination,
+    progress: &dyn Progress,
+) -> Result<DiagnosisWritten> {
+    let set = load_set(dir)?;
+    let warnings = warn(&set, progress);
+    let out = to
+        .dir
+        .clone()
+        .unwrap_or_else(|| default_results_dir(&set.meta.name).join("diagnosis"));
+    let files = DIAGNOSIS_FILES.map(String::from).to_vec();
+    let claim = ResultsDir::claim(&out, &[dir.to_path_buf()], &files, to.force)?;
+    let diagnosed = diagnose_set(dir, set, warnings, opts, progress)?;
+    let report = report_text(&diagnosed.name, &diagnosed.diagnosis);
+    let (json_file, figures) = write_diagnosis(&out, &diagnosed, &report)?;
+    claim.commit()?;
+    Ok(DiagnosisWritten {
+        diagnosed,
+        report,
+        json_file,
+        figures,
+    })
+}
+
+/// Writes diagnosis.json, diagnosis.txt (`report`) and the figures under `out`; returns the
+/// JSON file and the figures.
+fn write_diagnosis(
+    out: &Path,
+    diagnosed: &Diagnosed,
+    report: &str,
+) -> Result<(PathBuf, Vec<PathBuf>)> {
+    let (name, d) = (&diagnosed.name, &diagnosed.diagnosis);
+    let json_file = out.join("diagnosis.json");
+    write_json(&json_file, &diagnosed.json)?;
+    write_text(&out.join("diagnosis.txt"), &format!("{report}\n"))?;
+    let label = effects_label(d);
+    let mut plots = crate::figures::diagnosis_figures(
+        name,
+        &diagnosed.prepared,
+        &d.base.model,
+        (!d.verdict.effects.is_empty()).then_some((&d.final_model, label.as_str())),
+        &out.join("figures"),
+    )?;
+    let f = out.join("residual-by-segment.png");
+    render_bars_png(&residual_by_segment(name, d), &f)?;
+    plots.push(f);
+    let f = out.join("residual-by-test.png");
+    render_bars_png(&residual_by_test(name, d, &diagnosed.prepared), &f)?;
+    plots.push(f);
+    Ok((json_file, plots))
+}
+
+/// Residual by segment on all rows: the base model, and with the named effects.
+fn residual_by_segment(name: &str, d: &Diagnosis) -> BarFigure {
+    let segments = &d.localisation.by_segment;
+    let cats: Vec<String> = segments.iter().map(|g| g.group.clone()).collect();
+    let base: Vec<f64> = segments.iter().map(|g| g.rms_over_noise).collect();
+    let mut fig = BarFigure::new(
+        format!(
+            "{name}: residual by segment (verdict: {})",
+            d.verdict.effect
+        ),
+        "RMS residual / noise SD [-]",
+        cats.clone(),
+    )
+    .with_group("base model (all rows)", base);
+    if !d.verdict.effects.is_empty() {
+        let after: Vec<f64> = cats
+            .iter()
+            .map(|c| {
+                d.remaining_by_segment
+                    .iter()
+                    .find(|g| &g.group == c)
+                    .map_or(f64::NAN, |g| g.rms_over_noise)
+            })
+            .collect();
+        fig = fig.with_group(format!("with {} (all rows)", effects_label(d)), after);
+    }
+    fig.with_reference_line("noise level", 1.0)
+}
+
+/// Residual by test on the fitted rows: the base model, and with the named effects.
+fn residual_by_test(name: &str, d: &Diagnosis, prepared: &[PreparedTest]) -> BarFigure {
+    let by_test = &d.localisation.by_test;
+    let tests: Vec<String> = by_test.iter().map(|g| g.group.clone()).collect();
+    let mut fig = BarFigure::new(
+        format!("{name}: residual by test"),
+        "RMS residual / noise SD [-]",
+        tests.clone(),
+    )
+    .with_group(
+        "base model",
+        by_test.iter().map(|g| g.rms_over_noise).collect(),
+    );
+    if !d.verdict.effects.is_empty() {
+        let fitted: Vec<_> = prepared.iter().map(|p| p.fit.clone()).collect();
+        let m = subfric_fit::misfits(&fitted, &d.final_model);
+        let after = tests
+            .iter()
+            .map(|t| {
+                m.iter()
+                    .find(|x| &x.name == t)
+                    .map_or(f64::NAN, |x| x.rms_over_noise)
+            })
+            .collect();
+        fig = fig.with_group("with the named effects", after);
+    }
+    fig.with_reference_line("noise level", 1.0)
+}

@@ -1,0 +1,53 @@
+//! Reading parameter files and writing results.
+
+use anyhow::{anyhow, bail, Context, Result};
+use serde::Serialize;
+use std::path::Path;
+use subfric_data::{write_atomic, PathKind};
+use subfric_model::{model_from_json, Model, ModelJsonError};
+
+/// Reads a model from a parameter file with the workspace's one reader
+/// ([`subfric_model::model_from_json`]): a `params.json` (keys of `reference_parameters`), a
+/// `fit.json` written by `subfric fit` (its `model`), a model object `{"params", "ext"}` or an
+/// `experiment.json` (its `reference_parameters`). Errors start with the file's path (and the
+/// line and column of a JSON syntax error).
+pub fn load_model(path: &Path) -> Result<Model> {
+    let kind = PathKind::of(path);
+    if kind != PathKind::File {
+        bail!(
+            "{}: the parameter file {} (expected a JSON file)",
+            path.display(),
+            kind.describe()
+        );
+    }
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read the parameter file", path.display()))?;
+    model_from_json(&text).map_err(|e| match e {
+        ModelJsonError::Syntax {
+            line,
+            column,
+            message,
+        } => anyhow!(
+            "{}:{line}:{column}: not valid JSON: {message} (expected an object with mu_s, mu_k, kappa, xi, u_tilde, alpha_t)",
+            path.display()
+        ),
+        e => anyhow!("{}: {e}", path.display()),
+    })
+}
+
+/// Writes pretty JSON, creating the folder; atomically (see [`write_text`]).
+pub fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<()> {
+    let text = serde_json::to_string_pretty(value)?;
+    write_text(path, &(text + "\n"))
+}
+
+/// Writes a text file, creating the folder. The text goes to a temporary file in the same
+/// folder, flushed, then renamed over `path`: a full disk or a kill leaves the old file whole,
+/// and a symbolic link at `path` is replaced, not written through.
+pub fn write_text(path: &Path, text: &str) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| anyhow!("{}: cannot create the folder: {e}", dir.display()))?;
+    }
+    write_atomic(path, text.as_bytes()).map_err(|e| anyhow!("cannot write {e}"))
+}

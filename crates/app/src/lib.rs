@@ -1,0 +1,69 @@
+//! # subfric-app
+//!
+//! The application layer of subfric, below its front ends (the `subfric` command line in
+//! `crates/cli`, the Python package in `python/`, and any later one): what a user asks for
+//! (requests), the pipelines that answer it, returning values, and the files they write. A
+//! front end parses its own input (clap flags, Python arguments) into these requests, shows
+//! progress through [`Progress`], and prints or converts the results; the same request gives
+//! the same result and the same files whichever front end made it.
+//!
+//! - [`fit`](mod@fit): load and check sets, calibrate, `fit.json` ([`fit()`] returns values,
+//!   [`fit::fit_to_folder`] writes them); [`fit_report`] the readable table.
+//! - [`diagnose`](mod@diagnose): the diagnosis of a set and `diagnosis.json`, `diagnosis.txt`
+//!   and its figures; [`selfcheck`] the diagnosis scored on sets with a known truth.
+//! - [`plan`]: the next test to run (`plan.json`, `plan.txt`, scenarios, figure).
+//! - [`reproduce`]: every bundled set fitted, the paper's tables beside the published values.
+//! - [`simulate`], [`sets`] (check and import), [`figures`] (overlay plots), [`bench`](mod@bench).
+//! - [`output`]: where results go and what may be replaced there; [`io`] the file helpers
+//!   (atomic writes, the parameter-file reader).
+//! - [`flags`]: values of `--fix`, `--bounds`, `--weight` and `--free` as both front ends take
+//!   them.
+//!
+//! Errors are `anyhow` errors whose text names the file, line and field and what was
+//! expected; [`error_text`] prints one with each cause once.
+
+pub mod bench;
+pub mod diagnose;
+pub mod diagnose_report;
+pub mod figures;
+pub mod fit;
+pub mod fit_report;
+pub mod flags;
+pub mod io;
+pub mod output;
+pub mod plan;
+pub mod progress;
+pub mod reproduce;
+pub mod selfcheck;
+pub mod sets;
+pub mod simulate;
+
+pub use diagnose::{diagnose, Diagnosed};
+pub use fit::{fit, FitOutcome, FitRequest, Fitted};
+pub use io::load_model;
+pub use progress::{Progress, Silent};
+
+/// An error and its causes, each cause once: a cause whose text the message already holds
+/// (such as an OS error that a file error quotes) is not repeated.
+pub fn error_text(e: &anyhow::Error) -> String {
+    let mut text = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !text.contains(&c) {
+            text.push_str(": ");
+            text.push_str(&c);
+        }
+    }
+    text
+}
+
+/// An error that names `place` (a set folder): as it is when its text already does, else with
+/// `place` in front.
+pub(crate) fn located(e: anyhow::Error, place: &std::path::Path) -> anyhow::Error {
+    let p = place.display().to_string();
+    if error_text(&e).contains(&p) {
+        e
+    } else {
+        anyhow::anyhow!("{p}: {}", error_text(&e))
+    }
+}

@@ -1,0 +1,41 @@
+//! A set as the lab made it: validated and summarised (`subfric check`), or made from a
+//! laboratory export (`subfric import`).
+
+use anyhow::Result;
+use std::path::Path;
+use subfric_data::{
+    import, load_set, plausibility, summary, ExperimentSet, ImportSpec, SetSummary, Warning,
+};
+
+/// A set read and looked over.
+pub struct Checked {
+    /// The set.
+    pub set: ExperimentSet,
+    /// Its summary: tests, rows, controls, segments (`Display` gives the text `check` prints).
+    pub summary: SetSummary,
+    /// Plausibility warnings (a unit off by 10³, a column constant, ...).
+    pub warnings: Vec<Warning>,
+}
+
+impl Checked {
+    fn of(set: ExperimentSet) -> Checked {
+        Checked {
+            summary: summary(&set),
+            warnings: plausibility(&set),
+            set,
+        }
+    }
+}
+
+/// `subfric check`: the set in `dir` validated (an error names the file, line and field),
+/// summarised, and looked over for implausible data.
+pub fn check(dir: &Path) -> Result<Checked> {
+    Ok(Checked::of(load_set(dir)?))
+}
+
+/// `subfric import`: the laboratory export `file` read as `spec` says and added as a test of
+/// the set in `out` (created if need be). Nothing in `out` is overwritten, and the CSV and the
+/// set's description are written all or nothing.
+pub fn import_test(file: &Path, spec: &ImportSpec, out: &Path) -> Result<Checked> {
+    Ok(Checked::of(import(file, spec, out)?))
+}

@@ -1,0 +1,273 @@
+//! A [`Model`] from JSON text: the one reader of the files that hold parameters, for every front
+//! end (the command line, the Python package, the C interface). It accepts
+//!
+//! - a `fit.json` written by `subfric fit`: its `model` object (`params` and `ext`);
+//! - a model object `{"params": {...}, "ext": {...}}` (what `fit.json`'s `model` holds);
+//! - an `experiment.json`: its `reference_parameters`;
+//! - a `params.json`: the parameters at the top level (the keys of `reference_parameters`).
+//!
+//! Unknown keys among the parameters are ignored (a published `reference_parameters` carries a
+//! `source`), but an unknown key among the extensions is refused: a misspelt extension or field
+//! would otherwise silently give another model. Reading the file is the caller's business: this
+//! module parses text and values only.
+
+use crate::{Extensions, Model, ParamError, Params};
+use serde_json::Value;
+
+/// The base parameters a parameter object must hold, as numbers.
+const REQUIRED: [&str; 6] = ["mu_s", "mu_k", "kappa", "xi", "u_tilde", "alpha_t"];
+
+/// Why JSON is not a model.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelJsonError {
+    /// Not JSON at all.
+    #[error("not valid JSON at line {line} column {column}: {message} (expected an object with mu_s, mu_k, kappa, xi, u_tilde, alpha_t)")]
+    Syntax {
+        /// Line of the mistake (from 1).
+        line: usize,
+        /// Column of the mistake (from 1).
+        column: usize,
+        /// What the JSON parser says.
+        message: String,
+    },
+    /// JSON, but not a parameter object: a missing or mistyped field, an unknown extension;
+    /// the message names the field by its path (`model.params.mu_k`, `ext.rate`, ...).
+    #[error("{0}")]
+    Shape(String),
+    /// A model, but with invalid parameters (every one named).
+    #[error(transparent)]
+    Invalid(#[from] ParamError),
+}
+
+/// The model in a JSON text (see the module documentation for the shapes accepted).
+///
+/// ```
+/// let m = subfric_model::model_from_json(
+///     r#"{"mu_s":0.45,"mu_k":0.3,"kappa":1.2,"xi":0.003,"u_tilde":15,"alpha_t":1000}"#,
+/// ).unwrap();
+/// assert_eq!(m.params, subfric_model::Params::sample());
+/// ```
+pub fn model_from_json(text: &str) -> Result<Model, ModelJsonError> {
+    let v: Value = serde_json::from_str(text).map_err(|e| ModelJsonError::Syntax {
+        line: e.line(),
+        column: e.column(),
+        message: e.to_string(),
+    })?;
+    model_from_value(&v)
+}
+
+/// The model in a parsed JSON value (see the module documentation for the shapes accepted).
+pub fn model_from_value(v: &Value) -> Result<Model, ModelJsonError> {
+    let (params, ext, at) = if let Some(m) = v.get("model") {
+        (m.get("params"), m.get("ext"), "model.params")
+    } else if v.get("params").is_some_and(Value::is_object) {
+        (v.get("params"), v.get("ext"), "params")
+    } else if let Some(r) = v.get("reference_parameters") {
+        (Some(r), None, "reference_parameters")
+    } else {
+        (Some(v), None, "")
+    };
+    let params = params_of(params, at)?;
+    let ext_path = if at.starts_with("model") {
+        "model.ext"
+    } else {
+        "ext"
+    };
+    let ext = match ext {
+        Some(e) if !e.is_null() => extensions_of(e, ext_path)?,
+        _ => Extensions::default(),
+    };
+    Ok(Model::new(params, ext)?)
+}
+
+/// The field path `key` inside the object at `at` (`at` empty: the top level).
+fn field(at: &str, key: &str) -> String {
+    if at.is_empty() {
+        key.to_string()
+    } else {
+        format!("{at}.{key}")
+    }
+}
+
+/// The base parameters in the object `obj` found at `at`; every required key a number.
+fn params_of(obj: Option<&Value>, at: &str) -> Result<Params, ModelJsonError> {
+    let shape = |m: String| Err(ModelJsonError::Shape(m));
+    let Some(obj) = obj.filter(|o| o.is_object()) else {
+        let place = if at.is_empty() {
+            String::new()
+        } else {
+            format!(" at `{at}`")
+        };
+        return shape(format!(
+            "expected a JSON object of parameters{place} (mu_s, mu_k, kappa, xi, u_tilde, alpha_t, ...)"
+        ));
+    };
+    for key in REQUIRED {
+        match obj.get(key) {
+            None => {
+                return shape(format!(
+                    "field `{}` is missing (expected a number)",
+                    field(at, key)
+                ))
+            }
+            Some(x) if !x.is_number() => {
+                return shape(format!(
+                    "field `{}` is {x} (expected a number)",
+                    field(at, key)
+                ))
+            }
+            _ => {}
+        }
+    }
+    serde_json::from_value(obj.clone()).map_err(|e| {
+        let place = if at.is_empty() {
+            "the parameters".to_string()
+        } else {
+            format!("`{at}`")
+        };
+        ModelJsonError::Shape(format!("{place}: {e}"))
+    })
+}
+
+/// The extensions in `e` (found at `path`), every key known.
+fn extensions_of(e: &Value, path: &str) -> Result<Extensions, ModelJsonError> {
+    let ext: Extensions = serde_json::from_value(e.clone())
+        .map_err(|err| ModelJsonError::Shape(format!("field `{path}`: {err}")))?;
+    // serde ignores unknown keys; everything read is written back, so a key of the input that
+    // is not is unknown.
+    let back = serde_json::to_value(ext).unwrap_or_default();
+    if let Some(key) = unknown_key(e, &back, path) {
+        return Err(ModelJsonError::Shape(format!(
+            "field `{key}` is not a known extension or extension field"
+        )));
+    }
+    Ok(ext)
+}
+
+/// The first key of `input` (an object, recursively) with a non-null value that `back` (what
+/// was read, written back) lacks, as a dotted path.
+fn unknown_key(input: &Value, back: &Value, path: &str) -> Option<String> {
+    let obj = input.as_object()?;
+    for (key, value) in obj {
+        if value.is_null() {
+            continue;
+        }
+        let here = format!("{path}.{key}");
+        match back.get(key) {
+            None => return Some(here),
+            Some(b) => {
+                if let Some(k) = unknown_key(value, b, &here) {
+                    return Some(k);
+                }
+            }
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const FLAT: &str =
+        r#"{"mu_s":0.45,"mu_k":0.3,"kappa":1.2,"xi":0.003,"u_tilde":15,"alpha_t":1000}"#;
+    const EXT: &str = r#"{"slip_hardening":{"h":0.01,"s_h":1}}"#;
+
+    fn fit_json() -> String {
+        format!(
+            r#"{{"set":"x","params":{FLAT},"model":{{"params":{FLAT},"ext":{EXT}}},"report":{{}}}}"#
+        )
+    }
+
+    fn model_object() -> String {
+        format!(r#"{{"params":{FLAT},"ext":{EXT}}}"#)
+    }
+
+    fn shape(text: &str) -> String {
+        match model_from_json(text) {
+            Err(ModelJsonError::Shape(m)) => m,
+            other => panic!("expected a shape error for {text}, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn every_shape_gives_the_same_model() {
+        let flat = model_from_json(FLAT).unwrap();
+        assert_eq!(flat.params, Params::sample());
+        assert_eq!(flat.ext, Extensions::default());
+        let exp = format!(
+            r#"{{"name":"x","reference_parameters":{}}}"#,
+            FLAT.replace('}', r#","source":"Table 3"}"#)
+        );
+        assert_eq!(model_from_json(&exp).unwrap(), flat);
+        let fit = model_from_json(&fit_json()).unwrap();
+        let object = model_from_json(&model_object()).unwrap();
+        assert_eq!(fit, object);
+        assert_eq!(fit.params, Params::sample());
+        let h = fit.ext.slip_hardening.expect("slip hardening read");
+        assert_eq!(h.h, 0.01);
+        // A model object without extensions, or with `ext: null`, is the base model.
+        let bare = format!(r#"{{"params":{FLAT},"ext":null}}"#);
+        assert_eq!(model_from_json(&bare).unwrap(), flat);
+    }
+
+    #[test]
+    fn a_missing_or_mistyped_parameter_is_named_by_its_path() {
+        assert!(shape(r#"{"mu_s":0.4}"#).contains("field `mu_k` is missing"));
+        let m = shape(&FLAT.replace("1.2", "\"1.2\""));
+        assert!(
+            m.contains("field `kappa` is \"1.2\" (expected a number)"),
+            "{m}"
+        );
+        let m = shape(&fit_json().replace(r#""kappa":1.2,"#, ""));
+        assert!(m.contains("field `model.params.kappa` is missing"), "{m}");
+        let m = shape(&model_object().replace(r#""xi":0.003,"#, ""));
+        assert!(m.contains("field `params.xi` is missing"), "{m}");
+        let m = shape(r#"{"model":{"ext":{}}}"#);
+        assert!(m.contains("at `model.params`"), "{m}");
+        let m = shape("[1, 2]");
+        assert!(
+            m.starts_with("expected a JSON object of parameters ("),
+            "{m}"
+        );
+    }
+
+    #[test]
+    fn an_unknown_extension_or_field_is_refused_in_both_model_shapes() {
+        for (text, path) in [(fit_json(), "model.ext"), (model_object(), "ext")] {
+            let m = shape(&text.replace("slip_hardening", "slip_softening"));
+            assert!(
+                m.contains(&format!("`{path}.slip_softening` is not a known extension")),
+                "{m}"
+            );
+            let m = shape(&text.replace(r#""s_h":1"#, r#""s_h":1,"sh":2"#));
+            assert!(
+                m.contains(&format!("`{path}.slip_hardening.sh` is not")),
+                "{m}"
+            );
+            let m = shape(&text.replace(r#""h":0.01"#, r#""h":"x""#));
+            assert!(m.contains(&format!("field `{path}`")), "{m}");
+        }
+    }
+
+    #[test]
+    fn invalid_values_and_bad_json_are_told_apart() {
+        match model_from_json(&FLAT.replace("0.3", "0.9")) {
+            Err(ModelJsonError::Invalid(e)) => assert!(e.to_string().contains("mu_k = 0.9")),
+            other => panic!("{other:?}"),
+        }
+        let bad_ext = fit_json().replace(r#""s_h":1"#, r#""s_h":-1"#);
+        match model_from_json(&bad_ext) {
+            Err(ModelJsonError::Invalid(e)) => {
+                assert!(e.to_string().contains("slip_hardening.s_h"), "{e}")
+            }
+            other => panic!("{other:?}"),
+        }
+        match model_from_json("{\"mu_s\": 0.3,\n  \"mu_k\": }") {
+            Err(e @ ModelJsonError::Syntax { line: 2, .. }) => {
+                assert!(e.to_string().contains("line 2 column 11"), "{e}")
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}
