@@ -17,6 +17,7 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
     let mut s = String::new();
     header(&mut s, name, d);
     where_it_misses(&mut s, d);
+    crate::events_report::events_section(&mut s, d);
     every_form(&mut s, d);
     held_out_selection(&mut s, d);
     let _ = writeln!(

@@ -243,17 +243,29 @@ fn rate_forms(f: &DataFeatures) -> Vec<Form> {
     let dc0 = g.decay_mm.clamp(1e-3, 1.0);
     let ss0 = g.steady.clamp(-0.03, 0.03);
     let cut = [1e-4 * v, 1e-2 * v];
+    // The velocity steps fitted one by one give the best first guess when they could.
+    let seeded: Vec<Vec<f64>> = f
+        .seeds
+        .rate_and_state
+        .map(|(a, b, dc)| {
+            let (a, b, dc) = (a.clamp(1e-4, 0.1), b.clamp(-0.05, 0.1), dc.clamp(1e-4, 1.0));
+            vec![vec![a, b, dc, cut[0]], vec![a, b, dc, cut[1]]]
+        })
+        .unwrap_or_default();
     let state = |form, name, at_rest| Form {
         effect: Effect::Rate,
         name,
         template: ext_rate(form, v, at_rest),
         params: vec![Param::RateA, Param::RateB, Param::RateDc, Param::RateVc],
-        starts: vec![
+        starts: [
             vec![a0, b0, dc0, cut[0]],
             vec![a0, b0, dc0, cut[1]],
             vec![0.01, 0.008, 0.05, cut[0]],
             vec![0.5 * a0, 0.0, dc0, cut[1]],
-        ],
+        ]
+        .into_iter()
+        .chain(seeded.iter().cloned())
+        .collect(),
         neutral: vec![0.0, 0.0, dc0, cut[1]],
         bounds: vec![(Param::RateVc, 1e-7 * v, 0.3 * v)],
     };
@@ -331,6 +343,7 @@ pub fn library(f: &DataFeatures) -> Vec<Form> {
 /// ```
 pub fn all_form_names() -> Vec<&'static str> {
     let every_family = DataFeatures {
+        seeds: Default::default(),
         v_ref: 0.01,
         p_ref: 100.0,
         pressure_levels: 2,

@@ -39,6 +39,37 @@ pub struct DataFeatures {
     pub slip_span_mm: f64,
     /// Velocity-step signature.
     pub steps: StepSignature,
+    /// First guesses from the per-event reading ([`crate::events`]), when it found them.
+    pub seeds: EventSeeds,
+}
+
+/// First guesses of the effects' sizes read off the events one by one.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct EventSeeds {
+    /// Rate and state (a, b, D_c [mm]) from the velocity steps fitted on their own.
+    pub rate_and_state: Option<(f64, f64, f64)>,
+    /// Δμ per decade of hold time.
+    pub healing_per_decade: Option<f64>,
+    /// Backward weakening d = 1 − |μ backward| / μ forward.
+    pub backward_weakening: Option<f64>,
+}
+
+impl EventSeeds {
+    /// The seeds an event analysis gives.
+    pub fn from_events(e: &crate::events::EventAnalysis) -> EventSeeds {
+        let finite = |v: f64| v.is_finite().then_some(v);
+        EventSeeds {
+            rate_and_state: e.rate.as_ref().and_then(|r| {
+                (r.a.is_finite() && r.b.is_finite() && r.d_c_mm.is_finite())
+                    .then_some((r.a, r.b, r.d_c_mm))
+            }),
+            healing_per_decade: e.healing.as_ref().and_then(|h| finite(h.per_decade.value)),
+            backward_weakening: e
+                .direction
+                .as_ref()
+                .and_then(|d| finite(d.backward_weakening.value)),
+        }
+    }
 }
 
 fn median(v: &mut [f64]) -> Option<f64> {
@@ -180,6 +211,7 @@ pub fn data_features(tests: &[PreparedTest]) -> DataFeatures {
         });
     }
     DataFeatures {
+        seeds: EventSeeds::default(),
         v_ref: typical_rate(&fits),
         p_ref: if p_ref.is_finite() && p_ref > 0.0 {
             p_ref

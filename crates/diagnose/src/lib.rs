@@ -10,6 +10,7 @@
 
 pub mod candidates;
 pub mod diagnose;
+pub mod events;
 pub mod evidence;
 pub mod features;
 pub mod fits;

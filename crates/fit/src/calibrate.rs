@@ -415,8 +415,33 @@ fn ranked_guesses(
     }
 }
 
+/// The `n` first guesses read off the curves that fit `tests` best in `space` (its model's
+/// extensions kept as they are), best first: computed once, they can start many fits of models
+/// that share the base (see [`with_base_of`]).
+pub fn best_informed_guesses(tests: &[FitTest], space: &Space, n: usize) -> Vec<Model> {
+    let p = Problem::new(tests, space.clone());
+    let guesses: Vec<Model> = first_guesses(tests, &space.base)
+        .into_iter()
+        .filter(|g| Model::new(g.params, g.ext).is_ok())
+        .collect();
+    let points: Vec<Vec<f64>> = guesses.iter().map(|g| space.point_of(g)).collect();
+    let cost = evaluate_all(&p, &points);
+    let mut order: Vec<usize> = (0..guesses.len()).collect();
+    order.sort_by(|&a, &b| cost[a].total_cmp(&cost[b]));
+    let mut out: Vec<(Vec<f64>, Model)> = Vec::new();
+    for i in order {
+        if out.len() >= n {
+            break;
+        }
+        if cost[i] < f64::MAX && out.iter().all(|(x, _)| distinct(x, &points[i])) {
+            out.push((points[i].clone(), guesses[i]));
+        }
+    }
+    out.into_iter().map(|(_, g)| g).collect()
+}
+
 /// `start` with the five base parameters of `guess` (μ₀ following μ_s).
-fn with_base_of(start: &Model, guess: &Model) -> Model {
+pub fn with_base_of(start: &Model, guess: &Model) -> Model {
     let mut m = *start;
     let (p, g) = (&mut m.params, &guess.params);
     (p.mu_s, p.mu_k, p.kappa, p.xi, p.u_tilde) = (g.mu_s, g.mu_k, g.kappa, g.xi, g.u_tilde);

@@ -27,8 +27,9 @@ pub mod uncertainty;
 mod test_problems;
 
 pub use calibrate::{
-    calibrate, calibrate_from, compare_with_published, CalibrationStage, Combination, FitError,
-    FitOptions, FitReport, LocalRun, Method, ParamReport, Status,
+    best_informed_guesses, calibrate, calibrate_from, compare_with_published, with_base_of,
+    CalibrationStage, Combination, FitError, FitOptions, FitReport, LocalRun, Method, ParamReport,
+    Status,
 };
 pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
 pub use interval::Interval;

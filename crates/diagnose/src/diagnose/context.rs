@@ -10,7 +10,8 @@ use crate::score::{compare, squared_or_failed, Comparison, HeldOut, Weights};
 use std::collections::BTreeMap;
 use std::time::Instant;
 use subfric_fit::{
-    calibrate, FitError, FitOptions, FitTest, Param, PreparedTest, Space, Stiffness,
+    best_informed_guesses, calibrate, with_base_of, FitError, FitOptions, FitTest, Param,
+    PreparedTest, Space, Stiffness,
 };
 use subfric_model::Model;
 
@@ -21,6 +22,11 @@ pub(super) const REWEIGHTING_ROUNDS: usize = 1;
 pub(super) struct Context<'a> {
     /// The tests (rows weighted as the rows of the record they stand for).
     pub(super) tests: Vec<FitTest>,
+    /// The tests thinned further, to about [`SCREENING_ROWS`]: what the forms are ranked on.
+    pub(super) screening: Vec<FitTest>,
+    /// The first guesses read off the curves that fit best on the base, computed once: every
+    /// form starts from each of them with its own first guesses.
+    pub(super) informed: Vec<Model>,
     /// Model error dominates: every spec is fitted with a variance per piece (see
     /// [`Context::weighted_for`]).
     pub(super) reweight: bool,
@@ -53,6 +59,7 @@ impl<'a> Context<'a> {
         opts: &'a DiagnoseOptions,
     ) -> (Self, Model) {
         let tests: Vec<FitTest> = prepared.iter().map(|p| p.fit.clone()).collect();
+        let screening = screening_tests(prepared);
         let mut template = opts.template;
         let mut base_free = Param::BASE.to_vec();
         if let Some(s) = stiffness {
@@ -71,6 +78,8 @@ impl<'a> Context<'a> {
             reweight: false,
             base_residuals: Vec::new(),
             tests,
+            screening,
+            informed: Vec::new(),
             features: data_features(prepared),
             base_free,
             pieces: all_pieces,
@@ -177,6 +186,27 @@ impl<'a> Context<'a> {
         SpecFit { result, fit_tests }
     }
 
+    /// Fits `spec` on the screening tests (no reweighting), from `starts` each also crossed
+    /// with the informed guesses of the base.
+    pub(super) fn screen_spec(
+        &self,
+        template: &Model,
+        spec: &Spec,
+        starts: &[Model],
+        effort: Effort,
+    ) -> SpecFit {
+        let space = self.space(template, spec);
+        let mut all: Vec<Model> = starts.to_vec();
+        for s in starts {
+            all.extend(self.informed.iter().map(|g| with_base_of(s, g)));
+        }
+        let result = fit(&self.screening, &space, &all, effort);
+        SpecFit {
+            result,
+            fit_tests: self.screening.clone(),
+        }
+    }
+
     /// Held-out residuals of `spec` fitted on `fit_tests`, refitted in each fold from `starts`.
     pub(super) fn held_out(
         &self,
@@ -206,6 +236,30 @@ impl<'a> Context<'a> {
         let own = residuals(&self.tests, model, spec.drift.then_some(fit_tests));
         compare(&self.pieces, &self.weights, &self.base_residuals, &own)
     }
+}
+
+/// Informed guesses of the base every form also starts from.
+const INFORMED_STARTS: usize = 3;
+
+/// Rows the forms are screened on: enough for each form's best fit to rank the forms of a
+/// family as on all rows, few enough for every form to be fitted from many starts.
+pub(super) const SCREENING_ROWS: usize = 800;
+
+/// The prepared tests thinned to their share of [`SCREENING_ROWS`].
+fn screening_tests(prepared: &[PreparedTest]) -> Vec<FitTest> {
+    let total: usize = prepared.iter().map(|p| p.fit.len()).sum();
+    prepared
+        .iter()
+        .map(|p| {
+            if total <= SCREENING_ROWS {
+                return p.fit.clone();
+            }
+            let share = (SCREENING_ROWS as f64 * p.fit.len() as f64 / total as f64).ceil();
+            let mut q = p.clone();
+            subfric_fit::thin_prepared(&mut q, (share as usize).max(100));
+            q.fit
+        })
+        .collect()
 }
 
 /// `model` with the forms of `spec` switched off (their neutral values): a start for refits
@@ -238,6 +292,11 @@ pub(super) struct Current {
 pub(super) fn fit_base(cx: &mut Context, template: &Model) -> Result<Current, FitError> {
     let mut base = calibrated_base(cx, template)?;
     cx.trace("base fit");
+    cx.informed = best_informed_guesses(
+        &cx.screening,
+        &cx.space(&base, &Spec::base()),
+        INFORMED_STARTS,
+    );
     cx.base_residuals = residuals(&cx.tests, &base, None);
     cx.reweight = model_error_dominates(cx);
     let spec = Spec::base();

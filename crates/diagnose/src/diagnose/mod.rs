@@ -91,13 +91,13 @@ impl Default for DiagnoseOptions {
                 global_evaluations: 0,
                 local_runs: 1,
                 iterations: 20,
-                informed: true,
+                informed: false,
             },
             polish: Effort {
                 global_evaluations: 0,
-                local_runs: 2,
-                iterations: 100,
-                informed: true,
+                local_runs: 1,
+                iterations: 80,
+                informed: false,
             },
             rescreening: Effort {
                 global_evaluations: 0,
@@ -105,8 +105,8 @@ impl Default for DiagnoseOptions {
                 iterations: 20,
                 informed: false,
             },
-            candidate_iterations: 60,
-            fold_iterations: 15,
+            candidate_iterations: 40,
+            fold_iterations: 12,
             template: Model::base(subfric_model::Params::sample())
                 .expect("sample parameters are valid"),
             thresholds: Thresholds::default(),
@@ -136,8 +136,12 @@ pub fn diagnose(
     if prepared.iter().all(|p| p.full.len() < MIN_ROWS) {
         return Err(DiagnoseError::TooLittleData);
     }
-    let stiffness = resolved_stiffness(prepared);
+    let events = crate::events::analyse(prepared, resolved_stiffness(prepared).as_ref());
+    // The elastic stiffness: from unloads and reloads when the record resolves it there, else
+    // from the springs the velocity steps needed one by one.
+    let stiffness = resolved_stiffness(prepared).or_else(|| events.stiffness());
     let (mut cx, template) = Context::new(prepared, stiffness.as_ref(), opts);
+    cx.features.seeds = crate::features::EventSeeds::from_events(&events);
     let base = fit_base(&mut cx, &template)?;
     let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();
     let localisation = localise(prepared, &residuals(&fulls, &base.model, None));
@@ -172,6 +176,7 @@ pub fn diagnose(
         starts: test_starts(prepared),
         stiffness,
         localisation,
+        events,
         forms,
         candidates,
         selection: selection.stages,

@@ -221,6 +221,8 @@ pub struct Diagnosis {
     pub stiffness: Option<Stiffness>,
     /// Where the base residual lies (all rows).
     pub localisation: Localisation,
+    /// Every velocity step, hold and reversal read on its own, and what they say together.
+    pub events: crate::events::EventAnalysis,
     /// Every form fitted to all data.
     pub forms: Vec<FormReport>,
     /// The best form of each family against the base, and the drift alternative.

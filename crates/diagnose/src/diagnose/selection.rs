@@ -5,8 +5,9 @@ use super::context::{parameters_of, switched_off, Context, Current, SpecFit};
 use super::report::{
     CandidateScore, DroppedEffect, FormReport, KindShrink, OwnKindScore, SelectionStage,
 };
-use crate::candidates::{Effect, Form};
+use crate::candidates::{Effect, Form, OwnKind};
 use crate::fits::{residuals, with_values, Effort, Spec};
+use crate::folds::PieceKind;
 use crate::score::{by_kind, compare, Comparison, HeldOut};
 use crate::verdict::{decide, decide_further, material, named_count, Decision};
 use rayon::prelude::*;
@@ -26,9 +27,9 @@ fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, Spe
                 .collect();
             // Screening: a few iterations rank the forms; the best of each family is then
             // polished (see `polish`).
-            let fitted = cx.fit_spec_with(base, &spec, &starts, cx.opts.screening, false);
+            let fitted = cx.screen_spec(base, &spec, &starts, cx.opts.screening);
             let r = &fitted.result;
-            let c = cx.in_sample(&r.model, &spec, &fitted.fit_tests);
+            let c = cx.in_sample(&r.model, &spec, &cx.tests);
             (
                 FormReport {
                     effect: f.effect,
@@ -88,8 +89,7 @@ fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
                     .iter()
                     .map(|v| with_values(&current.model, &alone, std::slice::from_ref(v))),
             );
-            let fitted =
-                cx.fit_spec_with(&current.model, &spec, &starts, cx.opts.rescreening, false);
+            let fitted = cx.screen_spec(&current.model, &spec, &starts, cx.opts.rescreening);
             let r = residuals(&cx.tests, &fitted.result.model, None);
             let c = compare(&cx.pieces, &cx.weights, &own_residuals, &r);
             let score = penalised(&c, f.params.len());
@@ -134,6 +134,19 @@ fn candidate_score(
     held: &HeldOut,
 ) -> CandidateScore {
     let c = compare(&cx.pieces, &cx.weights, reference, held);
+    // Kinds of piece the effects already in the model act on: a further effect is not credited
+    // there, where it would only take up what the named effect's form leaves (a trend within
+    // the velocity steps standing in as slip hardening after a rate effect).
+    let claimed: Vec<PieceKind> = spec
+        .forms
+        .iter()
+        .filter(|f| f.effect != effect)
+        .flat_map(|f| f.effect.own_kinds())
+        .filter_map(|k| match k {
+            OwnKind::Piece(p) => Some(*p),
+            _ => None,
+        })
+        .collect();
     let own_kinds = effect
         .own_kinds()
         .iter()
@@ -143,7 +156,7 @@ fn candidate_score(
                 .iter()
                 .filter(|p| {
                     let stress = cx.tests[p.test].normal.first().copied().unwrap_or(f64::NAN);
-                    kind.holds(p.kind, stress, cx.features.p_ref)
+                    kind.holds(p.kind, stress, cx.features.p_ref) && !claimed.contains(&p.kind)
                 })
                 .cloned()
                 .collect();

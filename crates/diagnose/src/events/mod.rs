@@ -1,0 +1,245 @@
+//! Step-by-step evidence, as friction labs read a record before any global model (xlook,
+//! RSFit3000, the steadystate routine): every velocity step fitted on its own with a
+//! spring-slider and rate-and-state friction ([`steps`]), every hold read for its relaxation
+//! and the peak on reloading ([`holds`]), every reversal for the change of steady friction
+//! ([`reversals`]). Their consistency across events is evidence for a family, and their
+//! values seed the global fits of its forms.
+
+pub mod holds;
+pub mod reversals;
+pub mod slider;
+pub mod steps;
+
+use rayon::prelude::*;
+use serde::Serialize;
+use subfric_fit::{PreparedTest, Stiffness};
+use subfric_model::Control;
+
+pub use holds::{HealingTrend, HoldHealing};
+pub use reversals::{DirectionAsymmetry, ReversalChange};
+pub use steps::StepFit;
+
+/// Evidence D a velocity step's fit must reach over its null model (no direct effect) for the
+/// step to show a direct effect.
+pub const STEP_EVIDENCE: f64 = 20.0;
+
+/// A value with its 95 % interval (ends infinite where open).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Estimate {
+    /// Best value.
+    pub value: f64,
+    /// Lower end.
+    pub lo: f64,
+    /// Upper end.
+    pub hi: f64,
+}
+
+impl Estimate {
+    /// value ± half.
+    pub fn symmetric(value: f64, half: f64) -> Estimate {
+        let half = if half.is_finite() {
+            half
+        } else {
+            f64::INFINITY
+        };
+        Estimate {
+            value,
+            lo: value - half,
+            hi: value + half,
+        }
+    }
+
+    /// A value with no interval.
+    pub fn open(value: f64) -> Estimate {
+        Estimate::symmetric(value, f64::INFINITY)
+    }
+
+    /// Half the width of the interval.
+    pub fn half_width(&self) -> f64 {
+        0.5 * (self.hi - self.lo)
+    }
+
+    /// True when the interval excludes zero.
+    pub fn excludes_zero(&self) -> bool {
+        self.lo > 0.0 || self.hi < 0.0
+    }
+}
+
+/// What the per-event reading found, and what it says about each family.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct EventAnalysis {
+    /// Every velocity step fitted on its own.
+    pub steps: Vec<StepFit>,
+    /// Every hold.
+    pub holds: Vec<HoldHealing>,
+    /// The healing rate across holds.
+    pub healing: Option<HealingTrend>,
+    /// Every reversal.
+    pub reversals: Vec<ReversalChange>,
+    /// Forward against backward sliding.
+    pub direction: Option<DirectionAsymmetry>,
+    /// The rate-and-state reading across steps.
+    pub rate: Option<RateConsensus>,
+}
+
+/// What the velocity steps say together.
+#[derive(Clone, Debug, Serialize)]
+pub struct RateConsensus {
+    /// Steps fitted.
+    pub steps: usize,
+    /// Steps that show a direct effect ([`StepFit::significant`]).
+    pub significant: usize,
+    /// Medians over the significant steps (over all steps when none is).
+    pub a: f64,
+    /// Median b.
+    pub b: f64,
+    /// Median D_c [mm].
+    pub d_c_mm: f64,
+    /// Steps whose measured change of steady friction is larger than its uncertainty, and
+    /// how many of them agree in sign with their fitted a − b.
+    pub signs_checked: usize,
+    /// Of those, how many agree.
+    pub signs_agree: usize,
+    /// Most of the steps (at least two, and two thirds) show a direct effect.
+    pub consistent: bool,
+}
+
+/// One test as the event readings see it.
+pub(crate) struct TestView<'a> {
+    pub name: &'a str,
+    pub time: &'a [f64],
+    pub slip: &'a [f64],
+    pub shear: &'a [f64],
+    pub normal: &'a [f64],
+    pub segmentation: &'a subfric_data::Segmentation,
+    /// Noise SD in friction units.
+    pub noise_friction: f64,
+}
+
+impl TestView<'_> {
+    /// Friction (shear / normal) of row `i`.
+    pub fn friction(&self, i: usize) -> f64 {
+        self.shear[i] / self.normal[i]
+    }
+}
+
+fn view(p: &PreparedTest) -> Option<TestView<'_>> {
+    let t = &p.full;
+    if t.control != Control::Slip || t.len() < 20 {
+        return None;
+    }
+    let mut normals: Vec<f64> = t.normal.clone();
+    normals.sort_by(f64::total_cmp);
+    let typical = normals[normals.len() / 2];
+    if !(typical > 0.0 && t.noise_sd.is_finite() && t.noise_sd > 0.0) {
+        return None;
+    }
+    Some(TestView {
+        name: &t.name,
+        time: &t.time,
+        slip: &t.imposed,
+        shear: &t.measured,
+        normal: &t.normal,
+        segmentation: &p.segmentation,
+        noise_friction: t.noise_sd / typical,
+    })
+}
+
+/// Reads every event of every slip-controlled test. `stiffness` is the set's elastic
+/// stiffness when the record resolves it: the step fits then also try a spring of that
+/// stiffness (in friction per mm at each test's normal stress).
+pub fn analyse(prepared: &[PreparedTest], stiffness: Option<&Stiffness>) -> EventAnalysis {
+    let views: Vec<TestView> = prepared.iter().filter_map(view).collect();
+    let windows: Vec<(usize, steps::Window, Option<f64>)> = views
+        .iter()
+        .enumerate()
+        .flat_map(|(i, v)| {
+            let normal = v.normal[0];
+            let k = stiffness
+                .map(|s| s.alpha_t * subfric_model::params::KN_PER_MM3_IN_KPA_PER_MM / normal);
+            v.segmentation
+                .rate_changes
+                .iter()
+                .filter_map(move |&c| steps::window(v, c).map(|w| (i, w, k)))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let step_fits: Vec<StepFit> = windows
+        .par_iter()
+        .filter_map(|(i, w, k)| steps::fit_step(views[*i].name, w, *k))
+        .collect();
+    let holds: Vec<HoldHealing> = views.iter().flat_map(holds::holds).collect();
+    let reversal_changes: Vec<ReversalChange> =
+        views.iter().flat_map(reversals::reversals).collect();
+    EventAnalysis {
+        rate: consensus(&step_fits),
+        healing: holds::healing_trend(&holds),
+        direction: reversals::asymmetry(&reversal_changes),
+        steps: step_fits,
+        holds,
+        reversals: reversal_changes,
+    }
+}
+
+impl EventAnalysis {
+    /// The series stiffness of machine and interface the velocity steps resolve: the median of
+    /// the fitted springs over the steps that show a direct effect and needed a finite spring,
+    /// when at least half of those steps did.
+    pub fn stiffness(&self) -> Option<Stiffness> {
+        let shown: Vec<&StepFit> = self.steps.iter().filter(|s| s.significant()).collect();
+        let springs: Vec<f64> = shown
+            .iter()
+            .filter(|s| s.stiffness_per_mm.is_finite())
+            .map(|s| s.stiffness_per_mm * s.normal_kpa)
+            .collect();
+        if springs.is_empty() || 2 * springs.len() < shown.len() {
+            return None;
+        }
+        let n = springs.len();
+        let kpa_per_mm = median(springs);
+        let alpha_t = kpa_per_mm / subfric_model::params::KN_PER_MM3_IN_KPA_PER_MM;
+        Some(Stiffness {
+            alpha_t,
+            events: n,
+            evidence: format!(
+                "{n} velocity step{} fitted on {} own need{} a spring of about {kpa_per_mm:.4e} kPa/mm \
+                 (α_t {alpha_t:.3e} kN/mm³): the slip column includes a machine compliance",
+                if n == 1 { "" } else { "s" },
+                if n == 1 { "its" } else { "their" },
+                if n == 1 { "s" } else { "" },
+            ),
+        })
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// The steps' reading together.
+fn consensus(steps: &[StepFit]) -> Option<RateConsensus> {
+    if steps.is_empty() {
+        return None;
+    }
+    let significant: Vec<&StepFit> = steps.iter().filter(|s| s.significant()).collect();
+    let pool: Vec<&StepFit> = if significant.is_empty() {
+        steps.iter().collect()
+    } else {
+        significant.clone()
+    };
+    let checked: Vec<bool> = steps.iter().filter_map(|s| s.sign_agrees).collect();
+    Some(RateConsensus {
+        steps: steps.len(),
+        significant: significant.len(),
+        a: median(pool.iter().map(|s| s.a.value).collect()),
+        b: median(pool.iter().map(|s| s.b.value).collect()),
+        d_c_mm: median(pool.iter().map(|s| s.d_c_mm.value).collect()),
+        signs_checked: checked.len(),
+        signs_agree: checked.iter().filter(|&&x| x).count(),
+        consistent: significant.len() >= 2 && 3 * significant.len() >= 2 * steps.len(),
+    })
+}

@@ -1,0 +1,471 @@
+//! Each velocity step fitted on its own, as friction labs read a record: a window from the
+//! steady sliding before the step to the end of the new rate, a spring-slider with rate and
+//! state ([`super::slider`]) in the better of the ageing and slip laws, the spring stiffness
+//! fitted when the record resolves it, and a linear trend in load-point travel (the detrend
+//! window of xlook and of the steadystate routine) fitted with it. Its null model has no direct
+//! effect: a smooth change of level over a slip distance, which is all the base model can do at
+//! a velocity step.
+
+use super::slider::{Slider, StateLaw};
+use super::{Estimate, TestView};
+use serde::Serialize;
+use subfric_fit::lm::{jacobian, levenberg_marquardt, LmOptions};
+use subfric_fit::Residuals;
+
+/// One velocity step fitted on its own.
+#[derive(Clone, Debug, Serialize)]
+pub struct StepFit {
+    /// Test.
+    pub test: String,
+    /// Row of the record where the step happens (last row at the old rate).
+    pub row: usize,
+    /// Time of the step [s].
+    pub time_s: f64,
+    /// Load-point rate before and after [mm/s].
+    pub rate_before: f64,
+    /// Rate after [mm/s].
+    pub rate_after: f64,
+    /// Rows of the window fitted.
+    pub rows: usize,
+    /// The state law that fits it better.
+    pub law: StateLaw,
+    /// Direct effect a (95 % interval).
+    pub a: Estimate,
+    /// Evolution effect b.
+    pub b: Estimate,
+    /// Characteristic slip D_c [mm].
+    pub d_c_mm: Estimate,
+    /// a − b: the change of steady friction per e-fold of rate.
+    pub a_minus_b: Estimate,
+    /// Spring stiffness [friction per mm] (infinite: the record does not resolve a compliance).
+    pub stiffness_per_mm: f64,
+    /// Normal stress of the window [kPa] (median), which turns the stiffness into kPa/mm.
+    pub normal_kpa: f64,
+    /// Slope of the linear trend removed [friction per mm of travel].
+    pub trend_per_mm: f64,
+    /// RMS misfit of the fit over the noise.
+    pub rms_over_noise: f64,
+    /// Evidence for a direct effect: (SSR of the null model − SSR of the rate-and-state fit)
+    /// over the fit's variance scale (deviance units, like the diagnosis's D).
+    pub evidence: f64,
+    /// The change of steady friction measured on the record: the mean over the last 20 % of
+    /// the new rate minus what the trend before the step extrapolates to at that time.
+    pub measured_steady_change: Estimate,
+    /// Whether the sign of (a − b) ln(v₁/v₀) agrees with the measured change, where that change
+    /// exceeds twice its uncertainty (`None` where it does not).
+    pub sign_agrees: Option<bool>,
+    /// The least-squares runs converged.
+    pub converged: bool,
+}
+
+impl StepFit {
+    /// A direct effect the record shows: strong evidence over the null model, and an a the
+    /// step determines (its interval closed and within a factor of ten).
+    pub fn significant(&self) -> bool {
+        self.evidence >= super::STEP_EVIDENCE
+            && self.a.lo > 0.0
+            && self.a.hi.is_finite()
+            && self.a.hi < 10.0 * self.a.lo
+    }
+}
+
+/// A velocity step's window in friction units: time, load-point travel from the step, rate.
+pub(super) struct Window {
+    pub time: Vec<f64>,
+    pub travel: Vec<f64>,
+    pub v_lp: Vec<f64>,
+    pub mu: Vec<f64>,
+    /// Index of the last row at the old rate.
+    pub step: usize,
+    pub v0: f64,
+    pub v1: f64,
+    /// Noise SD in friction.
+    pub sigma: f64,
+    /// Row of the record of the window's first row.
+    pub first_row: usize,
+    /// Median normal stress over the window [kPa].
+    pub normal: f64,
+}
+
+/// The window of the step at row `c` of `t` (from the last half of the level before, at most
+/// as long as the level after, to the end of the level after); `None` when the step is not a
+/// change of sliding rate in one direction.
+pub(super) fn window(t: &TestView, c: usize) -> Option<Window> {
+    let seg = t.segmentation;
+    let before = seg.levels.iter().find(|l| l.end == c + 1)?;
+    let after = seg.levels.iter().find(|l| l.start == c + 1)?;
+    let (v0, v1) = (before.rate, after.rate);
+    if v0 * v1 <= 0.0 || !(v0.is_finite() && v1.is_finite()) || (v1 / v0).ln().abs() < 0.3 {
+        return None;
+    }
+    let sign = v0.signum();
+    let u = t.slip;
+    let travel_after = (u[after.end - 1] - u[c]).abs();
+    let travel_before = (u[c] - u[before.start]).abs();
+    let pre = (0.5 * travel_before).min(travel_after.max(1e-9));
+    let mut first = c;
+    while first > before.start && (u[c] - u[first - 1]).abs() <= pre {
+        first -= 1;
+    }
+    let end = after.end;
+    if c - first < 5 || end - c < 10 {
+        return None;
+    }
+    let rows = first..end;
+    let time: Vec<f64> = rows.clone().map(|i| t.time[i]).collect();
+    let travel: Vec<f64> = rows.clone().map(|i| sign * (u[i] - u[c])).collect();
+    let mu: Vec<f64> = rows.clone().map(|i| sign * t.friction(i)).collect();
+    let step = c - first;
+    let v_lp: Vec<f64> = (0..time.len())
+        .map(|k| if k <= step { v0.abs() } else { v1.abs() })
+        .collect();
+    let mut normals: Vec<f64> = rows.clone().map(|i| t.normal[i]).collect();
+    normals.sort_by(f64::total_cmp);
+    let normal = normals[normals.len() / 2];
+    Some(Window {
+        normal,
+        time,
+        travel,
+        v_lp,
+        mu,
+        step,
+        v0: v0.abs(),
+        v1: v1.abs(),
+        sigma: t.noise_friction,
+        first_row: first,
+    })
+}
+
+/// Coordinates of the rate-and-state fit: ln a, b, ln D_c, μ₀, trend, and ln k when the spring
+/// is fitted.
+struct RsfProblem<'a> {
+    w: &'a Window,
+    law: StateLaw,
+    compliant: bool,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+}
+
+impl RsfProblem<'_> {
+    fn slider(&self, x: &[f64]) -> Slider {
+        Slider {
+            law: self.law,
+            a: x[0].exp(),
+            b: x[1],
+            d_c: x[2].exp(),
+            k: if self.compliant {
+                x[5].exp()
+            } else {
+                f64::INFINITY
+            },
+            v0: self.w.v0,
+            mu0: x[3],
+        }
+    }
+}
+
+/// Residual of a row the slider could not simulate (noise units): large but finite.
+const FAILED: f64 = 1e3;
+
+impl Residuals for RsfProblem<'_> {
+    fn dim(&self) -> usize {
+        self.lo.len()
+    }
+    fn bounds(&self) -> (&[f64], &[f64]) {
+        (&self.lo, &self.hi)
+    }
+    fn residuals_at(&self, x: &[f64], out: &mut Vec<f64>) {
+        out.clear();
+        let w = self.w;
+        match self.slider(x).friction(&w.time, &w.v_lp) {
+            Some(mu) => out.extend(
+                mu.iter()
+                    .zip(&w.travel)
+                    .zip(&w.mu)
+                    .map(|((m, s), y)| (m + x[4] * s - y) / w.sigma),
+            ),
+            None => out.extend(std::iter::repeat_n(FAILED, w.mu.len())),
+        }
+    }
+}
+
+/// The null model: μ₀ + trend·s before the step, plus Δ(1 − e^(−s/L)) after it.
+struct NullProblem<'a> {
+    w: &'a Window,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+}
+
+impl Residuals for NullProblem<'_> {
+    fn dim(&self) -> usize {
+        4
+    }
+    fn bounds(&self) -> (&[f64], &[f64]) {
+        (&self.lo, &self.hi)
+    }
+    fn residuals_at(&self, x: &[f64], out: &mut Vec<f64>) {
+        out.clear();
+        let w = self.w;
+        let l = x[3].exp();
+        out.extend(w.travel.iter().zip(&w.mu).map(|(&s, y)| {
+            let change = if s > 0.0 {
+                x[2] * (1.0 - (-s / l).exp())
+            } else {
+                0.0
+            };
+            (x[0] + x[1] * s + change - y) / w.sigma
+        }));
+    }
+}
+
+/// Least-squares fit of a line y = p + q x; returns (p, q, residual SD, Σ(x − x̄)², x̄).
+fn line(x: &[f64], y: &[f64]) -> (f64, f64, f64, f64, f64) {
+    let n = x.len().max(1) as f64;
+    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let sxx: f64 = x.iter().map(|v| (v - mx) * (v - mx)).sum();
+    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let q = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+    let p = my - q * mx;
+    let ss: f64 = x.iter().zip(y).map(|(a, b)| (b - p - q * a).powi(2)).sum();
+    let sd = (ss / (n - 2.0).max(1.0)).sqrt();
+    (p, q, sd, sxx, mx)
+}
+
+/// The change of steady friction measured on the record (the steadystate routine's reading):
+/// the mean over the last 20 % of the new rate minus the extrapolation, to that time, of the
+/// line through the friction before the step; its uncertainty from both, the residuals'
+/// correlation counted.
+fn measured_change(w: &Window) -> Estimate {
+    let pre_t = &w.time[..=w.step];
+    let pre_mu = &w.mu[..=w.step];
+    let (p, q, sd, sxx, mt) = line(pre_t, pre_mu);
+    let n_post = w.mu.len() - w.step - 1;
+    let tail = (n_post / 5).max(3).min(n_post);
+    let tail_mu = &w.mu[w.mu.len() - tail..];
+    let tail_t = &w.time[w.time.len() - tail..];
+    let mean = tail_mu.iter().sum::<f64>() / tail as f64;
+    let t_mid = tail_t.iter().sum::<f64>() / tail as f64;
+    let extrapolated = p + q * t_mid;
+    let tail_sd = {
+        let v: f64 = tail_mu.iter().map(|m| (m - mean) * (m - mean)).sum();
+        (v / (tail as f64 - 1.0).max(1.0)).sqrt().max(w.sigma)
+    };
+    let tau_tail = subfric_fit::uncertainty::correlation_time(
+        &tail_mu.iter().map(|m| m - mean).collect::<Vec<_>>(),
+    );
+    let se_mean = tail_sd * (tau_tail / tail as f64).sqrt();
+    let n_pre = pre_t.len() as f64;
+    let se_extra = sd.max(w.sigma) * (1.0 / n_pre + (t_mid - mt).powi(2) / sxx.max(1e-300)).sqrt();
+    let value = mean - extrapolated;
+    let se = (se_mean * se_mean + se_extra * se_extra).sqrt();
+    Estimate::symmetric(value, 1.96 * se)
+}
+
+/// First guesses read off the window: (a, b, D_c, μ₀, trend).
+fn guesses(w: &Window, change: &Estimate) -> (f64, f64, f64, f64, f64) {
+    let pre_s = &w.travel[..=w.step];
+    let (p, q, _, _, _) = line(pre_s, &w.mu[..=w.step]);
+    let ln = (w.v1 / w.v0).ln();
+    let detrended: Vec<f64> = w
+        .travel
+        .iter()
+        .zip(&w.mu)
+        .map(|(s, m)| m - p - q * s)
+        .collect();
+    let post = &detrended[w.step + 1..];
+    // The direct effect: the extreme excursion in the direction of the rate change, early on.
+    let early = &post[..(post.len() / 3).max(3).min(post.len())];
+    let extreme = if ln > 0.0 {
+        early.iter().cloned().fold(f64::MIN, f64::max)
+    } else {
+        early.iter().cloned().fold(f64::MAX, f64::min)
+    };
+    let a = (extreme / ln).clamp(1e-4, 0.1);
+    let b = a - change.value / ln;
+    // D_c: slip over which the excursion falls by e towards the new level.
+    let peak_at = early
+        .iter()
+        .position(|&v| v == extreme)
+        .map_or(0, |k| k + w.step + 1);
+    let target = change.value + (extreme - change.value) / std::f64::consts::E;
+    let s_peak = w.travel[peak_at];
+    let d_c = detrended[peak_at..]
+        .iter()
+        .position(|&v| (v - target) * ln.signum() <= 0.0)
+        .map_or(0.2 * w.travel.last().copied().unwrap_or(1.0), |k| {
+            (w.travel[peak_at + k] - s_peak).max(1e-4)
+        });
+    (a, b, d_c, p, q)
+}
+
+/// Fits the rate-and-state slider to the window (both laws; rigid, and with a fitted spring
+/// when `compliant_start` is given) and compares with the null model.
+pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> Option<StepFit> {
+    let change = measured_change(w);
+    let (a0, b0, dc0, mu0, q0) = guesses(w, &change);
+    let span = w.travel.last().copied().unwrap_or(1.0).max(1e-3);
+    let lm = LmOptions {
+        max_iterations: 60,
+        ..LmOptions::default()
+    };
+    let k_start = compliant_start.unwrap_or_else(|| initial_slope(w));
+    let mut best: Option<(f64, Vec<f64>, StateLaw, bool, bool)> = None;
+    for law in [StateLaw::Ageing, StateLaw::Slip] {
+        for &compliant in &[false, true] {
+            let k0 = compliant.then_some(k_start);
+            let mut lo = vec![(1e-5f64).ln(), -0.2, (1e-5f64).ln(), mu0 - 0.3, -2.0];
+            let mut hi = vec![(0.2f64).ln(), 0.2, (5.0 * span).ln(), mu0 + 0.3, 2.0];
+            if compliant {
+                lo.push((1e-2f64).ln());
+                hi.push((1e7f64).ln());
+            }
+            let prob = RsfProblem {
+                w,
+                law,
+                compliant,
+                lo,
+                hi,
+            };
+            for dc in [dc0, 3.0 * dc0, dc0 / 3.0] {
+                let mut x0 = vec![
+                    a0.ln(),
+                    b0.clamp(-0.19, 0.19),
+                    dc.clamp(1e-5, span).ln(),
+                    mu0,
+                    q0,
+                ];
+                if let Some(k) = k0 {
+                    x0.push(k.ln());
+                }
+                let r = levenberg_marquardt(&prob, &x0, None, &lm);
+                // A fitted spring costs one parameter: it must pay for it (BIC on the rows).
+                let penalty = if compliant {
+                    (w.mu.len() as f64).ln()
+                } else {
+                    0.0
+                };
+                let cost = r.ssr + penalty;
+                if r.ssr.is_finite() && best.as_ref().is_none_or(|b| cost < b.0) {
+                    best = Some((cost, r.x, law, compliant, r.termination.converged()));
+                }
+            }
+        }
+    }
+    let (_, x, law, compliant, converged) = best?;
+    let prob = RsfProblem {
+        w,
+        law,
+        compliant,
+        lo: vec![f64::NEG_INFINITY; x.len()],
+        hi: vec![f64::INFINITY; x.len()],
+    };
+    let mut r = Vec::new();
+    prob.residuals_at(&x, &mut r);
+    let ssr: f64 = r.iter().map(|v| v * v).sum();
+    let n = r.len();
+    let tau = subfric_fit::uncertainty::correlation_time(&r);
+    let s2 = (ssr / (n.saturating_sub(x.len())).max(1) as f64).max(1.0) * tau;
+    let cov = covariance(&prob, &x, &r, s2);
+    let se = |k: usize| {
+        cov.as_ref()
+            .map_or(f64::INFINITY, |c| c[k][k].max(0.0).sqrt())
+    };
+    let a = x[0].exp();
+    let z = 1.96;
+    let a_est = Estimate {
+        value: a,
+        lo: (x[0] - z * se(0)).exp(),
+        hi: (x[0] + z * se(0)).exp(),
+    };
+    let b_est = Estimate::symmetric(x[1], z * se(1));
+    let dc_est = Estimate {
+        value: x[2].exp(),
+        lo: (x[2] - z * se(2)).exp(),
+        hi: (x[2] + z * se(2)).exp(),
+    };
+    // Var(a − b) with a = e^x₀: ∂/∂x₀ = a, ∂/∂x₁ = −1.
+    let amb_se = cov.as_ref().map_or(f64::INFINITY, |c| {
+        (a * a * c[0][0] + c[1][1] - 2.0 * a * c[0][1])
+            .max(0.0)
+            .sqrt()
+    });
+    let null = fit_null(w, mu0, q0, &change, span);
+    let evidence = (null - ssr) / s2;
+    let ln = (w.v1 / w.v0).ln();
+    let a_minus_b = Estimate::symmetric(a - x[1], z * amb_se);
+    let sign_agrees = (change.value.abs() > change.half_width())
+        .then(|| (a_minus_b.value * ln).signum() == change.value.signum());
+    Some(StepFit {
+        test: test.to_string(),
+        row: w.first_row + w.step,
+        time_s: w.time[w.step],
+        rate_before: w.v0,
+        rate_after: w.v1,
+        rows: n,
+        law,
+        a: a_est,
+        b: b_est,
+        d_c_mm: dc_est,
+        a_minus_b,
+        stiffness_per_mm: if compliant { x[5].exp() } else { f64::INFINITY },
+        normal_kpa: w.normal,
+        trend_per_mm: x[4],
+        rms_over_noise: (ssr / n.max(1) as f64).sqrt(),
+        evidence,
+        measured_steady_change: change,
+        sign_agrees,
+        converged,
+    })
+}
+
+/// A first guess of the spring stiffness: the steepest rise of friction with load-point travel
+/// over the first rows after the step (an elastic loading before the block speeds up).
+fn initial_slope(w: &Window) -> f64 {
+    let base = w.mu[w.step];
+    let sign = (w.v1 / w.v0).ln().signum();
+    let k = w.travel[w.step + 1..]
+        .iter()
+        .zip(&w.mu[w.step + 1..])
+        .take(8)
+        .filter(|(s, _)| **s > 0.0)
+        .map(|(s, m)| sign * (m - base) / s)
+        .fold(0.0, f64::max);
+    if k.is_finite() && k > 0.0 {
+        k.clamp(0.1, 1e6)
+    } else {
+        1e3
+    }
+}
+
+/// SSR of the best null model (no direct effect).
+fn fit_null(w: &Window, mu0: f64, q0: f64, change: &Estimate, span: f64) -> f64 {
+    let prob = NullProblem {
+        w,
+        lo: vec![mu0 - 0.3, -2.0, -0.3, (1e-5f64).ln()],
+        hi: vec![mu0 + 0.3, 2.0, 0.3, (10.0 * span).ln()],
+    };
+    let lm = LmOptions {
+        max_iterations: 60,
+        ..LmOptions::default()
+    };
+    [0.02, 0.1, 0.5]
+        .iter()
+        .map(|f| {
+            let x0 = vec![mu0, q0, change.value.clamp(-0.29, 0.29), (f * span).ln()];
+            levenberg_marquardt(&prob, &x0, None, &lm).ssr
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// s² (JᵀJ)⁻¹ at `x`, or `None` when JᵀJ is singular.
+fn covariance<R: Residuals>(p: &R, x: &[f64], r: &[f64], s2: f64) -> Option<Vec<Vec<f64>>> {
+    let j = jacobian(p, x, r, None);
+    let jtj = j.transpose() * &j;
+    let inv = jtj.try_inverse()?;
+    let m = x.len();
+    Some(
+        (0..m)
+            .map(|i| (0..m).map(|k| s2 * inv[(i, k)]).collect())
+            .collect(),
+    )
+}
