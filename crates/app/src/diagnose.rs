@@ -171,6 +171,11 @@ fn write_diagnosis(
         (!d.verdict.effects.is_empty()).then_some((&d.final_model, label.as_str())),
         &out.join("figures"),
     )?;
+    plots.extend(crate::events_figures::event_figures(
+        name,
+        &d.events,
+        &out.join("figures"),
+    )?);
     let f = out.join("residual-by-segment.png");
     render_bars_png(&residual_by_segment(name, d), &f)?;
     plots.push(f);

@@ -91,7 +91,11 @@ fn steps(s: &mut String, e: &EventAnalysis) {
         );
     }
     if e.steps.len() > STEPS_SHOWN {
-        let _ = writeln!(s, "   … and {} more (diagnosis.json)", e.steps.len() - STEPS_SHOWN);
+        let _ = writeln!(
+            s,
+            "   … and {} more (diagnosis.json)",
+            e.steps.len() - STEPS_SHOWN
+        );
     }
     if let Some(r) = &e.rate {
         let _ = writeln!(
@@ -118,7 +122,10 @@ fn holds(s: &mut String, e: &EventAnalysis) {
     if e.holds.is_empty() {
         return;
     }
-    let _ = writeln!(s, "   holds (friction before, relaxation during, peak gain on reloading):");
+    let _ = writeln!(
+        s,
+        "   holds (friction before, relaxation during, peak gain on reloading):"
+    );
     for h in &e.holds {
         let _ = writeln!(
             s,

@@ -25,6 +25,7 @@
 pub mod bench;
 pub mod diagnose;
 pub mod diagnose_report;
+mod events_figures;
 mod events_report;
 pub mod figures;
 pub mod fit;

@@ -4,7 +4,7 @@
 //! smooth: neighbouring rows are not independent, and the size of the misfit differs from one
 //! situation to the next (a run-in, a hold, a velocity step). So each held-out piece is given
 //! its own residual scale and its own effective number of independent rows, n_eff = n (1 − ρ) /
-//! (1 + ρ) from the lag-1 autocorrelation ρ of the reference model's residual there. The score
+//! (1 + ρ) from the lag-1 autocorrelation ρ of each model's residual there (the smaller). The score
 //! of a candidate is then the Gaussian log-likelihood ratio on the held-out pieces,
 //!
 //! D = Σ_pieces n_eff · ln(SSR_reference / SSR_candidate),
@@ -178,7 +178,9 @@ pub fn compare(
         let (sb, sc) = (shape(rb, mb), shape(rc, mc));
         let wb: f64 = sb.iter().map(|v| v * v).sum();
         let wc: f64 = sc.iter().map(|v| v * v).sum();
-        let ne = effective_rows(&sb);
+        // Independent rows of the piece: fewer when either model's misfit there is smooth (a
+        // systematic error counts once per correlation length, whichever model makes it).
+        let ne = effective_rows(&sb).min(effective_rows(&sc));
         // Below the noise an improvement is no evidence: one unit per row at least.
         let floor = nb.saturating_sub(1).max(1) as f64;
         shape_score += ne * (wb.max(floor) / wc.max(floor)).ln();

@@ -122,8 +122,8 @@ pub fn decide(
 /// Decides a stage after the first: a further effect is credited on the held-out pieces of
 /// its own kind (`own[i]`, e.g. the velocity steps and holds for a rate effect), where it must
 /// show significant evidence and remove a material part of what the current model leaves
-/// there, even if other pieces do not improve; it must not make the other pieces significantly
-/// worse (`candidates[i].1` over all pieces). An effect that improves only pieces of other
+/// there, even if other pieces do not improve; over all pieces (`candidates[i].1`) it must not
+/// lose significant evidence, unless it removes a material part of the whole gap. An effect that improves only pieces of other
 /// kinds is standing in for something else and is not credited. Among those that qualify, the
 /// one with most evidence on its own kind is named; one with significant evidence on its own
 /// kind that explains too little stays tentative.
@@ -147,7 +147,13 @@ pub fn decide_further(
     own: &[Comparison],
     th: &Thresholds,
 ) -> Decision {
-    let qualifies = |i: usize| candidates[i].1.score > -th.min_score && passes(&own[i], th);
+    // Not worse elsewhere: no significant loss of evidence over all pieces, or a material
+    // share of the whole gap removed (many small pieces slightly worse can outweigh a few
+    // large ones much better in D).
+    let qualifies = |i: usize| {
+        let all = &candidates[i].1;
+        passes(&own[i], th) && (all.score > -th.min_score || material(all, th))
+    };
     let best = (0..candidates.len())
         .filter(|&i| qualifies(i))
         .max_by(|&a, &b| own[a].score.total_cmp(&own[b].score));

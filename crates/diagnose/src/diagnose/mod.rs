@@ -149,7 +149,7 @@ pub fn diagnose(
     let mut lib = library(&cx.features);
     lib.retain(|f| !opts.excluded_forms.iter().any(|x| x == f.name));
     let (forms, families) = screen_and_polish(&cx, &base.model, &lib);
-    let shortlist = shortlist(&forms, &lib);
+    let shortlist = shortlist(&forms, &lib, &events);
     let selection = forward_selection(&cx, &base, &families, &shortlist);
 
     let evidence = residual_evidence(
@@ -193,8 +193,16 @@ pub fn diagnose(
 }
 
 /// Forms of each family that later selection stages refit on top of the model they reach:
-/// the best [`SHORTLIST_PER_FAMILY`] of each family by their in-sample score on the base.
-fn shortlist(forms: &[FormReport], lib: &[crate::Form]) -> Vec<crate::Form> {
+/// the best [`SHORTLIST_PER_FAMILY`] of each family by their in-sample score on the base, and,
+/// when the velocity steps fitted one by one agree on rate and state, every rate-and-state
+/// form (on a base that lacks another effect they may rank low, and the steps say they are
+/// the ones to try).
+fn shortlist(
+    forms: &[FormReport],
+    lib: &[crate::Form],
+    events: &crate::events::EventAnalysis,
+) -> Vec<crate::Form> {
+    let steps_agree = events.rate.as_ref().is_some_and(|r| r.consistent);
     let mut by_family: BTreeMap<crate::Effect, Vec<(f64, usize)>> = BTreeMap::new();
     for (i, f) in forms.iter().enumerate() {
         if f.ssr.is_finite() {
@@ -204,14 +212,24 @@ fn shortlist(forms: &[FormReport], lib: &[crate::Form]) -> Vec<crate::Form> {
                 .push((f.in_sample_score, i));
         }
     }
-    let mut out = Vec::new();
+    let mut keep: Vec<usize> = Vec::new();
     for mut ranked in by_family.into_values() {
         ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
-        for (_, i) in ranked.into_iter().take(SHORTLIST_PER_FAMILY) {
-            out.push(lib[i].clone());
-        }
+        keep.extend(
+            ranked
+                .into_iter()
+                .take(SHORTLIST_PER_FAMILY)
+                .map(|(_, i)| i),
+        );
     }
-    out
+    if steps_agree {
+        keep.extend(
+            (0..lib.len()).filter(|&i| lib[i].template.rate.is_some_and(|r| r.has_state())),
+        );
+    }
+    keep.sort_unstable();
+    keep.dedup();
+    keep.into_iter().map(|i| lib[i].clone()).collect()
 }
 
 /// Forms per family kept for the later selection stages.

@@ -23,6 +23,9 @@ pub use steps::StepFit;
 /// step to show a direct effect.
 pub const STEP_EVIDENCE: f64 = 20.0;
 
+/// Largest ratio between the springs of the velocity steps that still counts as one machine.
+pub const SPRING_AGREEMENT: f64 = 3.0;
+
 /// A value with its 95 % interval (ends infinite where open).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Estimate {
@@ -184,7 +187,8 @@ pub fn analyse(prepared: &[PreparedTest], stiffness: Option<&Stiffness>) -> Even
 impl EventAnalysis {
     /// The series stiffness of machine and interface the velocity steps resolve: the median of
     /// the fitted springs over the steps that show a direct effect and needed a finite spring,
-    /// when at least half of those steps did.
+    /// when at least two did, at least half of those steps, and their springs agree within a
+    /// factor of [`SPRING_AGREEMENT`] (one soft spring alone can stand in for another misfit).
     pub fn stiffness(&self) -> Option<Stiffness> {
         let shown: Vec<&StepFit> = self.steps.iter().filter(|s| s.significant()).collect();
         let springs: Vec<f64> = shown
@@ -192,7 +196,13 @@ impl EventAnalysis {
             .filter(|s| s.stiffness_per_mm.is_finite())
             .map(|s| s.stiffness_per_mm * s.normal_kpa)
             .collect();
-        if springs.is_empty() || 2 * springs.len() < shown.len() {
+        if springs.len() < 2 || 2 * springs.len() < shown.len() {
+            return None;
+        }
+        let (lo, hi) = springs
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
+        if hi > SPRING_AGREEMENT * lo {
             return None;
         }
         let n = springs.len();
