@@ -58,33 +58,24 @@ fn peak_memory_mb() -> f64 {
         .map_or(0.0, |kb| kb / 1024.0)
 }
 
-/// Times the diagnosis of a lab-like 4-test set of about 15 000 rows and of a 3-test long record
-/// of about 115 000 rows (the targets: under 10 s and under 20 s on 2 cores).
-fn diagnoses() -> Vec<DiagnosisTime> {
-    use subfric_diagnose::synth::{
-        generate_set, long_record_set, random_truth, rng, Built, SynthOptions,
-    };
-    use subfric_diagnose::{diagnose, prepare_for_diagnosis, DiagnoseOptions, Effect};
-    let mut r = rng(5);
-    let truth = random_truth(
-        &[Built {
-            effect: Effect::Rate,
-            form: 1,
-        }],
-        &mut r,
-    );
-    let lab = generate_set(
+/// Times the diagnosis of a lab-like set of about 15 000 rows (rate and state, a lab logger's
+/// sampling) and of a 3-test long record of about 115 000 rows, both made by the independent
+/// generator of `subfric-harness` (the targets: under 10 s and under 20 s on 2 cores).
+fn diagnoses() -> Result<Vec<DiagnosisTime>> {
+    use subfric_diagnose::{diagnose, prepare_for_diagnosis, DiagnoseOptions};
+    use subfric_harness::generator::{generate_seeded, long_record_set, Form, Options, Profile};
+    let lab = generate_seeded(
         "lab-15k",
-        &truth,
-        &SynthOptions {
-            slip_per_row: 0.0021,
-            lab_like: true,
-            ..SynthOptions::default()
-        },
-        &mut r,
-    );
-    let long = long_record_set(38_500, 9);
-    [
+        &[Form::RsfAgeing],
+        Profile::Logger,
+        &Options { rows_scale: 1.4 },
+        5,
+    )
+    .map_err(|e| anyhow::anyhow!("generating the lab-like set: {e}"))?
+    .set;
+    let long = long_record_set(38_500, 9)
+        .map_err(|e| anyhow::anyhow!("generating the long record: {e}"))?;
+    Ok([
         ("lab-like set, rate and state", lab),
         ("long velocity-step record", long),
     ]
@@ -115,7 +106,7 @@ fn diagnoses() -> Vec<DiagnosisTime> {
             },
         }
     })
-    .collect()
+    .collect())
 }
 
 /// Multi-start scaling.
@@ -241,6 +232,6 @@ pub fn measure(experiments: &Path) -> Result<BenchReport> {
             threads,
             speedup: one / all,
         },
-        diagnoses: diagnoses(),
+        diagnoses: diagnoses()?,
     })
 }

@@ -37,6 +37,7 @@ pub mod plan;
 pub mod progress;
 pub mod reproduce;
 pub mod selfcheck;
+mod selfcheck_score;
 pub mod sets;
 pub mod simulate;
 

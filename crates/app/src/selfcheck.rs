@@ -1,31 +1,46 @@
-//! The diagnosis scored on sets whose truth is known: sets generated with withheld effects, or
-//! a folder of sets with a `truth.json` (`subfric selfcheck`).
+//! The diagnosis scored on sets whose truth is known (`subfric selfcheck`): sets made by the
+//! independent generator of `subfric-harness` (its own forward model of the paper, effects in
+//! forms from the friction literature, rig and logger artifacts), or a folder of sets with a
+//! `truth.json`. `selfcheck --write DIR` writes a generated campaign for `--sets` to score.
 
+use crate::diagnose::check_diagnosis_finite;
 use crate::diagnose_report::truncate;
 use crate::io::write_json;
 use crate::progress::{Progress, Silent};
 use anyhow::{anyhow, bail, Result};
+use serde_json::Value;
 use std::path::{Path, PathBuf};
 use subfric_data::PathKind;
-use subfric_diagnose::selfcheck::{all_classes, score, selfcheck, Case, Scores, SelfcheckOptions};
-use subfric_diagnose::{DiagnoseOptions, Effect};
+use subfric_diagnose::{prepare_for_diagnosis, DiagnoseOptions, Effect};
+use subfric_harness::generator::{
+    all_classes, campaign_set, class_label, write_campaign, Class, Form, Generated, Options,
+};
+
+pub use crate::selfcheck_score::{score, Case, Scores};
+
+/// Which generated sets: classes by their 1-based numbers (all when empty), sets per class,
+/// seed.
+#[derive(Clone, Debug)]
+pub struct Campaign {
+    /// Class numbers, from 1 (all when empty); [`class_list`] numbers them.
+    pub classes: Vec<usize>,
+    /// Sets per class; set k of class c has the rig-and-logger profile number c + k, in turn
+    /// (lab, clean, logger, rig).
+    pub per_class: usize,
+    /// Seed (each set has its own, derived from it, its class and its number).
+    pub seed: u64,
+}
 
 /// What to score.
 #[derive(Clone, Debug)]
 pub enum SelfcheckSource {
-    /// Sets generated here: classes by their 1-based numbers (all when empty), sets per
-    /// class, seed, and whether each set is diagnosed without the forms that made it.
+    /// Sets generated here.
     Generated {
-        /// Class numbers, from 1 (all when empty).
-        classes: Vec<usize>,
-        /// Sets per class.
-        per_class: usize,
-        /// Seed.
-        seed: u64,
-        /// Diagnose each set without the candidate forms that generated it.
+        /// Which.
+        campaign: Campaign,
+        /// Diagnose each set without the library forms the generator's forms reduce to (is
+        /// the family still named through its other forms?).
         unlisted: bool,
-        /// Also write every generated set and a `truth.json` to this new folder.
-        write_sets: Option<PathBuf>,
     },
     /// The sets of a folder, scored against its `truth.json`.
     Folder(PathBuf),
@@ -40,6 +55,60 @@ pub struct SelfcheckRequest {
     pub json: Option<PathBuf>,
     /// Replace an existing `json` file.
     pub force: bool,
+}
+
+/// The classes, numbered from 1 as `--classes` takes them.
+pub fn class_list() -> Vec<(usize, String)> {
+    all_classes()
+        .iter()
+        .enumerate()
+        .map(|(i, c)| (i + 1, class_label(c)))
+        .collect()
+}
+
+/// The library forms (by name, as `diagnose --without-form` takes them) that a generator form
+/// reduces to: what `selfcheck --unlisted` takes out of the library. The generator's own
+/// variants (readings, targets, additive or multiplicative) all map onto their law.
+pub fn library_equivalents(form: Form) -> &'static [&'static str] {
+    match form {
+        Form::RsfAgeing => &[
+            "rate and state, ageing law",
+            "rate and state, ageing law, locked at rest",
+        ],
+        Form::RsfSlip => &[
+            "rate and state, slip law",
+            "rate and state, slip law, locked at rest",
+        ],
+        Form::RatePower => &["power law ((v + v_c)/v_ref)^n", "power law, locked at rest"],
+        Form::RateLog => &[
+            "direct effect a ln(1 + v/v_c)",
+            "direct effect, locked at rest",
+            "steady state only, mu_k + a ln(v/v_ref)",
+        ],
+        Form::PressurePower => &[
+            "power law on mu, (p/p_ref)^-beta",
+            "power law on mu_s only",
+            "power law on mu_k only",
+        ],
+        Form::PressureLinear => &[
+            "linear on mu, 1 - beta (p/p_ref - 1)",
+            "linear on mu_s only",
+            "linear on mu_k only",
+        ],
+        Form::PressureExp => &["exponential on mu, exp(-beta (p/p_ref - 1))"],
+        Form::SlipExp => &["exponential, h s_h (1 - exp(-s/s_h))"],
+        Form::SlipHyperbolic => &["hyperbolic, h s / (1 + s/s_h)"],
+        Form::SlipCapped => &["capped linear, h min(s, s_h)"],
+        Form::HealLog => &["log time, b ln(1 + t/t_c) at rest"],
+        Form::HealPower => &[
+            "power-law time, b t^n at rest",
+            "general time, b ((1 + t/t_c)^n - 1)/n at rest",
+        ],
+        Form::DirectionMu => &["backward mu x (1 - d)"],
+        Form::DirectionMuK => &["backward mu_k x (1 - d)"],
+        Form::DirectionKappa => &["backward kappa x (1 - d)"],
+        Form::Drift | Form::Vibration => &[],
+    }
 }
 
 /// Runs a self-check; `on_case` sees each case as soon as it is diagnosed, `progress` the
@@ -61,29 +130,8 @@ pub fn run(
         SelfcheckSource::Folder(root) => {
             score_folder(root, &DiagnoseOptions::default(), on_case, progress)?
         }
-        SelfcheckSource::Generated {
-            classes,
-            per_class,
-            seed,
-            unlisted,
-            write_sets,
-        } => {
-            if let Some(w) = write_sets {
-                if PathKind::of(w) != PathKind::Absent {
-                    bail!(
-                        "--write-sets {}: exists (expected a new folder)",
-                        w.display()
-                    );
-                }
-            }
-            let opts = SelfcheckOptions {
-                classes: chosen_classes(classes)?,
-                per_class: *per_class,
-                seed: *seed,
-                unlisted: *unlisted,
-                ..SelfcheckOptions::default()
-            };
-            run_generated(&opts, write_sets.as_deref(), on_case)?
+        SelfcheckSource::Generated { campaign, unlisted } => {
+            score_generated(campaign, *unlisted, on_case)?
         }
     };
     if let Some(j) = &req.json {
@@ -92,22 +140,115 @@ pub fn run(
     Ok((cases, scores))
 }
 
-/// The classes numbered `numbers` (from 1; all when empty).
-fn chosen_classes(numbers: &[usize]) -> Result<Vec<subfric_diagnose::selfcheck::Class>> {
+/// The classes numbered `numbers` (from 1; all when empty), with their numbers from 0.
+fn chosen_classes(numbers: &[usize]) -> Result<Vec<(usize, Class)>> {
     let all = all_classes();
     if numbers.is_empty() {
-        return Ok(all);
+        return Ok(all.into_iter().enumerate().collect());
     }
     numbers
         .iter()
         .map(|&k| match all.get(k.wrapping_sub(1)) {
-            Some(c) => Ok(c.clone()),
+            Some(c) => Ok((k - 1, c.clone())),
             None => bail!(
                 "--classes {k}: no such class (expected numbers from 1 to {})",
                 all.len()
             ),
         })
         .collect()
+}
+
+/// Every set of `campaign`, generated one at a time and handed to `each`.
+fn for_each_set(campaign: &Campaign, mut each: impl FnMut(Generated) -> Result<()>) -> Result<()> {
+    for (ci, class) in chosen_classes(&campaign.classes)? {
+        for k in 0..campaign.per_class {
+            let g = campaign_set(campaign.seed, ci, k, &class, &Options::default())
+                .map_err(|e| anyhow!("generating set {k} of class {}: {e}", ci + 1))?;
+            each(g)?;
+        }
+    }
+    Ok(())
+}
+
+/// A line per written set: its name, profile, rows and truth.
+pub struct WrittenSet {
+    /// Set name (its folder).
+    pub name: String,
+    /// Rig-and-logger profile.
+    pub profile: String,
+    /// Rows over all tests.
+    pub rows: usize,
+    /// The truth in words.
+    pub truth: String,
+}
+
+/// `selfcheck --write DIR`: generates `campaign` and writes it to the new folder `dir`, a
+/// folder per set and `truth.json` (which `selfcheck --sets DIR` scores). Nothing is
+/// diagnosed.
+pub fn write_generated(dir: &Path, campaign: &Campaign) -> Result<Vec<WrittenSet>> {
+    if PathKind::of(dir) != PathKind::Absent {
+        bail!("--write {}: exists (expected a new folder)", dir.display());
+    }
+    let mut sets = Vec::new();
+    for_each_set(campaign, |g| {
+        sets.push(g);
+        Ok(())
+    })?;
+    write_campaign(dir, &sets).map_err(|e| anyhow!("--write {}: {e}", dir.display()))?;
+    Ok(sets
+        .iter()
+        .map(|g| WrittenSet {
+            name: g.set.meta.name.clone(),
+            profile: profile_name(&g.truth.json),
+            rows: g.set.tests.iter().map(|t| t.len()).sum(),
+            truth: g.truth.label.clone(),
+        })
+        .collect())
+}
+
+/// The profile a truth entry names (`artifacts.profile`), else "mid-run" for a set cut from a
+/// longer run, else nothing.
+fn profile_name(entry: &Value) -> String {
+    match entry["artifacts"]["profile"].as_str() {
+        Some(p) => p.to_string(),
+        None if entry["midrun"].as_bool() == Some(true) => "mid-run".into(),
+        None => String::new(),
+    }
+}
+
+/// The families of a truth entry: `{"effects": [names]}` or `{"effect": name}`; "none" is no
+/// effect, a name outside the library (a drift) counts as `unexplained`. `None` when it holds
+/// neither key.
+fn truth_families(entry: &Value) -> Option<(Vec<Effect>, String)> {
+    let names: Vec<&str> = match (entry["effect"].as_str(), entry["effects"].as_array()) {
+        (_, Some(list)) => list.iter().filter_map(|v| v.as_str()).collect(),
+        (Some(e), None) => vec![e],
+        (None, None) => return None,
+    };
+    let families: Vec<Effect> = names
+        .iter()
+        .map(|e| Effect::from_name(e).unwrap_or(Effect::Unexplained))
+        .filter(|e| *e != Effect::None)
+        .collect();
+    // With the forms named: "rate (rsf-ageing-creep) + pressure (pressure-power-mu)".
+    let label = match (entry["forms"].as_array(), entry["form"].as_str()) {
+        (Some(forms), _) if !forms.is_empty() => forms
+            .iter()
+            .map(|f| {
+                format!(
+                    "{} ({})",
+                    f["effect"].as_str().unwrap_or("?"),
+                    f["form"].as_str().unwrap_or("?")
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(" + "),
+        (_, Some(form)) if names.len() == 1 && form != names[0] && form != "none" => {
+            format!("{} ({form})", names[0])
+        }
+        _ => names.join(" + "),
+    };
+    Some((families, label))
 }
 
 /// Diagnoses every set under `root` as `subfric diagnose` does ([`crate::diagnose()`]: a
@@ -126,7 +267,7 @@ pub fn score_folder(
             truth_path.display()
         )
     })?;
-    let truth: serde_json::Value = serde_json::from_str(&text)
+    let truth: Value = serde_json::from_str(&text)
         .map_err(|e| anyhow!("{}:{}:{}: {e}", truth_path.display(), e.line(), e.column()))?;
     let mut dirs: Vec<PathBuf> = std::fs::read_dir(root)?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -139,32 +280,72 @@ pub fn score_folder(
             .file_name()
             .map(|s| s.to_string_lossy().to_string())
             .unwrap_or_default();
-        // Either {"effect": name} or {"effects": [names]}; "none" is no effect, and a name
-        // outside the library (a drift) counts as "unexplained".
         let entry = &truth[&name];
-        let names: Vec<&str> = match (entry["effect"].as_str(), entry["effects"].as_array()) {
-            (_, Some(list)) => list.iter().filter_map(|v| v.as_str()).collect(),
-            (Some(e), None) => vec![e],
-            (None, None) => {
-                progress.warning(&format!(
-                    "{name}: no truth in {}, skipped",
-                    truth_path.display()
-                ));
-                continue;
-            }
+        let Some((families, label)) = truth_families(entry) else {
+            progress.warning(&format!(
+                "{name}: no truth in {}, skipped",
+                truth_path.display()
+            ));
+            continue;
         };
-        let families: Vec<Effect> = names
-            .iter()
-            .map(|e| Effect::from_name(e).unwrap_or(Effect::Unexplained))
-            .filter(|e| *e != Effect::None)
-            .collect();
         let diag = crate::diagnose::diagnose(&d, opts, &Silent)?.diagnosis;
-        let c = Case::new(&name, families, names.join(" + "), &diag);
+        let mut c = Case::new(&name, families, label, &diag);
+        c.profile = profile_name(entry);
         on_case(&c);
         cases.push(c);
     }
     let s = score(&cases);
     Ok((cases, s))
+}
+
+/// Generates each set of `campaign`, diagnoses it (without the equivalents of its forms when
+/// `unlisted`) and scores it. A diagnosis that fails or ends non-finite is an error naming the
+/// set.
+fn score_generated(
+    campaign: &Campaign,
+    unlisted: bool,
+    on_case: &dyn Fn(&Case),
+) -> Result<(Vec<Case>, Scores)> {
+    let mut cases = Vec::new();
+    let mut number = 0u64;
+    for_each_set(campaign, |g| {
+        number += 1;
+        let mut opts = DiagnoseOptions {
+            seed: campaign.seed.wrapping_add(number),
+            ..DiagnoseOptions::default()
+        };
+        if unlisted {
+            opts.excluded_forms = g
+                .truth
+                .forms
+                .iter()
+                .flat_map(|f| library_equivalents(*f).iter().map(|s| s.to_string()))
+                .collect();
+        }
+        let c = diagnose_generated(&g, &opts)?;
+        on_case(&c);
+        cases.push(c);
+        Ok(())
+    })?;
+    let s = score(&cases);
+    Ok((cases, s))
+}
+
+/// The diagnosis of one generated set, scored.
+pub fn diagnose_generated(g: &Generated, opts: &DiagnoseOptions) -> Result<Case> {
+    let name = &g.set.meta.name;
+    let d = subfric_diagnose::diagnose(&prepare_for_diagnosis(&g.set), opts)
+        .map_err(|e| anyhow!("{name}: {e}"))?;
+    check_diagnosis_finite(Path::new(name), &d)?;
+    let families = g
+        .truth
+        .families
+        .iter()
+        .map(|f| Effect::from_name(f).unwrap_or(Effect::Unexplained))
+        .collect();
+    let mut c = Case::new(name, families, g.truth.label.clone(), &d);
+    c.profile = profile_name(&g.truth.json);
+    Ok(c)
 }
 
 /// One line per diagnosed set: its truth, the verdict, right or wrong, the held-out shrink.
@@ -177,61 +358,72 @@ pub fn case_line(c: &Case) -> String {
         }
     };
     format!(
-        "{:<22} truth {:<44} verdict {:<30} {} shrink {:>4.0}%  ({:.1} s){}",
+        "{:<12} truth {:<56} verdict {:<30} {} shrink {:>4.0}%  ({:.1} s){}",
         c.name,
-        truncate(&c.truth_label, 44),
+        truncate(&c.truth_label, 56),
         names(&c.verdict),
         if c.right() { "right" } else { "WRONG" },
         100.0 * c.shrink,
         c.elapsed_s,
-        match (c.lab_like, c.mid_run) {
-            (true, true) => "  [lab-like, mid-run]",
-            (true, false) => "  [lab-like]",
-            (false, true) => "  [mid-run]",
-            _ => "",
+        if c.profile.is_empty() {
+            String::new()
+        } else {
+            format!("  [{}]", c.profile)
         }
     )
 }
 
-/// Runs the generated self-check; with `write_to`, every generated set is written there as a
-/// folder, and their truths to `truth.json` (which `selfcheck --sets` reads).
-fn run_generated(
-    opts: &SelfcheckOptions,
-    write_to: Option<&Path>,
-    on_case: &dyn Fn(&Case),
-) -> Result<(Vec<Case>, Scores)> {
-    let truths = std::sync::Mutex::new(serde_json::Map::new());
-    let failed = std::sync::Mutex::new(None::<anyhow::Error>);
-    let keep = |set: &subfric_data::ExperimentSet, truth: &subfric_diagnose::synth::Truth| {
-        let Some(root) = write_to else { return };
-        let dir = root.join(&set.meta.name);
-        if let Err(e) = subfric_data::write_set(set, &dir) {
-            failed.lock().expect("not poisoned").get_or_insert(e.into());
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_library_equivalent_is_a_form_of_the_library() {
+        // A renamed library form would make --unlisted take out nothing, silently.
+        let names = subfric_diagnose::candidates::all_form_names();
+        let mut mapped = 0;
+        for f in Form::ALL {
+            for n in library_equivalents(f) {
+                assert!(
+                    names.contains(n),
+                    "{f:?}: {n:?} is not in the library {names:?}"
+                );
+                mapped += 1;
+            }
         }
-        let names: Vec<&str> = if truth.effects.is_empty() {
-            vec!["none"]
-        } else {
-            truth
-                .effects
-                .iter()
-                .map(|b| match b.effect {
-                    Effect::Unexplained => "drift",
-                    e => e.name(),
-                })
-                .collect()
-        };
-        truths.lock().expect("not poisoned").insert(
-            set.meta.name.clone(),
-            serde_json::json!({"effects": names, "label": truth.label(), "model": truth.model}),
+        assert!(mapped >= 20);
+        // Only the gaps outside every family have none.
+        let without: Vec<Form> = Form::ALL
+            .into_iter()
+            .filter(|f| library_equivalents(*f).is_empty())
+            .collect();
+        assert_eq!(without, [Form::Drift, Form::Vibration]);
+    }
+
+    #[test]
+    fn truth_entries_of_both_schemas_are_read() {
+        let old = serde_json::json!({"effect": "drift"});
+        assert_eq!(
+            truth_families(&old),
+            Some((vec![Effect::Unexplained], "drift".into()))
         );
-    };
-    let result = selfcheck(opts, on_case, &keep);
-    if let Some(e) = failed.into_inner().expect("not poisoned") {
-        return Err(e);
+        let dev = serde_json::json!({"effect": "rate", "form": "rsf-slip", "effects": ["rate"]});
+        assert_eq!(
+            truth_families(&dev),
+            Some((vec![Effect::Rate], "rate (rsf-slip)".into()))
+        );
+        let none = serde_json::json!({"effect": "none", "form": "none", "effects": ["none"]});
+        assert_eq!(truth_families(&none), Some((vec![], "none".into())));
+        let two = serde_json::json!({"effects": ["slip-hardening", "pressure"], "forms": [
+            {"effect": "slip-hardening", "form": "slip-softening-exp-add"},
+            {"effect": "pressure", "form": "pressure-linear-mu"}]});
+        assert_eq!(
+            truth_families(&two),
+            Some((
+                vec![Effect::SlipHardening, Effect::Pressure],
+                "slip-hardening (slip-softening-exp-add) + pressure (pressure-linear-mu)".into()
+            ))
+        );
+        assert_eq!(truth_families(&serde_json::json!({"other": 1})), None);
     }
-    if let Some(root) = write_to {
-        let truths = truths.into_inner().expect("not poisoned");
-        write_json(&root.join("truth.json"), &serde_json::Value::Object(truths))?;
-    }
-    Ok(result)
 }

@@ -450,7 +450,8 @@ pub struct PlanArgs {
 /// `subfric selfcheck`.
 #[derive(Args, Debug)]
 pub struct SelfcheckArgs {
-    /// Sets per class.
+    /// Sets per class (set k of class c is recorded with profile c + k in turn: lab, clean,
+    /// logger, rig).
     #[arg(long, default_value_t = 2)]
     pub per_class: usize,
     /// Seed.
@@ -462,15 +463,19 @@ pub struct SelfcheckArgs {
     /// Write the scores as JSON to this file [default: none].
     #[arg(long)]
     pub json: Option<PathBuf>,
-    /// Also write every generated set (a folder per set and a truth.json, which
-    /// `selfcheck --sets` scores again) to this new folder [default: none].
-    #[arg(long)]
-    pub write_sets: Option<PathBuf>,
-    /// Only these classes (1-based numbers as printed, comma separated) [default: all].
+    /// Write the generated sets (a folder per set and a truth.json, which `selfcheck --sets`
+    /// scores) to this new folder, and stop: nothing is diagnosed [default: none].
+    #[arg(long, alias = "write-sets", conflicts_with_all = ["sets", "json", "unlisted"])]
+    pub write: Option<PathBuf>,
+    /// Only these classes (1-based numbers, comma separated; `--list-classes` prints them)
+    /// [default: all].
     #[arg(long, value_delimiter = ',')]
     pub classes: Vec<usize>,
-    /// Diagnose each generated set without the candidate forms that made it: is the family
-    /// still named through its other forms? (generated sets only) [default: off]
+    /// Print the numbered classes and stop.
+    #[arg(long, conflicts_with_all = ["sets", "json", "write"])]
+    pub list_classes: bool,
+    /// Diagnose each generated set without the library forms its effects reduce to: is the
+    /// family still named through its other forms? (generated sets only) [default: off]
     #[arg(long, conflicts_with = "sets")]
     pub unlisted: bool,
     /// Replace an existing --json file.

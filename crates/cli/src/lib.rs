@@ -20,7 +20,9 @@ use subfric_app::fit_report::report_table_timed;
 use subfric_app::output::Destination;
 use subfric_app::plan::{plan_to_folder, PlanRequest};
 use subfric_app::reproduce::{reproduce, ReproduceRequest, TIMINGS_FILE};
-use subfric_app::selfcheck::{case_line, SelfcheckRequest, SelfcheckSource};
+use subfric_app::selfcheck::{
+    case_line, class_list, write_generated, Campaign, Case, SelfcheckRequest, SelfcheckSource,
+};
 use subfric_app::simulate::{SimulateRequest, SimulateSource};
 use subfric_app::{diagnose, figures, sets};
 use subfric_data::{ColumnRef, ImportSpec, Warning};
@@ -261,14 +263,40 @@ fn run_reproduce(a: ReproduceArgs) -> Result<()> {
 
 /// `subfric selfcheck`.
 fn selfcheck(a: SelfcheckArgs) -> Result<()> {
+    if a.list_classes {
+        for (number, label) in class_list() {
+            println!("{number:>3}  {label}");
+        }
+        return Ok(());
+    }
+    let campaign = Campaign {
+        classes: a.classes,
+        per_class: a.per_class,
+        seed: a.seed,
+    };
+    if let Some(dir) = a.write {
+        let t0 = std::time::Instant::now();
+        let written = write_generated(&dir, &campaign)?;
+        for w in &written {
+            println!(
+                "{:<12} {:<7} {:>6} rows  {}",
+                w.name, w.profile, w.rows, w.truth
+            );
+        }
+        println!(
+            "\nwrote {} sets and truth.json to {} in {:.1} s (score them with `subfric selfcheck --sets {}`)",
+            written.len(),
+            dir.display(),
+            t0.elapsed().as_secs_f64(),
+            dir.display()
+        );
+        return Ok(());
+    }
     let source = match a.sets {
         Some(root) => SelfcheckSource::Folder(root),
         None => SelfcheckSource::Generated {
-            classes: a.classes,
-            per_class: a.per_class,
-            seed: a.seed,
+            campaign,
             unlisted: a.unlisted,
-            write_sets: a.write_sets,
         },
     };
     let req = SelfcheckRequest {
@@ -276,7 +304,7 @@ fn selfcheck(a: SelfcheckArgs) -> Result<()> {
         json: a.json,
         force: a.force,
     };
-    let print_case = |c: &subfric_diagnose::selfcheck::Case| println!("{}", case_line(c));
+    let print_case = |c: &Case| println!("{}", case_line(c));
     let (_, scores) =
         subfric_app::selfcheck::run(&req, &print_case, &Progress::new(ProgressMode::Never))?;
     println!("\n{scores}");

@@ -5,8 +5,8 @@
 //! data), **which** unmodelled effects explain it (every form of five candidate families,
 //! refitted, compared with the base on held-out pieces of the data, named one after the other
 //! by forward selection, and checked against what the residual itself follows), and **how far**
-//! the gap shrinks with them. [`selfcheck`] checks the diagnosis on generated sets whose effects
-//! it is not told.
+//! the gap shrinks with them. (`subfric selfcheck` checks it on sets made by an independent
+//! generator, `subfric-harness`, scored in `subfric-app`.)
 
 pub mod candidates;
 pub mod diagnose;
@@ -17,8 +17,6 @@ pub mod fits;
 pub mod folds;
 pub mod localise;
 pub mod score;
-pub mod selfcheck;
-pub mod synth;
 pub mod verdict;
 
 pub use candidates::{library, Effect, Form};

@@ -1,13 +1,10 @@
-//! Checking the diagnosis on sets whose effects it is not told: every form of every family,
-//! sets with two effects at once, sets without an effect, a measurement drift no candidate
-//! models, each also with lab-like sampling or a mid-run start. Scored as a confusion matrix,
-//! the share of sets fully right, the accuracy per form, the recall of two-effect sets and the
-//! rate of spurious second effects.
+//! Scoring the diagnosis on sets whose effects it is not told (generated ones or a folder with a
+//! `truth.json`): a confusion matrix, the share of sets fully right, the accuracy per form and
+//! per rig-and-logger profile, the recall of two-effect sets, the rate of spurious second
+//! effects and of false alarms.
 
-use crate::candidates::Effect;
-use crate::diagnose::{diagnose, prepare_for_diagnosis, DiagnoseOptions, Diagnosis};
-use crate::synth::{form_names, generate_set, random_truth, rng, Built, SynthOptions};
 use serde::Serialize;
+use subfric_diagnose::{Diagnosis, Effect};
 
 /// One diagnosed set and its truth.
 #[derive(Clone, Debug, Serialize)]
@@ -22,10 +19,9 @@ pub struct Case {
     pub verdict: Vec<Effect>,
     /// Held-out shrink of the first effect named.
     pub shrink: f64,
-    /// The set had lab-like sampling.
-    pub lab_like: bool,
-    /// Its velocity-step test started mid-run.
-    pub mid_run: bool,
+    /// The rig and logger it was recorded with (the generator's profile: clean, logger, rig,
+    /// lab; for a folder what its truth says, or empty).
+    pub profile: String,
     /// Diagnosis time [s].
     pub elapsed_s: f64,
 }
@@ -45,8 +41,7 @@ impl Case {
             truth_label: label,
             verdict,
             shrink: d.verdict.held_out_shrink,
-            lab_like: false,
-            mid_run: false,
+            profile: String::new(),
             elapsed_s: d.elapsed_s,
         }
     }
@@ -89,6 +84,8 @@ pub struct Scores {
     pub share_right: f64,
     /// Per form (truth label): (label, right, total).
     pub per_form: Vec<(String, usize, usize)>,
+    /// Per profile of rig and logger: (profile, right, total).
+    pub per_profile: Vec<(String, usize, usize)>,
     /// Two-effect sets with both named, and two-effect sets.
     pub two_effect_recall: (usize, usize),
     /// Single-effect sets with a spurious second effect, and single-effect sets.
@@ -127,16 +124,25 @@ pub fn score(cases: &[Case]) -> Scores {
         let t = c.truth.first().copied().unwrap_or(Effect::None);
         confusion[idx(t)][idx(c.first())] += 1;
     }
-    let mut per_form: Vec<(String, usize, usize)> = Vec::new();
-    for c in cases {
-        match per_form.iter_mut().find(|f| f.0 == c.truth_label) {
-            Some(f) => {
-                f.1 += c.right() as usize;
-                f.2 += 1;
+    let tally = |key: &dyn Fn(&Case) -> String| {
+        let mut out: Vec<(String, usize, usize)> = Vec::new();
+        for c in cases {
+            let k = key(c);
+            match out.iter_mut().find(|f| f.0 == k) {
+                Some(f) => {
+                    f.1 += c.right() as usize;
+                    f.2 += 1;
+                }
+                None => out.push((k, c.right() as usize, 1)),
             }
-            None => per_form.push((c.truth_label.clone(), c.right() as usize, 1)),
         }
-    }
+        out
+    };
+    let per_form = tally(&|c| c.truth_label.clone());
+    let per_profile: Vec<(String, usize, usize)> = tally(&|c| c.profile.clone())
+        .into_iter()
+        .filter(|p| !p.0.is_empty())
+        .collect();
     let two: Vec<&Case> = cases.iter().filter(|c| c.truth.len() == 2).collect();
     let single: Vec<&Case> = cases
         .iter()
@@ -162,6 +168,7 @@ pub fn score(cases: &[Case]) -> Scores {
         sets: cases.len(),
         share_right: cases.iter().filter(|c| c.right()).count() as f64 / cases.len().max(1) as f64,
         per_form,
+        per_profile,
         two_effect_recall: (
             two.iter()
                 .filter(|c| c.truth.iter().all(|e| c.verdict.contains(e)))
@@ -214,12 +221,18 @@ impl std::fmt::Display for Scores {
         for (label, right, total) in &self.per_form {
             writeln!(
                 f,
-                "  {:<62} {:>3}/{:<3} {:>4.0}%",
+                "  {:<72} {:>3}/{:<3} {:>4.0}%",
                 label,
                 right,
                 total,
                 100.0 * *right as f64 / (*total).max(1) as f64
             )?;
+        }
+        if !self.per_profile.is_empty() {
+            writeln!(f, "fully right per rig and logger profile:")?;
+            for (profile, right, total) in &self.per_profile {
+                writeln!(f, "  {:<10} {:>3}/{:<3}", profile, right, total)?;
+            }
         }
         writeln!(
             f,
@@ -265,122 +278,50 @@ impl std::fmt::Display for Scores {
     }
 }
 
-/// A class of generated sets: the effects built in (empty: none).
-pub type Class = Vec<Built>;
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-/// Every single form of every family, none, a drift, and six pairs of effects.
-pub fn all_classes() -> Vec<Class> {
-    let mut out: Vec<Class> = vec![Vec::new()];
-    for effect in [
-        Effect::Rate,
-        Effect::Pressure,
-        Effect::SlipHardening,
-        Effect::LogHealing,
-        Effect::Direction,
-    ] {
-        for form in 0..form_names(effect).len() {
-            out.push(vec![Built { effect, form }]);
+    fn case(truth: &[Effect], verdict: &[Effect], profile: &str) -> Case {
+        Case {
+            name: "s".into(),
+            truth: truth.to_vec(),
+            truth_label: format!("{truth:?}"),
+            verdict: verdict.to_vec(),
+            shrink: 0.5,
+            profile: profile.into(),
+            elapsed_s: 1.0,
         }
     }
-    out.push(vec![Built {
-        effect: Effect::Unexplained,
-        form: 0,
-    }]);
-    let b = |effect, form| Built { effect, form };
-    out.extend([
-        vec![b(Effect::Rate, 0), b(Effect::Pressure, 0)],
-        vec![b(Effect::SlipHardening, 0), b(Effect::Pressure, 1)],
-        vec![b(Effect::Rate, 2), b(Effect::SlipHardening, 1)],
-        vec![b(Effect::LogHealing, 0), b(Effect::Direction, 0)],
-        vec![b(Effect::Pressure, 4), b(Effect::Direction, 1)],
-        vec![b(Effect::Rate, 3), b(Effect::SlipHardening, 2)],
-    ]);
-    out
-}
 
-/// Options of a self-check run.
-#[derive(Clone, Debug)]
-pub struct SelfcheckOptions {
-    /// Classes to generate.
-    pub classes: Vec<Class>,
-    /// Sets per class: the first plain, the second lab-like, the third started mid-run, then
-    /// both, in turn.
-    pub per_class: usize,
-    /// Seed.
-    pub seed: u64,
-    /// Generator settings (lab-like and mid-run are set per set as above).
-    pub synth: SynthOptions,
-    /// Diagnosis settings.
-    pub diagnose: DiagnoseOptions,
-    /// Diagnose each set without the candidate forms that generated it: the family must be
-    /// named through another of its forms (effects in forms the library does not list).
-    pub unlisted: bool,
-}
-
-impl Default for SelfcheckOptions {
-    fn default() -> Self {
-        SelfcheckOptions {
-            classes: all_classes(),
-            per_class: 2,
-            seed: 7,
-            synth: SynthOptions::default(),
-            diagnose: DiagnoseOptions::default(),
-            unlisted: false,
-        }
+    #[test]
+    fn scores_count_what_they_say() {
+        use Effect::*;
+        let cases = [
+            case(&[], &[], "lab"),
+            case(&[], &[Unexplained], "rig"),
+            case(&[Rate], &[Rate], "lab"),
+            case(&[Rate], &[Rate, SlipHardening], "clean"),
+            case(&[Rate, Pressure], &[Pressure, Rate], "rig"),
+            case(&[SlipHardening, Pressure], &[SlipHardening], "rig"),
+            case(&[Unexplained], &[Unexplained], "clean"),
+        ];
+        let s = score(&cases);
+        assert_eq!(s.sets, 7);
+        assert!((s.share_right - 4.0 / 7.0).abs() < 1e-12);
+        assert_eq!((s.no_effect_sets, s.false_alarms), (2, 1));
+        assert_eq!(s.two_effect_recall, (1, 2));
+        assert_eq!(s.spurious_second, (1, 2));
+        assert_eq!(s.unexplained_right, (1, 1));
+        assert_eq!(
+            s.per_profile,
+            vec![
+                ("lab".to_string(), 2, 2),
+                ("rig".to_string(), 1, 3),
+                ("clean".to_string(), 1, 2)
+            ]
+        );
+        // Order does not matter; a verdict of none on a none set is right.
+        assert!(cases[4].right() && cases[0].right() && !cases[1].right());
     }
-}
-
-/// Generates sets with withheld effects, diagnoses each and scores the verdicts; `keep` sees
-/// every generated set and its truth before it is diagnosed.
-pub fn selfcheck(
-    opts: &SelfcheckOptions,
-    progress: &dyn Fn(&Case),
-    keep: &dyn Fn(&subfric_data::ExperimentSet, &crate::synth::Truth),
-) -> (Vec<Case>, Scores) {
-    let mut cases = Vec::new();
-    let mut r = rng(opts.seed);
-    for (ci, class) in opts.classes.iter().enumerate() {
-        for k in 0..opts.per_class {
-            let truth = random_truth(class, &mut r);
-            let synth = SynthOptions {
-                lab_like: k % 4 == 1 || k % 4 == 3,
-                mid_run: k % 4 == 2 || k % 4 == 3,
-                ..opts.synth
-            };
-            let name = format!("synthetic-{:02}-{}", ci + 1, k + 1);
-            let set = generate_set(&name, &truth, &synth, &mut r);
-            keep(&set, &truth);
-            let prepared = prepare_for_diagnosis(&set);
-            let mut dopts = opts.diagnose.clone();
-            dopts.seed = opts.seed.wrapping_add((ci * 1000 + k) as u64);
-            if opts.unlisted {
-                dopts.excluded_forms = truth
-                    .effects
-                    .iter()
-                    .filter_map(|&b| crate::synth::library_name(b))
-                    .map(String::from)
-                    .collect();
-            }
-            let families = truth.families();
-            let mut case = match diagnose(&prepared, &dopts) {
-                Ok(d) => Case::new(&name, families, truth.label(), &d),
-                Err(_) => Case {
-                    name: name.clone(),
-                    truth: families,
-                    truth_label: truth.label(),
-                    verdict: vec![Effect::Unexplained],
-                    shrink: 0.0,
-                    lab_like: false,
-                    mid_run: false,
-                    elapsed_s: 0.0,
-                },
-            };
-            case.lab_like = synth.lab_like;
-            case.mid_run = synth.mid_run;
-            progress(&case);
-            cases.push(case);
-        }
-    }
-    let s = score(&cases);
-    (cases, s)
 }

@@ -1,0 +1,104 @@
+//! The fast part of `subfric selfcheck`: sets made by the independent generator of
+//! `subfric-harness` (its own forward model, effects in forms from the friction literature,
+//! rig and logger artifacts) are diagnosed without being told what they hold, and every verdict
+//! must be right. Six diagnoses in all (a diagnosis takes seconds), each set chosen for the
+//! regression it catches; the sets are drawn by seed, not picked by their verdicts.
+//!
+//! Three of them fail on the diagnosis as it stands (issue 20, being rewritten) and are ignored
+//! with the verdict measured: run them with `cargo test --release -p subfric-app --test
+//! selfcheck_generated -- --include-ignored`, and drop the `ignore` once they pass.
+
+use subfric_app::selfcheck::{diagnose_generated, library_equivalents, Case};
+use subfric_diagnose::{DiagnoseOptions, Effect};
+use subfric_harness::generator::{generate_seeded, Form, Generated, Options, Profile};
+
+/// Fewer rows than a lab file keep the diagnoses short.
+const ROWS: Options = Options { rows_scale: 0.6 };
+
+fn set(name: &str, class: &[Form], profile: Profile) -> Generated {
+    generate_seeded(name, class, profile, &ROWS, 2026).expect("the set generates")
+}
+
+fn verdict(g: &Generated, opts: &DiagnoseOptions) -> Case {
+    let c = diagnose_generated(g, opts).expect("the diagnosis runs");
+    eprintln!(
+        "{}: truth {} [{}], named {:?} ({:.1} s)\n  truth.json: {}",
+        c.name, c.truth_label, c.profile, c.verdict, c.elapsed_s, g.truth.json
+    );
+    c
+}
+
+fn assert_right(c: &Case) {
+    assert!(
+        c.right(),
+        "{} ({}, {}): named {:?}",
+        c.name,
+        c.truth_label,
+        c.profile,
+        c.verdict
+    );
+}
+
+#[test]
+#[ignore = "issue 20: the diagnosis of e040f1f says `unexplained` (a false alarm)"]
+fn no_effect_behind_machine_compliance_seating_toes_and_an_unload_is_none() {
+    // Issue 20: the base fit swallowed rig artifacts and an effect was named where there is
+    // none. Rig profile: a compliant machine, a seating toe on every test, an unload.
+    let g = set("none-rig", &[], Profile::Rig);
+    let arts = &g.truth.json["artifacts"];
+    assert!(arts["machine_kn_mm3"].as_f64().is_some());
+    assert!(!arts["seating_toes"].as_array().unwrap().is_empty());
+    let c = verdict(&g, &DiagnoseOptions::default());
+    assert_eq!(c.verdict, Vec::<Effect>::new(), "a false alarm: {c:?}");
+}
+
+#[test]
+fn rate_and_state_recorded_by_a_lab_logger_is_named_rate() {
+    // Ageing law; rate-adaptive sampling, a jittering clock, 0.1 µm quantised displacement.
+    let g = set("rsf-logger", &[Form::RsfAgeing], Profile::Logger);
+    assert_right(&verdict(&g, &DiagnoseOptions::default()));
+}
+
+#[test]
+fn a_pressure_dependence_is_named_pressure() {
+    let g = set("pressure-clean", &[Form::PressurePower], Profile::Clean);
+    assert_right(&verdict(&g, &DiagnoseOptions::default()));
+}
+
+#[test]
+#[ignore = "issue 20: the diagnosis of e040f1f names slip-hardening only"]
+fn two_effects_at_once_are_both_named_in_files_cut_from_a_run() {
+    // Issue 20: second effects were never credited. Slip softening or hardening and a linear
+    // pressure dependence, with every artifact (velocity steps cut from a longer run).
+    let g = set(
+        "slip-pressure-lab",
+        &[Form::SlipExp, Form::PressureLinear],
+        Profile::Lab,
+    );
+    assert_eq!(g.truth.json["midrun"], serde_json::Value::Bool(true));
+    assert_right(&verdict(&g, &DiagnoseOptions::default()));
+}
+
+#[test]
+fn a_drifting_load_cell_is_unexplained() {
+    let g = set("drift-logger", &[Form::Drift], Profile::Logger);
+    assert_right(&verdict(&g, &DiagnoseOptions::default()));
+}
+
+#[test]
+#[ignore = "issue 20: the diagnosis of e040f1f names rate instead of log-healing"]
+fn a_family_is_named_through_another_form_when_its_own_is_not_a_candidate() {
+    // `selfcheck --unlisted`: healing that grows as a power of the hold time, diagnosed without
+    // the library's power-law and general time forms, must still be healing (log time holds
+    // it over the holds' three decades).
+    let g = set("healing-unlisted", &[Form::HealPower], Profile::Clean);
+    let opts = DiagnoseOptions {
+        excluded_forms: library_equivalents(Form::HealPower)
+            .iter()
+            .map(|s| s.to_string())
+            .collect(),
+        ..DiagnoseOptions::default()
+    };
+    assert_eq!(opts.excluded_forms.len(), 2);
+    assert_right(&verdict(&g, &opts));
+}
