@@ -32,6 +32,9 @@ pub use subfric_app::error_text;
 /// Parses the command line, runs it, prints an error if any; the process's exit code.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = args::check_conflicts(&cli.command) {
+        e.exit();
+    }
     match run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -154,7 +157,9 @@ fn fit(a: FitArgs) -> Result<()> {
     let req = FitRequest {
         dirs: a.sets,
         tests: a.tests,
-        free: a.free,
+        free: a
+            .free
+            .unwrap_or_else(|| subfric_fit::Param::BASE.to_vec()),
         fix: a.fix,
         bounds: a.bounds,
         weights: a.weight,
