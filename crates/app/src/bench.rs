@@ -192,8 +192,13 @@ fn request(dir: PathBuf) -> FitRequest {
 
 /// Runs every benchmark.
 pub fn measure(experiments: &Path) -> Result<BenchReport> {
-    let (sps, identical) = steps_per_second(10);
-    let mut dirs: Vec<PathBuf> = std::fs::read_dir(experiments)?
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(experiments)
+        .map_err(|e| {
+            anyhow::anyhow!(
+                "{}: cannot read the experiments folder: {e} (expected a folder of experiment sets, --experiments)",
+                experiments.display()
+            )
+        })?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.join("experiment.json").is_file())
         .collect();
@@ -201,6 +206,7 @@ pub fn measure(experiments: &Path) -> Result<BenchReport> {
     if dirs.is_empty() {
         bail!("{}: no experiment set found", experiments.display());
     }
+    let (sps, identical) = steps_per_second(10);
     let mut fit_seconds = Vec::new();
     for d in &dirs {
         let t0 = Instant::now();

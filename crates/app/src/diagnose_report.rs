@@ -44,7 +44,7 @@ fn row(s: &mut String, x: &GroupMisfit) {
     let _ = writeln!(
         s,
         "   {:<48} {:>6} rows  {:8.2}× noise  {:5.1}% of the gap",
-        x.group,
+        crate::visible(&x.group),
         x.rows,
         x.rms_over_noise,
         100.0 * x.share_of_gap
@@ -64,7 +64,8 @@ fn header(s: &mut String, name: &str, d: &Diagnosis) {
     let p = &d.base.model.params;
     let _ = writeln!(
         s,
-        "diagnosis of {name}: {} rows{}",
+        "diagnosis of {}: {} rows{}",
+        crate::visible(name),
         d.base.rows,
         if d.base.fitted_rows < d.base.rows {
             format!(

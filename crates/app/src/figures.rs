@@ -55,10 +55,16 @@ pub fn plot(
 
 /// The figure files `plot_set` writes for `tests`, relative to its output folder.
 pub fn figure_files(tests: &[PreparedTest]) -> Vec<String> {
-    tests
-        .iter()
-        .map(|p| format!("{}.png", sanitize(&p.fit.name)))
+    stems_of(tests)
+        .into_iter()
+        .map(|stem| format!("{stem}.png"))
         .collect()
+}
+
+/// The figure stems of `tests` ([`figure_stems`]).
+fn stems_of(tests: &[PreparedTest]) -> Vec<String> {
+    let names: Vec<&str> = tests.iter().map(|p| p.fit.name.as_str()).collect();
+    figure_stems(&names)
 }
 
 /// Renders one PNG per test under `out` (which must exist); returns the files written and a
@@ -72,7 +78,7 @@ pub fn plot_set(
 ) -> Result<(Vec<PathBuf>, Vec<String>)> {
     let mut files = Vec::new();
     let mut notes = Vec::new();
-    for p in tests {
+    for (p, stem) in tests.iter().zip(stems_of(tests)) {
         let t = &p.full;
         let cycles = p.segmentation.cycles();
         let cycle = (cycles >= 1).then(|| {
@@ -148,7 +154,7 @@ pub fn plot_set(
         if !residual.is_empty() {
             fig = fig.with_residual(Panel::new(res_label, residual).with_zero_line());
         }
-        let file = out.join(format!("{}.png", sanitize(&t.name)));
+        let file = out.join(format!("{stem}.png"));
         render_png(&fig, &file)?;
         files.push(file);
     }
@@ -159,15 +165,93 @@ fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len().max(1) as f64
 }
 
-/// A file-name-safe version of a test name.
-pub fn sanitize(s: &str) -> String {
-    s.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
+/// Longest test name used as a figure's file name as it is.
+const MAX_PLAIN_STEM: usize = 64;
+
+/// Characters of a name kept in front of the hash of a figure's file name.
+const HASHED_SLUG: usize = 48;
+
+/// The file-name stems of the figures of tests named `names` (one set's tests, in order):
+/// different for different names, also where case is ignored (macOS, Windows), and never a
+/// stem followed by `-event-NN` (the zooms of [`diagnosis_figures`]) of another.
+///
+/// A name of at most 64 of `[A-Za-z0-9_-]` that no other name matches but for case, and that
+/// does not end like a zoom (`-event-3`), is its own stem. Any other name is shown readably,
+/// its other characters as `_` and cut at 48, followed by `.` and a hash of the whole name
+/// (8 hexadecimal digits, 16 if two would meet): `x y` → `x_y.` and its hash, while `x_y`
+/// stays `x_y`; `é` → `_.` and its hash, while `_` stays `_`.
+///
+/// ```
+/// use subfric_app::figures::figure_stems;
+/// let s = figure_stems(&["monotonic", "x y", "x_y", "a/b", "a_b", "é", "_"]);
+/// assert_eq!(&s[..1], ["monotonic"]);
+/// assert_eq!(s[2], "x_y");
+/// assert!(s[1].starts_with("x_y."));
+/// let mut unique = s.clone();
+/// unique.sort();
+/// unique.dedup();
+/// assert_eq!(unique.len(), s.len());
+/// ```
+pub fn figure_stems(names: &[&str]) -> Vec<String> {
+    let slug = |n: &str| -> String {
+        n.chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect()
+    };
+    let looks_like_zoom = |n: &str| {
+        n.rsplit_once("-event-")
+            .is_some_and(|(_, k)| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+    };
+    let candidate =
+        |n: &str| !n.is_empty() && n.len() <= MAX_PLAIN_STEM && slug(n) == n && !looks_like_zoom(n);
+    // Hashed stems hold a `.`, plain ones never: only plain ones can meet.
+    let plain = |i: usize, n: &str| {
+        candidate(n)
+            && !names
+                .iter()
+                .enumerate()
+                .any(|(j, m)| j != i && candidate(m) && m.eq_ignore_ascii_case(n))
+    };
+    for hex_digits in [8, 16] {
+        let stems: Vec<String> = names
+            .iter()
+            .enumerate()
+            .map(|(i, n)| {
+                if plain(i, n) {
+                    return n.to_string();
+                }
+                let mut s = slug(n);
+                if let Some((cut, _)) = s.char_indices().nth(HASHED_SLUG) {
+                    s.truncate(cut);
+                }
+                let h = subfric_data::text::stable_hash(n);
+                let h = format!("{h:016x}");
+                format!("{s}.{}", &h[..hex_digits])
+            })
+            .collect();
+        let mut folded: Vec<String> = stems.iter().map(|s| s.to_lowercase()).collect();
+        folded.sort();
+        folded.dedup();
+        if folded.len() == stems.len() {
+            return stems;
+        }
+    }
+    // Two names with the same 64-bit hash and slug: numbered, in order.
+    names
+        .iter()
+        .enumerate()
+        .map(|(i, n)| {
+            format!(
+                "{}.{}",
+                slug(n).chars().take(HASHED_SLUG).collect::<String>(),
+                i + 1
+            )
         })
         .collect()
 }
@@ -185,7 +269,7 @@ pub fn diagnosis_figures(
 ) -> Result<Vec<PathBuf>> {
     claim_folder(out)?;
     let mut files = Vec::new();
-    for p in tests {
+    for (p, stem) in tests.iter().zip(stems_of(tests)) {
         let t = &p.full;
         if t.control != Control::Slip {
             continue;
@@ -197,7 +281,7 @@ pub fn diagnosis_figures(
             "time t [s]",
             Panel::new("friction τ/σ_n [-]", curves.series(&t.time, all)),
         );
-        let file = out.join(format!("{}.png", sanitize(&t.name)));
+        let file = out.join(format!("{stem}.png"));
         render_png(&fig, &file)?;
         files.push(file);
         let events = events_of(p);
@@ -223,7 +307,7 @@ pub fn diagnosis_figures(
                 xlabel,
                 Panel::new("friction τ/σ_n [-]", curves.series(&xs, a..b)),
             );
-            let file = out.join(format!("{}-event-{:02}.png", sanitize(&t.name), k + 1));
+            let file = out.join(format!("{stem}-event-{:02}.png", k + 1));
             render_png(&fig, &file)?;
             files.push(file);
         }

@@ -90,17 +90,22 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
     if req.dirs.is_empty() {
         bail!("no set folder given");
     }
+    crate::flags::conflicts(None, &req.fix, &req.bounds, &req.weights).map_err(|e| anyhow!(e))?;
+    refuse_repeated_sets(&req.dirs)?;
     let joint = req.dirs.len() > 1;
     let mut tests = Vec::new();
     let mut published = None;
     let mut names = Vec::new();
     let mut warnings = Vec::new();
     let mut files = Vec::new();
+    let mut stiffness = Vec::new();
     for d in &req.dirs {
         progress.stage(&format!("reading {}", d.display()), None);
         let set = load_set(d)?;
+        let reference = reference_model(&set);
+        stiffness.push((set.meta.name.clone(), reference.as_ref().map(|m| m.params)));
         if !joint {
-            published = reference_model(&set);
+            published = reference;
         }
         warnings.extend(plausibility(&set));
         names.push(set.meta.name.clone());
@@ -120,21 +125,19 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         tests.extend(prepare_set(&set, joint));
     }
     select_tests(&mut tests, &req.tests)?;
-    for (name, w) in &req.weights {
-        let Some(t) = tests.iter_mut().find(|t| &t.fit.name == name) else {
-            bail!(
-                "--weight {name}={w}: test `{name}` not found (the sets have: {})",
-                test_names(&tests)
-            );
-        };
-        t.fit.weight = *w;
-        t.full.weight = *w;
-    }
-    // Template: the published α (which lab data rarely determine), else the sample values.
+    apply_weights(&mut tests, &req.weights)?;
+    // Template: the published α (which lab data rarely determine; in a joint fit the value every
+    // set publishes), else the sample values.
     let mut template = Model::base(Params::sample())?;
-    if let Some(p) = &published {
-        template.params.alpha_t = p.params.alpha_t;
-        template.params.alpha_n = p.params.alpha_n;
+    let (alpha, why) = held_stiffness(&stiffness, template.params.alpha_t);
+    if let Some(p) = alpha {
+        template.params.alpha_t = p.alpha_t;
+        template.params.alpha_n = p.alpha_n;
+    }
+    let alpha_given =
+        req.free.contains(&Param::AlphaT) || req.fix.iter().any(|(p, _)| *p == Param::AlphaT);
+    if let (Some(why), false) = (why, alpha_given) {
+        progress.note(&why);
     }
     for (p, v) in &req.fix {
         p.set(&mut template, *v);
@@ -166,6 +169,106 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         names,
         warnings,
     })
+}
+
+/// Refuses a set folder given twice (`fit s s`, or `s` and `./s/`, or a link to it): its rows
+/// would count twice, every standard error would shrink by √2 and the intervals would claim a
+/// certainty the data do not give.
+fn refuse_repeated_sets(dirs: &[PathBuf]) -> Result<()> {
+    let mut seen: Vec<(PathBuf, &PathBuf)> = Vec::new();
+    for d in dirs {
+        let Ok(c) = std::fs::canonicalize(d) else {
+            continue; // not there: load_set says so
+        };
+        if let Some((_, first)) = seen.iter().find(|(s, _)| *s == c) {
+            bail!(
+                "{} and {}: the same set folder given twice ({}); its rows would count twice and every interval would be too narrow by √2 (expected each set once)",
+                first.display(),
+                d.display(),
+                c.display()
+            );
+        }
+        seen.push((c, d));
+    }
+    Ok(())
+}
+
+/// Sets the weights of `--weight` (each test named must be there), then scales every weight so
+/// that their mean over the rows is 1: weights say how much each test counts against the
+/// others, while the misfit stays a multiple of the noise variance and the intervals keep their
+/// meaning (a single test weighted 10⁻³⁰ would otherwise read as a perfect fit).
+fn apply_weights(tests: &mut [PreparedTest], weights: &[(String, f64)]) -> Result<()> {
+    for (name, w) in weights {
+        let Some(t) = tests.iter_mut().find(|t| &t.fit.name == name) else {
+            bail!(
+                "--weight {name}={w}: test `{name}` not found (the sets have: {})",
+                test_names(tests)
+            );
+        };
+        t.fit.weight = *w;
+        t.full.weight = *w;
+    }
+    let rows: f64 = tests.iter().map(|t| t.full.time.len() as f64).sum();
+    let weighted: f64 = tests
+        .iter()
+        .map(|t| t.full.weight * t.full.time.len() as f64)
+        .sum();
+    if weights.is_empty() || !(rows > 0.0 && weighted > 0.0) {
+        return Ok(());
+    }
+    let scale = rows / weighted;
+    for t in tests.iter_mut() {
+        t.fit.weight *= scale;
+        t.full.weight *= scale;
+    }
+    Ok(())
+}
+
+/// The contact stiffness a fit holds (α_t and α_n, which lab data rarely determine), from the
+/// published parameters of the sets `(name, published)`: a single set's, or the value every set
+/// of a joint fit publishes. Returns it (`None`: the sample values) and, when it does not come
+/// from a single set's publication, a note saying what is held and why.
+fn held_stiffness(
+    sets: &[(String, Option<Params>)],
+    sample: f64,
+) -> (Option<Params>, Option<String>) {
+    let published: Vec<(&String, Params)> =
+        sets.iter().filter_map(|(n, p)| p.map(|p| (n, p))).collect();
+    let agree = published.len() == sets.len()
+        && published
+            .windows(2)
+            .all(|w| w[0].1.alpha_t == w[1].1.alpha_t && w[0].1.alpha_n == w[1].1.alpha_n);
+    match (sets.len(), agree, published.first()) {
+        (1, true, Some((_, p))) => (Some(*p), None),
+        (_, true, Some((_, p))) => (
+            Some(*p),
+            Some(format!(
+                "alpha_t held at {} kN/mm³, the value every set publishes (free it with --free …,alpha_t, or set it with --fix alpha_t=…)",
+                p.alpha_t
+            )),
+        ),
+        _ if published.is_empty() => (
+            None,
+            Some(format!(
+                "alpha_t held at {sample} kN/mm³, a typical value: {} publish{} none (free it with --free …,alpha_t, or set it with --fix alpha_t=…)",
+                if sets.len() == 1 { "the set" } else { "the sets" },
+                if sets.len() == 1 { "es" } else { "" }
+            )),
+        ),
+        _ => (
+            None,
+            Some(format!(
+                "alpha_t held at {sample} kN/mm³, a typical value: the sets do not publish one value ({}) (free it with --free …,alpha_t, or set it with --fix alpha_t=…)",
+                sets.iter()
+                    .map(|(n, p)| match p {
+                        Some(p) => format!("{} {}", crate::visible(n), p.alpha_t),
+                        None => format!("{} none", crate::visible(n)),
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+        ),
+    }
 }
 
 fn free_triple(free: &[Param]) -> bool {

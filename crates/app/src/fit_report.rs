@@ -15,8 +15,10 @@ pub fn report_table(name: &str, r: &FitReport) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "fit of {name}: {} rows, misfit {:.3}× the noise variance (reduced χ²)",
-        r.rows, r.reduced_chi2
+        "fit of {}: {} rows, misfit {:.3}× the noise variance (reduced χ²)",
+        crate::visible(name),
+        r.rows,
+        r.reduced_chi2
     );
     write_parameter_rows(&mut s, r);
     write_combinations(&mut s, r);
@@ -26,7 +28,7 @@ pub fn report_table(name: &str, r: &FitReport) -> String {
         let _ = writeln!(
             s,
             "  {:<30} {:>6} rows  RMS {:>9} {:<3} ({:.2}% of scale, {:.2}× noise)",
-            t.name,
+            crate::visible(&t.name),
             t.rows,
             fmt_num(t.rms),
             t.unit,

@@ -32,6 +32,7 @@ pub mod fit;
 pub mod fit_report;
 pub mod flags;
 pub mod io;
+pub mod lock;
 pub mod output;
 pub mod plan;
 pub mod progress;
@@ -44,6 +45,7 @@ pub use diagnose::{diagnose, Diagnosed};
 pub use fit::{fit, FitOutcome, FitRequest, Fitted};
 pub use io::load_model;
 pub use progress::{Progress, Silent};
+pub use subfric_data::visible;
 
 /// An error and its causes, each cause once: a cause whose text the message already holds
 /// (such as an OS error that a file error quotes) is not repeated.

@@ -233,7 +233,8 @@ fn write_rig_and_valley(s: &mut String, name: &str, p: &Plan) {
     };
     let _ = writeln!(
         s,
-        "plan for {name}: {control} control at {} mm/s, {:.0} kPa, sampled every {} s, noise {} {noise_unit}",
+        "plan for {}: {control} control at {} mm/s, {:.0} kPa, sampled every {} s, noise {} {noise_unit}",
+        crate::visible(name),
         num(r.rate_mm_s),
         r.normal_stress_kpa,
         num(r.dt_s),

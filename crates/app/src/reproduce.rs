@@ -5,7 +5,7 @@
 //! (no wall times), so that running the job on a clean checkout leaves it clean; the wall times
 //! go to the terminal and to `timings.txt`, which is not tracked.
 
-use crate::figures::{plot_set, sanitize};
+use crate::figures::{figure_stems, plot_set};
 use crate::fit::{run_fit, write_fit, FitOutcome, FitRequest};
 use crate::fit_report::{interval_text, report_table};
 use crate::io::write_text;
@@ -213,12 +213,8 @@ fn fit_all(
                 "fit.txt".to_string(),
                 PLAN_DIR.to_string(),
             ];
-            files.extend(
-                j.meta
-                    .tests
-                    .iter()
-                    .map(|t| format!("{}.png", sanitize(&t.name))),
-            );
+            let names: Vec<&str> = j.meta.tests.iter().map(|t| t.name.as_str()).collect();
+            files.extend(figure_stems(&names).iter().map(|s| format!("{s}.png")));
             ResultsDir::claim(
                 &out.join(&j.name),
                 std::slice::from_ref(&j.dir),

@@ -11,7 +11,7 @@ use crate::fsio::{commit_file, stage_file, PathKind};
 use crate::meta::{ControlColumn, ExperimentMeta, Interface, TestSpec};
 use crate::set::{
     comment_text, load_set, meta_json_text, prepare_parent, test_csv_text, validate_data,
-    ExperimentSet, TestData, EXPERIMENT_JSON,
+    ExperimentSet, TestData, EXPERIMENT_JSON, MAX_MAGNITUDE,
 };
 
 /// Cell delimiter of a lab file.
@@ -325,7 +325,20 @@ fn decode(bytes: Vec<u8>) -> String {
     }
 }
 
-/// File name for a test: the name with characters outside `[A-Za-z0-9._-]` replaced by `-`.
+/// Longest file name stem [`file_name_for`] makes before it shortens the name: well below a
+/// file system's 255 bytes, with room for the temporary name of an atomic write.
+const MAX_FILE_STEM: usize = 100;
+
+/// File name for a test: the name with characters outside `[A-Za-z0-9._-]` replaced by `-`; a
+/// name longer than 100 characters is cut there and given a short hash of the whole name, so
+/// that two long names sharing their start still get two files.
+///
+/// ```
+/// use subfric_data::import::file_name_for;
+/// assert_eq!(file_name_for("run 3"), "run-3.csv");
+/// let (a, b) = (file_name_for(&"x".repeat(300)), file_name_for(&("x".repeat(299) + "y")));
+/// assert!(a.len() < 120 && a != b);
+/// ```
 pub fn file_name_for(test_name: &str) -> String {
     let mut s: String = test_name
         .trim()
@@ -343,6 +356,13 @@ pub fn file_name_for(test_name: &str) -> String {
     }
     if s.is_empty() {
         s.push_str("test");
+    }
+    if s.len() > MAX_FILE_STEM {
+        s.truncate(MAX_FILE_STEM);
+        s.push_str(&format!(
+            "-{:08x}",
+            crate::text::stable_hash(test_name) as u32
+        ));
     }
     s.push_str(".csv");
     s
@@ -375,8 +395,23 @@ fn spec_problems(lf: &Path, spec: &ImportSpec) -> Problems {
             "the normal stress is unknown (expected a normal column or a constant normal stress in kPa)",
         );
     }
+    for (name, field, what) in [
+        (&spec.test_name, "test_name", "a test name"),
+        (&spec.set_name, "set_name", "a set name"),
+    ] {
+        if let Some(msg) = crate::text::name_too_long(name.trim(), what) {
+            pr.add(lf, None, Some(field), msg);
+        }
+    }
     if let Some(x) = spec.normal_stress_kpa {
-        if !(x > 0.0 && x.is_finite()) {
+        if x > MAX_MAGNITUDE {
+            pr.add(
+                lf,
+                None,
+                Some("normal_stress_kpa"),
+                format!("normal stress {x:e} kPa is beyond {MAX_MAGNITUDE:e} kPa (expected a measured normal stress in kPa)"),
+            );
+        } else if !(x > 0.0 && x.is_finite()) {
             pr.add(
                 lf,
                 None,
@@ -412,8 +447,8 @@ fn read_lab_text(lf: &Path) -> Result<String, DataError> {
 fn content_lines(text: &str, skip: usize) -> (Vec<(usize, &str)>, Vec<String>) {
     let mut comments = Vec::new();
     let mut lines = Vec::new();
-    for (i, raw) in text.split('\n').enumerate().skip(skip) {
-        let line = raw.strip_suffix('\r').unwrap_or(raw);
+    // Lines end in \n, \r\n or a lone \r (old Mac exports, some loggers).
+    for (i, line) in crate::text::lines(text).enumerate().skip(skip) {
         let trimmed = line.trim();
         if trimmed.is_empty() {
             continue;
@@ -470,7 +505,25 @@ fn resolve(
             .iter()
             .position(|h| h.trim().eq_ignore_ascii_case(n.trim()))
         {
-            Some(k) => Some((k, names[k].clone())),
+            Some(k) => {
+                let same = |h: &String| h.trim().eq_ignore_ascii_case(n.trim());
+                if let Some(j) = names[k + 1..].iter().position(same) {
+                    pr.add(
+                        lf,
+                        Some(header_line),
+                        Some(what),
+                        format!(
+                            "columns {} (`{}`) and {} (`{}`) are both named `{n}` (expected one column of that name, or the column's 1-based index)",
+                            k + 1,
+                            names[k],
+                            k + j + 2,
+                            names[k + j + 1]
+                        ),
+                    );
+                    return None;
+                }
+                Some((k, names[k].clone()))
+            }
             None => {
                 pr.add(
                     lf,
@@ -564,7 +617,11 @@ fn cell_value(
     }
     match crate::set::parse_number(&c) {
         Ok(x) => Some(x * factor),
-        Err(msg) => {
+        Err(_) => {
+            // The message quotes the cell as the file has it, not its decimal-comma reading.
+            let msg = crate::set::parse_number(cell)
+                .err()
+                .unwrap_or_else(|| format!("`{cell}` is not a number (expected a decimal number)"));
             pr.add(lf, Some(line_no), Some(&col.1), msg);
             None
         }

@@ -41,6 +41,7 @@ pub mod plausible;
 pub mod segment;
 pub mod set;
 pub mod summary;
+pub mod text;
 
 pub use condition::{condition_imposed, condition_imposed_with, Conditioned};
 pub use error::{DataError, InputProblem};
@@ -56,3 +57,4 @@ pub use set::{
     load_set, load_test, write_set, ExperimentSet, TestData, ACCEPTED_COLUMNS, EXPERIMENT_JSON,
 };
 pub use summary::{summary, summary_with, HoldSummary, SetSummary, StepSummary, TestSummary};
+pub use text::{visible, MAX_NAME_BYTES};

@@ -22,13 +22,14 @@ pub struct Warning {
 
 impl fmt::Display for Warning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
+        // One line, whatever the names in it hold.
+        let line = format!(
             "{}: field `{}`: {}",
             self.file.display(),
             self.field,
             self.message
-        )
+        );
+        f.write_str(&crate::visible(&line))
     }
 }
 

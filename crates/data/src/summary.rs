@@ -8,6 +8,7 @@ use crate::meta::ControlColumn;
 use crate::noise::{estimate_noise, NoiseEstimate};
 use crate::segment::{segment, SegmentOptions, Start, StartKind};
 use crate::set::{ExperimentSet, TestData};
+use crate::text::visible;
 
 /// Summary of one hold.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -286,7 +287,7 @@ fn table_row(t: &TestSummary) -> [String; 15] {
         ("kPa", "mm")
     };
     [
-        t.name.clone(),
+        visible(&t.name),
         t.control.to_string(),
         t.rows.to_string(),
         pair(t.time_span_s),
@@ -346,7 +347,7 @@ fn write_table(f: &mut fmt::Formatter<'_>, rows: &[[String; 15]]) -> fmt::Result
 /// its velocity steps.
 fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result {
     if !t.start.from_spec && t.start.kind != StartKind::Rest {
-        writeln!(f, "  {}: {}", t.name, t.start.reason)?;
+        writeln!(f, "  {}: {}", visible(&t.name), t.start.reason)?;
     }
     if !t.holds.is_empty() {
         let hs: Vec<String> = t
@@ -354,7 +355,7 @@ fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result 
             .iter()
             .map(|h| format!("{} s at t={}", num(h.duration_s), num(h.start_time_s)))
             .collect();
-        writeln!(f, "  {}: holds {}", t.name, hs.join(", "))?;
+        writeln!(f, "  {}: holds {}", visible(&t.name), hs.join(", "))?;
     }
     if !t.velocity_steps.is_empty() {
         let ss: Vec<String> = t
@@ -369,7 +370,12 @@ fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result 
                 )
             })
             .collect();
-        writeln!(f, "  {}: velocity steps {}", t.name, ss.join(", "))?;
+        writeln!(
+            f,
+            "  {}: velocity steps {}",
+            visible(&t.name),
+            ss.join(", ")
+        )?;
     }
     Ok(())
 }
@@ -402,9 +408,9 @@ fn write_footnotes(f: &mut fmt::Formatter<'_>, tests: &[TestSummary]) -> fmt::Re
 
 impl fmt::Display for SetSummary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "{}: {}", self.name, self.title)?;
+        writeln!(f, "{}: {}", visible(&self.name), visible(&self.title))?;
         if let Some(p) = &self.provenance {
-            writeln!(f, "  provenance: {p}")?;
+            writeln!(f, "  provenance: {}", visible(p))?;
         }
         let rows: Vec<[String; 15]> = self.tests.iter().map(table_row).collect();
         write_table(f, &rows)?;
