@@ -111,6 +111,7 @@ mod figure;
 mod fonts;
 mod geom;
 mod png_io;
+pub mod posterior;
 mod scale;
 
 use std::path::PathBuf;
