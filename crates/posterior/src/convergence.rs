@@ -3,6 +3,7 @@
 //! the split R̂ over groups of walkers, the effective sample size, and from these a verdict that
 //! says either "converged" or roughly how many more steps the run needs.
 
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// Sokal's window constant: the autocorrelation function is summed up to the first lag M with
@@ -154,24 +155,29 @@ pub fn judge(
         .map_or(0, |s| s.len());
     // τ on the second half, where the start has been forgotten, sets the burn-in.
     let half = steps / 2;
+    // Quantities in parallel: the checks run while the sampler waits.
     let tau_late = series
-        .iter()
+        .par_iter()
         .zip(judged)
         .filter(|(_, j)| **j)
         .map(|(q, _)| {
             let late: Vec<&[f64]> = q.iter().map(|s| &s[half..]).collect();
             integrated_time(&late)
         })
-        .fold(0.0f64, f64::max);
+        .reduce(|| 0.0f64, f64::max);
     let burn_in = ((BURN_IN_TAUS * tau_late).ceil() as usize).min(half);
     let kept = steps - burn_in;
     let mut quantities = Vec::with_capacity(series.len());
     let mut needed_kept = 0.0f64;
     let mut needed_burn = 0.0f64;
-    for ((name, q), &is_judged) in names.iter().zip(series).zip(judged) {
-        let tail: Vec<&[f64]> = q.iter().map(|s| &s[burn_in..]).collect();
-        let tau = integrated_time(&tail);
-        let rhat = split_rhat(&tail, RHAT_GROUPS);
+    let measured: Vec<(f64, f64)> = series
+        .par_iter()
+        .map(|q| {
+            let tail: Vec<&[f64]> = q.iter().map(|s| &s[burn_in..]).collect();
+            (integrated_time(&tail), split_rhat(&tail, RHAT_GROUPS))
+        })
+        .collect();
+    for ((name, &(tau, rhat)), &is_judged) in names.iter().zip(&measured).zip(judged) {
         let ess = if tau.is_finite() && tau > 0.0 {
             (kept * walkers) as f64 / tau
         } else {
