@@ -160,7 +160,8 @@ fn the_band_is_shaded_between_its_edges_even_where_x_stands_still() {
     let lo: Vec<f64> = mid.iter().map(|v| v - 0.05).collect();
     let hi: Vec<f64> = mid.iter().map(|v| v + 0.05).collect();
     let fig = BandFigure::new("band", "x", "y", x.clone(), lo, hi, "95 % band")
-        .with_series(Series::new("median", x, mid, Style::Fitted));
+        .with_series(Series::new("median", x, mid.clone(), Style::Fitted))
+        .with_difference(mid, "minus the median");
     let path = dir.path().join("band.png");
     render_band_png(&fig, &path).unwrap();
     let img = read_rgb(&path).unwrap();
@@ -187,6 +188,15 @@ fn the_band_is_shaded_between_its_edges_even_where_x_stands_still() {
     // The median is drawn over the band in red.
     let m = img.pixel(px(0.5), py(0.5)).unwrap();
     assert!(m[0] > 150 && m[1] < 110, "{m:?}");
+    // Below, the band relative to the median: ±0.05 around zero, over its whole height.
+    let d = l.difference.unwrap();
+    let (d0, d1) = l.difference_y_range.unwrap();
+    let dy = |v: f64| {
+        (d.bottom as f64 - (v - d0) / (d1 - d0) * (d.bottom - d.top) as f64).round() as u32
+    };
+    assert!(d0 < -0.05 && d1 > 0.05 && d1 < 0.1, "{d0}..{d1}");
+    assert_eq!(img.pixel(px(0.3), dy(0.035)).unwrap(), band);
+    assert_eq!(img.pixel(px(0.3), dy(-0.035)).unwrap(), band);
     let bad = BandFigure::new("", "x", "y", vec![0.0, 1.0], vec![0.0], vec![1.0, 2.0], "b");
     let e = render_band_png(&bad, &dir.path().join("bad.png")).unwrap_err();
     assert!(

@@ -90,7 +90,8 @@ pub fn corner_png(
 
 /// The band of `test` over its measured curve: friction τ/σ_n against slip under slip
 /// control, slip against time under traction control; the posterior median, and the
-/// least-squares fit when given.
+/// least-squares fit when given; below, the same minus the posterior median (where a band
+/// thinner than a line on the full curve shows at its own scale).
 pub fn band_figure(
     test: &FitTest,
     band: &TestBand,
@@ -137,12 +138,14 @@ pub fn band_figure(
             Style::Other(1),
         ));
     }
+    let unit = if slip_control { "[-]" } else { "[mm]" };
     fig.with_series(Series::new(
         "posterior median",
         x,
         to_y(&band.median),
         Style::Fitted,
     ))
+    .with_difference(to_y(&band.median), format!("minus the median {unit}"))
 }
 
 /// Writes the band figure of one test to `path` (see [`band_figure`]).

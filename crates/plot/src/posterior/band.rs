@@ -1,5 +1,7 @@
 //! The predictive-band overlay: a shaded band between two curves (the 2.5 and 97.5 % of the
-//! posterior's model curves) under the measured curve and any other curves.
+//! posterior's model curves) under the measured curve and any other curves, and optionally a
+//! panel below with everything drawn relative to a reference curve (the posterior median): a
+//! band a fraction of a line width wide on the full curve is seen there at its own scale.
 //!
 //! The band is drawn as the union of the quadrilaterals between consecutive rows, column of
 //! pixels by column of pixels, so that it follows curves that go back and forth (cycles) or
@@ -12,7 +14,7 @@ use crate::chrome::{
     dash_pattern, draw_axes, draw_grid, draw_legend, draw_y_label, place_legend, place_title,
     AxisDraw, Legend, LegendEntry, Metrics, Swatch,
 };
-use crate::colors::{style_rgb, INK_RGB};
+use crate::colors::{style_rgb, INK_RGB, ZERO_RGB};
 use crate::fonts::{self, CAP_HEIGHT, DESCENT};
 use crate::geom::{decimate, ClipBox, Mapper, Occupancy, PixelRect, Pt};
 use crate::scale::{plottable, ticks, AxisRange, Extent, Ticks};
@@ -37,6 +39,9 @@ pub struct BandFigure {
     pub band_label: String,
     /// Curves drawn over the band, in order (measured first).
     pub series: Vec<Series>,
+    /// A reference curve (one value per row of the band) and the y label of a panel below that
+    /// shows the band and every curve minus it.
+    pub difference: Option<(Vec<f64>, String)>,
     /// Image width in pixels.
     pub width: u32,
     /// Image height in pixels.
@@ -63,6 +68,7 @@ impl BandFigure {
             hi,
             band_label: band_label.into(),
             series: Vec::new(),
+            difference: None,
             width: 1000,
             height: 750,
         }
@@ -73,41 +79,67 @@ impl BandFigure {
         self.series.push(s);
         self
     }
+
+    /// The same figure with a panel below showing the band and the curves minus `reference`
+    /// (one value per row of the band; curves with other x are left out of that panel).
+    pub fn with_difference(mut self, reference: Vec<f64>, y_label: impl Into<String>) -> Self {
+        self.difference = Some((reference, y_label.into()));
+        self
+    }
 }
 
 /// Where a [`BandFigure`] is drawn.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BandLayout {
-    /// Plotting area.
+    /// Plotting area of the main panel.
     pub plot: PixelRect,
+    /// Plotting area of the difference panel, if any.
+    pub difference: Option<PixelRect>,
     /// Legend box, if any.
     pub legend: Option<PixelRect>,
     /// X range.
     pub x_range: (f64, f64),
-    /// Y range.
+    /// Y range of the main panel.
     pub y_range: (f64, f64),
+    /// Y range of the difference panel.
+    pub difference_y_range: Option<(f64, f64)>,
 }
 
 /// Colour of the band: a light red under the red fitted curves.
 const BAND_RGB: [u8; 3] = [246, 190, 184];
 
+/// One panel: its band and curves in its own y units.
+struct Panel {
+    rect: PixelRect,
+    y: AxisRange,
+    yticks: Ticks,
+    y_label: (String, f64),
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    series: Vec<Series>,
+    zero_line: bool,
+}
+
 struct Plan {
     m: Metrics,
-    rect: PixelRect,
     x: AxisRange,
-    y: AxisRange,
     xticks: Ticks,
-    yticks: Ticks,
     title: (String, f64, (f64, f64)),
     x_label: (String, f64),
-    y_label: (String, f64),
+    main: Panel,
+    difference: Option<Panel>,
     legend: Option<Legend>,
 }
 
 fn validate(fig: &BandFigure) -> Result<(), Invalid> {
     check_size(fig.width, fig.height)?;
-    for (name, v) in [("band lower edge", &fig.lo), ("band upper edge", &fig.hi)] {
-        if v.len() != fig.x.len() {
+    let reference = fig.difference.as_ref().map(|d| &d.0);
+    for (name, v) in [
+        ("band lower edge", Some(&fig.lo)),
+        ("band upper edge", Some(&fig.hi)),
+        ("reference curve", reference),
+    ] {
+        if let Some(v) = v.filter(|v| v.len() != fig.x.len()) {
             return Err(Invalid::Length {
                 label: name.into(),
                 x_len: fig.x.len(),
@@ -139,25 +171,50 @@ fn line_width(style: Style, m: &Metrics) -> f64 {
     }
 }
 
-fn plan(fig: &BandFigure) -> Result<Plan, Invalid> {
-    validate(fig)?;
-    fonts::ensure_fonts().map_err(Invalid::Draw)?;
-    let m = Metrics::new(fig.width, fig.height);
-    let (mut xe, mut ye) = (Extent::default(), Extent::default());
-    for ((x, lo), hi) in fig.x.iter().zip(&fig.lo).zip(&fig.hi) {
+/// The difference panel's band and curves: everything minus the reference, row by row.
+fn differences(fig: &BandFigure, reference: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<Series>) {
+    let minus = |v: &[f64]| -> Vec<f64> { v.iter().zip(reference).map(|(a, b)| a - b).collect() };
+    let series = fig
+        .series
+        .iter()
+        .filter(|s| s.x == fig.x)
+        .map(|s| Series::new(s.label.clone(), s.x.clone(), minus(&s.y), s.style))
+        .collect();
+    (minus(&fig.lo), minus(&fig.hi), series)
+}
+
+/// Y range of a panel: its band and its curves.
+fn y_range(x: &[f64], lo: &[f64], hi: &[f64], series: &[Series], zero: bool) -> AxisRange {
+    let mut ye = Extent::default();
+    for ((x, lo), hi) in x.iter().zip(lo).zip(hi) {
         if plottable(*x) && plottable(*lo) && plottable(*hi) {
-            xe.add(*x);
             ye.add(*lo);
             ye.add(*hi);
         }
     }
-    for (x, y) in fig.series.iter().flat_map(series_points) {
+    for (x, y) in series.iter().flat_map(series_points) {
         if plottable(x) && plottable(y) {
-            xe.add(x);
             ye.add(y);
         }
     }
-    let (x, y) = (xe.padded(false), ye.padded(false));
+    ye.padded(zero)
+}
+
+fn plan(fig: &BandFigure) -> Result<Plan, Invalid> {
+    validate(fig)?;
+    fonts::ensure_fonts().map_err(Invalid::Draw)?;
+    let m = Metrics::new(fig.width, fig.height);
+    let mut xe = Extent::default();
+    for v in fig
+        .x
+        .iter()
+        .chain(fig.series.iter().flat_map(|s| s.x.iter()))
+    {
+        if plottable(*v) {
+            xe.add(*v);
+        }
+    }
+    let x = xe.padded(false);
     let title_block = if fig.title.trim().is_empty() {
         0.0
     } else {
@@ -169,21 +226,42 @@ fn plan(fig: &BandFigure) -> Result<Plan, Invalid> {
     if !fig.x_label.trim().is_empty() {
         bottom += m.px(10.0) + text_h(m.label);
     }
-    let plot_h = (f64::from(fig.height) - top - bottom).floor();
-    if plot_h < 20.0 {
+    let gap = if fig.difference.is_some() {
+        m.px(20.0)
+    } else {
+        0.0
+    };
+    let avail = (f64::from(fig.height) - top - bottom - gap).floor();
+    let main_h = if fig.difference.is_some() {
+        (avail * 2.0 / 3.0).round()
+    } else {
+        avail
+    };
+    let diff_h = avail - main_h;
+    if main_h < 20.0 || (fig.difference.is_some() && diff_h < 15.0) {
         return Err(Invalid::Draw(DrawError::TooLow {
             width: fig.width,
             height: fig.height,
         }));
     }
-    let yticks = ticks(y, ((plot_h / (60.0 * m.s)).round() as usize).clamp(2, 9));
-    let tick_w = yticks
+    let main_y = y_range(&fig.x, &fig.lo, &fig.hi, &fig.series, false);
+    let main_ticks = ticks(
+        main_y,
+        ((main_h / (60.0 * m.s)).round() as usize).clamp(2, 9),
+    );
+    let diff = fig.difference.as_ref().map(|(reference, label)| {
+        let (lo, hi, series) = differences(fig, reference);
+        let y = y_range(&fig.x, &lo, &hi, &series, true);
+        let t = ticks(y, ((diff_h / (45.0 * m.s)).round() as usize).clamp(2, 5));
+        (lo, hi, series, y, t, label.clone())
+    });
+    let tick_w = main_ticks
         .labels
         .iter()
+        .chain(diff.iter().flat_map(|d| d.4.labels.iter()))
         .map(|l| fonts::text_width(l, m.tick))
         .fold(0.0, f64::max);
-    let ylabel_col = text_h(m.label) + m.px(10.0);
-    let left = (m.pad + ylabel_col + tick_w + m.gap + m.tick_len)
+    let left = (m.pad + text_h(m.label) + m.px(10.0) + tick_w + m.gap + m.tick_len)
         .ceil()
         .min(f64::from(fig.width) * 0.45);
     let plot_w = f64::from(fig.width) - left - m.px(30.0);
@@ -193,8 +271,63 @@ fn plan(fig: &BandFigure) -> Result<Plan, Invalid> {
             height: fig.height,
         }));
     }
+    let xticks = x_ticks(x, plot_w, &m);
+    let rect = PixelRect {
+        left: left as i32,
+        top: top as i32,
+        right: left as i32 + plot_w as i32 - 1,
+        bottom: top as i32 + main_h as i32 - 1,
+    };
+    let y_label = |text: &str, r: PixelRect| {
+        fonts::shrink_to_fit(text.trim(), m.label, m.label * 0.7, f64::from(r.height()))
+    };
+    let main = Panel {
+        rect,
+        y: main_y,
+        yticks: main_ticks,
+        y_label: y_label(&fig.y_label, rect),
+        lo: fig.lo.clone(),
+        hi: fig.hi.clone(),
+        series: fig.series.clone(),
+        zero_line: false,
+    };
+    let difference = diff.map(|(lo, hi, series, y, yticks, label)| {
+        let r = PixelRect {
+            top: rect.bottom + 1 + gap as i32,
+            bottom: rect.bottom + gap as i32 + diff_h as i32,
+            ..rect
+        };
+        Panel {
+            rect: r,
+            y,
+            yticks,
+            y_label: y_label(&label, r),
+            lo,
+            hi,
+            series,
+            zero_line: true,
+        }
+    });
+    let legend = main_legend(fig, &main, x, &m);
+    let title = place_title(&fig.title, rect, fig.width, title_block, &m);
+    let max_w = f64::from(fig.width) - 2.0 * m.pad;
+    let x_label = fonts::shrink_to_fit(fig.x_label.trim(), m.label, m.label * 0.7, max_w);
+    Ok(Plan {
+        m,
+        x,
+        xticks,
+        title,
+        x_label,
+        main,
+        difference,
+        legend,
+    })
+}
+
+/// X ticks: as many as fit `plot_w` pixels without overlapping labels.
+fn x_ticks(x: AxisRange, plot_w: f64, m: &Metrics) -> Ticks {
     let mut target = ((plot_w / (110.0 * m.s)).round() as usize).clamp(2, 12);
-    let xticks = loop {
+    loop {
         let t = ticks(x, target);
         let widest = t
             .labels
@@ -206,19 +339,21 @@ fn plan(fig: &BandFigure) -> Result<Plan, Invalid> {
             _ => f64::INFINITY,
         };
         if widest + m.px(14.0) <= spacing || target <= 1 {
-            break t;
+            return t;
         }
         target -= 1;
+    }
+}
+
+/// The legend of the main panel, in its emptiest corner.
+fn main_legend(fig: &BandFigure, p: &Panel, x: AxisRange, m: &Metrics) -> Option<Legend> {
+    let mapper = Mapper {
+        rect: p.rect,
+        x,
+        y: p.y,
     };
-    let rect = PixelRect {
-        left: left as i32,
-        top: top as i32,
-        right: left as i32 + plot_w as i32 - 1,
-        bottom: top as i32 + plot_h as i32 - 1,
-    };
-    let mapper = Mapper { rect, x, y };
-    let mut occupancy = Occupancy::new(rect, (12.0 * m.s).round().max(4.0) as i32);
-    for edge in [&fig.lo, &fig.hi] {
+    let mut occupancy = Occupancy::new(p.rect, (12.0 * m.s).round().max(4.0) as i32);
+    for edge in [&p.lo, &p.hi] {
         let pts: Vec<Pt> = fig
             .x
             .iter()
@@ -232,7 +367,7 @@ fn plan(fig: &BandFigure) -> Result<Plan, Invalid> {
         label: fig.band_label.clone(),
         swatch: Swatch::Patch { color: BAND_RGB },
     }];
-    for s in &fig.series {
+    for s in &p.series {
         let pts: Vec<Pt> = series_points(s)
             .filter(|(a, b)| plottable(*a) && plottable(*b))
             .map(|(a, b)| (mapper.px(a), mapper.py(b)))
@@ -243,74 +378,51 @@ fn plan(fig: &BandFigure) -> Result<Plan, Invalid> {
                 label: s.label.clone(),
                 swatch: Swatch::Line {
                     color: style_rgb(s.style),
-                    width: line_width(s.style, &m),
+                    width: line_width(s.style, m),
                     dashed: s.style == Style::Published,
                     marker: None,
                 },
             });
         }
     }
-    let legend = place_legend(entries, rect, &occupancy, &m);
-    let title = place_title(&fig.title, rect, fig.width, title_block, &m);
-    let max_w = f64::from(fig.width) - 2.0 * m.pad;
-    let x_label = fonts::shrink_to_fit(fig.x_label.trim(), m.label, m.label * 0.7, max_w);
-    let y_label = fonts::shrink_to_fit(
-        fig.y_label.trim(),
-        m.label,
-        m.label * 0.7,
-        f64::from(rect.height()),
-    );
-    Ok(Plan {
-        m,
-        rect,
-        x,
-        y,
-        xticks,
-        yticks,
-        title,
-        x_label,
-        y_label,
-        legend,
-    })
+    place_legend(entries, p.rect, &occupancy, m)
 }
 
 /// Where the parts of `fig` would be drawn, or `None` if `fig` is invalid.
 pub fn band_layout(fig: &BandFigure) -> Option<BandLayout> {
     let p = plan(fig).ok()?;
     Some(BandLayout {
-        plot: p.rect,
+        plot: p.main.rect,
+        difference: p.difference.as_ref().map(|d| d.rect),
         legend: p.legend.as_ref().map(|l| l.rect),
         x_range: (p.x.min, p.x.max),
-        y_range: (p.y.min, p.y.max),
+        y_range: (p.main.y.min, p.main.y.max),
+        difference_y_range: p.difference.as_ref().map(|d| (d.y.min, d.y.max)),
     })
 }
 
 /// Fills the band between consecutive rows, one pixel column at a time.
-fn fill_band(c: &mut Canvas, fig: &BandFigure, mapper: &Mapper) {
+fn fill_band(c: &mut Canvas, x: &[f64], p: &Panel, mapper: &Mapper) {
     let r = mapper.rect;
     let clamp_y = |v: f64| {
         v.round()
             .clamp(f64::from(r.top + 1), f64::from(r.bottom - 1)) as i32
     };
     let row = |i: usize| -> Option<(f64, f64, f64)> {
-        let (x, lo, hi) = (fig.x[i], fig.lo[i], fig.hi[i]);
+        let (x, lo, hi) = (x[i], p.lo[i], p.hi[i]);
         (plottable(x) && plottable(lo) && plottable(hi))
             .then(|| (mapper.px(x), mapper.py(lo), mapper.py(hi)))
     };
-    for i in 1..fig.x.len() {
+    for i in 1..x.len() {
         let (Some((xa, la, ha)), Some((xb, lb, hb))) = (row(i - 1), row(i)) else {
             continue;
         };
         let (c0, c1) = (xa.min(xb).round() as i32, xa.max(xb).round() as i32);
         for col in c0.max(r.left + 1)..=c1.min(r.right - 1) {
-            let t = if (xb - xa).abs() < 1.0 {
-                f64::NAN
-            } else {
-                ((f64::from(col) - xa) / (xb - xa)).clamp(0.0, 1.0)
-            };
-            let (top, bottom) = if t.is_nan() {
+            let (top, bottom) = if (xb - xa).abs() < 1.0 {
                 (ha.min(hb).min(la).min(lb), ha.max(hb).max(la).max(lb))
             } else {
+                let t = ((f64::from(col) - xa) / (xb - xa)).clamp(0.0, 1.0);
                 let lo = la + t * (lb - la);
                 let hi = ha + t * (hb - ha);
                 (lo.min(hi), lo.max(hi))
@@ -349,30 +461,42 @@ fn draw_series(c: &mut Canvas, s: &Series, mapper: &Mapper, m: &Metrics) {
     flush(&mut run, c);
 }
 
-fn draw(fig: &BandFigure, p: &Plan) -> Result<Canvas, DrawError> {
-    let mut c = Canvas::new(fig.width, fig.height)?;
+fn draw_panel(c: &mut Canvas, fig: &BandFigure, plan: &Plan, p: &Panel, bottom: bool) {
     let axes = AxisDraw {
         rect: p.rect,
-        x: Some((p.x, &p.xticks)),
-        x_labels: true,
+        x: Some((plan.x, &plan.xticks)),
+        x_labels: bottom,
         y: p.y,
         yticks: &p.yticks,
     };
-    draw_grid(&mut c, &axes);
+    draw_grid(c, &axes);
     let mapper = Mapper {
         rect: p.rect,
-        x: p.x,
+        x: plan.x,
         y: p.y,
     };
-    fill_band(&mut c, fig, &mapper);
-    for s in &fig.series {
-        draw_series(&mut c, s, &mapper, &p.m);
+    fill_band(c, &fig.x, p, &mapper);
+    if p.zero_line && p.y.contains(0.0) {
+        let y = mapper.py(0.0).round();
+        let (l, r) = (f64::from(p.rect.left + 1), f64::from(p.rect.right - 1));
+        c.line((l, y), (r, y), ZERO_RGB, 1.0, Some(dash_pattern(&plan.m)));
     }
-    draw_axes(&mut c, &axes, &p.m, fig.width);
+    for s in &p.series {
+        draw_series(c, s, &mapper, &plan.m);
+    }
+    draw_axes(c, &axes, &plan.m, fig.width);
+    draw_y_label(c, &p.y_label.0, p.y_label.1, p.rect, &plan.m);
+}
+
+fn draw(fig: &BandFigure, p: &Plan) -> Result<Canvas, DrawError> {
+    let mut c = Canvas::new(fig.width, fig.height)?;
+    draw_panel(&mut c, fig, p, &p.main, p.difference.is_none());
+    if let Some(d) = &p.difference {
+        draw_panel(&mut c, fig, p, d, true);
+    }
     if let Some(l) = &p.legend {
         draw_legend(&mut c, l, &p.m);
     }
-    draw_y_label(&mut c, &p.y_label.0, p.y_label.1, p.rect, &p.m);
     let (title, size, centre) = &p.title;
     c.text(
         title,
@@ -382,7 +506,7 @@ fn draw(fig: &BandFigure, p: &Plan) -> Result<Canvas, DrawError> {
         HAlign::Center,
         VAlign::Center,
     );
-    let cx = 0.5 * f64::from(p.rect.left + p.rect.right);
+    let cx = 0.5 * f64::from(p.main.rect.left + p.main.rect.right);
     c.text(
         &p.x_label.0,
         p.x_label.1,
@@ -395,7 +519,8 @@ fn draw(fig: &BandFigure, p: &Plan) -> Result<Canvas, DrawError> {
 }
 
 /// Draws `fig` and writes it to `path` as an RGB PNG. Errors (each naming `path`): a size out
-/// of bounds, edges or curves whose lengths differ from their x, a file that cannot be written.
+/// of bounds, edges, reference or curves whose lengths differ from their x, a file that cannot
+/// be written.
 pub fn render_band_png(fig: &BandFigure, path: &Path) -> Result<(), PlotError> {
     let p = plan(fig).map_err(|e| e.with_path(path))?;
     let canvas = draw(fig, &p).map_err(|e| Invalid::Draw(e).with_path(path))?;
