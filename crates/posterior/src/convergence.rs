@@ -322,11 +322,12 @@ pub fn split_rhat(walkers: &[&[f64]], groups: usize) -> f64 {
     if half < 2 || w == 0 {
         return f64::NAN;
     }
-    let per = w / groups;
     let mut means = Vec::with_capacity(2 * groups);
     let mut vars = Vec::with_capacity(2 * groups);
+    let mut len = 0.0f64;
     for g in 0..groups {
-        let members = &walkers[g * per..(g + 1) * per];
+        // Contiguous groups of as equal sizes as the count allows.
+        let members = &walkers[g * w / groups..(g + 1) * w / groups];
         for h in 0..2 {
             let pooled: Vec<f64> = members
                 .iter()
@@ -335,9 +336,9 @@ pub fn split_rhat(walkers: &[&[f64]], groups: usize) -> f64 {
             let (m, v) = mean_var(&pooled);
             means.push(m);
             vars.push(v);
+            len += pooled.len() as f64 / (2 * groups) as f64;
         }
     }
-    let len = (half * per) as f64;
     let within = vars.iter().sum::<f64>() / vars.len() as f64;
     let (_, between_over_n) = mean_var(&means);
     if within <= 0.0 {

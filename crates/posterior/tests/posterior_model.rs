@@ -278,6 +278,20 @@ fn the_chain_csv_has_a_header_and_one_line_per_thinned_sample() {
     assert!(rows.iter().all(|r| r[0] >= post.convergence.burn_in as f64));
     // Written with full precision: the values read back are the chain's.
     assert_eq!(rows[5][2], post.chain.values[5][0]);
+    // The values for fit.json: everything but the chain.
+    let json = serde_json::to_value(&post).unwrap();
+    assert_eq!(json["summary"][1]["name"], "u_tilde");
+    assert!(
+        json["summary"][0]["hi"].as_f64().unwrap() > json["summary"][0]["lo"].as_f64().unwrap()
+    );
+    assert_eq!(json["convergence"]["verdict"]["status"], "converged");
+    assert!(
+        json["convergence"]["quantities"][0]["rhat"]
+            .as_f64()
+            .unwrap()
+            <= 1.01
+    );
+    assert!(json.get("chain").is_none() && json.get("space").is_none());
     // The figures render.
     let dir = tempfile::tempdir().unwrap();
     let corner = dir.path().join("corner.png");
