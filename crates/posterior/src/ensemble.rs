@@ -4,22 +4,24 @@
 //!
 //! # Why hammer-and-sample
 //!
-//! Issue 23 asks for a maintained crate if one does this well. Three were looked at:
-//! `emcee` (a port of emcee, last released 2018 on rand 0.4, no parallel execution), `ganesh`
-//! (maintained, but a whole minimisation framework whose current releases need Rust 1.83+ and
-//! bring their own numerics stack) and `hammer-and-sample` (maintained, small: one file, the
-//! stretch move exactly as Goodman & Weare and emcee define it — z drawn from g(z) ∝ 1/√z on
-//! [1/a, a], acceptance factor z^(d−1) — one seeded generator per walker, and a rayon execution
-//! that moves the first half of the ensemble against the second, then the second against the
-//! first). That half-against-half update is what makes the stretch move parallel: the walkers of
-//! one half only read the other half, so they move at once, and the result does not depend on
-//! the order the threads finish in (each walker draws from its own generator). What the crate
-//! does not do — a budget of model runs, progress, convergence checks that stop the run, located
-//! errors instead of its `assert!`s on the walker count — is done here, through its `Schedule`
-//! hook, and is tested on known targets (tests/known_targets.rs).
+//! Issue 23 asks for a maintained crate if one does this well. Three were looked at: `emcee`
+//! (a port of Python's emcee; its latest release, 1.0.0-alpha.2, is an alpha on rand 0.3, with
+//! no parallel execution), `ganesh` (maintained, but a whole minimisation and sampling
+//! framework whose current release needs Rust 1.83) and `hammer-and-sample` (maintained, small:
+//! one file, the stretch move exactly as Goodman & Weare and emcee define it — z drawn from
+//! g(z) ∝ 1/√z on [1/a, a], acceptance factor z^(d−1) — one seeded generator per walker, and a
+//! rayon execution that moves the first half of the ensemble against the second, then the
+//! second against the first). That half-against-half update is what makes the stretch move
+//! parallel: the walkers of one half only read the other half, so they move at once, and the
+//! result does not depend on the order the threads finish in (each walker draws from its own
+//! generator). What the crate does not do — a budget of model runs, progress, convergence
+//! checks that stop the run, located errors instead of its `assert!`s on the walker count — is
+//! done here, through its `Schedule` hook, and is tested on known targets
+//! (tests/known_targets.rs).
 //!
-//! Its current release (0.6) builds on rand 0.10, which the workspace already compiles for
-//! proptest; this crate's own draws use the same rand 0.10 and rand_chacha 0.10.
+//! Its current release (0.6) builds on rand 0.10 (Rust 1.85), which the workspace already
+//! compiles for proptest's tests; this crate's own draws use the same rand 0.10 and rand_chacha
+//! 0.10.
 
 use crate::convergence::{judge, Convergence, Targets};
 use hammer_and_sample::{sample, Model, Parallel, Schedule, Stretch};
