@@ -87,14 +87,15 @@ fn main() {
     if !judge_all {
         opts.converge_on = Some(determined);
     }
-    let t1 = Instant::now();
+    let (t1, cpu1) = (Instant::now(), cpu_seconds());
     let post = sample(&tests, &space, &fit.model, &priors, &opts, &|_, _| {}).unwrap_or_else(|e| {
         eprintln!("{e}");
         std::process::exit(1)
     });
     println!(
-        "posterior in {:.1} s wall ({} model runs, {:.0} runs/s, acceptance {:.2}, {} threads), stopped: {:?}",
+        "posterior in {:.1} s wall, {:.1} s CPU ({} model runs, {:.0} runs/s, acceptance {:.2}, {} threads), stopped: {:?}",
         t1.elapsed().as_secs_f64(),
+        cpu_seconds() - cpu1,
         post.model_runs,
         post.model_runs as f64 / t1.elapsed().as_secs_f64(),
         post.acceptance,
@@ -146,6 +147,25 @@ fn main() {
         post.write_chain_csv(&mut csv).expect("chain CSV");
         subfric_data::write_atomic(&out.join("chain.csv"), &csv).expect("chain CSV written");
         println!("figures and chain in {}", out.display());
+    }
+}
+
+/// CPU time of this process so far [s] (user + system, from /proc; NaN elsewhere): on a
+/// machine shared with others the wall time says little, the CPU time what the work costs.
+fn cpu_seconds() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return f64::NAN;
+    };
+    // Fields after the command name (which is in parentheses): utime and stime are the 12th
+    // and 13th, in clock ticks of 1/100 s.
+    let rest = stat.rsplit(')').next().unwrap_or("");
+    let f: Vec<f64> = rest
+        .split_whitespace()
+        .map(|v| v.parse().unwrap_or(f64::NAN))
+        .collect();
+    match (f.get(11), f.get(12)) {
+        (Some(u), Some(s)) => (u + s) / 100.0,
+        _ => f64::NAN,
     }
 }
 

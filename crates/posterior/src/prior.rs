@@ -164,7 +164,7 @@ fn list(problems: &[InputProblem]) -> String {
 }
 
 /// The priors of a posterior: those given, by parameter; every free parameter without one is
-/// uniform within the fit's bounds (see [`Priors::resolve`]).
+/// uniform within the fit's bounds on the fit's scale (see [`Priors::resolve`]).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Priors {
     entries: Vec<PriorEntry>,
@@ -216,8 +216,11 @@ impl Priors {
     }
 
     /// The prior of every free parameter of `space`, in the order of `space.free`: the given
-    /// one, or uniform within the space's bounds in natural units (μ_k: uniform on the share
-    /// of μ_s the space allows, i.e. between 0 and μ_s by default). Refused, with the place
+    /// one, or uniform within the space's bounds on the scale the fit charts the parameter in —
+    /// log-uniform for those charted as logarithms (μ_s, κ, ξ, ũ, ...: bounds spanning decades,
+    /// where a prior uniform in the value itself would put 99.9 % of κ's mass above 10 /mm and
+    /// so decide where along a valley the posterior lies), uniform for the others, and μ_k
+    /// uniform between 0 and μ_s (the share of μ_s the space allows). Refused, with the place
     /// in the file, when a prior is given for a parameter that is not free or when its support
     /// misses the parameter's bounds.
     pub fn resolve(&self, space: &Space) -> Result<Vec<ResolvedPrior>, PriorError> {
@@ -256,7 +259,10 @@ impl Priors {
                 }
                 None => {
                     let (lo, hi) = natural_box(space, p);
-                    ResolvedPrior::Default(Prior::Uniform { lo, hi })
+                    ResolvedPrior::Default(match p.scale() {
+                        Scale::Log => Prior::LogUniform { lo, hi },
+                        _ => Prior::Uniform { lo, hi },
+                    })
                 }
             })
             .collect())
@@ -269,7 +275,8 @@ impl Priors {
 pub enum ResolvedPrior {
     /// Given by the user.
     Given(Prior),
-    /// Not given: uniform within the fit's bounds.
+    /// Not given: uniform within the fit's bounds on the fit's scale (log-uniform for
+    /// parameters charted as logarithms).
     Default(Prior),
     /// Not given, μ_k: uniform on [lo·μ_s, hi·μ_s] (density 1/((hi − lo) μ_s)).
     ShareOfMuS {
@@ -300,9 +307,11 @@ impl ResolvedPrior {
     pub fn describe(&self) -> String {
         match self {
             ResolvedPrior::Given(p) => format!("{p} (given)"),
-            ResolvedPrior::Default(p) => format!("{p} (default: uniform within the bounds)"),
+            ResolvedPrior::Default(p) => {
+                format!("{p} (default: uniform within the bounds on the fit's scale)")
+            }
             ResolvedPrior::ShareOfMuS { lo, hi } => format!(
-                "uniform between {lo}·mu_s and {hi}·mu_s (default: uniform within the bounds)"
+                "uniform between {lo}·mu_s and {hi}·mu_s (default: uniform within the bounds on the fit's scale)"
             ),
         }
     }
@@ -461,11 +470,28 @@ mod tests {
         let space = Space::with_rate(m, &Param::BASE, &[], 0.01);
         let r = Priors::uniform().resolve(&space).unwrap();
         assert_eq!(r.len(), 5);
-        // κ (combined chart): uniform on its default bounds.
+        // κ (combined chart, charted as a logarithm): log-uniform on its default bounds.
         let k = space.free.iter().position(|p| *p == Param::Kappa).unwrap();
         assert_eq!(
             r[k],
-            ResolvedPrior::Default(Prior::Uniform { lo: 1e-3, hi: 1e4 })
+            ResolvedPrior::Default(Prior::LogUniform { lo: 1e-3, hi: 1e4 })
+        );
+        // μ_s, charted as a logarithm on its own: log-uniform on its box.
+        let s = space.free.iter().position(|p| *p == Param::MuS).unwrap();
+        match r[s] {
+            ResolvedPrior::Default(Prior::LogUniform { lo, hi }) => {
+                assert!(
+                    (lo - 0.02).abs() < 1e-12 && (hi - 3.0).abs() < 1e-12,
+                    "{lo}..{hi}"
+                );
+            }
+            other => panic!("{other:?}"),
+        }
+        // A parameter charted linearly: uniform on its box.
+        let linear = Space::new(m, &[Param::RateA], &[]);
+        assert_eq!(
+            Priors::uniform().resolve(&linear).unwrap()[0],
+            ResolvedPrior::Default(Prior::Uniform { lo: -0.2, hi: 0.2 })
         );
         // μ_k: uniform between 0 and μ_s, whatever μ_s is.
         let mk = space.free.iter().position(|p| *p == Param::MuK).unwrap();
