@@ -7,7 +7,8 @@
 //! truth, beside the profile intervals of the same fits.
 //!
 //! `cargo run --release -p subfric-posterior --example coverage -- --campaigns 40 --seed 1
-//! [--max-evals N] [--independent] [--json FILE]`
+//! [--first K] [--max-evals N] [--independent] [--json FILE]` (`--first K`: campaigns K to
+//! K + N − 1 of the seed, to split a measurement over several processes)
 
 use serde::Serialize;
 use std::time::Instant;
@@ -35,6 +36,7 @@ struct Outcome {
 
 fn main() {
     let mut campaigns = 40usize;
+    let mut first = 0usize;
     let mut seed = 1u64;
     let mut json: Option<String> = None;
     let mut opts = PosteriorOptions {
@@ -52,11 +54,12 @@ fn main() {
         match a.as_str() {
             "--campaigns" => campaigns = parse(&value("--campaigns"), "--campaigns"),
             "--seed" => seed = parse(&value("--seed"), "--seed"),
+            "--first" => first = parse(&value("--first"), "--first"),
             "--max-evals" => opts.max_evals = parse(&value("--max-evals"), "--max-evals"),
             "--independent" => opts.residuals = ResidualModel::Independent,
             "--json" => json = Some(value("--json")),
             other => {
-                eprintln!("unknown argument `{other}` (expected --campaigns N, --seed S, --max-evals N, --independent, --json FILE)");
+                eprintln!("unknown argument `{other}` (expected --campaigns N, --seed S, --first K, --max-evals N, --independent, --json FILE)");
                 std::process::exit(2)
             }
         }
@@ -64,7 +67,7 @@ fn main() {
     let t0 = Instant::now();
     let ranges = CampaignRanges::default();
     let mut outcomes = Vec::new();
-    for index in 0..campaigns {
+    for index in first..first + campaigns {
         let c = generate_campaign(seed, index, &ranges);
         let tests: Vec<FitTest> = prepare_set_with(&c.set, false, &PrepareOptions::default())
             .into_iter()
@@ -135,23 +138,35 @@ fn main() {
             .filter(|(_, c)| !**c)
             .map(|(p, _)| p.key())
             .collect();
+        let profile_missed: Vec<&str> = space
+            .free
+            .iter()
+            .zip(&o.profile_covers)
+            .filter(|(_, c)| !**c)
+            .map(|(p, _)| p.key())
+            .collect();
+        let list = |v: &[&str]| {
+            if v.is_empty() {
+                "-".to_string()
+            } else {
+                v.join(",")
+            }
+        };
         eprintln!(
-            "campaign {index:>3}: {} after {} steps, {} model runs, tau of the residuals {:.1}, {:.1} s{}",
+            "campaign {index:>3}: {} after {} steps, {} model runs, tau of the residuals {:.1}, {:.1} s; credible missed {}; profile missed {}",
             if o.converged { "converged" } else { "NOT converged" },
             o.steps,
             o.model_runs,
             o.noise_correlation,
             o.sample_s,
-            if missed.is_empty() {
-                String::new()
-            } else {
-                format!("  MISSED {}", missed.join(", "))
-            }
+            list(&missed),
+            list(&profile_missed)
         );
         outcomes.push(o);
     }
     println!(
-        "coverage of the 95 % intervals over {campaigns} generated campaigns (seed {seed}), {} converged, {:.0} s:",
+        "coverage of the 95 % intervals over {campaigns} generated campaigns ({first}..{}, seed {seed}), {} converged, {:.0} s:",
+        first + campaigns - 1,
         outcomes.iter().filter(|o| o.converged).count(),
         t0.elapsed().as_secs_f64()
     );
