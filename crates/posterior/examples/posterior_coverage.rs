@@ -6,7 +6,7 @@
 //! model) started at the fit; counts per parameter how often the credible interval holds the
 //! truth, beside the profile intervals of the same fits.
 //!
-//! `cargo run --release -p subfric-posterior --example coverage -- --campaigns 40 --seed 1
+//! `cargo run --release -p subfric-posterior --example posterior_coverage -- --campaigns 40 --seed 1
 //! [--first K] [--max-evals N] [--independent] [--json FILE]` (`--first K`: campaigns K to
 //! K + N − 1 of the seed, to split a measurement over several processes)
 

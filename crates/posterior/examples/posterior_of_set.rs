@@ -4,7 +4,7 @@
 //! the time to convergence; with `--out DIR` writes the corner plot, the predictive-band
 //! overlays and the thinned chain there.
 //!
-//! `cargo run --release -p subfric-posterior --example set -- experiments/table4-two-way
+//! `cargo run --release -p subfric-posterior --example posterior_of_set -- experiments/table4-two-way
 //! [--out DIR] [--max-evals N] [--seed S] [--judge determined|all] [--priors FILE]
 //! [--independent]`
 
@@ -50,7 +50,7 @@ fn main() {
         }
     }
     let Some(dir) = dir else {
-        eprintln!("usage: set <set folder> [--out DIR] [--max-evals N] [--seed S] [--judge determined|all] [--priors FILE] [--independent]");
+        eprintln!("usage: posterior_of_set <set folder> [--out DIR] [--max-evals N] [--seed S] [--judge determined|all] [--priors FILE] [--independent]");
         std::process::exit(2)
     };
     let set = subfric_data::load_set(&dir).unwrap_or_else(|e| {
