@@ -53,7 +53,7 @@ fn sampler(c: &mut Criterion) {
             &tests,
             &space,
             &optimum,
-            &Priors::uniform(),
+            &Priors::default(),
             &opts,
             &|_, _| {},
         )

@@ -92,7 +92,7 @@ fn main() {
             &tests,
             &space,
             &fit.model,
-            &Priors::uniform(),
+            &Priors::default(),
             &post_opts,
             &|_, _| {},
         )

@@ -22,7 +22,7 @@ fn main() {
     let mut out: Option<PathBuf> = None;
     let mut opts = PosteriorOptions::default();
     let mut judge_all = false;
-    let mut priors = Priors::uniform();
+    let mut priors = Priors::default();
     while let Some(a) = args.next() {
         let mut value = |name: &str| {
             args.next().unwrap_or_else(|| {

@@ -11,7 +11,8 @@
 //! - The posterior ([`target`]): Gaussian likelihood of the noise-normalised residuals with the
 //!   noise scale the fit uses, s² = max(1, reduced χ²), optionally inflated by the residuals'
 //!   autocorrelation time as the profile intervals do ([`ResidualModel`]); priors in natural
-//!   units ([`prior`], [`prior_file`]: uniform within the bounds by default), carried into the
+//!   units ([`prior`], [`prior_file`]: uniform within the bounds on the fit's scale by default,
+//!   i.e. log-uniform for parameters charted as logarithms), carried into the
 //!   coordinates by the log-determinant of the chart's Jacobian.
 //! - Convergence, reported and never assumed ([`convergence`]): τ per parameter, split R̂ over
 //!   walker groups, effective sample size, and how many more steps a run that has not converged
@@ -125,13 +126,13 @@ const BALL_TRIES: usize = 50;
 
 /// Samples the posterior of the free parameters of `space` given `tests`, starting around
 /// `optimum` (the least-squares fit, e.g. `FitReport::model`), with `priors` (use
-/// [`Priors::uniform`] for uniform priors within the bounds). `progress(done, budget)` is
-/// called after every step with the model runs so far.
+/// `Priors::default()` for the default priors, uniform within the bounds on the fit's scale).
+/// `progress(done, budget)` is called after every step with the model runs so far.
 ///
 /// ```no_run
 /// use subfric_posterior::{sample, PosteriorOptions, Priors};
 /// # fn demo(tests: &[subfric_fit::FitTest], space: &subfric_fit::Space, fit: &subfric_model::Model) {
-/// let post = sample(tests, space, fit, &Priors::uniform(), &PosteriorOptions::default(), &|_, _| {}).unwrap();
+/// let post = sample(tests, space, fit, &Priors::default(), &PosteriorOptions::default(), &|_, _| {}).unwrap();
 /// println!("{}", post.table());
 /// # }
 /// ```

@@ -165,17 +165,13 @@ fn list(problems: &[InputProblem]) -> String {
 
 /// The priors of a posterior: those given, by parameter; every free parameter without one is
 /// uniform within the fit's bounds on the fit's scale (see [`Priors::resolve`]).
+/// `Priors::default()` gives none: every parameter gets that default.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Priors {
     entries: Vec<PriorEntry>,
 }
 
 impl Priors {
-    /// No prior given: every parameter uniform within the fit's bounds.
-    pub fn uniform() -> Priors {
-        Priors::default()
-    }
-
     /// Reads a prior file (JSON or TOML, by its extension; format in docs/posterior.md).
     pub fn load(path: &Path) -> Result<Priors, PriorError> {
         crate::prior_file::load(path)
@@ -440,7 +436,7 @@ mod tests {
 
     #[test]
     fn programmatic_priors_are_checked_too() {
-        let bad = Priors::uniform().with(
+        let bad = Priors::default().with(
             Param::Kappa,
             Prior::Normal {
                 mean: 1.0,
@@ -451,12 +447,12 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("sd = -2 is not positive"));
-        let bad = Priors::uniform().with(Param::RateA, Prior::LogUniform { lo: 0.1, hi: 1.0 });
+        let bad = Priors::default().with(Param::RateA, Prior::LogUniform { lo: 0.1, hi: 1.0 });
         assert!(bad
             .unwrap_err()
             .to_string()
             .contains("can be zero or negative"));
-        let ok = Priors::uniform()
+        let ok = Priors::default()
             .with(Param::Kappa, Prior::Normal { mean: 1.0, sd: 2.0 })
             .unwrap()
             .with(Param::Kappa, Prior::Normal { mean: 3.0, sd: 2.0 })
@@ -468,7 +464,7 @@ mod tests {
     fn resolution_gives_defaults_and_refuses_priors_on_fixed_or_unreachable_parameters() {
         let m = Model::base(Params::sample()).unwrap();
         let space = Space::with_rate(m, &Param::BASE, &[], 0.01);
-        let r = Priors::uniform().resolve(&space).unwrap();
+        let r = Priors::default().resolve(&space).unwrap();
         assert_eq!(r.len(), 5);
         // κ (combined chart, charted as a logarithm): log-uniform on its default bounds.
         let k = space.free.iter().position(|p| *p == Param::Kappa).unwrap();
@@ -490,14 +486,14 @@ mod tests {
         // A parameter charted linearly: uniform on its box.
         let linear = Space::new(m, &[Param::RateA], &[]);
         assert_eq!(
-            Priors::uniform().resolve(&linear).unwrap()[0],
+            Priors::default().resolve(&linear).unwrap()[0],
             ResolvedPrior::Default(Prior::Uniform { lo: -0.2, hi: 0.2 })
         );
         // μ_k: uniform between 0 and μ_s, whatever μ_s is.
         let mk = space.free.iter().position(|p| *p == Param::MuK).unwrap();
         assert!((r[mk].log_density(0.3, 0.6) - (-(0.6f64).ln())).abs() < 1e-12);
         assert_eq!(r[mk].log_density(0.7, 0.6), f64::NEG_INFINITY);
-        let fixed = Priors::uniform()
+        let fixed = Priors::default()
             .with(Param::AlphaT, Prior::Uniform { lo: 1.0, hi: 2.0 })
             .unwrap();
         let e = fixed.resolve(&space).unwrap_err().to_string();
@@ -505,7 +501,7 @@ mod tests {
             e.contains("alpha_t is not free") && e.contains("mu_s, mu_k"),
             "{e}"
         );
-        let outside = Priors::uniform()
+        let outside = Priors::default()
             .with(Param::MuS, Prior::Uniform { lo: 5.0, hi: 6.0 })
             .unwrap();
         let e = outside.resolve(&space).unwrap_err().to_string();

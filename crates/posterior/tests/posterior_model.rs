@@ -91,7 +91,7 @@ fn the_credible_intervals_hold_the_truth_and_match_the_linearised_errors() {
         &f.tests,
         &f.space,
         &f.fit.model,
-        &Priors::uniform(),
+        &Priors::default(),
         &options(),
         &|_, _| {},
     )
@@ -157,7 +157,7 @@ fn the_same_seed_gives_the_same_posterior() {
         &f.tests,
         &f.space,
         &f.fit.model,
-        &Priors::uniform(),
+        &Priors::default(),
         &opts,
         &|_, _| {},
     )
@@ -166,7 +166,7 @@ fn the_same_seed_gives_the_same_posterior() {
         &f.tests,
         &f.space,
         &f.fit.model,
-        &Priors::uniform(),
+        &Priors::default(),
         &opts,
         &|_, _| {},
     )
@@ -186,7 +186,7 @@ fn a_tiny_budget_on_the_real_model_is_reported_as_not_converged() {
         &f.tests,
         &f.space,
         &f.fit.model,
-        &Priors::uniform(),
+        &Priors::default(),
         &opts,
         &|_, _| {},
     )
@@ -215,7 +215,7 @@ fn the_noisy_predictive_band_covers_the_measurements_at_its_nominal_rate() {
         &f.tests,
         &f.space,
         &f.fit.model,
-        &Priors::uniform(),
+        &Priors::default(),
         &options(),
         &|_, _| {},
     )
@@ -259,7 +259,7 @@ fn the_chain_csv_has_a_header_and_one_line_per_thinned_sample() {
         &f.tests,
         &f.space,
         &f.fit.model,
-        &Priors::uniform(),
+        &Priors::default(),
         &options(),
         &|_, _| {},
     )
@@ -320,7 +320,7 @@ fn priors_in_natural_units_survive_the_combined_chart() {
     let free = [Param::MuS, Param::MuK, Param::Kappa, Param::Xi];
     let space = Space::with_rate(base, &free, &[], 0.01);
     assert_eq!(space.v_ref, 0.01, "the combined chart is in use");
-    let priors = Priors::uniform()
+    let priors = Priors::default()
         .with(
             Param::MuS,
             Prior::Normal {
@@ -415,7 +415,7 @@ fn failed_model_runs_are_zero_likelihood_never_nan() {
     let test = FitTest::new("creep", Control::Shear, time, shear, slip, normal_kpa);
     let base = Model::base(Params::sample()).unwrap();
     let space = Space::new(base, &[Param::MuS], &[]);
-    let resolved = Priors::uniform().resolve(&space).unwrap();
+    let resolved = Priors::default().resolve(&space).unwrap();
     let noise = subfric_posterior::NoiseScale {
         reduced_chi2: 1.0,
         variance_scale: 1.0,
@@ -440,7 +440,7 @@ fn failed_model_runs_are_zero_likelihood_never_nan() {
 #[test]
 fn an_optimum_outside_the_prior_is_refused_with_the_reason() {
     let f = fixture();
-    let priors = Priors::uniform()
+    let priors = Priors::default()
         .with(Param::MuS, Prior::Uniform { lo: 0.5, hi: 0.6 })
         .unwrap();
     let e = sample(
@@ -467,7 +467,7 @@ fn an_optimum_outside_the_prior_is_refused_with_the_reason() {
         &f.tests,
         &f.space,
         &f.fit.model,
-        &Priors::uniform(),
+        &Priors::default(),
         &opts,
         &|_, _| {},
     )
