@@ -62,6 +62,7 @@ mod figure;
 mod fonts;
 mod geom;
 mod png_io;
+pub mod posterior;
 mod scale;
 
 use std::path::PathBuf;
