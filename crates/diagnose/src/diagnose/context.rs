@@ -27,6 +27,8 @@ pub(super) struct Context<'a> {
     /// The first guesses read off the curves that fit best on the base, computed once: every
     /// form starts from each of them with its own first guesses.
     pub(super) informed: Vec<Model>,
+    /// Every event read on its own (it corroborates or speaks against a family).
+    pub(super) events: crate::events::EventAnalysis,
     /// Model error dominates: every spec is fitted with a variance per piece (see
     /// [`Context::weighted_for`]).
     pub(super) reweight: bool,
@@ -80,6 +82,7 @@ impl<'a> Context<'a> {
             tests,
             screening,
             informed: Vec::new(),
+            events: Default::default(),
             features: data_features(prepared),
             base_free,
             pieces: all_pieces,

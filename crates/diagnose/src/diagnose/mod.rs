@@ -142,6 +142,7 @@ pub fn diagnose(
     let stiffness = resolved_stiffness(prepared).or_else(|| events.stiffness());
     let (mut cx, template) = Context::new(prepared, stiffness.as_ref(), opts);
     cx.features.seeds = crate::features::EventSeeds::from_events(&events);
+    cx.events = events.clone();
     let base = fit_base(&mut cx, &template)?;
     let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();
     let localisation = localise(prepared, &residuals(&fulls, &base.model, None));

@@ -603,6 +603,10 @@ fn selection_stage(
         .map(|c| (c.effect, c.held_out.clone()))
         .collect();
     let th = &cx.opts.thresholds;
+    let corroborated: Vec<bool> = candidates
+        .iter()
+        .map(|c| crate::events::corroborates(&cx.events, c.effect))
+        .collect();
     let own: Vec<Comparison> = candidates
         .iter()
         .map(|c| c.best_own_kind(th).unwrap_or(&c.held_out).clone())
@@ -618,7 +622,7 @@ fn selection_stage(
             // own kind, with significant evidence over all pieces, is still named (the rest
             // of the gap is then reported as unexplained).
             d @ (Decision::Tentative(_) | Decision::Unexplained) => {
-                match decide_further(reference_chi2, &pairs, &own, th) {
+                match decide_further(reference_chi2, &pairs, &own, &corroborated, th) {
                     Decision::Named(i) if pairs[i].1.score >= th.min_score => Decision::Named(i),
                     _ => d,
                 }
@@ -626,7 +630,7 @@ fn selection_stage(
             d => d,
         }
     } else {
-        decide_further(reference_chi2, &pairs, &own, th)
+        decide_further(reference_chi2, &pairs, &own, &corroborated, th)
     };
     (
         SelectionStage {
