@@ -80,6 +80,9 @@ fn header(s: &mut String, name: &str, d: &Diagnosis) {
         if !st.from_spec && st.start != subfric_data::StartKind::Rest {
             let _ = writeln!(s, "   {}: {}", st.test, st.reason);
         }
+        if let Some(toe) = &st.seating_toe {
+            let _ = writeln!(s, "   {}: {}", st.test, toe.reason);
+        }
         if st.noise_floor {
             let _ = writeln!(
                 s,

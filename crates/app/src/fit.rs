@@ -61,6 +61,45 @@ pub struct FitOutcome {
     pub published: Option<Model>,
     /// Name used for output.
     pub name: String,
+    /// Rig artifacts recognised in the record and what the fit did about them.
+    pub artifacts: Vec<Artifact>,
+}
+
+/// A rig artifact recognised in a record, and what the fit did about it.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Artifact {
+    /// The test it was found in (empty for the whole set).
+    pub test: String,
+    /// `seating-toe` or `compliance`.
+    pub kind: &'static str,
+    /// What was found and done, in words.
+    pub detail: String,
+}
+
+/// The rig artifacts of prepared tests: their seating toes (excluded) and a series stiffness
+/// the loading slopes resolve (fitted as α_t, unless the request fixes or frees α_t itself).
+pub fn artifacts_of(
+    tests: &[PreparedTest],
+    stiffness: Option<&subfric_fit::Stiffness>,
+) -> Vec<Artifact> {
+    let mut out: Vec<Artifact> = tests
+        .iter()
+        .filter_map(|t| {
+            t.toe.as_ref().map(|toe| Artifact {
+                test: t.full.name.clone(),
+                kind: "seating-toe",
+                detail: toe.reason.clone(),
+            })
+        })
+        .collect();
+    if let Some(s) = stiffness {
+        out.push(Artifact {
+            test: String::new(),
+            kind: "compliance",
+            detail: format!("α_t fitted: {}", s.evidence),
+        });
+    }
+    out
 }
 
 /// Sets loaded, checked and charted, ready for the long work.
@@ -74,6 +113,8 @@ pub struct FitSetup {
     names: Vec<String>,
     /// Plausibility warnings of the sets.
     pub warnings: Vec<Warning>,
+    /// Rig artifacts recognised and what the fit does about them.
+    pub artifacts: Vec<Artifact>,
 }
 
 impl FitSetup {
@@ -136,19 +177,43 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
     }
     let alpha_given =
         req.free.contains(&Param::AlphaT) || req.fix.iter().any(|(p, _)| *p == Param::AlphaT);
-    if let (Some(why), false) = (why, alpha_given) {
-        progress.note(&why);
+    // A series stiffness the loading slopes resolve (the machine's compliance in the slip
+    // column) is fitted, from the slopes' estimate, unless the request says what to do with α_t.
+    let resolved = (!alpha_given)
+        .then(|| subfric_fit::resolved_stiffness(&tests))
+        .flatten();
+    let mut free_alpha = false;
+    match (&resolved, why) {
+        (Some(s), _) => {
+            template.params.alpha_t = s.alpha_t;
+            template.params.alpha_n = s.alpha_t;
+            free_alpha = true;
+        }
+        (None, Some(why)) if !alpha_given => progress.note(&why),
+        _ => {}
+    }
+    let artifacts = artifacts_of(&tests, resolved.as_ref());
+    for a in &artifacts {
+        let place = if a.test.is_empty() {
+            String::new()
+        } else {
+            format!("{}: ", crate::visible(&a.test))
+        };
+        progress.note(&format!("{place}{}", a.detail));
     }
     for (p, v) in &req.fix {
         p.set(&mut template, *v);
     }
     Model::new(template.params, template.ext).map_err(|e| anyhow!("--fix: {e}"))?;
-    let free: Vec<Param> = req
+    let mut free: Vec<Param> = req
         .free
         .iter()
         .copied()
         .filter(|p| !req.fix.iter().any(|(q, _)| q == p))
         .collect();
+    if free_alpha {
+        free.push(Param::AlphaT);
+    }
     let fits: Vec<FitTest> = tests.iter().map(|t| t.fit.clone()).collect();
     let space = Space::try_with_rate(template, &free, &req.bounds, typical_rate(&fits))
         .map_err(|e| anyhow!("--bounds {e}"))?;
@@ -168,6 +233,7 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         published,
         names,
         warnings,
+        artifacts,
     })
 }
 
@@ -342,6 +408,7 @@ fn calibrate_setup(
         name,
         tests: setup.tests,
         published: setup.published,
+        artifacts: setup.artifacts,
     })
 }
 
@@ -480,11 +547,15 @@ pub fn fit_json(out: &FitOutcome) -> Result<serde_json::Value> {
     {
         o.remove("elapsed_s");
     }
-    Ok(serde_json::json!({
+    let mut v = serde_json::json!({
         "set": out.name,
         "tests": out.tests.iter().map(|t| t.fit.name.clone()).collect::<Vec<_>>(),
         "params": out.report.model.params,
         "model": out.report.model,
         "report": report,
-    }))
+    });
+    if !out.artifacts.is_empty() {
+        v["artifacts"] = serde_json::to_value(&out.artifacts)?;
+    }
+    Ok(v)
 }

@@ -97,6 +97,14 @@ fn print_written<'a>(files: impl IntoIterator<Item = &'a std::path::PathBuf>) {
 fn check(a: CheckArgs) -> Result<()> {
     let c = sets::check(&a.set)?;
     out(c.summary);
+    for r in &c.artifacts {
+        let place = if r.test.is_empty() {
+            String::new()
+        } else {
+            format!("{}: ", subfric_app::visible(&r.test))
+        };
+        out(format!("rig artifact, {place}{}", r.detail));
+    }
     print_warnings(&c.warnings);
     Ok(())
 }

@@ -46,6 +46,22 @@ pub struct TestData {
 }
 
 impl TestData {
+    /// The test from row `first` on (a leading artifact cut off); lines keep their numbers.
+    pub fn rows_from(&self, first: usize) -> TestData {
+        let first = first.min(self.len());
+        TestData {
+            spec: self.spec.clone(),
+            path: self.path.clone(),
+            time_s: self.time_s[first..].to_vec(),
+            slip_mm: self.slip_mm[first..].to_vec(),
+            shear_kpa: self.shear_kpa[first..].to_vec(),
+            normal_kpa: self.normal_kpa[first..].to_vec(),
+            friction_given: self.friction_given,
+            line_of_row: self.line_of_row[first..].to_vec(),
+            comments: self.comments.clone(),
+        }
+    }
+
     /// The column the apparatus imposed: slip for slip control, shear for shear control.
     pub fn imposed(&self) -> &[f64] {
         match self.spec.control {

@@ -262,6 +262,7 @@ fn test_starts(prepared: &[PreparedTest]) -> Vec<TestStart> {
             reason: p.segmentation.start.reason.clone(),
             noise_sd: p.full.noise_sd,
             noise_floor: subfric_data::estimate_noise(&p.full.time, &p.full.measured).floor,
+            seating_toe: p.toe.clone(),
         })
         .collect()
 }

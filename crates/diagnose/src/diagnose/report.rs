@@ -204,6 +204,8 @@ pub struct TestStart {
     pub noise_sd: f64,
     /// Noise is a floor.
     pub noise_floor: bool,
+    /// A seating toe excluded from the start of the record (a rig artifact, not friction).
+    pub seating_toe: Option<subfric_data::SeatingToe>,
 }
 
 /// A complete diagnosis.
