@@ -173,7 +173,7 @@ impl From<LengthUnitArg> for LengthUnit {
     }
 }
 
-/// Unit of a stress column.
+/// Unit of a stress column, or of a force column divided by `--area`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum StressUnitArg {
     /// kilopascals
@@ -187,6 +187,14 @@ pub enum StressUnitArg {
     Pa,
     /// pounds per square inch
     Psi,
+    /// newtons: a force, divided by --area
+    #[value(name = "N")]
+    N,
+    /// kilonewtons: a force, divided by --area
+    #[value(name = "kN")]
+    KN,
+    /// pounds-force: a force, divided by --area
+    Lbf,
 }
 
 impl From<StressUnitArg> for StressUnit {
@@ -196,6 +204,9 @@ impl From<StressUnitArg> for StressUnit {
             StressUnitArg::MPa => StressUnit::MPa,
             StressUnitArg::Pa => StressUnit::Pa,
             StressUnitArg::Psi => StressUnit::Psi,
+            StressUnitArg::N => StressUnit::N,
+            StressUnitArg::KN => StressUnit::KN,
+            StressUnitArg::Lbf => StressUnit::Lbf,
         }
     }
 }
@@ -254,7 +265,7 @@ pub struct ImportArgs {
     /// Shear column [default: shear_kpa, unless --friction is given].
     #[arg(long)]
     pub shear: Option<ColumnRef>,
-    /// Unit of shear.
+    /// Unit of shear (a force unit needs --area).
     #[arg(long, value_enum, ignore_case = true, default_value = "kPa")]
     pub shear_unit: StressUnitArg,
     /// Friction (shear/normal) column [default: none].
@@ -263,19 +274,23 @@ pub struct ImportArgs {
     /// Normal stress column [default: none: give --normal-stress].
     #[arg(long)]
     pub normal: Option<ColumnRef>,
-    /// Unit of the normal column.
+    /// Unit of the normal column (a force unit needs --area).
     #[arg(long, value_enum, ignore_case = true, default_value = "kPa")]
     pub normal_unit: StressUnitArg,
     /// Constant normal stress [kPa] when there is no normal column [default: none].
     #[arg(long)]
     pub normal_stress: Option<f64>,
+    /// Contact area [mm²] that a force column (--shear-unit or --normal-unit N, kN, lbf) is
+    /// divided by, e.g. 3600 for a 60 mm square shear box [default: none: stresses only].
+    #[arg(long, value_name = "MM2")]
+    pub area: Option<f64>,
     /// Which column the apparatus imposed.
     #[arg(long, value_enum, default_value_t = ControlArg::Slip)]
     pub control: ControlArg,
     /// Cell delimiter.
     #[arg(long, value_enum, ignore_case = true, default_value = "auto")]
     pub delimiter: DelimiterArg,
-    /// Lines to skip before the header.
+    /// Lines to skip before the header (a header block of specimen, date, operator…).
     #[arg(long, default_value_t = 0)]
     pub skip: usize,
     /// The file has no header line (columns by index).

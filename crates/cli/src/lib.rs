@@ -107,6 +107,7 @@ fn import_spec(a: &ImportArgs) -> ImportSpec {
         friction: a.friction.clone(),
         normal: a.normal.clone().map(|c| (c, a.normal_unit.into())),
         normal_stress_kpa: a.normal_stress,
+        area_mm2: a.area,
         control: a.control.into(),
         test_name: a.test_name.clone(),
         set_name: a.set_name.clone().unwrap_or_else(|| {

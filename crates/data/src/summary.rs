@@ -271,7 +271,7 @@ const TABLE_HEADER: [&str; 15] = [
     "start",
     "imposed noise",
     "measured noise",
-    "rates /s",
+    "rates",
     "holds",
     "steps",
     "revs",
@@ -304,16 +304,24 @@ fn table_row(t: &TestSummary) -> [String; 15] {
             if t.imposed_conditioned { "*" } else { "" }
         ),
         noise_text(&t.measured_noise, measured_unit),
-        t.sliding_rates
-            .iter()
-            .map(|r| num(*r))
-            .collect::<Vec<_>>()
-            .join(","),
+        rates_text(&t.sliding_rates, unit),
         t.holds.len().to_string(),
         t.velocity_steps.len().to_string(),
         t.reversals.to_string(),
         t.cycles.to_string(),
     ]
+}
+
+/// The imposed rates of a test with their unit: mm/s under slip control, kPa/s under
+/// traction control (`unit`: the imposed column's).
+fn rates_text(rates: &[f64], unit: &str) -> String {
+    if rates.is_empty() {
+        return String::new();
+    }
+    format!(
+        "{} {unit}/s",
+        rates.iter().map(|r| num(*r)).collect::<Vec<_>>().join(",")
+    )
 }
 
 /// The table: header, rule and rows, each column as wide as its widest cell.
@@ -369,7 +377,12 @@ fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result 
                 )
             })
             .collect();
-        writeln!(f, "  {}: velocity steps {}", t.name, ss.join(", "))?;
+        let unit = if t.control == ControlColumn::Slip {
+            "mm/s"
+        } else {
+            "kPa/s"
+        };
+        writeln!(f, "  {}: velocity steps ({unit}) {}", t.name, ss.join(", "))?;
     }
     Ok(())
 }
@@ -425,6 +438,13 @@ mod tests {
         assert_eq!(num(123.456), "123.5");
         assert_eq!(num(2.0), "2");
         assert_eq!(num(0.000012), "1.200e-5");
+    }
+
+    #[test]
+    fn rates_say_their_unit() {
+        assert_eq!(rates_text(&[0.001, 0.01], "mm"), "0.001,0.01 mm/s");
+        assert_eq!(rates_text(&[0.8], "kPa"), "0.8 kPa/s");
+        assert_eq!(rates_text(&[], "mm"), "");
     }
 
     #[test]
