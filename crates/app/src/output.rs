@@ -211,6 +211,14 @@ fn recorded_sources(dir: &Path) -> Option<Vec<std::result::Result<PathBuf, Strin
     )
 }
 
+/// Whether the results folder `dir` records exactly the set folder `set` as its source: its
+/// results are of that set (not of another set of the same name).
+pub(crate) fn holds_results_of(dir: &Path, set: &Path) -> bool {
+    let ours = std::fs::canonicalize(set).ok();
+    let recorded = recorded_sources(dir).unwrap_or_default();
+    recorded.len() == 1 && ours.is_some() && recorded[0].as_ref().ok() == ours.as_ref()
+}
+
 fn check_replaceable(dir: &Path, ours: &[PathBuf], files: &[String]) -> Result<()> {
     if let Some(recorded) = recorded_sources(dir) {
         let mut theirs: Vec<PathBuf> = recorded.iter().filter_map(|r| r.clone().ok()).collect();

@@ -92,6 +92,9 @@ pub struct SimulateArgs {
     /// Most rows a scenario may generate (it is refused beyond, before any is generated).
     #[arg(long, default_value_t = MAX_SCENARIO_ROWS)]
     pub max_rows: usize,
+    /// Progress display on stderr (accepted for a uniform command line; a simulation is quick).
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
 }
 
 /// `subfric check`.
@@ -99,6 +102,9 @@ pub struct SimulateArgs {
 pub struct CheckArgs {
     /// Set folder.
     pub set: PathBuf,
+    /// Progress display on stderr (accepted for a uniform command line; a check is quick).
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
 }
 
 /// Which column the apparatus imposed.
@@ -385,7 +391,8 @@ pub struct FitArgs {
 pub struct PlotArgs {
     /// Set folder.
     pub set: PathBuf,
-    /// Fitted parameters, fit.json or params.json [default: none: measured and published only].
+    /// Fitted parameters, fit.json or params.json [default: fits/<set name>/fit.json when it
+    /// exists, else none: measured and published only].
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// Output folder [default: fits/<set name>/plots].
@@ -394,6 +401,9 @@ pub struct PlotArgs {
     /// Replace figures in the output folder that came from another set (or not from subfric).
     #[arg(long)]
     pub force: bool,
+    /// Progress display on stderr.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
 }
 
 /// `subfric diagnose`.
@@ -454,6 +464,10 @@ pub struct PlanArgs {
     /// Lab time of a new test beyond its duration (specimen, set-up) [h].
     #[arg(long, default_value_t = 0.5)]
     pub setup_hours: f64,
+    /// Plan on the model of this diagnosis.json [default: fits/<set name>/diagnosis/diagnosis.json
+    /// when it exists and is of this set folder, else the base model].
+    #[arg(long)]
+    pub diagnosis: Option<PathBuf>,
     /// Replace results in the output folder that came from another set (or not from subfric).
     #[arg(long)]
     pub force: bool,

@@ -167,6 +167,7 @@ fn fit(a: FitArgs) -> Result<()> {
             profiles: !a.no_profiles,
             ..FitOptions::default()
         },
+        start: None,
     };
     let progress = Progress::new(a.progress);
     let to = Destination {
@@ -176,8 +177,9 @@ fn fit(a: FitArgs) -> Result<()> {
     let w = fit_to_folder(&req, &to, &progress)?;
     progress.finish();
     let outcome = &w.fitted.outcome;
-    println!("{}", report_table_timed(&outcome.name, &outcome.report));
+    println!("{}", report_table_timed(outcome));
     print_written([&w.file]);
+    print_written(&w.files);
     Ok(())
 }
 
@@ -187,12 +189,9 @@ fn plot(a: PlotArgs) -> Result<()> {
         dir: a.out,
         force: a.force,
     };
-    let p = figures::plot(
-        &a.set,
-        a.params.as_deref(),
-        &to,
-        &Progress::new(ProgressMode::Never),
-    )?;
+    let progress = Progress::new(a.progress);
+    let p = figures::plot(&a.set, a.params.as_deref(), &to, &progress)?;
+    progress.finish();
     print_written(&p.files);
     Ok(())
 }
@@ -224,6 +223,7 @@ fn plan(a: PlanArgs) -> Result<()> {
         seed: a.seed,
         check: a.check,
         setup_hours: a.setup_hours,
+        diagnosis: a.diagnosis,
     };
     let to = Destination {
         dir: a.out,
@@ -249,7 +249,7 @@ fn run_reproduce(a: ReproduceArgs) -> Result<()> {
     let r = reproduce(&req, &progress)?;
     progress.finish();
     for s in &r.sets {
-        println!("{}\n", report_table_timed(&s.name, &s.outcome.report));
+        println!("{}\n", report_table_timed(&s.outcome));
     }
     let out = req.out.display();
     println!(
