@@ -190,7 +190,8 @@ const SETTLED_SHARE: f64 = 0.05;
 /// The slip up to which a zoom shows the first loading of a monotonic test (slip control, no
 /// reversal, no hold): twice the slip at which the friction last departs from its final level
 /// by more than [`SETTLED_SHARE`] of its largest departure — the rise, the peak and the decay
-/// that decide ũ and κ; `None` for other tests, or when that is most of the slip anyway.
+/// that decide ũ and κ — or, when that decay is long, [`PEAK_SLIPS_SHOWN`] times the slip to
+/// the peak; `None` for other tests, or when even that is much of the slip.
 fn first_loading_window(p: &PreparedTest, friction: &[f64]) -> Option<f64> {
     let t = &p.full;
     let seg = &p.segmentation;
@@ -217,10 +218,20 @@ fn first_loading_window(p: &PreparedTest, friction: &[f64]) -> Option<f64> {
     let last = departure
         .iter()
         .rposition(|&d| d > SETTLED_SHARE * largest)?;
+    let peak = (0..n).max_by(|&a, &b| smooth[a].total_cmp(&smooth[b]))?;
     let (u0, u1) = (t.imposed[0], t.imposed[n - 1]);
-    let end = u0 + 2.0 * (t.imposed[last] - u0);
-    (end > u0 && end - u0 < 0.35 * (u1 - u0)).then_some(end)
+    let zoom = |end: f64| (end > u0 && end - u0 < MAX_ZOOM_SHARE * (u1 - u0)).then_some(end);
+    // The whole transient when it is short; else the rise and the peak with the start of
+    // the decay.
+    zoom(u0 + 2.0 * (t.imposed[last] - u0))
+        .or_else(|| zoom(u0 + PEAK_SLIPS_SHOWN * (t.imposed[peak] - u0)))
 }
+
+/// A zoom shows at most this share of the slip (beyond, the main panel shows it as well).
+const MAX_ZOOM_SHARE: f64 = 0.35;
+
+/// When the decay is long, the zoom shows this many times the slip to the peak.
+const PEAK_SLIPS_SHOWN: f64 = 4.0;
 
 fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len().max(1) as f64
