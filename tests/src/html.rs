@@ -42,7 +42,7 @@ pub fn base64_decode(s: &str) -> Result<Vec<u8>, String> {
         })
     };
     let bytes = s.as_bytes();
-    if bytes.len() % 4 != 0 {
+    if !bytes.len().is_multiple_of(4) {
         return Err(format!("base64 of {} characters", bytes.len()));
     }
     let mut out = Vec::with_capacity(bytes.len() / 4 * 3);
@@ -140,10 +140,8 @@ pub fn check_page(html: &str) -> Result<PageContent, String> {
         for (k, v) in &attrs {
             match k.as_str() {
                 "href" => page.links.push(v.clone()),
-                "id" => {
-                    if !page.ids.insert(v.clone()) {
-                        return Err(format!("id `{v}` twice"));
-                    }
+                "id" if !page.ids.insert(v.clone()) => {
+                    return Err(format!("id `{v}` twice"));
                 }
                 "src" => {
                     let data = v.strip_prefix("data:image/png;base64,").ok_or_else(|| {
