@@ -335,6 +335,7 @@ fn fit<'py>(
             profiles,
             ..FitOptions::default()
         },
+        start: None,
     };
     let run = py.detach(move || -> anyhow::Result<_> {
         let fitted = api::fit(&req, &Silent)?;

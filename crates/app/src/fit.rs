@@ -4,7 +4,8 @@
 //! done ([`setup`]); [`fit()`] returns the result, [`fit_to_folder`] writes it as `subfric fit`
 //! does.
 
-use crate::io::write_json;
+use crate::adequacy::Adequacy;
+use crate::io::{write_json, write_text};
 use crate::located;
 use crate::output::{default_results_dir, Destination, ResultsDir};
 use crate::progress::Progress;
@@ -12,7 +13,7 @@ use anyhow::{anyhow, bail, Result};
 use std::path::{Path, PathBuf};
 use subfric_data::{load_set, plausibility, Warning};
 use subfric_fit::{
-    calibrate, compare_with_published, prepare_set, reference_model, typical_rate, FitOptions,
+    calibrate_from, compare_with_published, prepare_set, reference_model, typical_rate, FitOptions,
     FitReport, FitTest, Param, PreparedTest, Space,
 };
 use subfric_model::{Model, Params};
@@ -34,6 +35,10 @@ pub struct FitRequest {
     pub weights: Vec<(String, f64)>,
     /// Optimiser options.
     pub options: FitOptions,
+    /// The model whose form is fitted (its extensions, with their values and its base
+    /// parameters as one more start; α from it): e.g. the model a diagnosis chose. `None`:
+    /// the base model of the paper, α from the published values.
+    pub start: Option<Model>,
 }
 
 impl FitRequest {
@@ -47,6 +52,7 @@ impl FitRequest {
             bounds: vec![],
             weights: vec![],
             options,
+            start: None,
         }
     }
 }
@@ -55,6 +61,10 @@ impl FitRequest {
 pub struct FitOutcome {
     /// The report.
     pub report: FitReport,
+    /// Does the model describe the data: the misfit and where it misses most.
+    pub adequacy: Adequacy,
+    /// The set folders fitted (for the next-step lines).
+    pub dirs: Vec<PathBuf>,
     /// Tests fitted.
     pub tests: Vec<PreparedTest>,
     /// Published model (single set with reference parameters).
@@ -115,6 +125,8 @@ pub struct FitSetup {
     pub warnings: Vec<Warning>,
     /// Rig artifacts recognised and what the fit does about them.
     pub artifacts: Vec<Artifact>,
+    /// Starting models beside the informed guesses (the request's `start`).
+    starts: Vec<Model>,
 }
 
 impl FitSetup {
@@ -167,16 +179,20 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
     }
     select_tests(&mut tests, &req.tests)?;
     apply_weights(&mut tests, &req.weights)?;
-    // Template: the published α (which lab data rarely determine; in a joint fit the value every
-    // set publishes), else the sample values.
-    let mut template = Model::base(Params::sample())?;
+    // Template: the given model, else the published α (which lab data rarely determine; in a
+    // joint fit the value every set publishes) with the sample values.
+    let mut template = match req.start {
+        Some(m) => m,
+        None => Model::base(Params::sample())?,
+    };
     let (alpha, why) = held_stiffness(&stiffness, template.params.alpha_t);
-    if let Some(p) = alpha {
+    if let (Some(p), None) = (alpha, &req.start) {
         template.params.alpha_t = p.alpha_t;
         template.params.alpha_n = p.alpha_n;
     }
-    let alpha_given =
-        req.free.contains(&Param::AlphaT) || req.fix.iter().any(|(p, _)| *p == Param::AlphaT);
+    let alpha_given = req.start.is_some()
+        || req.free.contains(&Param::AlphaT)
+        || req.fix.iter().any(|(p, _)| *p == Param::AlphaT);
     // A series stiffness the loading slopes resolve (the machine's compliance in the slip
     // column) is fitted, from the slopes' estimate, unless the request says what to do with α_t.
     let resolved = (!alpha_given)
@@ -234,6 +250,7 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         names,
         warnings,
         artifacts,
+        starts: req.start.iter().copied().collect(),
     })
 }
 
@@ -384,7 +401,13 @@ fn calibrate_setup(
     let budget = req.options.global_evaluations;
     let stage = |s| progress.calibration_stage(s, budget);
     let name = setup.name();
-    let mut report = calibrate(&setup.fits, setup.space.clone(), &req.options, &stage)?;
+    let mut report = calibrate_from(
+        &setup.fits,
+        setup.space.clone(),
+        &setup.starts,
+        &req.options,
+        &stage,
+    )?;
     // Fitted on bins of a long record: the misfit is reported on every row.
     let fulls: Vec<FitTest> = setup.tests.iter().map(|t| t.full.clone()).collect();
     report.tests = subfric_fit::misfits(&fulls, &report.model);
@@ -403,8 +426,11 @@ fn calibrate_setup(
     if let Some(p) = &setup.published {
         compare_with_published(&mut report, p);
     }
+    let adequacy = Adequacy::of_fit(&report, &setup.tests);
     Ok(FitOutcome {
         report,
+        adequacy,
+        dirs: req.dirs.clone(),
         name,
         tests: setup.tests,
         published: setup.published,
@@ -497,11 +523,13 @@ pub struct FitWritten {
     pub fitted: Fitted,
     /// The `fit.json` written.
     pub file: PathBuf,
+    /// Everything else written: `fit.txt`, one figure per test, `report.html`.
+    pub files: Vec<PathBuf>,
 }
 
 /// `subfric fit`: the request checked and the output folder (`fits/<set names>` unless
-/// given) claimed before the fit runs; `fit.json` written, then the folder's record of its
-/// sets.
+/// given) claimed before the fit runs; `fit.json`, `fit.txt`, one figure per test (measured,
+/// published, fitted) and `report.html` written, then the folder's record of its sets.
 pub fn fit_to_folder(
     req: &FitRequest,
     to: &Destination,
@@ -512,13 +540,35 @@ pub fn fit_to_folder(
         .dir
         .clone()
         .unwrap_or_else(|| default_results_dir(&setup.name()));
-    let claim = ResultsDir::claim(&dir, &req.dirs, &["fit.json".into()], to.force)?;
+    let mut files: Vec<String> = ["fit.json", "fit.txt", crate::report::REPORT_FILE]
+        .map(String::from)
+        .to_vec();
+    files.extend(crate::figures::figure_files(&setup.tests));
+    let claim = ResultsDir::claim(&dir, &req.dirs, &files, to.force)?;
     let warnings = setup.warnings.clone();
     let outcome = run_setup(req, setup, progress)?;
     let json = fit_json(&outcome)?;
     let file = dir.join("fit.json");
     write_json(&file, &json)?;
+    progress.stage("drawing the figures and the report", None);
+    let txt = dir.join("fit.txt");
+    write_text(&txt, &(crate::fit_report::report_table(&outcome) + "\n"))?;
+    let (plots, notes) = crate::figures::plot_set(
+        &outcome.name,
+        &outcome.tests,
+        outcome.published.as_ref(),
+        Some(&outcome.report.model),
+        &dir,
+    )?;
+    for n in &notes {
+        progress.warning(n);
+    }
+    let html = dir.join(crate::report::REPORT_FILE);
+    write_text(&html, &crate::report::fit_page(&outcome, &dir, &plots)?)?;
     claim.commit()?;
+    let mut written = vec![txt];
+    written.extend(plots);
+    written.push(html);
     Ok(FitWritten {
         fitted: Fitted {
             outcome,
@@ -526,6 +576,7 @@ pub fn fit_to_folder(
             warnings,
         },
         file,
+        files: written,
     })
 }
 
@@ -550,6 +601,7 @@ pub fn fit_json(out: &FitOutcome) -> Result<serde_json::Value> {
     let mut v = serde_json::json!({
         "set": out.name,
         "tests": out.tests.iter().map(|t| t.fit.name.clone()).collect::<Vec<_>>(),
+        "verdict": out.adequacy.json("the model"),
         "params": out.report.model.params,
         "model": out.report.model,
         "report": report,

@@ -137,6 +137,7 @@ fn import_spec(a: &ImportArgs) -> ImportSpec {
         friction: a.friction.clone(),
         normal: a.normal.clone().map(|c| (c, a.normal_unit.into())),
         normal_stress_kpa: a.normal_stress,
+        area_mm2: a.area,
         control: a.control.into(),
         test_name: a.test_name.clone(),
         set_name: a.set_name.clone().unwrap_or_else(|| {
@@ -196,6 +197,7 @@ fn fit(a: FitArgs) -> Result<()> {
             profiles: !a.no_profiles,
             ..FitOptions::default()
         },
+        start: None,
     };
     let progress = Progress::new(a.progress);
     let to = Destination {
@@ -205,8 +207,9 @@ fn fit(a: FitArgs) -> Result<()> {
     let w = fit_to_folder(&req, &to, &progress)?;
     progress.finish();
     let outcome = &w.fitted.outcome;
-    out(report_table_timed(&outcome.name, &outcome.report));
+    out(report_table_timed(outcome));
     print_written([&w.file]);
+    print_written(&w.files);
     Ok(())
 }
 
@@ -216,12 +219,9 @@ fn plot(a: PlotArgs) -> Result<()> {
         dir: a.out,
         force: a.force,
     };
-    let p = figures::plot(
-        &a.set,
-        a.params.as_deref(),
-        &to,
-        &Progress::new(ProgressMode::Never),
-    )?;
+    let progress = Progress::new(a.progress);
+    let p = figures::plot(&a.set, a.params.as_deref(), &to, &progress)?;
+    progress.finish();
     print_written(&p.files);
     Ok(())
 }
@@ -253,6 +253,7 @@ fn plan(a: PlanArgs) -> Result<()> {
         seed: a.seed,
         check: a.check,
         setup_hours: a.setup_hours,
+        diagnosis: a.diagnosis,
     };
     let to = Destination {
         dir: a.out,
@@ -278,10 +279,7 @@ fn run_reproduce(a: ReproduceArgs) -> Result<()> {
     let r = reproduce(&req, &progress)?;
     progress.finish();
     for s in &r.sets {
-        out(format!(
-            "{}\n",
-            report_table_timed(&s.name, &s.outcome.report)
-        ));
+        out(format!("{}\n", report_table_timed(&s.outcome)));
     }
     let dir = subfric_app::visible(&req.out.display().to_string());
     out(format!(

@@ -163,6 +163,9 @@ fn read_text(path: &Path) -> Result<String, DataError> {
 /// # Ok(()) }
 /// ```
 pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
+    if let Some(p) = crate::fsio::file_not_folder(dir) {
+        return Err(DataError::Problems(vec![p]));
+    }
     let json_path = dir.join(EXPERIMENT_JSON);
     if dir.is_dir() {
         if let Some(msg) = set_file_problem(dir, &json_path).filter(|_| json_path.exists()) {

@@ -98,24 +98,32 @@ pub enum FitError {
     Params(#[from] subfric_model::ParamError),
 }
 
-/// Identifiability verdict of one parameter.
+/// Identifiability verdict of one parameter. It is written to JSON in the words the readable
+/// reports use ([`Status::describe`]), so that a script, the Python package and the terminal
+/// say the same thing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
 pub enum Status {
     /// Held at its given value.
+    #[serde(rename = "fixed")]
     Fixed,
     /// The 95 % profile interval is closed and within ±10 % of the value
     /// ([`Interval::determines`]).
+    #[serde(rename = "determined")]
     Determined,
     /// Closed but wider than ±10 %.
+    #[serde(rename = "weakly determined")]
     Weak,
     /// Only a lower bound: the data allow any larger value.
+    #[serde(rename = "not determined (lower bound only)")]
     LowerBoundOnly,
     /// Only an upper bound: the data allow any smaller value.
+    #[serde(rename = "not determined (upper bound only)")]
     UpperBoundOnly,
     /// Neither bound: the data do not constrain it.
+    #[serde(rename = "not determined")]
     NotDetermined,
     /// No profile computed; standard error only.
+    #[serde(rename = "not profiled")]
     Unprofiled,
 }
 

@@ -273,6 +273,9 @@ pub struct TestMisfit {
     pub noise_sd: f64,
     /// RMS error / noise SD (1 = at the noise level).
     pub rms_over_noise: f64,
+    /// Mean squared error / noise variance (1 = at the noise level): the misfit as the reports
+    /// give it ("× the noise variance"), the square of `rms_over_noise`.
+    pub reduced_chi2: f64,
     /// Unit of `rms`.
     pub unit: &'static str,
 }
@@ -299,6 +302,7 @@ pub fn misfits(tests: &[FitTest], m: &Model) -> Vec<TestMisfit> {
                 rms_percent: 100.0 * rms / t.scale,
                 noise_sd: t.noise_sd,
                 rms_over_noise: rms / t.noise_sd,
+                reduced_chi2: (rms / t.noise_sd).powi(2),
                 unit: match t.control {
                     Control::Slip => "kPa",
                     Control::Shear => "mm",
