@@ -21,7 +21,7 @@ pub mod scenario;
 pub mod simulate;
 
 pub use contact1::{Contact1, State1};
-pub use contact3::{Contact3, State3, Tangent3, Vec3};
+pub use contact3::{Contact3, State3, StateError, Tangent3, Vec3};
 pub use extensions::{
     DirectionEffect, Extensions, Healing, HealingForm, PressureEffect, PressureForm, RateEffect,
     RateForm, SlipForm, SlipHardening, Target,
@@ -30,7 +30,8 @@ pub use integrator::StepError;
 pub use params::{ParamError, ParamIssue, Params, MAX_ALPHA};
 pub use scenario::{Scenario, ScenarioError, Stage, MAX_SCENARIO_ROWS};
 pub use simulate::{
-    simulate, simulate_predicted_into, Control, Initial, Protocol, SimError, Trajectory,
+    check_start, simulate, simulate_predicted_into, Control, Initial, Protocol, SimError,
+    Trajectory, SLIP_RESOLUTION_SHARE,
 };
 
 /// A validated model: the paper's parameters plus optional extensions.
