@@ -162,7 +162,8 @@ impl SlipResolution {
     #[inline]
     fn check(&self, u: f64, p: f64, row: usize, field: &'static str) -> Result<(), SimError> {
         let a = u.abs();
-        let spacing = a.next_up() - a;
+        // The next double above a finite a ≥ 0 (infinite above f64::MAX: refused).
+        let spacing = f64::from_bits(a.to_bits() + 1) - a;
         let allowed = self.share_of_mu_s * p;
         if self.alpha * spacing <= allowed {
             return Ok(());
