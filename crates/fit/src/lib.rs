@@ -20,6 +20,7 @@ pub mod plan;
 pub mod prepare;
 pub mod problem;
 pub mod residuals;
+pub mod sampling;
 pub mod space;
 pub mod stiffness;
 pub mod thin;
