@@ -481,8 +481,8 @@ pub fn check_start(model: &Model, proto: &Protocol) -> Result<(), SimError> {
         row: 0,
         field,
         message: format!(
-            "{what} exceeds the friction capacity {cap:.6} kPa of this model {state} under \
-             {p} kPa (expected |shear_kpa| <= {cap:.6}: a contact cannot hold more)"
+            "{what} exceeds the friction capacity {cap:.4} kPa of this model {state} under \
+             {p} kPa (expected |shear_kpa| <= {cap:.4}: a contact cannot hold more)"
         ),
     })
 }
