@@ -248,7 +248,11 @@ fn check_protocol(model: &Model, p: &Protocol) -> Result<(), SimError> {
             });
         }
     }
+    // The largest slip and the least normal stress, for the resolution check below.
+    let (mut largest, mut least) = (0.0f64, f64::INFINITY);
     for i in 0..n {
+        largest = largest.max(p.imposed[i].abs());
+        least = least.min(p.normal[i]);
         if !p.time[i].is_finite() || (i > 0 && p.time[i] <= p.time[i - 1]) {
             return Err(SimError::Input {
                 row: i,
@@ -281,9 +285,7 @@ fn check_protocol(model: &Model, p: &Protocol) -> Result<(), SimError> {
     match p.control {
         // The spacing grows with |u| and the allowance with p: the largest slip at the least
         // normal stress decides for every row, and only a refusal needs the row.
-        Control::Slip if !p.imposed.is_empty() => {
-            let largest = p.imposed.iter().fold(0.0f64, |m, u| m.max(u.abs()));
-            let least = p.normal.iter().fold(f64::INFINITY, |m, &x| m.min(x));
+        Control::Slip if n > 0 => {
             if resolution.check(largest, least, 0, "imposed").is_err() {
                 for (i, (&u, &normal)) in p.imposed.iter().zip(p.normal).enumerate() {
                     resolution.check(u, normal, i, "imposed")?;
