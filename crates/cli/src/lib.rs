@@ -339,6 +339,17 @@ fn bench(a: BenchArgs) -> Result<()> {
         "multi-start fit of {}: {:.2} s on 1 thread, {:.2} s on {} threads: speed-up {:.2}×",
         m.set, m.one_thread_s, m.all_threads_s, m.threads, m.speedup
     ));
+    let f = &r.many_tests;
+    out(format!(
+        "fit of {} tests of {} rows: {:.1} s ({:.1} s of processor time, {} model runs; \
+         fitted mu_s, mu_k within {:.2}% of the truth)",
+        f.tests,
+        f.rows_per_test,
+        f.seconds,
+        f.cpu_seconds,
+        f.model_runs,
+        100.0 * f.worst_recovery
+    ));
     out("whole diagnoses (prepare, fit every candidate, held-out folds, verdict):");
     for d in &r.diagnoses {
         out(format!(

@@ -77,9 +77,10 @@ fn initial_of(seg: &Segmentation) -> Initial {
         StartKind::Loaded => Initial::Loaded {
             shear_kpa: s.shear_kpa,
         },
+        // The model takes the speed; the direction is the traction's sign.
         StartKind::Sliding => Initial::Sliding {
             shear_kpa: s.shear_kpa,
-            rate_mm_s: s.rate,
+            rate_mm_s: s.rate.abs(),
         },
     }
 }
