@@ -4,7 +4,8 @@
 //! done ([`setup`]); [`fit()`] returns the result, [`fit_to_folder`] writes it as `subfric fit`
 //! does.
 
-use crate::io::write_json;
+use crate::adequacy::Adequacy;
+use crate::io::{write_json, write_text};
 use crate::located;
 use crate::output::{default_results_dir, Destination, ResultsDir};
 use crate::progress::Progress;
@@ -12,7 +13,7 @@ use anyhow::{anyhow, bail, Result};
 use std::path::{Path, PathBuf};
 use subfric_data::{load_set, plausibility, Warning};
 use subfric_fit::{
-    calibrate, compare_with_published, prepare_set, reference_model, typical_rate, FitOptions,
+    calibrate_from, compare_with_published, prepare_set, reference_model, typical_rate, FitOptions,
     FitReport, FitTest, Param, PreparedTest, Space,
 };
 use subfric_model::{Model, Params};
@@ -34,6 +35,10 @@ pub struct FitRequest {
     pub weights: Vec<(String, f64)>,
     /// Optimiser options.
     pub options: FitOptions,
+    /// The model whose form is fitted (its extensions, with their values and its base
+    /// parameters as one more start; α from it): e.g. the model a diagnosis chose. `None`:
+    /// the base model of the paper, α from the published values.
+    pub start: Option<Model>,
 }
 
 impl FitRequest {
@@ -47,6 +52,7 @@ impl FitRequest {
             bounds: vec![],
             weights: vec![],
             options,
+            start: None,
         }
     }
 }
@@ -55,12 +61,55 @@ impl FitRequest {
 pub struct FitOutcome {
     /// The report.
     pub report: FitReport,
+    /// Does the model describe the data: the misfit and where it misses most.
+    pub adequacy: Adequacy,
+    /// The set folders fitted (for the next-step lines).
+    pub dirs: Vec<PathBuf>,
     /// Tests fitted.
     pub tests: Vec<PreparedTest>,
     /// Published model (single set with reference parameters).
     pub published: Option<Model>,
     /// Name used for output.
     pub name: String,
+    /// Rig artifacts recognised in the record and what the fit did about them.
+    pub artifacts: Vec<Artifact>,
+}
+
+/// A rig artifact recognised in a record, and what the fit did about it.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Artifact {
+    /// The test it was found in (empty for the whole set).
+    pub test: String,
+    /// `seating-toe` or `compliance`.
+    pub kind: &'static str,
+    /// What was found and done, in words.
+    pub detail: String,
+}
+
+/// The rig artifacts of prepared tests: their seating toes (excluded) and a series stiffness
+/// the loading slopes resolve (fitted as α_t, unless the request fixes or frees α_t itself).
+pub fn artifacts_of(
+    tests: &[PreparedTest],
+    stiffness: Option<&subfric_fit::Stiffness>,
+) -> Vec<Artifact> {
+    let mut out: Vec<Artifact> = tests
+        .iter()
+        .filter_map(|t| {
+            t.toe.as_ref().map(|toe| Artifact {
+                test: t.full.name.clone(),
+                kind: "seating-toe",
+                detail: toe.reason.clone(),
+            })
+        })
+        .collect();
+    if let Some(s) = stiffness {
+        out.push(Artifact {
+            test: String::new(),
+            kind: "compliance",
+            detail: format!("α_t fitted: {}", s.evidence),
+        });
+    }
+    out
 }
 
 /// Sets loaded, checked and charted, ready for the long work.
@@ -74,6 +123,10 @@ pub struct FitSetup {
     names: Vec<String>,
     /// Plausibility warnings of the sets.
     pub warnings: Vec<Warning>,
+    /// Rig artifacts recognised and what the fit does about them.
+    pub artifacts: Vec<Artifact>,
+    /// Starting models beside the informed guesses (the request's `start`).
+    starts: Vec<Model>,
 }
 
 impl FitSetup {
@@ -90,17 +143,22 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
     if req.dirs.is_empty() {
         bail!("no set folder given");
     }
+    crate::flags::conflicts(None, &req.fix, &req.bounds, &req.weights).map_err(|e| anyhow!(e))?;
+    refuse_repeated_sets(&req.dirs)?;
     let joint = req.dirs.len() > 1;
     let mut tests = Vec::new();
     let mut published = None;
     let mut names = Vec::new();
     let mut warnings = Vec::new();
     let mut files = Vec::new();
+    let mut stiffness = Vec::new();
     for d in &req.dirs {
         progress.stage(&format!("reading {}", d.display()), None);
         let set = load_set(d)?;
+        let reference = reference_model(&set);
+        stiffness.push((set.meta.name.clone(), reference.as_ref().map(|m| m.params)));
         if !joint {
-            published = reference_model(&set);
+            published = reference;
         }
         warnings.extend(plausibility(&set));
         names.push(set.meta.name.clone());
@@ -120,32 +178,58 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         tests.extend(prepare_set(&set, joint));
     }
     select_tests(&mut tests, &req.tests)?;
-    for (name, w) in &req.weights {
-        let Some(t) = tests.iter_mut().find(|t| &t.fit.name == name) else {
-            bail!(
-                "--weight {name}={w}: test `{name}` not found (the sets have: {})",
-                test_names(&tests)
-            );
-        };
-        t.fit.weight = *w;
-        t.full.weight = *w;
+    apply_weights(&mut tests, &req.weights)?;
+    // Template: the given model, else the published α (which lab data rarely determine; in a
+    // joint fit the value every set publishes) with the sample values.
+    let mut template = match req.start {
+        Some(m) => m,
+        None => Model::base(Params::sample())?,
+    };
+    let (alpha, why) = held_stiffness(&stiffness, template.params.alpha_t);
+    if let (Some(p), None) = (alpha, &req.start) {
+        template.params.alpha_t = p.alpha_t;
+        template.params.alpha_n = p.alpha_n;
     }
-    // Template: the published α (which lab data rarely determine), else the sample values.
-    let mut template = Model::base(Params::sample())?;
-    if let Some(p) = &published {
-        template.params.alpha_t = p.params.alpha_t;
-        template.params.alpha_n = p.params.alpha_n;
+    let alpha_given = req.start.is_some()
+        || req.free.contains(&Param::AlphaT)
+        || req.fix.iter().any(|(p, _)| *p == Param::AlphaT);
+    // A series stiffness the loading slopes resolve (the machine's compliance in the slip
+    // column) is fitted, from the slopes' estimate, unless the request says what to do with α_t.
+    let resolved = (!alpha_given)
+        .then(|| subfric_fit::resolved_stiffness(&tests))
+        .flatten();
+    let mut free_alpha = false;
+    match (&resolved, why) {
+        (Some(s), _) => {
+            template.params.alpha_t = s.alpha_t;
+            template.params.alpha_n = s.alpha_t;
+            free_alpha = true;
+        }
+        (None, Some(why)) if !alpha_given => progress.note(&why),
+        _ => {}
+    }
+    let artifacts = artifacts_of(&tests, resolved.as_ref());
+    for a in &artifacts {
+        let place = if a.test.is_empty() {
+            String::new()
+        } else {
+            format!("{}: ", crate::visible(&a.test))
+        };
+        progress.note(&format!("{place}{}", a.detail));
     }
     for (p, v) in &req.fix {
         p.set(&mut template, *v);
     }
     Model::new(template.params, template.ext).map_err(|e| anyhow!("--fix: {e}"))?;
-    let free: Vec<Param> = req
+    let mut free: Vec<Param> = req
         .free
         .iter()
         .copied()
         .filter(|p| !req.fix.iter().any(|(q, _)| q == p))
         .collect();
+    if free_alpha {
+        free.push(Param::AlphaT);
+    }
     let fits: Vec<FitTest> = tests.iter().map(|t| t.fit.clone()).collect();
     let space = Space::try_with_rate(template, &free, &req.bounds, typical_rate(&fits))
         .map_err(|e| anyhow!("--bounds {e}"))?;
@@ -165,7 +249,109 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         published,
         names,
         warnings,
+        artifacts,
+        starts: req.start.iter().copied().collect(),
     })
+}
+
+/// Refuses a set folder given twice (`fit s s`, or `s` and `./s/`, or a link to it): its rows
+/// would count twice, every standard error would shrink by √2 and the intervals would claim a
+/// certainty the data do not give.
+fn refuse_repeated_sets(dirs: &[PathBuf]) -> Result<()> {
+    let mut seen: Vec<(PathBuf, &PathBuf)> = Vec::new();
+    for d in dirs {
+        let Ok(c) = std::fs::canonicalize(d) else {
+            continue; // not there: load_set says so
+        };
+        if let Some((_, first)) = seen.iter().find(|(s, _)| *s == c) {
+            bail!(
+                "{} and {}: the same set folder given twice ({}); its rows would count twice and every interval would be too narrow by √2 (expected each set once)",
+                first.display(),
+                d.display(),
+                c.display()
+            );
+        }
+        seen.push((c, d));
+    }
+    Ok(())
+}
+
+/// Sets the weights of `--weight` (each test named must be there), then scales every weight so
+/// that their mean over the rows is 1: weights say how much each test counts against the
+/// others, while the misfit stays a multiple of the noise variance and the intervals keep their
+/// meaning (a single test weighted 10⁻³⁰ would otherwise read as a perfect fit).
+fn apply_weights(tests: &mut [PreparedTest], weights: &[(String, f64)]) -> Result<()> {
+    for (name, w) in weights {
+        let Some(t) = tests.iter_mut().find(|t| &t.fit.name == name) else {
+            bail!(
+                "--weight {name}={w}: test `{name}` not found (the sets have: {})",
+                test_names(tests)
+            );
+        };
+        t.fit.weight = *w;
+        t.full.weight = *w;
+    }
+    let rows: f64 = tests.iter().map(|t| t.full.time.len() as f64).sum();
+    let weighted: f64 = tests
+        .iter()
+        .map(|t| t.full.weight * t.full.time.len() as f64)
+        .sum();
+    if weights.is_empty() || !(rows > 0.0 && weighted > 0.0) {
+        return Ok(());
+    }
+    let scale = rows / weighted;
+    for t in tests.iter_mut() {
+        t.fit.weight *= scale;
+        t.full.weight *= scale;
+    }
+    Ok(())
+}
+
+/// The contact stiffness a fit holds (α_t and α_n, which lab data rarely determine), from the
+/// published parameters of the sets `(name, published)`: a single set's, or the value every set
+/// of a joint fit publishes. Returns it (`None`: the sample values) and, when it does not come
+/// from a single set's publication, a note saying what is held and why.
+fn held_stiffness(
+    sets: &[(String, Option<Params>)],
+    sample: f64,
+) -> (Option<Params>, Option<String>) {
+    let published: Vec<(&String, Params)> =
+        sets.iter().filter_map(|(n, p)| p.map(|p| (n, p))).collect();
+    let agree = published.len() == sets.len()
+        && published
+            .windows(2)
+            .all(|w| w[0].1.alpha_t == w[1].1.alpha_t && w[0].1.alpha_n == w[1].1.alpha_n);
+    match (sets.len(), agree, published.first()) {
+        (1, true, Some((_, p))) => (Some(*p), None),
+        (_, true, Some((_, p))) => (
+            Some(*p),
+            Some(format!(
+                "alpha_t held at {} kN/mm³, the value every set publishes (free it with --free …,alpha_t, or set it with --fix alpha_t=…)",
+                p.alpha_t
+            )),
+        ),
+        _ if published.is_empty() => (
+            None,
+            Some(format!(
+                "alpha_t held at {sample} kN/mm³, a typical value: {} publish{} none (free it with --free …,alpha_t, or set it with --fix alpha_t=…)",
+                if sets.len() == 1 { "the set" } else { "the sets" },
+                if sets.len() == 1 { "es" } else { "" }
+            )),
+        ),
+        _ => (
+            None,
+            Some(format!(
+                "alpha_t held at {sample} kN/mm³, a typical value: the sets do not publish one value ({}) (free it with --free …,alpha_t, or set it with --fix alpha_t=…)",
+                sets.iter()
+                    .map(|(n, p)| match p {
+                        Some(p) => format!("{} {}", crate::visible(n), p.alpha_t),
+                        None => format!("{} none", crate::visible(n)),
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+        ),
+    }
 }
 
 fn free_triple(free: &[Param]) -> bool {
@@ -215,7 +401,13 @@ fn calibrate_setup(
     let budget = req.options.global_evaluations;
     let stage = |s| progress.calibration_stage(s, budget);
     let name = setup.name();
-    let mut report = calibrate(&setup.fits, setup.space.clone(), &req.options, &stage)?;
+    let mut report = calibrate_from(
+        &setup.fits,
+        setup.space.clone(),
+        &setup.starts,
+        &req.options,
+        &stage,
+    )?;
     // Fitted on bins of a long record: the misfit is reported on every row.
     let fulls: Vec<FitTest> = setup.tests.iter().map(|t| t.full.clone()).collect();
     report.tests = subfric_fit::misfits(&fulls, &report.model);
@@ -234,11 +426,15 @@ fn calibrate_setup(
     if let Some(p) = &setup.published {
         compare_with_published(&mut report, p);
     }
+    let adequacy = Adequacy::of_fit(&report, &setup.tests);
     Ok(FitOutcome {
         report,
+        adequacy,
+        dirs: req.dirs.clone(),
         name,
         tests: setup.tests,
         published: setup.published,
+        artifacts: setup.artifacts,
     })
 }
 
@@ -327,11 +523,13 @@ pub struct FitWritten {
     pub fitted: Fitted,
     /// The `fit.json` written.
     pub file: PathBuf,
+    /// Everything else written: `fit.txt`, one figure per test, `report.html`.
+    pub files: Vec<PathBuf>,
 }
 
 /// `subfric fit`: the request checked and the output folder (`fits/<set names>` unless
-/// given) claimed before the fit runs; `fit.json` written, then the folder's record of its
-/// sets.
+/// given) claimed before the fit runs; `fit.json`, `fit.txt`, one figure per test (measured,
+/// published, fitted) and `report.html` written, then the folder's record of its sets.
 pub fn fit_to_folder(
     req: &FitRequest,
     to: &Destination,
@@ -342,13 +540,35 @@ pub fn fit_to_folder(
         .dir
         .clone()
         .unwrap_or_else(|| default_results_dir(&setup.name()));
-    let claim = ResultsDir::claim(&dir, &req.dirs, &["fit.json".into()], to.force)?;
+    let mut files: Vec<String> = ["fit.json", "fit.txt", crate::report::REPORT_FILE]
+        .map(String::from)
+        .to_vec();
+    files.extend(crate::figures::figure_files(&setup.tests));
+    let claim = ResultsDir::claim(&dir, &req.dirs, &files, to.force)?;
     let warnings = setup.warnings.clone();
     let outcome = run_setup(req, setup, progress)?;
     let json = fit_json(&outcome)?;
     let file = dir.join("fit.json");
     write_json(&file, &json)?;
+    progress.stage("drawing the figures and the report", None);
+    let txt = dir.join("fit.txt");
+    write_text(&txt, &(crate::fit_report::report_table(&outcome) + "\n"))?;
+    let (plots, notes) = crate::figures::plot_set(
+        &outcome.name,
+        &outcome.tests,
+        outcome.published.as_ref(),
+        Some(&outcome.report.model),
+        &dir,
+    )?;
+    for n in &notes {
+        progress.warning(n);
+    }
+    let html = dir.join(crate::report::REPORT_FILE);
+    write_text(&html, &crate::report::fit_page(&outcome, &dir, &plots)?)?;
     claim.commit()?;
+    let mut written = vec![txt];
+    written.extend(plots);
+    written.push(html);
     Ok(FitWritten {
         fitted: Fitted {
             outcome,
@@ -356,6 +576,7 @@ pub fn fit_to_folder(
             warnings,
         },
         file,
+        files: written,
     })
 }
 
@@ -377,11 +598,16 @@ pub fn fit_json(out: &FitOutcome) -> Result<serde_json::Value> {
     {
         o.remove("elapsed_s");
     }
-    Ok(serde_json::json!({
+    let mut v = serde_json::json!({
         "set": out.name,
         "tests": out.tests.iter().map(|t| t.fit.name.clone()).collect::<Vec<_>>(),
+        "verdict": out.adequacy.json("the model"),
         "params": out.report.model.params,
         "model": out.report.model,
         "report": report,
-    }))
+    });
+    if !out.artifacts.is_empty() {
+        v["artifacts"] = serde_json::to_value(&out.artifacts)?;
+    }
+    Ok(v)
 }

@@ -31,6 +31,10 @@ pub fn load_model(path: &Path) -> Result<Model> {
             "{}:{line}:{column}: not valid JSON: {message} (expected an object with mu_s, mu_k, kappa, xi, u_tilde, alpha_t)",
             path.display()
         ),
+        ModelJsonError::Duplicate { key, line, column } => anyhow!(
+            "{}:{line}:{column}: field `{key}` appears twice (expected each field once: which of the two values is meant?)",
+            path.display()
+        ),
         e => anyhow!("{}: {e}", path.display()),
     })
 }

@@ -274,23 +274,35 @@ pub fn score_folder(
         .filter(|p| p.join("experiment.json").is_file())
         .collect();
     dirs.sort();
-    let mut cases = Vec::new();
+    // Every truth is read before the first diagnosis: a label that is not an effect is an
+    // error naming the set, not a case scored as something else.
+    let mut jobs = Vec::new();
     for d in dirs {
         let name = d
             .file_name()
             .map(|s| s.to_string_lossy().to_string())
             .unwrap_or_default();
-        let entry = &truth[&name];
-        let Some((families, label)) = truth_families(entry) else {
-            progress.warning(&format!(
-                "{name}: no truth in {}, skipped",
+        match truth_of(&truth, &name, &truth_path)? {
+            Some((families, label)) => jobs.push((d, name, families, label, profile_name(&truth[&name]))),
+            None => progress.warning(&format!(
+                "{}: no truth in {}, skipped",
+                crate::visible(&name),
                 truth_path.display()
-            ));
-            continue;
-        };
+            )),
+        }
+    }
+    if jobs.is_empty() {
+        bail!(
+            "{}: no set of {} has a truth there (expected {{\"<set folder>\": {{\"effect\": name}}}} for the sets to score)",
+            truth_path.display(),
+            root.display()
+        );
+    }
+    let mut cases = Vec::new();
+    for (d, name, families, label, profile) in jobs {
         let diag = crate::diagnose::diagnose(&d, opts, &Silent)?.diagnosis;
         let mut c = Case::new(&name, families, label, &diag);
-        c.profile = profile_name(entry);
+        c.profile = profile;
         on_case(&c);
         cases.push(c);
     }
@@ -348,6 +360,50 @@ pub fn diagnose_generated(g: &Generated, opts: &DiagnoseOptions) -> Result<Case>
     Ok(c)
 }
 
+/// The truth of the set `name` in `truth.json` (`truth`, read from `path`): either
+/// `{"effect": name}` or `{"effects": [names]}`, each an effect's name as in diagnosis.json
+/// (`none`: no effect; `drift` or `unexplained`: a gap outside the library). `None`: no entry.
+fn truth_of(
+    truth: &serde_json::Value,
+    name: &str,
+    path: &Path,
+) -> Result<Option<(Vec<Effect>, String)>> {
+    let entry = &truth[name];
+    let labels: Vec<&serde_json::Value> = match (&entry["effect"], entry["effects"].as_array()) {
+        (_, Some(list)) => list.iter().collect(),
+        (serde_json::Value::Null, None) => return Ok(None),
+        (e, None) => vec![e],
+    };
+    let known = || {
+        Effect::ALL
+            .iter()
+            .map(|e| e.name())
+            .chain(["drift"])
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut names = Vec::new();
+    let mut families = Vec::new();
+    for v in labels {
+        let effect = v.as_str().and_then(Effect::from_name).ok_or_else(|| {
+            anyhow!(
+                "{}: set `{}`: truth {} is not an effect subfric knows (expected one of {})",
+                path.display(),
+                crate::visible(name),
+                crate::visible(&v.to_string()),
+                known()
+            )
+        })?;
+        names.push(v.as_str().unwrap_or_default());
+        if effect != Effect::None {
+            families.push(effect);
+        }
+    }
+    // The label names the forms when the truth gives them (the dev families' schema).
+    let label = truth_families(entry).map_or_else(|| names.join(" + "), |(_, label)| label);
+    Ok(Some((families, label)))
+}
+
 /// One line per diagnosed set: its truth, the verdict, right or wrong, the held-out shrink.
 pub fn case_line(c: &Case) -> String {
     let names = |v: &[Effect]| {
@@ -358,9 +414,9 @@ pub fn case_line(c: &Case) -> String {
         }
     };
     format!(
-        "{:<12} truth {:<56} verdict {:<30} {} shrink {:>4.0}%  ({:.1} s){}",
-        c.name,
-        truncate(&c.truth_label, 56),
+        "{:<22} truth {:<56} verdict {:<30} {} shrink {:>4.0}%  ({:.1} s){}",
+        crate::visible(&c.name),
+        truncate(&crate::visible(&c.truth_label), 56),
         names(&c.verdict),
         if c.right() { "right" } else { "WRONG" },
         100.0 * c.shrink,

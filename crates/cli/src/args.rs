@@ -5,7 +5,9 @@
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
-use subfric_app::flags::{parse_bound, parse_fix, parse_param, parse_weight};
+use subfric_app::flags::{
+    conflicts, parse_bound, parse_fix, parse_hours, parse_param, parse_weight,
+};
 use subfric_data::{ColumnRef, ControlColumn, Delimiter, LengthUnit, StressUnit, TimeUnit};
 use subfric_fit::{Method, Param};
 use subfric_model::MAX_SCENARIO_ROWS;
@@ -92,6 +94,9 @@ pub struct SimulateArgs {
     /// Most rows a scenario may generate (it is refused beyond, before any is generated).
     #[arg(long, default_value_t = MAX_SCENARIO_ROWS)]
     pub max_rows: usize,
+    /// Progress display on stderr (accepted for a uniform command line; a simulation is quick).
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
 }
 
 /// `subfric check`.
@@ -99,6 +104,9 @@ pub struct SimulateArgs {
 pub struct CheckArgs {
     /// Set folder.
     pub set: PathBuf,
+    /// Progress display on stderr (accepted for a uniform command line; a check is quick).
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
 }
 
 /// Which column the apparatus imposed.
@@ -173,7 +181,7 @@ impl From<LengthUnitArg> for LengthUnit {
     }
 }
 
-/// Unit of a stress column.
+/// Unit of a stress column, or of a force column divided by `--area`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum StressUnitArg {
     /// kilopascals
@@ -187,6 +195,14 @@ pub enum StressUnitArg {
     Pa,
     /// pounds per square inch
     Psi,
+    /// newtons: a force, divided by --area
+    #[value(name = "N")]
+    N,
+    /// kilonewtons: a force, divided by --area
+    #[value(name = "kN")]
+    KN,
+    /// pounds-force: a force, divided by --area
+    Lbf,
 }
 
 impl From<StressUnitArg> for StressUnit {
@@ -196,6 +212,9 @@ impl From<StressUnitArg> for StressUnit {
             StressUnitArg::MPa => StressUnit::MPa,
             StressUnitArg::Pa => StressUnit::Pa,
             StressUnitArg::Psi => StressUnit::Psi,
+            StressUnitArg::N => StressUnit::N,
+            StressUnitArg::KN => StressUnit::KN,
+            StressUnitArg::Lbf => StressUnit::Lbf,
         }
     }
 }
@@ -254,28 +273,32 @@ pub struct ImportArgs {
     /// Shear column [default: shear_kpa, unless --friction is given].
     #[arg(long)]
     pub shear: Option<ColumnRef>,
-    /// Unit of shear.
+    /// Unit of shear (a force unit needs --area).
     #[arg(long, value_enum, ignore_case = true, default_value = "kPa")]
     pub shear_unit: StressUnitArg,
     /// Friction (shear/normal) column [default: none].
     #[arg(long)]
     pub friction: Option<ColumnRef>,
     /// Normal stress column [default: none: give --normal-stress].
-    #[arg(long)]
+    #[arg(long, conflicts_with = "normal_stress")]
     pub normal: Option<ColumnRef>,
-    /// Unit of the normal column.
+    /// Unit of the normal column (a force unit needs --area).
     #[arg(long, value_enum, ignore_case = true, default_value = "kPa")]
     pub normal_unit: StressUnitArg,
     /// Constant normal stress [kPa] when there is no normal column [default: none].
     #[arg(long)]
     pub normal_stress: Option<f64>,
+    /// Contact area [mm²] that a force column (--shear-unit or --normal-unit N, kN, lbf) is
+    /// divided by, e.g. 3600 for a 60 mm square shear box [default: none: stresses only].
+    #[arg(long, value_name = "MM2")]
+    pub area: Option<f64>,
     /// Which column the apparatus imposed.
     #[arg(long, value_enum, default_value_t = ControlArg::Slip)]
     pub control: ControlArg,
     /// Cell delimiter.
     #[arg(long, value_enum, ignore_case = true, default_value = "auto")]
     pub delimiter: DelimiterArg,
-    /// Lines to skip before the header.
+    /// Lines to skip before the header (a header block of specimen, date, operator…).
     #[arg(long, default_value_t = 0)]
     pub skip: usize,
     /// The file has no header line (columns by index).
@@ -327,16 +350,18 @@ pub struct FitArgs {
     /// Only these tests, comma separated [default: all tests].
     #[arg(long, value_delimiter = ',')]
     pub tests: Vec<String>,
-    /// Free parameters, comma separated (alpha_t and extension parameters may be added).
-    #[arg(long, value_delimiter = ',', value_parser = parse_param, default_value = "mu_s,mu_k,kappa,xi,u_tilde")]
-    pub free: Vec<Param>,
+    /// Free parameters, comma separated (alpha_t and extension parameters may be added)
+    /// [default: mu_s,mu_k,kappa,xi,u_tilde, less those given to --fix].
+    #[arg(long, value_delimiter = ',', value_parser = parse_param)]
+    pub free: Option<Vec<Param>>,
     /// Fixed values, key=value, comma separated [default: none].
     #[arg(long, value_delimiter = ',', value_parser = parse_fix, value_name = "KEY=VALUE")]
     pub fix: Vec<(Param, f64)>,
     /// Bounds of free parameters in their own units, key=lo:hi, comma separated [default: none].
     #[arg(long, value_delimiter = ',', value_parser = parse_bound, value_name = "KEY=LO:HI")]
     pub bounds: Vec<(Param, f64, f64)>,
-    /// Test weights, name=w with w > 0, comma separated [default: 1 for every test].
+    /// Relative test weights, name=w with w from 1e-6 to 1e6, comma separated (scaled to a mean
+    /// of 1 over the rows) [default: 1 for every test].
     #[arg(long, value_delimiter = ',', value_parser = parse_weight, value_name = "TEST=W")]
     pub weight: Vec<(String, f64)>,
     /// Local method.
@@ -370,7 +395,8 @@ pub struct FitArgs {
 pub struct PlotArgs {
     /// Set folder.
     pub set: PathBuf,
-    /// Fitted parameters, fit.json or params.json [default: none: measured and published only].
+    /// Fitted parameters, fit.json or params.json [default: fits/<set name>/fit.json when it
+    /// exists, else none: measured and published only].
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// Output folder [default: fits/<set name>/plots].
@@ -379,6 +405,9 @@ pub struct PlotArgs {
     /// Replace figures in the output folder that came from another set (or not from subfric).
     #[arg(long)]
     pub force: bool,
+    /// Progress display on stderr.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
 }
 
 /// `subfric diagnose`.
@@ -437,8 +466,12 @@ pub struct PlanArgs {
     #[arg(long, default_value_t = 1)]
     pub check: usize,
     /// Lab time of a new test beyond its duration (specimen, set-up) [h].
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = 0.5, value_parser = parse_hours)]
     pub setup_hours: f64,
+    /// Plan on the model of this diagnosis.json [default: fits/<set name>/diagnosis/diagnosis.json
+    /// when it exists and is of this set folder, else the base model].
+    #[arg(long)]
+    pub diagnosis: Option<PathBuf>,
     /// Replace results in the output folder that came from another set (or not from subfric).
     #[arg(long)]
     pub force: bool,
@@ -494,6 +527,17 @@ pub struct BenchArgs {
     pub experiments: PathBuf,
 }
 
+/// Options that contradict each other, which clap cannot see value by value: a usage error
+/// (exit code 2) naming both (see [`subfric_app::flags::conflicts`]).
+pub fn check_conflicts(command: &Command) -> Result<(), clap::Error> {
+    use clap::CommandFactory;
+    if let Command::Fit(f) = command {
+        conflicts(f.free.as_deref(), &f.fix, &f.bounds, &f.weight)
+            .map_err(|msg| Cli::command().error(clap::error::ErrorKind::ArgumentConflict, msg))?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -526,10 +570,52 @@ mod tests {
         assert_eq!(f.fix, vec![(Param::Kappa, 2.0)]);
         assert_eq!(f.bounds, vec![(Param::Xi, 1e-3, 1.0)]);
         assert_eq!(f.weight, vec![("a".to_string(), 2.0)]);
-        assert_eq!(f.free, vec![Param::MuS, Param::Xi]);
+        assert_eq!(f.free, Some(vec![Param::MuS, Param::Xi]));
         let e = Cli::try_parse_from(["subfric", "fit", "s", "--bounds", "kappa=-5:-1"])
             .unwrap_err()
             .to_string();
         assert!(e.contains("--bounds") && e.contains("> 0"), "{e}");
+    }
+
+    #[test]
+    fn contradicting_options_are_usage_errors_naming_both() {
+        let usage = |args: &[&str]| {
+            let cli = Cli::try_parse_from(args).unwrap();
+            let e = check_conflicts(&cli.command).unwrap_err();
+            assert_eq!(e.exit_code(), 2);
+            e.to_string()
+        };
+        let e = usage(&["subfric", "fit", "s", "--fix", "xi=0.1,xi=0.2"]);
+        assert!(e.contains("xi=0.1") && e.contains("xi=0.2"), "{e}");
+        let e = usage(&[
+            "subfric", "fit", "s", "--free", "mu_s,xi", "--fix", "mu_s=0.4",
+        ]);
+        assert!(
+            e.contains("--free mu_s") && e.contains("--fix mu_s=0.4"),
+            "{e}"
+        );
+        let cli = Cli::try_parse_from(["subfric", "fit", "s", "--fix", "mu_s=0.4"]).unwrap();
+        assert!(check_conflicts(&cli.command).is_ok());
+        let e = Cli::try_parse_from([
+            "subfric",
+            "import",
+            "f.csv",
+            "--out",
+            "o",
+            "--normal",
+            "N",
+            "--normal-stress",
+            "78.4",
+        ])
+        .unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        let e = e.to_string();
+        assert!(
+            e.contains("--normal") && e.contains("--normal-stress"),
+            "{e}"
+        );
+        let e = Cli::try_parse_from(["subfric", "plan", "s", "--setup-hours", "NaN"]).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.to_string().contains("--setup-hours"), "{e}");
     }
 }

@@ -5,6 +5,7 @@
 //! panic.
 
 pub mod args;
+mod print;
 mod progress;
 
 use anyhow::Result;
@@ -13,6 +14,7 @@ use args::{
     ReproduceArgs, SelfcheckArgs, SimulateArgs,
 };
 use clap::Parser;
+use print::{err, out};
 use progress::{Progress, ProgressMode};
 use std::process::ExitCode;
 use subfric_app::fit::{fit_to_folder, FitRequest};
@@ -32,15 +34,32 @@ use subfric_fit::FitOptions;
 pub use subfric_app::error_text;
 
 /// Parses the command line, runs it, prints an error if any; the process's exit code.
+///
+/// Whatever happens to stdout and stderr, the command's work is done and its files written:
+/// printing comes after, and a failed print is remembered, not raised ([`print`]). A reader of
+/// stdout that went away (`| head -1`) ends the command quietly with its own exit code; any
+/// other failure to write stdout (`> /dev/full`) is one line on stderr and exit code 1.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
-    match run(cli.command) {
+    if let Err(e) = args::check_conflicts(&cli.command) {
+        e.exit();
+    }
+    let mut code = match run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", error_text(&e));
+            err(format!("error: {}", error_text(&e)));
             ExitCode::from(1)
         }
+    };
+    if let Some(e) = print::stdout_problem() {
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            err(format!(
+                "error: cannot write to standard output: {e} (the command's files, if any, were written in full)"
+            ));
+            code = ExitCode::from(1);
+        }
     }
+    code
 }
 
 /// Runs one subcommand.
@@ -62,21 +81,32 @@ pub fn run(command: Command) -> Result<()> {
 /// Prints plausibility warnings on stderr.
 fn print_warnings(warnings: &[Warning]) {
     for w in warnings {
-        eprintln!("warning: {w}");
+        err(format!("warning: {w}"));
     }
 }
 
 /// Prints "wrote <file>" for each file.
 fn print_written<'a>(files: impl IntoIterator<Item = &'a std::path::PathBuf>) {
     for f in files {
-        println!("wrote {}", f.display());
+        out(format!(
+            "wrote {}",
+            subfric_app::visible(&f.display().to_string())
+        ));
     }
 }
 
 /// `subfric check`: validation, summary, plausibility warnings.
 fn check(a: CheckArgs) -> Result<()> {
     let c = sets::check(&a.set)?;
-    println!("{}", c.summary);
+    out(c.summary);
+    for r in &c.artifacts {
+        let place = if r.test.is_empty() {
+            String::new()
+        } else {
+            format!("{}: ", subfric_app::visible(&r.test))
+        };
+        out(format!("rig artifact, {place}{}", r.detail));
+    }
     print_warnings(&c.warnings);
     Ok(())
 }
@@ -85,7 +115,7 @@ fn check(a: CheckArgs) -> Result<()> {
 /// description are written all or nothing.
 fn import(a: ImportArgs) -> Result<()> {
     let c = sets::import_test(&a.file, &import_spec(&a), &a.out)?;
-    println!("{}", c.summary);
+    out(c.summary);
     print_warnings(&c.warnings);
     Ok(())
 }
@@ -109,6 +139,7 @@ fn import_spec(a: &ImportArgs) -> ImportSpec {
         friction: a.friction.clone(),
         normal: a.normal.clone().map(|c| (c, a.normal_unit.into())),
         normal_stress_kpa: a.normal_stress,
+        area_mm2: a.area,
         control: a.control.into(),
         test_name: a.test_name.clone(),
         set_name: a.set_name.clone().unwrap_or_else(|| {
@@ -142,10 +173,10 @@ fn simulate(a: SimulateArgs) -> Result<()> {
         force: a.force,
     })?;
     for f in &s.removed {
-        eprintln!(
+        err(format!(
             "note: removed {} (a test of the set replaced by --force)",
             f.display()
-        );
+        ));
     }
     print_written(&s.files);
     Ok(())
@@ -156,7 +187,7 @@ fn fit(a: FitArgs) -> Result<()> {
     let req = FitRequest {
         dirs: a.sets,
         tests: a.tests,
-        free: a.free,
+        free: a.free.unwrap_or_else(|| subfric_fit::Param::BASE.to_vec()),
         fix: a.fix,
         bounds: a.bounds,
         weights: a.weight,
@@ -168,6 +199,7 @@ fn fit(a: FitArgs) -> Result<()> {
             profiles: !a.no_profiles,
             ..FitOptions::default()
         },
+        start: None,
     };
     let progress = Progress::new(a.progress);
     let to = Destination {
@@ -177,8 +209,9 @@ fn fit(a: FitArgs) -> Result<()> {
     let w = fit_to_folder(&req, &to, &progress)?;
     progress.finish();
     let outcome = &w.fitted.outcome;
-    println!("{}", report_table_timed(&outcome.name, &outcome.report));
+    out(report_table_timed(outcome));
     print_written([&w.file]);
+    print_written(&w.files);
     Ok(())
 }
 
@@ -188,12 +221,9 @@ fn plot(a: PlotArgs) -> Result<()> {
         dir: a.out,
         force: a.force,
     };
-    let p = figures::plot(
-        &a.set,
-        a.params.as_deref(),
-        &to,
-        &Progress::new(ProgressMode::Never),
-    )?;
+    let progress = Progress::new(a.progress);
+    let p = figures::plot(&a.set, a.params.as_deref(), &to, &progress)?;
+    progress.finish();
     print_written(&p.files);
     Ok(())
 }
@@ -212,7 +242,7 @@ fn run_diagnose(a: DiagnoseArgs) -> Result<()> {
     let progress = Progress::new(a.progress);
     let w = diagnose::diagnose_to_folder(&a.set, &opts, &to, &progress)?;
     progress.finish();
-    println!("{}", w.report);
+    out(w.report);
     print_written([&w.json_file]);
     print_written(&w.figures);
     Ok(())
@@ -225,6 +255,7 @@ fn plan(a: PlanArgs) -> Result<()> {
         seed: a.seed,
         check: a.check,
         setup_hours: a.setup_hours,
+        diagnosis: a.diagnosis,
     };
     let to = Destination {
         dir: a.out,
@@ -233,7 +264,7 @@ fn plan(a: PlanArgs) -> Result<()> {
     let progress = Progress::new(a.progress);
     let p = plan_to_folder(&req, &to, &progress)?;
     progress.finish();
-    println!("{}", p.text);
+    out(p.text);
     print_written(&p.files);
     Ok(())
 }
@@ -250,14 +281,14 @@ fn run_reproduce(a: ReproduceArgs) -> Result<()> {
     let r = reproduce(&req, &progress)?;
     progress.finish();
     for s in &r.sets {
-        println!("{}\n", report_table_timed(&s.name, &s.outcome.report));
+        out(format!("{}\n", report_table_timed(&s.outcome)));
     }
-    let out = req.out.display();
-    println!(
-        "wrote {} sets to {out} in {:.1} s: {out}/README.md (wall times in {out}/{TIMINGS_FILE})",
+    let dir = subfric_app::visible(&req.out.display().to_string());
+    out(format!(
+        "wrote {} sets to {dir} in {:.1} s: {dir}/README.md (wall times in {dir}/{TIMINGS_FILE})",
         r.sets.len(),
         r.elapsed_s,
-    );
+    ));
     Ok(())
 }
 
@@ -304,10 +335,10 @@ fn selfcheck(a: SelfcheckArgs) -> Result<()> {
         json: a.json,
         force: a.force,
     };
-    let print_case = |c: &Case| println!("{}", case_line(c));
+    let print_case = |c: &Case| out(case_line(c));
     let (_, scores) =
         subfric_app::selfcheck::run(&req, &print_case, &Progress::new(ProgressMode::Never))?;
-    println!("\n{scores}");
+    out(format!("\n{scores}"));
     Ok(())
 }
 
@@ -315,33 +346,44 @@ fn selfcheck(a: SelfcheckArgs) -> Result<()> {
 fn bench(a: BenchArgs) -> Result<()> {
     let r = subfric_app::bench::measure(&a.experiments)?;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&r)?);
+        out(serde_json::to_string_pretty(&r)?);
         return Ok(());
     }
-    println!(
+    out(format!(
         "model step: {:.2} million steps/s on one core ({})",
         r.steps_per_second / 1e6,
         r.step_case
-    );
-    println!(
+    ));
+    out(format!(
         "  identical to the general simulate path: {}",
         r.identical_to_simulate
-    );
-    println!("one full fit of each paper set:");
+    ));
+    out("one full fit of each paper set:");
     for (s, t) in &r.fit_seconds {
-        println!("  {s:<24} {t:6.2} s");
+        out(format!("  {s:<24} {t:6.2} s"));
     }
     let m = &r.multistart;
-    println!(
+    out(format!(
         "multi-start fit of {}: {:.2} s on 1 thread, {:.2} s on {} threads: speed-up {:.2}×",
         m.set, m.one_thread_s, m.all_threads_s, m.threads, m.speedup
-    );
-    println!("whole diagnoses (prepare, fit every candidate, held-out folds, verdict):");
+    ));
+    let f = &r.many_tests;
+    out(format!(
+        "fit of {} tests of {} rows: {:.1} s ({:.1} s of processor time, {} model runs; \
+         fitted mu_s, mu_k within {:.2}% of the truth)",
+        f.tests,
+        f.rows_per_test,
+        f.seconds,
+        f.cpu_seconds,
+        f.model_runs,
+        100.0 * f.worst_recovery
+    ));
+    out("whole diagnoses (prepare, fit every candidate, held-out folds, verdict):");
     for d in &r.diagnoses {
-        println!(
+        out(format!(
             "  {:<30} {:>7} rows in {} tests: {:6.2} s, peak memory {:.0} MB (verdict: {})",
             d.case, d.rows, d.tests, d.seconds, d.peak_memory_mb, d.verdict
-        );
+        ));
     }
     Ok(())
 }

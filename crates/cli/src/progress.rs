@@ -3,7 +3,8 @@
 //! (indicatif) on a terminal; nothing when stderr is not a terminal, unless asked for with
 //! `--progress always`, which then prints one plain line per stage. Warnings and notes of the
 //! job are printed on stderr in every mode, without garbling the bar. This is the command
-//! line's implementation of [`subfric_app::Progress`].
+//! line's implementation of [`subfric_app::Progress`]. A stderr that cannot be written (closed,
+//! `2> /dev/full`) is ignored: progress never stops the job.
 
 use clap::ValueEnum;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -123,18 +124,19 @@ impl Progress {
             s.runs_at_stage = model_runs();
         }
         if self.lines {
-            eprintln!("progress: {}", self.shared.line());
+            crate::print::err(format!("progress: {}", self.shared.line()));
         }
         if let Some(b) = &self.bar {
             b.set_message(self.shared.line());
         }
     }
 
-    /// Prints a line on stderr without garbling the live display.
+    /// Prints a line on stderr without garbling the live display (a stderr that cannot be
+    /// written is ignored: the job goes on).
     pub fn println(&self, line: &str) {
         match &self.bar {
-            Some(b) => b.suspend(|| eprintln!("{line}")),
-            None => eprintln!("{line}"),
+            Some(b) => b.suspend(|| crate::print::err(line)),
+            None => crate::print::err(line),
         }
     }
 

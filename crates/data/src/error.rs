@@ -43,16 +43,18 @@ impl InputProblem {
 }
 
 impl fmt::Display for InputProblem {
+    /// One line, whatever the names and cells quoted in it hold (see [`crate::visible`]).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.file.display())?;
+        let mut s = self.file.display().to_string();
         if let Some(line) = self.line {
-            write!(f, ":{line}")?;
+            s.push_str(&format!(":{line}"));
         }
-        write!(f, ": ")?;
+        s.push_str(": ");
         if let Some(field) = &self.field {
-            write!(f, "field `{field}`: ")?;
+            s.push_str(&format!("field `{field}`: "));
         }
-        write!(f, "{}", self.message)
+        s.push_str(&self.message);
+        f.write_str(&crate::visible(&s))
     }
 }
 

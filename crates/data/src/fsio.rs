@@ -5,19 +5,27 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use crate::error::DataError;
+use crate::error::{DataError, InputProblem};
+use crate::set::EXPERIMENT_JSON;
 
 static TEMP_COUNTER: AtomicUsize = AtomicUsize::new(0);
 
+/// Marks the name of a temporary file of an atomic write (`.<name>.subfric-tmp-<pid>-<n>`).
+pub const TEMP_MARK: &str = ".subfric-tmp-";
+
 /// A temporary file beside `path` (same folder, so that a rename replaces `path` in one step),
-/// hidden, and unique to this process and call.
+/// hidden, and unique to this process and call. The name of `path` is cut to 100 characters in
+/// it, so that a file whose name a file system just takes has a temporary name it takes too.
 fn temp_path(path: &Path) -> PathBuf {
-    let name = path
+    let mut name = path
         .file_name()
         .map(|n| n.to_string_lossy().to_string())
         .unwrap_or_else(|| "file".into());
+    if let Some((cut, _)) = name.char_indices().nth(100) {
+        name.truncate(cut);
+    }
     let n = TEMP_COUNTER.fetch_add(1, Ordering::Relaxed);
-    path.with_file_name(format!(".{name}.subfric-tmp-{}-{n}", std::process::id()))
+    path.with_file_name(format!(".{name}{TEMP_MARK}{}-{n}", std::process::id()))
 }
 
 /// Writes `bytes` to a new temporary file beside `path`, flushed to disk; returns its path.
@@ -76,6 +84,21 @@ pub fn commit_file(staged: &Path, path: &Path) -> Result<(), DataError> {
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), DataError> {
     let staged = stage_file(path, bytes)?;
     commit_file(&staged, path)
+}
+
+/// The process that wrote the temporary file named `name`, if `name` is one ([`TEMP_MARK`]).
+///
+/// ```
+/// use subfric_data::fsio::temp_file_writer;
+/// assert_eq!(temp_file_writer(".fit.json.subfric-tmp-4242-0"), Some(4242));
+/// assert_eq!(temp_file_writer("fit.json"), None);
+/// ```
+pub fn temp_file_writer(name: &str) -> Option<u32> {
+    if !name.starts_with('.') {
+        return None;
+    }
+    let rest = &name[name.rfind(TEMP_MARK)? + TEMP_MARK.len()..];
+    rest.split('-').next()?.parse().ok()
 }
 
 /// What a path names, for messages that say what is there instead of "absent".
@@ -146,4 +169,33 @@ pub fn set_file_problem(dir: &Path, file: &Path) -> Option<String> {
         ));
     }
     None
+}
+
+/// A file given where a set folder is expected: a sentence that says so, what a set folder
+/// holds, and which folder (or command) was probably meant.
+pub(crate) fn file_not_folder(path: &Path) -> Option<InputProblem> {
+    if PathKind::of(path) != PathKind::File {
+        return None;
+    }
+    let parent = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let hint = if parent.join(EXPERIMENT_JSON).is_file() {
+        format!(
+            "this file is in the set folder {}: give that folder",
+            parent.display()
+        )
+    } else {
+        "a laboratory export becomes a set with `subfric import`".to_string()
+    };
+    Some(InputProblem::new(
+        path,
+        None,
+        None,
+        format!(
+            "this is a file, and a set folder was expected: a set is a folder holding {} and one CSV per test (docs/data-format.md); {hint}",
+            EXPERIMENT_JSON
+        ),
+    ))
 }

@@ -29,6 +29,7 @@
 
 #![warn(missing_docs)]
 
+pub mod artifacts;
 pub mod condition;
 mod error;
 pub mod events;
@@ -41,7 +42,9 @@ pub mod plausible;
 pub mod segment;
 pub mod set;
 pub mod summary;
+pub mod text;
 
+pub use artifacts::{seating_toe, SeatingToe};
 pub use condition::{condition_imposed, condition_imposed_with, Conditioned};
 pub use error::{DataError, InputProblem};
 pub use fsio::{write_atomic, PathKind};
@@ -56,3 +59,4 @@ pub use set::{
     load_set, load_test, write_set, ExperimentSet, TestData, ACCEPTED_COLUMNS, EXPERIMENT_JSON,
 };
 pub use summary::{summary, summary_with, HoldSummary, SetSummary, StepSummary, TestSummary};
+pub use text::{visible, MAX_NAME_BYTES};

@@ -10,6 +10,8 @@ use serde_json::{Map, Value};
 
 use crate::error::{DataError, Problems};
 use crate::jsonpos::value_positions;
+use crate::set::MAX_MAGNITUDE;
+use crate::text::name_too_long;
 
 /// Which column the apparatus imposed, as declared in `experiment.json` (the model's
 /// counterpart is `subfric_model::Control`; `subfric_fit::control_of` converts).
@@ -336,6 +338,8 @@ impl Ctx<'_> {
                     "name",
                     "empty name (expected a short name for the set)".into(),
                 );
+            } else if let Some(msg) = name_too_long(name, "a set name") {
+                self.problem(pr, "name", msg);
             }
         }
         self.string(root, "", "title", true, pr);
@@ -422,6 +426,8 @@ impl Ctx<'_> {
                 &field,
                 "empty test name (expected a unique name)".into(),
             );
+        } else if let Some(msg) = name_too_long(name, "a test name") {
+            self.problem(pr, &field, msg);
         } else if let Some(first) = names.get(name) {
             self.problem(
                 pr,
@@ -510,7 +516,14 @@ impl Ctx<'_> {
         let field = format!("{prefix}.normal_stress_kpa");
         match t.get("normal_stress_kpa") {
             Some(Value::Number(n)) => match n.as_f64() {
-                Some(x) if x > 0.0 && x.is_finite() => {}
+                Some(x) if x > 0.0 && x.is_finite() && x <= MAX_MAGNITUDE => {}
+                Some(x) if x > 0.0 => self.problem(
+                    pr,
+                    &field,
+                    format!(
+                        "normal stress {x:e} kPa is beyond {MAX_MAGNITUDE:e} kPa (expected a measured normal stress in kPa: a typing or unit mistake?)"
+                    ),
+                ),
                 _ => self.problem(
                     pr,
                     &field,
@@ -573,6 +586,30 @@ mod tests {
             "{all}"
         );
         assert_eq!(p.len(), 6, "{all}");
+    }
+
+    #[test]
+    fn names_too_long_for_a_file_and_normal_stresses_beyond_measurement_are_located() {
+        let long = "n".repeat(256);
+        let ok = "m".repeat(255);
+        let text = format!(
+            "{{\"name\": \"{long}\", \"title\": \"t\", \"source\": \"x\", \"tests\": [\n{{\"name\": \"a\", \"file\": \"a.csv\", \"control\": \"slip\", \"normal_stress_kpa\": 1e308}},\n{{\"name\": \"{long}\", \"file\": \"b.csv\", \"control\": \"slip\", \"normal_stress_kpa\": 100}},\n{{\"name\": \"{ok}\", \"file\": \"c.csv\", \"control\": \"slip\", \"normal_stress_kpa\": 100}}]}}"
+        );
+        let p = problems(&text);
+        let all = p.join("\n");
+        assert_eq!(p.len(), 3, "{all}");
+        assert!(
+            all.contains(":1: field `name`: a set name of 256 bytes is longer than 255"),
+            "{all}"
+        );
+        assert!(
+            all.contains(":2: field `tests[0].normal_stress_kpa`: normal stress 1e308 kPa is beyond 1e12 kPa"),
+            "{all}"
+        );
+        assert!(
+            all.contains(":3: field `tests[1].name`: a test name of 256 bytes"),
+            "{all}"
+        );
     }
 
     #[test]

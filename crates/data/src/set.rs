@@ -1,6 +1,6 @@
 //! Experiment sets on disk: loading, validating and writing.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -46,6 +46,22 @@ pub struct TestData {
 }
 
 impl TestData {
+    /// The test from row `first` on (a leading artifact cut off); lines keep their numbers.
+    pub fn rows_from(&self, first: usize) -> TestData {
+        let first = first.min(self.len());
+        TestData {
+            spec: self.spec.clone(),
+            path: self.path.clone(),
+            time_s: self.time_s[first..].to_vec(),
+            slip_mm: self.slip_mm[first..].to_vec(),
+            shear_kpa: self.shear_kpa[first..].to_vec(),
+            normal_kpa: self.normal_kpa[first..].to_vec(),
+            friction_given: self.friction_given,
+            line_of_row: self.line_of_row[first..].to_vec(),
+            comments: self.comments.clone(),
+        }
+    }
+
     /// The column the apparatus imposed: slip for slip control, shear for shear control.
     pub fn imposed(&self) -> &[f64] {
         match self.spec.control {
@@ -147,6 +163,9 @@ fn read_text(path: &Path) -> Result<String, DataError> {
 /// # Ok(()) }
 /// ```
 pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
+    if let Some(p) = crate::fsio::file_not_folder(dir) {
+        return Err(DataError::Problems(vec![p]));
+    }
     let json_path = dir.join(EXPERIMENT_JSON);
     if dir.is_dir() {
         if let Some(msg) = set_file_problem(dir, &json_path).filter(|_| json_path.exists()) {
@@ -234,13 +253,13 @@ fn load_test_inner(dir: &Path, spec: &TestSpec, check_spec: bool) -> Result<Test
             );
             return Err(DataError::Problems(problems.into_vec()));
         }
-        if !(spec.normal_stress_kpa > 0.0 && spec.normal_stress_kpa.is_finite()) {
+        if !(spec.normal_stress_kpa > 0.0 && spec.normal_stress_kpa <= MAX_MAGNITUDE) {
             problems.add(
                 &json,
                 None,
                 Some("normal_stress_kpa"),
                 format!(
-                    "test `{}`: normal stress {} kPa is not positive (expected a normal stress > 0 kPa)",
+                    "test `{}`: normal stress {} kPa is not positive or beyond 1e12 (expected a normal stress > 0 kPa)",
                     spec.name, spec.normal_stress_kpa
                 ),
             );
@@ -359,9 +378,9 @@ impl Header {
     fn parse(line_no: usize, trimmed: &str, path: &Path, pr: &mut Problems) -> Header {
         let names: Vec<String> = trimmed.split(',').map(|c| unquote(c).to_string()).collect();
         let mut cols = Vec::with_capacity(names.len());
-        let mut seen = HashSet::new();
+        let mut seen: HashMap<Col, (usize, &str)> = HashMap::new();
         let expected = ACCEPTED_COLUMNS.join(", ");
-        for name in &names {
+        for (k, name) in names.iter().enumerate() {
             let col = Col::from_name(name);
             if name.is_empty() {
                 pr.add(
@@ -377,13 +396,21 @@ impl Header {
                     Some(name),
                     format!("unknown column `{name}` (expected one of {expected})"),
                 );
-            } else if !seen.insert(col) {
-                pr.add(
-                    path,
-                    Some(line_no),
-                    Some(name),
-                    format!("column `{name}` appears twice (expected each column once)"),
-                );
+            } else if let Some(c) = col {
+                if let Some((first, as_named)) = seen.get(&c) {
+                    pr.add(
+                        path,
+                        Some(line_no),
+                        Some(name),
+                        format!(
+                            "column `{name}` appears twice, as columns {} (`{as_named}`) and {} (expected each column once)",
+                            first + 1,
+                            k + 1
+                        ),
+                    );
+                } else {
+                    seen.insert(c, (k, name));
+                }
             }
             cols.push(col);
         }
@@ -522,9 +549,9 @@ pub(crate) fn parse_test_csv(
     // Rows giving both friction and shear without a normal column: checked against the spec.
     let mut pairs: Vec<(usize, String, String)> = Vec::new();
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    for (idx, raw) in text.split('\n').enumerate() {
+    // Lines end in \n, \r\n or a lone \r (old Mac exports).
+    for (idx, line) in crate::text::lines(text).enumerate() {
         let line_no = idx + 1;
-        let line = raw.strip_suffix('\r').unwrap_or(raw);
         let trimmed = line.trim();
         if trimmed.is_empty() {
             continue;
@@ -666,12 +693,17 @@ pub(crate) fn validate_data(td: &TestData, normal_from_column: bool) -> Vec<Inpu
     };
     for i in 0..n {
         let line = Some(td.line(i));
-        for (name, x) in [
+        // A constant normal stress is the description's, checked there once (not on each row).
+        let columns = [
             ("time_s", td.time_s[i]),
             ("slip_mm", td.slip_mm[i]),
             (shear_name, td.shear_kpa[i]),
             ("normal_kpa", td.normal_kpa[i]),
-        ] {
+        ];
+        for (name, x) in columns
+            .into_iter()
+            .take(if normal_from_column { 4 } else { 3 })
+        {
             if !x.is_finite() {
                 pr.add(
                     path,

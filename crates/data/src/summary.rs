@@ -8,6 +8,7 @@ use crate::meta::ControlColumn;
 use crate::noise::{estimate_noise, NoiseEstimate};
 use crate::segment::{segment, SegmentOptions, Start, StartKind};
 use crate::set::{ExperimentSet, TestData};
+use crate::text::visible;
 
 /// Summary of one hold.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -271,7 +272,7 @@ const TABLE_HEADER: [&str; 15] = [
     "start",
     "imposed noise",
     "measured noise",
-    "rates /s",
+    "rates",
     "holds",
     "steps",
     "revs",
@@ -286,7 +287,7 @@ fn table_row(t: &TestSummary) -> [String; 15] {
         ("kPa", "mm")
     };
     [
-        t.name.clone(),
+        visible(&t.name),
         t.control.to_string(),
         t.rows.to_string(),
         pair(t.time_span_s),
@@ -304,16 +305,24 @@ fn table_row(t: &TestSummary) -> [String; 15] {
             if t.imposed_conditioned { "*" } else { "" }
         ),
         noise_text(&t.measured_noise, measured_unit),
-        t.sliding_rates
-            .iter()
-            .map(|r| num(*r))
-            .collect::<Vec<_>>()
-            .join(","),
+        rates_text(&t.sliding_rates, unit),
         t.holds.len().to_string(),
         t.velocity_steps.len().to_string(),
         t.reversals.to_string(),
         t.cycles.to_string(),
     ]
+}
+
+/// The imposed rates of a test with their unit: mm/s under slip control, kPa/s under
+/// traction control (`unit`: the imposed column's).
+fn rates_text(rates: &[f64], unit: &str) -> String {
+    if rates.is_empty() {
+        return String::new();
+    }
+    format!(
+        "{} {unit}/s",
+        rates.iter().map(|r| num(*r)).collect::<Vec<_>>().join(",")
+    )
 }
 
 /// The table: header, rule and rows, each column as wide as its widest cell.
@@ -346,7 +355,7 @@ fn write_table(f: &mut fmt::Formatter<'_>, rows: &[[String; 15]]) -> fmt::Result
 /// its velocity steps.
 fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result {
     if !t.start.from_spec && t.start.kind != StartKind::Rest {
-        writeln!(f, "  {}: {}", t.name, t.start.reason)?;
+        writeln!(f, "  {}: {}", visible(&t.name), t.start.reason)?;
     }
     if !t.holds.is_empty() {
         let hs: Vec<String> = t
@@ -354,7 +363,7 @@ fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result 
             .iter()
             .map(|h| format!("{} s at t={}", num(h.duration_s), num(h.start_time_s)))
             .collect();
-        writeln!(f, "  {}: holds {}", t.name, hs.join(", "))?;
+        writeln!(f, "  {}: holds {}", visible(&t.name), hs.join(", "))?;
     }
     if !t.velocity_steps.is_empty() {
         let ss: Vec<String> = t
@@ -369,7 +378,17 @@ fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result 
                 )
             })
             .collect();
-        writeln!(f, "  {}: velocity steps {}", t.name, ss.join(", "))?;
+        let unit = if t.control == ControlColumn::Slip {
+            "mm/s"
+        } else {
+            "kPa/s"
+        };
+        writeln!(
+            f,
+            "  {}: velocity steps ({unit}) {}",
+            visible(&t.name),
+            ss.join(", ")
+        )?;
     }
     Ok(())
 }
@@ -402,9 +421,9 @@ fn write_footnotes(f: &mut fmt::Formatter<'_>, tests: &[TestSummary]) -> fmt::Re
 
 impl fmt::Display for SetSummary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "{}: {}", self.name, self.title)?;
+        writeln!(f, "{}: {}", visible(&self.name), visible(&self.title))?;
         if let Some(p) = &self.provenance {
-            writeln!(f, "  provenance: {p}")?;
+            writeln!(f, "  provenance: {}", visible(p))?;
         }
         let rows: Vec<[String; 15]> = self.tests.iter().map(table_row).collect();
         write_table(f, &rows)?;
@@ -425,6 +444,13 @@ mod tests {
         assert_eq!(num(123.456), "123.5");
         assert_eq!(num(2.0), "2");
         assert_eq!(num(0.000012), "1.200e-5");
+    }
+
+    #[test]
+    fn rates_say_their_unit() {
+        assert_eq!(rates_text(&[0.001, 0.01], "mm"), "0.001,0.01 mm/s");
+        assert_eq!(rates_text(&[0.8], "kPa"), "0.8 kPa/s");
+        assert_eq!(rates_text(&[], "mm"), "");
     }
 
     #[test]

@@ -34,6 +34,17 @@ pub enum ModelJsonError {
     /// the message names the field by its path (`model.params.mu_k`, `ext.rate`, ...).
     #[error("{0}")]
     Shape(String),
+    /// A key given twice in one object (`{"mu_s": 0.3, "mu_s": 0.4}`): JSON readers disagree on
+    /// which one counts, so neither does.
+    #[error("field `{key}` appears twice at line {line} column {column} (expected each field once: which of the two values is meant?)")]
+    Duplicate {
+        /// The key's path (`model.params.mu_s`, `xi`, ...).
+        key: String,
+        /// Line of its second occurrence (from 1).
+        line: usize,
+        /// Column just past its second occurrence (from 1).
+        column: usize,
+    },
     /// A model, but with invalid parameters (every one named).
     #[error(transparent)]
     Invalid(#[from] ParamError),
@@ -53,7 +64,116 @@ pub fn model_from_json(text: &str) -> Result<Model, ModelJsonError> {
         column: e.column(),
         message: e.to_string(),
     })?;
+    unique_keys::check(text)?;
     model_from_value(&v)
+}
+
+/// A walk over a JSON text that fails at the first key given twice in one object (a
+/// `serde_json::Value` keeps the last one silently).
+mod unique_keys {
+    use super::ModelJsonError;
+    use serde::de::{DeserializeSeed, Deserializer, Error, MapAccess, SeqAccess, Visitor};
+    use std::collections::HashSet;
+    use std::fmt;
+
+    /// The text's first duplicate key, as [`ModelJsonError::Duplicate`].
+    pub(super) fn check(text: &str) -> Result<(), ModelJsonError> {
+        let mut de = serde_json::Deserializer::from_str(text);
+        let mut found = None;
+        let walk = Walk {
+            path: String::new(),
+            found: &mut found,
+        };
+        match walk.deserialize(&mut de) {
+            Ok(()) => Ok(()),
+            Err(e) => Err(match found {
+                Some(key) => ModelJsonError::Duplicate {
+                    key,
+                    line: e.line(),
+                    column: e.column(),
+                },
+                None => ModelJsonError::Syntax {
+                    line: e.line(),
+                    column: e.column(),
+                    message: e.to_string(),
+                },
+            }),
+        }
+    }
+
+    /// One value at `path`; `found` receives the path of a duplicate key.
+    struct Walk<'a> {
+        path: String,
+        found: &'a mut Option<String>,
+    }
+
+    impl<'de> DeserializeSeed<'de> for Walk<'_> {
+        type Value = ();
+        fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+            d.deserialize_any(self)
+        }
+    }
+
+    impl<'de> Visitor<'de> for Walk<'_> {
+        type Value = ();
+
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            f.write_str("a JSON value")
+        }
+
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+            let mut seen = HashSet::new();
+            while let Some(key) = map.next_key::<String>()? {
+                let path = if self.path.is_empty() {
+                    key.clone()
+                } else {
+                    format!("{}.{key}", self.path)
+                };
+                if !seen.insert(key) {
+                    *self.found = Some(path);
+                    return Err(A::Error::custom("duplicate key"));
+                }
+                map.next_value_seed(Walk {
+                    path,
+                    found: &mut *self.found,
+                })?;
+            }
+            Ok(())
+        }
+
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+            let mut i = 0;
+            while seq
+                .next_element_seed(Walk {
+                    path: format!("{}[{i}]", self.path),
+                    found: &mut *self.found,
+                })?
+                .is_some()
+            {
+                i += 1;
+            }
+            Ok(())
+        }
+
+        fn visit_bool<E: Error>(self, _: bool) -> Result<(), E> {
+            Ok(())
+        }
+        fn visit_i64<E: Error>(self, _: i64) -> Result<(), E> {
+            Ok(())
+        }
+        fn visit_u64<E: Error>(self, _: u64) -> Result<(), E> {
+            Ok(())
+        }
+        fn visit_f64<E: Error>(self, _: f64) -> Result<(), E> {
+            Ok(())
+        }
+        fn visit_str<E: Error>(self, _: &str) -> Result<(), E> {
+            Ok(())
+        }
+        fn visit_unit<E: Error>(self) -> Result<(), E> {
+            Ok(())
+        }
+    }
 }
 
 /// The model in a parsed JSON value (see the module documentation for the shapes accepted).
@@ -248,6 +368,30 @@ mod tests {
             let m = shape(&text.replace(r#""h":0.01"#, r#""h":"x""#));
             assert!(m.contains(&format!("field `{path}`")), "{m}");
         }
+    }
+
+    #[test]
+    fn a_key_given_twice_is_refused_with_its_path_and_line() {
+        let twice = "{\"mu_s\": 0.45, \"mu_k\": 0.3, \"kappa\": 1.2, \"xi\": 0.003,\n \"u_tilde\": 15, \"alpha_t\": 1000, \"mu_s\": 0.5}";
+        match model_from_json(twice) {
+            Err(ModelJsonError::Duplicate { key, line, .. }) => {
+                assert_eq!((key.as_str(), line), ("mu_s", 2));
+            }
+            other => panic!("{other:?}"),
+        }
+        let nested = fit_json().replace(r#""s_h":1"#, r#""s_h":1,"s_h":2"#);
+        match model_from_json(&nested) {
+            Err(e @ ModelJsonError::Duplicate { .. }) => {
+                assert!(
+                    e.to_string()
+                        .contains("`model.ext.slip_hardening.s_h` appears twice"),
+                    "{e}"
+                )
+            }
+            other => panic!("{other:?}"),
+        }
+        // The same key in two objects is no duplicate.
+        assert!(model_from_json(&fit_json()).is_ok());
     }
 
     #[test]

@@ -1,0 +1,467 @@
+//! The prior file: JSON or TOML (by extension), one entry per parameter, keyed as
+//! `Param::key()` prints it:
+//!
+//! ```toml
+//! [kappa]
+//! dist = "log-uniform"
+//! lo = 0.1
+//! hi = 100.0
+//!
+//! [xi]
+//! dist = "log-normal"
+//! median = 0.002
+//! sigma = 1.0
+//!
+//! [rate.a]          # extension parameters by their key (TOML nests `rate.a` as a table)
+//! dist = "normal"
+//! mean = 0.0
+//! sd = 0.01
+//! ```
+//!
+//! The JSON form is the same object: `{"kappa": {"dist": "log-uniform", "lo": 0.1, "hi": 100}}`.
+//! Every problem of the file is reported at once, each with the file, the line and the field,
+//! and what was expected; nothing in a file can make this module panic.
+
+use crate::prior::{numbers_problem, sign_problem, Origin, Prior, PriorEntry, PriorError, Priors};
+use serde::de::{Deserialize, Deserializer, MapAccess, Visitor};
+use serde_json::value::RawValue;
+use std::path::Path;
+use subfric_data::InputProblem;
+use subfric_fit::Param;
+
+/// A parsed value with the line it starts on.
+#[derive(Debug)]
+struct Node {
+    line: usize,
+    value: Value,
+}
+
+#[derive(Debug)]
+enum Value {
+    /// Entries in file order (duplicates kept, so that they can be reported).
+    Table(Vec<(String, Node)>),
+    Number(f64),
+    Text(String),
+    /// Anything else, by its type name.
+    Other(&'static str),
+}
+
+/// Reads and checks a prior file.
+pub fn load(path: &Path) -> Result<Priors, PriorError> {
+    let text = std::fs::read_to_string(path).map_err(|source| PriorError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse(&text, path)
+}
+
+/// Parses and checks the text of a prior file; `path` names it in messages and its extension
+/// (`.json` or `.toml`) selects the format.
+pub fn parse(text: &str, path: &Path) -> Result<Priors, PriorError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    let root = match ext.as_deref() {
+        Some("json") => json_root(text, path),
+        Some("toml") => toml_root(text, path),
+        _ => Err(InputProblem::new(
+            path,
+            None,
+            None,
+            "unknown prior file format (expected a file ending in .json or .toml)",
+        )),
+    }
+    .map_err(|p| PriorError::Invalid(vec![p]))?;
+    let mut problems = Vec::new();
+    let mut entries: Vec<PriorEntry> = Vec::new();
+    match root.value {
+        Value::Table(items) => {
+            for (key, node) in items {
+                entry(path, &key, node, &mut entries, &mut problems);
+            }
+        }
+        _ => problems.push(InputProblem::new(
+            path,
+            Some(root.line),
+            None,
+            "expected a table of priors keyed by parameter, e.g. {\"kappa\": {\"dist\": \"uniform\", \"lo\": 0.1, \"hi\": 10}}",
+        )),
+    }
+    if problems.is_empty() {
+        Ok(Priors::from_entries(entries))
+    } else {
+        problems.sort_by_key(|p| p.line);
+        Err(PriorError::Invalid(problems))
+    }
+}
+
+/// One top-level entry: a parameter's prior, or (TOML's `[rate.a]`) a group of them.
+fn entry(
+    path: &Path,
+    key: &str,
+    node: Node,
+    entries: &mut Vec<PriorEntry>,
+    problems: &mut Vec<InputProblem>,
+) {
+    let line = node.line;
+    let at = |m: String| InputProblem::new(path, Some(line), Some(key), m);
+    let Value::Table(fields) = node.value else {
+        problems.push(at(format!(
+            "a {} where a prior belongs (expected a table such as {{dist = \"uniform\", lo = 0.1, hi = 10}})",
+            type_name(&node.value)
+        )));
+        return;
+    };
+    let is_group = !fields.iter().any(|(k, _)| k == "dist")
+        && !fields.is_empty()
+        && fields
+            .iter()
+            .all(|(_, n)| matches!(n.value, Value::Table(_)));
+    if is_group && Param::from_key(key).is_none() {
+        for (sub, n) in fields {
+            entry(path, &format!("{key}.{sub}"), n, entries, problems);
+        }
+        return;
+    }
+    let Some(param) = Param::from_key(key) else {
+        problems.push(at(format!(
+            "unknown parameter `{key}` (expected one of: {})",
+            Param::ALL
+                .iter()
+                .map(|p| p.key())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+        return;
+    };
+    if let Some(first) = entries.iter().find(|e| e.param == param) {
+        let first_line = first.origin.as_ref().map_or(0, |o| o.line);
+        problems.push(at(format!(
+            "a second prior for {key} (the first is on line {first_line}; expected one prior per parameter)"
+        )));
+        return;
+    }
+    if let Some(prior) = prior_of(path, key, line, fields, problems) {
+        let origin = Origin {
+            file: path.to_path_buf(),
+            line,
+        };
+        match numbers_problem(&prior).or_else(|| sign_problem(param, &prior)) {
+            Some(m) => problems.push(at(m)),
+            None => entries.push(PriorEntry {
+                param,
+                prior,
+                origin: Some(origin),
+            }),
+        }
+    }
+}
+
+/// The fields each distribution takes.
+const DISTRIBUTIONS: &str =
+    "uniform (lo, hi), log-uniform (lo, hi), normal (mean, sd), log-normal (median or mu, sigma)";
+
+/// A prior from the fields of its table; `None` (with problems pushed) when they do not make one.
+fn prior_of(
+    path: &Path,
+    key: &str,
+    line: usize,
+    fields: Vec<(String, Node)>,
+    problems: &mut Vec<InputProblem>,
+) -> Option<Prior> {
+    let before = problems.len();
+    let field_at = |name: &str, l: usize, m: String| {
+        InputProblem::new(path, Some(l), Some(&format!("{key}.{name}")), m)
+    };
+    let mut dist: Option<(String, usize)> = None;
+    let mut numbers: Vec<(String, f64, usize)> = Vec::new();
+    // Fields present, even with an unusable value (those are reported once, not as missing).
+    let present: Vec<String> = fields.iter().map(|(k, _)| k.clone()).collect();
+    for (name, n) in fields {
+        if numbers.iter().any(|(k, _, _)| *k == name) || (name == "dist" && dist.is_some()) {
+            problems.push(field_at(
+                &name,
+                n.line,
+                "given twice (expected each field once)".into(),
+            ));
+            continue;
+        }
+        match (name.as_str(), n.value) {
+            ("dist", Value::Text(t)) => dist = Some((t, n.line)),
+            ("dist", other) => problems.push(field_at(
+                "dist",
+                n.line,
+                format!("a {} (expected a name: {DISTRIBUTIONS})", type_name(&other)),
+            )),
+            (_, Value::Number(v)) if !v.is_finite() => problems.push(field_at(
+                &name,
+                n.line,
+                format!("{v} is not finite (expected a finite number)"),
+            )),
+            (_, Value::Number(v)) => numbers.push((name, v, n.line)),
+            (_, Value::Text(t)) => problems.push(field_at(
+                &name,
+                n.line,
+                format!("\"{t}\" is text (expected a number)"),
+            )),
+            (_, other) => problems.push(field_at(
+                &name,
+                n.line,
+                format!("a {} (expected a number)", type_name(&other)),
+            )),
+        }
+    }
+    let Some((dist, dist_line)) = dist else {
+        problems.push(InputProblem::new(
+            path,
+            Some(line),
+            Some(&format!("{key}.dist")),
+            format!("missing (expected one of: {DISTRIBUTIONS})"),
+        ));
+        return None;
+    };
+    let normalised: String = dist
+        .chars()
+        .filter(|c| *c != '-' && *c != '_' && *c != ' ')
+        .flat_map(|c| c.to_lowercase())
+        .collect();
+    let wanted: &[&str] = match normalised.as_str() {
+        "uniform" | "loguniform" => &["lo", "hi"],
+        "normal" => &["mean", "sd"],
+        "lognormal" => &["median", "mu", "sigma"],
+        _ => {
+            problems.push(field_at(
+                "dist",
+                dist_line,
+                format!("unknown distribution \"{dist}\" (expected one of: {DISTRIBUTIONS})"),
+            ));
+            return None;
+        }
+    };
+    for (name, _, l) in &numbers {
+        if !wanted.contains(&name.as_str()) {
+            problems.push(field_at(
+                name,
+                *l,
+                format!(
+                    "not a field of a {dist} prior (expected only: dist, {})",
+                    wanted.join(", ")
+                ),
+            ));
+        }
+    }
+    let get = |n: &str| numbers.iter().find(|(k, _, _)| k == n).map(|(_, v, _)| *v);
+    let mut need = |n: &str| {
+        let v = get(n);
+        if v.is_none() && !present.iter().any(|p| p == n) {
+            problems.push(InputProblem::new(
+                path,
+                Some(line),
+                Some(&format!("{key}.{n}")),
+                format!("missing (a {dist} prior needs {})", wanted.join(" and ")),
+            ));
+        }
+        v
+    };
+    let prior = match normalised.as_str() {
+        "uniform" => Prior::Uniform {
+            lo: need("lo")?,
+            hi: need("hi")?,
+        },
+        "loguniform" => Prior::LogUniform {
+            lo: need("lo")?,
+            hi: need("hi")?,
+        },
+        "normal" => Prior::Normal {
+            mean: need("mean")?,
+            sd: need("sd")?,
+        },
+        _ => {
+            let sigma = need("sigma")?;
+            let mu = match (get("median"), get("mu")) {
+                (Some(m), None) if m > 0.0 => m.ln(),
+                (Some(m), None) => {
+                    problems.push(field_at(
+                        "median",
+                        line,
+                        format!("{m} is not positive (expected median > 0)"),
+                    ));
+                    return None;
+                }
+                (None, Some(mu)) => mu,
+                (Some(_), Some(_)) => {
+                    problems.push(field_at(
+                        "median",
+                        line,
+                        "both median and mu given (expected one of them: mu = ln(median))".into(),
+                    ));
+                    return None;
+                }
+                (None, None) => {
+                    problems.push(field_at(
+                        "median",
+                        line,
+                        "missing (a log-normal prior needs median or mu, and sigma)".into(),
+                    ));
+                    return None;
+                }
+            };
+            Prior::LogNormal { mu, sigma }
+        }
+    };
+    (problems.len() == before).then_some(prior)
+}
+
+fn type_name(v: &Value) -> &'static str {
+    match v {
+        Value::Table(_) => "table",
+        Value::Number(_) => "number",
+        Value::Text(_) => "text",
+        Value::Other(t) => t,
+    }
+}
+
+/// 1-based line of byte `offset` in `text`.
+fn line_of(text: &str, offset: usize) -> usize {
+    text.as_bytes()[..offset.min(text.len())]
+        .iter()
+        .filter(|b| **b == b'\n')
+        .count()
+        + 1
+}
+
+// ---------------------------------------------------------------------------------------
+// JSON: serde_json's RawValue borrows each value from the text, so its offset gives its line.
+
+/// The entries of a JSON object in file order, duplicates kept.
+struct Entries<'a>(Vec<(String, &'a RawValue)>);
+
+impl<'de> Deserialize<'de> for Entries<'de> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Entries<'de>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("an object")
+            }
+            fn visit_map<M: MapAccess<'de>>(self, mut map: M) -> Result<Entries<'de>, M::Error> {
+                let mut out = Vec::new();
+                while let Some((k, v)) = map.next_entry::<String, &'de RawValue>()? {
+                    out.push((k, v));
+                }
+                Ok(Entries(out))
+            }
+        }
+        d.deserialize_map(V)
+    }
+}
+
+fn json_root(text: &str, path: &Path) -> Result<Node, InputProblem> {
+    let raw: &RawValue = serde_json::from_str(text).map_err(|e| json_error(path, &e))?;
+    json_node(text, raw, path)
+}
+
+fn json_error(path: &Path, e: &serde_json::Error) -> InputProblem {
+    let message = e.to_string();
+    let message = match message.find(" at line ") {
+        Some(i) => message[..i].to_string(),
+        None => message,
+    };
+    InputProblem::new(
+        path,
+        Some(e.line().max(1)),
+        None,
+        format!("{message} (expected JSON: an object of priors keyed by parameter)"),
+    )
+}
+
+fn json_node(text: &str, raw: &RawValue, path: &Path) -> Result<Node, InputProblem> {
+    let s = raw.get();
+    let offset = (s.as_ptr() as usize).saturating_sub(text.as_ptr() as usize);
+    let line = line_of(text, offset);
+    let value = match s.as_bytes().first() {
+        Some(b'{') => {
+            let entries: Entries = serde_json::from_str(s).map_err(|e| json_error(path, &e))?;
+            let mut items = Vec::with_capacity(entries.0.len());
+            for (k, v) in entries.0 {
+                items.push((k, json_node(text, v, path)?));
+            }
+            Value::Table(items)
+        }
+        Some(b'"') => Value::Text(serde_json::from_str(s).unwrap_or_default()),
+        Some(b'[') => Value::Other("list"),
+        Some(b't' | b'f') => Value::Other("true/false"),
+        Some(b'n') => Value::Other("null"),
+        _ => match serde_json::from_str::<f64>(s) {
+            Ok(v) => Value::Number(v),
+            Err(e) => return Err(json_error(path, &e)),
+        },
+    };
+    Ok(Node { line, value })
+}
+
+// ---------------------------------------------------------------------------------------
+// TOML: toml's DeTable keeps the span of every key and value.
+
+fn toml_root(text: &str, path: &Path) -> Result<Node, InputProblem> {
+    use toml::de::DeTable;
+    let table = DeTable::parse(text).map_err(|e| {
+        let line = e.span().map_or(1, |s| line_of(text, s.start));
+        InputProblem::new(
+            path,
+            Some(line),
+            None,
+            format!(
+                "{} (expected TOML: one table of priors per parameter)",
+                e.message().trim()
+            ),
+        )
+    })?;
+    Ok(Node {
+        line: 1,
+        value: toml_table(text, table.get_ref()),
+    })
+}
+
+fn toml_table(text: &str, table: &toml::de::DeTable) -> Value {
+    let mut items: Vec<(String, Node)> = table
+        .iter()
+        .map(|(k, v)| {
+            let line = line_of(text, k.span().start);
+            (
+                k.get_ref().to_string(),
+                Node {
+                    line,
+                    value: toml_value(text, v.get_ref()),
+                },
+            )
+        })
+        .collect();
+    items.sort_by_key(|(_, n)| n.line);
+    Value::Table(items)
+}
+
+fn toml_value(text: &str, v: &toml::de::DeValue) -> Value {
+    use toml::de::DeValue;
+    match v {
+        DeValue::Table(t) => toml_table(text, t),
+        DeValue::String(s) => Value::Text(s.to_string()),
+        DeValue::Float(f) => Value::Number(parse_number(f.as_str(), 10)),
+        DeValue::Integer(i) => Value::Number(parse_number(i.as_str(), i.radix())),
+        DeValue::Boolean(_) => Value::Other("true/false"),
+        DeValue::Datetime(_) => Value::Other("date"),
+        DeValue::Array(_) => Value::Other("list"),
+    }
+}
+
+/// A TOML number (underscores allowed; `inf` and `nan` parse to non-finite values, which the
+/// checks then refuse).
+fn parse_number(s: &str, radix: u32) -> f64 {
+    let clean: String = s.chars().filter(|c| *c != '_').collect();
+    if radix == 10 {
+        clean.parse().unwrap_or(f64::NAN)
+    } else {
+        i64::from_str_radix(&clean, radix).map_or(f64::NAN, |v| v as f64)
+    }
+}
