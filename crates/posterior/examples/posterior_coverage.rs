@@ -1,5 +1,5 @@
 //! Coverage of the 95 % credible intervals (issue 23: between 90 % and 99 % for every
-//! parameter): campaigns generated exactly as `subfric_fit::coverage` generates them (random
+//! parameter): campaigns generated exactly as `subfric_harness::coverage` generates them (random
 //! sand–steel parameters, four tests, white plus slowly correlated noise, the same preparation
 //! as a set read from disk), each fitted with the default calibration, then sampled with the
 //! default posterior options (uniform priors within the bounds, the autocorrelated residual
@@ -12,10 +12,10 @@
 
 use serde::Serialize;
 use std::time::Instant;
-use subfric_fit::coverage::{generate_campaign, CampaignRanges};
 use subfric_fit::{
     calibrate, prepare_set_with, typical_rate, FitOptions, FitTest, Param, PrepareOptions, Space,
 };
+use subfric_harness::coverage::{generate_campaign, CampaignRanges};
 use subfric_model::{Model, Params};
 use subfric_posterior::{sample, PosteriorOptions, Priors, ResidualModel};
 
