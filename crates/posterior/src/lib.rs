@@ -86,6 +86,24 @@ impl Default for PosteriorOptions {
     }
 }
 
+impl PosteriorOptions {
+    /// The walkers of a run with `dim` free parameters: [`PosteriorOptions::walkers`], or when
+    /// that is 0, max(32, 4 × `dim`).
+    pub fn walkers_for(&self, dim: usize) -> usize {
+        match self.walkers {
+            0 => MIN_WALKERS.max(4 * dim),
+            w => w,
+        }
+    }
+
+    /// The smallest budget of model runs that moves the ensemble of a run with `dim` free
+    /// parameters once (one run per walker to start, one per walker and step): a front end can
+    /// refuse a smaller `max_evals` before the fit rather than after it.
+    pub fn smallest_budget(&self, dim: usize) -> usize {
+        2 * self.walkers_for(dim)
+    }
+}
+
 /// Why a posterior could not be sampled.
 #[derive(Debug, thiserror::Error)]
 pub enum PosteriorError {
@@ -163,10 +181,7 @@ pub fn sample(
         )));
     }
     let se = coordinate_stats_scaled(&problem, &x0, noise.total()).std_errors;
-    let walkers = match opts.walkers {
-        0 => MIN_WALKERS.max(4 * space.dim()),
-        w => w,
-    };
+    let walkers = opts.walkers_for(space.dim());
     let start = start_ball(&target, space, &x0, &se, walkers, opts.seed);
     let run_opts = RunOptions {
         seed: opts.seed,

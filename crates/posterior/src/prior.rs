@@ -105,14 +105,29 @@ impl Prior {
     }
 }
 
+/// `v` to six significant digits, as short as that allows (a box edge computed as
+/// exp(ln 3) reads 3, not 3.0000000000000004).
+fn compact(v: f64) -> String {
+    if !v.is_finite() || v == 0.0 {
+        return v.to_string();
+    }
+    let rounded: f64 = format!("{v:.5e}").parse().unwrap_or(v);
+    if rounded.abs() >= 1e-4 && rounded.abs() < 1e6 {
+        rounded.to_string()
+    } else {
+        format!("{rounded:e}")
+    }
+}
+
 impl fmt::Display for Prior {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let c = compact;
         match *self {
-            Prior::Uniform { lo, hi } => write!(f, "uniform({lo}, {hi})"),
-            Prior::LogUniform { lo, hi } => write!(f, "log-uniform({lo}, {hi})"),
-            Prior::Normal { mean, sd } => write!(f, "normal(mean {mean}, sd {sd})"),
+            Prior::Uniform { lo, hi } => write!(f, "uniform({}, {})", c(lo), c(hi)),
+            Prior::LogUniform { lo, hi } => write!(f, "log-uniform({}, {})", c(lo), c(hi)),
+            Prior::Normal { mean, sd } => write!(f, "normal(mean {}, sd {})", c(mean), c(sd)),
             Prior::LogNormal { mu, sigma } => {
-                write!(f, "log-normal(median {:.6e}, sigma {sigma})", mu.exp())
+                write!(f, "log-normal(median {}, sigma {})", c(mu.exp()), c(sigma))
             }
         }
     }
@@ -299,15 +314,16 @@ impl ResolvedPrior {
         }
     }
 
-    /// For a report.
+    /// For a report: the prior, and whether it was given or is the default (uniform within
+    /// the bounds on the fit's scale).
     pub fn describe(&self) -> String {
         match self {
             ResolvedPrior::Given(p) => format!("{p} (given)"),
-            ResolvedPrior::Default(p) => {
-                format!("{p} (default: uniform within the bounds on the fit's scale)")
-            }
+            ResolvedPrior::Default(p) => format!("{p} (default)"),
             ResolvedPrior::ShareOfMuS { lo, hi } => format!(
-                "uniform between {lo}·mu_s and {hi}·mu_s (default: uniform within the bounds on the fit's scale)"
+                "uniform({}·mu_s, {}·mu_s) (default)",
+                compact(*lo),
+                compact(*hi)
             ),
         }
     }
@@ -397,6 +413,24 @@ fn mu_k_share(space: &Space) -> (f64, f64) {
 mod tests {
     use super::*;
     use subfric_model::{Model, Params};
+
+    #[test]
+    fn priors_print_their_numbers_to_six_digits_without_rounding_noise() {
+        let p = Prior::LogUniform {
+            lo: 0.10000000000000002,
+            hi: 3.0f64.ln().exp(),
+        };
+        assert_eq!(p.to_string(), "log-uniform(0.1, 3)");
+        let n = Prior::LogNormal {
+            mu: 0.002f64.ln(),
+            sigma: 1.0,
+        };
+        assert_eq!(n.to_string(), "log-normal(median 0.002, sigma 1)");
+        assert_eq!(compact(1e-7), "1e-7");
+        assert_eq!(compact(100000.00000000001), "100000");
+        assert_eq!(compact(1.234567e8), "1.23457e8");
+        assert_eq!(compact(-0.5), "-0.5");
+    }
 
     fn integral(p: &Prior, a: f64, b: f64) -> f64 {
         let n = 200_000;
