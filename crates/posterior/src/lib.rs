@@ -170,9 +170,16 @@ pub fn sample(
         return Err(PosteriorError::NothingFree);
     }
     let judged = judged_indices(space, opts.converge_on.as_deref())?;
-    let resolved = priors.resolve(space)?;
-    let problem = Problem::new(tests, space.clone());
     let x0 = space.point_of(optimum);
+    // A default prior widened where the chart of combinations put the optimum beyond the
+    // parameter's default bounds (an undetermined ξ at the wall of the recovery share).
+    let resolved: Vec<prior::ResolvedPrior> = priors
+        .resolve(space)?
+        .into_iter()
+        .zip(space.natural(&x0))
+        .map(|(r, v)| r.holding(v))
+        .collect();
+    let problem = Problem::new(tests, space.clone());
     let noise = NoiseScale::at_optimum(&problem, &x0, opts.residuals);
     let target = Target::new(tests, space, resolved.clone(), &noise);
     if target.log_density(&x0) == f64::NEG_INFINITY {

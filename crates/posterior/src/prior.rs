@@ -289,6 +289,11 @@ pub enum ResolvedPrior {
     /// Not given: uniform within the fit's bounds on the fit's scale (log-uniform for
     /// parameters charted as logarithms).
     Default(Prior),
+    /// Not given, and the least-squares optimum lay outside the default bounds (the chart of
+    /// combinations — κ + ξ/v and the recovery share ψ — reaches beyond ξ's and κ's own
+    /// default bounds, so an undetermined ξ can end below 10⁻⁷ /s): the default widened on its
+    /// own scale just enough to hold the optimum, so that the walkers can start there.
+    Widened(Prior),
     /// Not given, μ_k: uniform on [lo·μ_s, hi·μ_s] (density 1/((hi − lo) μ_s)).
     ShareOfMuS {
         /// Lowest share.
@@ -302,7 +307,9 @@ impl ResolvedPrior {
     /// Log density of value `v` of the parameter, in a model whose μ_s is `mu_s`.
     pub fn log_density(&self, v: f64, mu_s: f64) -> f64 {
         match *self {
-            ResolvedPrior::Given(p) | ResolvedPrior::Default(p) => p.log_density(v),
+            ResolvedPrior::Given(p) | ResolvedPrior::Default(p) | ResolvedPrior::Widened(p) => {
+                p.log_density(v)
+            }
             ResolvedPrior::ShareOfMuS { lo, hi } => {
                 let share = v / mu_s;
                 if mu_s > 0.0 && (lo..=hi).contains(&share) {
@@ -314,12 +321,38 @@ impl ResolvedPrior {
         }
     }
 
+    /// A default prior whose support misses `optimum` (the parameter's value at the
+    /// least-squares optimum) widened to hold it ([`ResolvedPrior::Widened`]); every other
+    /// prior as it is (a given prior that excludes the optimum is the user's to change).
+    pub fn holding(self, optimum: f64) -> ResolvedPrior {
+        let ResolvedPrior::Default(p) = self else {
+            return self;
+        };
+        let widened = match p {
+            Prior::LogUniform { lo, hi } if optimum > 0.0 && !(lo..=hi).contains(&optimum) => {
+                Prior::LogUniform {
+                    lo: lo.min(optimum),
+                    hi: hi.max(optimum),
+                }
+            }
+            Prior::Uniform { lo, hi } if optimum.is_finite() && !(lo..=hi).contains(&optimum) => {
+                Prior::Uniform {
+                    lo: lo.min(optimum),
+                    hi: hi.max(optimum),
+                }
+            }
+            _ => return self,
+        };
+        ResolvedPrior::Widened(widened)
+    }
+
     /// For a report: the prior, and whether it was given or is the default (uniform within
     /// the bounds on the fit's scale).
     pub fn describe(&self) -> String {
         match self {
             ResolvedPrior::Given(p) => format!("{p} (given)"),
             ResolvedPrior::Default(p) => format!("{p} (default)"),
+            ResolvedPrior::Widened(p) => format!("{p} (default, widened to hold the optimum)"),
             ResolvedPrior::ShareOfMuS { lo, hi } => format!(
                 "uniform({}·mu_s, {}·mu_s) (default)",
                 compact(*lo),
@@ -413,6 +446,34 @@ fn mu_k_share(space: &Space) -> (f64, f64) {
 mod tests {
     use super::*;
     use subfric_model::{Model, Params};
+
+    #[test]
+    fn a_default_prior_is_widened_to_hold_the_optimum_and_no_other_is() {
+        let d = ResolvedPrior::Default(Prior::LogUniform { lo: 1e-7, hi: 10.0 });
+        assert_eq!(d.holding(1e-3), d, "an optimum inside leaves it as it is");
+        let w = d.holding(4.7e-8);
+        assert_eq!(
+            w,
+            ResolvedPrior::Widened(Prior::LogUniform {
+                lo: 4.7e-8,
+                hi: 10.0
+            })
+        );
+        assert!(w.log_density(4.7e-8, 1.0).is_finite());
+        assert_eq!(w.log_density(4.0e-8, 1.0), f64::NEG_INFINITY);
+        assert!(w
+            .describe()
+            .ends_with("(default, widened to hold the optimum)"));
+        let u = ResolvedPrior::Default(Prior::Uniform { lo: -0.2, hi: 0.2 });
+        assert_eq!(
+            u.holding(0.3),
+            ResolvedPrior::Widened(Prior::Uniform { lo: -0.2, hi: 0.3 })
+        );
+        let given = ResolvedPrior::Given(Prior::LogUniform { lo: 1e-7, hi: 10.0 });
+        assert_eq!(given.holding(1e-9), given, "a given prior is the user's");
+        let share = ResolvedPrior::ShareOfMuS { lo: 0.0, hi: 1.0 };
+        assert_eq!(share.holding(5.0), share);
+    }
 
     #[test]
     fn priors_print_their_numbers_to_six_digits_without_rounding_noise() {
