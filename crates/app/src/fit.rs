@@ -4,9 +4,10 @@
 //! done ([`setup`]); [`fit()`] returns the result, [`fit_to_folder`] writes it as `subfric fit`
 //! does.
 
-use crate::io::write_json;
+use crate::io::{write_json, write_text};
 use crate::located;
 use crate::output::{default_results_dir, Destination, ResultsDir};
+use crate::posterior::{PosteriorRequest, Sampled};
 use crate::progress::Progress;
 use anyhow::{anyhow, bail, Result};
 use std::path::{Path, PathBuf};
@@ -32,6 +33,8 @@ pub struct FitRequest {
     pub bounds: Vec<(Param, f64, f64)>,
     /// Per-test weights.
     pub weights: Vec<(String, f64)>,
+    /// Sample the posterior after the fit (`--posterior`), and how.
+    pub posterior: Option<PosteriorRequest>,
     /// Optimiser options.
     pub options: FitOptions,
 }
@@ -46,6 +49,7 @@ impl FitRequest {
             fix: vec![],
             bounds: vec![],
             weights: vec![],
+            posterior: None,
             options,
         }
     }
@@ -408,20 +412,48 @@ pub struct Fitted {
     pub json: serde_json::Value,
     /// Plausibility warnings of the sets (also given to the progress).
     pub warnings: Vec<Warning>,
+    /// The posterior, when the request asked for it (also in `json`, under `posterior`).
+    pub posterior: Option<Sampled>,
 }
 
 /// Loads, checks and calibrates: `subfric fit` without output files (the same checks, the
-/// same calibration, the same errors).
+/// same calibration, the same errors), then samples the posterior when asked.
 pub fn fit(req: &FitRequest, progress: &dyn Progress) -> Result<Fitted> {
     let setup = setup(req, progress)?;
+    let sampler = prepare_posterior(req, &setup)?;
     let warnings = setup.warnings.clone();
     let outcome = run_setup(req, setup, progress)?;
-    let json = fit_json(&outcome)?;
+    let posterior = sampler.map(|s| s.sample(&outcome, progress)).transpose()?;
+    let json = with_posterior(fit_json(&outcome)?, &outcome, posterior.as_ref())?;
     Ok(Fitted {
         outcome,
         json,
         warnings,
+        posterior,
     })
+}
+
+/// The posterior request checked against the fit (prior file, budget) before any fitting.
+fn prepare_posterior(
+    req: &FitRequest,
+    setup: &FitSetup,
+) -> Result<Option<crate::posterior::Prepared>> {
+    req.posterior
+        .as_ref()
+        .map(|p| crate::posterior::prepare(p, &setup.space, &setup.fits))
+        .transpose()
+}
+
+/// `fit.json`'s content with the posterior's block, when there is one.
+fn with_posterior(
+    mut json: serde_json::Value,
+    outcome: &FitOutcome,
+    posterior: Option<&Sampled>,
+) -> Result<serde_json::Value> {
+    if let (Some(p), Some(o)) = (posterior, json.as_object_mut()) {
+        o.insert("posterior".into(), p.json(&outcome.report)?);
+    }
+    Ok(json)
 }
 
 /// A fit written to its results folder.
@@ -430,11 +462,14 @@ pub struct FitWritten {
     pub fitted: Fitted,
     /// The `fit.json` written.
     pub file: PathBuf,
+    /// Everything else written (with `--posterior`: `fit.txt`, the chain, the corner plot, the
+    /// band figures).
+    pub files: Vec<PathBuf>,
 }
 
 /// `subfric fit`: the request checked and the output folder (`fits/<set names>` unless
-/// given) claimed before the fit runs; `fit.json` written, then the folder's record of its
-/// sets.
+/// given) claimed before the fit runs; `fit.json` written (with `--posterior` also `fit.txt`
+/// and the posterior's files, all in the same claim), then the folder's record of its sets.
 pub fn fit_to_folder(
     req: &FitRequest,
     to: &Destination,
@@ -445,20 +480,37 @@ pub fn fit_to_folder(
         .dir
         .clone()
         .unwrap_or_else(|| default_results_dir(&setup.name()));
-    let claim = ResultsDir::claim(&dir, &req.dirs, &["fit.json".into()], to.force)?;
+    let sampler = prepare_posterior(req, &setup)?;
+    let mut files = vec!["fit.json".to_string()];
+    if sampler.is_some() {
+        files.extend(crate::posterior::files(&setup.tests));
+    }
+    let claim = ResultsDir::claim(&dir, &req.dirs, &files, to.force)?;
     let warnings = setup.warnings.clone();
     let outcome = run_setup(req, setup, progress)?;
-    let json = fit_json(&outcome)?;
+    let posterior = sampler.map(|s| s.sample(&outcome, progress)).transpose()?;
+    let json = with_posterior(fit_json(&outcome)?, &outcome, posterior.as_ref())?;
     let file = dir.join("fit.json");
     write_json(&file, &json)?;
+    let mut written = Vec::new();
+    if let Some(p) = &posterior {
+        progress.stage("drawing the posterior's figures", None);
+        let txt = dir.join("fit.txt");
+        let table = crate::fit_report::report_table(&outcome.name, &outcome.report);
+        write_text(&txt, &format!("{table}\n\n{}", p.text(&outcome.report)))?;
+        written.push(txt);
+        written.extend(p.write(&outcome, &dir)?);
+    }
     claim.commit()?;
     Ok(FitWritten {
         fitted: Fitted {
             outcome,
             json,
             warnings,
+            posterior,
         },
         file,
+        files: written,
     })
 }
 

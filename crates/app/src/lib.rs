@@ -11,6 +11,8 @@
 //!   [`fit::fit_to_folder`] writes them); [`fit_report`] the readable table.
 //! - [`diagnose`](mod@diagnose): the diagnosis of a set and `diagnosis.json`, `diagnosis.txt`
 //!   and its figures; [`selfcheck`] the diagnosis scored on sets with a known truth.
+//! - [`posterior`]: the posterior of a fit's parameters (`fit --posterior`): summary beside
+//!   the profile intervals, predictive bands, corner plot, thinned chain.
 //! - [`plan`]: the next test to run (`plan.json`, `plan.txt`, scenarios, figure).
 //! - [`reproduce`]: every bundled set fitted, the paper's tables beside the published values.
 //! - [`simulate`], [`sets`] (check and import), [`figures`] (overlay plots), [`bench`](mod@bench).
@@ -35,6 +37,7 @@ pub mod io;
 pub mod lock;
 pub mod output;
 pub mod plan;
+pub mod posterior;
 pub mod progress;
 pub mod reproduce;
 pub mod selfcheck;

@@ -21,6 +21,7 @@ use subfric_app::fit::{fit_to_folder, FitRequest};
 use subfric_app::fit_report::report_table_timed;
 use subfric_app::output::Destination;
 use subfric_app::plan::{plan_to_folder, PlanRequest};
+use subfric_app::posterior::PosteriorRequest;
 use subfric_app::reproduce::{reproduce, ReproduceRequest, TIMINGS_FILE};
 use subfric_app::selfcheck::{case_line, SelfcheckRequest, SelfcheckSource};
 use subfric_app::simulate::{SimulateRequest, SimulateSource};
@@ -180,6 +181,12 @@ fn fit(a: FitArgs) -> Result<()> {
         fix: a.fix,
         bounds: a.bounds,
         weights: a.weight,
+        posterior: a.posterior.then(|| PosteriorRequest {
+            priors: a.priors.clone(),
+            max_evals: a.max_evals,
+            residuals: a.residuals.into(),
+            seed: a.seed,
+        }),
         options: FitOptions {
             method: a.method.into(),
             starts: a.starts,
@@ -198,7 +205,15 @@ fn fit(a: FitArgs) -> Result<()> {
     progress.finish();
     let outcome = &w.fitted.outcome;
     out(report_table_timed(&outcome.name, &outcome.report));
+    if let Some(p) = &w.fitted.posterior {
+        out(format!(
+            "\n{}sampled in {:.1} s wall time",
+            p.text(&outcome.report),
+            p.posterior.elapsed_s
+        ));
+    }
     print_written([&w.file]);
+    print_written(&w.files);
     Ok(())
 }
 
