@@ -49,7 +49,7 @@ pub enum Command {
     Selfcheck(SelfcheckArgs),
     /// Which test to run next: proposals ranked by how far they determine what the data do not.
     Plan(PlanArgs),
-    /// Speed of the model step, of each paper fit, and of multi-start scaling.
+    /// Speed of the model step, of each paper fit, of multi-start scaling, of diagnoses and of the posterior sampler.
     Bench(BenchArgs),
 }
 

@@ -355,5 +355,10 @@ fn bench(a: BenchArgs) -> Result<()> {
             d.case, d.rows, d.tests, d.seconds, d.peak_memory_mb, d.verdict
         ));
     }
+    let p = &r.sampler;
+    out(format!(
+        "posterior sampler on {}: {} steps of {} walkers, {} model runs in {:.2} s on {} threads: {:.0} model runs per second (load average {:.1})",
+        p.set, p.steps, p.walkers, p.model_runs, p.seconds, p.threads, p.runs_per_second, p.load_average
+    ));
     Ok(())
 }
