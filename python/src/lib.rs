@@ -15,6 +15,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyList, PyString, PyTuple};
 use std::path::PathBuf;
 use subfric_app::flags::{parse_bound, parse_fix, parse_param};
+use subfric_app::posterior::{PosteriorRequest, ResidualModel};
 use subfric_app::{self as api, FitRequest, Silent};
 use subfric_data::{load_set as load_set_rs, plausibility, InitialSpec};
 use subfric_diagnose::DiagnoseOptions;
@@ -283,10 +284,44 @@ fn initial_dict(py: Python<'_>, initial: Initial) -> PyResult<Bound<'_, PyDict>>
     Ok(d)
 }
 
-/// Calibrates one set, or several jointly, as `subfric fit` does. Returns the text of the
-/// fit.json it would write, the fitted curves per test (arrays), and the plausibility warnings.
+fn residuals_of(s: &str) -> PyResult<ResidualModel> {
+    match s.trim().to_ascii_lowercase().as_str() {
+        "correlated" | "autocorrelated" => Ok(ResidualModel::Autocorrelated),
+        "independent" => Ok(ResidualModel::Independent),
+        other => Err(fail(format!(
+            "residuals: unknown residual model `{other}` (expected `correlated` or `independent`)"
+        ))),
+    }
+}
+
+/// The posterior's thinned chain as arrays: `step`, `walker` and one array per parameter key
+/// (the columns of posterior-chain.csv).
+fn chain_dict<'py>(py: Python<'py>, p: &api::posterior::Posterior) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let ints = |v: &[usize]| PyArray1::from_vec(py, v.iter().map(|&i| i as i64).collect());
+    d.set_item("step", ints(&p.chain.step))?;
+    d.set_item("walker", ints(&p.chain.walker))?;
+    for (k, param) in p.parameters.iter().enumerate() {
+        d.set_item(param.key(), array(py, p.chain.column(k)))?;
+    }
+    Ok(d)
+}
+
+/// What `fit` returns: the text of fit.json, the curves per test, the warnings, and the
+/// posterior's chain when sampled.
+type FitResult<'py> = (
+    String,
+    Bound<'py, PyDict>,
+    Vec<String>,
+    Option<Bound<'py, PyDict>>,
+);
+
+/// Calibrates one set, or several jointly, as `subfric fit` does (with `posterior`, as `subfric
+/// fit --posterior`). Returns the text of the fit.json it would write, the fitted curves per
+/// test (arrays; with the posterior's 95 % band), the plausibility warnings, and the
+/// posterior's thinned chain (arrays) when sampled.
 #[pyfunction]
-#[pyo3(signature = (dirs, *, tests, free, fix, bounds, weights, method, starts, seed, global_evals, profiles))]
+#[pyo3(signature = (dirs, *, tests, free, fix, bounds, weights, method, starts, seed, global_evals, profiles, posterior=false, priors=None, max_evals=None, residuals="correlated"))]
 #[allow(clippy::too_many_arguments)]
 fn fit<'py>(
     py: Python<'py>,
@@ -301,7 +336,11 @@ fn fit<'py>(
     seed: u64,
     global_evals: usize,
     profiles: bool,
-) -> PyResult<(String, Bound<'py, PyDict>, Vec<String>)> {
+    posterior: bool,
+    priors: Option<PathBuf>,
+    max_evals: Option<usize>,
+    residuals: &str,
+) -> PyResult<FitResult<'py>> {
     // The command line's own parsers, so that a value is refused with the same reason.
     let free = match free {
         None => Param::BASE.to_vec(),
@@ -321,6 +360,30 @@ fn fit<'py>(
         })
         .collect::<PyResult<_>>()?;
     check_weights(&weights)?;
+    let residuals = residuals_of(residuals)?;
+    if !posterior {
+        let given: Vec<&str> = [
+            ("priors", priors.is_some()),
+            ("max_evals", max_evals.is_some()),
+            ("residuals", residuals != ResidualModel::default()),
+        ]
+        .iter()
+        .filter(|(_, g)| *g)
+        .map(|(n, _)| *n)
+        .collect();
+        if !given.is_empty() {
+            return Err(fail(format!(
+                "{}: options of the posterior given without posterior=True (expected posterior=True, or none of them)",
+                given.join(", ")
+            )));
+        }
+    }
+    let posterior = posterior.then(|| PosteriorRequest {
+        priors,
+        max_evals: max_evals.unwrap_or(api::posterior::DEFAULT_MAX_EVALS),
+        residuals,
+        seed,
+    });
     let req = FitRequest {
         dirs,
         tests,
@@ -328,6 +391,7 @@ fn fit<'py>(
         fix,
         bounds,
         weights,
+        posterior,
         options: FitOptions {
             method: method_of(method)?,
             starts,
@@ -349,14 +413,24 @@ fn fit<'py>(
         }
         let text = serde_json::to_string(&fitted.json)?;
         let warnings: Vec<String> = fitted.warnings.iter().map(|w| w.to_string()).collect();
-        Ok((text, curves, warnings))
+        Ok((text, curves, warnings, fitted.posterior))
     });
-    let (text, curves, warnings) = run.map_err(error)?;
+    let (text, curves, warnings, sampled) = run.map_err(error)?;
     let out = PyDict::new(py);
-    for (name, t, traj) in curves {
-        out.set_item(name, curve_dict(py, t, traj)?)?;
+    for (k, (name, t, traj)) in curves.into_iter().enumerate() {
+        let d = curve_dict(py, t, traj)?;
+        if let Some(band) = sampled.as_ref().and_then(|s| s.bands.get(k)) {
+            d.set_item("band_lo", array(py, band.lo.clone()))?;
+            d.set_item("band_median", array(py, band.median.clone()))?;
+            d.set_item("band_hi", array(py, band.hi.clone()))?;
+        }
+        out.set_item(name, d)?;
     }
-    Ok((text, out, warnings))
+    let chain = sampled
+        .as_ref()
+        .map(|s| chain_dict(py, &s.posterior))
+        .transpose()?;
+    Ok((text, out, warnings, chain))
 }
 
 /// Diagnoses a set as `subfric diagnose` does. Returns the text of the diagnosis.json it would

@@ -228,6 +228,10 @@ def fit(
     seed=1,
     global_evals=3000,
     profiles=True,
+    posterior=False,
+    priors=None,
+    max_evals=None,
+    residuals="correlated",
 ):
     """Calibrates the model against one set, or several jointly, exactly as ``subfric fit``.
 
@@ -248,9 +252,22 @@ def fit(
     ``initial_slip``): ``simulate(result, c["time_s"], c["imposed"], c["normal_kpa"],
     c["control"], initial=c["initial"], initial_slip=c["initial_slip"])`` gives ``c["fitted"]``
     again. Deterministic for a seed.
+
+    ``posterior=True`` then samples the posterior of the free parameters, as ``subfric fit
+    --posterior`` (docs/posterior.md): ``priors`` a prior file (JSON or TOML; default uniform
+    within the bounds on the fit's scale), ``max_evals`` the sampler's budget in model runs
+    (default 300 000; it stops once converged), ``residuals`` ``"correlated"`` (default) or
+    ``"independent"``. The result then holds ``posterior``, as in fit.json (``summary``: per
+    parameter ``median``, ``lo``/``hi`` the 95 % credible interval beside ``profile_interval``;
+    ``correlation``; ``convergence``; ``converged`` and ``message``), plus ``chain``: arrays
+    ``step``, ``walker`` and one per parameter (the thinned chain of posterior-chain.csv); and
+    each curve ``band_lo``, ``band_median``, ``band_hi`` (the 95 % band of the model curve). A
+    run that has not converged issues a :class:`SubfricWarning` saying how large a
+    ``max_evals`` it needs. A prior file with an error raises :class:`SubfricError` naming
+    its line and field.
     """
     free_keys = None if free is None else [str(k) for k in free]
-    text, curves, warns = _native.fit(
+    text, curves, warns, chain = _native.fit(
         _set_paths(sets),
         tests=[str(t) for t in (tests or [])],
         free=free_keys,
@@ -262,10 +279,20 @@ def fit(
         seed=int(seed),
         global_evals=int(global_evals),
         profiles=bool(profiles),
+        posterior=bool(posterior),
+        priors=None if priors is None else os.fspath(priors),
+        max_evals=None if max_evals is None else int(max_evals),
+        residuals=str(residuals),
     )
     _warn(warns)
     result = json.loads(text)
     result["curves"] = curves
+    if chain is not None:
+        p = result["posterior"]
+        p["chain"] = chain
+        if not p["converged"]:
+            need = p["max_evals_needed"]
+            _warn([p["message"].replace(f"--max-evals {need}", f"max_evals={need}")])
     return result
 
 

@@ -1,5 +1,6 @@
 //! `subfric bench`: speed of the model step, of fitting each paper table, of multi-start
-//! fitting on 1 core versus all cores, of whole diagnoses, and of a fit of 10 000 short tests.
+//! fitting on 1 core versus all cores, of whole diagnoses, of a fit of 10 000 short tests, and of
+//! the posterior sampler.
 
 use crate::fit::{run_fit, FitRequest};
 use crate::progress::Silent;
@@ -27,6 +28,67 @@ pub struct BenchReport {
     pub diagnoses: Vec<DiagnosisTime>,
     /// A fit of a set of many short tests (the cost must grow linearly with their number).
     pub many_tests: ManyTestsFit,
+    /// The posterior sampler's model runs per second.
+    pub sampler: SamplerSpeed,
+}
+
+/// Speed of the posterior sampler (`fit --posterior`): a fixed number of steps of the ensemble
+/// from the least-squares optimum, walkers moved in parallel on every thread.
+#[derive(Debug, Serialize)]
+pub struct SamplerSpeed {
+    /// Set sampled.
+    pub set: String,
+    /// Walkers and steps.
+    pub walkers: usize,
+    /// Steps of the ensemble.
+    pub steps: usize,
+    /// Model runs of the sampler.
+    pub model_runs: usize,
+    /// Wall time of the sampling [s].
+    pub seconds: f64,
+    /// Model runs per second.
+    pub runs_per_second: f64,
+    /// Threads.
+    pub threads: usize,
+    /// The machine's 1-minute load average when it ended (Linux; NaN elsewhere): on a shared
+    /// machine the wall time says little without it.
+    pub load_average: f64,
+}
+
+/// Walkers and steps of the sampler benchmark (as `cargo bench -p subfric-posterior`).
+const SAMPLER_WALKERS: usize = 32;
+const SAMPLER_STEPS: usize = 100;
+
+/// Samples the posterior of `set` for [`SAMPLER_STEPS`] steps (a budget far below
+/// convergence, so the same work every time) and times it.
+fn sampler_speed(set: &Path) -> Result<SamplerSpeed> {
+    let mut req = request(set.to_path_buf());
+    req.posterior = Some(crate::posterior::PosteriorRequest {
+        max_evals: SAMPLER_WALKERS * (SAMPLER_STEPS + 1),
+        ..Default::default()
+    });
+    let fitted = crate::fit::fit(&req, &Silent)?;
+    let Some(s) = fitted.posterior else {
+        bail!("the posterior was asked for and not sampled");
+    };
+    let p = &s.posterior;
+    Ok(SamplerSpeed {
+        set: set
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .to_string(),
+        walkers: p.convergence.walkers,
+        steps: p.convergence.steps,
+        model_runs: p.model_runs,
+        seconds: p.elapsed_s,
+        runs_per_second: p.model_runs as f64 / p.elapsed_s,
+        threads: rayon::current_num_threads(),
+        load_average: std::fs::read_to_string("/proc/loadavg")
+            .ok()
+            .and_then(|l| l.split_whitespace().next()?.parse().ok())
+            .unwrap_or(f64::NAN),
+    })
 }
 
 /// One timed diagnosis.
@@ -398,6 +460,7 @@ pub fn measure(experiments: &Path) -> Result<BenchReport> {
     let threads = rayon::current_num_threads();
     let one = time_with(1)?;
     let all = time_with(threads)?;
+    let sampler = sampler_speed(&probe)?;
     Ok(BenchReport {
         step_case: "1-D slip control, u = 1 mm sin(2πt/200 s), 10 cycles in 200 000 steps, Params::sample(), 100 kPa".into(),
         steps_per_second: sps,
@@ -412,6 +475,7 @@ pub fn measure(experiments: &Path) -> Result<BenchReport> {
         },
         diagnoses: diagnoses()?,
         many_tests: many_tests_fit(MANY_TESTS)?,
+        sampler,
     })
 }
 

@@ -8,6 +8,7 @@ use crate::adequacy::Adequacy;
 use crate::io::{write_json, write_text};
 use crate::located;
 use crate::output::{default_results_dir, Destination, ResultsDir};
+use crate::posterior::{PosteriorRequest, Sampled};
 use crate::progress::Progress;
 use anyhow::{anyhow, bail, Result};
 use std::path::{Path, PathBuf};
@@ -33,6 +34,8 @@ pub struct FitRequest {
     pub bounds: Vec<(Param, f64, f64)>,
     /// Per-test weights.
     pub weights: Vec<(String, f64)>,
+    /// Sample the posterior after the fit (`--posterior`), and how.
+    pub posterior: Option<PosteriorRequest>,
     /// Optimiser options.
     pub options: FitOptions,
     /// The model whose form is fitted (its extensions, with their values and its base
@@ -51,6 +54,7 @@ impl FitRequest {
             fix: vec![],
             bounds: vec![],
             weights: vec![],
+            posterior: None,
             options,
             start: None,
         }
@@ -501,20 +505,48 @@ pub struct Fitted {
     pub json: serde_json::Value,
     /// Plausibility warnings of the sets (also given to the progress).
     pub warnings: Vec<Warning>,
+    /// The posterior, when the request asked for it (also in `json`, under `posterior`).
+    pub posterior: Option<Sampled>,
 }
 
 /// Loads, checks and calibrates: `subfric fit` without output files (the same checks, the
-/// same calibration, the same errors).
+/// same calibration, the same errors), then samples the posterior when asked.
 pub fn fit(req: &FitRequest, progress: &dyn Progress) -> Result<Fitted> {
     let setup = setup(req, progress)?;
+    let sampler = prepare_posterior(req, &setup)?;
     let warnings = setup.warnings.clone();
     let outcome = run_setup(req, setup, progress)?;
-    let json = fit_json(&outcome)?;
+    let posterior = sampler.map(|s| s.sample(&outcome, progress)).transpose()?;
+    let json = with_posterior(fit_json(&outcome)?, &outcome, posterior.as_ref())?;
     Ok(Fitted {
         outcome,
         json,
         warnings,
+        posterior,
     })
+}
+
+/// The posterior request checked against the fit (prior file, budget) before any fitting.
+fn prepare_posterior(
+    req: &FitRequest,
+    setup: &FitSetup,
+) -> Result<Option<crate::posterior::Prepared>> {
+    req.posterior
+        .as_ref()
+        .map(|p| crate::posterior::prepare(p, &setup.space, &setup.fits))
+        .transpose()
+}
+
+/// `fit.json`'s content with the posterior's block, when there is one.
+fn with_posterior(
+    mut json: serde_json::Value,
+    outcome: &FitOutcome,
+    posterior: Option<&Sampled>,
+) -> Result<serde_json::Value> {
+    if let (Some(p), Some(o)) = (posterior, json.as_object_mut()) {
+        o.insert("posterior".into(), p.json(&outcome.report)?);
+    }
+    Ok(json)
 }
 
 /// A fit written to its results folder.
@@ -523,13 +555,15 @@ pub struct FitWritten {
     pub fitted: Fitted,
     /// The `fit.json` written.
     pub file: PathBuf,
-    /// Everything else written: `fit.txt`, one figure per test, `report.html`.
+    /// Everything else written: `fit.txt`, one figure per test, `report.html` (with
+    /// `--posterior` also the chain, the corner plot and the band figures).
     pub files: Vec<PathBuf>,
 }
 
 /// `subfric fit`: the request checked and the output folder (`fits/<set names>` unless
 /// given) claimed before the fit runs; `fit.json`, `fit.txt`, one figure per test (measured,
-/// published, fitted) and `report.html` written, then the folder's record of its sets.
+/// published, fitted) and `report.html` written (with `--posterior` also the posterior's files,
+/// all in the same claim), then the folder's record of its sets.
 pub fn fit_to_folder(
     req: &FitRequest,
     to: &Destination,
@@ -540,19 +574,33 @@ pub fn fit_to_folder(
         .dir
         .clone()
         .unwrap_or_else(|| default_results_dir(&setup.name()));
+    let sampler = prepare_posterior(req, &setup)?;
     let mut files: Vec<String> = ["fit.json", "fit.txt", crate::report::REPORT_FILE]
         .map(String::from)
         .to_vec();
     files.extend(crate::figures::figure_files(&setup.tests));
+    if sampler.is_some() {
+        // fit.txt is already listed: the posterior's table goes into it.
+        files.extend(
+            crate::posterior::files(&setup.tests)
+                .into_iter()
+                .filter(|f| f != "fit.txt"),
+        );
+    }
     let claim = ResultsDir::claim(&dir, &req.dirs, &files, to.force)?;
     let warnings = setup.warnings.clone();
     let outcome = run_setup(req, setup, progress)?;
-    let json = fit_json(&outcome)?;
+    let posterior = sampler.map(|s| s.sample(&outcome, progress)).transpose()?;
+    let json = with_posterior(fit_json(&outcome)?, &outcome, posterior.as_ref())?;
     let file = dir.join("fit.json");
     write_json(&file, &json)?;
     progress.stage("drawing the figures and the report", None);
     let txt = dir.join("fit.txt");
-    write_text(&txt, &(crate::fit_report::report_table(&outcome) + "\n"))?;
+    let table = crate::fit_report::report_table(&outcome);
+    match &posterior {
+        Some(p) => write_text(&txt, &format!("{table}\n\n{}", p.text(&outcome.report)))?,
+        None => write_text(&txt, &(table + "\n"))?,
+    }
     let (plots, notes) = crate::figures::plot_set(
         &outcome.name,
         &outcome.tests,
@@ -565,15 +613,22 @@ pub fn fit_to_folder(
     }
     let html = dir.join(crate::report::REPORT_FILE);
     write_text(&html, &crate::report::fit_page(&outcome, &dir, &plots)?)?;
+    let mut posterior_files = Vec::new();
+    if let Some(p) = &posterior {
+        progress.stage("drawing the posterior's figures", None);
+        posterior_files = p.write(&outcome, &dir)?;
+    }
     claim.commit()?;
     let mut written = vec![txt];
     written.extend(plots);
     written.push(html);
+    written.extend(posterior_files);
     Ok(FitWritten {
         fitted: Fitted {
             outcome,
             json,
             warnings,
+            posterior,
         },
         file,
         files: written,

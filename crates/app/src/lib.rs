@@ -15,6 +15,8 @@
 //! - [`plan`]: the next test to run (`plan.json`, `plan.txt`, scenarios, figure), on the model
 //!   the set's diagnosis chose ([`plan_basis`]), never a test the set holds ([`repeat`]).
 //! - [`report`]: the HTML reports (`report.html`, `fits/index.html`), pages of [`html`].
+//! - [`posterior`]: the posterior of a fit's parameters (`fit --posterior`): summary beside
+//!   the profile intervals, predictive bands, corner plot, thinned chain.
 //! - [`reproduce`]: every bundled set fitted, the paper's tables beside the published values.
 //! - [`simulate`], [`sets`] (check and import), [`figures`] (overlay plots), [`bench`](mod@bench).
 //! - [`output`]: where results go and what may be replaced there; [`io`] the file helpers
@@ -41,6 +43,7 @@ pub mod lock;
 pub mod output;
 pub mod plan;
 pub mod plan_basis;
+pub mod posterior;
 pub mod progress;
 pub mod repeat;
 pub mod report;

@@ -20,6 +20,11 @@ pub trait Progress: Sync {
     /// in, a file replaced), without the `note:` prefix.
     fn note(&self, text: &str);
 
+    /// Work done within the current stage: `done` of about `total` units, in the units of the
+    /// stage's budget (model runs of the posterior sampler). Called often, from worker threads;
+    /// the default shows nothing.
+    fn count(&self, _done: usize, _total: usize) {}
+
     /// A stage of a calibration, as [`Progress::stage`] shows it (`global_budget`: the model
     /// runs of the global stage).
     fn calibration_stage(&self, s: CalibrationStage, global_budget: usize) {

@@ -49,7 +49,7 @@ pub enum Command {
     Selfcheck(SelfcheckArgs),
     /// Which test to run next: proposals ranked by how far they determine what the data do not.
     Plan(PlanArgs),
-    /// Speed of the model step, of each paper fit, and of multi-start scaling.
+    /// Speed of the model step, of each paper fit, of multi-start scaling, of diagnoses and of the posterior sampler.
     Bench(BenchArgs),
 }
 
@@ -341,6 +341,26 @@ impl From<MethodArg> for Method {
     }
 }
 
+/// How the posterior's likelihood takes the residuals.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ResidualsArg {
+    /// Correlated in time (real load cells): the noise variance inflated by the residuals'
+    /// autocorrelation time, as the profile intervals do
+    #[value(alias = "autocorrelated")]
+    Correlated,
+    /// Independent rows
+    Independent,
+}
+
+impl From<ResidualsArg> for subfric_app::posterior::ResidualModel {
+    fn from(r: ResidualsArg) -> Self {
+        match r {
+            ResidualsArg::Correlated => subfric_app::posterior::ResidualModel::Autocorrelated,
+            ResidualsArg::Independent => subfric_app::posterior::ResidualModel::Independent,
+        }
+    }
+}
+
 /// `subfric fit`.
 #[derive(Args, Debug)]
 pub struct FitArgs {
@@ -379,6 +399,23 @@ pub struct FitArgs {
     /// Skip profile intervals.
     #[arg(long)]
     pub no_profiles: bool,
+    /// After the fit, sample the posterior of the free parameters (docs/posterior.md): median
+    /// and 95 % credible interval beside the profile intervals, the corner plot, 95 % bands on
+    /// every test and the thinned chain (posterior-chain.csv); convergence judged on the
+    /// parameters the fit determines, and said when not reached.
+    #[arg(long)]
+    pub posterior: bool,
+    /// Prior file of the posterior, JSON or TOML (uniform, log-uniform, normal, log-normal per
+    /// parameter) [default: uniform within the bounds, on the fit's scale].
+    #[arg(long, requires = "posterior", value_name = "FILE")]
+    pub priors: Option<PathBuf>,
+    /// Budget of the posterior sampler, in model runs (it stops earlier once converged).
+    #[arg(long, requires = "posterior", default_value_t = subfric_app::posterior::DEFAULT_MAX_EVALS, value_name = "N")]
+    pub max_evals: usize,
+    /// Residuals of the posterior's likelihood: correlated in time, as the profile intervals
+    /// take them, or independent.
+    #[arg(long, requires = "posterior", value_enum, default_value_t = ResidualsArg::Correlated)]
+    pub residuals: ResidualsArg,
     /// Output folder [default: fits/<set name>].
     #[arg(long)]
     pub out: Option<PathBuf>,

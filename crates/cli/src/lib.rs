@@ -21,6 +21,7 @@ use subfric_app::fit::{fit_to_folder, FitRequest};
 use subfric_app::fit_report::report_table_timed;
 use subfric_app::output::Destination;
 use subfric_app::plan::{plan_to_folder, PlanRequest};
+use subfric_app::posterior::PosteriorRequest;
 use subfric_app::reproduce::{reproduce, ReproduceRequest, TIMINGS_FILE};
 use subfric_app::selfcheck::{
     case_line, class_list, write_generated, Campaign, Case, SelfcheckRequest, SelfcheckSource,
@@ -191,6 +192,12 @@ fn fit(a: FitArgs) -> Result<()> {
         fix: a.fix,
         bounds: a.bounds,
         weights: a.weight,
+        posterior: a.posterior.then(|| PosteriorRequest {
+            priors: a.priors.clone(),
+            max_evals: a.max_evals,
+            residuals: a.residuals.into(),
+            seed: a.seed,
+        }),
         options: FitOptions {
             method: a.method.into(),
             starts: a.starts,
@@ -210,6 +217,13 @@ fn fit(a: FitArgs) -> Result<()> {
     progress.finish();
     let outcome = &w.fitted.outcome;
     out(report_table_timed(outcome));
+    if let Some(p) = &w.fitted.posterior {
+        out(format!(
+            "\n{}sampled in {:.1} s wall time",
+            p.text(&outcome.report),
+            p.posterior.elapsed_s
+        ));
+    }
     print_written([&w.file]);
     print_written(&w.files);
     Ok(())
@@ -385,5 +399,10 @@ fn bench(a: BenchArgs) -> Result<()> {
             d.case, d.rows, d.tests, d.seconds, d.peak_memory_mb, d.verdict
         ));
     }
+    let p = &r.sampler;
+    out(format!(
+        "posterior sampler on {}: {} steps of {} walkers, {} model runs in {:.2} s on {} threads: {:.0} model runs per second (load average {:.1})",
+        p.set, p.steps, p.walkers, p.model_runs, p.seconds, p.threads, p.runs_per_second, p.load_average
+    ));
     Ok(())
 }

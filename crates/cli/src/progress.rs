@@ -34,6 +34,10 @@ struct State {
     budget: Option<usize>,
     /// Model runs when the stage began.
     runs_at_stage: usize,
+    /// Work the stage counts itself (`Progress::count`): done and total.
+    counted: Option<(usize, usize)>,
+    /// Tenths of the total reported so far as lines (`--progress always` off a terminal).
+    tenths_shown: usize,
 }
 
 struct Shared {
@@ -48,9 +52,14 @@ impl Shared {
         let runs = model_runs().saturating_sub(self.runs0);
         let s = self.state.lock().map(|s| {
             let in_stage = model_runs().saturating_sub(s.runs_at_stage);
-            match s.budget {
-                Some(b) => format!("{} ({in_stage}/{b} model runs)", s.stage),
-                None => s.stage.clone(),
+            match (s.counted, s.budget) {
+                (Some((done, total)), _) => format!(
+                    "{} ({done}/{total} model runs, {:.0} %)",
+                    s.stage,
+                    100.0 * done as f64 / total.max(1) as f64
+                ),
+                (None, Some(b)) => format!("{} ({in_stage}/{b} model runs)", s.stage),
+                (None, None) => s.stage.clone(),
             }
         });
         format!(
@@ -122,6 +131,8 @@ impl Progress {
             s.stage = stage;
             s.budget = budget;
             s.runs_at_stage = model_runs();
+            s.counted = None;
+            s.tenths_shown = 0;
         }
         if self.lines {
             crate::print::err(format!("progress: {}", self.shared.line()));
@@ -165,6 +176,26 @@ impl Drop for Progress {
 impl subfric_app::Progress for Progress {
     fn stage(&self, stage: &str, budget: Option<usize>) {
         self.show_stage(stage, budget);
+    }
+
+    /// The live display picks the count up at its next tick; a log gets a line at every
+    /// tenth of the total.
+    fn count(&self, done: usize, total: usize) {
+        if self.bar.is_none() && !self.lines {
+            return;
+        }
+        let mut line_due = false;
+        if let Ok(mut s) = self.shared.state.lock() {
+            s.counted = Some((done, total));
+            let tenths = (10 * done / total.max(1)).min(10);
+            if tenths > s.tenths_shown {
+                s.tenths_shown = tenths;
+                line_due = self.lines;
+            }
+        }
+        if line_due {
+            crate::print::err(format!("progress: {}", self.shared.line()));
+        }
     }
 
     fn warning(&self, text: &str) {

@@ -1,5 +1,5 @@
 //! Coverage of the 95 % credible intervals (issue 23: between 90 % and 99 % for every
-//! parameter): campaigns generated exactly as `subfric_fit::coverage` generates them (random
+//! parameter): campaigns generated exactly as `subfric_harness::coverage` generates them (random
 //! sand–steel parameters, four tests, white plus slowly correlated noise, the same preparation
 //! as a set read from disk), each fitted with the default calibration, then sampled with the
 //! default posterior options (uniform priors within the bounds, the autocorrelated residual

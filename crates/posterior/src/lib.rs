@@ -86,6 +86,24 @@ impl Default for PosteriorOptions {
     }
 }
 
+impl PosteriorOptions {
+    /// The walkers of a run with `dim` free parameters: [`PosteriorOptions::walkers`], or when
+    /// that is 0, max(32, 4 × `dim`).
+    pub fn walkers_for(&self, dim: usize) -> usize {
+        match self.walkers {
+            0 => MIN_WALKERS.max(4 * dim),
+            w => w,
+        }
+    }
+
+    /// The smallest budget of model runs that moves the ensemble of a run with `dim` free
+    /// parameters once (one run per walker to start, one per walker and step): a front end can
+    /// refuse a smaller `max_evals` before the fit rather than after it.
+    pub fn smallest_budget(&self, dim: usize) -> usize {
+        2 * self.walkers_for(dim)
+    }
+}
+
 /// Why a posterior could not be sampled.
 #[derive(Debug, thiserror::Error)]
 pub enum PosteriorError {
@@ -152,9 +170,16 @@ pub fn sample(
         return Err(PosteriorError::NothingFree);
     }
     let judged = judged_indices(space, opts.converge_on.as_deref())?;
-    let resolved = priors.resolve(space)?;
-    let problem = Problem::new(tests, space.clone());
     let x0 = space.point_of(optimum);
+    // A default prior widened where the chart of combinations put the optimum beyond the
+    // parameter's default bounds (an undetermined ξ at the wall of the recovery share).
+    let resolved: Vec<prior::ResolvedPrior> = priors
+        .resolve(space)?
+        .into_iter()
+        .zip(space.natural(&x0))
+        .map(|(r, v)| r.holding(v))
+        .collect();
+    let problem = Problem::new(tests, space.clone());
     let noise = NoiseScale::at_optimum(&problem, &x0, opts.residuals);
     let target = Target::new(tests, space, resolved.clone(), &noise);
     if target.log_density(&x0) == f64::NEG_INFINITY {
@@ -163,10 +188,7 @@ pub fn sample(
         )));
     }
     let se = coordinate_stats_scaled(&problem, &x0, noise.total()).std_errors;
-    let walkers = match opts.walkers {
-        0 => MIN_WALKERS.max(4 * space.dim()),
-        w => w,
-    };
+    let walkers = opts.walkers_for(space.dim());
     let start = start_ball(&target, space, &x0, &se, walkers, opts.seed);
     let run_opts = RunOptions {
         seed: opts.seed,

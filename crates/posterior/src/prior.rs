@@ -105,14 +105,29 @@ impl Prior {
     }
 }
 
+/// `v` to six significant digits, as short as that allows (a box edge computed as
+/// exp(ln 3) reads 3, not 3.0000000000000004).
+fn compact(v: f64) -> String {
+    if !v.is_finite() || v == 0.0 {
+        return v.to_string();
+    }
+    let rounded: f64 = format!("{v:.5e}").parse().unwrap_or(v);
+    if rounded.abs() >= 1e-4 && rounded.abs() < 1e6 {
+        rounded.to_string()
+    } else {
+        format!("{rounded:e}")
+    }
+}
+
 impl fmt::Display for Prior {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let c = compact;
         match *self {
-            Prior::Uniform { lo, hi } => write!(f, "uniform({lo}, {hi})"),
-            Prior::LogUniform { lo, hi } => write!(f, "log-uniform({lo}, {hi})"),
-            Prior::Normal { mean, sd } => write!(f, "normal(mean {mean}, sd {sd})"),
+            Prior::Uniform { lo, hi } => write!(f, "uniform({}, {})", c(lo), c(hi)),
+            Prior::LogUniform { lo, hi } => write!(f, "log-uniform({}, {})", c(lo), c(hi)),
+            Prior::Normal { mean, sd } => write!(f, "normal(mean {}, sd {})", c(mean), c(sd)),
             Prior::LogNormal { mu, sigma } => {
-                write!(f, "log-normal(median {:.6e}, sigma {sigma})", mu.exp())
+                write!(f, "log-normal(median {}, sigma {})", c(mu.exp()), c(sigma))
             }
         }
     }
@@ -274,6 +289,11 @@ pub enum ResolvedPrior {
     /// Not given: uniform within the fit's bounds on the fit's scale (log-uniform for
     /// parameters charted as logarithms).
     Default(Prior),
+    /// Not given, and the least-squares optimum lay outside the default bounds (the chart of
+    /// combinations — κ + ξ/v and the recovery share ψ — reaches beyond ξ's and κ's own
+    /// default bounds, so an undetermined ξ can end below 10⁻⁷ /s): the default widened on its
+    /// own scale just enough to hold the optimum, so that the walkers can start there.
+    Widened(Prior),
     /// Not given, μ_k: uniform on [lo·μ_s, hi·μ_s] (density 1/((hi − lo) μ_s)).
     ShareOfMuS {
         /// Lowest share.
@@ -287,7 +307,9 @@ impl ResolvedPrior {
     /// Log density of value `v` of the parameter, in a model whose μ_s is `mu_s`.
     pub fn log_density(&self, v: f64, mu_s: f64) -> f64 {
         match *self {
-            ResolvedPrior::Given(p) | ResolvedPrior::Default(p) => p.log_density(v),
+            ResolvedPrior::Given(p) | ResolvedPrior::Default(p) | ResolvedPrior::Widened(p) => {
+                p.log_density(v)
+            }
             ResolvedPrior::ShareOfMuS { lo, hi } => {
                 let share = v / mu_s;
                 if mu_s > 0.0 && (lo..=hi).contains(&share) {
@@ -299,15 +321,42 @@ impl ResolvedPrior {
         }
     }
 
-    /// For a report.
+    /// A default prior whose support misses `optimum` (the parameter's value at the
+    /// least-squares optimum) widened to hold it ([`ResolvedPrior::Widened`]); every other
+    /// prior as it is (a given prior that excludes the optimum is the user's to change).
+    pub fn holding(self, optimum: f64) -> ResolvedPrior {
+        let ResolvedPrior::Default(p) = self else {
+            return self;
+        };
+        let widened = match p {
+            Prior::LogUniform { lo, hi } if optimum > 0.0 && !(lo..=hi).contains(&optimum) => {
+                Prior::LogUniform {
+                    lo: lo.min(optimum),
+                    hi: hi.max(optimum),
+                }
+            }
+            Prior::Uniform { lo, hi } if optimum.is_finite() && !(lo..=hi).contains(&optimum) => {
+                Prior::Uniform {
+                    lo: lo.min(optimum),
+                    hi: hi.max(optimum),
+                }
+            }
+            _ => return self,
+        };
+        ResolvedPrior::Widened(widened)
+    }
+
+    /// For a report: the prior, and whether it was given or is the default (uniform within
+    /// the bounds on the fit's scale).
     pub fn describe(&self) -> String {
         match self {
             ResolvedPrior::Given(p) => format!("{p} (given)"),
-            ResolvedPrior::Default(p) => {
-                format!("{p} (default: uniform within the bounds on the fit's scale)")
-            }
+            ResolvedPrior::Default(p) => format!("{p} (default)"),
+            ResolvedPrior::Widened(p) => format!("{p} (default, widened to hold the optimum)"),
             ResolvedPrior::ShareOfMuS { lo, hi } => format!(
-                "uniform between {lo}·mu_s and {hi}·mu_s (default: uniform within the bounds on the fit's scale)"
+                "uniform({}·mu_s, {}·mu_s) (default)",
+                compact(*lo),
+                compact(*hi)
             ),
         }
     }
@@ -397,6 +446,52 @@ fn mu_k_share(space: &Space) -> (f64, f64) {
 mod tests {
     use super::*;
     use subfric_model::{Model, Params};
+
+    #[test]
+    fn a_default_prior_is_widened_to_hold_the_optimum_and_no_other_is() {
+        let d = ResolvedPrior::Default(Prior::LogUniform { lo: 1e-7, hi: 10.0 });
+        assert_eq!(d.holding(1e-3), d, "an optimum inside leaves it as it is");
+        let w = d.holding(4.7e-8);
+        assert_eq!(
+            w,
+            ResolvedPrior::Widened(Prior::LogUniform {
+                lo: 4.7e-8,
+                hi: 10.0
+            })
+        );
+        assert!(w.log_density(4.7e-8, 1.0).is_finite());
+        assert_eq!(w.log_density(4.0e-8, 1.0), f64::NEG_INFINITY);
+        assert!(w
+            .describe()
+            .ends_with("(default, widened to hold the optimum)"));
+        let u = ResolvedPrior::Default(Prior::Uniform { lo: -0.2, hi: 0.2 });
+        assert_eq!(
+            u.holding(0.3),
+            ResolvedPrior::Widened(Prior::Uniform { lo: -0.2, hi: 0.3 })
+        );
+        let given = ResolvedPrior::Given(Prior::LogUniform { lo: 1e-7, hi: 10.0 });
+        assert_eq!(given.holding(1e-9), given, "a given prior is the user's");
+        let share = ResolvedPrior::ShareOfMuS { lo: 0.0, hi: 1.0 };
+        assert_eq!(share.holding(5.0), share);
+    }
+
+    #[test]
+    fn priors_print_their_numbers_to_six_digits_without_rounding_noise() {
+        let p = Prior::LogUniform {
+            lo: 0.10000000000000002,
+            hi: 3.0f64.ln().exp(),
+        };
+        assert_eq!(p.to_string(), "log-uniform(0.1, 3)");
+        let n = Prior::LogNormal {
+            mu: 0.002f64.ln(),
+            sigma: 1.0,
+        };
+        assert_eq!(n.to_string(), "log-normal(median 0.002, sigma 1)");
+        assert_eq!(compact(1e-7), "1e-7");
+        assert_eq!(compact(100000.00000000001), "100000");
+        assert_eq!(compact(1.234567e8), "1.23457e8");
+        assert_eq!(compact(-0.5), "-0.5");
+    }
 
     fn integral(p: &Prior, a: f64, b: f64) -> f64 {
         let n = 200_000;

@@ -259,7 +259,14 @@ fn prior_of(
                 path,
                 Some(line),
                 Some(&format!("{key}.{n}")),
-                format!("missing (a {dist} prior needs {})", wanted.join(" and ")),
+                format!(
+                    "missing (a {dist} prior needs {})",
+                    if normalised == "lognormal" {
+                        "median or mu, and sigma".to_string()
+                    } else {
+                        wanted.join(" and ")
+                    }
+                ),
             ));
         }
         v

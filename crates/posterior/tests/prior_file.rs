@@ -225,6 +225,11 @@ fn missing_unknown_and_mistyped_fields_are_each_reported() {
         all.contains("p.toml:1: field `kappa.hi`: missing (a uniform prior needs lo and hi)"),
         "{all}"
     );
+    let e = one_problem("[xi]\ndist = \"log-normal\"\nmedian = 0.002\n", "p.toml");
+    assert!(
+        e.contains("field `xi.sigma`: missing (a log-normal prior needs median or mu, and sigma)"),
+        "{e}"
+    );
     assert!(
         all.contains("p.toml:7: field `xi.mean`: \"0.002\" is text (expected a number)"),
         "{all}"
