@@ -61,6 +61,7 @@ mod colors;
 mod figure;
 mod fonts;
 mod geom;
+mod intervals;
 mod png_io;
 pub mod posterior;
 mod scale;
@@ -71,6 +72,10 @@ pub use bars::{bar_layout, render_bars_png, BarLayout};
 pub use colors::{cycle_rgb, style_rgb, FITTED_RGB, MEASURED_RGB, PUBLISHED_RGB};
 pub use figure::{figure_layout, render_png, series_inside, FigureLayout};
 pub use geom::PixelRect;
+pub use intervals::{
+    interval_layout, render_interval_png, IntervalEnd, IntervalFigure, IntervalLayout,
+    IntervalPoint, PointGroup,
+};
 pub use png_io::{inspect_png, read_rgb, PngCheck, RgbImage};
 pub use scale::MAX_ABS_VALUE;
 
