@@ -13,6 +13,8 @@
 //!   and its figures; [`selfcheck`] the diagnosis scored on sets with a known truth.
 //! - [`plan`]: the next test to run (`plan.json`, `plan.txt`, scenarios, figure).
 //! - [`reproduce`]: every bundled set fitted, the paper's tables beside the published values.
+//! - [`campaign`](mod@campaign): many sets at once, locally or by Slurm or Dask, and the
+//!   campaign table and figures.
 //! - [`simulate`], [`sets`] (check and import), [`figures`] (overlay plots), [`bench`](mod@bench).
 //! - [`output`]: where results go and what may be replaced there; [`io`] the file helpers
 //!   (atomic writes, the parameter-file reader).
@@ -23,6 +25,7 @@
 //! expected; [`error_text`] prints one with each cause once.
 
 pub mod bench;
+pub mod campaign;
 pub mod diagnose;
 pub mod diagnose_report;
 mod events_figures;
