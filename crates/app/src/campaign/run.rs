@@ -47,6 +47,7 @@ pub struct SetRun {
     /// Its results folder name.
     pub id: String,
     /// What became of it.
+    #[serde(flatten)]
     pub outcome: SetOutcome,
     /// Wall time, seconds.
     pub seconds: f64,
