@@ -46,7 +46,8 @@ pub struct CampaignArgs {
     /// campaign folder; run nothing.
     #[arg(long, conflicts_with_all = ["index", "collect"])]
     pub emit_slurm: bool,
-    /// Run set N of the campaign's plan only (what Slurm's array task N runs).
+    /// Run only set N of the campaign's plan, as Slurm's array task N does [default: every
+    /// set]
     #[arg(long, value_name = "N", conflicts_with = "collect")]
     pub index: Option<usize>,
     /// Write the table and the figures from the per-set results; run nothing.

@@ -82,6 +82,8 @@ pub struct IntervalFigure {
     pub groups: Vec<PointGroup>,
     /// Labels of the items x = 0, 1, … (a slot each) instead of a numeric x axis.
     pub categories: Option<Vec<String>>,
+    /// Values the y axis shows whatever the points (e.g. 0 and 100 of a percentage).
+    pub y_include: Vec<f64>,
     /// Image width in pixels.
     pub width: u32,
     /// Image height in pixels.
@@ -101,6 +103,7 @@ impl IntervalFigure {
             y_label: y_label.into(),
             groups: Vec::new(),
             categories: None,
+            y_include: Vec::new(),
             width: 1000,
             height: 750,
         }
@@ -176,6 +179,9 @@ fn validate(fig: &IntervalFigure) -> Result<(), Invalid> {
 
 fn extents(fig: &IntervalFigure) -> (AxisRange, AxisRange, bool) {
     let (mut xe, mut ye) = (Extent::default(), Extent::default());
+    for v in &fig.y_include {
+        ye.add(*v);
+    }
     let mut any = false;
     for p in fig
         .groups

@@ -83,6 +83,7 @@ fn verdict_figure(rows: &[Row]) -> IntervalFigure {
         "held-out misfit removed by the verdict's effect [%]",
     )
     .with_categories(rows.iter().map(|r| r.set.clone()).collect());
+    fig.y_include = vec![0.0, 100.0];
     for v in verdicts {
         let points = rows
             .iter()
