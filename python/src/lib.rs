@@ -162,17 +162,18 @@ fn simulate<'py>(
         column(&normal, "normal")?,
     );
     let run = py.detach(move || {
-        simulate_rs(
-            &model,
-            &Protocol {
-                control,
-                time: &t,
-                imposed: &x,
-                normal: &n,
-                initial_slip,
-                initial,
-            },
-        )
+        let proto = Protocol {
+            control,
+            time: &t,
+            imposed: &x,
+            normal: &n,
+            initial_slip,
+            initial,
+        };
+        // A start given by hand must be one the model can hold (within its capacity, finite,
+        // a rate >= 0): the model's own check, the one every caller shares.
+        subfric_model::check_start(&model, &proto)?;
+        simulate_rs(&model, &proto)
     });
     let traj: Trajectory = run.map_err(|e| fail(format!("simulate: {e}")))?;
     let predicted = traj.predicted(control).to_vec();
@@ -337,6 +338,7 @@ fn fit<'py>(
             profiles,
             ..FitOptions::default()
         },
+        start: None,
     };
     let run = py.detach(move || -> anyhow::Result<_> {
         let fitted = api::fit(&req, &Silent)?;

@@ -181,7 +181,14 @@ def simulate(params, time, imposed, normal, control="slip", *, initial=None, ini
     ``initial``: None or ``"rest"`` (an unloaded interface at rest), or
     ``{"kind": "loaded", "shear_kpa": ...}``, or
     ``{"kind": "sliding", "shear_kpa": ..., "rate_mm_s": ...}`` (already sliding at the first row).
-    ``initial_slip``: the slip at the first row under shear control [mm].
+    A start must be one the model can hold: a finite traction within the friction capacity at
+    rest (loaded) or of a contact sliding at that rate (sliding), and a finite rate >= 0 (a
+    speed: the direction of sliding is the sign of ``shear_kpa``); anything else raises
+    :class:`SubfricError` saying what was given and what is allowed.
+    ``initial_slip``: the slip at the first row under shear control [mm], a finite number.
+    The model depends on slip differences only, and a slip too large for its doubles to carry
+    the elastic slip (beyond about 10^5 mm at alpha_t = 2000 kN/mm^3) raises, naming the row:
+    subtract a constant from the slip.
 
     Returns three arrays: the predicted column (shear [kPa] under slip control, slip [mm] under
     shear control), the friction coefficient mu and the normal-yield ratio r. A row the model

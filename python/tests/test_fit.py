@@ -134,3 +134,17 @@ def test_a_fit_releases_the_gil():
     assert done["r"]["set"] == "table4-two-way"
     # With the GIL held the loop could not run during the fit.
     assert elapsed > 0.1 and ticks > 20, f"{ticks} ticks in {elapsed:.2f} s"
+
+
+def test_status_words_and_the_verdict_are_the_command_s(cli, tmp_path):
+    r = subfric.fit(EXPERIMENTS / "table1-smooth", profiles=True)
+    words = {p["name"]: p["status"] for p in r["report"]["parameters"]}
+    # The words the command prints in its table, not a token of its own.
+    assert words["xi"] == "not determined (upper bound only)"
+    assert words["mu_s"] == "determined"
+    printed = cli.run("fit", EXPERIMENTS / "table1-smooth", "--out", tmp_path / "o").stdout
+    xi_row = next(l for l in printed.splitlines() if l.startswith("xi "))
+    assert words["xi"] in xi_row
+    # Does the model describe the data: the same sentence as the command's first line.
+    assert r["verdict"]["describes_the_data"] is True
+    assert printed.splitlines()[0] == "verdict: " + r["verdict"]["sentence"]

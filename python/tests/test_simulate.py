@@ -138,3 +138,64 @@ def test_a_long_simulation_releases_the_gil():
     assert len(done["r"][0]) == n
     # With the GIL held the loop could not run while the model steps.
     assert elapsed > 0.05 and ticks > 10, f"{ticks} ticks in {elapsed:.2f} s"
+
+
+# Issue 25, items 7 and 8: a start or a slip the model cannot take raises, naming the argument,
+# what was given and what is allowed, instead of returning NaN, inf or a wrong number.
+
+
+def _table1():
+    return json.load(open(EXPERIMENTS / "table1-medium" / "experiment.json"))["reference_parameters"]
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), float("-inf")])
+@pytest.mark.parametrize("control", ["shear", "slip"])
+def test_a_non_finite_initial_slip_raises_naming_it(bad, control):
+    imposed = [0.0, 10.0, 20.0] if control == "shear" else [0.0, 0.01, 0.02]
+    with pytest.raises(subfric.SubfricError, match=r"`initial_slip`: expected a finite slip") as e:
+        subfric.simulate(_table1(), [0, 1, 2], imposed, 100, control, initial_slip=bad)
+    assert str(bad) in str(e.value).lower()
+
+
+@pytest.mark.parametrize(
+    "initial, field, said",
+    [
+        # mu_s = 0.37 at 100 kPa: a capacity of 37 kPa.
+        ({"kind": "loaded", "shear_kpa": 1000.0}, "initial.shear_kpa", "capacity 37.0"),
+        ({"kind": "sliding", "shear_kpa": 1e308, "rate_mm_s": 1.0}, "initial.shear_kpa", "capacity"),
+        ({"kind": "sliding", "shear_kpa": 30.0, "rate_mm_s": -1.0}, "initial.rate_mm_s", ">= 0"),
+        ({"kind": "sliding", "shear_kpa": 30.0, "rate_mm_s": float("nan")}, "initial.rate_mm_s", "finite"),
+        ({"kind": "sliding", "shear_kpa": float("inf"), "rate_mm_s": 0.01}, "initial.shear_kpa", "finite"),
+        ({"kind": "loaded", "shear_kpa": float("nan")}, "initial.shear_kpa", "finite"),
+    ],
+)
+def test_a_start_the_model_cannot_hold_raises_with_what_is_allowed(initial, field, said):
+    t = np.linspace(0, 10, 11)
+    with pytest.raises(subfric.SubfricError) as e:
+        subfric.simulate(_table1(), t, 0.01 * t, 100, initial=initial)
+    message = str(e.value)
+    # Non-finite numbers are refused as the dict is read (`initial["shear_kpa"]: nan`), the
+    # others by the model (`field `initial.shear_kpa``): the key is named either way.
+    key = field.split(".")[1]
+    assert key in message and said in message and "expected" in message, message
+
+
+def test_a_slip_far_from_the_origin_gives_the_shifted_shear_or_raises_naming_the_row():
+    """The model depends on slip differences only; where doubles are too far apart to carry the
+    elastic slip (Table 1's 2000 kN/mm^3: 1.5e-8 mm at its capacity) it must refuse, not
+    answer 0 kPa for 23.5."""
+    p = _table1()
+    # Loading, elastic unloading by 2e-9 mm (4 kPa) steps, sliding back.
+    d = np.concatenate([np.arange(0, 0.05, 1e-4), 0.05 - 2e-9 * np.arange(1, 7), 0.05 - 1e-4 * np.arange(1, 300)])
+    t = np.arange(len(d), dtype=float)
+    near, _, _ = subfric.simulate(p, t, d, 78.4)
+    tolerance = 2 * 1e-3 * p["mu_s"] * 78.4
+    for origin in [1e3, 1e9, 1e11]:
+        try:
+            far, _, _ = subfric.simulate(p, t, origin + d, 78.4)
+        except subfric.SubfricError as e:
+            assert origin > 1e3, f"{origin:g}: {e}"
+            assert "row 0: field `imposed`" in str(e) and "subtract a constant" in str(e), str(e)
+            continue
+        assert origin == 1e3, f"origin {origin:g} mm computed instead of refused"
+        assert np.max(np.abs(far - near)) <= tolerance

@@ -191,7 +191,40 @@ fn reproduce_twice_writes_the_same_tables_fits_and_figures() {
         for s in members {
             assert!(md.contains(&format!("## {s}")), "{table}.md lacks {s}");
         }
+        // For a skimming engineer: an undetermined parameter shows the bound the data set,
+        // with no difference from the published value; the notation has its legend.
+        for row in md
+            .lines()
+            .filter(|l| l.starts_with("| ") && l.contains("not determined"))
+        {
+            let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+            assert!(
+                cells[2].starts_with("not determined ("),
+                "{table}.md: {row}"
+            );
+            assert!(cells[7].is_empty(), "{table}.md: a difference for {row}");
+        }
+        assert!(
+            md.contains("95 % interval [a, b]"),
+            "{table}.md has no legend"
+        );
     }
+    assert!(
+        readme.contains("not determined (≤ b)"),
+        "README has no legend"
+    );
+
+    // The one page: every figure of the job, each set's verdict and table.
+    let page = subfric_e2e::html::check_report(&out.join("index.html"), &out);
+    assert_eq!(
+        page.images.len(),
+        subfric_e2e::html::pngs_under(&out).len(),
+        "index.html does not hold every figure once"
+    );
+    for s in &sets {
+        assert!(page.text.contains(s.as_str()), "index.html lacks {s}");
+    }
+    assert!(page.text.contains("the model describes these data"));
 
     // Per set: fit.json, one PNG per test, all linked from the README.
     let mut fitted: BTreeMap<String, Value> = BTreeMap::new();

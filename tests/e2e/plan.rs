@@ -70,6 +70,14 @@ fn plan_writes_ranked_runnable_proposals_a_check_and_a_band_figure() {
         "{png:?}"
     );
 
+    // The report: one page, the verdict first, the ranking, the figure, the legend.
+    let page = subfric_e2e::html::check_report(&out.join("report.html"), &out);
+    assert_eq!(page.images.len(), 1);
+    assert!(page.text.contains("the base model describes these data"));
+    assert!(page
+        .text
+        .contains("planning point (the middle of the values the data allow"));
+
     // A folder holding another set's plan is not overwritten without --force.
     let other = copy_set("table1-medium", tmp.path());
     let o = subfric!().run(args!["plan", &other, "--out", &out, "--check", "0"]);

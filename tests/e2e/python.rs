@@ -123,6 +123,47 @@ fn the_python_package_installs_from_the_repository_and_its_tests_pass() {
         .and_then(|(n, _)| n.trim_start_matches('=').parse().ok())
         .unwrap_or(0);
     assert!(passed >= 20, "expected the whole suite to run: {summary}");
+    // The README's example runs as written after the README's install line: that line is
+    // `pip install ./python` (this venv has the same package, plus pytest), and nothing else,
+    // matplotlib in particular, is needed.
+    let readme = std::fs::read_to_string(repo.join("README.md")).unwrap();
+    assert!(
+        readme.contains("pip install ./python\n") || readme.contains("pip install ./python "),
+        "the README's install line is not `pip install ./python`"
+    );
+    let example = readme
+        .split("```python\n")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .expect("a Python example in the README");
+    let no_matplotlib = run(
+        "matplotlib absent",
+        Command::new(&python)
+            .args([
+                "-c",
+                "import importlib.util as u; print(u.find_spec('matplotlib') is None)",
+            ])
+            .current_dir(&work),
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&no_matplotlib.stdout).trim(),
+        "True"
+    );
+    let script = work.join("readme_example.py");
+    std::fs::write(&script, example).unwrap();
+    let o = run(
+        "the README's Python example",
+        Command::new(&python)
+            .arg(&script)
+            .env("PYTHONDONTWRITEBYTECODE", "1")
+            .current_dir(&repo),
+    );
+    let printed = text(&o);
+    assert!(
+        printed.contains("describes these data") && printed.contains("determined"),
+        "the README's example printed:\n{printed}"
+    );
+
     // The package is the one this repository builds: its version is the workspace's.
     let v = run(
         "import subfric",

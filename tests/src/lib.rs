@@ -9,6 +9,8 @@ use std::process::{Command, Output};
 
 use serde_json::Value;
 
+pub mod html;
+
 /// The program under test, as a [`Subfric`] runner.
 #[macro_export]
 macro_rules! subfric {

@@ -1,5 +1,5 @@
 //! `subfric bench`: speed of the model step, of fitting each paper table, of multi-start
-//! fitting on 1 core versus all cores, and of whole diagnoses.
+//! fitting on 1 core versus all cores, of whole diagnoses, and of a fit of 10 000 short tests.
 
 use crate::fit::{run_fit, FitRequest};
 use crate::progress::Silent;
@@ -25,6 +25,8 @@ pub struct BenchReport {
     pub multistart: MultiStart,
     /// Whole diagnoses of generated sets of lab size.
     pub diagnoses: Vec<DiagnosisTime>,
+    /// A fit of a set of many short tests (the cost must grow linearly with their number).
+    pub many_tests: ManyTestsFit,
 }
 
 /// One timed diagnosis.
@@ -116,6 +118,176 @@ fn diagnoses() -> Vec<DiagnosisTime> {
         }
     })
     .collect()
+}
+
+/// One timed fit of a set of many short tests, generated.
+#[derive(Debug, Serialize)]
+pub struct ManyTestsFit {
+    /// Tests of the set.
+    pub tests: usize,
+    /// Rows of each test.
+    pub rows_per_test: usize,
+    /// Wall time of `subfric fit` without its output: reading, segmenting, calibrating with
+    /// profiles, per-test misfits [s]. The target: under 60 s on 2 cores.
+    pub seconds: f64,
+    /// Processor time of those threads together [s] (Linux; 0 elsewhere): the wall time an
+    /// idle machine of 2 cores needs is about half of it, whatever else runs meanwhile.
+    pub cpu_seconds: f64,
+    /// Model runs of the calibration (a run of the global stage covers its share of the tests).
+    pub model_runs: usize,
+    /// Largest relative error of the fitted μ_s, μ_k against the parameters the data came from.
+    pub worst_recovery: f64,
+}
+
+/// Processor time (user and system) of this process so far [s]; 0 where /proc is absent.
+fn cpu_seconds() -> f64 {
+    // Fields 14 and 15 of /proc/self/stat, in USER_HZ (100 per second by the Linux ABI). The
+    // command name (field 2) is in parentheses and may hold spaces: count after the last ')'.
+    std::fs::read_to_string("/proc/self/stat")
+        .ok()
+        .and_then(|s| {
+            let rest = s.rsplit_once(')')?.1;
+            let fields: Vec<&str> = rest.split_whitespace().collect();
+            let ticks = |k: usize| fields.get(k)?.parse::<f64>().ok();
+            // After the ')': field 3 is at index 0, so field 14 at 11 and 15 at 12.
+            Some((ticks(11)? + ticks(12)?) / 100.0)
+        })
+        .unwrap_or(0.0)
+}
+
+/// A folder under the system's temporary folder, removed when dropped.
+struct TempFolder(PathBuf);
+
+impl Drop for TempFolder {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// `n` slip-controlled tests of 39 rows written as a set under `dir`: monotonic slides to 3 mm,
+/// rows denser at the start (where the peak is), each at its own normal stress (50–200 kPa)
+/// and rate (0.005–0.05 mm/s), computed with Table 1 (medium)'s parameters plus 0.3 % noise.
+/// Returns the parameters.
+fn many_tests_set(dir: &Path, n: usize) -> Result<Model> {
+    use subfric_data::{
+        write_set, ControlColumn, ExperimentMeta, ExperimentSet, TestData, TestSpec,
+    };
+    let truth = Model::base(Params {
+        mu_s: 0.37,
+        mu_k: 0.3,
+        kappa: 33.0,
+        xi: 0.027,
+        u_tilde: 3000.0,
+        alpha_t: 2000.0,
+        alpha_n: 2000.0,
+        mu_0: None,
+    })?;
+    // A deterministic generator: splitmix64, and Box–Muller for the noise.
+    let mut state = 0x5eed_u64;
+    let mut uniform = move || {
+        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let rows = 39;
+    let mut specs = Vec::with_capacity(n);
+    let mut tests = Vec::with_capacity(n);
+    for i in 0..n {
+        let p = 50.0 + 150.0 * uniform();
+        let v = 0.005 * 10f64.powf(uniform());
+        let slip: Vec<f64> = (0..rows)
+            .map(|k| {
+                let x = k as f64 / (rows - 1) as f64;
+                3.0 * (k as f64 + 442.0 * x * x) / 480.0
+            })
+            .collect();
+        let time: Vec<f64> = slip.iter().map(|u| u / v).collect();
+        let normal = vec![p; rows];
+        let out = simulate(
+            &truth,
+            &Protocol {
+                control: Control::Slip,
+                time: &time,
+                imposed: &slip,
+                normal: &normal,
+                initial_slip: 0.0,
+                initial: Default::default(),
+            },
+        )?;
+        let sd = 0.003 * out.shear.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let shear: Vec<f64> = out
+            .shear
+            .iter()
+            .map(|s| {
+                let (a, b) = (uniform().max(1e-300), uniform());
+                s + sd * (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+            })
+            .collect();
+        let name = format!("t{i:05}");
+        let spec = TestSpec::new(&name, &format!("{name}.csv"), ControlColumn::Slip, p);
+        tests.push(TestData {
+            spec: spec.clone(),
+            path: dir.join(&spec.file),
+            time_s: time,
+            slip_mm: slip,
+            shear_kpa: shear,
+            normal_kpa: normal,
+            friction_given: false,
+            line_of_row: (2..rows + 2).collect(),
+            comments: vec!["generated by subfric bench".into()],
+        });
+        specs.push(spec);
+    }
+    let set = ExperimentSet {
+        dir: dir.to_path_buf(),
+        meta: ExperimentMeta {
+            name: "many-short-tests".into(),
+            title: format!("{n} generated tests of {rows} rows"),
+            source: "subfric bench".into(),
+            provenance: Some("generated from Table 1 (medium)'s parameters, 0.3 % noise".into()),
+            interface: Default::default(),
+            tests: specs,
+            reference_parameters: Some(serde_json::to_value(truth.params)?),
+            extra: Default::default(),
+        },
+        tests,
+    };
+    write_set(&set, dir)?;
+    Ok(truth)
+}
+
+/// Times `subfric fit` (without writing) on `n` generated tests of 39 rows.
+pub fn many_tests_fit(n: usize) -> Result<ManyTestsFit> {
+    let dir = TempFolder(std::env::temp_dir().join(format!(
+        "subfric-bench-{}-{}",
+        std::process::id(),
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos())
+    )));
+    std::fs::create_dir_all(&dir.0)?;
+    let truth = many_tests_set(&dir.0, n)?;
+    let (t0, cpu0) = (Instant::now(), cpu_seconds());
+    let outcome = run_fit(&request(dir.0.clone()), &Silent)?;
+    let (seconds, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - cpu0);
+    let fitted = &outcome.report.model.params;
+    let worst_recovery = [
+        (fitted.mu_s, truth.params.mu_s),
+        (fitted.mu_k, truth.params.mu_k),
+    ]
+    .iter()
+    .map(|(a, b)| ((a - b) / b).abs())
+    .fold(0.0, f64::max);
+    Ok(ManyTestsFit {
+        tests: n,
+        rows_per_test: 39,
+        seconds,
+        cpu_seconds: cpu,
+        model_runs: outcome.report.optimizer.evaluations,
+        worst_recovery,
+    })
 }
 
 /// Multi-start scaling.
@@ -248,5 +420,9 @@ pub fn measure(experiments: &Path) -> Result<BenchReport> {
             speedup: one / all,
         },
         diagnoses: diagnoses(),
+        many_tests: many_tests_fit(MANY_TESTS)?,
     })
 }
+
+/// Tests of the many-short-tests case (issue 25: 10 000 tests of 39 rows in under 60 s).
+pub const MANY_TESTS: usize = 10_000;

@@ -13,15 +13,18 @@ use anyhow::{bail, Result};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use subfric_data::{load_set, plausibility, ExperimentSet, Warning};
-use subfric_diagnose::{prepare_for_diagnosis, DiagnoseOptions, Diagnosis};
+use subfric_diagnose::{
+    diagnose_reporting, prepare_for_diagnosis, DiagnoseOptions, Diagnosis, Step,
+};
 use subfric_fit::PreparedTest;
 use subfric_plot::{render_bars_png, BarFigure};
 
 /// What a diagnosis folder holds; the per-test and per-event figures go to `figures/`,
 /// claimed as a whole.
-const DIAGNOSIS_FILES: [&str; 5] = [
+const DIAGNOSIS_FILES: [&str; 6] = [
     "diagnosis.json",
     "diagnosis.txt",
+    crate::report::REPORT_FILE,
     "residual-by-segment.png",
     "residual-by-test.png",
     "figures",
@@ -66,12 +69,10 @@ fn diagnose_set(
     opts: &DiagnoseOptions,
     progress: &dyn Progress,
 ) -> Result<Diagnosed> {
-    progress.stage(
-        "diagnosing: base fit, candidate effects, held-out folds",
-        None,
-    );
+    progress.stage("diagnosis: preparing the tests", None);
     let prepared = prepare_for_diagnosis(&set);
-    let d = subfric_diagnose::diagnose(&prepared, opts).map_err(|e| located(e.into(), dir))?;
+    let report = |s: Step| progress.stage(&step_text(s), None);
+    let d = diagnose_reporting(&prepared, opts, &report).map_err(|e| located(e.into(), dir))?;
     check_diagnosis_finite(dir, &d)?;
     let json = diagnosis_json(&set.meta.name, &d);
     Ok(Diagnosed {
@@ -81,6 +82,23 @@ fn diagnose_set(
         json,
         warnings,
     })
+}
+
+/// A step of a diagnosis as a progress stage: "diagnosis 2/5: screening every candidate form
+/// (12/25 forms fitted)".
+pub fn step_text(s: Step) -> String {
+    let counted = match (s.total, s.number) {
+        (0, _) => String::new(),
+        (_, 2) => format!(" ({}/{} forms fitted)", s.done, s.total),
+        (_, 4) => format!(" ({} of at most {} stages done)", s.done, s.total),
+        _ => format!(" ({}/{})", s.done, s.total),
+    };
+    format!(
+        "diagnosis {}/{}: {}{counted}",
+        s.number,
+        Step::COUNT,
+        s.what
+    )
 }
 
 /// The content of `diagnosis.json`: the set's name, the verdict, the whole diagnosis.
@@ -119,7 +137,7 @@ pub struct DiagnosisWritten {
     pub report: String,
     /// The `diagnosis.json` written.
     pub json_file: PathBuf,
-    /// The figures written.
+    /// The figures written, then the HTML report.
     pub figures: Vec<PathBuf>,
 }
 
@@ -141,8 +159,19 @@ pub fn diagnose_to_folder(
     let files = DIAGNOSIS_FILES.map(String::from).to_vec();
     let claim = ResultsDir::claim(&out, &[dir.to_path_buf()], &files, to.force)?;
     let diagnosed = diagnose_set(dir, set, warnings, opts, progress)?;
-    let report = report_text(&diagnosed.name, &diagnosed.diagnosis);
-    let (json_file, figures) = write_diagnosis(&out, &diagnosed, &report)?;
+    let report = report_text(&diagnosed.name, dir, &diagnosed.diagnosis);
+    let (json_file, mut figures) = write_diagnosis(&out, &diagnosed, &report)?;
+    let page = crate::report::diagnosis_page(
+        &diagnosed.name,
+        dir,
+        &diagnosed.diagnosis,
+        &report,
+        &out,
+        &figures,
+    )?;
+    let html = out.join(crate::report::REPORT_FILE);
+    write_text(&html, &page)?;
+    figures.push(html);
     claim.commit()?;
     Ok(DiagnosisWritten {
         diagnosed,

@@ -1,7 +1,10 @@
-//! The terminal report of `subfric diagnose` (also written as diagnosis.txt), one section per
-//! step of the diagnosis.
+//! The terminal report of `subfric diagnose` (also written as diagnosis.txt): the verdict and
+//! the next step first, then one section per step of the diagnosis. Every misfit is "× the
+//! noise variance" ([`crate::adequacy`]).
 
+use crate::adequacy::{misfit_number, Adequacy, MISFIT_LEGEND};
 use std::fmt::Write as _;
+use std::path::Path;
 use subfric_diagnose::localise::GroupMisfit;
 use subfric_diagnose::verdict::Decision;
 use subfric_diagnose::{Diagnosis, NamedEffect};
@@ -12,9 +15,13 @@ const WORST_GROUPS_SHOWN: usize = 8;
 /// Width of the candidate column of section 3.
 const CANDIDATE_WIDTH: usize = 58;
 
-/// The terminal report.
-pub fn report_text(name: &str, d: &Diagnosis) -> String {
+/// The terminal report of the diagnosis `d` of the set `name` read from `dir`.
+pub fn report_text(name: &str, dir: &Path, d: &Diagnosis) -> String {
     let mut s = String::new();
+    for l in verdict_lines(dir, d) {
+        let _ = writeln!(s, "{l}");
+    }
+    let _ = writeln!(s);
     header(&mut s, name, d);
     where_it_misses(&mut s, d);
     crate::events_report::events_section(&mut s, d);
@@ -26,8 +33,61 @@ pub fn report_text(name: &str, d: &Diagnosis) -> String {
     );
     let _ = writeln!(s, "   {}", d.evidence.summary);
     verdict(&mut s, d);
+    let _ = writeln!(s, "how to read: {MISFIT_LEGEND}");
     let _ = write!(s, "({:.1} s)", d.elapsed_s);
     s
+}
+
+/// Does the base model describe the data (all rows), where it misses most.
+pub fn base_adequacy(d: &Diagnosis) -> Adequacy {
+    Adequacy::of_groups(d.base.reduced_chi2, &d.localisation.by_test_segment)
+}
+
+/// Does the model with the named effects describe the held-out data.
+pub fn final_adequacy(d: &Diagnosis) -> Adequacy {
+    Adequacy::of_groups(d.verdict.final_chi2, &d.remaining_by_segment)
+}
+
+/// The verdict in plain words and the next step, one line each ("verdict: …", "next: …"):
+/// whether the base model describes the data, which effect it lacks, whether the model with
+/// it describes the held-out data, and what to run next on the set in `dir`.
+pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
+    let base = base_adequacy(d);
+    let mut v = vec![format!("verdict: {}", base.sentence("the base model"))];
+    let set = dir.display();
+    if d.verdict.effects.is_empty() {
+        match d.verdict.effect {
+            subfric_diagnose::Effect::None => v.push(
+                "verdict: no missing effect: none of the candidate effects predicts held-out data better than the base model".into(),
+            ),
+            _ => v.push(format!(
+                "verdict: unexplained: none of the candidate effects explains the gap ({}); see section 5",
+                crate::adequacy::DIAGNOSED_EFFECTS
+            )),
+        }
+        v.push(format!(
+            "next: `subfric plan {set}` proposes the next test for the base model{}",
+            if base.describes() {
+                ""
+            } else {
+                " (it warns that the model does not describe the data)"
+            }
+        ));
+        return v;
+    }
+    let label = effects_label(d);
+    let with = final_adequacy(d);
+    v.push(format!(
+        "verdict: missing effect: {label}; {}",
+        with.sentence_on(
+            &format!("the model with {label}"),
+            "the data held out from its fit"
+        )
+    ));
+    v.push(format!(
+        "next: `subfric plan {set}` proposes the next test for the model with {label} (it reads this diagnosis)"
+    ));
+    v
 }
 
 /// The named effects joined with " + " (empty when none).
@@ -43,11 +103,23 @@ pub(crate) fn effects_label(d: &Diagnosis) -> String {
 fn row(s: &mut String, x: &GroupMisfit) {
     let _ = writeln!(
         s,
-        "   {:<48} {:>6} rows  {:8.2}× noise  {:5.1}% of the gap",
+        "   {:<48} {:>6} rows  misfit {:>7}×  {:5.1}% of the excess",
         crate::visible(&x.group),
         x.rows,
-        x.rms_over_noise,
+        misfit_number(x.reduced_chi2),
         100.0 * x.share_of_gap
+    );
+}
+
+/// A group's misfit without a share: for cuts of the rows other than the one the shares
+/// partition (cycles, normal-stress levels), whose shares would not add up with those above.
+fn row_without_share(s: &mut String, x: &GroupMisfit) {
+    let _ = writeln!(
+        s,
+        "   {:<48} {:>6} rows  misfit {:>7}×",
+        x.group,
+        x.rows,
+        misfit_number(x.reduced_chi2)
     );
 }
 
@@ -80,6 +152,9 @@ fn header(s: &mut String, name: &str, d: &Diagnosis) {
         if !st.from_spec && st.start != subfric_data::StartKind::Rest {
             let _ = writeln!(s, "   {}: {}", st.test, st.reason);
         }
+        if let Some(toe) = &st.seating_toe {
+            let _ = writeln!(s, "   {}: {}", st.test, toe.reason);
+        }
         if st.noise_floor {
             let _ = writeln!(
                 s,
@@ -93,8 +168,8 @@ fn header(s: &mut String, name: &str, d: &Diagnosis) {
     }
     let _ = writeln!(
         s,
-        "base model: misfit {:.2}× the noise variance on all rows (μ_s {:.3}, μ_k {:.3}, κ {:.4}, ξ {:.3e}, ũ {:.3}, α_t {:.4})",
-        d.base.reduced_chi2, p.mu_s, p.mu_k, p.kappa, p.xi, p.u_tilde, p.alpha_t
+        "base model: misfit {}× the noise variance on all rows (μ_s {:.3}, μ_k {:.3}, κ {:.4}, ξ {:.3e}, ũ {:.3}, α_t {:.4})",
+        misfit_number(d.base.reduced_chi2), p.mu_s, p.mu_k, p.kappa, p.xi, p.u_tilde, p.alpha_t
     );
 }
 
@@ -102,7 +177,7 @@ fn header(s: &mut String, name: &str, d: &Diagnosis) {
 fn where_it_misses(s: &mut String, d: &Diagnosis) {
     let _ = writeln!(
         s,
-        "\n1. where the base model misses (all rows; share of the excess over the noise):"
+        "\n1. where the base model misses (all rows; misfit × the noise variance; share of the excess over the noise, per test and segment):"
     );
     // The excess of a sum of n squared unit normals has an SD of √(2n).
     if d.localisation.total_excess < 3.0 * (2.0 * d.base.rows as f64).sqrt() {
@@ -116,13 +191,17 @@ fn where_it_misses(s: &mut String, d: &Diagnosis) {
     for x in g.iter().take(WORST_GROUPS_SHOWN) {
         row(s, x);
     }
-    for x in d
-        .localisation
-        .by_cycle
-        .iter()
-        .chain(&d.localisation.by_normal_stress)
-    {
-        row(s, x);
+    if !d.localisation.by_cycle.is_empty() {
+        let _ = writeln!(s, "   the same rows cut by cycle:");
+        for x in &d.localisation.by_cycle {
+            row_without_share(s, x);
+        }
+    }
+    if d.localisation.by_normal_stress.len() > 1 {
+        let _ = writeln!(s, "   the same rows cut by normal stress:");
+        for x in &d.localisation.by_normal_stress {
+            row_without_share(s, x);
+        }
     }
 }
 
@@ -183,10 +262,10 @@ fn held_out_selection(s: &mut String, d: &Diagnosis) {
     for (k, st) in d.selection.iter().enumerate() {
         let _ = writeln!(
             s,
-            "   stage {}: added to {} (held-out misfit {:.2}× noise)",
+            "   stage {}: added to {} (held-out misfit {}× the noise variance)",
             k + 1,
             st.reference,
-            st.reference_chi2
+            misfit_number(st.reference_chi2)
         );
         let _ = writeln!(
             s,
@@ -213,11 +292,11 @@ fn held_out_selection(s: &mut String, d: &Diagnosis) {
             for x in &st.candidates[i].by_kind {
                 let _ = writeln!(
                     s,
-                    "       {:<18} {:>6} rows  {:8.2} → {:8.2}× noise ({:+.0}% of its misfit)",
+                    "       {:<18} {:>6} rows  misfit {:>7} → {:>7}× the noise variance ({:+.0}% of its misfit)",
                     x.kind,
                     x.rows,
-                    x.reference_rms_over_noise,
-                    x.candidate_rms_over_noise,
+                    misfit_number(x.reference_chi2),
+                    misfit_number(x.candidate_chi2),
                     -100.0 * x.shrink
                 );
             }

@@ -2,7 +2,7 @@
 //! (`subfric plot`, and per set in `subfric reproduce`); and the figures of a diagnosis.
 
 use crate::io::load_model;
-use crate::output::{default_results_dir, Destination, ResultsDir};
+use crate::output::{default_results_dir, holds_results_of, Destination, ResultsDir};
 use crate::progress::Progress;
 use anyhow::Result;
 use std::path::{Path, PathBuf};
@@ -21,8 +21,9 @@ pub struct Plotted {
 
 /// `subfric plot`: one figure per test of the set in `set_dir`, with the published curve
 /// (when the set has reference parameters) and the curve of the model in `params` (a
-/// params.json or fit.json), into `fits/<set name>/plots` unless given. A curve that cannot
-/// be drawn is reported, not dropped silently.
+/// params.json or fit.json; by default the set's `fits/<set name>/fit.json` when it exists
+/// and is of this set folder, said as a note), into `fits/<set name>/plots` unless given. A
+/// curve that cannot be drawn is reported, not dropped silently.
 pub fn plot(
     set_dir: &Path,
     params: Option<&Path>,
@@ -30,7 +31,22 @@ pub fn plot(
     progress: &dyn Progress,
 ) -> Result<Plotted> {
     let set = load_set(set_dir)?;
-    let fitted = params.map(load_model).transpose()?;
+    let params = match params {
+        Some(p) => Some(p.to_path_buf()),
+        None => {
+            let fit = default_results_dir(&set.meta.name).join("fit.json");
+            let ours =
+                fit.is_file() && holds_results_of(fit.parent().unwrap_or(Path::new(".")), set_dir);
+            if ours {
+                progress.note(&format!(
+                    "drawing the fit in {} (give --params to draw another model)",
+                    fit.display()
+                ));
+            }
+            ours.then_some(fit)
+        }
+    };
+    let fitted = params.as_deref().map(load_model).transpose()?;
     let prepared = prepare_set(&set, false);
     let published = reference_model(&set);
     let dir = to
@@ -80,14 +96,6 @@ pub fn plot_set(
     let mut notes = Vec::new();
     for (p, stem) in tests.iter().zip(stems_of(tests)) {
         let t = &p.full;
-        let cycles = p.segmentation.cycles();
-        let cycle = (cycles >= 1).then(|| {
-            p.segmentation
-                .cycle_of_row
-                .iter()
-                .map(|c| c + 1)
-                .collect::<Vec<u32>>()
-        });
         // Slip control: friction against slip. Traction control: slip against time.
         let slip_control = t.control == Control::Slip;
         let (x, x_label, y_label, res_label) = if slip_control {
@@ -112,11 +120,14 @@ pub fn plot_set(
             .enumerate()
             .map(|(i, v)| to_y(i, *v))
             .collect();
-        let mut m = Series::new("measured", x.clone(), measured.clone(), Style::Measured);
-        if let (Some(c), true) = (&cycle, cycles >= 2) {
-            m = m.with_cycles(c.clone());
-        }
-        let mut main = vec![m];
+        // One colour for the data: the cycles of a cyclic test overlap, and colours that
+        // cannot be told apart there would promise what the figure does not show.
+        let mut main = vec![Series::new(
+            "measured",
+            x.clone(),
+            measured.clone(),
+            Style::Measured,
+        )];
         let mut residual = Vec::new();
         for (model, label, style) in [
             (published, "published parameters", Style::Published),
@@ -151,6 +162,21 @@ pub fn plot_set(
         }
         let title = format!("{set_name}: {} ({} kPa)", t.name, mean(&t.normal).round());
         let mut fig = Figure::new(title, x_label, Panel::new(y_label, main));
+        if !slip_control {
+            // Traction control: what the rig imposed, beside the slip it measured.
+            fig = fig.with_history(Panel::new(
+                "imposed τ [kPa]",
+                vec![Series::new(
+                    "imposed traction",
+                    t.time.clone(),
+                    t.imposed.clone(),
+                    Style::Other(0),
+                )],
+            ));
+        }
+        if let Some(end) = first_loading_window(p, &measured) {
+            fig = fig.with_inset("zoom: first loading (peak and decay)", x[0], end);
+        }
         if !residual.is_empty() {
             fig = fig.with_residual(Panel::new(res_label, residual).with_zero_line());
         }
@@ -160,6 +186,58 @@ pub fn plot_set(
     }
     Ok((files, notes))
 }
+
+/// Rows of the running median that tames the noise before the transient is looked for.
+const SMOOTHING_ROWS: usize = 5;
+
+/// Share of the largest departure from the final level below which the friction has settled.
+const SETTLED_SHARE: f64 = 0.05;
+
+/// The slip up to which a zoom shows the first loading of a monotonic test (slip control, no
+/// reversal, no hold): twice the slip at which the friction last departs from its final level
+/// by more than [`SETTLED_SHARE`] of its largest departure — the rise, the peak and the decay
+/// that decide ũ and κ — or, when that decay is long, [`PEAK_SLIPS_SHOWN`] times the slip to
+/// the peak; `None` for other tests, or when even that is much of the slip.
+fn first_loading_window(p: &PreparedTest, friction: &[f64]) -> Option<f64> {
+    let t = &p.full;
+    let seg = &p.segmentation;
+    if t.control != Control::Slip || !seg.reversals.is_empty() || !seg.holds.is_empty() {
+        return None;
+    }
+    let n = friction.len();
+    if n < 20 {
+        return None;
+    }
+    let smooth: Vec<f64> = (0..n)
+        .map(|i| {
+            let a = i.saturating_sub(SMOOTHING_ROWS / 2);
+            let mut w: Vec<f64> = friction[a..(a + SMOOTHING_ROWS).min(n)].to_vec();
+            w.sort_by(f64::total_cmp);
+            w[w.len() / 2]
+        })
+        .collect();
+    let mut tail: Vec<f64> = smooth[n - n / 3..].to_vec();
+    tail.sort_by(f64::total_cmp);
+    let level = tail[tail.len() / 2];
+    let departure: Vec<f64> = smooth.iter().map(|v| (v - level).abs()).collect();
+    let largest = departure.iter().copied().fold(0.0, f64::max);
+    let last = departure
+        .iter()
+        .rposition(|&d| d > SETTLED_SHARE * largest)?;
+    let peak = (0..n).max_by(|&a, &b| smooth[a].total_cmp(&smooth[b]))?;
+    let (u0, u1) = (t.imposed[0], t.imposed[n - 1]);
+    let zoom = |end: f64| (end > u0 && end - u0 < MAX_ZOOM_SHARE * (u1 - u0)).then_some(end);
+    // The whole transient when it is short; else the rise and the peak with the start of
+    // the decay.
+    zoom(u0 + 2.0 * (t.imposed[last] - u0))
+        .or_else(|| zoom(u0 + PEAK_SLIPS_SHOWN * (t.imposed[peak] - u0)))
+}
+
+/// A zoom shows at most this share of the slip (beyond, the main panel shows it as well).
+const MAX_ZOOM_SHARE: f64 = 0.35;
+
+/// When the decay is long, the zoom shows this many times the slip to the peak.
+const PEAK_SLIPS_SHOWN: f64 = 4.0;
 
 fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len().max(1) as f64

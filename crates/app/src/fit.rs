@@ -4,7 +4,8 @@
 //! done ([`setup`]); [`fit()`] returns the result, [`fit_to_folder`] writes it as `subfric fit`
 //! does.
 
-use crate::io::write_json;
+use crate::adequacy::Adequacy;
+use crate::io::{write_json, write_text};
 use crate::located;
 use crate::output::{default_results_dir, Destination, ResultsDir};
 use crate::progress::Progress;
@@ -12,7 +13,7 @@ use anyhow::{anyhow, bail, Result};
 use std::path::{Path, PathBuf};
 use subfric_data::{load_set, plausibility, Warning};
 use subfric_fit::{
-    calibrate, compare_with_published, prepare_set, reference_model, typical_rate, FitOptions,
+    calibrate_from, compare_with_published, prepare_set, reference_model, typical_rate, FitOptions,
     FitReport, FitTest, Param, PreparedTest, Space,
 };
 use subfric_model::{Model, Params};
@@ -34,6 +35,10 @@ pub struct FitRequest {
     pub weights: Vec<(String, f64)>,
     /// Optimiser options.
     pub options: FitOptions,
+    /// The model whose form is fitted (its extensions, with their values and its base
+    /// parameters as one more start; α from it): e.g. the model a diagnosis chose. `None`:
+    /// the base model of the paper, α from the published values.
+    pub start: Option<Model>,
 }
 
 impl FitRequest {
@@ -47,6 +52,7 @@ impl FitRequest {
             bounds: vec![],
             weights: vec![],
             options,
+            start: None,
         }
     }
 }
@@ -55,12 +61,55 @@ impl FitRequest {
 pub struct FitOutcome {
     /// The report.
     pub report: FitReport,
+    /// Does the model describe the data: the misfit and where it misses most.
+    pub adequacy: Adequacy,
+    /// The set folders fitted (for the next-step lines).
+    pub dirs: Vec<PathBuf>,
     /// Tests fitted.
     pub tests: Vec<PreparedTest>,
     /// Published model (single set with reference parameters).
     pub published: Option<Model>,
     /// Name used for output.
     pub name: String,
+    /// Rig artifacts recognised in the record and what the fit did about them.
+    pub artifacts: Vec<Artifact>,
+}
+
+/// A rig artifact recognised in a record, and what the fit did about it.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Artifact {
+    /// The test it was found in (empty for the whole set).
+    pub test: String,
+    /// `seating-toe` or `compliance`.
+    pub kind: &'static str,
+    /// What was found and done, in words.
+    pub detail: String,
+}
+
+/// The rig artifacts of prepared tests: their seating toes (excluded) and a series stiffness
+/// the loading slopes resolve (fitted as α_t, unless the request fixes or frees α_t itself).
+pub fn artifacts_of(
+    tests: &[PreparedTest],
+    stiffness: Option<&subfric_fit::Stiffness>,
+) -> Vec<Artifact> {
+    let mut out: Vec<Artifact> = tests
+        .iter()
+        .filter_map(|t| {
+            t.toe.as_ref().map(|toe| Artifact {
+                test: t.full.name.clone(),
+                kind: "seating-toe",
+                detail: toe.reason.clone(),
+            })
+        })
+        .collect();
+    if let Some(s) = stiffness {
+        out.push(Artifact {
+            test: String::new(),
+            kind: "compliance",
+            detail: format!("α_t fitted: {}", s.evidence),
+        });
+    }
+    out
 }
 
 /// Sets loaded, checked and charted, ready for the long work.
@@ -74,6 +123,10 @@ pub struct FitSetup {
     names: Vec<String>,
     /// Plausibility warnings of the sets.
     pub warnings: Vec<Warning>,
+    /// Rig artifacts recognised and what the fit does about them.
+    pub artifacts: Vec<Artifact>,
+    /// Starting models beside the informed guesses (the request's `start`).
+    starts: Vec<Model>,
 }
 
 impl FitSetup {
@@ -126,29 +179,57 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
     }
     select_tests(&mut tests, &req.tests)?;
     apply_weights(&mut tests, &req.weights)?;
-    // Template: the published α (which lab data rarely determine; in a joint fit the value every
-    // set publishes), else the sample values.
-    let mut template = Model::base(Params::sample())?;
+    // Template: the given model, else the published α (which lab data rarely determine; in a
+    // joint fit the value every set publishes) with the sample values.
+    let mut template = match req.start {
+        Some(m) => m,
+        None => Model::base(Params::sample())?,
+    };
     let (alpha, why) = held_stiffness(&stiffness, template.params.alpha_t);
-    if let Some(p) = alpha {
+    if let (Some(p), None) = (alpha, &req.start) {
         template.params.alpha_t = p.alpha_t;
         template.params.alpha_n = p.alpha_n;
     }
-    let alpha_given =
-        req.free.contains(&Param::AlphaT) || req.fix.iter().any(|(p, _)| *p == Param::AlphaT);
-    if let (Some(why), false) = (why, alpha_given) {
-        progress.note(&why);
+    let alpha_given = req.start.is_some()
+        || req.free.contains(&Param::AlphaT)
+        || req.fix.iter().any(|(p, _)| *p == Param::AlphaT);
+    // A series stiffness the loading slopes resolve (the machine's compliance in the slip
+    // column) is fitted, from the slopes' estimate, unless the request says what to do with α_t.
+    let resolved = (!alpha_given)
+        .then(|| subfric_fit::resolved_stiffness(&tests))
+        .flatten();
+    let mut free_alpha = false;
+    match (&resolved, why) {
+        (Some(s), _) => {
+            template.params.alpha_t = s.alpha_t;
+            template.params.alpha_n = s.alpha_t;
+            free_alpha = true;
+        }
+        (None, Some(why)) if !alpha_given => progress.note(&why),
+        _ => {}
+    }
+    let artifacts = artifacts_of(&tests, resolved.as_ref());
+    for a in &artifacts {
+        let place = if a.test.is_empty() {
+            String::new()
+        } else {
+            format!("{}: ", crate::visible(&a.test))
+        };
+        progress.note(&format!("{place}{}", a.detail));
     }
     for (p, v) in &req.fix {
         p.set(&mut template, *v);
     }
     Model::new(template.params, template.ext).map_err(|e| anyhow!("--fix: {e}"))?;
-    let free: Vec<Param> = req
+    let mut free: Vec<Param> = req
         .free
         .iter()
         .copied()
         .filter(|p| !req.fix.iter().any(|(q, _)| q == p))
         .collect();
+    if free_alpha {
+        free.push(Param::AlphaT);
+    }
     let fits: Vec<FitTest> = tests.iter().map(|t| t.fit.clone()).collect();
     let space = Space::try_with_rate(template, &free, &req.bounds, typical_rate(&fits))
         .map_err(|e| anyhow!("--bounds {e}"))?;
@@ -168,6 +249,8 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         published,
         names,
         warnings,
+        artifacts,
+        starts: req.start.iter().copied().collect(),
     })
 }
 
@@ -318,7 +401,13 @@ fn calibrate_setup(
     let budget = req.options.global_evaluations;
     let stage = |s| progress.calibration_stage(s, budget);
     let name = setup.name();
-    let mut report = calibrate(&setup.fits, setup.space.clone(), &req.options, &stage)?;
+    let mut report = calibrate_from(
+        &setup.fits,
+        setup.space.clone(),
+        &setup.starts,
+        &req.options,
+        &stage,
+    )?;
     // Fitted on bins of a long record: the misfit is reported on every row.
     let fulls: Vec<FitTest> = setup.tests.iter().map(|t| t.full.clone()).collect();
     report.tests = subfric_fit::misfits(&fulls, &report.model);
@@ -337,11 +426,15 @@ fn calibrate_setup(
     if let Some(p) = &setup.published {
         compare_with_published(&mut report, p);
     }
+    let adequacy = Adequacy::of_fit(&report, &setup.tests);
     Ok(FitOutcome {
         report,
+        adequacy,
+        dirs: req.dirs.clone(),
         name,
         tests: setup.tests,
         published: setup.published,
+        artifacts: setup.artifacts,
     })
 }
 
@@ -430,11 +523,13 @@ pub struct FitWritten {
     pub fitted: Fitted,
     /// The `fit.json` written.
     pub file: PathBuf,
+    /// Everything else written: `fit.txt`, one figure per test, `report.html`.
+    pub files: Vec<PathBuf>,
 }
 
 /// `subfric fit`: the request checked and the output folder (`fits/<set names>` unless
-/// given) claimed before the fit runs; `fit.json` written, then the folder's record of its
-/// sets.
+/// given) claimed before the fit runs; `fit.json`, `fit.txt`, one figure per test (measured,
+/// published, fitted) and `report.html` written, then the folder's record of its sets.
 pub fn fit_to_folder(
     req: &FitRequest,
     to: &Destination,
@@ -445,13 +540,35 @@ pub fn fit_to_folder(
         .dir
         .clone()
         .unwrap_or_else(|| default_results_dir(&setup.name()));
-    let claim = ResultsDir::claim(&dir, &req.dirs, &["fit.json".into()], to.force)?;
+    let mut files: Vec<String> = ["fit.json", "fit.txt", crate::report::REPORT_FILE]
+        .map(String::from)
+        .to_vec();
+    files.extend(crate::figures::figure_files(&setup.tests));
+    let claim = ResultsDir::claim(&dir, &req.dirs, &files, to.force)?;
     let warnings = setup.warnings.clone();
     let outcome = run_setup(req, setup, progress)?;
     let json = fit_json(&outcome)?;
     let file = dir.join("fit.json");
     write_json(&file, &json)?;
+    progress.stage("drawing the figures and the report", None);
+    let txt = dir.join("fit.txt");
+    write_text(&txt, &(crate::fit_report::report_table(&outcome) + "\n"))?;
+    let (plots, notes) = crate::figures::plot_set(
+        &outcome.name,
+        &outcome.tests,
+        outcome.published.as_ref(),
+        Some(&outcome.report.model),
+        &dir,
+    )?;
+    for n in &notes {
+        progress.warning(n);
+    }
+    let html = dir.join(crate::report::REPORT_FILE);
+    write_text(&html, &crate::report::fit_page(&outcome, &dir, &plots)?)?;
     claim.commit()?;
+    let mut written = vec![txt];
+    written.extend(plots);
+    written.push(html);
     Ok(FitWritten {
         fitted: Fitted {
             outcome,
@@ -459,6 +576,7 @@ pub fn fit_to_folder(
             warnings,
         },
         file,
+        files: written,
     })
 }
 
@@ -480,11 +598,16 @@ pub fn fit_json(out: &FitOutcome) -> Result<serde_json::Value> {
     {
         o.remove("elapsed_s");
     }
-    Ok(serde_json::json!({
+    let mut v = serde_json::json!({
         "set": out.name,
         "tests": out.tests.iter().map(|t| t.fit.name.clone()).collect::<Vec<_>>(),
+        "verdict": out.adequacy.json("the model"),
         "params": out.report.model.params,
         "model": out.report.model,
         "report": report,
-    }))
+    });
+    if !out.artifacts.is_empty() {
+        v["artifacts"] = serde_json::to_value(&out.artifacts)?;
+    }
+    Ok(v)
 }

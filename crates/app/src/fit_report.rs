@@ -1,24 +1,135 @@
 //! The readable table of a fit: printed by `subfric fit`, written to `fit.txt` by
-//! `subfric reproduce`.
+//! `subfric reproduce`; and the cells the tables of `reproduce` and the HTML reports share.
+//!
+//! Written for an engineer who skims: the verdict first (does the model describe the data),
+//! then what to do next, then the parameters. A parameter the data do not determine is shown
+//! as "not determined (≤ 0.47)" — the bound the data set, never the optimiser's point in a
+//! flat valley with a precise-looking difference from the published value.
 
+use crate::adequacy::{misfit_number, next_steps, MISFIT_LEGEND};
+use crate::fit::FitOutcome;
 use std::fmt::Write as _;
 use subfric_fit::interval::short_number as fmt_num;
-use subfric_fit::{FitReport, Status};
+use subfric_fit::{Combination, FitReport, ParamReport, Status};
+
+/// How to read an interval and an identifiability verdict: the one legend of every table,
+/// report and README that shows them, one item per line.
+pub const INTERVAL_LEGEND: [&str; 4] = [
+    "95 % interval [a, b]: the values the data allow (profile likelihood); determined: closed and within ±10 % of the value; weakly determined: closed but wider",
+    "not determined (≤ b): the data set only an upper bound b and any smaller value fits as well, so no value is given (fit.json keeps the optimiser's point, one point of a flat valley); not determined (≥ a): only a lower bound; not determined (any value): no bound",
+    "in an interval, (≤a or b≥) marks an end the data leave open; a or b is then where the search stopped",
+    "difference: from the published value, for estimates only",
+];
+
+/// Every legend item: the intervals, then the misfit.
+pub fn legend_items() -> Vec<&'static str> {
+    let mut v = INTERVAL_LEGEND.to_vec();
+    v.push(MISFIT_LEGEND);
+    v
+}
+
+/// The legend in plain text, one item per line, each starting with `prefix`.
+pub fn legend_text(prefix: &str) -> String {
+    legend_items()
+        .iter()
+        .map(|l| format!("{prefix}{l}"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
 
 /// Interval text with open ends marked (empty for a fixed or unprofiled parameter).
-pub fn interval_text(p: &subfric_fit::ParamReport) -> String {
+pub fn interval_text(p: &ParamReport) -> String {
     p.interval.map(|i| i.to_string()).unwrap_or_default()
 }
 
-/// The readable table printed by `subfric fit`.
-pub fn report_table(name: &str, r: &FitReport) -> String {
+/// The data leave this parameter undetermined: bounded on one side at most.
+pub fn undetermined(p: &ParamReport) -> bool {
+    matches!(
+        p.status,
+        Status::NotDetermined | Status::LowerBoundOnly | Status::UpperBoundOnly
+    )
+}
+
+/// The value cell: the fitted value, or "not determined (≤ b)", "(≥ a)", "(any value)".
+pub fn value_text(p: &ParamReport, number: impl Fn(f64) -> String) -> String {
+    let iv = p.interval;
+    match (p.status, iv) {
+        (Status::UpperBoundOnly, Some(i)) => format!("not determined (≤ {})", fmt_num(i.hi)),
+        (Status::LowerBoundOnly, Some(i)) => format!("not determined (≥ {})", fmt_num(i.lo)),
+        (Status::NotDetermined, _) => "not determined (any value)".into(),
+        (s, _) if undetermined(p) => s.describe().to_string(),
+        _ => number(p.value),
+    }
+}
+
+/// The interval cell: the closed interval of an estimate (the bound of an undetermined
+/// parameter is in its value cell already).
+pub fn estimate_interval_text(p: &ParamReport) -> String {
+    if undetermined(p) {
+        String::new()
+    } else {
+        interval_text(p)
+    }
+}
+
+/// The standard-error cell: empty for a fixed or undetermined parameter (its linearised error
+/// says nothing), ∞ when the data give no curvature.
+pub fn std_error_text(p: &ParamReport, number: impl Fn(f64) -> String) -> String {
+    if p.status == Status::Fixed || undetermined(p) {
+        return String::new();
+    }
+    p.std_error.map(number).unwrap_or_else(|| "∞".into())
+}
+
+/// The difference from the published value, for an estimate only: an undetermined
+/// parameter's value is not an estimate, and a fixed one was set, not found.
+pub fn difference_text(p: &ParamReport) -> String {
+    if p.status == Status::Fixed || undetermined(p) {
+        return String::new();
+    }
+    p.difference_percent
+        .map(|d| format!("{d:+.1}%"))
+        .unwrap_or_default()
+}
+
+/// The combinations the data determine (closed and within ±10 %).
+pub fn determined_combinations(r: &FitReport) -> Vec<&Combination> {
+    r.combinations.iter().filter(|c| c.determined).collect()
+}
+
+/// The verdict and the next steps of a fit, one line each ("verdict: …", "next: …").
+pub fn verdict_lines(out: &FitOutcome) -> Vec<String> {
+    let mut v = vec![format!("verdict: {}", out.adequacy.sentence("the model"))];
+    for n in next_steps(&out.adequacy, &out.report, &out.dirs) {
+        v.push(format!("next: {n}"));
+    }
+    v
+}
+
+/// The readable table written to `fit.txt`: verdict, next steps, parameters, combinations,
+/// misfit per test, optimiser, legend. No wall time, so that the file depends on the data,
+/// the code and the seed only.
+pub fn report_table(out: &FitOutcome) -> String {
+    table(out, false)
+}
+
+/// The table with the wall time, for the terminal.
+pub fn report_table_timed(out: &FitOutcome) -> String {
+    table(out, true)
+}
+
+fn table(out: &FitOutcome, timed: bool) -> String {
+    let (name, r) = (&out.name, &out.report);
     let mut s = String::new();
+    for l in verdict_lines(out) {
+        let _ = writeln!(s, "{l}");
+    }
     let _ = writeln!(
         s,
-        "fit of {}: {} rows, misfit {:.3}× the noise variance (reduced χ²)",
+        "fit of {}: {} rows, misfit {}× the noise variance",
         crate::visible(name),
         r.rows,
-        r.reduced_chi2
+        misfit_number(r.reduced_chi2)
     );
     write_parameter_rows(&mut s, r);
     write_combinations(&mut s, r);
@@ -27,13 +138,13 @@ pub fn report_table(name: &str, r: &FitReport) -> String {
     for t in &r.tests {
         let _ = writeln!(
             s,
-            "  {:<30} {:>6} rows  RMS {:>9} {:<3} ({:.2}% of scale, {:.2}× noise)",
+            "  {:<30} {:>6} rows  RMS {:>9} {:<3} ({:.2}% of scale)  misfit {:>6}× the noise variance",
             crate::visible(&t.name),
             t.rows,
             fmt_num(t.rms),
             t.unit,
             t.rms_percent,
-            t.rms_over_noise
+            misfit_number(t.reduced_chi2)
         );
     }
     let o = &r.optimizer;
@@ -45,27 +156,31 @@ pub fn report_table(name: &str, r: &FitReport) -> String {
     if o.repolished_from_profile {
         let _ = write!(s, " (profiling found a better optimum; re-polished)");
     }
+    if timed {
+        let _ = write!(s, "; {:.1} s wall time", o.elapsed_s);
+    }
+    let _ = write!(s, "\nhow to read:\n{}", legend_text("  "));
     s
 }
 
-/// One line per parameter: value, standard error (∞: unbounded), interval, verdict, and the
-/// published value with the difference from it.
+/// One line per parameter: value (or what the data allow), standard error, interval,
+/// verdict, and the published value with the difference from it.
 fn write_parameter_rows(s: &mut String, r: &FitReport) {
     let _ = writeln!(
         s,
-        "{:<18} {:>11} {:>10} {:>26}  {:<34} {:>10} {:>8}",
+        "{:<18} {:>27} {:>10} {:>24}  {:<34} {:>10} {:>10}",
         "parameter",
         "value",
-        "std.err",
-        "95% profile interval",
+        "± s.e.",
+        "95% interval",
         "identifiability",
         "published",
-        "diff"
+        "difference"
     );
     for p in &r.parameters {
         let _ = writeln!(
             s,
-            "{:<18} {:>11} {:>10} {:>26}  {:<34} {:>10} {:>8}",
+            "{:<18} {:>27} {:>10} {:>24}  {:<34} {:>10} {:>10}",
             format!(
                 "{} {}",
                 p.name,
@@ -75,75 +190,43 @@ fn write_parameter_rows(s: &mut String, r: &FitReport) {
                     format!("[{}]", p.unit)
                 }
             ),
-            fmt_num(p.value),
-            p.std_error
-                .map(fmt_num)
-                .unwrap_or_else(|| if p.status == Status::Fixed {
-                    "".into()
-                } else {
-                    "∞".into()
-                }),
-            interval_text(p),
+            value_text(p, fmt_num),
+            std_error_text(p, fmt_num),
+            estimate_interval_text(p),
             p.status.describe(),
             p.published.map(fmt_num).unwrap_or_default(),
-            p.difference_percent
-                .map(|d| format!("{d:+.1}%"))
-                .unwrap_or_default(),
+            difference_text(p),
         );
     }
 }
 
 /// The combinations of parameters the data determine (when the fit charted any).
 fn write_combinations(s: &mut String, r: &FitReport) {
-    if r.combinations.is_empty() {
+    let determined = determined_combinations(r);
+    if determined.is_empty() {
         return;
     }
     let _ = writeln!(s, "combinations the data determine:");
-    for c in &r.combinations {
+    for c in determined {
         let iv = c.interval.map(|i| i.to_string()).unwrap_or_default();
-        let _ = writeln!(
-            s,
-            "  {:<58} {:>11} {:>26}  {}",
-            c.name,
-            fmt_num(c.value),
-            iv,
-            if c.determined {
-                "determined"
-            } else {
-                "not determined"
-            }
-        );
+        let _ = writeln!(s, "  {:<58} {:>11} {:>26}", c.name, fmt_num(c.value), iv);
     }
 }
 
-/// A warning that the values of undetermined parameters are not estimates.
+/// Why the undetermined parameters have no value.
 fn write_undetermined_note(s: &mut String, r: &FitReport) {
-    let undetermined: Vec<&str> = r
+    let names: Vec<&str> = r
         .parameters
         .iter()
-        .filter(|p| {
-            matches!(
-                p.status,
-                Status::NotDetermined | Status::LowerBoundOnly | Status::UpperBoundOnly
-            )
-        })
+        .filter(|p| undetermined(p))
         .map(|p| p.name.as_str())
         .collect();
-    if !undetermined.is_empty() {
+    if !names.is_empty() {
         let _ = writeln!(
             s,
-            "the data do not determine {}: their values above are one point of a flat valley, not estimates",
-            undetermined.join(", ")
+            "the data do not determine {}: they bound {} on one side at most, so no value is given (fit.json keeps the optimiser's point, one point of a flat valley)",
+            names.join(", "),
+            if names.len() == 1 { "it" } else { "them" }
         );
     }
-}
-
-/// The table with the wall time, for the terminal (files get [`report_table`]: no timings, so
-/// that they depend on the data, the code and the seed only).
-pub fn report_table_timed(name: &str, r: &FitReport) -> String {
-    format!(
-        "{}; {:.1} s wall time",
-        report_table(name, r),
-        r.optimizer.elapsed_s
-    )
 }

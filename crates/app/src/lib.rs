@@ -8,10 +8,13 @@
 //! the same result and the same files whichever front end made it.
 //!
 //! - [`fit`](mod@fit): load and check sets, calibrate, `fit.json` ([`fit()`] returns values,
-//!   [`fit::fit_to_folder`] writes them); [`fit_report`] the readable table.
+//!   [`fit::fit_to_folder`] writes them); [`fit_report`] the readable table; [`adequacy`]
+//!   whether the model describes the data (the first thing every command that fits says).
 //! - [`diagnose`](mod@diagnose): the diagnosis of a set and `diagnosis.json`, `diagnosis.txt`
 //!   and its figures; [`selfcheck`] the diagnosis scored on sets with a known truth.
-//! - [`plan`]: the next test to run (`plan.json`, `plan.txt`, scenarios, figure).
+//! - [`plan`]: the next test to run (`plan.json`, `plan.txt`, scenarios, figure), on the model
+//!   the set's diagnosis chose ([`plan_basis`]), never a test the set holds ([`repeat`]).
+//! - [`report`]: the HTML reports (`report.html`, `fits/index.html`), pages of [`html`].
 //! - [`reproduce`]: every bundled set fitted, the paper's tables beside the published values.
 //! - [`campaign`](mod@campaign): many sets at once, locally or by Slurm or Dask, and the
 //!   campaign table and figures.
@@ -24,6 +27,7 @@
 //! Errors are `anyhow` errors whose text names the file, line and field and what was
 //! expected; [`error_text`] prints one with each cause once.
 
+pub mod adequacy;
 pub mod bench;
 pub mod campaign;
 pub mod diagnose;
@@ -34,11 +38,15 @@ pub mod figures;
 pub mod fit;
 pub mod fit_report;
 pub mod flags;
+pub mod html;
 pub mod io;
 pub mod lock;
 pub mod output;
 pub mod plan;
+pub mod plan_basis;
 pub mod progress;
+pub mod repeat;
+pub mod report;
 pub mod reproduce;
 pub mod selfcheck;
 pub mod sets;

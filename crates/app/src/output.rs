@@ -417,6 +417,15 @@ fn records_these(dir: &Path, ours: &[PathBuf]) -> bool {
     recorded.iter().all(|r| r.is_ok()) && theirs == ours
 }
 
+/// Whether the results folder `dir` records exactly the set folder `set` as its source: its
+/// results are of that set (not of another set of the same name).
+pub(crate) fn holds_results_of(dir: &Path, set: &Path) -> bool {
+    match std::fs::canonicalize(set) {
+        Ok(ours) => records_these(dir, &[ours]),
+        Err(_) => false,
+    }
+}
+
 fn check_replaceable(dir: &Path, ours: &[PathBuf], files: &[String]) -> Result<()> {
     if records_these(dir, ours) {
         return Ok(());

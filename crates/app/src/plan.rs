@@ -8,15 +8,19 @@
 //! `top-proposal.png`: the top proposal's predicted curve with the band the undetermined
 //! parameters still allow.
 
+use crate::adequacy::{misfit_number, Adequacy};
 use crate::fit::{run_setup, setup, FitOutcome, FitRequest};
+use crate::fit_report::INTERVAL_LEGEND;
 use crate::io::{write_json, write_text};
 use crate::located;
 use crate::output::{default_results_dir, Destination, ResultsDir};
+use crate::plan_basis::{basis, Basis};
 use crate::progress::Progress;
+use crate::repeat::{repeated_test, Protocol};
 use anyhow::{bail, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use subfric_design::{plan, Band, Check, Plan, PlanOptions, Proposal};
+use subfric_design::{plan_excluding, Band, Check, Plan, PlanOptions, Proposal};
 use subfric_fit::interval::short_number as num;
 use subfric_fit::{FitOptions, FitTest, Param, Status};
 use subfric_model::Control;
@@ -27,9 +31,15 @@ pub const PLAN_DIR: &str = "plan";
 
 /// What a plan folder holds (scenarios/ is a folder of one JSON per proposal).
 fn plan_files() -> Vec<String> {
-    ["plan.json", "plan.txt", "top-proposal.png", "scenarios"]
-        .map(String::from)
-        .to_vec()
+    [
+        "plan.json",
+        "plan.txt",
+        "top-proposal.png",
+        "scenarios",
+        crate::report::REPORT_FILE,
+    ]
+    .map(String::from)
+    .to_vec()
 }
 
 /// What to plan for.
@@ -43,6 +53,9 @@ pub struct PlanRequest {
     pub check: usize,
     /// Lab time of a new test beyond its duration (specimen, set-up) [h].
     pub setup_hours: f64,
+    /// The diagnosis whose model to plan on; `None`: `fits/<set>/diagnosis/diagnosis.json`
+    /// when it exists and was written for this set folder, else the base model.
+    pub diagnosis: Option<PathBuf>,
 }
 
 /// A plan written to its folder.
@@ -55,6 +68,10 @@ pub struct PlanWritten {
     pub text: String,
     /// The files written.
     pub files: Vec<PathBuf>,
+    /// The model planned on.
+    pub basis: Basis,
+    /// The fit the plan rests on.
+    pub outcome: FitOutcome,
 }
 
 /// `subfric plan`: the request and the set checked and the output folder
@@ -75,7 +92,14 @@ pub fn plan_to_folder(
         seed: req.seed,
         ..FitOptions::default()
     };
-    let fit = FitRequest::of_set(req.set.clone(), options);
+    let set_name = subfric_data::load_set(&req.set)?.meta.name;
+    let basis = basis(&req.set, &set_name, req.diagnosis.as_deref())?;
+    if let Some(n) = &basis.note {
+        progress.note(n);
+    }
+    let mut fit = FitRequest::of_set(req.set.clone(), options);
+    fit.free.extend(basis.extra_free.iter().copied());
+    fit.start = basis.start;
     let setup = setup(&fit, progress)?;
     let dir = to
         .dir
@@ -88,6 +112,9 @@ pub fn plan_to_folder(
         to.force,
     )?;
     let outcome = run_setup(&fit, setup, progress)?;
+    if let Some(w) = misfit_warning(&outcome.adequacy, &basis, &req.set) {
+        progress.warning(&w);
+    }
     progress.stage("planning: the valley, the proposals, the check", None);
     let opts = PlanOptions {
         setup_hours: req.setup_hours,
@@ -96,31 +123,78 @@ pub fn plan_to_folder(
         ..PlanOptions::default()
     };
     let p = plan_outcome(&outcome, &opts).map_err(|e| located(e, &req.set))?;
-    let text = plan_text(&outcome.name, &p);
-    let files = write_plan(claim.path(), &outcome.name, &p, &text)?;
+    let text = plan_text(&outcome, &basis, &req.set, &p);
+    let mut files = write_plan(claim.path(), &outcome, &basis, &p, &text)?;
+    let plots: Vec<PathBuf> = files
+        .iter()
+        .filter(|f| f.extension().is_some_and(|x| x == "png"))
+        .cloned()
+        .collect();
+    let page =
+        crate::report::plan_page(&outcome, &basis, &req.set, &p, &text, claim.path(), &plots)?;
+    let report = claim.path().join(crate::report::REPORT_FILE);
+    write_text(&report, &page)?;
+    files.push(report);
     claim.commit()?;
     Ok(PlanWritten {
-        name: outcome.name,
+        name: outcome.name.clone(),
         plan: p,
         text,
         files,
+        basis,
+        outcome,
     })
 }
 
-/// Plans the next test for a finished fit.
+/// The warning of a plan on a model that does not describe the data (`None` when it does).
+pub fn misfit_warning(a: &Adequacy, basis: &Basis, set: &Path) -> Option<String> {
+    if a.describes() {
+        return None;
+    }
+    let model = basis.model_words();
+    let what = format!(
+        "{model} misses these data by {}× the noise variance: the proposals below assume a model that does not describe them",
+        misfit_number(a.reduced_chi2)
+    );
+    Some(if basis.diagnosis.is_none() {
+        format!(
+            "{what}; run `subfric diagnose {}` first, and `subfric plan` then plans on the model the diagnosis chooses",
+            set.display()
+        )
+    } else {
+        format!("{what}; the diagnosis found no effect that closes the gap, see its report")
+    })
+}
+
+/// Plans the next test for a finished fit, never proposing a test the set already holds.
 pub fn plan_outcome(outcome: &FitOutcome, opts: &PlanOptions) -> Result<Plan> {
     let tests: Vec<FitTest> = outcome.tests.iter().map(|t| t.fit.clone()).collect();
-    Ok(plan(&tests, &outcome.report, opts)?)
+    let held: Vec<Protocol> = outcome.tests.iter().map(Protocol::of_prepared).collect();
+    let excluded = |t: &FitTest| repeated_test(t, &held);
+    Ok(plan_excluding(&tests, &outcome.report, opts, &excluded)?)
 }
 
 /// Writes plan.json, plan.txt, the scenarios and the band figure under `dir`.
-pub fn write_plan(dir: &Path, name: &str, p: &Plan, text: &str) -> Result<Vec<PathBuf>> {
+pub fn write_plan(
+    dir: &Path,
+    outcome: &FitOutcome,
+    basis: &Basis,
+    p: &Plan,
+    text: &str,
+) -> Result<Vec<PathBuf>> {
+    let name = &outcome.name;
     let mut files = Vec::new();
     let json = dir.join("plan.json");
     write_json(
         &json,
         &serde_json::json!({
             "set": name,
+            "model": {
+                "planned_on": basis.model_words(),
+                "effects": basis.effects,
+                "diagnosis": basis.diagnosis,
+                "verdict": outcome.adequacy.json(&basis.model_words()),
+            },
             "ranking": "share of the valley (the parameter vectors the current data allow) over which every undetermined parameter is predicted determined within ±5 %, per hour of lab time; ties by ln(shrink) per hour",
             "plan": p,
         }),
@@ -176,7 +250,12 @@ fn band_figure(set: &str, proposal: &str, b: &Band) -> Figure {
                 Style::Published,
             ),
             Series::new("current fit", t.clone(), y(&b.fit), Style::Other(2)),
-            Series::new("planning point", t.clone(), y(&b.centre), Style::Fitted),
+            Series::new(
+                "middle of the values the data allow",
+                t.clone(),
+                y(&b.centre),
+                Style::Fitted,
+            ),
         ],
     );
     let residual = Panel::new(
@@ -202,9 +281,32 @@ fn interval_or_dash(i: Option<subfric_fit::Interval>) -> String {
         .unwrap_or_else(|| "unbounded".into())
 }
 
-/// The readable plan printed by `subfric plan` and written to plan.txt.
-pub fn plan_text(name: &str, p: &Plan) -> String {
+/// The readable plan printed by `subfric plan` and written to plan.txt: the verdict on the
+/// model planned on first (with a warning when it does not describe the data), then the rig,
+/// the valley, the proposals and the check.
+pub fn plan_text(outcome: &FitOutcome, basis: &Basis, set: &Path, p: &Plan) -> String {
+    let name = &outcome.name;
     let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "verdict: {}",
+        outcome.adequacy.sentence(&basis.model_words())
+    );
+    if let Some(w) = misfit_warning(&outcome.adequacy, basis, set) {
+        let _ = writeln!(s, "warning: {w}");
+    }
+    let _ = writeln!(s, "{}", basis.line());
+    if !outcome.adequacy.describes() && basis.diagnosis.is_none() {
+        let _ = writeln!(
+            s,
+            "next: `subfric diagnose {}`, then `subfric plan {}` again",
+            set.display(),
+            set.display()
+        );
+    } else if let Some(top) = p.proposals.first() {
+        let _ = writeln!(s, "next: run {}: {}", top.name, top.description);
+    }
+    let _ = writeln!(s);
     let noise_unit = match p.rig.control {
         Control::Slip => "kPa",
         Control::Shear => "mm",
@@ -219,6 +321,10 @@ pub fn plan_text(name: &str, p: &Plan) -> String {
         if let Some(c) = &top.check {
             write_check(&mut s, top, c, p.rig.noise_sd, noise_unit);
         }
+    }
+    let _ = writeln!(s, "how to read the intervals:");
+    for l in INTERVAL_LEGEND {
+        let _ = writeln!(s, "  {l}");
     }
     s.trim_end().to_string()
 }
@@ -260,7 +366,7 @@ fn write_rig_and_valley(s: &mut String, name: &str, p: &Plan) {
     let pp = &p.planning_point.params;
     let _ = writeln!(
         s,
-        "planning point (middle of the valley): mu_s {} mu_k {} kappa {} xi {} u_tilde {}",
+        "planning point (the middle of the values the data allow, where each proposal is simulated and its intervals predicted): mu_s {} mu_k {} kappa {} xi {} u_tilde {}",
         num(pp.mu_s),
         num(pp.mu_k),
         num(pp.kappa),
@@ -332,11 +438,11 @@ fn write_proposal_table(s: &mut String, p: &Plan) {
 fn write_check(s: &mut String, top: &Proposal, c: &Check, noise_sd: f64, noise_unit: &str) {
     let _ = writeln!(
         s,
-        "check: {} simulated at the planning point with noise {} {noise_unit} (seed {}), fitted with the current tests: misfit {:.2}, {}",
+        "check: {} simulated at the planning point with noise {} {noise_unit} (seed {}), fitted with the current tests: misfit {}× the noise variance, {}",
         top.name,
         num(noise_sd),
         c.seed,
-        c.reduced_chi2,
+        misfit_number(c.reduced_chi2),
         if c.determines_all {
             "every parameter determined"
         } else {
@@ -380,8 +486,24 @@ impl NextTest {
     /// One Markdown paragraph for the set `set` (links relative to the folder holding the sets).
     pub fn markdown(&self, set: &str) -> String {
         format!(
-            "Next test (`subfric plan`, [plan]({set}/plan/plan.txt)): **{}**, {:.2} h of lab time — {}. Predicted ξ: {}. Every undetermined parameter is predicted within ±5 % over {:.0} % of the parameter values the data allow.",
+            "Next test (`subfric plan`, [plan]({set}/plan/plan.txt)): **{}**, {}",
             self.name,
+            self.details()
+        )
+    }
+
+    /// The paragraph in words, without Markdown (for the HTML page).
+    pub fn text(&self) -> String {
+        format!(
+            "Next test (`subfric plan`): {}, {}",
+            self.name,
+            self.details()
+        )
+    }
+
+    fn details(&self) -> String {
+        format!(
+            "{:.2} h of lab time — {}. Predicted ξ: {}. Every undetermined parameter is predicted within ±5 % over {:.0} % of the parameter values the data allow.",
             self.hours,
             self.description,
             self.xi,
@@ -407,8 +529,10 @@ pub fn next_test(outcome: &FitOutcome, dir: &Path) -> Result<Option<NextTest>> {
             ..PlanOptions::default()
         },
     )?;
-    let text = plan_text(&outcome.name, &p);
-    write_plan(dir, &outcome.name, &p, &text)?;
+    let basis = Basis::default();
+    let set = outcome.dirs.first().cloned().unwrap_or_default();
+    let text = plan_text(outcome, &basis, &set, &p);
+    write_plan(dir, outcome, &basis, &p, &text)?;
     Ok(p.proposals.first().map(|top| {
         let xi = top.predicted.iter().find(|x| x.name == "xi");
         NextTest {

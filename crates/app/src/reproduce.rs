@@ -7,11 +7,15 @@
 
 use crate::figures::{figure_stems, plot_set};
 use crate::fit::{run_fit, write_fit, FitOutcome, FitRequest};
-use crate::fit_report::{interval_text, report_table};
+use crate::fit_report::{
+    determined_combinations, difference_text, estimate_interval_text, legend_text, report_table,
+    std_error_text, undetermined, value_text,
+};
 use crate::io::write_text;
 use crate::output::{safe_name, ResultsDir};
 use crate::plan::{next_test, NextTest, PLAN_DIR};
 use crate::progress::{Progress, Silent};
+use crate::report::{index_page, IndexEntry};
 use anyhow::{anyhow, bail, Result};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -24,6 +28,9 @@ use subfric_fit::{FitOptions, Status};
 
 /// The file of wall times written beside the results (not tracked by git).
 pub const TIMINGS_FILE: &str = "timings.txt";
+
+/// The one page of the results, figures embedded.
+pub const INDEX_FILE: &str = "index.html";
 
 /// One set's result.
 pub struct SetResult {
@@ -100,10 +107,7 @@ fn fit_one(job: &Job, claim: ResultsDir, options: FitOptions) -> Result<(SetResu
     let outcome = run_fit(&FitRequest::of_set(job.dir.clone(), options), &Silent)?;
     let set_out = claim.path().to_path_buf();
     write_fit(&set_out, &outcome)?;
-    write_text(
-        &set_out.join("fit.txt"),
-        &(report_table(&job.name, &outcome.report) + "\n"),
-    )?;
+    write_text(&set_out.join("fit.txt"), &(report_table(&outcome) + "\n"))?;
     let (plots, notes) = plot_set(
         &job.name,
         &outcome.tests,
@@ -195,7 +199,11 @@ fn fit_all(
 ) -> Result<Vec<SetResult>> {
     let jobs = jobs(experiments)?;
     // Every output folder is checked and claimed before the first fit.
-    let mut top_files = vec!["README.md".to_string(), TIMINGS_FILE.to_string()];
+    let mut top_files = vec![
+        "README.md".to_string(),
+        INDEX_FILE.to_string(),
+        TIMINGS_FILE.to_string(),
+    ];
     for j in &jobs {
         let slug = table_slug(&j.table);
         for f in [format!("{slug}.md"), format!("{slug}.csv")] {
@@ -245,6 +253,7 @@ fn fit_all(
         ok.push(set);
     }
     write_tables(out, &ok)?;
+    write_index(out, &ok)?;
     top.commit()?;
     Ok(ok)
 }
@@ -259,8 +268,9 @@ fn write_tables(out: &Path, sets: &[SetResult]) -> Result<()> {
     let _ = writeln!(readme, "# Fitted parameters beside the published values\n");
     let _ = writeln!(
         readme,
-        "Written by `subfric reproduce`. Each set of `experiments/` is fitted from informed first guesses, a global search and least-squares polish; intervals are 95 % profile intervals. \"not determined\" means the data bound the parameter on at most one side (e.g. κ and ξ from a single sliding rate): the value shown is one point of a flat valley.\n"
+        "Written by `subfric reproduce` ([the same as one page](index.html)). Each set of `experiments/` is fitted from informed first guesses, a global search and least-squares polish; intervals are 95 % profile intervals.\n"
     );
+    let _ = writeln!(readme, "How to read the tables:\n\n{}\n", legend_text("- "));
     for (table, sets) in &by_table {
         let slug = table_slug(table);
         let (md, csv) = table_files(table, sets);
@@ -273,8 +283,11 @@ fn write_tables(out: &Path, sets: &[SetResult]) -> Result<()> {
         for s in sets {
             let _ = writeln!(
                 readme,
-                "- **{}** (misfit {:.2}× noise variance): [fit.json]({}/fit.json), [report]({}/fit.txt)",
-                s.name, s.outcome.report.reduced_chi2, s.name, s.name
+                "- **{}**: {}. [fit.json]({}/fit.json), [report]({}/fit.txt)",
+                s.name,
+                s.outcome.adequacy.sentence("the model"),
+                s.name,
+                s.name
             );
             if let Some(n) = &s.next {
                 let _ = writeln!(readme, "\n  {}", n.markdown(&s.name));
@@ -291,91 +304,85 @@ fn write_tables(out: &Path, sets: &[SetResult]) -> Result<()> {
     write_text(&out.join("README.md"), &readme)
 }
 
+/// Writes `index.html`: every set's verdict, tables, next test and figures on one page
+/// (the set's figures, then the predicted curve of its next test).
+fn write_index(out: &Path, sets: &[SetResult]) -> Result<()> {
+    let mut ordered: Vec<&SetResult> = sets.iter().collect();
+    ordered.sort_by(|a, b| (&a.table, &a.name).cmp(&(&b.table, &b.name)));
+    let entries: Vec<IndexEntry> = ordered
+        .iter()
+        .map(|s| {
+            let mut figures = s.plots.clone();
+            let band = out.join(&s.name).join(PLAN_DIR).join("top-proposal.png");
+            if s.next.is_some() && band.is_file() {
+                figures.push(band);
+            }
+            IndexEntry {
+                name: &s.name,
+                table: &s.table,
+                outcome: &s.outcome,
+                next: s.next.as_ref().map(|n| n.text()),
+                figures,
+            }
+        })
+        .collect();
+    write_text(&out.join(INDEX_FILE), &index_page(out, &entries)?)
+}
+
+/// A number of a Markdown table: four decimals, or an exponent when very large or small.
+fn md_number(v: f64) -> String {
+    subfric_fit::interval::short_number(v)
+}
+
 fn table_files(table: &str, sets: &[&SetResult]) -> (String, String) {
     let mut md = String::new();
     let mut csv = String::from(
         "table,set,parameter,unit,value,std_error,lower,upper,lower_open,upper_open,status,published,difference_percent\n",
     );
     let _ = writeln!(md, "# {table}: fitted beside published\n");
+    let _ = writeln!(md, "How to read:\n\n{}\n", legend_text("- "));
     for s in sets {
         let r = &s.outcome.report;
         let _ = writeln!(
             md,
-            "## {}\n\nmisfit {:.3}× the noise variance over {} rows; {} of {} starts reached the best optimum.\n",
-            s.name, r.reduced_chi2, r.rows, r.optimizer.starts_at_best, r.optimizer.starts
+            "## {}\n\n**{}.**\n\n{} rows; {} of {} starts reached the best optimum.\n",
+            s.name,
+            upper_first(&s.outcome.adequacy.sentence("the model")),
+            r.rows,
+            r.optimizer.starts_at_best,
+            r.optimizer.starts
         );
         let _ = writeln!(md, "| parameter | fitted | ± s.e. | 95% interval | identifiability | published | difference |");
         let _ = writeln!(md, "|---|---:|---:|---|---|---:|---:|");
         for p in &r.parameters {
             let _ = writeln!(
                 md,
-                "| {}{} | {:.4} | {} | {} | {} | {} | {} |",
+                "| {}{} | {} | {} | {} | {} | {} | {} |",
                 p.name,
                 if p.unit.is_empty() {
                     String::new()
                 } else {
                     format!(" [{}]", p.unit)
                 },
-                p.value,
-                p.std_error.map(|v| format!("{v:.3e}")).unwrap_or_else(|| {
-                    if p.status == Status::Fixed {
-                        "".into()
-                    } else {
-                        "∞".into()
-                    }
-                }),
-                interval_text(p),
+                value_text(p, md_number),
+                std_error_text(p, |v| format!("{v:.3e}")),
+                estimate_interval_text(p),
                 p.status.describe(),
                 p.published.map(|v| format!("{v}")).unwrap_or_default(),
-                p.difference_percent
-                    .map(|d| format!("{d:+.1}%"))
-                    .unwrap_or_default()
+                difference_text(p)
             );
-            let (lo, hi, lo_o, hi_o) = p.interval.map_or((f64::NAN, f64::NAN, false, false), |i| {
-                (i.lo, i.hi, i.lo_open, i.hi_open)
-            });
-            let _ = writeln!(
-                csv,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{}",
-                table,
-                s.name,
-                p.name,
-                p.unit,
-                p.value,
-                p.std_error.map(|v| v.to_string()).unwrap_or_default(),
-                if lo.is_nan() {
-                    String::new()
-                } else {
-                    lo.to_string()
-                },
-                if hi.is_nan() {
-                    String::new()
-                } else {
-                    hi.to_string()
-                },
-                lo_o,
-                hi_o,
-                p.status.describe(),
-                p.published.map(|v| v.to_string()).unwrap_or_default(),
-                p.difference_percent
-                    .map(|v| format!("{v:.3}"))
-                    .unwrap_or_default()
-            );
+            csv.push_str(&csv_row(table, &s.name, p));
         }
-        if !r.combinations.is_empty() {
+        let combos = determined_combinations(r);
+        if !combos.is_empty() {
             let _ = writeln!(md, "\nCombinations the data determine:\n");
-            for c in &r.combinations {
+            for c in combos {
                 let _ = writeln!(
                     md,
-                    "- {}: {:.4} {} ({})",
+                    "- {}: {} {}",
                     c.name,
-                    c.value,
+                    md_number(c.value),
                     c.interval.map(|i| i.to_string()).unwrap_or_default(),
-                    if c.determined {
-                        "determined"
-                    } else {
-                        "not determined"
-                    }
                 );
             }
         }
@@ -385,4 +392,49 @@ fn table_files(table: &str, sets: &[&SetResult]) -> (String, String) {
         let _ = writeln!(md);
     }
     (md, csv)
+}
+
+/// One CSV row of a parameter: every number as it is (the fitted value of an undetermined
+/// parameter included, its status says what it is worth), the difference from the published
+/// value only for an estimate.
+fn csv_row(table: &str, set: &str, p: &subfric_fit::ParamReport) -> String {
+    let (lo, hi, lo_o, hi_o) = p.interval.map_or((f64::NAN, f64::NAN, false, false), |i| {
+        (i.lo, i.hi, i.lo_open, i.hi_open)
+    });
+    let finite = |v: f64| {
+        if v.is_nan() {
+            String::new()
+        } else {
+            v.to_string()
+        }
+    };
+    let estimate = !(p.status == Status::Fixed || undetermined(p));
+    format!(
+        "{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+        table,
+        set,
+        p.name,
+        p.unit,
+        p.value,
+        p.std_error.map(|v| v.to_string()).unwrap_or_default(),
+        finite(lo),
+        finite(hi),
+        lo_o,
+        hi_o,
+        p.status.describe(),
+        p.published.map(|v| v.to_string()).unwrap_or_default(),
+        p.difference_percent
+            .filter(|_| estimate)
+            .map(|v| format!("{v:.3}"))
+            .unwrap_or_default()
+    )
+}
+
+/// `s` with its first letter in upper case.
+fn upper_first(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(f) => f.to_uppercase().chain(c).collect(),
+        None => String::new(),
+    }
 }

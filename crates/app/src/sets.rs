@@ -17,13 +17,19 @@ pub struct Checked {
     pub summary: SetSummary,
     /// Plausibility warnings (a unit off by 10³, a column constant, ...).
     pub warnings: Vec<Warning>,
+    /// Rig artifacts recognised in the records (a seating toe, a machine compliance), and what
+    /// `fit` and `diagnose` do about them.
+    pub artifacts: Vec<crate::fit::Artifact>,
 }
 
 impl Checked {
     fn of(set: ExperimentSet) -> Checked {
+        let prepared = subfric_fit::prepare_set(&set, false);
+        let stiffness = subfric_fit::resolved_stiffness(&prepared);
         Checked {
             summary: summary(&set),
             warnings: plausibility(&set),
+            artifacts: crate::fit::artifacts_of(&prepared, stiffness.as_ref()),
             set,
         }
     }

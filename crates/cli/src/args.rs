@@ -96,6 +96,9 @@ pub struct SimulateArgs {
     /// Most rows a scenario may generate (it is refused beyond, before any is generated).
     #[arg(long, default_value_t = MAX_SCENARIO_ROWS)]
     pub max_rows: usize,
+    /// Progress display on stderr (accepted for a uniform command line; a simulation is quick).
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
 }
 
 /// `subfric check`.
@@ -103,6 +106,9 @@ pub struct SimulateArgs {
 pub struct CheckArgs {
     /// Set folder.
     pub set: PathBuf,
+    /// Progress display on stderr (accepted for a uniform command line; a check is quick).
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
 }
 
 /// Which column the apparatus imposed.
@@ -177,7 +183,7 @@ impl From<LengthUnitArg> for LengthUnit {
     }
 }
 
-/// Unit of a stress column.
+/// Unit of a stress column, or of a force column divided by `--area`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum StressUnitArg {
     /// kilopascals
@@ -191,6 +197,14 @@ pub enum StressUnitArg {
     Pa,
     /// pounds per square inch
     Psi,
+    /// newtons: a force, divided by --area
+    #[value(name = "N")]
+    N,
+    /// kilonewtons: a force, divided by --area
+    #[value(name = "kN")]
+    KN,
+    /// pounds-force: a force, divided by --area
+    Lbf,
 }
 
 impl From<StressUnitArg> for StressUnit {
@@ -200,6 +214,9 @@ impl From<StressUnitArg> for StressUnit {
             StressUnitArg::MPa => StressUnit::MPa,
             StressUnitArg::Pa => StressUnit::Pa,
             StressUnitArg::Psi => StressUnit::Psi,
+            StressUnitArg::N => StressUnit::N,
+            StressUnitArg::KN => StressUnit::KN,
+            StressUnitArg::Lbf => StressUnit::Lbf,
         }
     }
 }
@@ -258,7 +275,7 @@ pub struct ImportArgs {
     /// Shear column [default: shear_kpa, unless --friction is given].
     #[arg(long)]
     pub shear: Option<ColumnRef>,
-    /// Unit of shear.
+    /// Unit of shear (a force unit needs --area).
     #[arg(long, value_enum, ignore_case = true, default_value = "kPa")]
     pub shear_unit: StressUnitArg,
     /// Friction (shear/normal) column [default: none].
@@ -267,19 +284,23 @@ pub struct ImportArgs {
     /// Normal stress column [default: none: give --normal-stress].
     #[arg(long, conflicts_with = "normal_stress")]
     pub normal: Option<ColumnRef>,
-    /// Unit of the normal column.
+    /// Unit of the normal column (a force unit needs --area).
     #[arg(long, value_enum, ignore_case = true, default_value = "kPa")]
     pub normal_unit: StressUnitArg,
     /// Constant normal stress [kPa] when there is no normal column [default: none].
     #[arg(long)]
     pub normal_stress: Option<f64>,
+    /// Contact area [mm²] that a force column (--shear-unit or --normal-unit N, kN, lbf) is
+    /// divided by, e.g. 3600 for a 60 mm square shear box [default: none: stresses only].
+    #[arg(long, value_name = "MM2")]
+    pub area: Option<f64>,
     /// Which column the apparatus imposed.
     #[arg(long, value_enum, default_value_t = ControlArg::Slip)]
     pub control: ControlArg,
     /// Cell delimiter.
     #[arg(long, value_enum, ignore_case = true, default_value = "auto")]
     pub delimiter: DelimiterArg,
-    /// Lines to skip before the header.
+    /// Lines to skip before the header (a header block of specimen, date, operator…).
     #[arg(long, default_value_t = 0)]
     pub skip: usize,
     /// The file has no header line (columns by index).
@@ -376,7 +397,8 @@ pub struct FitArgs {
 pub struct PlotArgs {
     /// Set folder.
     pub set: PathBuf,
-    /// Fitted parameters, fit.json or params.json [default: none: measured and published only].
+    /// Fitted parameters, fit.json or params.json [default: fits/<set name>/fit.json when it
+    /// exists, else none: measured and published only].
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// Output folder [default: fits/<set name>/plots].
@@ -385,6 +407,9 @@ pub struct PlotArgs {
     /// Replace figures in the output folder that came from another set (or not from subfric).
     #[arg(long)]
     pub force: bool,
+    /// Progress display on stderr.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
 }
 
 /// `subfric diagnose`.
@@ -445,6 +470,10 @@ pub struct PlanArgs {
     /// Lab time of a new test beyond its duration (specimen, set-up) [h].
     #[arg(long, default_value_t = 0.5, value_parser = parse_hours)]
     pub setup_hours: f64,
+    /// Plan on the model of this diagnosis.json [default: fits/<set name>/diagnosis/diagnosis.json
+    /// when it exists and is of this set folder, else the base model].
+    #[arg(long)]
+    pub diagnosis: Option<PathBuf>,
     /// Replace results in the output folder that came from another set (or not from subfric).
     #[arg(long)]
     pub force: bool,

@@ -104,6 +104,14 @@ fn print_written<'a>(files: impl IntoIterator<Item = &'a std::path::PathBuf>) {
 fn check(a: CheckArgs) -> Result<()> {
     let c = sets::check(&a.set)?;
     out(c.summary);
+    for r in &c.artifacts {
+        let place = if r.test.is_empty() {
+            String::new()
+        } else {
+            format!("{}: ", subfric_app::visible(&r.test))
+        };
+        out(format!("rig artifact, {place}{}", r.detail));
+    }
     print_warnings(&c.warnings);
     Ok(())
 }
@@ -136,6 +144,7 @@ fn import_spec(a: &ImportArgs) -> ImportSpec {
         friction: a.friction.clone(),
         normal: a.normal.clone().map(|c| (c, a.normal_unit.into())),
         normal_stress_kpa: a.normal_stress,
+        area_mm2: a.area,
         control: a.control.into(),
         test_name: a.test_name.clone(),
         set_name: a.set_name.clone().unwrap_or_else(|| {
@@ -195,6 +204,7 @@ fn fit(a: FitArgs) -> Result<()> {
             profiles: !a.no_profiles,
             ..FitOptions::default()
         },
+        start: None,
     };
     let progress = Progress::new(a.progress);
     let to = Destination {
@@ -204,8 +214,9 @@ fn fit(a: FitArgs) -> Result<()> {
     let w = fit_to_folder(&req, &to, &progress)?;
     progress.finish();
     let outcome = &w.fitted.outcome;
-    out(report_table_timed(&outcome.name, &outcome.report));
+    out(report_table_timed(outcome));
     print_written([&w.file]);
+    print_written(&w.files);
     Ok(())
 }
 
@@ -215,12 +226,9 @@ fn plot(a: PlotArgs) -> Result<()> {
         dir: a.out,
         force: a.force,
     };
-    let p = figures::plot(
-        &a.set,
-        a.params.as_deref(),
-        &to,
-        &Progress::new(ProgressMode::Never),
-    )?;
+    let progress = Progress::new(a.progress);
+    let p = figures::plot(&a.set, a.params.as_deref(), &to, &progress)?;
+    progress.finish();
     print_written(&p.files);
     Ok(())
 }
@@ -252,6 +260,7 @@ fn plan(a: PlanArgs) -> Result<()> {
         seed: a.seed,
         check: a.check,
         setup_hours: a.setup_hours,
+        diagnosis: a.diagnosis,
     };
     let to = Destination {
         dir: a.out,
@@ -277,10 +286,7 @@ fn run_reproduce(a: ReproduceArgs) -> Result<()> {
     let r = reproduce(&req, &progress)?;
     progress.finish();
     for s in &r.sets {
-        out(format!(
-            "{}\n",
-            report_table_timed(&s.name, &s.outcome.report)
-        ));
+        out(format!("{}\n", report_table_timed(&s.outcome)));
     }
     let dir = subfric_app::visible(&req.out.display().to_string());
     out(format!(
@@ -339,6 +345,17 @@ fn bench(a: BenchArgs) -> Result<()> {
     out(format!(
         "multi-start fit of {}: {:.2} s on 1 thread, {:.2} s on {} threads: speed-up {:.2}×",
         m.set, m.one_thread_s, m.all_threads_s, m.threads, m.speedup
+    ));
+    let f = &r.many_tests;
+    out(format!(
+        "fit of {} tests of {} rows: {:.1} s ({:.1} s of processor time, {} model runs; \
+         fitted mu_s, mu_k within {:.2}% of the truth)",
+        f.tests,
+        f.rows_per_test,
+        f.seconds,
+        f.cpu_seconds,
+        f.model_runs,
+        100.0 * f.worst_recovery
     ));
     out("whole diagnoses (prepare, fit every candidate, held-out folds, verdict):");
     for d in &r.diagnoses {

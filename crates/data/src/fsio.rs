@@ -5,7 +5,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use crate::error::DataError;
+use crate::error::{DataError, InputProblem};
+use crate::set::EXPERIMENT_JSON;
 
 static TEMP_COUNTER: AtomicUsize = AtomicUsize::new(0);
 
@@ -168,4 +169,33 @@ pub fn set_file_problem(dir: &Path, file: &Path) -> Option<String> {
         ));
     }
     None
+}
+
+/// A file given where a set folder is expected: a sentence that says so, what a set folder
+/// holds, and which folder (or command) was probably meant.
+pub(crate) fn file_not_folder(path: &Path) -> Option<InputProblem> {
+    if PathKind::of(path) != PathKind::File {
+        return None;
+    }
+    let parent = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let hint = if parent.join(EXPERIMENT_JSON).is_file() {
+        format!(
+            "this file is in the set folder {}: give that folder",
+            parent.display()
+        )
+    } else {
+        "a laboratory export becomes a set with `subfric import`".to_string()
+    };
+    Some(InputProblem::new(
+        path,
+        None,
+        None,
+        format!(
+            "this is a file, and a set folder was expected: a set is a folder holding {} and one CSV per test (docs/data-format.md); {hint}",
+            EXPERIMENT_JSON
+        ),
+    ))
 }

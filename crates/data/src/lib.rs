@@ -29,6 +29,7 @@
 
 #![warn(missing_docs)]
 
+pub mod artifacts;
 pub mod condition;
 mod error;
 pub mod events;
@@ -43,6 +44,7 @@ pub mod set;
 pub mod summary;
 pub mod text;
 
+pub use artifacts::{seating_toe, SeatingToe};
 pub use condition::{condition_imposed, condition_imposed_with, Conditioned};
 pub use error::{DataError, InputProblem};
 pub use fsio::{write_atomic, PathKind};

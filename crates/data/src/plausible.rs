@@ -33,8 +33,9 @@ impl fmt::Display for Warning {
     }
 }
 
-/// Largest |shear| / normal a sand–metal interface plausibly shows.
-pub const MAX_PLAUSIBLE_FRICTION: f64 = 3.0;
+/// Largest |shear| / normal a sand–metal interface plausibly shows (dense sand on a rough
+/// plate stays near 1; above 2 a unit is wrong, typically a force in N read as a stress).
+pub const MAX_PLAUSIBLE_FRICTION: f64 = 2.0;
 /// Smallest peak |shear| / normal of a test that slides (not all zeros).
 pub const MIN_PLAUSIBLE_PEAK_FRICTION: f64 = 0.01;
 /// Plausible normal stresses of a laboratory interface test [kPa].
@@ -115,7 +116,7 @@ pub fn test_warnings(t: &TestData) -> Vec<Warning> {
         warn(
             shear_field,
             format!(
-                "the shear reaches {} times the normal stress (expected |shear|/normal below {MAX_PLAUSIBLE_FRICTION} for a sand–metal interface): is the shear in Pa rather than kPa, or the normal stress in MPa?",
+                "the shear reaches {} times the normal stress (expected |shear|/normal below {MAX_PLAUSIBLE_FRICTION} for a sand–metal interface): is the shear a force in N (import it with --shear-unit N --area <mm²>), or in Pa rather than kPa, or the normal stress in MPa?",
                 num(peak_friction)
             ),
         );

@@ -46,6 +46,22 @@ pub struct TestData {
 }
 
 impl TestData {
+    /// The test from row `first` on (a leading artifact cut off); lines keep their numbers.
+    pub fn rows_from(&self, first: usize) -> TestData {
+        let first = first.min(self.len());
+        TestData {
+            spec: self.spec.clone(),
+            path: self.path.clone(),
+            time_s: self.time_s[first..].to_vec(),
+            slip_mm: self.slip_mm[first..].to_vec(),
+            shear_kpa: self.shear_kpa[first..].to_vec(),
+            normal_kpa: self.normal_kpa[first..].to_vec(),
+            friction_given: self.friction_given,
+            line_of_row: self.line_of_row[first..].to_vec(),
+            comments: self.comments.clone(),
+        }
+    }
+
     /// The column the apparatus imposed: slip for slip control, shear for shear control.
     pub fn imposed(&self) -> &[f64] {
         match self.spec.control {
@@ -147,6 +163,9 @@ fn read_text(path: &Path) -> Result<String, DataError> {
 /// # Ok(()) }
 /// ```
 pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
+    if let Some(p) = crate::fsio::file_not_folder(dir) {
+        return Err(DataError::Problems(vec![p]));
+    }
     let json_path = dir.join(EXPERIMENT_JSON);
     if dir.is_dir() {
         if let Some(msg) = set_file_problem(dir, &json_path).filter(|_| json_path.exists()) {

@@ -272,7 +272,7 @@ const TABLE_HEADER: [&str; 15] = [
     "start",
     "imposed noise",
     "measured noise",
-    "rates /s",
+    "rates",
     "holds",
     "steps",
     "revs",
@@ -305,16 +305,24 @@ fn table_row(t: &TestSummary) -> [String; 15] {
             if t.imposed_conditioned { "*" } else { "" }
         ),
         noise_text(&t.measured_noise, measured_unit),
-        t.sliding_rates
-            .iter()
-            .map(|r| num(*r))
-            .collect::<Vec<_>>()
-            .join(","),
+        rates_text(&t.sliding_rates, unit),
         t.holds.len().to_string(),
         t.velocity_steps.len().to_string(),
         t.reversals.to_string(),
         t.cycles.to_string(),
     ]
+}
+
+/// The imposed rates of a test with their unit: mm/s under slip control, kPa/s under
+/// traction control (`unit`: the imposed column's).
+fn rates_text(rates: &[f64], unit: &str) -> String {
+    if rates.is_empty() {
+        return String::new();
+    }
+    format!(
+        "{} {unit}/s",
+        rates.iter().map(|r| num(*r)).collect::<Vec<_>>().join(",")
+    )
 }
 
 /// The table: header, rule and rows, each column as wide as its widest cell.
@@ -370,9 +378,14 @@ fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result 
                 )
             })
             .collect();
+        let unit = if t.control == ControlColumn::Slip {
+            "mm/s"
+        } else {
+            "kPa/s"
+        };
         writeln!(
             f,
-            "  {}: velocity steps {}",
+            "  {}: velocity steps ({unit}) {}",
             visible(&t.name),
             ss.join(", ")
         )?;
@@ -431,6 +444,13 @@ mod tests {
         assert_eq!(num(123.456), "123.5");
         assert_eq!(num(2.0), "2");
         assert_eq!(num(0.000012), "1.200e-5");
+    }
+
+    #[test]
+    fn rates_say_their_unit() {
+        assert_eq!(rates_text(&[0.001, 0.01], "mm"), "0.001,0.01 mm/s");
+        assert_eq!(rates_text(&[0.8], "kPa"), "0.8 kPa/s");
+        assert_eq!(rates_text(&[], "mm"), "");
     }
 
     #[test]

@@ -29,6 +29,7 @@ fn tab_spec() -> ImportSpec {
         friction: None,
         normal: None,
         normal_stress_kpa: Some(100.0),
+        area_mm2: None,
         control: ControlColumn::Slip,
         test_name: "monotonic 100 kPa".into(),
         set_name: "lab-x".into(),

@@ -66,6 +66,18 @@ use valley::walk_valley;
 /// Plans the next test for the data `tests` fitted as `report` (the five parameters of the
 /// paper, or whichever were free).
 pub fn plan(tests: &[FitTest], report: &FitReport, opts: &PlanOptions) -> Result<Plan, PlanError> {
+    plan_excluding(tests, report, opts, &|_| None)
+}
+
+/// [`plan`](fn@plan), never proposing a test for which `excluded` gives a reason (a test the
+/// set already holds, say): each candidate, simulated at the planning point, is offered to it
+/// before it is evaluated, and one it refuses goes to [`Plan::rejected`] with that reason.
+pub fn plan_excluding(
+    tests: &[FitTest],
+    report: &FitReport,
+    opts: &PlanOptions,
+    excluded: &(dyn Fn(&FitTest) -> Option<String> + Sync),
+) -> Result<Plan, PlanError> {
     if tests.iter().all(|t| t.is_empty()) {
         return Err(PlanError::NoData);
     }
@@ -83,7 +95,14 @@ pub fn plan(tests: &[FitTest], report: &FitReport, opts: &PlanOptions) -> Result
     let planning_point = valley.points[valley.planning_index].model;
 
     // 2. Candidates, as tests simulated at the planning point.
-    let (built, mut rejected) = build_candidates(&rig, report, &fit, &planning_point, opts);
+    let (mut built, mut rejected) = build_candidates(&rig, report, &fit, &planning_point, opts);
+    built.retain(|(c, _, test)| match excluded(test) {
+        Some(why) => {
+            rejected.push((c.name.clone(), why));
+            false
+        }
+        None => true,
+    });
 
     // 3. Predictions at every valley point.
     let ctx = PredictionContext {

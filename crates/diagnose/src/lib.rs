@@ -23,7 +23,7 @@ pub mod verdict;
 
 pub use candidates::{library, Effect, Form};
 pub use diagnose::{
-    diagnose, prepare_for_diagnosis, DiagnoseError, DiagnoseOptions, Diagnosis, NamedEffect,
-    Verdict, DIAGNOSIS_BUDGET_ROWS,
+    diagnose, diagnose_reporting, prepare_for_diagnosis, DiagnoseError, DiagnoseOptions, Diagnosis,
+    NamedEffect, Step, Verdict, DIAGNOSIS_BUDGET_ROWS,
 };
 pub use verdict::Thresholds;

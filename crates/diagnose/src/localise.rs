@@ -16,6 +16,9 @@ pub struct GroupMisfit {
     pub rows: usize,
     /// RMS residual / noise SD (1 = noise level).
     pub rms_over_noise: f64,
+    /// Mean squared residual / noise variance (1 = noise level): the misfit as the reports
+    /// give it ("× the noise variance"), the square of `rms_over_noise`.
+    pub reduced_chi2: f64,
     /// Share of the total excess misfit (SSR − rows, in noise units) in this group.
     pub share_of_gap: f64,
 }
@@ -54,6 +57,7 @@ fn group_misfit<F: Fn(usize, usize) -> Option<String>>(res: &HeldOut, key: F) ->
             group,
             rows,
             rms_over_noise: (ssr / rows.max(1) as f64).sqrt(),
+            reduced_chi2: ssr / rows.max(1) as f64,
             share_of_gap: if total > 0.0 {
                 (ssr - rows as f64).max(0.0) / total
             } else {

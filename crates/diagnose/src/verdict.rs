@@ -126,7 +126,8 @@ pub fn decide(
 /// lose significant evidence, unless it removes a material part of the whole gap. An effect that improves only pieces of other
 /// kinds is standing in for something else and is not credited. Among those that qualify, the
 /// one with most evidence on its own kind is named; one with significant evidence on its own
-/// kind that explains too little stays tentative.
+/// kind that explains too little stays tentative. `corroborated[i]` is false when the events
+/// read one by one speak against the family (velocity steps without a direct effect, say).
 ///
 /// ```
 /// use subfric_diagnose::score::Comparison;
@@ -137,22 +138,30 @@ pub fn decide(
 ///     candidate_chi2: 1.2, rows: 1000, n_eff: 900.0, pieces: vec![] };
 /// let th = Thresholds::default();
 /// // Its own pieces improve a lot, the others not at all: credited.
-/// assert_eq!(decide_further(3.0, &[(Effect::Rate, c(25.0, 0.2))], &[c(60.0, 0.8)], &th), Decision::Named(0));
+/// assert_eq!(decide_further(3.0, &[(Effect::Rate, c(25.0, 0.2))], &[c(60.0, 0.8)], &[true], &th), Decision::Named(0));
+/// // ... unless the events read one by one contradict it.
+/// assert_eq!(decide_further(3.0, &[(Effect::Rate, c(25.0, 0.2))], &[c(60.0, 0.8)], &[false], &th), Decision::Unexplained);
 /// // It improves all pieces but not its own: not credited.
-/// assert_eq!(decide_further(3.0, &[(Effect::Direction, c(80.0, 0.8))], &[c(2.0, 0.05)], &th), Decision::Unexplained);
+/// assert_eq!(decide_further(3.0, &[(Effect::Direction, c(80.0, 0.8))], &[c(2.0, 0.05)], &[true], &th), Decision::Unexplained);
 /// ```
 pub fn decide_further(
     reference_chi2: f64,
     candidates: &[(Effect, Comparison)],
     own: &[Comparison],
+    corroborated: &[bool],
     th: &Thresholds,
 ) -> Decision {
-    // Not worse elsewhere: no significant loss of evidence over all pieces, or a material
-    // share of the whole gap removed (many small pieces slightly worse can outweigh a few
-    // large ones much better in D).
+    // A gap on its own kind to explain (pieces at the noise level already leave nothing but
+    // the imprecision of the noise estimate), corroborated by the events read one by one, and
+    // not worse elsewhere: no significant loss of evidence over all pieces, or a material share
+    // of the whole gap removed (many small pieces slightly worse can outweigh a few large ones
+    // much better in D).
     let qualifies = |i: usize| {
         let all = &candidates[i].1;
-        passes(&own[i], th) && (all.score > -th.min_score || material(all, th))
+        own[i].reference_chi2 > th.gap_chi2
+            && corroborated.get(i).copied().unwrap_or(true)
+            && passes(&own[i], th)
+            && (all.score > -th.min_score || material(all, th))
     };
     let best = (0..candidates.len())
         .filter(|&i| qualifies(i))
@@ -166,6 +175,7 @@ pub fn decide_further(
     let tentative = (0..candidates.len())
         .filter(|&i| {
             candidates[i].1.score >= th.min_score
+                && corroborated.get(i).copied().unwrap_or(true)
                 && own[i].score >= th.min_score
                 && own[i].excess_shrink > 0.0
         })

@@ -18,6 +18,12 @@
 #define SUBFRIC_STATE_LEN 15
 
 /**
+ * Largest model file read [bytes]: a fit.json of a joint fit of ten thousand tests is a few
+ * MB; a larger file is not a model, and reading it would only exhaust memory.
+ */
+#define SUBFRIC_MAX_MODEL_FILE_BYTES (64 << 20)
+
+/**
  * What a call did.
  */
 typedef enum SubfricStatus {
@@ -104,7 +110,9 @@ typedef struct SubfricParams {
  */
 typedef struct SubfricState {
   /**
-   * Tangential slip [mm] (accumulated from the increments).
+   * Tangential slip [mm], accumulated from the increments: a record. The step computes the
+   * traction from the increment itself, so however far a point slides (where doubles are
+   * further apart than its elastic slip) its traction stays exact.
    */
   double slip[3];
   /**
@@ -187,8 +195,10 @@ extern "C" {
 /**
  * Builds a model of the base parameters `params` on the contact plane of unit normal `normal`.
  * `normal` NULL means (0, 0, 1); `forward` (the axis of the direction extension, projected on
- * the plane) NULL means (1, 0, 0). On success `*out` owns a model to release with
- * [`subfric_model_free`]; on failure `*out` is set to NULL.
+ * the plane) NULL means (1, 0, 0). A `forward` given as (0, 0, 0) or parallel to the normal
+ * is refused (`SUBFRIC_STATUS_INVALID_INPUT`): it has no direction in the plane. So is the
+ * default along the normal for a model with a direction effect. On success `*out` owns a
+ * model to release with [`subfric_model_free`]; on failure `*out` is set to NULL.
  *
  * # Safety
  * `params` and `out` are NULL or valid; `normal` and `forward` are NULL or point to three
@@ -219,7 +229,10 @@ enum SubfricStatus subfric_model_from_json(const char *json,
 
 /**
  * As [`subfric_model_from_json`], reading the JSON from the file at `path` (e.g.
- * `fits/<set>/fit.json`); messages start with the path.
+ * `fits/<set>/fit.json`); messages start with the path. Only a regular file of at most
+ * [`SUBFRIC_MAX_MODEL_FILE_BYTES`] is read: a folder, a FIFO (which would block), a device
+ * (`/dev/zero` would be read until memory runs out) or a larger file is refused with
+ * `SUBFRIC_STATUS_IO`.
  *
  * # Safety
  * `path` is NULL or a NUL-terminated string; the other pointers as in [`subfric_model_new`].
@@ -268,7 +281,10 @@ enum SubfricStatus subfric_state_init(const struct SubfricModel *model,
 /**
  * One implicit step of a material point under slip control.
  *
- * - `state_in`: the state at the start of the increment;
+ * - `state_in`: the state at the start of the increment: one the model wrote (from
+ *   [`subfric_state_init`] or a step). A state it cannot have — an all-zero array, μ outside
+ *   the model's bounds, cos_r and sin_r not those of r, a non-finite number — is refused with
+ *   `SUBFRIC_STATUS_INVALID_INPUT` naming the field;
  * - `dslip`: the increment of relative tangential displacement Δu [mm] (three components in
  *   the frame of the normal; its normal part is ignored);
  * - `pressure`: the contact pressure p > 0 at the end of the increment [kPa];
@@ -276,7 +292,9 @@ enum SubfricStatus subfric_state_init(const struct SubfricModel *model,
  * - `state_out`: receives the state at the end (may be the same as `state_in`);
  * - `response`: receives the traction and its derivatives (may be NULL).
  *
- * On failure neither `state_out` nor `response` is written.
+ * The traction follows from `dslip` itself, not from a difference of accumulated slips, so
+ * it is exact however far the point has slid. A step whose result would not be finite is
+ * refused. On failure neither `state_out` nor `response` is written.
  *
  * # Safety
  * `model` is NULL or a live model; `state_in`, `state_out` and `response` are NULL or valid

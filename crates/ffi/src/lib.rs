@@ -23,6 +23,9 @@
 
 #![deny(unsafe_op_in_unsafe_fn)]
 
+mod guards;
+
+use guards::{all_finite, in_plane, read_model_file};
 use std::ffi::{c_char, c_int, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use subfric_model::{Contact3, Model, ModelJsonError, Params, RateHeld, State3, StepError};
@@ -80,7 +83,9 @@ pub struct SubfricParams {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SubfricState {
-    /// Tangential slip [mm] (accumulated from the increments).
+    /// Tangential slip [mm], accumulated from the increments: a record. The step computes the
+    /// traction from the increment itself, so however far a point slides (where doubles are
+    /// further apart than its elastic slip) its traction stays exact.
     pub slip: [f64; 3],
     /// Tangential traction f_t [kPa].
     pub shear: [f64; 3],
@@ -245,14 +250,20 @@ unsafe fn hand_out(
             read_vec3_or(forward, [1.0, 0.0, 0.0]),
         )
     };
-    let handle = build(model, n, f)?;
+    let handle = build(model, n, f, !forward.is_null())?;
     // SAFETY: not NULL and valid for writes by the caller's contract.
     unsafe { write(out, Box::into_raw(handle)) };
     Ok(())
 }
 
-/// Builds the handle, checking the plane's normal and forward axis.
-fn build(model: Model, normal: [f64; 3], forward: [f64; 3]) -> Result<Box<SubfricModel>, Failure> {
+/// Builds the handle, checking the plane's normal and forward axis (`given_forward`: the
+/// caller passed one; the default matters only to a model with a direction effect).
+fn build(
+    model: Model,
+    normal: [f64; 3],
+    forward: [f64; 3],
+    given_forward: bool,
+) -> Result<Box<SubfricModel>, Failure> {
     let len = (normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]).sqrt();
     if !(len.is_finite() && len > 0.0) {
         return fail(
@@ -269,6 +280,21 @@ fn build(model: Model, normal: [f64; 3], forward: [f64; 3]) -> Result<Box<Subfri
             format!(
                 "forward = {} (expected a finite vector)",
                 vec_name(&forward)
+            ),
+        );
+    }
+    if !in_plane(&normal, &forward) && (given_forward || model.ext.direction.is_some()) {
+        let what = if given_forward {
+            format!("forward = {}", vec_name(&forward))
+        } else {
+            "forward NULL, i.e. (1, 0, 0),".to_string()
+        };
+        return fail(
+            SubfricStatus::InvalidInput,
+            format!(
+                "{what} has no direction in the contact plane of normal = {} (expected an axis \
+                 not parallel to the normal: the direction effect measures sliding from it)",
+                vec_name(&normal)
             ),
         );
     }
@@ -311,8 +337,10 @@ fn model_from_json(text: &str) -> Result<Model, Failure> {
 
 /// Builds a model of the base parameters `params` on the contact plane of unit normal `normal`.
 /// `normal` NULL means (0, 0, 1); `forward` (the axis of the direction extension, projected on
-/// the plane) NULL means (1, 0, 0). On success `*out` owns a model to release with
-/// [`subfric_model_free`]; on failure `*out` is set to NULL.
+/// the plane) NULL means (1, 0, 0). A `forward` given as (0, 0, 0) or parallel to the normal
+/// is refused (`SUBFRIC_STATUS_INVALID_INPUT`): it has no direction in the plane. So is the
+/// default along the normal for a model with a direction effect. On success `*out` owns a
+/// model to release with [`subfric_model_free`]; on failure `*out` is set to NULL.
 ///
 /// # Safety
 /// `params` and `out` are NULL or valid; `normal` and `forward` are NULL or point to three
@@ -383,7 +411,10 @@ pub unsafe extern "C" fn subfric_model_from_json(
 }
 
 /// As [`subfric_model_from_json`], reading the JSON from the file at `path` (e.g.
-/// `fits/<set>/fit.json`); messages start with the path.
+/// `fits/<set>/fit.json`); messages start with the path. Only a regular file of at most
+/// [`SUBFRIC_MAX_MODEL_FILE_BYTES`] is read: a folder, a FIFO (which would block), a device
+/// (`/dev/zero` would be read until memory runs out) or a larger file is refused with
+/// `SUBFRIC_STATUS_IO`.
 ///
 /// # Safety
 /// `path` is NULL or a NUL-terminated string; the other pointers as in [`subfric_model_new`].
@@ -409,12 +440,7 @@ pub unsafe extern "C" fn subfric_model_from_file(
         let path = unsafe { CStr::from_ptr(path) }
             .to_string_lossy()
             .into_owned();
-        let text = std::fs::read_to_string(&path).map_err(|e| {
-            Failure(
-                SubfricStatus::Io,
-                format!("{path}: cannot read the parameter file: {e}"),
-            )
-        })?;
+        let text = read_model_file(&path)?;
         let model =
             model_from_json(&text).map_err(|Failure(s, m)| Failure(s, format!("{path}: {m}")))?;
         // SAFETY: the pointers as in this function's contract; `out` checked not NULL.
@@ -423,6 +449,10 @@ pub unsafe extern "C" fn subfric_model_from_file(
     // SAFETY: `msg` is NULL or valid for `msg_len` bytes by this function's contract.
     unsafe { guard(msg, msg_len, body) }
 }
+
+/// Largest model file read [bytes]: a fit.json of a joint fit of ten thousand tests is a few
+/// MB; a larger file is not a model, and reading it would only exhaust memory.
+pub const SUBFRIC_MAX_MODEL_FILE_BYTES: u64 = 64 << 20;
 
 /// Releases a model (NULL is ignored).
 ///
@@ -526,49 +556,9 @@ fn to_c(s: &State3) -> SubfricState {
     }
 }
 
-fn from_c(s: &SubfricState) -> Result<State3, Failure> {
-    let scalars = [
-        ("mu", s.mu),
-        ("r", s.r),
-        ("cos_r", s.cos_r),
-        ("sin_r", s.sin_r),
-        ("slip_path", s.slip_path),
-        ("age", s.age),
-        ("theta", s.theta),
-        ("rate_add", s.rate_add),
-    ];
-    for (name, v) in [("slip", s.slip), ("shear", s.shear)] {
-        if !v.iter().all(|x| x.is_finite()) {
-            return fail(
-                SubfricStatus::InvalidInput,
-                format!("state.{name} = {} (expected finite numbers)", vec_name(&v)),
-            );
-        }
-    }
-    for (name, v) in scalars {
-        if !v.is_finite() {
-            return fail(
-                SubfricStatus::InvalidInput,
-                format!("state.{name} = {v} (expected a finite number)"),
-            );
-        }
-    }
-    if !(s.rate_factor > 0.0 && s.rate_factor.is_finite()) {
-        return fail(
-            SubfricStatus::InvalidInput,
-            format!(
-                "state.rate_factor = {} (expected a finite number > 0; 1 for a new state)",
-                s.rate_factor
-            ),
-        );
-    }
-    if !(0.0..=1.0).contains(&s.r) {
-        return fail(
-            SubfricStatus::InvalidInput,
-            format!("state.r = {} (expected a number in [0, 1])", s.r),
-        );
-    }
-    Ok(State3 {
+/// The state of `s`, if it is one the model can have (see [`Contact3::check_state`]).
+fn from_c(m: &SubfricModel, s: &SubfricState) -> Result<State3, Failure> {
+    let st = State3 {
         slip: s.slip,
         shear: s.shear,
         mu: s.mu,
@@ -582,12 +572,22 @@ fn from_c(s: &SubfricState) -> Result<State3, Failure> {
             add: s.rate_add,
             factor: s.rate_factor,
         },
-    })
+    };
+    m.contact.check_state(&st).map_err(|e| {
+        Failure(
+            SubfricStatus::InvalidInput,
+            format!("state_in: {e}; a new contact point starts from subfric_state_init"),
+        )
+    })?;
+    Ok(st)
 }
 
 /// One implicit step of a material point under slip control.
 ///
-/// - `state_in`: the state at the start of the increment;
+/// - `state_in`: the state at the start of the increment: one the model wrote (from
+///   [`subfric_state_init`] or a step). A state it cannot have — an all-zero array, μ outside
+///   the model's bounds, cos_r and sin_r not those of r, a non-finite number — is refused with
+///   `SUBFRIC_STATUS_INVALID_INPUT` naming the field;
 /// - `dslip`: the increment of relative tangential displacement Δu [mm] (three components in
 ///   the frame of the normal; its normal part is ignored);
 /// - `pressure`: the contact pressure p > 0 at the end of the increment [kPa];
@@ -595,7 +595,9 @@ fn from_c(s: &SubfricState) -> Result<State3, Failure> {
 /// - `state_out`: receives the state at the end (may be the same as `state_in`);
 /// - `response`: receives the traction and its derivatives (may be NULL).
 ///
-/// On failure neither `state_out` nor `response` is written.
+/// The traction follows from `dslip` itself, not from a difference of accumulated slips, so
+/// it is exact however far the point has slid. A step whose result would not be finite is
+/// refused. On failure neither `state_out` nor `response` is written.
 ///
 /// # Safety
 /// `model` is NULL or a live model; `state_in`, `state_out` and `response` are NULL or valid
@@ -624,7 +626,7 @@ pub unsafe extern "C" fn subfric_step(
         // SAFETY: not NULL, a live model by the contract.
         let m = unsafe { &*model };
         // SAFETY: NULL or valid for reads by the contract; copied before anything is written.
-        let st = from_c(&unsafe { read(state_in, "state_in") }?)?;
+        let st = from_c(m, &unsafe { read(state_in, "state_in") }?)?;
         // SAFETY: NULL or valid for reads of three doubles by the contract.
         let du = unsafe { read(dslip.cast::<[f64; 3]>(), "dslip") }?;
         if !du.iter().all(|x| x.is_finite()) {
@@ -654,10 +656,10 @@ pub unsafe extern "C" fn subfric_step(
                 "dt = 0 (expected a time increment > 0 [s]: the model has a rate effect)",
             );
         }
-        let slip = [st.slip[0] + du[0], st.slip[1] + du[1], st.slip[2] + du[2]];
+        // From the increment itself: exact however far the point has slid.
         let (next, tan) = m
             .contact
-            .step_slip_with_tangent(&st, &slip, pressure, dt)
+            .step_increment_with_tangent(&st, &du, pressure, dt)
             .map_err(|e| match e {
                 StepError::NoConvergence { .. } => Failure(
                     SubfricStatus::NoConvergence,
@@ -676,9 +678,24 @@ pub unsafe extern "C" fn subfric_step(
             plastic_slip: tan.plastic_slip,
             plastic: c_int::from(tan.plastic_slip != [0.0; 3]),
         };
+        // Never a success with a number that is not one: a state at the edge of the doubles
+        // (a slip record near 1e308, say) is refused rather than stepped into infinity.
+        let out = to_c(&next);
+        if !all_finite(&out, &r) {
+            return fail(
+                SubfricStatus::InvalidInput,
+                format!(
+                    "state_in with dslip = {} gives numbers beyond the doubles (slip {}, shear \
+                     {}): not a state to step from",
+                    vec_name(&du),
+                    vec_name(&next.slip),
+                    vec_name(&next.shear)
+                ),
+            );
+        }
         // SAFETY: not NULL (checked) and valid for writes by the contract; `state_in` was
         // copied above, so aliasing `state_out` is fine.
-        unsafe { write(state_out, to_c(&next)) };
+        unsafe { write(state_out, out) };
         // SAFETY: NULL (skipped) or valid for writes by the contract.
         unsafe { write(response, r) };
         Ok(())

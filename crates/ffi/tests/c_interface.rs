@@ -3,8 +3,8 @@
 //! values from the Rust path.
 //!
 //! This test writes the cases (the model, the slip increments and, for every step, the state,
-//! traction, tangent and plastic slip that `Contact3::step_slip` and
-//! `Contact3::step_slip_with_tangent` give) to a text file; the C program steps the same
+//! traction, tangent and plastic slip that `Contact3::step_increment` and
+//! `Contact3::step_increment_with_tangent` give) to a text file; the C program steps the same
 //! increments through the C interface, compares, and checks the tangent against its own
 //! finite differences. The compiler is `$CC`, or `cc`. The static library is
 //! `libsubfric_ffi.a` beside this test's executable (`target/<profile>/deps/`) or one folder
@@ -292,9 +292,8 @@ fn write_cases(cases: &[Case]) -> (String, usize) {
                 }
             };
             // What the C interface does with an increment.
-            let slip = [st.slip[0] + du[0], st.slip[1] + du[1], st.slip[2] + du[2]];
-            let next = c.step_slip(&st, &slip, p, dt).unwrap();
-            let (with_tangent, tan) = c.step_slip_with_tangent(&st, &slip, p, dt).unwrap();
+            let next = c.step_increment(&st, &du, p, dt).unwrap();
+            let (with_tangent, tan) = c.step_increment_with_tangent(&st, &du, p, dt).unwrap();
             assert_eq!(next, with_tangent);
             out.push_str("step");
             du.iter().for_each(|&x| num(&mut out, x));

@@ -7,6 +7,7 @@ use crate::guess::first_guesses;
 use crate::interval::Interval;
 use crate::lm::{levenberg_marquardt, LmOptions, LmResult, Termination};
 use crate::problem::{fold_into_box, Problem};
+use crate::sampling::{global_sample, informed_guess_budget, spread, GLOBAL_STAGE_ROWS};
 use crate::space::{Coord, Param, Scale, Space};
 use crate::uncertainty::{
     linearise_scaled, natural_interval, noise_correlation, profiles_scaled, variance_scale,
@@ -98,24 +99,32 @@ pub enum FitError {
     Params(#[from] subfric_model::ParamError),
 }
 
-/// Identifiability verdict of one parameter.
+/// Identifiability verdict of one parameter. It is written to JSON in the words the readable
+/// reports use ([`Status::describe`]), so that a script, the Python package and the terminal
+/// say the same thing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
 pub enum Status {
     /// Held at its given value.
+    #[serde(rename = "fixed")]
     Fixed,
     /// The 95 % profile interval is closed and within ±10 % of the value
     /// ([`Interval::determines`]).
+    #[serde(rename = "determined")]
     Determined,
     /// Closed but wider than ±10 %.
+    #[serde(rename = "weakly determined")]
     Weak,
     /// Only a lower bound: the data allow any larger value.
+    #[serde(rename = "not determined (lower bound only)")]
     LowerBoundOnly,
     /// Only an upper bound: the data allow any smaller value.
+    #[serde(rename = "not determined (upper bound only)")]
     UpperBoundOnly,
     /// Neither bound: the data do not constrain it.
+    #[serde(rename = "not determined")]
     NotDetermined,
     /// No profile computed; standard error only.
+    #[serde(rename = "not profiled")]
     Unprofiled,
 }
 
@@ -378,14 +387,17 @@ fn ranked_guesses(
     base: &Model,
     starts: &[Model],
     informed: bool,
+    budget: usize,
 ) -> Guesses {
     let mut points: Vec<Vec<f64>> = vec![p.space.point_of(base)];
     points.extend(starts.iter().map(|m| p.space.point_of(m)));
     let guesses: Vec<Model> = if informed {
-        first_guesses(tests, base)
+        let valid: Vec<Model> = first_guesses(tests, base)
             .into_iter()
             .filter(|g| Model::new(g.params, g.ext).is_ok())
-            .collect()
+            .collect();
+        // Within the global budget (each guess costs a model run).
+        spread(valid, informed_guess_budget(budget))
     } else {
         Vec::new()
     };
@@ -757,13 +769,24 @@ pub fn calibrate_from(
     Model::new(base.params, base.ext)?;
     let p = Problem::new(tests, space);
     let m = p.space.dim();
+    // A large problem explores on a spread share of its tests (see `sampling`).
+    let sample = global_sample(tests, GLOBAL_STAGE_ROWS);
+    let share = sample.as_deref().map(|s| Problem::new(s, p.space.clone()));
+    let explore = share.as_ref().unwrap_or(&p);
 
     // 1. Informed guesses, plus the given model.
-    let guesses = ranked_guesses(&p, tests, &base, starts, opts.informed_guesses);
+    let guesses = ranked_guesses(
+        explore,
+        explore.tests,
+        &base,
+        starts,
+        opts.informed_guesses,
+        opts.global_evaluations,
+    );
 
     // 2. Global stage, and distinct starts from its population and the guesses.
     progress(CalibrationStage::Global);
-    let pool = global_stage(&p, &guesses, opts);
+    let pool = global_stage(explore, &guesses, opts);
     let starts = distinct_starts(&pool, opts.starts.max(1));
 
     // 3. Local runs in parallel; the best one (the first of equals) goes on.
@@ -800,7 +823,7 @@ pub fn calibrate_from(
             informed_guesses: guesses.informed,
             global_evaluations: pool.evaluations,
             global_generations: pool.generations,
-            evaluations: p.evaluations(),
+            evaluations: p.evaluations() + share.as_ref().map_or(0, Problem::evaluations),
             termination: u.best.termination.clone(),
             repolished_from_profile: u.repolished,
             elapsed_s: t0.elapsed().as_secs_f64(),

@@ -211,6 +211,13 @@ pub fn typical_rate(tests: &[FitTest]) -> f64 {
 /// traction control), in noise units: large, finite, so optimisers move away.
 pub const FAILED_RESIDUAL: f64 = 1e3;
 
+/// A model run simulates its tests in parallel from this many tests ...
+const PARALLEL_TESTS: usize = 64;
+/// ... and this many rows: a set of many tests keeps every core busy even where the calibration
+/// runs one model at a time (the last local run, the last profile). Below, one thread does it
+/// (a small problem would only pay for the threads). The residuals are the same either way.
+const PARALLEL_ROWS: usize = 20_000;
+
 /// Writes the weighted, noise-normalised residuals (prediction − measurement)·√w/σ of all
 /// tests into `out`; returns how many tests failed to simulate.
 pub fn residuals_into(
@@ -219,43 +226,65 @@ pub fn residuals_into(
     out: &mut Vec<f64>,
     scratch: &mut Vec<f64>,
 ) -> usize {
+    use rayon::prelude::*;
     out.clear();
-    let mut failed = 0;
+    let total: usize = tests.iter().map(FitTest::len).sum();
+    out.resize(total, 0.0);
+    let mut slices = Vec::with_capacity(tests.len());
+    let mut rest = &mut out[..];
     for t in tests {
-        let k = t.weight.sqrt() / t.noise_sd;
-        let rows = t.counted_rows();
-        let start = out.len();
-        out.resize(start + t.len(), 0.0);
-        if rows.is_empty() {
-            continue;
-        }
-        // The state at a row depends on the whole history: simulate from the start.
-        match simulate_predicted_into(m, &t.protocol_until(rows.end), scratch) {
-            Ok(()) => {
-                if t.row_weight.is_empty() {
-                    for i in rows.clone() {
-                        out[start + i] = k * (scratch[i] - t.measured[i]);
-                    }
-                } else {
-                    for i in rows.clone() {
-                        out[start + i] = k * t.row_weight[i].sqrt() * (scratch[i] - t.measured[i]);
-                    }
-                }
-                if t.detrend {
-                    let r = &mut out[start..start + t.len()];
-                    let c = t.drift_coefficient(r, rows.clone());
-                    t.remove_drift(r, rows, c);
-                }
-            }
-            Err(_) => {
-                failed += 1;
-                for i in rows {
-                    out[start + i] = FAILED_RESIDUAL;
-                }
-            }
-        }
+        let (here, after) = rest.split_at_mut(t.len());
+        slices.push(here);
+        rest = after;
+    }
+    if tests.len() >= PARALLEL_TESTS && total >= PARALLEL_ROWS {
+        return tests
+            .par_iter()
+            .zip(slices)
+            .map_init(Vec::new, |scratch, (t, r)| {
+                usize::from(!test_residuals(t, m, r, scratch))
+            })
+            .sum();
+    }
+    let mut failed = 0;
+    for (t, r) in tests.iter().zip(slices) {
+        failed += usize::from(!test_residuals(t, m, r, scratch));
     }
     failed
+}
+
+/// The residuals of one test into `out` (its rows, zeroed); false when it failed to simulate.
+fn test_residuals(t: &FitTest, m: &Model, out: &mut [f64], scratch: &mut Vec<f64>) -> bool {
+    let k = t.weight.sqrt() / t.noise_sd;
+    let rows = t.counted_rows();
+    if rows.is_empty() {
+        return true;
+    }
+    // The state at a row depends on the whole history: simulate from the start.
+    match simulate_predicted_into(m, &t.protocol_until(rows.end), scratch) {
+        Ok(()) => {
+            if t.row_weight.is_empty() {
+                for i in rows.clone() {
+                    out[i] = k * (scratch[i] - t.measured[i]);
+                }
+            } else {
+                for i in rows.clone() {
+                    out[i] = k * t.row_weight[i].sqrt() * (scratch[i] - t.measured[i]);
+                }
+            }
+            if t.detrend {
+                let c = t.drift_coefficient(out, rows.clone());
+                t.remove_drift(out, rows, c);
+            }
+            true
+        }
+        Err(_) => {
+            for i in rows {
+                out[i] = FAILED_RESIDUAL;
+            }
+            false
+        }
+    }
 }
 
 /// Misfit of one test.
@@ -273,6 +302,9 @@ pub struct TestMisfit {
     pub noise_sd: f64,
     /// RMS error / noise SD (1 = at the noise level).
     pub rms_over_noise: f64,
+    /// Mean squared error / noise variance (1 = at the noise level): the misfit as the reports
+    /// give it ("× the noise variance"), the square of `rms_over_noise`.
+    pub reduced_chi2: f64,
     /// Unit of `rms`.
     pub unit: &'static str,
 }
@@ -299,6 +331,7 @@ pub fn misfits(tests: &[FitTest], m: &Model) -> Vec<TestMisfit> {
                 rms_percent: 100.0 * rms / t.scale,
                 noise_sd: t.noise_sd,
                 rms_over_noise: rms / t.noise_sd,
+                reduced_chi2: (rms / t.noise_sd).powi(2),
                 unit: match t.control {
                     Control::Slip => "kPa",
                     Control::Shear => "mm",

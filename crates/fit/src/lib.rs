@@ -18,6 +18,7 @@ pub mod lm;
 pub mod prepare;
 pub mod problem;
 pub mod residuals;
+pub mod sampling;
 pub mod space;
 pub mod stiffness;
 pub mod thin;

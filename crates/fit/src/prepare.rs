@@ -5,7 +5,8 @@
 use crate::dataset::FitTest;
 use crate::thin::{bins, scale_for_budget, thin_test};
 use subfric_data::{
-    segment, ExperimentSet, SegmentKind, SegmentOptions, Segmentation, StartKind, TestData,
+    seating_toe, segment, ExperimentSet, SeatingToe, SegmentKind, SegmentOptions, Segmentation,
+    StartKind, TestData,
 };
 use subfric_model::{Control, Initial, Model};
 
@@ -20,6 +21,8 @@ pub struct PreparedTest {
     pub kept: Vec<usize>,
     /// Phases of the full record (holds, steps, reversals, cycles).
     pub segmentation: Segmentation,
+    /// A seating toe excluded from the start of the record (its rows are not in `full`).
+    pub toe: Option<SeatingToe>,
 }
 
 impl PreparedTest {
@@ -74,9 +77,10 @@ fn initial_of(seg: &Segmentation) -> Initial {
         StartKind::Loaded => Initial::Loaded {
             shear_kpa: s.shear_kpa,
         },
+        // The model takes the speed; the direction is the traction's sign.
         StartKind::Sliding => Initial::Sliding {
             shear_kpa: s.shear_kpa,
-            rate_mm_s: s.rate,
+            rate_mm_s: s.rate.abs(),
         },
     }
 }
@@ -85,6 +89,22 @@ fn initial_of(seg: &Segmentation) -> Initial {
 /// initial state.
 pub fn prepare_test(test: &TestData, name: String, opts: &SegmentOptions) -> PreparedTest {
     let segmentation = segment(test, opts);
+    // A seating toe is a rig artifact, not friction: its rows are left out and the test
+    // starts from rest where the shear begins to rise.
+    if let Some(toe) = seating_toe(test, &segmentation) {
+        let trimmed = test.rows_from(toe.first_kept);
+        let mut p = prepare_untrimmed(&trimmed, name, opts);
+        p.toe = Some(toe);
+        return p;
+    }
+    finish(test, name, segmentation)
+}
+
+fn prepare_untrimmed(test: &TestData, name: String, opts: &SegmentOptions) -> PreparedTest {
+    finish(test, name, segment(test, opts))
+}
+
+fn finish(test: &TestData, name: String, segmentation: Segmentation) -> PreparedTest {
     let control = control_of(test.spec.control);
     let mut fit = FitTest::new(
         name,
@@ -100,6 +120,7 @@ pub fn prepare_test(test: &TestData, name: String, opts: &SegmentOptions) -> Pre
         kept: (0..fit.len()).collect(),
         fit,
         segmentation,
+        toe: None,
     }
 }
 

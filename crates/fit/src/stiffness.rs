@@ -6,7 +6,8 @@
 //! a parameter the data determine (and must be fitted, or every unload and every hold would be
 //! simulated against an infinitely stiff machine). On stiff generated or digitised curves the
 //! crossing happens within a row or two, and α_t stays fixed. Reloads after a hold in which the
-//! shear fell far count too.
+//! shear fell far count too, and a first loading from rest that rises as a straight line over
+//! many resolution units (the model's own rise is curved from its start).
 
 use crate::prepare::PreparedTest;
 use serde::Serialize;
@@ -51,6 +52,9 @@ fn slopes(p: &PreparedTest) -> Vec<f64> {
         }
     }
     let mut out = Vec::new();
+    if let Some(k) = first_loading_slope(p) {
+        out.push(k);
+    }
     for &r in &events {
         // The transient: until the imposed column has moved 0.2 mm or the next event.
         let mut j = r + 1;
@@ -76,6 +80,43 @@ fn slopes(p: &PreparedTest) -> Vec<f64> {
     }
     out
 }
+
+/// The loading slope of a test that starts at rest, when the record resolves it as elastic:
+/// the shear rises to a fifth of the first peak over many resolution units, and as a straight
+/// line (the second tenth needs no more than 1.5 times the travel of the first). The rise of
+/// the subloading model itself is curved from the start (r grows from zero with cot(πr/2)),
+/// so a straight rise is a spring in series: the machine's compliance in the slip column.
+fn first_loading_slope(p: &PreparedTest) -> Option<f64> {
+    let t = &p.full;
+    let seg = &p.segmentation;
+    if seg.start.kind != subfric_data::StartKind::Rest || t.len() < 10 {
+        return None;
+    }
+    let end = seg
+        .reversals
+        .iter()
+        .copied()
+        .chain(seg.holds.iter().map(|h| h.0))
+        .min()
+        .unwrap_or(t.len())
+        .min(t.len());
+    let (u, tau) = (&t.imposed, &t.measured);
+    let sign = (u[end - 1] - u[0]).signum();
+    let peak = tau[..end].iter().map(|v| sign * v).fold(f64::MIN, f64::max);
+    if !(peak > 0.0 && peak.is_finite()) {
+        return None;
+    }
+    let reach = |share: f64| (0..end).find(|&i| sign * (tau[i] - tau[0]) >= share * peak);
+    let (i10, i20) = (reach(0.1)?, reach(0.2)?);
+    let first = (u[i10] - u[0]).abs();
+    let second = (u[i20] - u[i10]).abs();
+    let straight = second <= LINEAR_RISE * first;
+    let resolved = first + second >= RESOLVED_BANDS * seg.conditioned.band && i20 >= 4;
+    (straight && resolved).then(|| 0.2 * peak / (first + second))
+}
+
+/// The second tenth of a straight rise needs at most this many times the travel of the first.
+const LINEAR_RISE: f64 = 1.5;
 
 /// The elastic stiffness, when some test of the set resolves it.
 pub fn resolved_stiffness(tests: &[PreparedTest]) -> Option<Stiffness> {

@@ -3,6 +3,7 @@
 //! The normal stress is imposed; the plastic return is radial in the tangential plane, so the
 //! same scalar equation as in 1-D is solved, and collinear paths give the 1-D answer.
 
+use crate::extensions::{RateForm, Target};
 use crate::integrator::{return_slip, surface, Consts, Local, RateHeld, StepError, StepInput};
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
@@ -190,6 +191,27 @@ pub struct Tangent3 {
     pub plastic_slip: Vec3,
 }
 
+/// A state that the model cannot have produced (e.g. read back from a finite-element code's
+/// state array): the field, its value and what the model allows.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("state.{field} = {value} (expected {expected})")]
+pub struct StateError {
+    /// The field.
+    pub field: &'static str,
+    /// Its value, as text.
+    pub value: String,
+    /// What the model allows.
+    pub expected: String,
+}
+
+/// How far cos_r and sin_r of a state may be from cos(πr/2) and sin(πr/2): the integrator
+/// carries them alongside r to round-off (a first-order update inside a converged return adds
+/// ~1e-12), so a larger gap is a state the model did not write.
+const STATE_TRIG_TOLERANCE: f64 = 1e-6;
+
+/// Relative slack on the range of μ (round-off of the relaxation towards a bound).
+const STATE_MU_SLACK: f64 = 1e-9;
+
 /// Integrator of a 3-D contact.
 #[derive(Clone, Debug)]
 pub struct Contact3 {
@@ -217,6 +239,107 @@ impl Contact3 {
             forward,
             alpha_n: model.params.alpha_n_kpa_per_mm(),
         }
+    }
+
+    /// The range of the friction coefficient μ of any state this model produces: within
+    /// [μ_k, μ_s], as moved by the pressure and direction effects on the bounds over every
+    /// normal stress and direction (down to 0 under the steady-state rate form, whose kinetic
+    /// bound moves with the rate).
+    pub fn mu_range(&self) -> (f64, f64) {
+        let ext = &self.k.ext;
+        let (lo_s, hi_s) = ext.bound_factor_range(Target::MuS);
+        let (lo_k, _) = ext.bound_factor_range(Target::MuK);
+        let floor = match ext.rate {
+            Some(r) if r.form == RateForm::SteadyState => 0.0,
+            _ => (self.k.mu_k * lo_k).min(self.k.mu_s * lo_s),
+        };
+        (floor, self.k.mu_s * hi_s)
+    }
+
+    /// Checks a state handed in from outside: finite, r in [0, 1] with cos_r and sin_r its
+    /// cosine and sine of πr/2, μ within [`Contact3::mu_range`], accumulated slip and age ≥ 0,
+    /// θ > 0 under a rate-and-state form. An all-zero array fails (cos_r = 0 is not cos 0): it
+    /// is no state, and a new contact point starts from [`State3::virgin`].
+    pub fn check_state(&self, st: &State3) -> Result<(), StateError> {
+        let bad = |field, value: String, expected: &str| {
+            Err(StateError {
+                field,
+                value,
+                expected: expected.to_string(),
+            })
+        };
+        for (field, v) in [("slip", st.slip), ("shear", st.shear)] {
+            if !(v.iter().all(|x| x.is_finite()) && norm(&v).is_finite()) {
+                let text = format!("[{}, {}, {}]", v[0], v[1], v[2]);
+                return bad(field, text, "finite numbers");
+            }
+        }
+        let scalars = [
+            ("mu", st.mu),
+            ("r", st.r),
+            ("cos_r", st.cos_r),
+            ("sin_r", st.sin_r),
+            ("slip_path", st.slip_path),
+            ("age", st.age),
+            ("theta", st.theta),
+            ("rate_add", st.rate_held.add),
+        ];
+        for (field, v) in scalars {
+            if !v.is_finite() {
+                return bad(field, v.to_string(), "a finite number");
+            }
+        }
+        if !(st.rate_held.factor > 0.0 && st.rate_held.factor.is_finite()) {
+            return bad(
+                "rate_factor",
+                st.rate_held.factor.to_string(),
+                "a finite number > 0 (1 for a new contact point)",
+            );
+        }
+        if !(0.0..=1.0).contains(&st.r) {
+            return bad("r", st.r.to_string(), "a number in [0, 1]");
+        }
+        let (sin, cos) = (FRAC_PI_2 * st.r).sin_cos();
+        if (st.cos_r - cos).abs() > STATE_TRIG_TOLERANCE
+            || (st.sin_r - sin).abs() > STATE_TRIG_TOLERANCE
+        {
+            return bad(
+                "cos_r, sin_r",
+                format!("{}, {}", st.cos_r, st.sin_r),
+                &format!(
+                    "cos(πr/2) = {cos}, sin(πr/2) = {sin} of r = {}: not a state of the model \
+                     (an all-zero state is none: a new contact point starts from the virgin state)",
+                    st.r
+                ),
+            );
+        }
+        let (lo, hi) = self.mu_range();
+        let slack = STATE_MU_SLACK * hi.min(f64::MAX);
+        if !(st.mu >= lo - slack && st.mu <= hi + slack) {
+            return bad(
+                "mu",
+                st.mu.to_string(),
+                &format!("a friction coefficient in [{lo}, {hi}], the range of this model"),
+            );
+        }
+        if st.slip_path < 0.0 {
+            return bad(
+                "slip_path",
+                st.slip_path.to_string(),
+                "an accumulated slip >= 0 [mm]",
+            );
+        }
+        if st.age < 0.0 {
+            return bad("age", st.age.to_string(), "a time >= 0 [s]");
+        }
+        if self.k.ext.rate.is_some_and(|r| r.has_state()) && st.theta <= 0.0 {
+            return bad(
+                "theta",
+                st.theta.to_string(),
+                "a state variable > 0 [s] (the model has a rate-and-state form)",
+            );
+        }
+        Ok(())
     }
 
     /// Tangential part of a vector.
@@ -252,8 +375,35 @@ impl Contact3 {
         dt: f64,
     ) -> Result<State3, StepError> {
         let slip = self.tangential(slip);
-        let du = axpy(-1.0, &st.slip, &slip);
-        let trial = axpy(self.k.alpha, &du, &st.shear);
+        self.step(st, &axpy(-1.0, &st.slip, &slip), slip, p, dt)
+    }
+
+    /// One step under slip control given the slip increment `du` (its tangential part is
+    /// used), as a finite-element code hands it over. The traction follows from the increment
+    /// itself, never from a difference of accumulated slips, so it is exact however far the
+    /// point has slid (at a slip of 10¹¹ mm, doubles are 10⁻⁵ mm apart, far more than the
+    /// elastic slip of a stiff contact); `slip` in the end state is the record st.slip + Δu.
+    pub fn step_increment(
+        &self,
+        st: &State3,
+        du: &Vec3,
+        p: f64,
+        dt: f64,
+    ) -> Result<State3, StepError> {
+        let du = self.tangential(du);
+        self.step(st, &du, axpy(1.0, &du, &st.slip), p, dt)
+    }
+
+    /// The step from `st` by the tangential increment `du`, ending at the slip `slip`.
+    fn step(
+        &self,
+        st: &State3,
+        du: &Vec3,
+        slip: Vec3,
+        p: f64,
+        dt: f64,
+    ) -> Result<State3, StepError> {
+        let trial = axpy(self.k.alpha, du, &st.shear);
         let magnitude = norm(&trial);
         let theta_el = self.k.rest_theta(st.theta, dt);
         let exp_xi_dt = (-self.k.xi * dt).exp();
@@ -365,13 +515,30 @@ impl Contact3 {
         dt: f64,
     ) -> Result<(State3, Tangent3), StepError> {
         let next = self.step_slip(st, slip, p, dt)?;
-        let tangent = self.tangent(st, &next, slip, p, dt);
+        let du = axpy(-1.0, &st.slip, &self.tangential(slip));
+        let tangent = self.tangent(st, &next, &du, p, dt);
         Ok((next, tangent))
     }
 
-    /// The tangent of the step from `st` to `next` (which `step_slip` returned). The set-up
-    /// repeats `step_slip`'s expressions in the same order, so it takes the same branch.
-    fn tangent(&self, st: &State3, next: &State3, slip: &Vec3, p: f64, dt: f64) -> Tangent3 {
+    /// [`Contact3::step_increment`] with its consistent tangent (as
+    /// [`Contact3::step_slip_with_tangent`]; the derivatives are the same, with respect to the
+    /// increment).
+    pub fn step_increment_with_tangent(
+        &self,
+        st: &State3,
+        du: &Vec3,
+        p: f64,
+        dt: f64,
+    ) -> Result<(State3, Tangent3), StepError> {
+        let next = self.step_increment(st, du, p, dt)?;
+        let tangent = self.tangent(st, &next, &self.tangential(du), p, dt);
+        Ok((next, tangent))
+    }
+
+    /// The tangent of the step from `st` by the tangential increment `du` to `next` (which
+    /// `step` returned). The set-up repeats `step`'s expressions in the same order, so it
+    /// takes the same branch.
+    fn tangent(&self, st: &State3, next: &State3, du: &Vec3, p: f64, dt: f64) -> Tangent3 {
         let alpha = self.k.alpha;
         let plane = plane_projector(&self.normal);
         let elastic = Tangent3 {
@@ -379,9 +546,7 @@ impl Contact3 {
             d_pressure: [0.0; 3],
             plastic_slip: [0.0; 3],
         };
-        let slip = self.tangential(slip);
-        let du = axpy(-1.0, &st.slip, &slip);
-        let trial = axpy(alpha, &du, &st.shear);
+        let trial = axpy(alpha, du, &st.shear);
         let magnitude = norm(&trial);
         if magnitude == 0.0 {
             return elastic;

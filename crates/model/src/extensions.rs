@@ -230,6 +230,28 @@ impl PressureEffect {
             _ => 1.0,
         }
     }
+
+    /// The least and greatest factor on `target` over every normal stress p > 0 (infinite
+    /// where the form is unbounded).
+    pub fn range_on(&self, target: Target) -> (f64, f64) {
+        let beta = match (self.target, target) {
+            (t, u) if t == u => self.beta,
+            (Target::Bounds, Target::MuS) => self.beta,
+            (Target::Bounds, Target::MuK) => self.beta_k,
+            _ => 0.0,
+        };
+        if beta == 0.0 {
+            return (1.0, 1.0);
+        }
+        // P is monotone in p: its ends are its limits at p → 0 (x = 0) and p → ∞.
+        match (self.form, beta > 0.0) {
+            (PressureForm::Power, _) => (0.0, f64::INFINITY),
+            (PressureForm::Linear, true) => (0.05, (1.0 + beta).max(0.05)),
+            (PressureForm::Linear, false) => ((1.0 + beta).max(0.05), f64::INFINITY),
+            (PressureForm::Exponential, true) => (0.0, beta.exp()),
+            (PressureForm::Exponential, false) => (beta.exp(), f64::INFINITY),
+        }
+    }
 }
 
 /// How friction changes with accumulated plastic slip s.
@@ -380,6 +402,13 @@ impl DirectionEffect {
             _ => 1.0,
         }
     }
+
+    /// The least and greatest factor on `target` over every sliding direction (the factor is
+    /// linear in the cosine: its ends are forward and backward sliding).
+    pub fn range_on(&self, target: Target) -> (f64, f64) {
+        let (a, b) = (self.factor_on(target, 1.0), self.factor_on(target, -1.0));
+        (a.min(b), a.max(b))
+    }
 }
 
 /// The set of active extensions; the default is the base model of the paper.
@@ -510,6 +539,21 @@ impl Extensions {
             }
         }
         f
+    }
+
+    /// The least and greatest factor on `target` (μ_s or μ_k) over every normal stress and
+    /// sliding direction: μ_s and μ_k lie within these multiples of the parameters.
+    pub fn bound_factor_range(&self, target: Target) -> (f64, f64) {
+        let (mut lo, mut hi) = (1.0, 1.0);
+        if let Some(e) = self.pressure {
+            let (a, b) = e.range_on(target);
+            (lo, hi) = (lo * a, hi * b);
+        }
+        if let Some(e) = self.direction {
+            let (a, b) = e.range_on(target);
+            (lo, hi) = (lo * a, hi * b);
+        }
+        (lo, hi)
     }
 
     /// Factor on `target` (μ_s, μ_k, κ or ũ) at normal stress `p` and direction `cos_forward`.

@@ -24,7 +24,7 @@ pub mod scenario;
 pub mod simulate;
 
 pub use contact1::{Contact1, State1};
-pub use contact3::{Contact3, State3, Tangent3, Vec3};
+pub use contact3::{Contact3, State3, StateError, Tangent3, Vec3};
 pub use extensions::{
     AtRest, DirectionEffect, Extensions, Healing, HealingForm, PressureEffect, PressureForm,
     RateEffect, RateForm, SlipForm, SlipHardening, Target,
@@ -34,7 +34,8 @@ pub use json::{model_from_json, model_from_value, ModelJsonError};
 pub use params::{ParamError, ParamIssue, Params, MAX_ALPHA};
 pub use scenario::{Scenario, ScenarioError, Stage, MAX_SCENARIO_ROWS};
 pub use simulate::{
-    simulate, simulate_predicted_into, Control, Initial, Protocol, SimError, Trajectory,
+    check_start, simulate, simulate_predicted_into, Control, Initial, Protocol, SimError,
+    Trajectory, SLIP_RESOLUTION_SHARE,
 };
 
 /// A validated model: the paper's parameters plus optional extensions.

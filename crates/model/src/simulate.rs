@@ -130,7 +130,114 @@ impl Trajectory {
 /// Most substeps a failing step is split into before giving up.
 pub const MAX_SUBSTEPS: usize = 64;
 
-fn check_protocol(p: &Protocol) -> Result<(), SimError> {
+/// Largest share of the friction capacity μ_s p that the spacing of doubles at a slip may
+/// reach once α_t turns it into shear: 0.1 %, below the noise of any shear measurement.
+pub const SLIP_RESOLUTION_SHARE: f64 = 1e-3;
+
+/// The model's view of a slip's floating-point resolution. The step adds α_t Δu to the
+/// traction, and a slip u is only known to the spacing of doubles near it (2.2·10⁻¹⁶ |u|), so
+/// a slip-controlled traction is only known to α_t times that spacing: at u = 10¹¹ mm and
+/// α_t = 2000 kN/mm³, 3·10⁴ kPa — the elastic slip is lost and the shear is noise. The model
+/// depends on slip differences only, so such a record is refused with the advice to subtract
+/// a constant from its slip.
+struct SlipResolution {
+    /// α_t [kPa/mm].
+    alpha: f64,
+    /// α_t [kN/mm³], for messages.
+    alpha_t: f64,
+    /// μ_s × [`SLIP_RESOLUTION_SHARE`].
+    share_of_mu_s: f64,
+}
+
+impl SlipResolution {
+    fn new(model: &Model) -> Self {
+        SlipResolution {
+            alpha: model.params.alpha_t_kpa_per_mm(),
+            alpha_t: model.params.alpha_t,
+            share_of_mu_s: SLIP_RESOLUTION_SHARE * model.params.mu_s,
+        }
+    }
+
+    /// Refuses slip `u` at normal stress `p` where it is not resolved (row and field named).
+    #[inline]
+    fn check(&self, u: f64, p: f64, row: usize, field: &'static str) -> Result<(), SimError> {
+        let a = u.abs();
+        // The next double above a finite a ≥ 0 (infinite above f64::MAX: refused).
+        let spacing = f64::from_bits(a.to_bits() + 1) - a;
+        let allowed = self.share_of_mu_s * p;
+        if self.alpha * spacing <= allowed {
+            return Ok(());
+        }
+        // Doubles in [2^e, 2^(e+1)) are 2^(e−52) apart: the largest resolved binade.
+        let largest = 2f64.powf((allowed / self.alpha).log2().floor() + 53.0);
+        Err(SimError::Input {
+            row,
+            field,
+            message: format!(
+                "slip {u:e} mm is beyond what this model resolves: doubles near it are \
+                 {spacing:.2e} mm apart, which α_t = {} kN/mm³ turns into steps of {:.3e} kPa \
+                 in the shear, more than {}% of the friction capacity μ_s p = {:.4} kPa \
+                 (expected |slip| < {largest:.3e} mm; the model depends only on slip \
+                 differences: subtract a constant from the slip)",
+                self.alpha_t,
+                self.alpha * spacing,
+                100.0 * SLIP_RESOLUTION_SHARE,
+                allowed / SLIP_RESOLUTION_SHARE,
+            ),
+        })
+    }
+}
+
+impl Initial {
+    /// Checks the numbers of a start: a finite traction, and a finite slip rate ≥ 0 (a speed:
+    /// the direction of sliding is the sign of the traction).
+    fn check_numbers(&self) -> Result<(), SimError> {
+        let input = |field, message: String| {
+            Err(SimError::Input {
+                row: 0,
+                field,
+                message,
+            })
+        };
+        let (shear, rate) = match *self {
+            Initial::Rest => return Ok(()),
+            Initial::Loaded { shear_kpa } => (shear_kpa, None),
+            Initial::Sliding {
+                shear_kpa,
+                rate_mm_s,
+            } => (shear_kpa, Some(rate_mm_s)),
+        };
+        if !shear.is_finite() {
+            return input(
+                "initial.shear_kpa",
+                format!("expected a finite traction at the first row [kPa], got {shear}"),
+            );
+        }
+        match rate {
+            Some(v) if !(v.is_finite() && v >= 0.0) => input(
+                "initial.rate_mm_s",
+                format!(
+                    "expected a finite slip rate >= 0 [mm/s] (a speed: the direction of \
+                     sliding is the sign of shear_kpa), got {v}"
+                ),
+            ),
+            _ => Ok(()),
+        }
+    }
+}
+
+fn check_protocol(model: &Model, p: &Protocol) -> Result<(), SimError> {
+    if !p.initial_slip.is_finite() {
+        return Err(SimError::Input {
+            row: 0,
+            field: "initial_slip",
+            message: format!(
+                "expected a finite slip at the first row [mm], got {}",
+                p.initial_slip
+            ),
+        });
+    }
+    p.initial.check_numbers()?;
     let n = p.time.len();
     for (field, len) in [("imposed", p.imposed.len()), ("normal_kpa", p.normal.len())] {
         if len != n {
@@ -141,7 +248,11 @@ fn check_protocol(p: &Protocol) -> Result<(), SimError> {
             });
         }
     }
+    // The largest slip and the least normal stress, for the resolution check below.
+    let (mut largest, mut least) = (0.0f64, f64::INFINITY);
     for i in 0..n {
+        largest = largest.max(p.imposed[i].abs());
+        least = least.min(p.normal[i]);
         if !p.time[i].is_finite() || (i > 0 && p.time[i] <= p.time[i - 1]) {
             return Err(SimError::Input {
                 row: i,
@@ -168,6 +279,24 @@ fn check_protocol(p: &Protocol) -> Result<(), SimError> {
                     p.normal[i]
                 ),
             });
+        }
+    }
+    let resolution = SlipResolution::new(model);
+    match p.control {
+        // The spacing grows with |u| and the allowance with p: the largest slip at the least
+        // normal stress decides for every row, and only a refusal needs the row.
+        Control::Slip if n > 0 => {
+            if resolution.check(largest, least, 0, "imposed").is_err() {
+                for (i, (&u, &normal)) in p.imposed.iter().zip(p.normal).enumerate() {
+                    resolution.check(u, normal, i, "imposed")?;
+                }
+            }
+        }
+        Control::Slip => {}
+        Control::Shear => {
+            if let Some(&normal) = p.normal.first() {
+                resolution.check(p.initial_slip, normal, 0, "initial_slip")?;
+            }
         }
     }
     Ok(())
@@ -223,6 +352,13 @@ fn advance(
 }
 
 fn initial_state(model: &Model, proto: &Protocol) -> Result<State1, SimError> {
+    start(model, proto).map(|(st, _)| st)
+}
+
+/// The state at the first row, and the traction it starts under with the most the model
+/// carries there (`None` for an unloaded start): at rest, the surface at μ₀; sliding, the
+/// surface of a contact sliding at the given rate.
+fn start(model: &Model, proto: &Protocol) -> Result<(State1, Option<(f64, f64)>), SimError> {
     let p = proto.normal[0];
     let mut st = State1::virgin_at(model, proto.imposed[0], p);
     let control = proto.control;
@@ -231,7 +367,7 @@ fn initial_state(model: &Model, proto: &Protocol) -> Result<State1, SimError> {
     }
     let shear = match (control, proto.initial) {
         (Control::Shear, _) => proto.imposed[0],
-        (Control::Slip, Initial::Rest) => return Ok(st),
+        (Control::Slip, Initial::Rest) => return Ok((st, None)),
         (Control::Slip, Initial::Loaded { shear_kpa })
         | (Control::Slip, Initial::Sliding { shear_kpa, .. }) => shear_kpa,
     };
@@ -246,7 +382,7 @@ fn initial_state(model: &Model, proto: &Protocol) -> Result<State1, SimError> {
     let sign = if shear < 0.0 { -1.0 } else { 1.0 };
     let l = k.local(p, sign);
     st.shear = shear;
-    let r = match proto.initial {
+    let (r, cap) = match proto.initial {
         Initial::Sliding { rate_mm_s, .. } => {
             let v = rate_mm_s.abs();
             if let Some(rate) = model.ext.rate {
@@ -269,11 +405,12 @@ fn initial_state(model: &Model, proto: &Protocol) -> Result<State1, SimError> {
             // velocity-weakening form puts higher).
             let cap = k.sliding_mu_eff(&l, st.mu, v, st.slip_path) * p;
             // On the surface; above it, the first step returns the traction onto it.
-            if shear.abs() >= 0.999 * cap {
+            let r = if shear.abs() >= 0.999 * cap {
                 1.0
             } else {
                 shear.abs() / cap
-            }
+            };
+            (r, cap)
         }
         _ => {
             let cap = k.elastic_mu_eff(&l, st.mu, st.theta, 0.0, st.rate_held) * p;
@@ -286,15 +423,71 @@ fn initial_state(model: &Model, proto: &Protocol) -> Result<State1, SimError> {
                         capacity_kpa: cap,
                     });
                 }
-                1.0
+                (1.0, cap)
             } else {
-                shear.abs() / cap
+                (shear.abs() / cap, cap)
             }
         }
     };
     st.r = r;
     (st.sin_r, st.cos_r) = (std::f64::consts::FRAC_PI_2 * r).sin_cos();
-    Ok(st)
+    Ok((st, Some((shear, cap))))
+}
+
+/// Relative slack of [`check_start`] on the capacity (round-off of μ_eff p).
+const CAPACITY_SLACK: f64 = 1e-9;
+
+/// Checks a start given by hand (not read off a record) against the model: a traction at
+/// rest within the friction capacity at μ₀, a sliding traction within what a contact of this
+/// model carries when sliding at the given rate. [`simulate`] itself accepts a start above
+/// the capacity — a record's first row may lie above the surface of parameters a fit is
+/// trying, and the first step returns the traction onto it — but a start given by hand above
+/// it is a mistake, not a state: its answer would be the model's, not the one asked for.
+///
+/// ```
+/// use subfric_model::{check_start, Control, Initial, Model, Params, Protocol};
+/// let model = Model::base(Params::sample()).unwrap(); // μ_s = 0.45: 45 kPa at 100 kPa
+/// let (t, u, n) = ([0.0, 1.0], [0.0, 0.01], [100.0, 100.0]);
+/// let proto = |initial| Protocol { control: Control::Slip, time: &t, imposed: &u, normal: &n, initial_slip: 0.0, initial };
+/// assert!(check_start(&model, &proto(Initial::Loaded { shear_kpa: 40.0 })).is_ok());
+/// let e = check_start(&model, &proto(Initial::Loaded { shear_kpa: 1000.0 })).unwrap_err();
+/// assert!(e.to_string().contains("capacity 45"), "{e}");
+/// ```
+pub fn check_start(model: &Model, proto: &Protocol) -> Result<(), SimError> {
+    check_protocol(model, proto)?;
+    if proto.time.is_empty() {
+        return Ok(());
+    }
+    let Some((shear, cap)) = start(model, proto)?.1 else {
+        return Ok(());
+    };
+    if shear.abs() <= cap * (1.0 + CAPACITY_SLACK) {
+        return Ok(());
+    }
+    let p = proto.normal[0];
+    let (field, what) = match (proto.control, proto.initial) {
+        (Control::Shear, _) => ("imposed", format!("the first imposed shear {shear} kPa")),
+        (_, Initial::Sliding { rate_mm_s, .. }) => (
+            "initial.shear_kpa",
+            format!("a start sliding at {rate_mm_s} mm/s under {shear} kPa"),
+        ),
+        _ => (
+            "initial.shear_kpa",
+            format!("a start at rest under {shear} kPa"),
+        ),
+    };
+    let state = match proto.initial {
+        Initial::Sliding { .. } => "sliding at that rate",
+        _ => "at rest",
+    };
+    Err(SimError::Input {
+        row: 0,
+        field,
+        message: format!(
+            "{what} exceeds the friction capacity {cap:.4} kPa of this model {state} under \
+             {p} kPa (expected |shear_kpa| <= {cap:.4}: a contact cannot hold more)"
+        ),
+    })
 }
 
 fn run<F: FnMut(usize, &State1)>(
@@ -302,10 +495,11 @@ fn run<F: FnMut(usize, &State1)>(
     proto: &Protocol,
     mut sink: F,
 ) -> Result<(), SimError> {
-    check_protocol(proto)?;
+    check_protocol(model, proto)?;
     if proto.time.is_empty() {
         return Ok(());
     }
+    let resolution = SlipResolution::new(model);
     let mut c = Contact1::new(model);
     let mut st = initial_state(model, proto)?;
     sink(0, &st);
@@ -337,6 +531,10 @@ fn run<F: FnMut(usize, &State1)>(
                 source,
             },
         })?;
+        // Under traction control the slip is the model's: it must stay where it is resolved.
+        if proto.control == Control::Shear {
+            resolution.check(st.slip, proto.normal[i], i, "slip")?;
+        }
         sink(i, &st);
     }
     Ok(())

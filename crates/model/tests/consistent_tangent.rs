@@ -61,6 +61,9 @@ fn check_path(c: &Contact3, st0: State3, slips: &[Vec3], p: f64, dts: &[f64]) ->
             c.step_slip(&st, slip, p, dt).unwrap(),
             "the state is step_slip's"
         );
+        // Every state the model writes passes the check of a state handed back to it.
+        c.check_state(&next)
+            .unwrap_or_else(|e| panic!("the model's own state is refused: {e}"));
         let branch = plastic(&next);
         let du = norm(&add(slip, -1.0, &st.slip));
         // A perturbation small against the step (the tangent varies on the scale of the step)

@@ -57,7 +57,8 @@ pub(crate) enum Swatch {
         color: [u8; 3],
         width: f64,
         dashed: bool,
-        marker: Option<f64>,
+        /// Radius and colour of a marker drawn on the line.
+        marker: Option<(f64, [u8; 3])>,
     },
     Gradient {
         style: Style,
@@ -197,8 +198,8 @@ pub(crate) fn draw_legend(c: &mut Canvas, l: &Legend, m: &Metrics) {
             } => {
                 let dash = dashed.then(|| dash_pattern(m));
                 c.line((x0, cy), (x1, cy), *color, *width, dash);
-                if let Some(r) = marker {
-                    c.dot((0.5 * (x0 + x1), cy), *r, *color);
+                if let Some((r, mc)) = marker {
+                    c.dot((0.5 * (x0 + x1), cy), *r, *mc);
                 }
             }
             Swatch::Gradient {

@@ -2,8 +2,11 @@
 
 use crate::Style;
 
-/// Colour of [`Style::Measured`] lines and markers (grey).
-pub const MEASURED_RGB: [u8; 3] = [110, 110, 110];
+/// Colour of [`Style::Measured`] markers (near-black), drawn on top of every curve.
+pub const MEASURED_RGB: [u8; 3] = [40, 40, 40];
+/// Colour of the thin line through every point of a [`Style::Measured`] series (light grey),
+/// drawn beneath the models.
+pub const MEASURED_LINE_RGB: [u8; 3] = [170, 170, 170];
 /// Colour of [`Style::Published`] lines (blue).
 pub const PUBLISHED_RGB: [u8; 3] = [31, 119, 180];
 /// Colour of [`Style::Fitted`] lines (red).

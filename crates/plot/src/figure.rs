@@ -5,13 +5,15 @@ use std::path::Path;
 use crate::canvas::{Canvas, HAlign, VAlign};
 use crate::chrome::{
     dash_pattern, draw_axes, draw_grid, draw_legend, draw_no_data, draw_y_label, place_legend,
-    place_title, AxisDraw, Legend, LegendEntry, Metrics, Swatch,
+    place_title, AxisDraw, Legend, LegendEntry, Metrics,
 };
-use crate::colors::{self, INK_RGB, ZERO_RGB};
+use crate::colors::{INK_RGB, ZERO_RGB};
 use crate::fonts::{self, CAP_HEIGHT, DESCENT};
-use crate::geom::{decimate, ClipBox, Mapper, Occupancy, PixelRect, Pt};
+use crate::geom::{ClipBox, Mapper, Occupancy, PixelRect, Pt};
+use crate::inset::{draw_inset, plan_inset, InsetPlan};
 use crate::scale::{plottable, ticks, AxisRange, Extent, Ticks};
-use crate::{check_size, png_io, DrawError, Figure, Invalid, Panel, PlotError, Series, Style};
+use crate::strokes::{legend_entry, series_strokes, z_order, Stroke};
+use crate::{check_size, png_io, DrawError, Figure, Invalid, Panel, PlotError, Series};
 
 /// Where the parts of a [`Figure`] are drawn, in pixels.
 #[derive(Debug, Clone, PartialEq)]
@@ -25,6 +27,10 @@ pub struct FigureLayout {
     pub main: PixelRect,
     /// Plotting area of the residual panel, if any.
     pub residual: Option<PixelRect>,
+    /// Plotting area of the history panel (between main and residual), if any.
+    pub history: Option<PixelRect>,
+    /// The zoom drawn inside the main panel, if any: its box (frame included).
+    pub inset: Option<PixelRect>,
     /// Legend box of the main panel, if it has one (inside `main`).
     pub main_legend: Option<PixelRect>,
     /// Legend box of the residual panel, if it has one (inside `residual`).
@@ -35,15 +41,6 @@ pub struct FigureLayout {
     pub main_y_range: (f64, f64),
     /// Y axis range of the residual panel.
     pub residual_y_range: Option<(f64, f64)>,
-}
-
-/// A polyline ready to draw, already clipped.
-#[derive(Debug, Clone)]
-struct Stroke {
-    pts: Vec<Pt>,
-    color: [u8; 3],
-    width: f64,
-    dashed: bool,
 }
 
 struct PanelPlan {
@@ -74,12 +71,16 @@ struct Plan {
     x_label: String,
     x_label_size: f64,
     main: PanelPlan,
+    history: Option<PanelPlan>,
     residual: Option<PanelPlan>,
+    inset: Option<InsetPlan>,
 }
 
 fn validate(fig: &Figure) -> Result<(), Invalid> {
     check_size(fig.width, fig.height)?;
-    let panels = std::iter::once(&fig.main).chain(fig.residual.as_ref());
+    let panels = std::iter::once(&fig.main)
+        .chain(fig.history.as_ref())
+        .chain(fig.residual.as_ref());
     for s in panels.flat_map(|p| p.series.iter()) {
         if s.x.len() != s.y.len() {
             return Err(Invalid::Length {
@@ -101,15 +102,24 @@ fn validate(fig: &Figure) -> Result<(), Invalid> {
     Ok(())
 }
 
-fn points(s: &Series) -> impl Iterator<Item = (f64, f64)> + '_ {
+pub(crate) fn points(s: &Series) -> impl Iterator<Item = (f64, f64)> + '_ {
     s.x.iter()
         .zip(&s.y)
         .map(|(&x, &y)| (x, y))
         .filter(|&(x, y)| plottable(x) && plottable(y))
 }
 
-/// Axis ranges: shared x, main y, residual y.
-fn ranges(fig: &Figure) -> (AxisRange, AxisRange, Option<AxisRange>) {
+/// Axis ranges of a figure.
+struct Ranges {
+    /// Shared x.
+    x: AxisRange,
+    main: AxisRange,
+    history: Option<AxisRange>,
+    residual: Option<AxisRange>,
+}
+
+/// Axis ranges: shared x, and y of each panel.
+fn ranges(fig: &Figure) -> Ranges {
     let mut x = Extent::default();
     let panel_y = |p: &Panel, x: &mut Extent| {
         let mut y = Extent::default();
@@ -121,189 +131,32 @@ fn ranges(fig: &Figure) -> (AxisRange, AxisRange, Option<AxisRange>) {
         }
         y.padded(p.zero_line)
     };
-    let main_y = panel_y(&fig.main, &mut x);
-    let res_y = fig.residual.as_ref().map(|p| panel_y(p, &mut x));
-    (x.padded(false), main_y, res_y)
+    let main = panel_y(&fig.main, &mut x);
+    let history = fig.history.as_ref().map(|p| panel_y(p, &mut x));
+    let residual = fig.residual.as_ref().map(|p| panel_y(p, &mut x));
+    Ranges {
+        x: x.padded(false),
+        main,
+        history,
+        residual,
+    }
 }
 
 /// Whether every drawable point (both coordinates finite and within
 /// [`crate::MAX_ABS_VALUE`]) lies inside the axis ranges the figure is drawn with.
 pub fn series_inside(fig: &Figure) -> bool {
-    let (x, main_y, res_y) = ranges(fig);
+    let r = ranges(fig);
+    let x = r.x;
     let inside = |p: &Panel, y: AxisRange| {
         p.series
             .iter()
             .all(|s| points(s).all(|(px, py)| x.contains(px) && y.contains(py)))
     };
-    inside(&fig.main, main_y)
-        && match (&fig.residual, res_y) {
-            (Some(p), Some(y)) => inside(p, y),
-            _ => true,
-        }
-}
-
-fn z_order(style: Style) -> u8 {
-    match style {
-        Style::Measured => 0,
-        Style::Other(_) => 1,
-        Style::Published => 2,
-        Style::Fitted => 3,
-    }
-}
-
-fn line_width(style: Style, m: &Metrics, cycled: bool) -> f64 {
-    match style {
-        Style::Measured if cycled => m.width(1.6),
-        Style::Measured => m.width(1.0),
-        Style::Published | Style::Other(_) => m.width(2.0),
-        Style::Fitted => m.width(2.2),
-    }
-}
-
-const MARKER_LIMIT: usize = 60;
-
-fn uses_markers(s: &Series) -> bool {
-    s.style == Style::Measured && points(s).count() <= MARKER_LIMIT
-}
-
-/// Cycle range of the drawable points of a series.
-fn cycle_bounds(s: &Series) -> Option<(u32, u32)> {
-    let c = s.cycle.as_ref()?;
-    let mut b: Option<(u32, u32)> = None;
-    for ((&x, &y), &k) in s.x.iter().zip(&s.y).zip(c) {
-        if plottable(x) && plottable(y) {
-            b = Some(match b {
-                None => (k, k),
-                Some((lo, hi)) => (lo.min(k), hi.max(k)),
-            });
-        }
-    }
-    b
-}
-
-/// Legend entry of a series (None for an empty label).
-fn legend_entry(s: &Series, m: &Metrics) -> Option<LegendEntry> {
-    if s.label.trim().is_empty() {
-        return None;
-    }
-    let has_data = points(s).next().is_some();
-    let dashed = s.style == Style::Published;
-    let (label, swatch) = match cycle_bounds(s) {
-        Some((a, b)) if has_data => {
-            let label = if a == b {
-                format!("{}, cycle {a}", s.label)
-            } else {
-                format!("{}, cycle {a}..{b}", s.label)
-            };
-            let swatch = Swatch::Gradient {
-                style: s.style,
-                width: line_width(s.style, m, true),
-                dashed,
-            };
-            (label, swatch)
-        }
-        _ => {
-            let label = if has_data {
-                s.label.clone()
-            } else {
-                format!("{} (no data)", s.label)
-            };
-            let swatch = Swatch::Line {
-                color: colors::style_rgb(s.style),
-                width: line_width(s.style, m, false),
-                dashed,
-                marker: uses_markers(s).then(|| marker_radius(m)),
-            };
-            (label, swatch)
-        }
+    let below = |p: &Option<Panel>, y: Option<AxisRange>| match (p, y) {
+        (Some(p), Some(y)) => inside(p, y),
+        _ => true,
     };
-    Some(LegendEntry { label, swatch })
-}
-
-/// Radius of the markers of measured points: a 7-pixel disc at 1000x750.
-fn marker_radius(m: &Metrics) -> f64 {
-    (2.5 * m.s).round().max(2.0) + 0.5
-}
-
-/// Strokes and markers of one series in a panel.
-fn series_strokes(
-    s: &Series,
-    mapper: &Mapper,
-    m: &Metrics,
-    out: &mut Vec<Stroke>,
-    markers: &mut Vec<(Pt, f64, [u8; 3])>,
-) {
-    let cycled = s.cycle.is_some();
-    let width = line_width(s.style, m, cycled);
-    let clip = ClipBox::inside(mapper.rect, width + 1.0);
-    let dashed = s.style == Style::Published;
-    let decimate_above = mapper.rect.width().max(16) as usize;
-    let bounds = cycle_bounds(s);
-    let color_of = |k: Option<u32>| match (k, bounds) {
-        (Some(k), Some((a, b))) => {
-            let t = if b > a {
-                f64::from(k - a.min(k)) / f64::from(b - a)
-            } else {
-                0.0
-            };
-            colors::cycle_rgb(s.style, t)
-        }
-        _ => colors::style_rgb(s.style),
-    };
-
-    // Runs of drawable points with one colour; a new colour run starts at
-    // the last point of the previous one so the curve stays connected.
-    let mut runs: Vec<(Vec<Pt>, [u8; 3])> = Vec::new();
-    let mut cur: Vec<Pt> = Vec::new();
-    let mut cur_cycle: Option<u32> = None;
-    for i in 0..s.x.len().min(s.y.len()) {
-        let (x, y) = (s.x[i], s.y[i]);
-        if !(plottable(x) && plottable(y)) {
-            if !cur.is_empty() {
-                runs.push((std::mem::take(&mut cur), color_of(cur_cycle)));
-            }
-            continue;
-        }
-        let k = s.cycle.as_ref().and_then(|c| c.get(i).copied());
-        let p = (mapper.px(x), mapper.py(y));
-        if !cur.is_empty() && k != cur_cycle {
-            let last = *cur.last().unwrap_or(&p);
-            runs.push((std::mem::take(&mut cur), color_of(cur_cycle)));
-            cur.push(last);
-        }
-        cur_cycle = k;
-        cur.push(p);
-    }
-    if !cur.is_empty() {
-        runs.push((cur, color_of(cur_cycle)));
-    }
-
-    if uses_markers(s) {
-        let r = marker_radius(m);
-        let mclip = ClipBox::inside(mapper.rect, r + 1.0);
-        for (pts, color) in &runs {
-            for &p in pts {
-                if mclip.contains(p) {
-                    markers.push((p, r, *color));
-                }
-            }
-        }
-    }
-    for (pts, color) in runs {
-        let pts = if pts.len() > decimate_above {
-            decimate(&pts)
-        } else {
-            pts
-        };
-        for piece in clip.clip_polyline(&pts) {
-            out.push(Stroke {
-                pts: piece,
-                color,
-                width,
-                dashed,
-            });
-        }
-    }
+    inside(&fig.main, r.main) && below(&fig.history, r.history) && below(&fig.residual, r.residual)
 }
 
 fn plan_panel(
@@ -364,13 +217,20 @@ struct Rows {
     top: f64,
     /// Height of the main panel.
     main_h: f64,
-    /// Gap between main and residual panel (0 without residual).
+    /// Gap between two panels.
     gap: f64,
+    /// Height of the history panel (0 without one).
+    hist_h: f64,
     /// Height of the residual panel (0 without residual).
     res_h: f64,
 }
 
-fn rows(fig: &Figure, m: &Metrics, with_residual: bool) -> Result<Rows, Invalid> {
+fn rows(
+    fig: &Figure,
+    m: &Metrics,
+    with_history: bool,
+    with_residual: bool,
+) -> Result<Rows, Invalid> {
     let title_block = if fig.title.trim().is_empty() {
         0.0
     } else {
@@ -382,15 +242,20 @@ fn rows(fig: &Figure, m: &Metrics, with_residual: bool) -> Result<Rows, Invalid>
     if !fig.x_label.trim().is_empty() {
         bottom += m.px(10.0) + (CAP_HEIGHT + DESCENT) * m.label;
     }
-    let gap = if with_residual { m.px(20.0) } else { 0.0 };
-    let avail = (f64::from(fig.height) - top - bottom - gap).floor();
-    let main_h = if with_residual {
-        (avail * 2.0 / 3.0).round()
-    } else {
-        avail
+    let gap = m.px(20.0);
+    let gaps = f64::from(u8::from(with_history) + u8::from(with_residual));
+    let avail = (f64::from(fig.height) - top - bottom - gaps * gap).floor();
+    // Shares of the height: the main panel, the history, the residual.
+    let (main_share, hist_share) = match (with_history, with_residual) {
+        (false, false) => (1.0, 0.0),
+        (false, true) => (2.0 / 3.0, 0.0),
+        (true, false) => (0.72, 0.28),
+        (true, true) => (0.52, 0.2),
     };
-    let res_h = avail - main_h;
-    if main_h < 20.0 || (with_residual && res_h < 15.0) {
+    let main_h = (avail * main_share).round();
+    let hist_h = (avail * hist_share).round();
+    let res_h = avail - main_h - hist_h;
+    if main_h < 20.0 || (with_residual && res_h < 15.0) || (with_history && hist_h < 15.0) {
         return Err(Invalid::Draw(DrawError::TooLow {
             width: fig.width,
             height: fig.height,
@@ -401,6 +266,7 @@ fn rows(fig: &Figure, m: &Metrics, with_residual: bool) -> Result<Rows, Invalid>
         top,
         main_h,
         gap,
+        hist_h,
         res_h,
     })
 }
@@ -414,6 +280,7 @@ fn columns(fig: &Figure, m: &Metrics, yticks: &[&Ticks]) -> Result<(f64, f64), I
         .map(|l| fonts::text_width(l, m.tick))
         .fold(0.0, f64::max);
     let has_ylabel = std::iter::once(&fig.main)
+        .chain(fig.history.as_ref())
         .chain(fig.residual.as_ref())
         .any(|p| !p.y_label.trim().is_empty());
     let ylabel_col = if has_ylabel {
@@ -456,8 +323,8 @@ fn x_ticks(x: AxisRange, plot_w: f64, m: &Metrics) -> Ticks {
     }
 }
 
-/// The short residual panel rarely has a free corner: if its legend would
-/// cover much data, its entries join the main legend instead.
+/// A short panel below the main one rarely has a free corner: if its legend would cover much
+/// data, its entries join the main legend instead.
 fn merge_crowded_legend(main: &mut PanelPlan, residual: &mut PanelPlan, m: &Metrics) {
     let crowded = residual
         .legend
@@ -487,13 +354,18 @@ fn plan(fig: &Figure) -> Result<Plan, Invalid> {
     validate(fig)?;
     fonts::ensure_fonts().map_err(Invalid::Draw)?;
     let m = Metrics::new(fig.width, fig.height);
-    let (x, main_y, res_y) = ranges(fig);
-    let rows = rows(fig, &m, res_y.is_some())?;
+    let r = ranges(fig);
+    let x = r.x;
+    let rows = rows(fig, &m, r.history.is_some(), r.residual.is_some())?;
     let y_target =
         |height: f64, per: f64, max: usize| ((height / (per * m.s)).round() as usize).clamp(2, max);
-    let main_ticks = ticks(main_y, y_target(rows.main_h, 60.0, 9));
-    let res_ticks = res_y.map(|r| ticks(r, y_target(rows.res_h, 45.0, 5)));
-    let all_ticks: Vec<&Ticks> = std::iter::once(&main_ticks).chain(&res_ticks).collect();
+    let main_ticks = ticks(r.main, y_target(rows.main_h, 60.0, 9));
+    let hist_ticks = r.history.map(|h| ticks(h, y_target(rows.hist_h, 45.0, 4)));
+    let res_ticks = r.residual.map(|h| ticks(h, y_target(rows.res_h, 45.0, 5)));
+    let all_ticks: Vec<&Ticks> = std::iter::once(&main_ticks)
+        .chain(&hist_ticks)
+        .chain(&res_ticks)
+        .collect();
     let (left, plot_w) = columns(fig, &m, &all_ticks)?;
     let xticks = x_ticks(x, plot_w, &m);
 
@@ -504,23 +376,43 @@ fn plan(fig: &Figure) -> Result<Plan, Invalid> {
         right: left + plot_w as i32 - 1,
         bottom: top + rows.main_h as i32 - 1,
     };
-    let mut main = plan_panel(&fig.main, main_rect, x, main_y, main_ticks, &m, &[]);
-    let mut residual = match (&fig.residual, res_y, res_ticks) {
+    let mut main = plan_panel(&fig.main, main_rect, x, r.main, main_ticks, &m, &[]);
+    let below = |above: PixelRect, h: f64| PixelRect {
+        top: above.bottom + 1 + rows.gap as i32,
+        bottom: above.bottom + rows.gap as i32 + h as i32,
+        ..above
+    };
+    let mut history = match (&fig.history, r.history, hist_ticks) {
         (Some(p), Some(y), Some(t)) => {
-            let rect = PixelRect {
-                top: main_rect.bottom + 1 + rows.gap as i32,
-                bottom: main_rect.bottom + rows.gap as i32 + rows.res_h as i32,
-                ..main_rect
-            };
             let skip: Vec<String> = main.entries.iter().map(|e| e.label.clone()).collect();
+            let rect = below(main_rect, rows.hist_h);
             Some(plan_panel(p, rect, x, y, t, &m, &skip))
         }
         _ => None,
     };
-    if let Some(r) = residual.as_mut() {
-        merge_crowded_legend(&mut main, r, &m);
-        fit_ylabel(r, &m);
+    let last = history.as_ref().map_or(main_rect, |h| h.rect);
+    let mut residual = match (&fig.residual, r.residual, res_ticks) {
+        (Some(p), Some(y), Some(t)) => {
+            let mut skip: Vec<String> = main.entries.iter().map(|e| e.label.clone()).collect();
+            skip.extend(
+                history
+                    .iter()
+                    .flat_map(|h| h.entries.iter().map(|e| e.label.clone())),
+            );
+            Some(plan_panel(p, below(last, rows.res_h), x, y, t, &m, &skip))
+        }
+        _ => None,
+    };
+    for p in history.iter_mut().chain(residual.as_mut()) {
+        merge_crowded_legend(&mut main, p, &m);
+        fit_ylabel(p, &m);
     }
+    let inset = fig.inset.as_ref().and_then(|i| {
+        let plan = plan_inset(fig, i, &main.rect, x, main.y, &main.occupancy, &m)?;
+        main.occupancy.mark_rect(plan.outer);
+        main.legend = place_legend(main.entries.clone(), main.rect, &main.occupancy, &m);
+        Some(plan)
+    });
     fit_ylabel(&mut main, &m);
 
     let (title, title_size, title_center) =
@@ -540,7 +432,9 @@ fn plan(fig: &Figure) -> Result<Plan, Invalid> {
         x_label,
         x_label_size,
         main,
+        history,
         residual,
+        inset,
     })
 }
 
@@ -553,6 +447,8 @@ pub fn figure_layout(fig: &Figure) -> Option<FigureLayout> {
         height: p.height,
         main: p.main.rect,
         residual: p.residual.as_ref().map(|r| r.rect),
+        history: p.history.as_ref().map(|r| r.rect),
+        inset: p.inset.as_ref().map(|i| i.outer),
         main_legend: p.main.legend.as_ref().map(|l| l.rect),
         residual_legend: p
             .residual
@@ -607,9 +503,16 @@ fn draw_panel(c: &mut Canvas, p: &PanelPlan, plan: &Plan, bottom_panel: bool) {
 
 fn draw(plan: &Plan) -> Result<Canvas, DrawError> {
     let mut c = Canvas::new(plan.width, plan.height)?;
-    draw_panel(&mut c, &plan.main, plan, plan.residual.is_none());
-    if let Some(r) = &plan.residual {
-        draw_panel(&mut c, r, plan, true);
+    let below: Vec<&PanelPlan> = plan.history.iter().chain(&plan.residual).collect();
+    draw_panel(&mut c, &plan.main, plan, below.is_empty());
+    if let Some(i) = &plan.inset {
+        draw_inset(&mut c, i, plan.x, plan.main.y, &plan.main.rect, &plan.m);
+    }
+    if let Some(l) = &plan.main.legend {
+        draw_legend(&mut c, l, &plan.m);
+    }
+    for (k, p) in below.iter().enumerate() {
+        draw_panel(&mut c, p, plan, k + 1 == below.len());
     }
     let m = &plan.m;
     c.text(
@@ -620,7 +523,7 @@ fn draw(plan: &Plan) -> Result<Canvas, DrawError> {
         HAlign::Center,
         VAlign::Center,
     );
-    let last = plan.residual.as_ref().map_or(plan.main.rect, |r| r.rect);
+    let last = below.last().map_or(plan.main.rect, |r| r.rect);
     let cx = 0.5 * f64::from(last.left + last.right);
     let half = 0.5 * fonts::text_width(&plan.x_label, plan.x_label_size);
     let cx = cx
@@ -658,6 +561,7 @@ pub fn render_png(fig: &Figure, path: &Path) -> Result<(), PlotError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Style;
 
     fn fig() -> Figure {
         let x: Vec<f64> = (0..200).map(|i| i as f64 * 0.05).collect();
@@ -741,7 +645,7 @@ mod tests {
     fn no_room_for_the_plotting_area_is_a_draw_error() {
         let m = Metrics::new(200, 150);
         let low = fig().with_size(200, 40);
-        let e = rows(&low, &m, false).err().unwrap();
+        let e = rows(&low, &m, false, false).err().unwrap();
         assert_eq!(
             e,
             Invalid::Draw(DrawError::TooLow {
@@ -764,7 +668,7 @@ mod tests {
         let smallest = fig()
             .with_residual(Panel::new("r", vec![]))
             .with_size(crate::MIN_WIDTH, crate::MIN_HEIGHT);
-        assert!(rows(&smallest, &m, true).is_ok());
+        assert!(rows(&smallest, &m, false, true).is_ok());
         assert!(columns(&smallest, &m, &[&t]).is_ok());
     }
 

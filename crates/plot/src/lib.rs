@@ -61,15 +61,19 @@ mod colors;
 mod figure;
 mod fonts;
 mod geom;
+mod inset;
 mod intervals;
 mod png_io;
 pub mod posterior;
 mod scale;
+mod strokes;
 
 use std::path::PathBuf;
 
 pub use bars::{bar_layout, render_bars_png, BarLayout};
-pub use colors::{cycle_rgb, style_rgb, FITTED_RGB, MEASURED_RGB, PUBLISHED_RGB};
+pub use colors::{
+    cycle_rgb, style_rgb, FITTED_RGB, MEASURED_LINE_RGB, MEASURED_RGB, PUBLISHED_RGB,
+};
 pub use figure::{figure_layout, render_png, series_inside, FigureLayout};
 pub use geom::PixelRect;
 pub use intervals::{
@@ -89,12 +93,14 @@ pub const MAX_SIDE: u32 = 8192;
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Style {
-    /// Laboratory data: a thin grey line; small markers are added when the
-    /// series has few points (at most 60 finite points).
+    /// Laboratory data, drawn on top of the models: a thin light-grey line through every
+    /// point beneath them, and dark markers drawn last — on every point of a short series
+    /// (at most 60 finite points), on a sample of points about 11 pixels apart along a
+    /// denser one — so that a model curve shows between the markers.
     Measured,
-    /// A curve taken from a publication: a dashed blue line.
+    /// A curve taken from a publication: a dashed blue line, beneath the data's markers.
     Published,
-    /// The model fitted by subfric: a solid red line, drawn on top.
+    /// The model fitted by subfric: a solid red line, beneath the data's markers.
     Fitted,
     /// Any other curve: a solid line with the given index into a palette
     /// (orange, green, purple, brown, pink, olive, cyan; wraps around).
@@ -178,6 +184,11 @@ pub struct Figure {
     /// Optional residual panel, drawn below the main panel with the same x
     /// axis and about a third of the plotting height.
     pub residual: Option<Panel>,
+    /// Optional history panel, drawn between the main and the residual panel with the same x
+    /// axis: what the test imposed (e.g. the traction of a traction-controlled test).
+    pub history: Option<Panel>,
+    /// Optional zoom on part of the x range, drawn as an inset inside the main panel.
+    pub inset: Option<Inset>,
     /// Image width in pixels ([`MIN_WIDTH`]..=[`MAX_SIDE`]).
     pub width: u32,
     /// Image height in pixels ([`MIN_HEIGHT`]..=[`MAX_SIDE`]).
@@ -192,9 +203,27 @@ impl Figure {
             x_label: x_label.into(),
             main,
             residual: None,
+            history: None,
+            inset: None,
             width: 1000,
             height: 750,
         }
+    }
+
+    /// The same figure with a history panel (what the test imposed).
+    pub fn with_history(mut self, history: Panel) -> Self {
+        self.history = Some(history);
+        self
+    }
+
+    /// The same figure with a zoom on x in `lo..=hi` of the main panel, drawn as an inset in
+    /// its emptiest corner and titled `title`; the zoomed region is outlined in the panel.
+    pub fn with_inset(mut self, title: impl Into<String>, lo: f64, hi: f64) -> Self {
+        self.inset = Some(Inset {
+            title: title.into(),
+            x_range: (lo, hi),
+        });
+        self
     }
 
     /// The same figure with a residual panel.
@@ -209,6 +238,16 @@ impl Figure {
         self.height = height;
         self
     }
+}
+
+/// A zoom on part of the main panel's x range, drawn inside the panel: the same series over
+/// `x_range`, with a y range that fits them there.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Inset {
+    /// Title of the zoom (e.g. "first loading").
+    pub title: String,
+    /// X range shown.
+    pub x_range: (f64, f64),
 }
 
 /// A grouped bar chart: one group of bars per category.

@@ -42,7 +42,8 @@ pub(crate) fn write_rgb_png(
             let mut encoder = png::Encoder::new(&mut out, width, height);
             encoder.set_color(png::ColorType::Rgb);
             encoder.set_depth(png::BitDepth::Eight);
-            encoder.set_compression(png::Compression::Fast);
+            encoder.set_compression(png::Compression::Default);
+            encoder.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
             let mut writer = encoder.write_header().map_err(enc_err)?;
             writer.write_image_data(rgb).map_err(enc_err)?;
             writer.finish().map_err(enc_err)?;

@@ -1,13 +1,14 @@
 //! The fitted tests of a diagnosis and everything derived once from them: pieces, folds,
 //! weights, and the fits of one model spec on all data and in the folds.
 
-use super::DiagnoseOptions;
+use super::{DiagnoseOptions, Step};
 use crate::candidates::Form;
 use crate::features::{data_features, DataFeatures};
 use crate::fits::{cross_validate, fit, residuals, space_of, with_values, Effort, FitResult, Spec};
 use crate::folds::{piece_folds, pieces, Fold, Piece};
 use crate::score::{compare, squared_or_failed, Comparison, HeldOut, Weights};
 use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use subfric_fit::{
     best_informed_guesses, calibrate, with_base_of, FitError, FitOptions, FitTest, Param,
@@ -27,6 +28,8 @@ pub(super) struct Context<'a> {
     /// The first guesses read off the curves that fit best on the base, computed once: every
     /// form starts from each of them with its own first guesses.
     pub(super) informed: Vec<Model>,
+    /// Every event read on its own (it corroborates or speaks against a family).
+    pub(super) events: crate::events::EventAnalysis,
     /// Model error dominates: every spec is fitted with a variance per piece (see
     /// [`Context::weighted_for`]).
     pub(super) reweight: bool,
@@ -41,6 +44,10 @@ pub(super) struct Context<'a> {
     pub(super) opts: &'a DiagnoseOptions,
     /// When the diagnosis began (for [`Context::trace`]).
     pub(super) started: Instant,
+    /// Told where the diagnosis is ([`Context::step`]).
+    report: &'a (dyn Fn(Step) + Sync),
+    /// Candidate forms screened so far.
+    forms_done: AtomicUsize,
 }
 
 /// A spec fitted to all data, with the tests as weighted for it.
@@ -57,6 +64,7 @@ impl<'a> Context<'a> {
         prepared: &[PreparedTest],
         stiffness: Option<&Stiffness>,
         opts: &'a DiagnoseOptions,
+        report: &'a (dyn Fn(Step) + Sync),
     ) -> (Self, Model) {
         let tests: Vec<FitTest> = prepared.iter().map(|p| p.fit.clone()).collect();
         let screening = screening_tests(prepared);
@@ -80,14 +88,29 @@ impl<'a> Context<'a> {
             tests,
             screening,
             informed: Vec::new(),
+            events: Default::default(),
             features: data_features(prepared),
             base_free,
             pieces: all_pieces,
             folds,
             opts,
             started: Instant::now(),
+            report,
+            forms_done: AtomicUsize::new(0),
         };
         (cx, template)
+    }
+
+    /// Tells the caller that step `number` ([`Step::WHAT`]) is under way, `done` of its
+    /// `total` items done (0 of 0: not counted).
+    pub(super) fn step(&self, number: usize, done: usize, total: usize) {
+        (self.report)(Step::new(number, done, total));
+    }
+
+    /// One more candidate form screened, of `total`.
+    pub(super) fn form_screened(&self, total: usize) {
+        let done = self.forms_done.fetch_add(1, Ordering::Relaxed) + 1;
+        self.step(2, done, total);
     }
 
     /// Prints the time of each stage to stderr when `SUBFRIC_TRACE` is set (for tuning).

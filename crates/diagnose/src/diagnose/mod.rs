@@ -126,12 +126,58 @@ pub enum DiagnoseError {
     TooLittleData,
 }
 
+/// Where a diagnosis is, for a progress display: step `number` of [`Step::COUNT`], and the
+/// items of the step done so far when they are counted (candidate forms screened, selection
+/// stages run).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Step {
+    /// 1 to [`Step::COUNT`].
+    pub number: usize,
+    /// What the step does ([`Step::WHAT`]).
+    pub what: &'static str,
+    /// Items done.
+    pub done: usize,
+    /// Items in all (0: not counted).
+    pub total: usize,
+}
+
+impl Step {
+    /// What each step does.
+    pub const WHAT: [&'static str; 5] = [
+        "fitting the base model",
+        "screening every candidate form",
+        "polishing the best form of each family",
+        "selecting effects on held-out pieces",
+        "extra held-out checks and the verdict",
+    ];
+    /// Steps of a diagnosis.
+    pub const COUNT: usize = Step::WHAT.len();
+
+    fn new(number: usize, done: usize, total: usize) -> Step {
+        Step {
+            number,
+            what: Step::WHAT[number.clamp(1, Step::COUNT) - 1],
+            done,
+            total,
+        }
+    }
+}
+
 /// Runs the whole diagnosis on prepared tests of one interface: 1. the base fit, 2. every
 /// form screened and the best of each family polished, 3. forward selection on held-out
 /// pieces, 4. evidence from the base's held-out residual, 5. the verdict.
 pub fn diagnose(
     prepared: &[PreparedTest],
     opts: &DiagnoseOptions,
+) -> Result<Diagnosis, DiagnoseError> {
+    diagnose_reporting(prepared, opts, &|_| {})
+}
+
+/// [`diagnose`](fn@diagnose), telling `report` where it is ([`Step`]) as it goes.
+pub fn diagnose_reporting(
+    prepared: &[PreparedTest],
+    opts: &DiagnoseOptions,
+    report: &(dyn Fn(Step) + Sync),
 ) -> Result<Diagnosis, DiagnoseError> {
     if prepared.iter().all(|p| p.full.len() < MIN_ROWS) {
         return Err(DiagnoseError::TooLittleData);
@@ -140,17 +186,22 @@ pub fn diagnose(
     // The elastic stiffness: from unloads and reloads when the record resolves it there, else
     // from the springs the velocity steps needed one by one.
     let stiffness = resolved_stiffness(prepared).or_else(|| events.stiffness());
-    let (mut cx, template) = Context::new(prepared, stiffness.as_ref(), opts);
+    let (mut cx, template) = Context::new(prepared, stiffness.as_ref(), opts, report);
     cx.features.seeds = crate::features::EventSeeds::from_events(&events);
+    cx.events = events.clone();
+    cx.step(1, 0, 0);
     let base = fit_base(&mut cx, &template)?;
     let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();
     let localisation = localise(prepared, &residuals(&fulls, &base.model, None));
 
     let mut lib = library(&cx.features);
     lib.retain(|f| !opts.excluded_forms.iter().any(|x| x == f.name));
+    cx.step(2, 0, lib.len());
     let (forms, families) = screen_and_polish(&cx, &base.model, &lib);
     let shortlist = shortlist(&forms, &lib, &events);
+    cx.step(4, 0, opts.thresholds.max_effects);
     let selection = forward_selection(&cx, &base, &families, &shortlist);
+    cx.step(5, 0, 0);
 
     let evidence = residual_evidence(
         prepared,
@@ -261,6 +312,7 @@ fn test_starts(prepared: &[PreparedTest]) -> Vec<TestStart> {
             reason: p.segmentation.start.reason.clone(),
             noise_sd: p.full.noise_sd,
             noise_floor: subfric_data::estimate_noise(&p.full.time, &p.full.measured).floor,
+            seating_toe: p.toe.clone(),
         })
         .collect()
 }

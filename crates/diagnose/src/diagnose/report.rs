@@ -93,6 +93,10 @@ pub struct KindShrink {
     pub reference_rms_over_noise: f64,
     /// Candidate RMS / noise.
     pub candidate_rms_over_noise: f64,
+    /// Reference mean square / noise variance (the square of `reference_rms_over_noise`).
+    pub reference_chi2: f64,
+    /// Candidate mean square / noise variance.
+    pub candidate_chi2: f64,
     /// Fraction of the reference's SSR removed.
     pub shrink: f64,
 }
@@ -204,6 +208,8 @@ pub struct TestStart {
     pub noise_sd: f64,
     /// Noise is a floor.
     pub noise_floor: bool,
+    /// A seating toe excluded from the start of the record (a rig artifact, not friction).
+    pub seating_toe: Option<subfric_data::SeatingToe>,
 }
 
 /// A complete diagnosis.

@@ -30,6 +30,7 @@ fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, Spe
             let fitted = cx.screen_spec(base, &spec, &starts, cx.opts.screening);
             let r = &fitted.result;
             let c = cx.in_sample(&r.model, &spec, &cx.tests);
+            cx.form_screened(forms.len());
             (
                 FormReport {
                     effect: f.effect,
@@ -120,6 +121,8 @@ fn kind_shrinks(c: &Comparison) -> Vec<KindShrink> {
             rows: n,
             reference_rms_over_noise: (b / n.max(1) as f64).sqrt(),
             candidate_rms_over_noise: (cc / n.max(1) as f64).sqrt(),
+            reference_chi2: b / n.max(1) as f64,
+            candidate_chi2: cc / n.max(1) as f64,
             shrink: if b > 0.0 { (b - cc) / b } else { 0.0 },
         })
         .collect()
@@ -198,6 +201,7 @@ pub(super) fn screen_and_polish(
         fit_forms(cx, base, lib).into_iter().unzip();
     let chosen = choose_forms(&mut forms);
     cx.trace("every form screened");
+    cx.step(3, 0, 0);
     let families: Vec<Family> = chosen
         .par_iter()
         .map(|&i| {
@@ -265,6 +269,7 @@ pub(super) fn forward_selection(
 ) -> Selection {
     let (first, kept) = selection_stage(cx, base, families, true);
     cx.trace("selection stage 1");
+    cx.step(4, 1, cx.opts.thresholds.max_effects);
     let th = &cx.opts.thresholds;
     let firsts: Vec<usize> = match first.decision {
         Decision::Named(i) => vec![i],
@@ -368,6 +373,7 @@ impl Path {
             let families = rescreen(cx, &current, lib);
             let (stage, kept) = selection_stage(cx, &current, &families, false);
             cx.trace(&format!("selection stage {}", self.stages.len() + 1));
+            cx.step(4, self.stages.len() + 1, cx.opts.thresholds.max_effects);
             match stage.decision {
                 Decision::Named(i) | Decision::Tentative(i) => {
                     let next = kept[i].clone();
@@ -603,6 +609,10 @@ fn selection_stage(
         .map(|c| (c.effect, c.held_out.clone()))
         .collect();
     let th = &cx.opts.thresholds;
+    let corroborated: Vec<bool> = candidates
+        .iter()
+        .map(|c| crate::events::corroborates(&cx.events, c.effect))
+        .collect();
     let own: Vec<Comparison> = candidates
         .iter()
         .map(|c| c.best_own_kind(th).unwrap_or(&c.held_out).clone())
@@ -618,7 +628,7 @@ fn selection_stage(
             // own kind, with significant evidence over all pieces, is still named (the rest
             // of the gap is then reported as unexplained).
             d @ (Decision::Tentative(_) | Decision::Unexplained) => {
-                match decide_further(reference_chi2, &pairs, &own, th) {
+                match decide_further(reference_chi2, &pairs, &own, &corroborated, th) {
                     Decision::Named(i) if pairs[i].1.score >= th.min_score => Decision::Named(i),
                     _ => d,
                 }
@@ -626,7 +636,7 @@ fn selection_stage(
             d => d,
         }
     } else {
-        decide_further(reference_chi2, &pairs, &own, th)
+        decide_further(reference_chi2, &pairs, &own, &corroborated, th)
     };
     (
         SelectionStage {

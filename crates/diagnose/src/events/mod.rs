@@ -222,6 +222,23 @@ impl EventAnalysis {
     }
 }
 
+/// Whether the events read one by one leave room for a family: velocity steps that were read
+/// must mostly show a direct effect for a rate effect, a healing rate read over the holds must
+/// be positive for healing, an asymmetry read over the reversals must be clear of zero for
+/// direction. Where no such event was read, nothing speaks against the family.
+pub fn corroborates(e: &EventAnalysis, effect: crate::Effect) -> bool {
+    use crate::Effect;
+    match effect {
+        Effect::Rate => e.rate.as_ref().is_none_or(|r| r.consistent),
+        Effect::LogHealing => e.healing.as_ref().is_none_or(|h| h.per_decade.value > 0.0),
+        Effect::Direction => e
+            .direction
+            .as_ref()
+            .is_none_or(|d| d.backward_weakening.excludes_zero()),
+        _ => true,
+    }
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
         return f64::NAN;

@@ -2,7 +2,7 @@
  *
  * Usage: check_interface CASES_FILE
  *
- * CASES_FILE is written by tests/c_interface.rs from the Rust path (Contact3::step_slip and its
+ * CASES_FILE is written by tests/c_interface.rs from the Rust path (Contact3::step_increment and its
  * consistent tangent). For every case this program builds the model through the C interface
  * (from the parameter struct, a JSON file or a JSON string), steps a material point through
  * the slip increments and checks, at every step:
@@ -13,7 +13,9 @@
  *   - that stepping in place (state_in == state_out, as with a state-variable array) gives
  *     the same state.
  * Then it checks the error paths (invalid parameters named, NULL pointers, bad JSON, a
- * missing file, a bad pressure, a short message buffer).
+ * missing file, a bad pressure, a short message buffer, a forward axis along the normal, a
+ * device as model file, a state that is no state: all zero, or mu beyond the model's bounds)
+ * and that a point with a slip record of 1e11 mm steps to the traction of one near 0.
  *
  * Prints one line per case and exits 0 if every check passed, 1 otherwise. */
 
@@ -291,6 +293,16 @@ static void check_errors(void) {
     check(status == SUBFRIC_STATUS_INVALID_PARAMETERS && strstr(msg, "rate.v_c"), "invalid extension:", msg);
     status = subfric_model_from_file("/nonexistent/fit.json", NULL, NULL, &model, msg, MSG_LEN);
     check(status == SUBFRIC_STATUS_IO && strstr(msg, "/nonexistent/fit.json"), "missing file:", msg);
+    status = subfric_model_from_file("/dev/zero", NULL, NULL, &model, msg, MSG_LEN);
+    check(status == SUBFRIC_STATUS_IO && strstr(msg, "not a regular file"), "a device as model file:", msg);
+    status = subfric_model_new(&prm, NULL, zero, &model, msg, MSG_LEN);
+    check(status == SUBFRIC_STATUS_INVALID_INPUT && model == NULL && strstr(msg, "forward"), "a zero forward axis:", msg);
+    {
+        double along[3] = {0.0, 0.0, -2.0};
+        status = subfric_model_new(&prm, NULL, along, &model, msg, MSG_LEN);
+        check(status == SUBFRIC_STATUS_INVALID_INPUT && model == NULL && strstr(msg, "plane"),
+              "a forward axis along the normal:", msg);
+    }
 
     status = subfric_model_new(&prm, NULL, NULL, &model, msg, MSG_LEN);
     check(status == SUBFRIC_STATUS_OK, "base model:", msg);
@@ -317,6 +329,32 @@ static void check_errors(void) {
     check(status == SUBFRIC_STATUS_OK && memcmp(statev, &st2, sizeof statev) == 0 &&
               sizeof(SubfricState) == SUBFRIC_STATE_LEN * sizeof(double),
           "state-variable array:", msg);
+
+    /* A zero array is no state (README: a new contact point starts from subfric_state_init). */
+    memset(statev, 0, sizeof statev);
+    status = subfric_step(model, (SubfricState *)statev, du, 100.0, 1.0, &st2, &r, msg, MSG_LEN);
+    check(status == SUBFRIC_STATUS_INVALID_INPUT && strstr(msg, "subfric_state_init"), "an all-zero state:", msg);
+    st2 = st;
+    st2.mu = 100.0;
+    status = subfric_step(model, &st2, du, 100.0, 1.0, &st2, &r, msg, MSG_LEN);
+    check(status == SUBFRIC_STATUS_INVALID_INPUT && strstr(msg, "state.mu = 100") && st2.mu == 100.0,
+          "mu beyond the model's bounds:", msg);
+
+    /* Far from the origin: the same traction as near it, for elastic increments of 1e-8 mm. */
+    {
+        SubfricState near = st, far = st;
+        SubfricResponse rn, rf;
+        double tiny[3] = {1e-8, -2e-8, 0.0};
+        int k, same = 1;
+        far.slip[0] += 1e11;
+        for (k = 0; k < 4; k++) {
+            status = subfric_step(model, &near, k == 0 ? du : tiny, 100.0, 1.0, &near, &rn, msg, MSG_LEN);
+            same = same && status == SUBFRIC_STATUS_OK;
+            status = subfric_step(model, &far, k == 0 ? du : tiny, 100.0, 1.0, &far, &rf, msg, MSG_LEN);
+            same = same && status == SUBFRIC_STATUS_OK && memcmp(rn.shear, rf.shear, sizeof rn.shear) == 0;
+        }
+        check(same && far.slip[0] > 1e10, "a slip record of 1e11 mm keeps the traction exact:", msg);
+    }
     subfric_model_free(model);
     subfric_model_free(NULL);
     check(strlen(subfric_version()) > 0, "version", NULL);

@@ -603,7 +603,7 @@ fn draw(fig: &CornerFigure, p: &Plan) -> Result<Canvas, DrawError> {
                     color: style_rgb(mk.style),
                     width: p.m.width(2.0),
                     dashed: false,
-                    marker: Some((4.0 * p.m.s).max(2.5)),
+                    marker: Some(((4.0 * p.m.s).max(2.5), style_rgb(mk.style))),
                 },
             })
             .collect();

@@ -1,8 +1,11 @@
 //! Import of laboratory files (any delimiter, units and column names) into an experiment set.
 
-use std::fmt;
+mod text;
+mod units;
+
+pub use units::{ColumnRef, Delimiter, LengthUnit, StressUnit, TimeUnit};
+
 use std::path::{Path, PathBuf};
-use std::str::FromStr;
 
 use serde_json::Map;
 
@@ -10,213 +13,12 @@ use crate::error::{DataError, InputProblem, Problems};
 use crate::fsio::{commit_file, stage_file, PathKind};
 use crate::meta::{ControlColumn, ExperimentMeta, Interface, TestSpec};
 use crate::set::{
-    comment_text, load_set, meta_json_text, prepare_parent, test_csv_text, validate_data,
-    ExperimentSet, TestData, EXPERIMENT_JSON, MAX_MAGNITUDE,
+    load_set, meta_json_text, prepare_parent, test_csv_text, validate_data, ExperimentSet,
+    TestData, EXPERIMENT_JSON, MAX_MAGNITUDE,
 };
-
-/// Cell delimiter of a lab file.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Delimiter {
-    /// `,`
-    Comma,
-    /// tab
-    Tab,
-    /// runs of spaces or tabs
-    Whitespace,
-    /// `;` (a decimal comma is then accepted)
-    Semicolon,
-    /// detected from the header (or first data) line: tab, then `;`, then `,`, else whitespace
-    Auto,
-}
-
-impl FromStr for Delimiter {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "," | "comma" | "csv" => Ok(Delimiter::Comma),
-            "\\t" | "\t" | "tab" | "tsv" => Ok(Delimiter::Tab),
-            "whitespace" | "space" | "ws" | " " => Ok(Delimiter::Whitespace),
-            ";" | "semicolon" => Ok(Delimiter::Semicolon),
-            "auto" | "" => Ok(Delimiter::Auto),
-            other => Err(format!(
-                "unknown delimiter `{other}` (expected comma, tab, whitespace, semicolon or auto)"
-            )),
-        }
-    }
-}
-
-/// A column of a lab file: by header name or by 1-based index.
-///
-/// ```
-/// use subfric_data::ColumnRef;
-/// assert_eq!("3".parse::<ColumnRef>().unwrap(), ColumnRef::Index(3));
-/// assert_eq!("Shear (MPa)".parse::<ColumnRef>().unwrap(), ColumnRef::Name("Shear (MPa)".into()));
-/// assert!("0".parse::<ColumnRef>().is_err());
-/// ```
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum ColumnRef {
-    /// Header name (matched ignoring case and surrounding spaces).
-    Name(String),
-    /// 1-based column index.
-    Index(usize),
-}
-
-impl FromStr for ColumnRef {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let s = s.trim();
-        if s.is_empty() {
-            return Err(
-                "empty column reference (expected a header name or a 1-based index)".into(),
-            );
-        }
-        if s.chars().all(|c| c.is_ascii_digit()) {
-            match s.parse::<usize>() {
-                Ok(0) | Err(_) => Err(format!(
-                    "column index `{s}` is invalid (expected 1, 2, 3, …)"
-                )),
-                Ok(i) => Ok(ColumnRef::Index(i)),
-            }
-        } else {
-            Ok(ColumnRef::Name(s.to_string()))
-        }
-    }
-}
-
-impl fmt::Display for ColumnRef {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ColumnRef::Name(n) => write!(f, "{n}"),
-            ColumnRef::Index(i) => write!(f, "column {i}"),
-        }
-    }
-}
-
-impl From<&str> for ColumnRef {
-    fn from(s: &str) -> Self {
-        s.parse().unwrap_or_else(|_| ColumnRef::Name(s.to_string()))
-    }
-}
-
-/// Time unit of a lab file.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TimeUnit {
-    /// seconds
-    S,
-    /// minutes
-    Min,
-    /// hours
-    H,
-    /// milliseconds
-    Ms,
-}
-
-impl TimeUnit {
-    /// Seconds per unit.
-    pub fn to_s(self) -> f64 {
-        match self {
-            TimeUnit::S => 1.0,
-            TimeUnit::Min => 60.0,
-            TimeUnit::H => 3600.0,
-            TimeUnit::Ms => 1e-3,
-        }
-    }
-}
-
-impl FromStr for TimeUnit {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "s" | "sec" | "second" | "seconds" => Ok(TimeUnit::S),
-            "min" | "minute" | "minutes" => Ok(TimeUnit::Min),
-            "h" | "hr" | "hour" | "hours" => Ok(TimeUnit::H),
-            "ms" | "millisecond" | "milliseconds" => Ok(TimeUnit::Ms),
-            other => Err(format!(
-                "unknown time unit `{other}` (expected s, min, h or ms)"
-            )),
-        }
-    }
-}
-
-/// Length unit of a lab file.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LengthUnit {
-    /// millimetres
-    Mm,
-    /// micrometres
-    Um,
-    /// metres
-    M,
-    /// inches
-    In,
-}
-
-impl LengthUnit {
-    /// Millimetres per unit.
-    pub fn to_mm(self) -> f64 {
-        match self {
-            LengthUnit::Mm => 1.0,
-            LengthUnit::Um => 1e-3,
-            LengthUnit::M => 1e3,
-            LengthUnit::In => 25.4,
-        }
-    }
-}
-
-impl FromStr for LengthUnit {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s.trim().to_lowercase().as_str() {
-            "mm" => Ok(LengthUnit::Mm),
-            "um" | "µm" | "μm" | "micron" | "microns" => Ok(LengthUnit::Um),
-            "m" => Ok(LengthUnit::M),
-            "in" | "inch" | "inches" => Ok(LengthUnit::In),
-            other => Err(format!(
-                "unknown length unit `{other}` (expected mm, um, m or in)"
-            )),
-        }
-    }
-}
-
-/// Stress unit of a lab file.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StressUnit {
-    /// kilopascals
-    KPa,
-    /// megapascals
-    MPa,
-    /// pascals
-    Pa,
-    /// pounds per square inch
-    Psi,
-}
-
-impl StressUnit {
-    /// Kilopascals per unit.
-    pub fn to_kpa(self) -> f64 {
-        match self {
-            StressUnit::KPa => 1.0,
-            StressUnit::MPa => 1e3,
-            StressUnit::Pa => 1e-3,
-            StressUnit::Psi => 6.894_757_293_168_361,
-        }
-    }
-}
-
-impl FromStr for StressUnit {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "kpa" => Ok(StressUnit::KPa),
-            "mpa" => Ok(StressUnit::MPa),
-            "pa" => Ok(StressUnit::Pa),
-            "psi" => Ok(StressUnit::Psi),
-            other => Err(format!(
-                "unknown stress unit `{other}` (expected kPa, MPa, Pa or psi)"
-            )),
-        }
-    }
-}
+use text::{
+    content_lines, detect, read_lab_text, resolution, skip_hint, split_cells, with_precision,
+};
 
 /// How to read a lab file.
 #[derive(Clone, Debug, PartialEq)]
@@ -243,6 +45,9 @@ pub struct ImportSpec {
     pub normal: Option<(ColumnRef, StressUnit)>,
     /// Constant normal stress, kPa, when there is no normal column.
     pub normal_stress_kpa: Option<f64>,
+    /// Contact area [mm²] a force column (N, kN, lbf) is divided by (3600 for a 60 mm square
+    /// shear box).
+    pub area_mm2: Option<f64>,
     /// Which column the apparatus imposed.
     pub control: ControlColumn,
     /// Name of the test (unique within the set); the CSV is named after it.
@@ -274,6 +79,7 @@ impl Default for ImportSpec {
             friction: None,
             normal: None,
             normal_stress_kpa: None,
+            area_mm2: None,
             control: ControlColumn::Slip,
             test_name: "test".into(),
             set_name: "imported".into(),
@@ -282,46 +88,6 @@ impl Default for ImportSpec {
             surface: None,
             source: None,
         }
-    }
-}
-
-fn split_cells(line: &str, d: Delimiter) -> Vec<String> {
-    let cells: Vec<&str> = match d {
-        Delimiter::Comma => line.split(',').collect(),
-        Delimiter::Tab => line.split('\t').collect(),
-        Delimiter::Semicolon => line.split(';').collect(),
-        Delimiter::Whitespace | Delimiter::Auto => line.split_whitespace().collect(),
-    };
-    cells
-        .into_iter()
-        .map(|c| {
-            let c = c.trim();
-            c.strip_prefix('"')
-                .and_then(|x| x.strip_suffix('"'))
-                .unwrap_or(c)
-                .trim()
-                .to_string()
-        })
-        .collect()
-}
-
-fn detect(line: &str) -> Delimiter {
-    if line.contains('\t') {
-        Delimiter::Tab
-    } else if line.contains(';') {
-        Delimiter::Semicolon
-    } else if line.contains(',') {
-        Delimiter::Comma
-    } else {
-        Delimiter::Whitespace
-    }
-}
-
-fn decode(bytes: Vec<u8>) -> String {
-    match String::from_utf8(bytes) {
-        Ok(s) => s,
-        // Latin-1 (common in lab exports: `µm`, `°C`)
-        Err(e) => e.into_bytes().iter().map(|&b| b as char).collect(),
     }
 }
 
@@ -368,6 +134,46 @@ pub fn file_name_for(test_name: &str) -> String {
     s
 }
 
+/// A force column needs the contact area, and an area is only for a force column (given
+/// without one, the force would likely be read as a stress).
+fn area_problems(lf: &Path, spec: &ImportSpec, pr: &mut Problems) {
+    let forces: Vec<(&str, StressUnit)> = [("shear", &spec.shear), ("normal", &spec.normal)]
+        .into_iter()
+        .filter_map(|(what, c)| c.as_ref().map(|(_, u)| (what, *u)))
+        .filter(|(_, u)| u.is_force())
+        .collect();
+    match spec.area_mm2 {
+        None => {
+            for (what, u) in &forces {
+                pr.add(
+                    lf,
+                    None,
+                    Some(what),
+                    format!(
+                        "the {what} column is a force in {} (expected the contact area in mm² to turn it into a stress: --area, e.g. 3600 for a 60 mm square shear box)",
+                        u.name()
+                    ),
+                );
+            }
+        }
+        Some(a) if !(a > 0.0 && a.is_finite()) => pr.add(
+            lf,
+            None,
+            Some("area"),
+            format!("contact area {a} mm² is not positive (expected the area in mm², > 0)"),
+        ),
+        Some(a) if forces.is_empty() => pr.add(
+            lf,
+            None,
+            Some("area"),
+            format!(
+                "a contact area of {a} mm² was given but no column is a force (expected --shear-unit or --normal-unit N, kN or lbf with --area; a stress needs no area)"
+            ),
+        ),
+        Some(_) => {}
+    }
+}
+
 /// Problems of the import options themselves, before the file is read.
 fn spec_problems(lf: &Path, spec: &ImportSpec) -> Problems {
     let mut pr = Problems::default();
@@ -403,6 +209,7 @@ fn spec_problems(lf: &Path, spec: &ImportSpec) -> Problems {
             pr.add(lf, None, Some(field), msg);
         }
     }
+    area_problems(lf, spec, &mut pr);
     if let Some(x) = spec.normal_stress_kpa {
         if x > MAX_MAGNITUDE {
             pr.add(
@@ -421,45 +228,6 @@ fn spec_problems(lf: &Path, spec: &ImportSpec) -> Problems {
         }
     }
     pr
-}
-
-/// Reads the lab file as text (UTF-8, else Latin-1), refusing what is not a regular file.
-fn read_lab_text(lf: &Path) -> Result<String, DataError> {
-    let kind = PathKind::of(lf);
-    if kind != PathKind::File {
-        return Err(DataError::Problems(vec![InputProblem::new(
-            lf,
-            None,
-            None,
-            format!("the lab file {} (expected a text file)", kind.describe()),
-        )]));
-    }
-    let bytes = std::fs::read(lf).map_err(|e| DataError::io(lf, e))?;
-    let text = decode(bytes);
-    Ok(match text.strip_prefix('\u{feff}') {
-        Some(t) => t.to_string(),
-        None => text,
-    })
-}
-
-/// The non-empty, non-comment lines after `skip` lines, with their 1-based numbers, and the
-/// comment texts.
-fn content_lines(text: &str, skip: usize) -> (Vec<(usize, &str)>, Vec<String>) {
-    let mut comments = Vec::new();
-    let mut lines = Vec::new();
-    // Lines end in \n, \r\n or a lone \r (old Mac exports, some loggers).
-    for (i, line) in crate::text::lines(text).enumerate().skip(skip) {
-        let trimmed = line.trim();
-        if trimmed.is_empty() {
-            continue;
-        }
-        if trimmed.starts_with('#') {
-            comments.push(comment_text(trimmed));
-            continue;
-        }
-        lines.push((i + 1, line));
-    }
-    (lines, comments)
 }
 
 /// A resolved column: 0-based index and its label for messages.
@@ -587,16 +355,16 @@ struct LabRows {
     line_of_row: Vec<usize>,
 }
 
-/// Reads one cell of a row in data units; a missing or bad cell is reported and gives `None`.
-fn cell_value(
+/// Reads one cell of a row: its number and the resolution of its digits; a missing or bad
+/// cell is reported and gives `None`.
+fn cell_reading(
     lf: &Path,
     line_no: usize,
     cells: &[String],
     col: &Col,
-    factor: f64,
     decimal_comma: bool,
     pr: &mut Problems,
-) -> Option<f64> {
+) -> Option<(f64, Option<f64>)> {
     let Some(cell) = cells.get(col.0) else {
         pr.add(
             lf,
@@ -616,7 +384,7 @@ fn cell_value(
         c = c.replace(',', ".");
     }
     match crate::set::parse_number(&c) {
-        Ok(x) => Some(x * factor),
+        Ok(x) => Some((x, resolution(&c))),
         Err(_) => {
             // The message quotes the cell as the file has it, not its decimal-comma reading.
             let msg = crate::set::parse_number(cell)
@@ -628,7 +396,9 @@ fn cell_value(
     }
 }
 
-/// Reads every data line; rows with a bad cell are reported and left out.
+/// Reads every data line; rows with a bad cell are reported and left out. Values are
+/// converted to s, mm and kPa and written with the precision of the input (a conversion
+/// adds no digits the lab did not record: 4.93 µm is 0.00493 mm).
 fn read_rows(
     lf: &Path,
     spec: &ImportSpec,
@@ -639,20 +409,24 @@ fn read_rows(
 ) -> LabRows {
     let mut rows = LabRows::default();
     let decimal_comma = delim != Delimiter::Comma;
+    let stress = |u: StressUnit| u.kpa_per_unit(spec.area_mm2).unwrap_or(f64::NAN);
     for &(line_no, line) in data_lines {
         let cells = split_cells(line, delim);
         let get = |col: &Col, factor: f64, pr: &mut Problems| {
-            cell_value(lf, line_no, &cells, col, factor, decimal_comma, pr)
+            cell_reading(lf, line_no, &cells, col, decimal_comma, pr)
+                .map(|(x, q)| with_precision(x, q, factor))
         };
         let tv = get(&cols.time, spec.time_unit.to_s(), pr);
         let sv = get(&cols.slip, spec.slip_unit.to_mm(), pr);
         let nv = match &cols.normal {
-            Some((c, u)) => get(c, u.to_kpa(), pr),
+            Some((c, u)) => get(c, stress(*u), pr),
             None => Some(spec.normal_stress_kpa.unwrap_or(f64::NAN)),
         };
         let qv = match (&cols.shear, &cols.friction) {
-            (Some((c, u)), _) => get(c, u.to_kpa(), pr),
-            (None, Some(c)) => get(c, 1.0, pr).zip(nv).map(|(f, n)| f * n),
+            (Some((c, u)), _) => get(c, stress(*u), pr),
+            (None, Some(c)) => cell_reading(lf, line_no, &cells, c, decimal_comma, pr)
+                .zip(nv)
+                .map(|((f, q), n)| with_precision(f, q, n)),
             (None, None) => Some(f64::NAN),
         };
         if let (Some(tv), Some(sv), Some(qv), Some(nv)) = (tv, sv, qv, nv) {
@@ -710,7 +484,17 @@ pub fn read_lab_file(
     } else {
         (Vec::new(), &lines[..])
     };
-    let cols = resolve_columns(lf, spec, first_line, &names)?;
+    let hinted = |e: DataError| match (
+        e,
+        skip_hint(&text, spec.skip_lines, spec.has_header, spec.delimiter),
+    ) {
+        (DataError::Problems(mut v), Some(hint)) => {
+            v.insert(0, InputProblem::new(lf, None, None, hint));
+            DataError::Problems(v)
+        }
+        (e, _) => e,
+    };
+    let cols = resolve_columns(lf, spec, first_line, &names).map_err(hinted)?;
     let mut pr = Problems::default();
     let rows = read_rows(lf, spec, &cols, data_lines, delim, &mut pr);
     if data_lines.is_empty() {
@@ -747,7 +531,7 @@ pub fn read_lab_file(
     if pr.is_empty() {
         pr.extend(validate_data(&td, cols.normal.is_some()));
     }
-    let mut td = pr.into_result(td)?;
+    let mut td = pr.into_result(td).map_err(hinted)?;
     td.path = target.join(&td.spec.file);
     Ok(td)
 }

@@ -1,0 +1,161 @@
+//! Rig artifacts a record carries that no friction model should fit: a seating (run-in) toe on
+//! first loading — the recorded displacement runs for 0.05–1 mm while the shear barely rises,
+//! as gaps close and the specimen beds in. A model of the interface would have to bend its
+//! parameters to swallow it; the rows of the toe are excluded instead, and the test starts
+//! from rest where the shear begins to rise.
+
+use crate::meta::ControlColumn;
+use crate::segment::{Segmentation, StartKind};
+use crate::set::TestData;
+use serde::Serialize;
+
+/// A seating toe found at the start of a test.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SeatingToe {
+    /// First row kept: where the shear begins to rise (rows before it are excluded).
+    pub first_kept: usize,
+    /// Imposed travel over the excluded rows [mm].
+    pub travel_mm: f64,
+    /// Largest |shear| over the excluded rows, as a share of the first loading's peak.
+    pub shear_share: f64,
+    /// In words.
+    pub reason: String,
+}
+
+/// Share of the first loading's peak below which the shear "barely rises".
+const TOE_SHARE: f64 = 0.05;
+/// Share of the peak the loading slope is measured up to (from [`TOE_SHARE`]).
+const SLOPE_SHARE: f64 = 0.25;
+/// A toe must travel at least this far [mm] ...
+const MIN_TOE_MM: f64 = 0.02;
+/// ... and this many times the travel the loading needs from 5 % to 25 % of its peak (a
+/// loading from rest rises steepest at its start; a toe is flat where the loading is steep).
+const TOE_OVER_RISE: f64 = 4.0;
+
+/// The seating toe of a slip-controlled test that starts at rest, if it has one.
+pub fn seating_toe(test: &TestData, seg: &Segmentation) -> Option<SeatingToe> {
+    if test.spec.control != ControlColumn::Slip || seg.start.kind != StartKind::Rest {
+        return None;
+    }
+    let u = &seg.conditioned.values;
+    let tau = &test.shear_kpa;
+    let n = test.len();
+    // The first loading: until the first reversal or hold.
+    let end = seg
+        .reversals
+        .iter()
+        .copied()
+        .chain(seg.holds.iter().map(|h| h.0))
+        .min()
+        .unwrap_or(n)
+        .min(n);
+    if end < 10 {
+        return None;
+    }
+    let sign = (u[end - 1] - u[0]).signum();
+    if sign == 0.0 {
+        return None;
+    }
+    let peak = tau[..end].iter().map(|v| sign * v).fold(f64::MIN, f64::max);
+    if !(peak.is_finite() && peak > 0.0) {
+        return None;
+    }
+    let first_above = |share: f64| (0..end).find(|&i| sign * tau[i] >= share * peak);
+    let i_toe = first_above(TOE_SHARE)?;
+    let i_rise = first_above(SLOPE_SHARE)?;
+    let toe = (u[i_toe] - u[0]).abs();
+    let rise = (u[i_rise] - u[i_toe]).abs().max(1e-12);
+    let resolution = 10.0 * seg.conditioned.band;
+    if toe < MIN_TOE_MM.max(resolution) || toe < TOE_OVER_RISE * rise || i_toe < 3 {
+        return None;
+    }
+    // Where the steep loading, extended back, meets zero shear: the contact begins there.
+    let slope = (SLOPE_SHARE - TOE_SHARE) * peak / rise;
+    let contact = u[i_toe] - sign * TOE_SHARE * peak / slope;
+    let first_kept = (0..=i_toe)
+        .rev()
+        .find(|&i| sign * (u[i] - contact) <= 0.0)
+        .unwrap_or(0)
+        .max(1);
+    let travel = (u[first_kept] - u[0]).abs();
+    let shear_share = tau[..first_kept]
+        .iter()
+        .map(|v| v.abs())
+        .fold(0.0, f64::max)
+        / peak;
+    Some(SeatingToe {
+        first_kept,
+        travel_mm: travel,
+        shear_share,
+        reason: format!(
+            "seating toe: the first {travel:.3} mm ({first_kept} rows) of travel raised the shear to at most {:.1} % of its first peak, where the loading then needs {rise:.4} mm to go from 5 % to 25 %: excluded, the test starts from rest at row {first_kept}",
+            100.0 * shear_share
+        ),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::meta::TestSpec;
+    use crate::segment::{segment, SegmentOptions};
+
+    /// A loading at 0.01 mm/s that closes a gap of `gap` mm first (shear 0.2 % of the peak per
+    /// 0.1 mm there), then rises like tanh over 0.05 mm to 60 kPa.
+    fn loading(gap: f64) -> TestData {
+        let time: Vec<f64> = (0..=400).map(|i| i as f64).collect();
+        let slip: Vec<f64> = time.iter().map(|t| 0.01 * t).collect();
+        let shear: Vec<f64> = slip
+            .iter()
+            .map(|&u| {
+                if u < gap {
+                    0.12 * u / 0.1
+                } else {
+                    0.12 * gap / 0.1 + 60.0 * ((u - gap) / 0.05).tanh()
+                }
+            })
+            .collect();
+        let n = time.len();
+        TestData {
+            spec: TestSpec::new("mono", "mono.csv", ControlColumn::Slip, 100.0),
+            path: "mono.csv".into(),
+            time_s: time,
+            slip_mm: slip,
+            shear_kpa: shear,
+            normal_kpa: vec![100.0; n],
+            friction_given: false,
+            line_of_row: (2..n + 2).collect(),
+            comments: vec![],
+        }
+    }
+
+    #[test]
+    fn a_gap_closing_before_contact_is_found_and_cut_where_the_loading_begins() {
+        for gap in [0.08, 0.3, 0.8] {
+            let t = loading(gap);
+            let seg = segment(&t, &SegmentOptions::default());
+            let toe = seating_toe(&t, &seg).unwrap_or_else(|| panic!("gap {gap}: no toe"));
+            assert!(
+                (toe.travel_mm - gap).abs() <= 0.011,
+                "gap {gap}: cut after {} mm",
+                toe.travel_mm
+            );
+            assert!(toe.shear_share < 0.05, "{}", toe.shear_share);
+        }
+    }
+
+    #[test]
+    fn a_loading_without_a_toe_is_left_alone() {
+        let t = loading(0.0);
+        let seg = segment(&t, &SegmentOptions::default());
+        assert_eq!(seating_toe(&t, &seg), None);
+        // A slow but steady rise (a soft contact, not a toe) is not cut either: its steepest
+        // part is its start.
+        let mut soft = loading(0.0);
+        for (s, u) in soft.shear_kpa.iter_mut().zip(&soft.slip_mm) {
+            *s = 60.0 * (u / 1.5).tanh();
+        }
+        let seg = segment(&soft, &SegmentOptions::default());
+        assert_eq!(seating_toe(&soft, &seg), None);
+    }
+}
