@@ -8,6 +8,8 @@
 //! `subfric.SubfricError` with the command's located message; the long calls run with the GIL
 //! released.
 
+mod campaign;
+
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyTypeError};
@@ -458,5 +460,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_set, m)?)?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose, m)?)?;
+    campaign::register(m)?;
     Ok(())
 }

@@ -11,6 +11,8 @@ The same code as the ``subfric`` command (a Rust library), from Python::
     shear, mu, ratio = subfric.simulate(r, c["time_s"], c["imposed"], 78.4)
     d = subfric.diagnose(s)                                  # diagnosis.json's content
     d["verdict"]["effect"]
+    c = subfric.campaign("lab/", out="campaigns/lab")        # every set: a table and figures
+    c = subfric.campaign("lab/", client, out="campaigns/lab")  # the same on a Dask cluster
 
 Units: slip mm, time s, traction kPa; kappa, u_tilde in 1/mm; xi in 1/s; alpha_t, alpha_n in
 kN/mm^3. Every error of the data or the parameters raises :class:`SubfricError` with the message
@@ -38,6 +40,7 @@ __all__ = [
     "load_set",
     "fit",
     "diagnose",
+    "campaign",
 ]
 
 
@@ -309,3 +312,7 @@ def diagnose(set, *, seed=1):
     text, warns = _native.diagnose(os.fspath(set), seed=int(seed))
     _warn(warns)
     return json.loads(text)
+
+
+# Last: the function takes the name of its module in the package's namespace.
+from .campaign import campaign  # noqa: E402

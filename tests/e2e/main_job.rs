@@ -634,6 +634,7 @@ fn help_lists_every_subcommand_and_every_option_with_its_default() {
         "selfcheck",
         "plan",
         "bench",
+        "campaign",
     ];
     for c in commands {
         assert!(

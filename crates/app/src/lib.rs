@@ -18,6 +18,8 @@
 //! - [`posterior`]: the posterior of a fit's parameters (`fit --posterior`): summary beside
 //!   the profile intervals, predictive bands, corner plot, thinned chain.
 //! - [`reproduce`]: every bundled set fitted, the paper's tables beside the published values.
+//! - [`campaign`](mod@campaign): many sets at once, locally or by Slurm or Dask, and the
+//!   campaign table and figures.
 //! - [`simulate`], [`sets`] (check and import), [`figures`] (overlay plots), [`bench`](mod@bench).
 //! - [`output`]: where results go and what may be replaced there; [`io`] the file helpers
 //!   (atomic writes, the parameter-file reader).
@@ -29,6 +31,7 @@
 
 pub mod adequacy;
 pub mod bench;
+pub mod campaign;
 pub mod diagnose;
 pub mod diagnose_report;
 mod events_figures;

@@ -51,6 +51,8 @@ pub enum Command {
     Plan(PlanArgs),
     /// Speed of the model step, of each paper fit, of multi-start scaling, of diagnoses and of the posterior sampler.
     Bench(BenchArgs),
+    /// Fit (and diagnose) many sets at once, locally or as a Slurm job array, into one table.
+    Campaign(crate::campaign::CampaignArgs),
 }
 
 /// `subfric reproduce`.

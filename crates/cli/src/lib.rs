@@ -5,6 +5,7 @@
 //! panic.
 
 pub mod args;
+mod campaign;
 mod print;
 mod progress;
 
@@ -49,7 +50,12 @@ pub fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             err(format!("error: {}", error_text(&e)));
-            ExitCode::from(1)
+            // A campaign whose table is written but some sets have no results: 3.
+            ExitCode::from(if e.is::<campaign::SomeSetsFailed>() {
+                3
+            } else {
+                1
+            })
         }
     };
     if let Some(e) = print::stdout_problem() {
@@ -76,6 +82,7 @@ pub fn run(command: Command) -> Result<()> {
         Command::Selfcheck(a) => selfcheck(a),
         Command::Plan(a) => plan(a),
         Command::Bench(a) => bench(a),
+        Command::Campaign(a) => campaign::run(a),
     }
 }
 

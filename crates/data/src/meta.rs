@@ -73,9 +73,25 @@ pub struct Interface {
     /// Maximum roughness R_max of the surface, µm.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub roughness_rmax_um: Option<f64>,
-    /// Any other fields, kept as they are.
+    /// Any other fields, kept as they are (among them the optional numbers of
+    /// [`INTERFACE_NUMBERS`], read with [`Interface::number`]).
     #[serde(flatten)]
     pub extra: Map<String, Value>,
+}
+
+/// The optional numeric fields of `interface` besides `roughness_rmax_um`: (key, unit, what).
+/// Each is a number ≥ 0 (D50 > 0) when present; never required.
+pub const INTERFACE_NUMBERS: [(&str, &str, &str); 2] = [
+    ("d50_mm", "mm", "median grain size D50 of the soil"),
+    ("roughness_ra_um", "µm", "mean roughness R_a of the surface"),
+];
+
+impl Interface {
+    /// An optional numeric field of the interface kept in [`Interface::extra`] (`d50_mm`,
+    /// `roughness_ra_um`, ...): `None` when absent or null (validation refuses other types).
+    pub fn number(&self, key: &str) -> Option<f64> {
+        self.extra.get(key).and_then(Value::as_f64)
+    }
 }
 
 /// One test of an experiment set, as described in `experiment.json`.
@@ -354,22 +370,53 @@ impl Ctx<'_> {
             Some(Value::Object(iface)) => {
                 self.string(iface, "interface", "soil", false, pr);
                 self.string(iface, "interface", "surface", false, pr);
-                match iface.get("roughness_rmax_um") {
-                    None | Some(Value::Null) | Some(Value::Number(_)) => {}
-                    Some(v) => self.problem(
-                        pr,
-                        "interface.roughness_rmax_um",
-                        format!("found {} (expected a number, µm)", kind_of(v)),
-                    ),
+                let rmax = ("roughness_rmax_um", "µm", "maximum roughness R_max");
+                for (key, unit, what) in std::iter::once(rmax).chain(INTERFACE_NUMBERS) {
+                    self.check_size(iface, key, unit, what, pr);
                 }
             }
             Some(v) => self.problem(
                 pr,
                 "interface",
                 format!(
-                    "found {} (expected an object with soil, surface, roughness_rmax_um)",
+                    "found {} (expected an object with soil, d50_mm, surface, roughness_rmax_um, roughness_ra_um)",
                     kind_of(v)
                 ),
+            ),
+        }
+    }
+
+    /// An optional size of the interface (`interface.<key>`): a finite number ≥ 0 (> 0 for a
+    /// grain size, which normalised roughness divides by).
+    fn check_size(
+        &self,
+        iface: &Map<String, Value>,
+        key: &str,
+        unit: &str,
+        what: &str,
+        pr: &mut Problems,
+    ) {
+        let field = format!("interface.{key}");
+        let grain = key.starts_with("d50");
+        match iface.get(key) {
+            None | Some(Value::Null) => {}
+            Some(Value::Number(n)) => match n.as_f64() {
+                Some(x)
+                    if x.is_finite() && x <= MAX_MAGNITUDE && (x > 0.0 || !grain && x == 0.0) => {}
+                _ => self.problem(
+                    pr,
+                    &field,
+                    if grain {
+                        format!("{n} {unit} is not positive (expected the {what} in {unit}, > 0)")
+                    } else {
+                        format!("{n} {unit} is negative (expected the {what} in {unit}, ≥ 0)")
+                    },
+                ),
+            },
+            Some(v) => self.problem(
+                pr,
+                &field,
+                format!("found {} (expected a number, {unit})", kind_of(v)),
             ),
         }
     }
@@ -624,6 +671,38 @@ mod tests {
         let all = problems(bad).join("\n");
         assert!(
             all.contains(":2: field `tests[0].initial`: unknown initial state `moving` (expected \"rest\" or \"sliding\")"),
+            "{all}"
+        );
+    }
+
+    #[test]
+    fn interface_sizes_are_optional_numbers_located_when_wrong() {
+        let head = "{\"name\": \"s\", \"title\": \"t\", \"source\": \"x\",\n";
+        let tests = "\"tests\": [{\"name\": \"a\", \"file\": \"a.csv\", \"control\": \"slip\", \"normal_stress_kpa\": 100}]}";
+        let ok = format!("{head}\"interface\": {{\"soil\": \"Toyoura\", \"d50_mm\": 0.18, \"roughness_rmax_um\": 0, \"roughness_ra_um\": 1.2}},\n{tests}");
+        let meta = parse_meta(&ok, Path::new("e.json")).unwrap();
+        assert_eq!(meta.interface.number("d50_mm"), Some(0.18));
+        assert_eq!(meta.interface.number("roughness_ra_um"), Some(1.2));
+        assert_eq!(meta.interface.roughness_rmax_um, Some(0.0));
+        let none = format!("{head}\"interface\": {{\"soil\": \"Toyoura\"}},\n{tests}");
+        let meta = parse_meta(&none, Path::new("e.json")).unwrap();
+        assert_eq!(meta.interface.number("d50_mm"), None);
+        let bad = format!("{head}\"interface\": {{\"d50_mm\": 0,\n\"roughness_ra_um\": \"1.2\",\n\"roughness_rmax_um\": -3}},\n{tests}");
+        let all = problems(&bad).join("\n");
+        assert!(
+            all.contains(
+                ":2: field `interface.d50_mm`: 0 mm is not positive (expected the median grain size D50 of the soil in mm, > 0)"
+            ),
+            "{all}"
+        );
+        assert!(
+            all.contains(
+                ":3: field `interface.roughness_ra_um`: found a string (expected a number, µm)"
+            ),
+            "{all}"
+        );
+        assert!(
+            all.contains(":4: field `interface.roughness_rmax_um`: -3 µm is negative"),
             "{all}"
         );
     }

@@ -62,6 +62,7 @@ mod figure;
 mod fonts;
 mod geom;
 mod inset;
+mod intervals;
 mod png_io;
 pub mod posterior;
 mod scale;
@@ -75,6 +76,10 @@ pub use colors::{
 };
 pub use figure::{figure_layout, render_png, series_inside, FigureLayout};
 pub use geom::PixelRect;
+pub use intervals::{
+    interval_layout, render_interval_png, IntervalEnd, IntervalFigure, IntervalLayout,
+    IntervalPoint, PointGroup,
+};
 pub use png_io::{inspect_png, read_rgb, PngCheck, RgbImage};
 pub use scale::MAX_ABS_VALUE;
 

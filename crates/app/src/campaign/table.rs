@@ -1,0 +1,526 @@
+//! The campaign table: one row per set, sorted by its results folder's name, from the files in
+//! the set's results folder (whoever wrote them: a local run, a Slurm array task, a Dask
+//! worker) and the set's `experiment.json`. Nothing in it depends on when, where or how fast
+//! the sets ran, so the same results give the same bytes.
+
+use super::record::{part_key, read_inputs, PartRecord, PartStatus, SetRecord};
+use super::run::set_dir;
+use super::SetJob;
+use crate::error_text;
+use serde::Serialize;
+use serde_json::Value;
+use std::fmt::Write as _;
+use subfric_data::meta::INTERFACE_NUMBERS;
+use subfric_data::ExperimentMeta;
+use subfric_fit::interval::short_number;
+
+/// Where a set stands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RowStatus {
+    /// Fitted (and diagnosed when asked) for its inputs and options of today.
+    Ok,
+    /// Its fit or diagnosis failed (the error is in the row).
+    Failed,
+    /// No results yet.
+    NotRun,
+    /// Results for other inputs or options: the set changed since.
+    OutOfDate,
+}
+
+impl RowStatus {
+    /// As the table writes it.
+    pub fn text(self) -> &'static str {
+        match self {
+            RowStatus::Ok => "ok",
+            RowStatus::Failed => "failed",
+            RowStatus::NotRun => "not run",
+            RowStatus::OutOfDate => "out of date",
+        }
+    }
+}
+
+/// A parameter of a set's fit.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ParamCell {
+    /// Key (`mu_s`, ...).
+    pub name: String,
+    /// Unit.
+    pub unit: String,
+    /// Fitted (or fixed) value.
+    pub value: f64,
+    /// Lower end of the 95 % profile interval (None: no interval).
+    pub lo: Option<f64>,
+    /// Upper end.
+    pub hi: Option<f64>,
+    /// The data set no lower bound (`lo` is the search's wall).
+    pub lo_open: bool,
+    /// The data set no upper bound.
+    pub hi_open: bool,
+    /// Identifiability: determined, weak, upper-bound-only, ...
+    pub status: String,
+}
+
+/// One row of the campaign table.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Row {
+    /// The set's results folder name (`sets/<set>`).
+    pub set: String,
+    /// The set's name in its experiment.json.
+    pub name: Option<String>,
+    /// The set's folder as the campaign gave it.
+    pub folder: String,
+    /// Where it stands.
+    pub status: RowStatus,
+    /// Why it failed, or what is missing.
+    pub error: Option<String>,
+    /// `interface.soil`.
+    pub soil: Option<String>,
+    /// `interface.d50_mm`.
+    pub d50_mm: Option<f64>,
+    /// `interface.surface`.
+    pub surface: Option<String>,
+    /// `interface.roughness_rmax_um`.
+    pub roughness_rmax_um: Option<f64>,
+    /// `interface.roughness_ra_um`.
+    pub roughness_ra_um: Option<f64>,
+    /// Normalised roughness R_max/D50 (R_max in µm over D50 in µm).
+    pub rmax_over_d50: Option<f64>,
+    /// The normal stresses of the tests fitted, distinct, ascending, kPa.
+    pub normal_stresses_kpa: Vec<f64>,
+    /// Rows fitted.
+    pub rows: Option<usize>,
+    /// Reduced χ² of the fit.
+    pub reduced_chi2: Option<f64>,
+    /// The fitted parameters with their intervals.
+    pub parameters: Vec<ParamCell>,
+    /// The diagnosis's verdict (effects named, `none` or `unexplained`), when diagnosed.
+    pub verdict: Option<String>,
+    /// The held-out shrink of the misfit the verdict's first effect gives (a fraction).
+    pub held_out_shrink: Option<f64>,
+}
+
+impl Row {
+    /// A parameter by key.
+    pub fn parameter(&self, name: &str) -> Option<&ParamCell> {
+        self.parameters.iter().find(|p| p.name == name)
+    }
+
+    fn empty(job: &SetJob) -> Row {
+        Row {
+            set: job.id.clone(),
+            name: None,
+            folder: job.folder.clone(),
+            status: RowStatus::NotRun,
+            error: None,
+            soil: None,
+            d50_mm: None,
+            surface: None,
+            roughness_rmax_um: None,
+            roughness_ra_um: None,
+            rmax_over_d50: None,
+            normal_stresses_kpa: Vec::new(),
+            rows: None,
+            reduced_chi2: None,
+            parameters: Vec::new(),
+            verdict: None,
+            held_out_shrink: None,
+        }
+    }
+
+    fn interface(&mut self, meta: &ExperimentMeta, job: &SetJob) {
+        let i = &meta.interface;
+        self.name = Some(meta.name.clone());
+        self.soil = i.soil.clone();
+        self.surface = i.surface.clone();
+        self.roughness_rmax_um = i.roughness_rmax_um;
+        self.d50_mm = i.number(INTERFACE_NUMBERS[0].0);
+        self.roughness_ra_um = i.number(INTERFACE_NUMBERS[1].0);
+        self.rmax_over_d50 = match (self.roughness_rmax_um, self.d50_mm) {
+            (Some(r), Some(d)) if d > 0.0 => Some(r / (1000.0 * d)),
+            _ => None,
+        };
+        let mut stresses: Vec<f64> = meta
+            .tests
+            .iter()
+            .filter(|t| job.options.tests.is_empty() || job.options.tests.contains(&t.name))
+            .map(|t| t.normal_stress_kpa)
+            .collect();
+        stresses.sort_by(f64::total_cmp);
+        stresses.dedup();
+        self.normal_stresses_kpa = stresses;
+    }
+}
+
+/// How a recorded part compares with today's inputs and options.
+fn part_status(record: Option<&PartRecord>, key: &str) -> (RowStatus, Option<String>) {
+    match record {
+        None => (RowStatus::NotRun, None),
+        Some(r) if r.key != key => (RowStatus::OutOfDate, None),
+        Some(r) if r.status == PartStatus::Failed => (RowStatus::Failed, r.error.clone()),
+        Some(_) => (RowStatus::Ok, None),
+    }
+}
+
+fn read_json(path: &std::path::Path) -> Result<Value, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The row of set `job` of the campaign written to `out`.
+pub fn row(out: &std::path::Path, job: &SetJob) -> Row {
+    let mut row = Row::empty(job);
+    let (meta, inputs) = match read_inputs(&job.dir) {
+        Ok(x) => x,
+        Err(e) => {
+            row.status = RowStatus::Failed;
+            row.error = Some(error_text(&e));
+            return row;
+        }
+    };
+    row.interface(&meta, job);
+    let dir = set_dir(out, &job.id);
+    let record = SetRecord::read(&dir);
+    let fit_key = part_key("fit", &inputs, &job.options.fit_part());
+    let (status, error) = part_status(record.as_ref().and_then(|r| r.fit.as_ref()), &fit_key);
+    row.status = status;
+    row.error = error;
+    if status == RowStatus::Ok {
+        if let Err(e) = read_json(&dir.join("fit.json")).map(|v| fit_cells(&mut row, &v)) {
+            row.status = RowStatus::NotRun;
+            row.error = Some(e);
+        }
+    }
+    if row.status == RowStatus::Ok && job.options.diagnose {
+        let key = part_key("diagnosis", &inputs, &job.options.diagnosis_part());
+        let (status, error) = part_status(record.as_ref().and_then(|r| r.diagnosis.as_ref()), &key);
+        row.status = status;
+        row.error = error;
+        if status == RowStatus::Ok {
+            let file = dir.join("diagnosis").join("diagnosis.json");
+            match read_json(&file) {
+                Ok(v) => verdict_cells(&mut row, &v),
+                Err(e) => {
+                    row.status = RowStatus::NotRun;
+                    row.error = Some(e);
+                }
+            }
+        }
+    }
+    row
+}
+
+fn fit_cells(row: &mut Row, fit: &Value) {
+    let report = &fit["report"];
+    row.rows = report["rows"].as_u64().map(|r| r as usize);
+    row.reduced_chi2 = report["reduced_chi2"].as_f64();
+    for p in report["parameters"].as_array().into_iter().flatten() {
+        let interval = &p["interval"];
+        row.parameters.push(ParamCell {
+            name: p["name"].as_str().unwrap_or_default().to_string(),
+            unit: p["unit"].as_str().unwrap_or_default().to_string(),
+            value: p["value"].as_f64().unwrap_or(f64::NAN),
+            lo: interval["lo"].as_f64(),
+            hi: interval["hi"].as_f64(),
+            lo_open: interval["lo_open"].as_bool().unwrap_or(false),
+            hi_open: interval["hi_open"].as_bool().unwrap_or(false),
+            status: p["status"].as_str().unwrap_or_default().to_string(),
+        });
+    }
+}
+
+fn verdict_cells(row: &mut Row, d: &Value) {
+    let verdict = &d["verdict"];
+    let named: Vec<&str> = d["diagnosis"]["verdict"]["effects"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|e| e["effect"].as_str())
+        .collect();
+    row.verdict = if named.is_empty() {
+        verdict["effect"].as_str().map(str::to_string)
+    } else {
+        Some(named.join(" + "))
+    };
+    row.held_out_shrink = verdict["held_out_shrink"].as_f64();
+}
+
+/// The parameters of the rows, in the order of the first row that has each.
+pub fn parameter_names(rows: &[Row]) -> Vec<(String, String)> {
+    let mut names: Vec<(String, String)> = Vec::new();
+    for p in rows.iter().flat_map(|r| &r.parameters) {
+        if !names.iter().any(|(n, _)| n == &p.name) {
+            names.push((p.name.clone(), p.unit.clone()));
+        }
+    }
+    names
+}
+
+/// A number as the CSV writes it: shortest text that reads back to the same double.
+fn num(v: Option<f64>) -> String {
+    v.filter(|x| x.is_finite())
+        .map(|x| format!("{x}"))
+        .unwrap_or_default()
+}
+
+/// A CSV cell: quoted when it holds a comma, a quote or a line break.
+fn cell(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+fn stresses(v: &[f64]) -> String {
+    v.iter()
+        .map(|x| format!("{x}"))
+        .collect::<Vec<_>>()
+        .join(";")
+}
+
+/// `campaign.csv`: one row per set; a parameter `p` has the columns `p`, `p_lo`, `p_hi` (empty
+/// where the data set no bound, or without an interval) and `p_status`.
+pub fn csv(rows: &[Row], diagnosed: bool) -> String {
+    let params = parameter_names(rows);
+    let mut head: Vec<String> = [
+        "set",
+        "name",
+        "folder",
+        "status",
+        "soil",
+        "d50_mm",
+        "surface",
+        "roughness_rmax_um",
+        "roughness_ra_um",
+        "rmax_over_d50",
+        "normal_stresses_kpa",
+        "rows",
+        "reduced_chi2",
+    ]
+    .map(String::from)
+    .to_vec();
+    for (p, _) in &params {
+        head.extend([
+            p.clone(),
+            format!("{p}_lo"),
+            format!("{p}_hi"),
+            format!("{p}_status"),
+        ]);
+    }
+    if diagnosed {
+        head.extend(["verdict".into(), "held_out_shrink".into()]);
+    }
+    head.push("error".into());
+    let mut s = head.join(",") + "\n";
+    for r in rows {
+        let mut cells = vec![
+            cell(&r.set),
+            cell(r.name.as_deref().unwrap_or_default()),
+            cell(&r.folder),
+            r.status.text().to_string(),
+            cell(r.soil.as_deref().unwrap_or_default()),
+            num(r.d50_mm),
+            cell(r.surface.as_deref().unwrap_or_default()),
+            num(r.roughness_rmax_um),
+            num(r.roughness_ra_um),
+            num(r.rmax_over_d50),
+            stresses(&r.normal_stresses_kpa),
+            r.rows.map(|n| n.to_string()).unwrap_or_default(),
+            num(r.reduced_chi2),
+        ];
+        for (p, _) in &params {
+            match r.parameter(p) {
+                Some(c) => cells.extend([
+                    num(Some(c.value)),
+                    num(c.lo.filter(|_| !c.lo_open)),
+                    num(c.hi.filter(|_| !c.hi_open)),
+                    cell(&c.status),
+                ]),
+                None => cells.extend([String::new(), String::new(), String::new(), String::new()]),
+            }
+        }
+        if diagnosed {
+            cells.push(cell(r.verdict.as_deref().unwrap_or_default()));
+            cells.push(num(r.held_out_shrink));
+        }
+        cells.push(cell(r.error.as_deref().unwrap_or_default()));
+        s.push_str(&cells.join(","));
+        s.push('\n');
+    }
+    s
+}
+
+/// A Markdown cell: one line, `|` escaped.
+fn md(s: &str) -> String {
+    s.replace('\r', "")
+        .split('\n')
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ")
+        .replace('|', "\\|")
+}
+
+fn md_num(v: Option<f64>) -> String {
+    v.filter(|x| x.is_finite())
+        .map(short_number)
+        .unwrap_or_default()
+}
+
+/// A parameter as the Markdown table shows it: value, interval with open ends marked as
+/// `fit.txt` marks them, and the status when not determined.
+fn md_param(c: &ParamCell) -> String {
+    let mut s = short_number(c.value);
+    if let (Some(lo), Some(hi)) = (c.lo, c.hi) {
+        let _ = write!(
+            s,
+            " {}{}, {}{}",
+            if c.lo_open { "(≤" } else { "[" },
+            short_number(lo),
+            short_number(hi),
+            if c.hi_open { "≥)" } else { "]" }
+        );
+    }
+    if c.status != "determined" {
+        let _ = write!(s, " {}", c.status.replace('-', " "));
+    }
+    s
+}
+
+/// Symbols of the parameters in the Markdown header.
+fn symbol(name: &str) -> &str {
+    match name {
+        "mu_s" => "μ_s",
+        "mu_k" => "μ_k",
+        "kappa" => "κ",
+        "xi" => "ξ",
+        "u_tilde" => "ũ",
+        "alpha_t" => "α_t",
+        other => other,
+    }
+}
+
+/// `campaign.md`: the table to read, then the sets that failed or are missing, with why.
+pub fn markdown(title: &str, rows: &[Row], diagnosed: bool) -> String {
+    let params = parameter_names(rows);
+    let mut s = format!("# Campaign {}\n\n", md(title));
+    let count = |st: RowStatus| rows.iter().filter(|r| r.status == st).count();
+    let _ = writeln!(
+        s,
+        "{} sets: {} ok, {} failed, {} not run, {} out of date.\n",
+        rows.len(),
+        count(RowStatus::Ok),
+        count(RowStatus::Failed),
+        count(RowStatus::NotRun),
+        count(RowStatus::OutOfDate)
+    );
+    s.push_str(
+        "Each parameter: the fitted value and its 95 % profile interval; `(≤a` or `b≥)` marks an end \
+         the data do not bound (the search's wall), and the identifiability follows when the \
+         parameter is not determined. R_max/D50: R_max over D50, both in µm. σ_n: the normal \
+         stresses of the tests fitted. Every number here is in `campaign.csv` at full precision.\n\n",
+    );
+    let mut head = vec![
+        "set".to_string(),
+        "soil".into(),
+        "D50 (mm)".into(),
+        "surface".into(),
+        "R_max (µm)".into(),
+        "R_max/D50".into(),
+        "σ_n (kPa)".into(),
+    ];
+    for (p, unit) in &params {
+        head.push(if unit.is_empty() {
+            symbol(p).to_string()
+        } else {
+            format!("{} ({unit})", symbol(p))
+        });
+    }
+    head.push("χ²_red".into());
+    if diagnosed {
+        head.push("verdict".into());
+    }
+    head.push("status".into());
+    let _ = writeln!(s, "| {} |", head.join(" | "));
+    let _ = writeln!(s, "|{}", "---|".repeat(head.len()));
+    for r in rows {
+        let mut cells = vec![
+            md(&r.set),
+            md(r.soil.as_deref().unwrap_or_default()),
+            md_num(r.d50_mm),
+            md(r.surface.as_deref().unwrap_or_default()),
+            md_num(r.roughness_rmax_um),
+            md_num(r.rmax_over_d50),
+            r.normal_stresses_kpa
+                .iter()
+                .map(|x| format!("{x}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+        ];
+        for (p, _) in &params {
+            cells.push(r.parameter(p).map(md_param).unwrap_or_default());
+        }
+        cells.push(md_num(r.reduced_chi2));
+        if diagnosed {
+            cells.push(match (&r.verdict, r.held_out_shrink) {
+                (Some(v), Some(h)) if h > 0.0 => {
+                    format!("{} (held-out misfit −{:.0} %)", md(v), 100.0 * h)
+                }
+                (Some(v), _) => md(v),
+                _ => String::new(),
+            });
+        }
+        cells.push(r.status.text().to_string());
+        let _ = writeln!(s, "| {} |", cells.join(" | "));
+    }
+    let problems: Vec<&Row> = rows.iter().filter(|r| r.status != RowStatus::Ok).collect();
+    if !problems.is_empty() {
+        s.push_str("\n## Sets without results\n\n");
+        for r in problems {
+            let why = match (r.status, &r.error) {
+                (_, Some(e)) => md(e),
+                (RowStatus::NotRun, None) => {
+                    "no results yet (run the campaign, or its array task)".into()
+                }
+                (RowStatus::OutOfDate, None) => {
+                    "its inputs or options changed since its results were written (run it again)"
+                        .into()
+                }
+                _ => String::new(),
+            };
+            let _ = writeln!(s, "- `{}` ({}): {why}", md(&r.set), r.status.text());
+        }
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_cells_with_commas_quotes_and_lines_are_quoted() {
+        assert_eq!(cell("plain"), "plain");
+        assert_eq!(cell("a,b"), "\"a,b\"");
+        assert_eq!(cell("say \"x\"\nnext"), "\"say \"\"x\"\"\nnext\"");
+        assert_eq!(md("a|b\n  c\n"), "a\\|b c");
+    }
+
+    #[test]
+    fn numbers_read_back_exactly_and_open_ends_are_marked() {
+        assert_eq!(num(Some(0.1 + 0.2)), "0.30000000000000004");
+        assert_eq!(num(Some(f64::NAN)), "");
+        let c = ParamCell {
+            name: "mu_k".into(),
+            unit: String::new(),
+            value: 0.3032,
+            lo: Some(1.683e-4),
+            hi: Some(0.3033),
+            lo_open: true,
+            hi_open: false,
+            status: "upper-bound-only".into(),
+        };
+        assert_eq!(md_param(&c), "0.3032 (≤1.683e-4, 0.3033] upper bound only");
+    }
+}

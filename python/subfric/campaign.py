@@ -1,0 +1,118 @@
+"""Campaigns: many sets at once, here or on a Dask cluster, into one table.
+
+The per-set work is ``subfric campaign``'s own (the Rust application layer): each set is fitted
+(and diagnosed with ``diagnose=True``) into ``<out>/sets/<set>/``, skipped when its inputs (the
+SHA-256 of experiment.json and every CSV) and options match the record its results were
+written with; the table (``campaign.csv``, ``campaign.md``) and the figures are then made from
+those folders alone. So a local run, a Dask run and a Slurm array
+(``subfric campaign --emit-slurm``) write the same files and the same table, byte for byte.
+
+With a Dask client, the plan is written here, each set is one task (``client.map``) that a
+worker runs into the campaign folder, and the table is collected here: the workers must see the
+sets and the campaign folder at the same paths (a shared file system, as on a cluster; every
+path is made absolute). Each task's fit is parallel too (one thread per core of its worker's
+machine; ``RAYON_NUM_THREADS`` sets it): give each worker one thread of Dask's and few workers
+per machine.
+"""
+
+import json
+import os
+import warnings as _warnings
+
+from . import _native
+
+__all__ = ["campaign"]
+
+
+def _sets_argument(sets):
+    expected = "expected a folder of sets, a manifest file, or a list of set folders"
+    try:
+        if isinstance(sets, (list, tuple)):
+            if not sets:
+                raise _native.SubfricError(f"sets: an empty list ({expected})")
+            return [os.path.abspath(os.fspath(s)) for s in sets]
+        return os.fspath(sets)
+    except TypeError:
+        raise _native.SubfricError(f"sets: {sets!r} ({expected})") from None
+
+
+def _run_index(out, index, force):
+    """One set of a prepared campaign, on a Dask worker: the run as a dict."""
+    from . import _native as native  # imported on the worker
+
+    return json.loads(native.campaign_run_index(out, index, force=force))
+
+
+def _warn_incomplete(rows):
+    from . import SubfricWarning
+
+    for r in rows:
+        if r["status"] != "ok":
+            why = f": {r['error']}" if r.get("error") else ""
+            _warnings.warn(
+                f"campaign set {r['set']} {r['status'].replace('-', ' ')}{why}",
+                SubfricWarning,
+                stacklevel=3,
+            )
+
+
+def campaign(
+    sets,
+    client=None,
+    *,
+    out=None,
+    diagnose=False,
+    seed=1,
+    starts=8,
+    global_evals=3000,
+    profiles=True,
+    force=False,
+    jobs=None,
+):
+    """Fits (and with ``diagnose=True`` diagnoses) every set of a campaign, as
+    ``subfric campaign`` does, and writes the campaign table and figures.
+
+    ``sets``: a folder of sets (its sub-folders holding experiment.json), a manifest file
+    (``.json`` or ``.toml``: set folders with options of their own, see docs/campaign.md), or a
+    list of set folders. ``client``: a ``dask.distributed.Client`` to run the sets on its workers
+    (one task per set); ``None`` runs them here, in parallel (``jobs`` sets at once, default one
+    per core). ``out``: the campaign folder (default ``campaigns/<name>``). ``seed``,
+    ``starts``, ``global_evals``, ``profiles``: the fits' options (a manifest's own win).
+    ``force``: replace the results of another campaign in ``out``.
+
+    Returns a dict: ``out`` (the campaign folder, absolute), ``rows`` (one dict per set, sorted
+    by set: ``set``, ``name``, ``status`` (``ok``, ``failed``, ``not-run``, ``out-of-date``),
+    ``error``, the interface metadata, ``normal_stresses_kpa``, ``reduced_chi2``,
+    ``parameters`` with their intervals and identifiability, ``verdict``, ``held_out_shrink``),
+    ``runs`` (per set: ``outcome`` ``ran``, ``skipped`` or ``failed`` with its ``error``, and
+    ``seconds``) and ``files`` (the table and figures written). A set that failed does not stop
+    the others: it is in ``rows`` and ``runs`` and issued as a :class:`SubfricWarning`.
+    """
+    source = _sets_argument(sets)
+    options = dict(
+        out=None if out is None else os.fspath(out),
+        seed=int(seed),
+        starts=int(starts),
+        global_evals=int(global_evals),
+        profiles=bool(profiles),
+        diagnose=bool(diagnose),
+        force=bool(force),
+    )
+    if client is None:
+        result = json.loads(
+            _native.campaign_run(source, jobs=None if jobs is None else int(jobs), **options)
+        )
+    else:
+        plan = json.loads(_native.campaign_prepare(source, **options))
+        futures = client.map(
+            _run_index,
+            [plan["out"]] * len(plan["sets"]),
+            range(len(plan["sets"])),
+            force=bool(force),
+            pure=False,
+        )
+        runs = client.gather(futures)
+        result = json.loads(_native.campaign_collect(source, **options))
+        result["runs"] = runs
+    _warn_incomplete(result["rows"])
+    return result
