@@ -283,7 +283,10 @@ pub fn score_folder(
             .map(|s| s.to_string_lossy().to_string())
             .unwrap_or_default();
         match truth_of(&truth, &name, &truth_path)? {
-            Some((families, label)) => jobs.push((d, name, families, label, profile_name(&truth[&name]))),
+            Some((families, label)) => {
+                let profile = profile_name(&truth[&name]);
+                jobs.push((d, name, families, label, profile))
+            }
             None => progress.warning(&format!(
                 "{}: no truth in {}, skipped",
                 crate::visible(&name),

@@ -400,7 +400,7 @@ fn legend(fig: &IntervalFigure, plan: &Plan) -> Option<Legend> {
                     color: group_rgb(g),
                     width: m.width(1.5),
                     dashed: false,
-                    marker: Some(marker_radius(m)),
+                    marker: Some((marker_radius(m), group_rgb(g))),
                 },
             });
         }

@@ -141,6 +141,8 @@ impl SetOptions {
             fix: self.fix().map_err(e)?,
             bounds: self.bounds().map_err(e)?,
             weights: Vec::new(),
+            posterior: None,
+            start: None,
             options: FitOptions {
                 seed: self.seed,
                 starts: self.starts,

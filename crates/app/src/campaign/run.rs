@@ -246,7 +246,7 @@ fn fit_set(job: &SetJob, dir: &Path, progress: &dyn Progress) -> Result<()> {
     let req = job.options.fit_request(&job.dir)?;
     let fitted = fit(&req, progress)?;
     write_json(&dir.join("fit.json"), &fitted.json)?;
-    let table = report_table(&fitted.outcome.name, &fitted.outcome.report);
+    let table = report_table(&fitted.outcome);
     write_text(&dir.join("fit.txt"), &format!("{table}\n"))
 }
 
