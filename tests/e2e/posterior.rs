@@ -167,7 +167,9 @@ fn fit_with_posterior_writes_every_promised_file_beside_the_fit() {
 
     // fit.txt: the fit's table, then the posterior beside the profile intervals, as printed.
     let txt = std::fs::read_to_string(out.join("fit.txt")).unwrap();
-    assert!(txt.starts_with("fit of table1-medium:"), "{txt}");
+    // As printed: the verdict first, then the fit's table.
+    assert!(txt.starts_with("verdict: "), "{txt}");
+    assert!(txt.contains("\nfit of table1-medium:"), "{txt}");
     assert_mentions(
         &txt,
         &[
@@ -417,5 +419,18 @@ fn a_fit_without_posterior_writes_nothing_of_it() {
         .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
         .collect();
     names.sort();
-    assert_eq!(names, [".subfric-source", "fit.json"]);
+    // What a plain fit writes (fit.json, fit.txt, a figure per test, the HTML report) and
+    // nothing of the posterior's.
+    assert_eq!(
+        names,
+        [
+            ".subfric-source",
+            "fit.json",
+            "fit.txt",
+            "monotonic.png",
+            "report.html"
+        ]
+    );
+    let txt = std::fs::read_to_string(out.join("fit.txt")).unwrap();
+    assert!(!txt.contains("credible"), "{txt}");
 }

@@ -49,7 +49,7 @@ pub struct Slider {
 const SUBSTEP_SHARE_OF_DC: f64 = 0.05;
 /// Most substeps in one interval between rows: beyond it the parameters are absurd for the
 /// record (a D_c far below the resolution) and the run is refused.
-const MAX_SUBSTEPS: usize = 20_000;
+const MAX_SUBSTEPS: usize = 2_000;
 /// Newton iterations of one backward-Euler substep.
 const NEWTON_ITERATIONS: usize = 40;
 

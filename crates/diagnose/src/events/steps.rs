@@ -309,47 +309,70 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
         ..LmOptions::default()
     };
     let k_start = compliant_start.unwrap_or_else(|| initial_slope(w));
+    // D_c below a tenth of the slip between two rows is beyond what the record resolves (the
+    // state would relax within one row); that floor also bounds the compliant integration's
+    // substeps per row.
+    let dc_floor = resolved_dc_floor(w).max(1e-5);
     let mut best: Option<(f64, Vec<f64>, StateLaw, bool, bool)> = None;
-    for law in [StateLaw::Ageing, StateLaw::Slip] {
-        for &compliant in &[false, true] {
-            let k0 = compliant.then_some(k_start);
-            let mut lo = vec![(1e-5f64).ln(), -0.2, (1e-5f64).ln(), mu0 - 0.3, -2.0];
-            let mut hi = vec![(0.2f64).ln(), 0.2, (5.0 * span).ln(), mu0 + 0.3, 2.0];
-            if compliant {
-                lo.push((1e-2f64).ln());
-                hi.push((1e7f64).ln());
-            }
-            let prob = RsfProblem {
-                w,
-                law,
-                compliant,
-                lo,
-                hi,
-            };
-            for dc in [dc0, 3.0 * dc0, dc0 / 3.0] {
-                let mut x0 = vec![
-                    a0.ln(),
-                    b0.clamp(-0.19, 0.19),
-                    dc.clamp(1e-5, span).ln(),
-                    mu0,
-                    q0,
-                ];
-                if let Some(k) = k0 {
-                    x0.push(k.ln());
-                }
-                let r = levenberg_marquardt(&prob, &x0, None, &lm);
-                // A fitted spring costs one parameter: it must pay for it (BIC on the rows).
-                let penalty = if compliant {
-                    (w.mu.len() as f64).ln()
-                } else {
-                    0.0
-                };
-                let cost = r.ssr + penalty;
-                if r.ssr.is_finite() && best.as_ref().is_none_or(|b| cost < b.0) {
-                    best = Some((cost, r.x, law, compliant, r.termination.converged()));
-                }
-            }
+    let mut consider = |cost: f64, x: Vec<f64>, law, compliant, converged| {
+        if cost.is_finite() && best.as_ref().is_none_or(|b| cost < b.0) {
+            best = Some((cost, x, law, compliant, converged));
         }
+    };
+    for law in [StateLaw::Ageing, StateLaw::Slip] {
+        let lo = vec![(1e-5f64).ln(), -0.2, dc_floor.ln(), mu0 - 0.3, -2.0];
+        let hi = vec![
+            (0.2f64).ln(),
+            0.2,
+            (5.0 * span).max(2.0 * dc_floor).ln(),
+            mu0 + 0.3,
+            2.0,
+        ];
+        // The rigid slider integrates exactly per row: cheap, so it is started from three D_c.
+        let rigid = RsfProblem {
+            w,
+            law,
+            compliant: false,
+            lo: lo.clone(),
+            hi: hi.clone(),
+        };
+        let mut rigid_best: Option<(f64, Vec<f64>)> = None;
+        for dc in [dc0, 3.0 * dc0, dc0 / 3.0] {
+            let x0 = vec![
+                a0.ln(),
+                b0.clamp(-0.19, 0.19),
+                dc.clamp(dc_floor, span.max(dc_floor)).ln(),
+                mu0,
+                q0,
+            ];
+            let r = levenberg_marquardt(&rigid, &x0, None, &lm);
+            if r.ssr.is_finite() && rigid_best.as_ref().is_none_or(|b| r.ssr < b.0) {
+                rigid_best = Some((r.ssr, r.x.clone()));
+            }
+            consider(r.ssr, r.x, law, false, r.termination.converged());
+        }
+        // The compliant slider substeps within rows: it is started once, from the rigid
+        // optimum of its law (where the data put a, b and D_c) with the spring's first guess.
+        let Some((_, x_rigid)) = rigid_best else {
+            continue;
+        };
+        let mut lo = lo;
+        let mut hi = hi;
+        lo.push((1e-2f64).ln());
+        hi.push((1e7f64).ln());
+        let compliant = RsfProblem {
+            w,
+            law,
+            compliant: true,
+            lo,
+            hi,
+        };
+        let mut x0 = x_rigid;
+        x0.push(k_start.clamp(1.1e-2, 0.9e7).ln());
+        let r = levenberg_marquardt(&compliant, &x0, None, &lm);
+        // A fitted spring costs one parameter: it must pay for it (BIC on the rows).
+        let penalty = (w.mu.len() as f64).ln();
+        consider(r.ssr + penalty, r.x, law, true, r.termination.converged());
     }
     let (_, x, law, compliant, converged) = best?;
     let prob = RsfProblem {
@@ -416,6 +439,21 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
         sign_agrees,
         converged,
     })
+}
+
+/// A tenth of the median load-point travel between two rows after the step: the shortest
+/// D_c the record can tell from zero.
+fn resolved_dc_floor(w: &Window) -> f64 {
+    let mut steps: Vec<f64> = w.travel[w.step..]
+        .windows(2)
+        .map(|p| (p[1] - p[0]).abs())
+        .filter(|d| *d > 0.0)
+        .collect();
+    if steps.is_empty() {
+        return 0.0;
+    }
+    steps.sort_by(f64::total_cmp);
+    0.1 * steps[steps.len() / 2]
 }
 
 /// A first guess of the spring stiffness: the steepest rise of friction with load-point travel
