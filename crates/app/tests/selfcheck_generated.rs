@@ -4,7 +4,7 @@
 //! must be right. Six diagnoses in all (a diagnosis takes seconds), each set chosen for the
 //! regression it catches; the sets are drawn by seed, not picked by their verdicts.
 //!
-//! Three of them fail on the diagnosis as it stands (issue 20, being rewritten) and are ignored
+//! Two of them fail on the diagnosis as it stands (issue 20) and are ignored
 //! with the verdict measured: run them with `cargo test --release -p subfric-app --test
 //! selfcheck_generated -- --include-ignored`, and drop the `ignore` once they pass.
 
@@ -40,7 +40,6 @@ fn assert_right(c: &Case) {
 }
 
 #[test]
-#[ignore = "issue 20: the diagnosis of e040f1f says `unexplained` (a false alarm)"]
 fn no_effect_behind_machine_compliance_seating_toes_and_an_unload_is_none() {
     // Issue 20: the base fit swallowed rig artifacts and an effect was named where there is
     // none. Rig profile: a compliant machine, a seating toe on every test, an unload.
@@ -66,7 +65,7 @@ fn a_pressure_dependence_is_named_pressure() {
 }
 
 #[test]
-#[ignore = "issue 20: the diagnosis of e040f1f names slip-hardening only"]
+#[ignore = "issue 20: the diagnosis names pressure only (slip hardening not credited)"]
 fn two_effects_at_once_are_both_named_in_files_cut_from_a_run() {
     // Issue 20: second effects were never credited. Slip softening or hardening and a linear
     // pressure dependence, with every artifact (velocity steps cut from a longer run).
@@ -86,7 +85,7 @@ fn a_drifting_load_cell_is_unexplained() {
 }
 
 #[test]
-#[ignore = "issue 20: the diagnosis of e040f1f names rate instead of log-healing"]
+#[ignore = "issue 20: the diagnosis names rate instead of log-healing"]
 fn a_family_is_named_through_another_form_when_its_own_is_not_a_candidate() {
     // `selfcheck --unlisted`: healing that grows as a power of the hold time, diagnosed without
     // the library's power-law and general time forms, must still be healing (log time holds
@@ -101,4 +100,43 @@ fn a_family_is_named_through_another_form_when_its_own_is_not_a_candidate() {
     };
     assert_eq!(opts.excluded_forms.len(), 2);
     assert_right(&verdict(&g, &opts));
+}
+
+#[test]
+fn a_fit_through_a_compliant_rig_with_seating_toes_recovers_mu_s_and_mu_k_and_says_so() {
+    // Issue 20: through a compliant rig (α of a few 10⁻³ kN/mm³ in series) and with a seating
+    // toe on every test, μ_s and μ_k must come back within 5 %, and the fit must say what it
+    // excluded and that it fitted the series stiffness.
+    use subfric_app::fit::{run_fit, FitRequest};
+    use subfric_app::progress::Silent;
+    use subfric_fit::FitOptions;
+    let g = set("none-rig", &[], Profile::Rig);
+    let tmp = tempfile::tempdir().unwrap();
+    subfric_harness::generator::write_campaign(tmp.path(), std::slice::from_ref(&g)).unwrap();
+    let dir = tmp.path().join(&g.set.meta.name);
+    let out = run_fit(&FitRequest::of_set(dir, FitOptions::default()), &Silent).unwrap();
+    let params = &g.truth.json["params"];
+    let fitted = &out.report.model.params;
+    for (name, got) in [("mu_s", fitted.mu_s), ("mu_k", fitted.mu_k)] {
+        let want = params[name].as_f64().unwrap();
+        assert!(
+            (got - want).abs() <= 0.05 * want,
+            "{name}: fitted {got}, truth {want}"
+        );
+    }
+    let toes = out
+        .artifacts
+        .iter()
+        .filter(|a| a.kind == "seating-toe")
+        .count();
+    let expected = g.truth.json["artifacts"]["seating_toes"]
+        .as_array()
+        .unwrap()
+        .len();
+    assert_eq!(toes, expected, "{:?}", out.artifacts);
+    assert!(
+        out.artifacts.iter().any(|a| a.kind == "compliance"),
+        "{:?}",
+        out.artifacts
+    );
 }

@@ -16,8 +16,11 @@ pub struct SeatingToe {
     pub first_kept: usize,
     /// Imposed travel over the excluded rows [mm].
     pub travel_mm: f64,
-    /// Largest |shear| over the excluded rows, as a share of the first loading's peak.
+    /// Largest |shear| over the toe (before the shear reached 5 % of the first loading's peak),
+    /// as a share of that peak.
     pub shear_share: f64,
+    /// Measured shear at the first row kept [kPa]: the test starts at rest under it.
+    pub start_shear_kpa: f64,
     /// In words.
     pub reason: String,
 }
@@ -69,26 +72,22 @@ pub fn seating_toe(test: &TestData, seg: &Segmentation) -> Option<SeatingToe> {
     if toe < MIN_TOE_MM.max(resolution) || toe < TOE_OVER_RISE * rise || i_toe < 3 {
         return None;
     }
-    // Where the steep loading, extended back, meets zero shear: the contact begins there.
-    let slope = (SLOPE_SHARE - TOE_SHARE) * peak / rise;
-    let contact = u[i_toe] - sign * TOE_SHARE * peak / slope;
-    let first_kept = (0..=i_toe)
-        .rev()
-        .find(|&i| sign * (u[i] - contact) <= 0.0)
-        .unwrap_or(0)
-        .max(1);
+    // The toe closes as the shear rises and its last part overlaps the steep loading: the
+    // record is kept from where the shear first reaches a quarter of the peak, where the
+    // loading is steep and the toe closed, and the test starts there at rest under that
+    // traction (on the model's loading surface, as a virgin loading would be).
+    let first_kept = i_rise.max(1);
     let travel = (u[first_kept] - u[0]).abs();
-    let shear_share = tau[..first_kept]
-        .iter()
-        .map(|v| v.abs())
-        .fold(0.0, f64::max)
-        / peak;
+    let shear_share = tau[..i_toe].iter().map(|v| v.abs()).fold(0.0, f64::max) / peak;
+    let start_shear_kpa = tau[first_kept];
     Some(SeatingToe {
         first_kept,
         travel_mm: travel,
         shear_share,
+        start_shear_kpa,
         reason: format!(
-            "seating toe: the first {travel:.3} mm ({first_kept} rows) of travel raised the shear to at most {:.1} % of its first peak, where the loading then needs {rise:.4} mm to go from 5 % to 25 %: excluded, the test starts from rest at row {first_kept}",
+            "seating toe: the first {:.3} mm of travel raised the shear to at most {:.1} % of its first peak, where the loading then needs {rise:.4} mm to go from 5 % to 25 %: the first {travel:.3} mm ({first_kept} rows) excluded, the test starts at rest under {start_shear_kpa:.2} kPa (25 % of the peak) at row {first_kept}",
+            toe,
             100.0 * shear_share
         ),
     })
@@ -130,15 +129,23 @@ mod tests {
     }
 
     #[test]
-    fn a_gap_closing_before_contact_is_found_and_cut_where_the_loading_begins() {
+    fn a_gap_closing_before_contact_is_found_and_cut_where_the_loading_is_steep() {
         for gap in [0.08, 0.3, 0.8] {
             let t = loading(gap);
             let seg = segment(&t, &SegmentOptions::default());
             let toe = seating_toe(&t, &seg).unwrap_or_else(|| panic!("gap {gap}: no toe"));
+            // Cut at the first row where the shear reaches a quarter of the peak: the rise
+            // 60 tanh(s/0.05) gets there 0.0128 mm after the gap (rows are 0.01 mm apart).
+            let peak = 0.12 * gap / 0.1 + 60.0;
             assert!(
-                (toe.travel_mm - gap).abs() <= 0.011,
+                toe.travel_mm >= gap + 0.0128 - 1e-9 && toe.travel_mm <= gap + 0.0128 + 0.0101,
                 "gap {gap}: cut after {} mm",
                 toe.travel_mm
+            );
+            assert!(
+                toe.start_shear_kpa >= 0.25 * peak && toe.start_shear_kpa < 0.45 * peak,
+                "gap {gap}: starts under {} kPa",
+                toe.start_shear_kpa
             );
             assert!(toe.shear_share < 0.05, "{}", toe.shear_share);
         }

@@ -540,8 +540,14 @@ pub(crate) fn detect(t: &[f64], x: &[f64], opts: &SegmentOptions) -> Events {
         opts.hold_rate_fraction * ev.slow_rate,
         min_duration,
     );
-    ev.holds = merge_holds(t, &smooth, found, band);
     let revs = persistent_reversals(&smooth, &revs, 3.0 * band);
+    ev.holds = holds_after_unloads(&smooth, &revs, merge_holds(t, &smooth, found, band), band);
+    let (holds, added) = backed_off_holds(&x[..n], &revs, std::mem::take(&mut ev.holds), &noise);
+    ev.holds = holds;
+    let mut revs = revs;
+    revs.extend(added);
+    revs.sort_unstable();
+    revs.dedup();
     ev.reversals = reversals_outside_holds(&smooth, &revs, &ev.holds, n);
     ev
 }
@@ -567,6 +573,112 @@ fn merge_holds(t: &[f64], y: &[f64], holds: Vec<(usize, usize)>, band: f64) -> V
         out.push((s, e));
     }
     out
+}
+
+/// Holds that begin with an unload: a rig that unloads slowly (the load point backed off by the
+/// elastic travel of the shear, at a few percent of the sliding rate) and then holds looks still
+/// at the scale of the sliding. A reversal inside a hold followed by a backward travel of more
+/// than three bands is an unload, not drift: the hold starts where that travel ends, so that the
+/// reversal and the unload stay in the record (and the reload after the hold reverses again).
+fn holds_after_unloads(
+    y: &[f64],
+    revs: &[usize],
+    holds: Vec<(usize, usize)>,
+    band: f64,
+) -> Vec<(usize, usize)> {
+    let mut out = Vec::with_capacity(holds.len());
+    for (s, e) in holds {
+        let (a, b) = (s - 1, e - 1);
+        let Some(&r) = revs.iter().find(|&&r| r >= a && r < b) else {
+            out.push((s, e));
+            continue;
+        };
+        // The motion before the reversal sets the forward direction; the unload goes the other way.
+        let forward = if r > 0 {
+            (y[r] - y[r - 1]).signum()
+        } else {
+            0.0
+        };
+        let back = |k: usize| -forward * (y[k] - y[r]);
+        let furthest = (r..=b)
+            .max_by(|&i, &j| back(i).total_cmp(&back(j)))
+            .unwrap_or(r);
+        if forward == 0.0 || back(furthest) <= 3.0 * band {
+            out.push((s, e));
+            continue;
+        }
+        // The unload ends where the position first comes within a band of its furthest point.
+        let end = (r..=furthest)
+            .find(|&k| back(furthest) - back(k) <= band)
+            .unwrap_or(furthest);
+        if end + 1 < b {
+            out.push((end + 1, e));
+        }
+    }
+    out
+}
+
+/// Holds whose load point backs off inside them: an unload shorter than the reversal band (a
+/// few µm of elastic travel in a noisy column) and slow enough to pass for stillness. The
+/// position the hold settles at (the median of its second half) is compared with where the
+/// motion into it ended (the median of its first rows); when it lies back by more than six SDs
+/// of that difference, the last row before the hold is a reversal, the hold starts where the
+/// back-off has reached its level, and the reload after it reverses again. Returns the holds
+/// and the reversals to add.
+fn backed_off_holds(
+    x: &[f64],
+    revs: &[usize],
+    holds: Vec<(usize, usize)>,
+    noise: &NoiseEstimate,
+) -> (Vec<(usize, usize)>, Vec<usize>) {
+    /// Rows for where the motion ended.
+    const FIRST: usize = 3;
+    let sd = noise.sd.max(noise.quantum / 12f64.sqrt());
+    let mut out = Vec::with_capacity(holds.len());
+    let mut added = Vec::new();
+    for (k, &(s, e)) in holds.iter().enumerate() {
+        let (a, b) = (s - 1, e - 1);
+        let run_start = revs
+            .iter()
+            .filter(|&&r| r < a)
+            .copied()
+            .chain(k.checked_sub(1).map(|j| holds[j].1 - 1))
+            .max()
+            .unwrap_or(0);
+        let rows = b + 1 - a;
+        let forward = (x[a.saturating_sub(1)] - x[run_start]).signum();
+        if rows < 2 * FIRST + 3 || forward == 0.0 || revs.iter().any(|&r| r >= a && r <= b) {
+            out.push((s, e));
+            continue;
+        }
+        let second_half = a + rows / 2;
+        let settled = median(&mut x[second_half..=b].to_vec());
+        let ended = median(&mut x[a..a + FIRST].to_vec());
+        let back = -forward * (settled - ended);
+        let m = (b + 1 - second_half) as f64;
+        let sd_diff = 1.25 * sd * (1.0 / FIRST as f64 + 1.0 / m).sqrt();
+        if back <= (6.0 * sd_diff).max(2.5 * noise.quantum) {
+            out.push((s, e));
+            continue;
+        }
+        // The hold starts at the first row within two row SDs (or a quantum) of its level.
+        let near = (2.0 * sd).max(noise.quantum);
+        let start = (a..=b)
+            .find(|&i| {
+                (-forward * (x[i] - ended) - back).abs() <= near && -forward * (x[i] - ended) > 0.0
+            })
+            .unwrap_or(a);
+        // The reversal: the furthest forward row between the end of the motion and the level.
+        let from = a.saturating_sub(1).max(run_start);
+        let peak = (from..=start.max(from))
+            .max_by(|&i, &j| (forward * x[i]).total_cmp(&(forward * x[j])))
+            .unwrap_or(from);
+        added.push(peak);
+        if start + 2 < b {
+            out.push((start + 1, e));
+        }
+    }
+    (out, added)
 }
 
 /// Drops reversals that do not persist: a run between two reversals that travels less than
@@ -622,6 +734,79 @@ fn reversals_outside_holds(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A slow slide to 2.3 mm, a slow unload backing the load point off by `back` mm over
+    /// `unload_rows` rows sampled as sparsely as the hold, a hold, a reload; a 0.1 µm encoder
+    /// with noise of a fifth of a quantum.
+    fn unload_record(back: f64, unload_rows: usize) -> (Vec<f64>, Vec<f64>) {
+        let (mut t, mut x) = (vec![0.0], vec![0.0]);
+        let mut push = |dt: f64, dx: f64, t: &mut Vec<f64>, x: &mut Vec<f64>| {
+            let (tl, xl) = (*t.last().unwrap(), *x.last().unwrap());
+            t.push(tl + dt);
+            x.push(xl + dx);
+        };
+        for _ in 0..800 {
+            push(0.2, 0.0028, &mut t, &mut x);
+        }
+        for _ in 0..unload_rows {
+            push(4.0, -back / unload_rows as f64, &mut t, &mut x);
+        }
+        for _ in 0..10 {
+            push(1.0, 0.0, &mut t, &mut x);
+        }
+        for _ in 0..300 {
+            push(0.2, 0.0028, &mut t, &mut x);
+        }
+        // Deterministic jitter within ±0.2 quantum, then the encoder's rounding.
+        let x = x
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let jitter = 2e-5 * ((i as f64 * 1.7).sin());
+                ((v + jitter) / 1e-4).round() * 1e-4
+            })
+            .collect();
+        (t, x)
+    }
+
+    #[test]
+    fn an_unload_smaller_than_the_band_and_slow_as_a_hold_stays_a_reversal() {
+        // 2.4 µm back over 8 sparse rows (the unload of 20 kPa through a compliant machine)
+        // and 6 µm over 3: both are reversals into the hold, and the reload reverses again.
+        for (back, rows) in [(0.0024, 8), (0.006, 3)] {
+            let (t, x) = unload_record(back, rows);
+            let ev = detect(&t, &x, &SegmentOptions::default());
+            assert_eq!(
+                ev.reversals.len(),
+                2,
+                "{back} mm over {rows} rows: {:?}, holds {:?}",
+                ev.reversals,
+                ev.holds
+            );
+            assert!(
+                (ev.reversals[0] as i64 - 800).abs() <= 1,
+                "{:?}",
+                ev.reversals
+            );
+            let (s, e) = ev.holds[0];
+            assert!(
+                s >= 800 + rows - 1 && e <= 800 + rows + 11,
+                "hold {:?}",
+                ev.holds
+            );
+            assert!(
+                ev.reversals[1] + 1 >= e - 1,
+                "{:?} {:?}",
+                ev.reversals,
+                ev.holds
+            );
+        }
+        // A hold without an unload stays a hold between forward motions: no reversal.
+        let (t, x) = unload_record(0.0, 8);
+        let ev = detect(&t, &x, &SegmentOptions::default());
+        assert!(ev.reversals.is_empty(), "{:?}", ev.reversals);
+        assert_eq!(ev.holds.len(), 1, "{:?}", ev.holds);
+    }
 
     #[test]
     fn hysteresis_ignores_small_wiggles() {

@@ -90,10 +90,22 @@ fn initial_of(seg: &Segmentation) -> Initial {
 pub fn prepare_test(test: &TestData, name: String, opts: &SegmentOptions) -> PreparedTest {
     let segmentation = segment(test, opts);
     // A seating toe is a rig artifact, not friction: its rows are left out and the test
-    // starts from rest where the shear begins to rise.
+    // starts at rest under the traction where the steep loading has begun.
     if let Some(toe) = seating_toe(test, &segmentation) {
         let trimmed = test.rows_from(toe.first_kept);
         let mut p = prepare_untrimmed(&trimmed, name, opts);
+        let loaded = Initial::Loaded {
+            shear_kpa: toe.start_shear_kpa,
+        };
+        p.fit.initial = loaded;
+        p.full.initial = loaded;
+        let start = &mut p.segmentation.start;
+        start.kind = StartKind::Loaded;
+        start.shear_kpa = toe.start_shear_kpa;
+        start.reason = format!(
+            "after a seating toe, at rest under {:.2} kPa where the steep loading has begun",
+            toe.start_shear_kpa
+        );
         p.toe = Some(toe);
         return p;
     }
