@@ -43,6 +43,7 @@ pub mod segment;
 pub mod set;
 pub mod summary;
 pub mod text;
+pub mod write;
 
 pub use artifacts::{seating_toe, SeatingToe};
 pub use condition::{condition_imposed, condition_imposed_with, Conditioned};

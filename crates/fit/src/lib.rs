@@ -17,6 +17,7 @@ pub mod interval;
 pub mod lm;
 pub mod prepare;
 pub mod problem;
+pub mod report;
 pub mod residuals;
 pub mod sampling;
 pub mod space;

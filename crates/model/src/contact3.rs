@@ -289,13 +289,6 @@ impl Contact3 {
                 return bad(field, v.to_string(), "a finite number");
             }
         }
-        if !(st.rate_held.factor > 0.0 && st.rate_held.factor.is_finite()) {
-            return bad(
-                "rate_factor",
-                st.rate_held.factor.to_string(),
-                "a finite number > 0 (1 for a new contact point)",
-            );
-        }
         if !(0.0..=1.0).contains(&st.r) {
             return bad("r", st.r.to_string(), "a number in [0, 1]");
         }
@@ -331,6 +324,13 @@ impl Contact3 {
         }
         if st.age < 0.0 {
             return bad("age", st.age.to_string(), "a time >= 0 [s]");
+        }
+        if !(st.rate_held.factor > 0.0 && st.rate_held.factor.is_finite()) {
+            return bad(
+                "rate_factor",
+                st.rate_held.factor.to_string(),
+                "a finite number > 0 (1 for a new contact point)",
+            );
         }
         if self.k.ext.rate.is_some_and(|r| r.has_state()) && st.theta <= 0.0 {
             return bad(

@@ -236,6 +236,7 @@ fn line(x: &[f64], y: &[f64]) -> (f64, f64, f64, f64, f64) {
 /// line through the friction before the step; its uncertainty from both, the residuals'
 /// correlation counted.
 fn measured_change(w: &Window) -> Estimate {
+    // Extrapolated in time, as the steadystate routine does (Giacomel et al. 2024).
     let pre_t = &w.time[..=w.step];
     let pre_mu = &w.mu[..=w.step];
     let (p, q, sd, sxx, mt) = line(pre_t, pre_mu);
@@ -313,12 +314,19 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
     // state would relax within one row); that floor also bounds the compliant integration's
     // substeps per row.
     let dc_floor = resolved_dc_floor(w).max(1e-5);
+    // The fits run on the window thinned: dense just after the step, where the transient is,
+    // spaced as a share of the travel since the step further on (the guesses, the resolution
+    // and the measured change above read every row).
+    let full = w;
+    let thinned = thin(full);
+    let w = &thinned;
     let mut best: Option<(f64, Vec<f64>, StateLaw, bool, bool)> = None;
     let mut consider = |cost: f64, x: Vec<f64>, law, compliant, converged| {
         if cost.is_finite() && best.as_ref().is_none_or(|b| cost < b.0) {
             best = Some((cost, x, law, compliant, converged));
         }
     };
+    let mut rigid_optima = Vec::new();
     for law in [StateLaw::Ageing, StateLaw::Slip] {
         let lo = vec![(1e-5f64).ln(), -0.2, dc_floor.ln(), mu0 - 0.3, -2.0];
         let hi = vec![
@@ -351,13 +359,15 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
             }
             consider(r.ssr, r.x, law, false, r.termination.converged());
         }
-        // The compliant slider substeps within rows: it is started once, from the rigid
-        // optimum of its law (where the data put a, b and D_c) with the spring's first guess.
-        let Some((_, x_rigid)) = rigid_best else {
-            continue;
-        };
-        let mut lo = lo;
-        let mut hi = hi;
+        if let Some((ssr, x)) = rigid_best {
+            rigid_optima.push((ssr, x, law, lo, hi));
+        }
+    }
+    // The compliant slider substeps within rows, which costs several rigid fits: it is fitted
+    // once, for the law the rigid fits prefer, from that law's optimum (where the data put a,
+    // b and D_c) with the spring's first guess.
+    rigid_optima.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if let Some((_, x_rigid, law, mut lo, mut hi)) = rigid_optima.into_iter().next() {
         lo.push((1e-2f64).ln());
         hi.push((1e7f64).ln());
         let compliant = RsfProblem {
@@ -420,8 +430,8 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
         .then(|| (a_minus_b.value * ln).signum() == change.value.signum());
     Some(StepFit {
         test: test.to_string(),
-        row: w.first_row + w.step,
-        time_s: w.time[w.step],
+        row: full.first_row + full.step,
+        time_s: full.time[full.step],
         rate_before: w.v0,
         rate_after: w.v1,
         rows: n,
@@ -439,6 +449,45 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
         sign_agrees,
         converged,
     })
+}
+
+/// Rows of the window kept before the step, at most.
+const THIN_BEFORE: usize = 80;
+/// After the step a row is kept once the travel since the last kept row reaches this share of
+/// the travel since the step: about 100 rows per e-fold of travel.
+const THIN_SHARE: f64 = 0.01;
+
+/// The window with its rows thinned (see [`THIN_BEFORE`], [`THIN_SHARE`]); the step's rows and
+/// the last row are always kept.
+fn thin(w: &Window) -> Window {
+    let stride = (w.step + 1).div_ceil(THIN_BEFORE).max(1);
+    let mut keep: Vec<usize> = (0..=w.step).rev().step_by(stride).collect();
+    keep.reverse();
+    let n = w.travel.len();
+    if w.step + 1 < n {
+        let mut last = w.step + 1;
+        keep.push(last);
+        for i in w.step + 2..n {
+            let since = w.travel[i].abs();
+            if (w.travel[i] - w.travel[last]).abs() >= THIN_SHARE * since || i + 1 == n {
+                keep.push(i);
+                last = i;
+            }
+        }
+    }
+    let pick = |v: &[f64]| keep.iter().map(|&i| v[i]).collect::<Vec<f64>>();
+    Window {
+        time: pick(&w.time),
+        travel: pick(&w.travel),
+        v_lp: pick(&w.v_lp),
+        mu: pick(&w.mu),
+        step: keep.iter().position(|&i| i == w.step).unwrap_or(0),
+        v0: w.v0,
+        v1: w.v1,
+        sigma: w.sigma,
+        first_row: w.first_row,
+        normal: w.normal,
+    }
 }
 
 /// A tenth of the median load-point travel between two rows after the step: the shortest
