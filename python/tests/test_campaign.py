@@ -76,7 +76,7 @@ def test_a_failing_set_is_warned_the_others_are_fitted_and_a_second_run_skips_th
     assert (out / "sets" / "table1-medium" / "fit.json").is_file()
     # Without profiles the parameters have no intervals: the table says so by empty cells.
     mu_s = next(p for p in first["rows"][0]["parameters"] if p["name"] == "mu_s")
-    assert mu_s["lo"] is None and mu_s["status"] == "unprofiled"
+    assert mu_s["lo"] is None and mu_s["status"] == "not profiled"
     with pytest.warns(subfric.SubfricWarning, match="table1-rough failed"):
         second = subfric.campaign([lab / s for s in SETS], out=out, profiles=False)
     outcomes = {r["id"]: r["outcome"] for r in second["runs"]}

@@ -57,7 +57,7 @@ pub struct ParamCell {
     pub lo_open: bool,
     /// The data set no upper bound.
     pub hi_open: bool,
-    /// Identifiability: determined, weak, upper-bound-only, ...
+    /// Identifiability in the words of `fit` (fit.json's `status`: determined, weakly determined, ...).
     pub status: String,
 }
 
