@@ -156,12 +156,17 @@ pub fn decide_further(
     // not worse elsewhere: no significant loss of evidence over all pieces, or a material share
     // of the whole gap removed (many small pieces slightly worse can outweigh a few large ones
     // much better in D).
+    // A candidate that passes on all pieces (as a first effect must) qualifies too: an effect
+    // seen over the whole record need not concentrate on its own kind of piece (slip hardening
+    // shows on the long first loadings as much as after them).
     let qualifies = |i: usize| {
         let all = &candidates[i].1;
-        own[i].reference_chi2 > th.gap_chi2
-            && corroborated.get(i).copied().unwrap_or(true)
+        let corroborated = corroborated.get(i).copied().unwrap_or(true);
+        let on_own = own[i].reference_chi2 > th.gap_chi2
             && passes(&own[i], th)
-            && (all.score > -th.min_score || material(all, th))
+            && (all.score > -th.min_score || material(all, th));
+        let on_all = all.reference_chi2 > th.gap_chi2 && passes(all, th);
+        corroborated && (on_own || on_all)
     };
     let best = (0..candidates.len())
         .filter(|&i| qualifies(i))

@@ -355,11 +355,18 @@ impl Path {
             .push(compare(&cx.pieces, &cx.weights, &base.held, &next.held));
         self.selected.push(Selected {
             form,
-            // A further effect is judged on the pieces of its own kind (see `decide_further`).
-            own: stage.candidates[i]
-                .best_own_kind(&cx.opts.thresholds)
-                .unwrap_or(&stage.candidates[i].held_out)
-                .clone(),
+            // A further effect is judged on all pieces when it passes there, else on the
+            // pieces of its own kind (see `decide_further`).
+            own: {
+                let c = &stage.candidates[i];
+                if crate::verdict::passes(&c.held_out, &cx.opts.thresholds) {
+                    c.held_out.clone()
+                } else {
+                    c.best_own_kind(&cx.opts.thresholds)
+                        .unwrap_or(&c.held_out)
+                        .clone()
+                }
+            },
             at: next,
             tentative: matches!(stage.decision, Decision::Tentative(_)),
         });
