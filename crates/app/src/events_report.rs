@@ -12,7 +12,8 @@ const STEPS_SHOWN: usize = 40;
 
 fn interval(e: &Estimate, digits: usize) -> String {
     let end = |v: f64| {
-        if v.is_finite() {
+        // An end beyond any value these parameters take is the data setting no bound.
+        if v.is_finite() && v.abs() < 1e3 {
             format!("{v:.digits$}")
         } else {
             "open".into()
@@ -100,7 +101,7 @@ fn steps(s: &mut String, e: &EventAnalysis) {
     if let Some(r) = &e.rate {
         let _ = writeln!(
             s,
-            "   together: {} of {} steps show a direct effect (evidence D ≥ {} over a change without one); median a {:.4}, b {:.4}, D_c {:.4} mm; the sign of a − b agrees with the measured change of steady friction in {} of the {} steps where that change exceeds its uncertainty{}",
+            "   together: {} of {} steps show a direct effect (evidence D ≥ {} over a change without one); median a {:.4}, b {:.4}, D_c {:.4} mm; the sign of a − b agrees with the measured change of steady friction in {} of the {} steps where that change exceeds its uncertainty and the fit determines a − b ({} more where it does not: no sign claimed){}",
             r.significant,
             r.steps,
             subfric_diagnose::events::STEP_EVIDENCE,
@@ -109,6 +110,7 @@ fn steps(s: &mut String, e: &EventAnalysis) {
             r.d_c_mm,
             r.signs_agree,
             r.signs_checked,
+            r.signs_undetermined,
             if r.consistent {
                 ": consistent evidence of rate and state"
             } else {

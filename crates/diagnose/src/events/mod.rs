@@ -98,11 +98,14 @@ pub struct RateConsensus {
     pub b: f64,
     /// Median D_c [mm].
     pub d_c_mm: f64,
-    /// Steps whose measured change of steady friction is larger than its uncertainty, and
-    /// how many of them agree in sign with their fitted a − b.
+    /// Steps whose measured change of steady friction is larger than its uncertainty and whose
+    /// fit determines the sign of a − b.
     pub signs_checked: usize,
     /// Of those, how many agree.
     pub signs_agree: usize,
+    /// Steps whose measured change exceeds its uncertainty but whose fit does not determine
+    /// a − b (no direct effect shown, or a − b's interval spans zero): no sign is claimed.
+    pub signs_undetermined: usize,
     /// Most of the steps (at least two, and two thirds) show a direct effect.
     pub consistent: bool,
 }
@@ -267,6 +270,10 @@ fn consensus(steps: &[StepFit]) -> Option<RateConsensus> {
         d_c_mm: median(pool.iter().map(|s| s.d_c_mm.value).collect()),
         signs_checked: checked.len(),
         signs_agree: checked.iter().filter(|&&x| x).count(),
+        signs_undetermined: steps
+            .iter()
+            .filter(|s| s.steady_change_measured && s.sign_agrees.is_none())
+            .count(),
         consistent: significant.len() >= 2 && 3 * significant.len() >= 2 * steps.len(),
     })
 }

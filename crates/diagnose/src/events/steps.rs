@@ -52,8 +52,11 @@ pub struct StepFit {
     /// the new rate minus what the trend before the step extrapolates to at that time.
     pub measured_steady_change: Estimate,
     /// Whether the sign of (a − b) ln(v₁/v₀) agrees with the measured change, where that change
-    /// exceeds twice its uncertainty (`None` where it does not).
+    /// exceeds its 95 % uncertainty and the fit determines a − b (a direct effect shown, the
+    /// interval of a − b clear of zero); `None` elsewhere.
     pub sign_agrees: Option<bool>,
+    /// The measured change of steady friction exceeds its 95 % uncertainty.
+    pub steady_change_measured: bool,
     /// The least-squares runs converged.
     pub converged: bool,
 }
@@ -385,6 +388,9 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
         consider(r.ssr + penalty, r.x, law, true, r.termination.converged());
     }
     let (_, x, law, compliant, converged) = best?;
+    // The optimum is judged on every row of the window: its misfit, the covariance and the
+    // evidence against the null model (the thinned rows found it; all rows measure it).
+    let w = full;
     let prob = RsfProblem {
         w,
         law,
@@ -426,9 +432,10 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
     let evidence = (null - ssr) / s2;
     let ln = (w.v1 / w.v0).ln();
     let a_minus_b = Estimate::symmetric(a - x[1], z * amb_se);
-    let sign_agrees = (change.value.abs() > change.half_width())
-        .then(|| (a_minus_b.value * ln).signum() == change.value.signum());
-    Some(StepFit {
+    let change_measured = change.value.abs() > change.half_width();
+    let sign_agrees =
+        (change_measured).then(|| (a_minus_b.value * ln).signum() == change.value.signum());
+    let mut fit = StepFit {
         test: test.to_string(),
         row: full.first_row + full.step,
         time_s: full.time[full.step],
@@ -447,8 +454,16 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
         evidence,
         measured_steady_change: change,
         sign_agrees,
+        steady_change_measured: false,
         converged,
-    })
+    };
+    // The fit claims a sign of a − b only where it determines it: a direct effect shown (a
+    // fit that finds none has no a and b to speak of) and the interval of a − b clear of zero.
+    if !(fit.significant() && fit.a_minus_b.excludes_zero()) {
+        fit.sign_agrees = None;
+    }
+    fit.steady_change_measured = change_measured;
+    Some(fit)
 }
 
 /// Rows of the window kept before the step, at most.
