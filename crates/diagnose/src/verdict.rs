@@ -123,7 +123,9 @@ pub fn decide(
 /// its own kind (`own[i]`, e.g. the velocity steps and holds for a rate effect), where it must
 /// show significant evidence and remove a material part of what the current model leaves
 /// there, even if other pieces do not improve; over all pieces (`candidates[i].1`) it must not
-/// lose significant evidence, unless it removes a material part of the whole gap. An effect that improves only pieces of other
+/// lose significant evidence, unless it removes a material part of the whole gap. A candidate
+/// that passes on all pieces is credited too when its own kind shows significant evidence of
+/// improving, even if not enough alone. An effect that improves only pieces of other
 /// kinds is standing in for something else and is not credited. Among those that qualify, the
 /// one with most evidence on its own kind is named; one with significant evidence on its own
 /// kind that explains too little stays tentative. `corroborated[i]` is false when the events
@@ -143,6 +145,8 @@ pub fn decide(
 /// assert_eq!(decide_further(3.0, &[(Effect::Rate, c(25.0, 0.2))], &[c(60.0, 0.8)], &[false], &th), Decision::Unexplained);
 /// // It improves all pieces but not its own: not credited.
 /// assert_eq!(decide_further(3.0, &[(Effect::Direction, c(80.0, 0.8))], &[c(2.0, 0.05)], &[true], &th), Decision::Unexplained);
+/// // It passes on all pieces and improves its own significantly, if not by enough alone: credited.
+/// assert_eq!(decide_further(3.0, &[(Effect::SlipHardening, c(27.0, 0.72))], &[c(36.0, 0.66)], &[true], &th), Decision::Named(0));
 /// ```
 pub fn decide_further(
     reference_chi2: f64,
@@ -156,16 +160,20 @@ pub fn decide_further(
     // not worse elsewhere: no significant loss of evidence over all pieces, or a material share
     // of the whole gap removed (many small pieces slightly worse can outweigh a few large ones
     // much better in D).
-    // A candidate that passes on all pieces (as a first effect must) qualifies too: an effect
-    // seen over the whole record need not concentrate on its own kind of piece (slip hardening
-    // shows on the long first loadings as much as after them).
+    // A candidate that passes on all pieces (as a first effect must) qualifies too when its own
+    // kind shows significant improvement as well (slip hardening shows on the long first
+    // loadings as much as after them); one that improves only other kinds is standing in for
+    // something else.
     let qualifies = |i: usize| {
         let all = &candidates[i].1;
         let corroborated = corroborated.get(i).copied().unwrap_or(true);
         let on_own = own[i].reference_chi2 > th.gap_chi2
             && passes(&own[i], th)
             && (all.score > -th.min_score || material(all, th));
-        let on_all = all.reference_chi2 > th.gap_chi2 && passes(all, th);
+        let on_all = all.reference_chi2 > th.gap_chi2
+            && passes(all, th)
+            && own[i].score >= th.min_score
+            && own[i].excess_shrink > 0.0;
         corroborated && (on_own || on_all)
     };
     let best = (0..candidates.len())
