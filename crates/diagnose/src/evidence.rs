@@ -456,3 +456,62 @@ fn describe(r2: f64, features: &[FeatureWeight]) -> String {
     }
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Rows of eight features that are uncorrelated by construction (sines of distinct
+    /// frequencies over whole periods).
+    fn design(n: usize) -> Vec<[f64; FEATURES]> {
+        (0..n)
+            .map(|i| {
+                let t = i as f64 / n as f64 * std::f64::consts::TAU;
+                let mut r = [0.0; FEATURES];
+                for (j, v) in r.iter_mut().enumerate() {
+                    *v = ((j + 1) as f64 * t).sin();
+                }
+                r
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_lasso_finds_the_two_features_a_residual_follows_and_their_signs() {
+        let x = design(400);
+        let y: Vec<f64> = x.iter().map(|r| 2.0 * r[0] - 1.0 * r[3]).collect();
+        let w = vec![1.0; x.len()];
+        let beta = lasso(&x, &y, &w, 1e-6);
+        assert!((beta[0] - 2.0).abs() < 1e-3, "{beta:?}");
+        assert!((beta[3] + 1.0).abs() < 1e-3, "{beta:?}");
+        for (j, b) in beta.iter().enumerate() {
+            if j != 0 && j != 3 {
+                assert!(b.abs() < 1e-3, "feature {j}: {b}");
+            }
+        }
+        assert!((weighted_r2(&x, &y, &w, &beta) - 1.0).abs() < 1e-6);
+        // A penalty above every correlation keeps nothing, and then nothing is explained.
+        let none = lasso(&x, &y, &w, 10.0);
+        assert_eq!(none, [0.0; FEATURES]);
+        assert_eq!(weighted_r2(&x, &y, &w, &none), 0.0);
+    }
+
+    #[test]
+    fn the_lasso_shrinks_by_the_penalty_and_weights_count() {
+        let x = design(400);
+        let y: Vec<f64> = x.iter().map(|r| r[1]).collect();
+        let w = vec![1.0; x.len()];
+        // Soft thresholding on a standardised column of variance 1/2: β = (ρ − λ)/(1/2).
+        let beta = lasso(&x, &y, &w, 0.1);
+        assert!((beta[1] - (0.5 - 0.1) / 0.5).abs() < 1e-3, "{beta:?}");
+        // Rows of zero weight do not count: corrupting them changes nothing.
+        let mut y2 = y.clone();
+        let mut w2 = w.clone();
+        for k in (0..x.len()).step_by(7) {
+            y2[k] += 100.0;
+            w2[k] = 0.0;
+        }
+        let b2 = lasso(&x, &y2, &w2, 1e-6);
+        assert!((b2[1] - 1.0).abs() < 0.05, "{b2:?}");
+    }
+}
