@@ -622,8 +622,8 @@ fn holds_after_unloads(
 /// few µm of elastic travel in a noisy column) and slow enough to pass for stillness. The
 /// position the hold settles at (the median of its second half) is compared with where the
 /// motion into it ended (the median of its first rows); when it lies back by more than six SDs
-/// of that difference, the last row before the hold is a reversal, the hold starts where the
-/// back-off has reached its level, and the reload after it reverses again. Returns the holds
+/// of that difference, the furthest forward row before the back-off is a reversal, the hold
+/// starts where the back-off has reached its level, and the reload after it reverses again. Returns the holds
 /// and the reversals to add.
 fn backed_off_holds(
     x: &[f64],
