@@ -46,6 +46,11 @@ pub(super) fn holds(t: &TestView) -> Vec<HoldHealing> {
         if s < 3 || e + 3 >= t.time.len() {
             continue;
         }
+        // An unload before the hold (the last event before it a reversal) makes an
+        // unload–hold–reload, whose reload peak is no healing: only slide–hold–slide counts.
+        if last_event_is_reversal(t, s) {
+            continue;
+        }
         let sign = direction_before(t, s);
         if sign == 0.0 {
             continue;
@@ -76,6 +81,25 @@ pub(super) fn holds(t: &TestView) -> Vec<HoldHealing> {
 }
 
 /// The sign of the sliding just before row `s` (0 when it did not slide).
+/// True when the last event before row `s` (a rate change, a reversal or the end of a hold) is
+/// a reversal.
+fn last_event_is_reversal(t: &TestView, s: usize) -> bool {
+    let seg = t.segmentation;
+    let last_reversal = seg.reversals.iter().copied().filter(|&r| r < s).max();
+    let last_other = seg
+        .rate_changes
+        .iter()
+        .copied()
+        .filter(|&r| r < s)
+        .chain(seg.holds.iter().map(|h| h.1).filter(|&e| e <= s))
+        .max();
+    match (last_reversal, last_other) {
+        (Some(r), Some(o)) => r >= o,
+        (Some(_), None) => true,
+        _ => false,
+    }
+}
+
 fn direction_before(t: &TestView, s: usize) -> f64 {
     let u = t.slip;
     let back = s.saturating_sub(LEVEL_ROWS);
