@@ -6,7 +6,7 @@ use crate::canvas::{Canvas, Dash, HAlign, VAlign};
 use crate::colors::{self, GRID_RGB, INK_RGB, ZERO_RGB};
 use crate::fonts::{self, CAP_HEIGHT};
 use crate::geom::{Occupancy, PixelRect, Pt};
-use crate::scale::{AxisRange, Ticks};
+use crate::scale::{ticks, AxisRange, Ticks};
 use crate::Style;
 
 /// Sizes in pixels derived from the image size.
@@ -365,4 +365,25 @@ pub(crate) fn draw_y_label(c: &mut Canvas, text: &str, size: f64, r: PixelRect, 
     let cx = m.pad + 0.5 * CAP_HEIGHT * size;
     let cy = 0.5 * f64::from(r.top + r.bottom);
     c.text_vertical(text, size, INK_RGB, (cx, cy));
+}
+
+/// X ticks: as many as fit `plot_w` pixels without overlapping labels (every figure's x axis).
+pub(crate) fn x_ticks(x: AxisRange, plot_w: f64, m: &Metrics) -> Ticks {
+    let mut target = ((plot_w / (110.0 * m.s)).round() as usize).clamp(2, 12);
+    loop {
+        let t = ticks(x, target);
+        let widest = t
+            .labels
+            .iter()
+            .map(|l| fonts::text_width(l, m.tick))
+            .fold(0.0, f64::max);
+        let spacing = match t.values[..] {
+            [a, b, ..] => (b - a) / x.span() * plot_w,
+            _ => f64::INFINITY,
+        };
+        if widest + m.px(14.0) <= spacing || target <= 1 {
+            return t;
+        }
+        target -= 1;
+    }
 }

@@ -5,7 +5,7 @@ use std::path::Path;
 use crate::canvas::{Canvas, HAlign, VAlign};
 use crate::chrome::{
     dash_pattern, draw_axes, draw_grid, draw_legend, draw_no_data, draw_y_label, place_legend,
-    place_title, AxisDraw, Legend, LegendEntry, Metrics,
+    place_title, x_ticks, AxisDraw, Legend, LegendEntry, Metrics,
 };
 use crate::colors::{INK_RGB, ZERO_RGB};
 use crate::fonts::{self, CAP_HEIGHT, DESCENT};
@@ -299,28 +299,6 @@ fn columns(fig: &Figure, m: &Metrics, yticks: &[&Ticks]) -> Result<(f64, f64), I
         }));
     }
     Ok((left, plot_w))
-}
-
-/// X ticks: as many as fit `plot_w` pixels without overlapping labels.
-fn x_ticks(x: AxisRange, plot_w: f64, m: &Metrics) -> Ticks {
-    let mut target = ((plot_w / (110.0 * m.s)).round() as usize).clamp(2, 12);
-    loop {
-        let t = ticks(x, target);
-        let widest = t
-            .labels
-            .iter()
-            .map(|l| fonts::text_width(l, m.tick))
-            .fold(0.0, f64::max);
-        let spacing = if t.values.len() > 1 {
-            (t.values[1] - t.values[0]) / x.span() * plot_w
-        } else {
-            f64::INFINITY
-        };
-        if widest + m.px(14.0) <= spacing || target <= 1 {
-            return t;
-        }
-        target -= 1;
-    }
 }
 
 /// A short panel below the main one rarely has a free corner: if its legend would cover much

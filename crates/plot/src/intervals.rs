@@ -12,7 +12,7 @@ use std::path::Path;
 use crate::canvas::{Canvas, HAlign, VAlign};
 use crate::chrome::{
     dash_pattern, draw_axes, draw_grid, draw_legend, draw_no_data, draw_y_label, place_legend,
-    place_title, AxisDraw, Legend, LegendEntry, Metrics, Swatch,
+    place_title, x_ticks, AxisDraw, Legend, LegendEntry, Metrics, Swatch,
 };
 use crate::colors::{style_rgb, INK_RGB};
 use crate::fonts::{self, CAP_HEIGHT, DESCENT};
@@ -319,27 +319,6 @@ fn plan(fig: &IntervalFigure) -> Result<Plan, Invalid> {
     };
     plan.legend = legend(fig, &plan);
     Ok(plan)
-}
-
-/// X ticks: as many as fit `plot_w` pixels without overlapping labels.
-fn x_ticks(x: AxisRange, plot_w: f64, m: &Metrics) -> Ticks {
-    let mut target = ((plot_w / (110.0 * m.s)).round() as usize).clamp(2, 12);
-    loop {
-        let t = ticks(x, target);
-        let widest = t
-            .labels
-            .iter()
-            .map(|l| fonts::text_width(l, m.tick))
-            .fold(0.0, f64::max);
-        let spacing = match t.values[..] {
-            [a, b, ..] => (b - a) / x.span() * plot_w,
-            _ => f64::INFINITY,
-        };
-        if widest + m.px(14.0) <= spacing || target <= 1 {
-            return t;
-        }
-        target -= 1;
-    }
 }
 
 /// A drawn point: its centre, its interval's pixel ends (top, bottom) with whether each is

@@ -12,7 +12,7 @@ use std::path::Path;
 use crate::canvas::{Canvas, HAlign, VAlign};
 use crate::chrome::{
     dash_pattern, draw_axes, draw_grid, draw_legend, draw_y_label, place_legend, place_title,
-    AxisDraw, Legend, LegendEntry, Metrics, Swatch,
+    x_ticks, AxisDraw, Legend, LegendEntry, Metrics, Swatch,
 };
 use crate::colors::{style_rgb, INK_RGB, ZERO_RGB};
 use crate::fonts::{self, CAP_HEIGHT, DESCENT};
@@ -322,27 +322,6 @@ fn plan(fig: &BandFigure) -> Result<Plan, Invalid> {
         difference,
         legend,
     })
-}
-
-/// X ticks: as many as fit `plot_w` pixels without overlapping labels.
-fn x_ticks(x: AxisRange, plot_w: f64, m: &Metrics) -> Ticks {
-    let mut target = ((plot_w / (110.0 * m.s)).round() as usize).clamp(2, 12);
-    loop {
-        let t = ticks(x, target);
-        let widest = t
-            .labels
-            .iter()
-            .map(|l| fonts::text_width(l, m.tick))
-            .fold(0.0, f64::max);
-        let spacing = match t.values[..] {
-            [a, b, ..] => (b - a) / x.span() * plot_w,
-            _ => f64::INFINITY,
-        };
-        if widest + m.px(14.0) <= spacing || target <= 1 {
-            return t;
-        }
-        target -= 1;
-    }
 }
 
 /// The legend of the main panel, in its emptiest corner.
