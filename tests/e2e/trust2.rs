@@ -340,6 +340,9 @@ fn two_fits_into_one_new_folder_never_both_succeed_nor_mix_their_results() {
         assert!(
             err.contains(&out.display().to_string())
                 && (err.contains("is being written by another subfric command (process ")
+                    || err.contains(
+                        "is being written by another subfric command (a process just starting)"
+                    )
                     || err.contains("holds the results of")),
             "{err}"
         );

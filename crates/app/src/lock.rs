@@ -75,13 +75,22 @@ impl Drop for FolderLock {
     }
 }
 
-/// Who holds a lock: "process 1234", from the lock file's content.
+/// Who holds a lock: "process 1234", from the lock file's content. The holder writes its id
+/// just after it takes the lock, so a refusal that comes in between waits for the id a little
+/// (at most a second, on a loaded machine) rather than name no one.
 fn holder(file: &mut File) -> String {
-    let mut text = String::new();
-    let _ = file.read_to_string(&mut text);
-    match text.trim().parse::<u32>() {
-        Ok(pid) => format!("process {pid}"),
-        Err(_) => "a process just starting".into(),
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(1);
+    loop {
+        let mut text = String::new();
+        let _ = file.rewind();
+        let _ = file.read_to_string(&mut text);
+        if let Ok(pid) = text.trim().parse::<u32>() {
+            return format!("process {pid}");
+        }
+        if std::time::Instant::now() >= deadline {
+            return "a process just starting".into();
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
     }
 }
 
@@ -123,5 +132,25 @@ mod tests {
         let again = FolderLock::acquire(tmp.path()).unwrap();
         drop(again);
         assert!(!tmp.path().join(LOCK_FILE).exists());
+    }
+
+    #[test]
+    fn a_refusal_between_the_holders_lock_and_its_id_waits_for_the_id() {
+        let tmp = tempfile::tempdir().unwrap();
+        let path = tmp.path().join(LOCK_FILE);
+        // A holder that has locked the file but not yet written its id.
+        let held = File::create(&path).unwrap();
+        held.try_lock().unwrap();
+        let writer = {
+            let path = path.clone();
+            std::thread::spawn(move || {
+                std::thread::sleep(std::time::Duration::from_millis(100));
+                std::fs::write(&path, "4242\n").unwrap();
+            })
+        };
+        let e = FolderLock::acquire(tmp.path()).unwrap_err().to_string();
+        writer.join().unwrap();
+        assert!(e.contains("(process 4242)"), "{e}");
+        drop(held);
     }
 }
