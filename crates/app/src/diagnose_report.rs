@@ -171,6 +171,24 @@ fn header(s: &mut String, name: &str, d: &Diagnosis) {
         "base model: misfit {}× the noise variance on all rows (μ_s {:.3}, μ_k {:.3}, κ {:.4}, ξ {:.3e}, ũ {:.3}, α_t {:.4})",
         misfit_number(d.base.reduced_chi2), p.mu_s, p.mu_k, p.kappa, p.xi, p.u_tilde, p.alpha_t
     );
+    read_off(s, "base model", &d.base.read_off);
+    if d.final_model != d.base.model {
+        read_off(s, "final model", &d.final_read_off);
+    }
+}
+
+/// μ_s and μ_k of a model beside the peak and residual stress ratios the record shows.
+fn read_off(s: &mut String, which: &str, r: &[subfric_fit::ReadOff]) {
+    if r.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "   {which} read off the record (the paper's Section 5, item 2):"
+    );
+    for x in r {
+        let _ = writeln!(s, "     {}", x.sentence());
+    }
 }
 
 /// 1. Where the base misses, on all rows.

@@ -77,6 +77,8 @@ pub struct FitOutcome {
     pub name: String,
     /// Rig artifacts recognised in the record and what the fit did about them.
     pub artifacts: Vec<Artifact>,
+    /// μ_s and μ_k beside the peak and residual stress ratios the record shows.
+    pub read_off: Vec<subfric_fit::ReadOff>,
 }
 
 /// A rig artifact recognised in a record, and what the fit did about it.
@@ -431,7 +433,12 @@ fn calibrate_setup(
         compare_with_published(&mut report, p);
     }
     let adequacy = Adequacy::of_fit(&report, &setup.tests);
+    let read_off = subfric_fit::read_off(&fulls, &report.model);
+    for r in read_off.iter().filter(|r| r.departs) {
+        progress.warning(&r.sentence());
+    }
     Ok(FitOutcome {
+        read_off,
         report,
         adequacy,
         dirs: req.dirs.clone(),
@@ -663,6 +670,9 @@ pub fn fit_json(out: &FitOutcome) -> Result<serde_json::Value> {
     });
     if !out.artifacts.is_empty() {
         v["artifacts"] = serde_json::to_value(&out.artifacts)?;
+    }
+    if !out.read_off.is_empty() {
+        v["read_off"] = serde_json::to_value(&out.read_off)?;
     }
     Ok(v)
 }

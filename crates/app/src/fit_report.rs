@@ -132,6 +132,7 @@ fn table(out: &FitOutcome, timed: bool) -> String {
         misfit_number(r.reduced_chi2)
     );
     write_parameter_rows(&mut s, r);
+    write_read_off(&mut s, out);
     write_combinations(&mut s, r);
     write_undetermined_note(&mut s, r);
     let _ = writeln!(s, "per test:");
@@ -161,6 +162,29 @@ fn table(out: &FitOutcome, timed: bool) -> String {
     }
     let _ = write!(s, "\nhow to read:\n{}", legend_text("  "));
     s
+}
+
+/// μ_s and μ_k beside the peak and residual stress ratios the record shows (the paper reads
+/// them off these), and what a departure means.
+fn write_read_off(s: &mut String, out: &FitOutcome) {
+    if out.read_off.is_empty() {
+        return;
+    }
+    let _ = writeln!(s, "read off the record (the paper's Section 5, item 2):");
+    for r in &out.read_off {
+        let loose = if out.report.param(r.param).is_some_and(undetermined) {
+            " (the parameter itself is not determined: the value is one point of its valley)"
+        } else {
+            ""
+        };
+        let _ = writeln!(s, "  {}{loose}", r.sentence());
+    }
+    if out.read_off.iter().any(|r| r.departs) {
+        let _ = writeln!(
+            s,
+            "  the fitted model does not keep what the record shows: the fit traded the level for something else (a rig artifact, an effect the model lacks: subfric diagnose); quote μ_s and μ_k only with that said."
+        );
+    }
 }
 
 /// One line per parameter: value (or what the data allow), standard error, interval,

@@ -15,6 +15,8 @@ pub struct CurveFeatures {
     pub plateau: f64,
     /// Slip over which the post-peak excess falls by e [mm]; `None` without softening.
     pub decay_mm: Option<f64>,
+    /// Slip from the peak to the end of the first loading [mm].
+    pub slide_after_peak_mm: f64,
     /// Mean slip rate of the loading [mm/s].
     pub rate: f64,
     /// Recovery after holds: (hold duration [s], friction before, peak after).
@@ -94,6 +96,7 @@ pub fn features(t: &FitTest) -> Option<CurveFeatures> {
         rise_mm,
         plateau,
         decay_mm,
+        slide_after_peak_mm: sign * (t.imposed[end - 1] - t.imposed[ip]),
         rate,
         holds,
     })

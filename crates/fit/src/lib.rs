@@ -17,6 +17,7 @@ pub mod interval;
 pub mod lm;
 pub mod prepare;
 pub mod problem;
+pub mod read_off;
 pub mod report;
 pub mod residuals;
 pub mod sampling;
@@ -41,6 +42,7 @@ pub use prepare::{
     PrepareOptions, PreparedTest,
 };
 pub use problem::{model_runs, Problem};
+pub use read_off::{read_off, ReadOff};
 pub use residuals::Residuals;
 pub use space::{Coord, Param, Space};
 pub use stiffness::{resolved_stiffness, Stiffness};

@@ -234,6 +234,7 @@ pub fn diagnose_reporting(
         dropped: selection.dropped,
         evidence,
         remaining_by_segment: localise(prepared, &residuals(&fulls, &final_model, None)).by_segment,
+        final_read_off: subfric_fit::read_off(&fulls, &final_model),
         final_model,
         folds: cx.folds.iter().map(|f| f.name.clone()).collect(),
         pieces: pieces_by_kind(&cx),
@@ -298,6 +299,7 @@ fn base_report(cx: &Context, fulls: &[FitTest], base: &Current) -> BaseFit {
         fitted_rows: cx.tests.iter().map(|t| t.len()).sum(),
         reduced_chi2: all_ssr / (rows as f64 - cx.base_free.len() as f64).max(1.0),
         tests: misfits(fulls, &base.model),
+        read_off: subfric_fit::read_off(fulls, &base.model),
     }
 }
 

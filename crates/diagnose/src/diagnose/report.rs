@@ -191,6 +191,9 @@ pub struct BaseFit {
     pub reduced_chi2: f64,
     /// Per-test misfit on all rows.
     pub tests: Vec<TestMisfit>,
+    /// μ_s and μ_k beside the peak and residual stress ratios the record shows, and whether
+    /// the base model keeps them.
+    pub read_off: Vec<subfric_fit::ReadOff>,
 }
 
 /// How each test starts.
@@ -243,6 +246,8 @@ pub struct Diagnosis {
     pub remaining_by_segment: Vec<GroupMisfit>,
     /// The model with every named effect.
     pub final_model: Model,
+    /// The final model's μ_s and μ_k beside the measured peak and residual.
+    pub final_read_off: Vec<subfric_fit::ReadOff>,
     /// Held-out folds used.
     pub folds: Vec<String>,
     /// Pieces per kind.
