@@ -23,28 +23,18 @@
 //! and what was expected; nothing in a file can make this module panic.
 
 use crate::prior::{numbers_problem, sign_problem, Origin, Prior, PriorEntry, PriorError, Priors};
-use serde::de::{Deserialize, Deserializer, MapAccess, Visitor};
-use serde_json::value::RawValue;
 use std::path::Path;
+use subfric_data::located::{self, Expected, Node, Val};
 use subfric_data::InputProblem;
 use subfric_fit::Param;
 
-/// A parsed value with the line it starts on.
-#[derive(Debug)]
-struct Node {
-    line: usize,
-    value: Value,
-}
-
-#[derive(Debug)]
-enum Value {
-    /// Entries in file order (duplicates kept, so that they can be reported).
-    Table(Vec<(String, Node)>),
-    Number(f64),
-    Text(String),
-    /// Anything else, by its type name.
-    Other(&'static str),
-}
+/// What a prior file holds, in the words of its messages.
+const EXPECTED: Expected = Expected {
+    file: "prior file",
+    json: "an object of priors keyed by parameter",
+    toml: "one table of priors per parameter",
+    content: "a table of priors keyed by parameter",
+};
 
 /// Reads and checks a prior file.
 pub fn load(path: &Path) -> Result<Priors, PriorError> {
@@ -58,25 +48,11 @@ pub fn load(path: &Path) -> Result<Priors, PriorError> {
 /// Parses and checks the text of a prior file; `path` names it in messages and its extension
 /// (`.json` or `.toml`) selects the format.
 pub fn parse(text: &str, path: &Path) -> Result<Priors, PriorError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(|e| e.to_ascii_lowercase());
-    let root = match ext.as_deref() {
-        Some("json") => json_root(text, path),
-        Some("toml") => toml_root(text, path),
-        _ => Err(InputProblem::new(
-            path,
-            None,
-            None,
-            "unknown prior file format (expected a file ending in .json or .toml)",
-        )),
-    }
-    .map_err(|p| PriorError::Invalid(vec![p]))?;
+    let root = located::parse(text, path, &EXPECTED).map_err(|p| PriorError::Invalid(vec![p]))?;
     let mut problems = Vec::new();
     let mut entries: Vec<PriorEntry> = Vec::new();
     match root.value {
-        Value::Table(items) => {
+        Val::Table(items) => {
             for (key, node) in items {
                 entry(path, &key, node, &mut entries, &mut problems);
             }
@@ -106,7 +82,7 @@ fn entry(
 ) {
     let line = node.line;
     let at = |m: String| InputProblem::new(path, Some(line), Some(key), m);
-    let Value::Table(fields) = node.value else {
+    let Val::Table(fields) = node.value else {
         problems.push(at(format!(
             "a {} where a prior belongs (expected a table such as {{dist = \"uniform\", lo = 0.1, hi = 10}})",
             type_name(&node.value)
@@ -115,9 +91,7 @@ fn entry(
     };
     let is_group = !fields.iter().any(|(k, _)| k == "dist")
         && !fields.is_empty()
-        && fields
-            .iter()
-            .all(|(_, n)| matches!(n.value, Value::Table(_)));
+        && fields.iter().all(|(_, n)| matches!(n.value, Val::Table(_)));
     if is_group && Param::from_key(key).is_none() {
         for (sub, n) in fields {
             entry(path, &format!("{key}.{sub}"), n, entries, problems);
@@ -188,19 +162,19 @@ fn prior_of(
             continue;
         }
         match (name.as_str(), n.value) {
-            ("dist", Value::Text(t)) => dist = Some((t, n.line)),
+            ("dist", Val::Text(t)) => dist = Some((t, n.line)),
             ("dist", other) => problems.push(field_at(
                 "dist",
                 n.line,
                 format!("a {} (expected a name: {DISTRIBUTIONS})", type_name(&other)),
             )),
-            (_, Value::Number(v)) if !v.is_finite() => problems.push(field_at(
+            (_, Val::Number { value: v, .. }) if !v.is_finite() => problems.push(field_at(
                 &name,
                 n.line,
                 format!("{v} is not finite (expected a finite number)"),
             )),
-            (_, Value::Number(v)) => numbers.push((name, v, n.line)),
-            (_, Value::Text(t)) => problems.push(field_at(
+            (_, Val::Number { value: v, .. }) => numbers.push((name, v, n.line)),
+            (_, Val::Text(t)) => problems.push(field_at(
                 &name,
                 n.line,
                 format!("\"{t}\" is text (expected a number)"),
@@ -320,155 +294,15 @@ fn prior_of(
     (problems.len() == before).then_some(prior)
 }
 
-fn type_name(v: &Value) -> &'static str {
+/// What a value is, as the messages of a prior file name it.
+fn type_name(v: &Val) -> &'static str {
     match v {
-        Value::Table(_) => "table",
-        Value::Number(_) => "number",
-        Value::Text(_) => "text",
-        Value::Other(t) => t,
-    }
-}
-
-/// 1-based line of byte `offset` in `text`.
-fn line_of(text: &str, offset: usize) -> usize {
-    text.as_bytes()[..offset.min(text.len())]
-        .iter()
-        .filter(|b| **b == b'\n')
-        .count()
-        + 1
-}
-
-// ---------------------------------------------------------------------------------------
-// JSON: serde_json's RawValue borrows each value from the text, so its offset gives its line.
-
-/// The entries of a JSON object in file order, duplicates kept.
-struct Entries<'a>(Vec<(String, &'a RawValue)>);
-
-impl<'de> Deserialize<'de> for Entries<'de> {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl<'de> Visitor<'de> for V {
-            type Value = Entries<'de>;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("an object")
-            }
-            fn visit_map<M: MapAccess<'de>>(self, mut map: M) -> Result<Entries<'de>, M::Error> {
-                let mut out = Vec::new();
-                while let Some((k, v)) = map.next_entry::<String, &'de RawValue>()? {
-                    out.push((k, v));
-                }
-                Ok(Entries(out))
-            }
-        }
-        d.deserialize_map(V)
-    }
-}
-
-fn json_root(text: &str, path: &Path) -> Result<Node, InputProblem> {
-    let raw: &RawValue = serde_json::from_str(text).map_err(|e| json_error(path, &e))?;
-    json_node(text, raw, path)
-}
-
-fn json_error(path: &Path, e: &serde_json::Error) -> InputProblem {
-    let message = e.to_string();
-    let message = match message.find(" at line ") {
-        Some(i) => message[..i].to_string(),
-        None => message,
-    };
-    InputProblem::new(
-        path,
-        Some(e.line().max(1)),
-        None,
-        format!("{message} (expected JSON: an object of priors keyed by parameter)"),
-    )
-}
-
-fn json_node(text: &str, raw: &RawValue, path: &Path) -> Result<Node, InputProblem> {
-    let s = raw.get();
-    let offset = (s.as_ptr() as usize).saturating_sub(text.as_ptr() as usize);
-    let line = line_of(text, offset);
-    let value = match s.as_bytes().first() {
-        Some(b'{') => {
-            let entries: Entries = serde_json::from_str(s).map_err(|e| json_error(path, &e))?;
-            let mut items = Vec::with_capacity(entries.0.len());
-            for (k, v) in entries.0 {
-                items.push((k, json_node(text, v, path)?));
-            }
-            Value::Table(items)
-        }
-        Some(b'"') => Value::Text(serde_json::from_str(s).unwrap_or_default()),
-        Some(b'[') => Value::Other("list"),
-        Some(b't' | b'f') => Value::Other("true/false"),
-        Some(b'n') => Value::Other("null"),
-        _ => match serde_json::from_str::<f64>(s) {
-            Ok(v) => Value::Number(v),
-            Err(e) => return Err(json_error(path, &e)),
-        },
-    };
-    Ok(Node { line, value })
-}
-
-// ---------------------------------------------------------------------------------------
-// TOML: toml's DeTable keeps the span of every key and value.
-
-fn toml_root(text: &str, path: &Path) -> Result<Node, InputProblem> {
-    use toml::de::DeTable;
-    let table = DeTable::parse(text).map_err(|e| {
-        let line = e.span().map_or(1, |s| line_of(text, s.start));
-        InputProblem::new(
-            path,
-            Some(line),
-            None,
-            format!(
-                "{} (expected TOML: one table of priors per parameter)",
-                e.message().trim()
-            ),
-        )
-    })?;
-    Ok(Node {
-        line: 1,
-        value: toml_table(text, table.get_ref()),
-    })
-}
-
-fn toml_table(text: &str, table: &toml::de::DeTable) -> Value {
-    let mut items: Vec<(String, Node)> = table
-        .iter()
-        .map(|(k, v)| {
-            let line = line_of(text, k.span().start);
-            (
-                k.get_ref().to_string(),
-                Node {
-                    line,
-                    value: toml_value(text, v.get_ref()),
-                },
-            )
-        })
-        .collect();
-    items.sort_by_key(|(_, n)| n.line);
-    Value::Table(items)
-}
-
-fn toml_value(text: &str, v: &toml::de::DeValue) -> Value {
-    use toml::de::DeValue;
-    match v {
-        DeValue::Table(t) => toml_table(text, t),
-        DeValue::String(s) => Value::Text(s.to_string()),
-        DeValue::Float(f) => Value::Number(parse_number(f.as_str(), 10)),
-        DeValue::Integer(i) => Value::Number(parse_number(i.as_str(), i.radix())),
-        DeValue::Boolean(_) => Value::Other("true/false"),
-        DeValue::Datetime(_) => Value::Other("date"),
-        DeValue::Array(_) => Value::Other("list"),
-    }
-}
-
-/// A TOML number (underscores allowed; `inf` and `nan` parse to non-finite values, which the
-/// checks then refuse).
-fn parse_number(s: &str, radix: u32) -> f64 {
-    let clean: String = s.chars().filter(|c| *c != '_').collect();
-    if radix == 10 {
-        clean.parse().unwrap_or(f64::NAN)
-    } else {
-        i64::from_str_radix(&clean, radix).map_or(f64::NAN, |v| v as f64)
+        Val::Table(_) => "table",
+        Val::Array(_) => "list",
+        Val::Number { .. } => "number",
+        Val::Text(_) => "text",
+        Val::Bool(_) => "true/false",
+        Val::Other("a date") => "date",
+        Val::Other(t) => t,
     }
 }

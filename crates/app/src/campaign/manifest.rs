@@ -25,7 +25,15 @@
 //! Every problem of the file is reported at once, each with the file, the line and the field
 //! and what was expected (docs/campaign.md lists the fields).
 
-use super::tree::{json_root, toml_root, Node, Val};
+use subfric_data::located::{self, Expected, Node, Val};
+
+/// What a manifest holds, in the words of its messages.
+const EXPECTED: Expected = Expected {
+    file: "manifest",
+    json: "an object with `sets` and optionally `options`",
+    toml: "`[[sets]]` tables with a `path`, and optionally `[options]`",
+    content: "a manifest of sets and options",
+};
 use super::SetOptions;
 use crate::flags::{parse_bound, parse_fix, parse_param};
 use crate::output::safe_name;
@@ -123,21 +131,7 @@ pub fn load(path: &Path, defaults: &SetOptions) -> Result<Manifest> {
 /// Parses and checks the text of a manifest; `path` names it in messages, its extension
 /// (`.json` or `.toml`) selects the format and its folder is where relative set paths start.
 pub fn parse(text: &str, path: &Path, defaults: &SetOptions) -> Result<Manifest> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let root = match ext.as_deref() {
-        Some("json") => json_root(text, path),
-        Some("toml") => toml_root(text, path),
-        _ => Err(InputProblem::new(
-            path,
-            None,
-            None,
-            "unknown manifest format (expected a file ending in .json or .toml)",
-        )),
-    }
-    .map_err(|p| problems_error(path, vec![p]))?;
+    let root = located::parse(text, path, &EXPECTED).map_err(|p| problems_error(path, vec![p]))?;
     let mut cx = Cx {
         path,
         problems: Vec::new(),

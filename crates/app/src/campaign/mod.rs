@@ -22,7 +22,6 @@ pub mod record;
 mod run;
 pub mod slurm;
 mod table;
-mod tree;
 
 pub use figures::{ROUGHNESS_FIGURE, STRESS_FIGURE, VERDICT_FIGURE};
 pub use run::{SetOutcome, SetRun};
