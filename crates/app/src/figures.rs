@@ -346,7 +346,8 @@ pub fn diagnosis_figures(
     out: &Path,
 ) -> Result<Vec<PathBuf>> {
     claim_folder(out)?;
-    let mut files = Vec::new();
+    // The figures are drawn first and rendered in parallel (a long record has dozens).
+    let mut jobs: Vec<(Figure, PathBuf)> = Vec::new();
     for (p, stem) in tests.iter().zip(stems_of(tests)) {
         let t = &p.full;
         if t.control != Control::Slip {
@@ -359,9 +360,7 @@ pub fn diagnosis_figures(
             "time t [s]",
             Panel::new("friction τ/σ_n [-]", curves.series(&t.time, all)),
         );
-        let file = out.join(format!("{stem}.png"));
-        render_png(&fig, &file)?;
-        files.push(file);
+        jobs.push((fig, out.join(format!("{stem}.png"))));
         let events = events_of(p);
         for (k, (row, what)) in events.iter().enumerate() {
             let Some((a, b)) = event_window(t, &events, k) else {
@@ -385,12 +384,13 @@ pub fn diagnosis_figures(
                 xlabel,
                 Panel::new("friction τ/σ_n [-]", curves.series(&xs, a..b)),
             );
-            let file = out.join(format!("{stem}-event-{:02}.png", k + 1));
-            render_png(&fig, &file)?;
-            files.push(file);
+            jobs.push((fig, out.join(format!("{stem}-event-{:02}.png", k + 1))));
         }
     }
-    Ok(files)
+    use rayon::prelude::*;
+    jobs.par_iter()
+        .map(|(fig, file)| Ok(render_png(fig, file).map(|_| file.clone())?))
+        .collect()
 }
 
 /// Creates `out` and removes its PNG files: the folder is claimed with the results, and

@@ -107,8 +107,15 @@ impl Slider {
 
     /// Slip rate of the block at friction `mu` and state `psi` = ln θ.
     fn rate(&self, mu: f64, psi: f64) -> f64 {
-        let x = (mu - self.mu0 - self.b * (psi + (self.v0 / self.d_c).ln())) / self.a;
-        self.v0 * x.min(200.0).exp()
+        self.rate_and_log(mu, psi, (self.v0 / self.d_c).ln()).0
+    }
+
+    /// The slip rate v and ln(v/D_c), given `ln_v0_dc` = ln(v₀/D_c): the logarithm comes from
+    /// the exponent, not from v (the integration's inner loop would take one per iteration).
+    #[inline]
+    fn rate_and_log(&self, mu: f64, psi: f64, ln_v0_dc: f64) -> (f64, f64) {
+        let x = ((mu - self.mu0 - self.b * (psi + ln_v0_dc)) / self.a).min(200.0);
+        (self.v0 * x.exp(), ln_v0_dc + x)
     }
 
     /// One interval of constant load-point rate `v_lp` under a finite spring.
@@ -130,9 +137,10 @@ impl Slider {
     /// One backward-Euler substep of length `h` in (μ, ln θ), solved by Newton's method.
     fn backward_euler(&self, mu_n: f64, psi_n: f64, v_lp: f64, h: f64) -> Option<(f64, f64)> {
         let (a, b, dc, k) = (self.a, self.b, self.d_c, self.k);
+        let ln_v0_dc = (self.v0 / dc).ln();
         let (mut mu, mut psi) = (mu_n, psi_n);
         for _ in 0..NEWTON_ITERATIONS {
-            let v = self.rate(mu, psi);
+            let (v, ln_v_dc) = self.rate_and_log(mu, psi, ln_v0_dc);
             // ∂v/∂μ = v/a, ∂v/∂ψ = −v b/a.
             let (dv_mu, dv_psi) = (v / a, -v * b / a);
             let f1 = mu - mu_n - h * k * (v_lp - v);
@@ -142,7 +150,7 @@ impl Slider {
                     (e - v / dc, -dv_mu / dc, -e - dv_psi / dc)
                 }
                 StateLaw::Slip => {
-                    let l = (v / dc).ln() + psi;
+                    let l = ln_v_dc + psi;
                     (
                         -(v / dc) * l,
                         -(dv_mu / dc) * (l + 1.0),
