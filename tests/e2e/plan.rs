@@ -78,6 +78,16 @@ fn plan_writes_ranked_runnable_proposals_a_check_and_a_band_figure() {
         .text
         .contains("planning point (the middle of the values the data allow"));
 
+    // Planned again into the same folder, a scenario the new plan does not propose is gone
+    // (a stale one would be read as a proposal).
+    let stale = out
+        .join("scenarios")
+        .join("proposed-by-an-earlier-plan.json");
+    std::fs::copy(&scenario, &stale).unwrap();
+    subfric!().ok(args!["plan", &set, "--out", &out, "--check", "0"]);
+    assert!(!stale.exists());
+    assert!(scenario.exists());
+
     // A folder holding another set's plan is not overwritten without --force.
     let other = copy_set("table1-medium", tmp.path());
     let o = subfric!().run(args!["plan", &other, "--out", &out, "--check", "0"]);

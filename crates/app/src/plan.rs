@@ -203,6 +203,9 @@ pub fn write_plan(
     let txt = dir.join("plan.txt");
     write_text(&txt, &format!("{text}\n"))?;
     files.push(txt);
+    // A scenario or figure of an earlier plan in this folder would be read as one of this
+    // plan's proposals: the plan's own files are cleared first (the folder is claimed).
+    clear_earlier_plan(dir)?;
     for prop in &p.proposals {
         let f = dir.join("scenarios").join(format!("{}.json", prop.name));
         write_json(&f, &prop.scenario)?;
@@ -214,6 +217,22 @@ pub fn write_plan(
         files.push(f);
     }
     Ok(files)
+}
+
+/// Removes the scenarios (`scenarios/*.json`) and the band figure of an earlier plan in `dir`.
+fn clear_earlier_plan(dir: &Path) -> Result<()> {
+    let scenarios = dir.join("scenarios");
+    if let Ok(entries) = std::fs::read_dir(&scenarios) {
+        for e in entries.flatten() {
+            if e.path().extension().is_some_and(|x| x == "json") {
+                std::fs::remove_file(e.path())?;
+            }
+        }
+    }
+    match std::fs::remove_file(dir.join("top-proposal.png")) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(e.into()),
+        _ => Ok(()),
+    }
 }
 
 /// The top proposal's predicted curve against time, with the envelope of the curves of every
