@@ -37,7 +37,9 @@ pub struct FitTest {
     pub row_weight: Vec<f64>,
 }
 
-fn median(v: &mut [f64]) -> f64 {
+/// The median of `v` (sorted in place; the mean of the middle two for an even count; 0 when
+/// empty).
+pub(crate) fn median(v: &mut [f64]) -> f64 {
     if v.is_empty() {
         return 0.0;
     }

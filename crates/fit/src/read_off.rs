@@ -19,10 +19,10 @@
 //! between the parameter and the ratio is the model's shape; where it does not, the fit has
 //! traded them for something else, and the report says so.
 
-use crate::dataset::FitTest;
+use crate::dataset::{median, FitTest};
 use crate::guess::features;
 use serde::Serialize;
-use subfric_model::{Initial, Model};
+use subfric_model::{Control, Initial, Model};
 
 /// The fitted model keeps a measured stress ratio when it lies within this share of it, or
 /// within [`NOISE_MULTIPLE`] noise SDs when the noise is larger: a peak or residual missed by
@@ -131,10 +131,7 @@ impl ReadOff {
 pub fn read_off(tests: &[FitTest], model: &Model) -> Vec<ReadOff> {
     let mut peaks = Vec::new();
     let mut residuals = Vec::new();
-    for t in tests {
-        let Ok(predicted) = t.predict(model) else {
-            continue;
-        };
+    for t in tests.iter().filter(|t| t.control == Control::Slip) {
         // A record that starts at rest (a hold while the normal stress was raised) is read
         // from its first movement.
         let first = t
@@ -142,27 +139,28 @@ pub fn read_off(tests: &[FitTest], model: &Model) -> Vec<ReadOff> {
             .iter()
             .position(|u| (u - t.imposed[0]).abs() > 1e-9)
             .map_or(0, |i| i.saturating_sub(1));
-        let from = |measured: &[f64]| {
-            let mut v = FitTest::new(
-                &t.name,
-                t.control,
-                t.time[first..].to_vec(),
-                t.imposed[first..].to_vec(),
-                measured[first..].to_vec(),
-                t.normal[first..].to_vec(),
-            );
-            v.initial = t.initial;
-            v
+        // The rows from there on, with `measured` as the measured column (only what the
+        // features read; no noise estimate of its own).
+        let from = |measured: &[f64]| FitTest {
+            name: t.name.clone(),
+            time: t.time[first..].to_vec(),
+            imposed: t.imposed[first..].to_vec(),
+            measured: measured[first..].to_vec(),
+            normal: t.normal[first..].to_vec(),
+            fit_rows: 0..usize::MAX,
+            row_weight: Vec::new(),
+            ..*t
         };
         let Some(c) = features(&from(&t.measured)) else {
+            continue;
+        };
+        let Ok(predicted) = t.predict(model) else {
             continue;
         };
         let Some(m) = features(&from(&predicted)) else {
             continue;
         };
-        let mut normals: Vec<f64> = t.normal.clone();
-        normals.sort_by(f64::total_cmp);
-        let normal = normals[normals.len() / 2];
+        let normal = median(&mut t.normal.clone());
         let noise = NOISE_MULTIPLE * t.noise_sd / normal;
         let reading = |measured: f64, model: f64| Reading {
             test: t.name.clone(),
@@ -191,16 +189,6 @@ pub fn read_off(tests: &[FitTest], model: &Model) -> Vec<ReadOff> {
     .collect()
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
-
 fn compare(
     param: &'static str,
     measured_as: &'static str,
@@ -211,8 +199,8 @@ fn compare(
     if readings.is_empty() || !fitted.is_finite() {
         return None;
     }
-    let measured = median(readings.iter().map(|r| r.measured).collect());
-    let model = median(readings.iter().map(|r| r.model).collect());
+    let measured = median(&mut readings.iter().map(|r| r.measured).collect::<Vec<_>>());
+    let model = median(&mut readings.iter().map(|r| r.model).collect::<Vec<_>>());
     Some(ReadOff {
         param,
         measured_as,
