@@ -397,12 +397,7 @@ pub fn diagnosis_figures(
 /// figures of an earlier diagnosis (other events, other tests) would be read as this one's.
 fn claim_folder(out: &Path) -> Result<()> {
     std::fs::create_dir_all(out)?;
-    for e in std::fs::read_dir(out)?.flatten() {
-        if e.path().extension().is_some_and(|x| x == "png") {
-            std::fs::remove_file(e.path())?;
-        }
-    }
-    Ok(())
+    crate::io::remove_earlier_files(out, "png")
 }
 
 /// The friction of one test: measured, of the base model and of the model with the effects.

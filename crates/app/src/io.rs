@@ -55,3 +55,19 @@ pub fn write_text(path: &Path, text: &str) -> Result<()> {
     }
     write_atomic(path, text.as_bytes()).map_err(|e| anyhow!("cannot write {e}"))
 }
+
+/// Removes the files ending in `.ext` directly in `dir` (none when `dir` does not exist): the
+/// results of an earlier run in a folder this process has claimed, which would otherwise be
+/// read as this run's (figures of other events, scenarios of other proposals).
+pub fn remove_earlier_files(dir: &Path, ext: &str) -> Result<()> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Ok(());
+    };
+    for e in entries.flatten() {
+        if e.path().extension().is_some_and(|x| x == ext) {
+            std::fs::remove_file(e.path())
+                .with_context(|| format!("{}: cannot remove it", e.path().display()))?;
+        }
+    }
+    Ok(())
+}

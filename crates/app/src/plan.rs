@@ -221,14 +221,7 @@ pub fn write_plan(
 
 /// Removes the scenarios (`scenarios/*.json`) and the band figure of an earlier plan in `dir`.
 fn clear_earlier_plan(dir: &Path) -> Result<()> {
-    let scenarios = dir.join("scenarios");
-    if let Ok(entries) = std::fs::read_dir(&scenarios) {
-        for e in entries.flatten() {
-            if e.path().extension().is_some_and(|x| x == "json") {
-                std::fs::remove_file(e.path())?;
-            }
-        }
-    }
+    crate::io::remove_earlier_files(&dir.join("scenarios"), "json")?;
     match std::fs::remove_file(dir.join("top-proposal.png")) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(e.into()),
         _ => Ok(()),
