@@ -548,7 +548,7 @@ pub(crate) fn detect(t: &[f64], x: &[f64], opts: &SegmentOptions) -> Events {
     revs.extend(added);
     revs.sort_unstable();
     revs.dedup();
-    ev.reversals = reversals_outside_holds(&smooth, &revs, &ev.holds, n);
+    ev.reversals = reversals_outside_holds(&smooth, &revs, &ev.holds, n, band);
     ev
 }
 
@@ -579,7 +579,8 @@ fn merge_holds(t: &[f64], y: &[f64], holds: Vec<(usize, usize)>, band: f64) -> V
 /// elastic travel of the shear, at a few percent of the sliding rate) and then holds looks still
 /// at the scale of the sliding. A reversal inside a hold followed by a backward travel of more
 /// than three bands is an unload, not drift: the hold starts where that travel ends, so that the
-/// reversal and the unload stay in the record (and the reload after the hold reverses again).
+/// reversal and the unload stay in the record (and the reload after the hold reverses again);
+/// a hold that the unload outlasts is part of it and is dropped.
 fn holds_after_unloads(
     y: &[f64],
     revs: &[usize],
@@ -600,7 +601,19 @@ fn holds_after_unloads(
             0.0
         };
         let back = |k: usize| -forward * (y[k] - y[r]);
-        let furthest = (r..=b)
+        // A hold that starts at the reversal may be a still-looking stretch at the turning point
+        // of a slowly sampled unload: the unload then goes on past the hold's end, so follow it
+        // up to the next reversal (a hold that ends at a reversal is followed by its unload).
+        let unload_end = if r <= a + 1 {
+            revs.iter()
+                .copied()
+                .find(|&q| q > r)
+                .unwrap_or(y.len() - 1)
+                .max(b)
+        } else {
+            b
+        };
+        let furthest = (r..=unload_end)
             .max_by(|&i, &j| back(i).total_cmp(&back(j)))
             .unwrap_or(r);
         if forward == 0.0 || back(furthest) <= 3.0 * band {
@@ -709,6 +722,7 @@ fn reversals_outside_holds(
     revs: &[usize],
     holds: &[(usize, usize)],
     n: usize,
+    band: f64,
 ) -> Vec<usize> {
     let inside = |r: usize| holds.iter().position(|&(s, e)| r + 1 >= s && r < e);
     let mut out: Vec<usize> = revs
@@ -716,12 +730,27 @@ fn reversals_outside_holds(
         .copied()
         .filter(|&r| inside(r).is_none())
         .collect();
-    for &(s, e) in holds {
+    for (k, &(s, e)) in holds.iter().enumerate() {
         let (a, b) = (s - 1, (e - 1).min(n - 1));
-        let dir_before = out.iter().rev().find(|&&r| r < a).map_or(0, |&r| r).min(a);
-        let dir_after = out.iter().find(|&&r| r > b).map_or(n - 1, |&r| r).max(b);
-        let before = y[a] - y[dir_before];
-        let after = y[dir_after] - y[b];
+        let prev_rev = out.iter().rev().find(|&&r| r < a).map_or(0, |&r| r).min(a);
+        let next_rev = out.iter().find(|&&r| r > b).map_or(n - 1, |&r| r).max(b);
+        // The runs next to the hold end at the previous reversal or hold and at the next one (a
+        // load point that backs off between two short holds reverses twice); when such a run
+        // moves less than the band, the motion up to the previous or next reversal decides.
+        let prev_hold_end = k.checked_sub(1).map_or(0, |j| (holds[j].1 - 1).min(n - 1));
+        let next_hold_start = holds.get(k + 1).map_or(n - 1, |h| h.0 - 1);
+        let near_before = y[a] - y[prev_rev.max(prev_hold_end).min(a)];
+        let near_after = y[next_rev.min(next_hold_start).max(b)] - y[b];
+        let before = if near_before.abs() > band {
+            near_before
+        } else {
+            y[a] - y[prev_rev]
+        };
+        let after = if near_after.abs() > band {
+            near_after
+        } else {
+            y[next_rev] - y[b]
+        };
         if before * after < 0.0 && b > 0 && b + 1 < n {
             out.push(b);
         }

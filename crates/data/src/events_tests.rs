@@ -76,6 +76,60 @@ fn an_unload_smaller_than_the_band_and_slow_as_a_hold_stays_a_reversal() {
 }
 
 #[test]
+fn a_slowly_sampled_unload_beyond_the_band_is_no_hold() {
+    // Sliding at 12 µm/s logged every 0.34 s, then the load point backs off 18 µm over 6 rows
+    // 3.6 s apart (an unload of 80 kPa through a soft machine, logged as sparsely as a hold),
+    // holds for two rows and reloads; a 10 nm encoder with 12 nm of noise. The median of three flattens the turning
+    // point into a still-looking stretch: the unload must stay motion, with a reversal at the
+    // turning point, no hold before the unload has ended, and a reversal at the reload.
+    let (mut t, mut x) = (vec![0.0], vec![0.0]);
+    let mut push = |dt: f64, dx: f64| {
+        let (tl, xl) = (*t.last().unwrap(), *x.last().unwrap());
+        t.push(tl + dt);
+        x.push(xl + dx);
+    };
+    for _ in 0..600 {
+        push(0.34, 0.0041);
+    }
+    for _ in 0..6 {
+        push(3.6, -0.003);
+    }
+    push(3.6, 0.0);
+    push(2.9, 0.0);
+    for _ in 0..300 {
+        push(0.34, 0.0041);
+    }
+    let mut rng = <rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(16);
+    let x: Vec<f64> = x
+        .iter()
+        .map(|v| {
+            let noise: f64 =
+                rand_distr::Distribution::sample(&rand_distr::StandardNormal, &mut rng);
+            ((v + 1.2e-5 * noise) / 1e-5).round() * 1e-5
+        })
+        .collect();
+    let ev = detect(&t, &x, &SegmentOptions::default());
+    assert_eq!(
+        ev.reversals.len(),
+        2,
+        "{:?}, holds {:?}",
+        ev.reversals,
+        ev.holds
+    );
+    assert!(
+        (ev.reversals[0] as i64 - 600).abs() <= 1,
+        "{:?}",
+        ev.reversals
+    );
+    assert!(
+        ev.holds.iter().all(|&(s, _)| s >= 605),
+        "a hold inside the unload: {:?}",
+        ev.holds
+    );
+    assert!(ev.reversals[1] > 605, "{:?}", ev.reversals);
+}
+
+#[test]
 fn hysteresis_ignores_small_wiggles() {
     let x = [0.0, 1.0, 2.0, 1.9, 2.1, 3.0, 2.0, 1.0, 1.05, 0.0, 1.0];
     assert_eq!(reversals_hysteresis(&x, 0.5), vec![5, 9]);
