@@ -17,7 +17,8 @@ pub struct SeatingToe {
     /// Imposed travel over the excluded rows [mm].
     pub travel_mm: f64,
     /// Largest |shear| over the toe (before the shear reached 5 % of the first loading's peak),
-    /// as a share of that peak.
+    /// as a share of that peak; when the whole first leg is slack, the leg's largest |shear| as
+    /// a share of the largest the test reaches after it.
     pub shear_share: f64,
     /// Measured shear at the first row kept [kPa]: the test starts at rest under it.
     pub start_shear_kpa: f64,
@@ -62,6 +63,28 @@ pub fn seating_toe(test: &TestData, seg: &Segmentation) -> Option<SeatingToe> {
     let peak = tau[..end].iter().map(|v| sign * v).fold(f64::MIN, f64::max);
     if !(peak.is_finite() && peak > 0.0) {
         return None;
+    }
+    // A first leg whose shear stays below 5 % of what the test reaches after it (a cyclic test
+    // whose first stroke is shorter than the gap to close) is slack as a whole: the test starts
+    // at rest where that leg ends.
+    let later = tau[end..].iter().map(|v| v.abs()).fold(0.0, f64::max);
+    if peak < TOE_SHARE * later {
+        let travel = (u[end - 1] - u[0]).abs();
+        if travel < MIN_TOE_MM.max(10.0 * seg.conditioned.band) {
+            return None;
+        }
+        let first_kept = end - 1;
+        let start_shear_kpa = tau[first_kept];
+        return Some(SeatingToe {
+            first_kept,
+            travel_mm: travel,
+            shear_share: peak / later,
+            start_shear_kpa,
+            reason: format!(
+                "seating toe: the whole first leg ({travel:.3} mm) raised the shear to at most {:.1} % of what the test reaches after it: its {first_kept} rows excluded, the test starts at rest under {start_shear_kpa:.2} kPa where that leg ends",
+                100.0 * peak / later
+            ),
+        });
     }
     let first_above = |share: f64| (0..end).find(|&i| sign * tau[i] >= share * peak);
     let i_rise = first_above(SLOPE_SHARE)?;
@@ -184,5 +207,62 @@ mod tests {
         }
         let seg = segment(&soft, &SegmentOptions::default());
         assert_eq!(seating_toe(&soft, &seg), None);
+    }
+    /// A cyclic test at 0.01 mm/s, 0.01 mm per row: a first stroke to +`stroke` mm, then legs
+    /// to −0.6 and +0.6 mm. The first stroke crosses slack (0.12 kPa per 0.1 mm) when `slack`,
+    /// or loads like the legs after it; each leg rises like 60 tanh(s/0.05) from its reversal.
+    fn cyclic(stroke: f64, slack: bool) -> TestData {
+        let mut slip = vec![0.0];
+        let mut shear = vec![0.0];
+        let leg = |to: f64, first: bool, slip: &mut Vec<f64>, shear: &mut Vec<f64>| {
+            let (from, tau0) = (*slip.last().unwrap(), *shear.last().unwrap());
+            let dir = (to - from).signum();
+            let rows = ((to - from).abs() / 0.01).round() as usize;
+            for i in 1..=rows {
+                let travel = 0.01 * i as f64;
+                slip.push(from + dir * travel);
+                shear.push(if first && slack {
+                    0.12 * travel / 0.1
+                } else {
+                    tau0 + (dir * 60.0 - tau0) * (travel / 0.05).tanh()
+                });
+            }
+        };
+        leg(stroke, true, &mut slip, &mut shear);
+        leg(-0.6, false, &mut slip, &mut shear);
+        leg(0.6, false, &mut slip, &mut shear);
+        let n = slip.len();
+        TestData {
+            spec: TestSpec::new("cyclic", "cyclic.csv", ControlColumn::Slip, 100.0),
+            path: "cyclic.csv".into(),
+            time_s: (0..n).map(|i| i as f64).collect(),
+            slip_mm: slip,
+            shear_kpa: shear,
+            normal_kpa: vec![100.0; n],
+            friction_given: false,
+            line_of_row: (2..n + 2).collect(),
+            comments: vec![],
+        }
+    }
+
+    #[test]
+    fn a_first_stroke_shorter_than_the_gap_is_slack_as_a_whole() {
+        // The stroke (0.4 mm) ends before the gap has closed: the shear never passes 1 % of
+        // what the legs after it reach, so no climb exists to cut at; the whole stroke is left
+        // out and the test starts at rest where it reverses.
+        let t = cyclic(0.4, true);
+        let seg = segment(&t, &SegmentOptions::default());
+        let toe = seating_toe(&t, &seg).expect("the slack stroke is a toe");
+        assert!(
+            (toe.travel_mm - 0.39).abs() <= 0.0101,
+            "cut after {} mm",
+            toe.travel_mm
+        );
+        assert!(toe.start_shear_kpa < 1.0, "{}", toe.start_shear_kpa);
+        assert!(toe.reason.contains("whole first leg"), "{}", toe.reason);
+        // A first stroke that loads the interface like the legs after it is no toe.
+        let t = cyclic(0.4, false);
+        let seg = segment(&t, &SegmentOptions::default());
+        assert_eq!(seating_toe(&t, &seg), None);
     }
 }
