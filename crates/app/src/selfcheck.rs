@@ -99,9 +99,13 @@ pub fn library_equivalents(form: Form) -> &'static [&'static str] {
         Form::SlipExp => &["exponential, h s_h (1 - exp(-s/s_h))"],
         Form::SlipHyperbolic => &["hyperbolic, h s / (1 + s/s_h)"],
         Form::SlipCapped => &["capped linear, h min(s, s_h)"],
-        Form::HealLog => &["log time, b ln(1 + t/t_c) at rest"],
+        Form::HealLog => &[
+            "log time, b ln(1 + t/t_c) at rest",
+            "log time at rest, added to the recovery xi",
+        ],
         Form::HealPower => &[
             "power-law time, b t^n at rest",
+            "power-law time at rest, added to the recovery xi",
             "general time, b ((1 + t/t_c)^n - 1)/n at rest",
         ],
         Form::DirectionMu => &["backward mu x (1 - d)"],

@@ -210,13 +210,14 @@ fn ext_slip(form: SlipForm) -> Extensions {
     }
 }
 
-fn ext_healing(form: HealingForm) -> Extensions {
+fn ext_healing(form: HealingForm, recovery: bool) -> Extensions {
     Extensions {
         healing: Some(Healing {
             b: 0.0,
             t_c: 10.0,
             n: 0.3,
             form,
+            recovery,
         }),
         ..Extensions::default()
     }
@@ -338,7 +339,7 @@ pub fn library(f: &DataFeatures) -> Vec<Form> {
 ///
 /// ```
 /// let names = subfric_diagnose::candidates::all_form_names();
-/// assert_eq!(names.len(), 29);
+/// assert_eq!(names.len(), 31);
 /// assert!(names.contains(&"rate and state, slip law"));
 /// ```
 pub fn all_form_names() -> Vec<&'static str> {
@@ -463,7 +464,7 @@ fn healing_forms() -> Vec<Form> {
         Form {
             effect: Effect::LogHealing,
             name: "log time, b ln(1 + t/t_c) at rest",
-            template: ext_healing(HealingForm::Log),
+            template: ext_healing(HealingForm::Log, false),
             params: vec![Param::HealB, Param::HealTc],
             starts: vec![vec![0.01, 1.0], vec![0.01, 30.0], vec![0.03, 10.0]],
             neutral: vec![0.0, 10.0],
@@ -472,9 +473,31 @@ fn healing_forms() -> Vec<Form> {
         Form {
             effect: Effect::LogHealing,
             name: "power-law time, b t^n at rest",
-            template: ext_healing(HealingForm::Power),
+            template: ext_healing(HealingForm::Power, false),
             params: vec![Param::HealB, Param::HealN],
             starts: vec![vec![0.005, 0.3], vec![0.002, 0.6], vec![0.01, 0.15]],
+            neutral: vec![0.0, 0.3],
+            bounds: vec![],
+        },
+        // The same laws added to the recovery ξ(μ_s − μ) of Eq. (24) instead of replacing it:
+        // the base model is their b = 0, so they cannot fit worse than it, and a contact that
+        // both recovers as it slides and ages at rest (as most granular interfaces do) is
+        // described without giving either up.
+        Form {
+            effect: Effect::LogHealing,
+            name: "log time at rest, added to the recovery xi",
+            template: ext_healing(HealingForm::Log, true),
+            params: vec![Param::HealB, Param::HealTc],
+            starts: vec![vec![0.005, 1.0], vec![0.005, 30.0], vec![0.02, 10.0]],
+            neutral: vec![0.0, 10.0],
+            bounds: vec![],
+        },
+        Form {
+            effect: Effect::LogHealing,
+            name: "power-law time at rest, added to the recovery xi",
+            template: ext_healing(HealingForm::Power, true),
+            params: vec![Param::HealB, Param::HealN],
+            starts: vec![vec![0.003, 0.3], vec![0.001, 0.6], vec![0.005, 0.15]],
             neutral: vec![0.0, 0.3],
             bounds: vec![],
         },
@@ -482,7 +505,7 @@ fn healing_forms() -> Vec<Form> {
         Form {
             effect: Effect::LogHealing,
             name: "general time, b ((1 + t/t_c)^n - 1)/n at rest",
-            template: ext_healing(HealingForm::General),
+            template: ext_healing(HealingForm::General, false),
             params: vec![Param::HealB, Param::HealTc, Param::HealN],
             starts: vec![
                 vec![0.01, 1.0, 0.05],

@@ -319,6 +319,7 @@ fn healing(e: &mut subfric_model::Extensions) -> &mut Healing {
         t_c: 10.0,
         n: 0.5,
         form: HealingForm::Log,
+        recovery: false,
     })
 }
 

@@ -207,10 +207,10 @@ impl Contact1 {
                 theta_el,
             ));
         }
-        let (xi_dt, exp_xi_dt) = if self.k.ext.healing.is_some() {
-            (0.0, 1.0)
-        } else {
+        let (xi_dt, exp_xi_dt) = if self.k.ext.recovery() {
             (self.k.xi * dt, exp_xi_dt)
+        } else {
+            (0.0, 1.0)
         };
         Begin::Plastic {
             sign,

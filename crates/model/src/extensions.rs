@@ -322,7 +322,9 @@ pub enum HealingForm {
 
 /// Time healing at rest instead of the exponential recovery ξ(μ_s − μ) of Eq. (24): a contact
 /// at rest for a time θ (since sliding last stopped) regains Δμ(θ), up to μ_s; while it slides
-/// it does not heal, so steady friction no longer depends on the sliding rate through ξ.
+/// it does not heal, so steady friction no longer depends on the sliding rate through ξ. With
+/// `recovery` the healing adds to the recovery instead (which then acts as in Eq. 24, sliding
+/// and at rest): the base model is the case b = 0.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Healing {
     /// Healing amplitude b.
@@ -336,6 +338,9 @@ pub struct Healing {
     /// The form.
     #[serde(default = "log_form")]
     pub form: HealingForm,
+    /// Keep the exponential recovery ξ(μ_s − μ) of Eq. (24) and add the healing to it at rest.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub recovery: bool,
 }
 
 fn ten() -> f64 {
@@ -436,6 +441,13 @@ fn finite_positive(v: f64) -> bool {
 }
 
 impl Extensions {
+    /// True when the exponential recovery ξ(μ_s − μ) of Eq. (24) acts: always, except under a
+    /// time healing that replaces it.
+    #[inline]
+    pub fn recovery(&self) -> bool {
+        self.healing.is_none_or(|h| h.recovery)
+    }
+
     /// True when no extension is active (the base model).
     pub fn is_base(&self) -> bool {
         *self == Extensions::default()
@@ -627,6 +639,7 @@ mod tests {
                 t_c: 5.0,
                 n: 0.4,
                 form,
+                recovery: false,
             };
             let whole = h.gain(3.0, 100.0);
             let split = h.gain(3.0, 40.0) + h.gain(43.0, 60.0);
@@ -642,6 +655,7 @@ mod tests {
             t_c: 5.0,
             n,
             form,
+            recovery: false,
         };
         for (age, dt) in [(0.0, 1.0), (3.0, 10.0), (100.0, 500.0)] {
             let log = h(HealingForm::Log, 0.5).gain(age, dt);

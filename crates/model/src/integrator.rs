@@ -110,12 +110,17 @@ impl Consts {
     }
 
     /// μ after an elastic step (no sliding) of `dt` at contact age `age`: exponential recovery
-    /// towards μ_s (Eq. 24), or time healing.
+    /// towards μ_s (Eq. 24), time healing instead, or time healing on top of it.
     #[inline]
     pub fn rest_mu(&self, l: &Local, mu: f64, age: f64, dt: f64, exp_xi_dt: f64) -> f64 {
+        let recovered = if self.ext.recovery() {
+            l.mu_s - (l.mu_s - mu) * exp_xi_dt
+        } else {
+            mu
+        };
         match self.ext.healing {
-            Some(h) => (mu + h.gain(age, dt)).min(l.mu_s),
-            None => l.mu_s - (l.mu_s - mu) * exp_xi_dt,
+            Some(h) => (recovered + h.gain(age, dt)).min(l.mu_s),
+            None => recovered,
         }
     }
 
@@ -128,12 +133,13 @@ impl Consts {
         }
     }
 
-    /// ξΔt of a plastic step: no recovery while sliding under time healing.
+    /// ξΔt of a plastic step: no recovery while sliding under a time healing that replaces it.
     #[inline]
     pub fn plastic_recovery(&self, dt: f64) -> f64 {
-        match self.ext.healing {
-            Some(_) => 0.0,
-            None => self.xi * dt,
+        if self.ext.recovery() {
+            self.xi * dt
+        } else {
+            0.0
         }
     }
 
@@ -194,11 +200,7 @@ impl Consts {
                     .clamp(0.0, l.mu_s);
             }
         }
-        let xi = if self.ext.healing.is_some() {
-            0.0
-        } else {
-            self.xi
-        };
+        let xi = if self.ext.recovery() { self.xi } else { 0.0 };
         let kv = l.kappa * v;
         if kv + xi > 0.0 {
             (kv * mu_k + xi * l.mu_s) / (kv + xi)

@@ -323,6 +323,7 @@ fn time_healing_forms_grow_with_the_hold_as_their_law_says() {
                     t_c: 1.0,
                     n: 0.3,
                     form,
+                    recovery: false,
                 }),
                 ..Extensions::default()
             },
@@ -333,6 +334,61 @@ fn time_healing_forms_grow_with_the_hold_as_their_law_says() {
             (ratio - expected_ratio).abs() < 0.08 * expected_ratio,
             "{form:?}: ratio {ratio} expected {expected_ratio}"
         );
+    }
+}
+
+#[test]
+fn healing_added_to_the_recovery_is_the_base_model_at_b_zero_and_adds_its_gain() {
+    // A slide, holds of 10 s and 1000 s, slides: with b = 0 the form is the base model row for
+    // row (it nests it); with b > 0 each hold's peak gain exceeds the base model's recovery.
+    let base = Params {
+        mu_k: 0.35,
+        kappa: 20.0,
+        xi: 0.002,
+        ..flat_base()
+    };
+    let healing = |b: f64| {
+        model(
+            base,
+            Extensions {
+                healing: Some(Healing {
+                    b,
+                    t_c: 1.0,
+                    n: 0.3,
+                    form: HealingForm::Log,
+                    recovery: true,
+                }),
+                ..Extensions::default()
+            },
+        )
+    };
+    let plain = model(base, Extensions::default());
+    let h = History::new()
+        .slide(0.001, 0.6, 0.0005)
+        .hold(10.0, 50)
+        .slide(0.001, 0.3, 0.0005)
+        .hold(1000.0, 50)
+        .slide(0.001, 0.3, 0.0005);
+    let (f0, fb) = (
+        run(&plain, &h, 100.0, Initial::Rest),
+        run(&healing(0.0), &h, 100.0, Initial::Rest),
+    );
+    let worst = f0
+        .iter()
+        .zip(&fb)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        worst < 1e-12,
+        "b = 0 differs from the base model by {worst}"
+    );
+    let (g0, gb) = (
+        hold_gains(&plain, &[10.0, 1000.0]),
+        hold_gains(&healing(0.005), &[10.0, 1000.0]),
+    );
+    for k in 0..2 {
+        assert!(g0[k] > 0.0, "the base model recovers in a hold: {g0:?}");
+        assert!(gb[k] > g0[k] + 0.002, "hold {k}: {gb:?} vs the base {g0:?}");
     }
 }
 
@@ -711,6 +767,7 @@ fn collinear_3d_equals_1d_for_every_form() {
                 t_c: 3.0,
                 n: 0.5,
                 form: HealingForm::Power,
+                recovery: false,
             }),
             ..Extensions::default()
         },
