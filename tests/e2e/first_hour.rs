@@ -428,3 +428,78 @@ fn the_readme_is_short_and_starts_with_the_two_commands() {
     }
     assert!(repo().join("docs/data-format.md").is_file());
 }
+
+/// `simulate` on records with a seating toe: the model does not simulate the toe (the test
+/// starts at rest after it), so the simulated set leaves those rows out and says so in each
+/// file's comment, every column keeping one value per row; the set it writes loads again.
+#[test]
+fn simulate_leaves_out_a_seating_toe_and_writes_a_set_that_loads() {
+    let s = subfric!();
+    let tmp = tempfile::tempdir().unwrap();
+    let sets = tmp.path().join("generated");
+    // Sets of the independent generator with no effect, on each rig and logger profile.
+    s.ok(args![
+        "selfcheck",
+        "--write",
+        &sets,
+        "--classes",
+        "1",
+        "--per-class",
+        "4",
+        "--seed",
+        "3"
+    ]);
+    let params = tmp.path().join("params.json");
+    std::fs::write(
+        &params,
+        r#"{"mu_s": 0.4, "mu_k": 0.3, "kappa": 2.0, "xi": 0.001, "u_tilde": 20.0, "alpha_t": 0.005, "alpha_n": 0.005}"#,
+    )
+    .unwrap();
+    let mut toes = 0;
+    for entry in std::fs::read_dir(&sets).unwrap() {
+        let set = entry.unwrap().path();
+        if !set.is_dir() {
+            continue;
+        }
+        let out = tmp.path().join("simulated").join(set.file_name().unwrap());
+        s.ok(args!["simulate", &set, "--params", &params, "--out", &out]);
+        s.ok(args!["check", &out]);
+        for csv in std::fs::read_dir(&out).unwrap() {
+            let csv = csv.unwrap().path();
+            if csv.extension().is_none_or(|e| e != "csv") {
+                continue;
+            }
+            let simulated = std::fs::read_to_string(&csv).unwrap();
+            let measured = std::fs::read_to_string(set.join(csv.file_name().unwrap())).unwrap();
+            let data_rows = |t: &str| {
+                t.lines()
+                    .filter(|l| l.starts_with(|c: char| c.is_ascii_digit() || c == '-'))
+                    .count()
+            };
+            let comment = simulated.lines().next().unwrap();
+            match comment.split("the record's first ").nth(1) {
+                Some(rest) => {
+                    toes += 1;
+                    let cut: usize = rest.split(' ').next().unwrap().parse().unwrap();
+                    assert!(comment.contains("seating toe"), "{comment}");
+                    assert_eq!(
+                        data_rows(&simulated) + cut,
+                        data_rows(&measured),
+                        "{}: {comment}",
+                        csv.display()
+                    );
+                }
+                None => assert_eq!(
+                    data_rows(&simulated),
+                    data_rows(&measured),
+                    "{}",
+                    csv.display()
+                ),
+            }
+        }
+    }
+    assert!(
+        toes > 0,
+        "the rig and lab profiles put a seating toe on tests loaded from rest"
+    );
+}

@@ -84,6 +84,16 @@ pub fn simulate_set(dir: &Path, model: &Model, out: &Path, force: bool) -> Resul
     let claim = SetDir::claim(out, Some(dir), &set_files(&set.meta.tests), force)?;
     let prepared = prepare_set(&set, false);
     for (t, p) in set.tests.iter_mut().zip(&prepared) {
+        // A seating toe is left out of what the model simulates (the test starts at rest after
+        // it): the simulated test leaves out its rows too, and says so, so that every column
+        // keeps one value per row.
+        let toe_note = p.toe.as_ref().map(|toe| {
+            *t = t.rows_from(toe.first_kept);
+            format!(
+                "; the record's first {} rows (a seating toe over {:.3} mm) are left out: the model starts at rest under {:.2} kPa after them",
+                toe.first_kept, toe.travel_mm, toe.start_shear_kpa
+            )
+        });
         let pred = p.full.predict(model).map_err(|e| {
             anyhow!(
                 "{}: test `{}`: {e} (row numbers count data rows from 0)",
@@ -106,7 +116,7 @@ pub fn simulate_set(dir: &Path, model: &Model, out: &Path, force: bool) -> Resul
             model.params.xi,
             model.params.u_tilde,
             model.params.alpha_t
-        )];
+        ) + toe_note.as_deref().unwrap_or("")];
     }
     set.meta.provenance = Some(format!("simulated by subfric from {}", dir.display()));
     write_claimed(&set, claim)
