@@ -130,8 +130,7 @@ mod tests {
     /// A loading at 0.01 mm/s that closes a gap of `gap` mm first (shear 0.2 % of the peak per
     /// 0.1 mm there), then rises like tanh over 0.05 mm to 60 kPa.
     fn loading(gap: f64) -> TestData {
-        let time: Vec<f64> = (0..=400).map(|i| i as f64).collect();
-        let slip: Vec<f64> = time.iter().map(|t| 0.01 * t).collect();
+        let slip: Vec<f64> = (0..=400).map(|i| 0.01 * i as f64).collect();
         let shear: Vec<f64> = slip
             .iter()
             .map(|&u| {
@@ -142,11 +141,16 @@ mod tests {
                 }
             })
             .collect();
-        let n = time.len();
+        slip_test("mono", slip, shear)
+    }
+
+    /// A slip-controlled test at 100 kPa, one row per second.
+    fn slip_test(name: &str, slip: Vec<f64>, shear: Vec<f64>) -> TestData {
+        let n = slip.len();
         TestData {
-            spec: TestSpec::new("mono", "mono.csv", ControlColumn::Slip, 100.0),
-            path: "mono.csv".into(),
-            time_s: time,
+            spec: TestSpec::new(name, &format!("{name}.csv"), ControlColumn::Slip, 100.0),
+            path: format!("{name}.csv").into(),
+            time_s: (0..n).map(|i| i as f64).collect(),
             slip_mm: slip,
             shear_kpa: shear,
             normal_kpa: vec![100.0; n],
@@ -231,18 +235,7 @@ mod tests {
         leg(stroke, true, &mut slip, &mut shear);
         leg(-0.6, false, &mut slip, &mut shear);
         leg(0.6, false, &mut slip, &mut shear);
-        let n = slip.len();
-        TestData {
-            spec: TestSpec::new("cyclic", "cyclic.csv", ControlColumn::Slip, 100.0),
-            path: "cyclic.csv".into(),
-            time_s: (0..n).map(|i| i as f64).collect(),
-            slip_mm: slip,
-            shear_kpa: shear,
-            normal_kpa: vec![100.0; n],
-            friction_given: false,
-            line_of_row: (2..n + 2).collect(),
-            comments: vec![],
-        }
+        slip_test("cyclic", slip, shear)
     }
 
     #[test]
