@@ -236,26 +236,8 @@ pub(crate) fn travel_quantile(chunks: &[Chunk], q: f64) -> f64 {
 
 /// Least-squares line y = a + b t through rows `rows`.
 fn line(t: &[f64], y: &[f64], rows: std::ops::RangeInclusive<usize>) -> Option<(f64, f64)> {
-    let n = (rows.end() + 1).saturating_sub(*rows.start()) as f64;
-    if n < 2.0 {
-        return None;
-    }
-    let (mut st, mut sy) = (0.0, 0.0);
-    for i in rows.clone() {
-        st += t[i];
-        sy += y[i];
-    }
-    let (tm, ym) = (st / n, sy / n);
-    let (mut stt, mut sty) = (0.0, 0.0);
-    for i in rows {
-        stt += (t[i] - tm) * (t[i] - tm);
-        sty += (t[i] - tm) * (y[i] - ym);
-    }
-    if stt <= 0.0 {
-        return None;
-    }
-    let b = sty / stt;
-    Some((ym - b * tm, b))
+    let l = crate::line::fit_line(&t[rows.clone()], &y[rows])?;
+    Some((l.intercept, l.slope))
 }
 
 /// The row where two straight pieces meet: the row nearest to the intersection of the lines

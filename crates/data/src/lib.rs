@@ -36,6 +36,7 @@ pub mod events;
 pub mod fsio;
 pub mod import;
 mod jsonpos;
+pub mod line;
 pub mod located;
 pub mod meta;
 pub mod noise;

@@ -131,22 +131,9 @@ fn unload_slope(u: &[f64], tau: &[f64], r: usize, j: usize, band: f64) -> Option
     if end < r + 3 || (u[end] - u[r]).abs() < UNLOAD_BANDS * band {
         return None;
     }
-    let rows = r..=end;
-    let n = (end - r + 1) as f64;
-    let (mu, mt) = (
-        u[rows.clone()].iter().sum::<f64>() / n,
-        tau[rows.clone()].iter().sum::<f64>() / n,
-    );
-    let (mut suu, mut sut, mut stt) = (0.0, 0.0, 0.0);
-    for k in rows {
-        suu += (u[k] - mu).powi(2);
-        sut += (u[k] - mu) * (tau[k] - mt);
-        stt += (tau[k] - mt).powi(2);
-    }
-    let slope = sut / suu;
-    let r2 = sut * sut / (suu * stt);
+    let line = subfric_data::line::fit_line(&u[r..=end], &tau[r..=end])?;
     // The shear must fall as the travel reverses: a slope of the wrong sign is noise.
-    (suu > 0.0 && slope.is_finite() && slope > 0.0 && r2 >= UNLOAD_R2).then_some(slope)
+    (line.slope.is_finite() && line.slope > 0.0 && line.r2 >= UNLOAD_R2).then_some(line.slope)
 }
 
 /// The loading slope of a test that starts at rest, when the record resolves it as elastic:
