@@ -236,6 +236,13 @@ fn every_form(s: &mut String, d: &Diagnosis) {
             d.excluded_forms.join("; ")
         );
     }
+    if !d.with_families.is_empty() {
+        let _ = writeln!(
+            s,
+            "   tried on request beyond the default library (--with-family): {}",
+            d.with_families.join(", ")
+        );
+    }
     let _ = writeln!(
         s,
         "   {:<15} {:<44} {:>10}  {:<10} parameters",

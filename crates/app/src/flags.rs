@@ -11,7 +11,7 @@ pub fn parse_param(s: &str) -> Result<Param, String> {
         format!(
             "unknown parameter `{}` (expected one of {})",
             s.trim(),
-            Param::ALL
+            Param::all()
                 .iter()
                 .map(|p| p.key())
                 .collect::<Vec<_>>()

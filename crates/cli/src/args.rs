@@ -471,6 +471,24 @@ pub struct DiagnoseArgs {
     /// [default: every form]
     #[arg(long, value_parser = known_form)]
     pub without_form: Vec<String>,
+    /// Also try this registered effect family (`crates/model/src/terms`), one the diagnosis
+    /// does not try by default because an artifact can mimic it (repeat for several; the
+    /// names are listed in docs/diagnosis.md and by an unknown name's error).
+    #[arg(long, value_parser = known_family)]
+    pub with_family: Vec<String>,
+}
+
+/// A registered family's name, as `--with-family` takes it.
+fn known_family(s: &str) -> Result<String, String> {
+    let names = subfric_diagnose::candidates::registered_family_names();
+    if names.contains(&s) {
+        Ok(s.to_string())
+    } else {
+        Err(format!(
+            "unknown family `{s}` (expected one of: {})",
+            names.join(", ")
+        ))
+    }
 }
 
 /// A candidate form's name, as `--without-form` takes it.

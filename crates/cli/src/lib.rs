@@ -254,6 +254,7 @@ fn run_diagnose(a: DiagnoseArgs) -> Result<()> {
     let opts = DiagnoseOptions {
         seed: a.seed,
         excluded_forms: a.without_form.clone(),
+        with_families: a.with_family.clone(),
         ..DiagnoseOptions::default()
     };
     let to = Destination {

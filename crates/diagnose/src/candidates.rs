@@ -6,14 +6,14 @@ use crate::features::DataFeatures;
 use crate::folds::PieceKind;
 use serde::{Deserialize, Serialize};
 use subfric_fit::Param;
+use subfric_model::terms::{self, Shows};
 use subfric_model::{
     AtRest, DirectionEffect, Extensions, Healing, HealingForm, PressureEffect, PressureForm,
     RateEffect, RateForm, SlipForm, SlipHardening, Target,
 };
 
 /// An effect the diagnosis can name (a family of forms).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Effect {
     /// The base model explains the data: the gap is noise.
     None,
@@ -29,6 +29,9 @@ pub enum Effect {
     Direction,
     /// A real gap that no candidate explains (e.g. measurement drift).
     Unexplained,
+    /// A registered family (index in `subfric_model::terms::FAMILIES`): everything about it
+    /// comes from its module.
+    Term(u8),
 }
 
 impl Effect {
@@ -43,7 +46,7 @@ impl Effect {
         Effect::Unexplained,
     ];
 
-    /// The physical families (what a candidate can be).
+    /// The built-in physical families ([`Effect::families`] adds the registered ones).
     pub const FAMILIES: [Effect; 5] = [
         Effect::Rate,
         Effect::Pressure,
@@ -52,9 +55,16 @@ impl Effect {
         Effect::Direction,
     ];
 
+    /// Every physical family: the built-in ones and each registered family.
+    pub fn families() -> Vec<Effect> {
+        let registered = (0..terms::FAMILIES.len()).map(|i| Effect::Term(i as u8));
+        Effect::FAMILIES.into_iter().chain(registered).collect()
+    }
+
     /// Name as in `diagnosis.json`.
     pub fn name(self) -> &'static str {
         match self {
+            Effect::Term(i) => terms::family(i).name(),
             Effect::None => "none",
             Effect::Rate => "rate",
             Effect::Pressure => "pressure",
@@ -71,25 +81,28 @@ impl Effect {
             "healing" | "time-healing" => Some(Effect::LogHealing),
             "drift" => Some(Effect::Unexplained),
             "slip" | "slip-softening" => Some(Effect::SlipHardening),
-            _ => Effect::ALL.iter().copied().find(|e| e.name() == s),
+            _ => Effect::ALL
+                .iter()
+                .copied()
+                .find(|e| e.name() == s)
+                .or_else(|| terms::family_named(s).map(|(i, _)| Effect::Term(i))),
         }
     }
 
     /// The kinds of held-out piece this family acts on, where an effect of the family must
     /// show to be credited when the other pieces do not improve (see
     /// [`crate::verdict::decide_further`]).
-    pub fn own_kinds(self) -> &'static [OwnKind] {
-        match self {
-            Effect::Rate => &[
-                OwnKind::Piece(PieceKind::VelocityStep),
-                OwnKind::Piece(PieceKind::Hold),
-            ],
-            Effect::LogHealing => &[OwnKind::Piece(PieceKind::Hold)],
-            Effect::Direction => &[OwnKind::Piece(PieceKind::Reversal)],
-            Effect::SlipHardening => &[OwnKind::AfterFirstLoading],
-            Effect::Pressure => &[OwnKind::AwayFromReferenceStress],
+    pub fn own_kinds(self) -> Vec<OwnKind> {
+        let shows: &[Shows] = match self {
+            Effect::Rate => &[Shows::VelocitySteps, Shows::Holds],
+            Effect::LogHealing => &[Shows::Holds],
+            Effect::Direction => &[Shows::Reversals],
+            Effect::SlipHardening => &[Shows::AfterFirstLoading],
+            Effect::Pressure => &[Shows::AwayFromReferenceStress],
+            Effect::Term(i) => terms::family(i).shows(),
             Effect::None | Effect::Unexplained => &[],
-        }
+        };
+        shows.iter().map(|&s| OwnKind::from(s)).collect()
     }
 
     /// One-line physical description.
@@ -102,7 +115,27 @@ impl Effect {
             Effect::LogHealing => "time healing: friction regains strength at rest as a law of time, not by exponential recovery",
             Effect::Direction => "direction dependence: backward sliding differs from forward sliding",
             Effect::Unexplained => "a real gap none of the candidates explains",
+            Effect::Term(i) => terms::family(i).describe(),
         }
+    }
+}
+
+// In reports an effect is its name; a registered family's name is read back to its index.
+impl Serialize for Effect {
+    fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        ser.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for Effect {
+    fn deserialize<D: serde::Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(de)?;
+        Effect::ALL
+            .iter()
+            .copied()
+            .find(|e| e.name() == name)
+            .or_else(|| terms::family_named(&name).map(|(i, _)| Effect::Term(i)))
+            .ok_or_else(|| serde::de::Error::custom(format!("unknown effect `{name}`")))
     }
 }
 
@@ -125,6 +158,18 @@ pub enum OwnKind {
     AfterFirstLoading,
     /// The pieces of tests away from the set's reference normal stress.
     AwayFromReferenceStress,
+}
+
+impl From<Shows> for OwnKind {
+    fn from(s: Shows) -> OwnKind {
+        match s {
+            Shows::VelocitySteps => OwnKind::Piece(PieceKind::VelocityStep),
+            Shows::Holds => OwnKind::Piece(PieceKind::Hold),
+            Shows::Reversals => OwnKind::Piece(PieceKind::Reversal),
+            Shows::AfterFirstLoading => OwnKind::AfterFirstLoading,
+            Shows::AwayFromReferenceStress => OwnKind::AwayFromReferenceStress,
+        }
+    }
 }
 
 impl OwnKind {
@@ -329,9 +374,60 @@ fn rate_forms(f: &DataFeatures) -> Vec<Form> {
 }
 
 /// The candidate forms that the data can tell anything about (no pressure forms with one normal
-/// stress, no direction without reversals, no healing without holds).
+/// stress, no direction without reversals, no healing without holds), with the registered
+/// families that are tried by default.
 pub fn library(f: &DataFeatures) -> Vec<Form> {
-    library_for(f)
+    library_with(f, &[])
+}
+
+/// [`library`] with the registered families named in `with` tried as well (by name, as
+/// `diagnose --with-family` takes them).
+pub fn library_with(f: &DataFeatures, with: &[String]) -> Vec<Form> {
+    let mut out = library_for(f);
+    for (i, fam) in terms::FAMILIES.iter().enumerate() {
+        let asked = with.iter().any(|w| w == fam.name());
+        if (fam.tried_by_default() || asked) && fam.applies(&f.scales()) {
+            out.extend(term_forms(i as u8, f));
+        }
+    }
+    out
+}
+
+/// The names of the registered families (what `diagnose --with-family` takes).
+pub fn registered_family_names() -> Vec<&'static str> {
+    terms::FAMILIES.iter().map(|f| f.name()).collect()
+}
+
+/// The forms of registered family `family`, with its first guesses for these data.
+fn term_forms(family: u8, f: &DataFeatures) -> Vec<Form> {
+    let fam = terms::family(family);
+    let param = |index: usize| Param::Term {
+        family,
+        index: index as u8,
+    };
+    fam.forms()
+        .iter()
+        .enumerate()
+        .map(|(k, form)| {
+            let g = fam.guess(k, &f.scales());
+            Form {
+                effect: Effect::Term(family),
+                name: form.describe,
+                template: Extensions {
+                    term: Some(terms::TermEffect::new(family, k as u8)),
+                    ..Extensions::default()
+                },
+                params: form.params.iter().map(|&i| param(i)).collect(),
+                starts: g.starts,
+                neutral: g.neutral,
+                bounds: g
+                    .bounds
+                    .iter()
+                    .map(|&(i, lo, hi)| (param(form.params[i]), lo, hi))
+                    .collect(),
+            }
+        })
+        .collect()
 }
 
 /// The name of every form of the library, whatever the data show (the names
@@ -339,7 +435,9 @@ pub fn library(f: &DataFeatures) -> Vec<Form> {
 ///
 /// ```
 /// let names = subfric_diagnose::candidates::all_form_names();
-/// assert_eq!(names.len(), 31);
+/// // 31 built-in forms and every form of the registered families.
+/// let registered: usize = subfric_model::terms::FAMILIES.iter().map(|f| f.forms().len()).sum();
+/// assert_eq!(names.len(), 31 + registered);
 /// assert!(names.contains(&"rate and state, slip law"));
 /// ```
 pub fn all_form_names() -> Vec<&'static str> {
@@ -352,6 +450,7 @@ pub fn all_form_names() -> Vec<&'static str> {
         holds: 1,
         reversals: 1,
         slip_span_mm: 1.0,
+        duration_s: 100.0,
         steps: crate::features::StepSignature {
             direct: 0.01,
             steady: 0.0,
@@ -359,7 +458,17 @@ pub fn all_form_names() -> Vec<&'static str> {
             steps: 1,
         },
     };
-    library_for(&every_family).iter().map(|f| f.name).collect()
+    library_with(&every_family, &registered_family_names_owned())
+        .iter()
+        .map(|f| f.name)
+        .collect()
+}
+
+fn registered_family_names_owned() -> Vec<String> {
+    registered_family_names()
+        .into_iter()
+        .map(String::from)
+        .collect()
 }
 
 fn library_for(f: &DataFeatures) -> Vec<Form> {

@@ -37,6 +37,8 @@ pub struct DataFeatures {
     pub reversals: usize,
     /// Median imposed travel of a test [mm].
     pub slip_span_mm: f64,
+    /// Longest test duration [s].
+    pub duration_s: f64,
     /// Velocity-step signature.
     pub steps: StepSignature,
     /// First guesses from the per-event reading ([`crate::events`]), when it found them.
@@ -223,6 +225,26 @@ pub fn data_features(tests: &[PreparedTest]) -> DataFeatures {
         holds,
         reversals,
         slip_span_mm: median(&mut spans).unwrap_or(1.0),
+        duration_s: fits
+            .iter()
+            .map(|t| t.time.last().unwrap_or(&0.0) - t.time.first().unwrap_or(&0.0))
+            .fold(0.0, f64::max),
         steps: step_signature(tests),
+    }
+}
+
+impl DataFeatures {
+    /// The scales a registered family reads its first guesses from.
+    pub fn scales(&self) -> subfric_model::terms::DataScales {
+        subfric_model::terms::DataScales {
+            v_ref: self.v_ref,
+            p_ref: self.p_ref,
+            slip_span_mm: self.slip_span_mm,
+            duration_s: self.duration_s,
+            holds: self.holds,
+            reversals: self.reversals,
+            pressure_levels: self.pressure_levels,
+            sliding_rates: self.sliding_rates,
+        }
     }
 }

@@ -74,6 +74,7 @@ pub fn merge(a: &Extensions, b: &Extensions) -> Extensions {
         slip_hardening: b.slip_hardening.or(a.slip_hardening),
         healing: b.healing.or(a.healing),
         direction: b.direction.or(a.direction),
+        term: b.term.or(a.term),
     }
 }
 

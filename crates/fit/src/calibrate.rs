@@ -474,7 +474,7 @@ fn parameter_reports(p: &Problem, u: &Uncertainty, model: &Model) -> Vec<ParamRe
             difference_percent: None,
         });
     }
-    for q in Param::ALL {
+    for q in Param::all() {
         if p.space.free.contains(&q) {
             continue;
         }

@@ -3,6 +3,7 @@
 //! μ_k/μ_s so that μ_k ≤ μ_s always holds).
 
 use serde::{Deserialize, Serialize};
+use subfric_model::terms::{self, TermEffect, TermParam};
 use subfric_model::{
     DirectionEffect, Healing, HealingForm, Model, PressureEffect, PressureForm, RateEffect,
     SlipForm, SlipHardening, Target,
@@ -52,6 +53,13 @@ pub enum Param {
     DirectionD,
     /// Direction effect on μ_s and μ_k separately: d of μ_k.
     DirectionDK,
+    /// Parameter `index` of the registered family `family` (see `subfric_model::terms`).
+    Term {
+        /// Index of the family in `subfric_model::terms::FAMILIES`.
+        family: u8,
+        /// Index of the parameter in the family's `params()`.
+        index: u8,
+    },
 }
 
 /// How a parameter is mapped to the optimiser's coordinate.
@@ -75,7 +83,8 @@ impl Param {
         Param::UTilde,
     ];
 
-    /// Every parameter.
+    /// Every parameter of the model and its built-in extensions ([`Param::all`] adds those of
+    /// the registered families).
     pub const ALL: [Param; 20] = [
         Param::MuS,
         Param::MuK,
@@ -99,9 +108,32 @@ impl Param {
         Param::DirectionDK,
     ];
 
+    /// Every parameter: [`Param::ALL`] and those of each registered family.
+    pub fn all() -> Vec<Param> {
+        let mut out = Param::ALL.to_vec();
+        for (family, f) in terms::FAMILIES.iter().enumerate() {
+            for index in 0..f.params().len() {
+                out.push(Param::Term {
+                    family: family as u8,
+                    index: index as u8,
+                });
+            }
+        }
+        out
+    }
+
+    /// The description of a registered family's parameter (`None` for the others).
+    pub fn term_param(self) -> Option<&'static TermParam> {
+        match self {
+            Param::Term { family, index } => terms::family(family).params().get(index as usize),
+            _ => None,
+        }
+    }
+
     /// Key as in `params.json` (extension parameters as `effect.name`).
     pub fn key(self) -> &'static str {
         match self {
+            Param::Term { .. } => self.term_param().map_or("term.?", |q| q.key),
             Param::MuS => "mu_s",
             Param::MuK => "mu_k",
             Param::Kappa => "kappa",
@@ -128,6 +160,7 @@ impl Param {
     /// Unit for display.
     pub fn unit(self) -> &'static str {
         match self {
+            Param::Term { .. } => self.term_param().map_or("", |q| q.unit),
             Param::Kappa | Param::UTilde => "1/mm",
             Param::Xi => "1/s",
             Param::AlphaT => "kN/mm³",
@@ -141,7 +174,7 @@ impl Param {
 
     /// Parses a key (as printed by [`Param::key`]).
     pub fn from_key(s: &str) -> Option<Param> {
-        Param::ALL.iter().copied().find(|p| p.key() == s)
+        Param::all().into_iter().find(|p| p.key() == s)
     }
 
     /// Why `lo..hi` (natural units) cannot bound this parameter, if it cannot: both finite,
@@ -184,6 +217,10 @@ impl Param {
     /// The coordinate transform.
     pub fn scale(self) -> Scale {
         match self {
+            Param::Term { .. } => match self.term_param() {
+                Some(q) if q.log_scale => Scale::Log,
+                _ => Scale::Linear,
+            },
             Param::MuK => Scale::RatioToMuS,
             Param::RateA
             | Param::RateB
@@ -202,6 +239,7 @@ impl Param {
     /// Default bounds in natural units (for μ_k: bounds of the ratio μ_k/μ_s).
     pub fn default_bounds(self) -> (f64, f64) {
         match self {
+            Param::Term { .. } => self.term_param().map_or((-1.0, 1.0), |q| q.bounds),
             Param::MuS => (0.02, 3.0),
             Param::MuK => (1e-3, 1.0 - 1e-6),
             Param::Kappa => (1e-3, 1e4),
@@ -248,6 +286,15 @@ impl Param {
             Param::HealN => e.healing?.n,
             Param::DirectionD => e.direction?.d,
             Param::DirectionDK => e.direction?.d_k,
+            Param::Term { family, index } => {
+                // A parameter the active form does not use is inactive, like an extension
+                // that is off.
+                let t = e.term.filter(|t| t.family == family)?;
+                if !t.form().params.contains(&(index as usize)) {
+                    return None;
+                }
+                *t.p.get(index as usize)?
+            }
         })
     }
 
@@ -278,6 +325,26 @@ impl Param {
             Param::HealN => healing(e).n = v,
             Param::DirectionD => direction(e).d = v,
             Param::DirectionDK => direction(e).d_k = v,
+            Param::Term { family, index } => {
+                // One registered family at a time; setting a parameter its form does not use
+                // switches to the first form that does (the other values are kept).
+                let i = index as usize;
+                let first_using = terms::family(family)
+                    .forms()
+                    .iter()
+                    .position(|f| f.params.contains(&i))
+                    .unwrap_or(0) as u8;
+                let t = match e.term {
+                    Some(t) if t.family == family => e.term.as_mut().expect("just matched"),
+                    _ => e.term.insert(TermEffect::new(family, first_using)),
+                };
+                if !t.form().params.contains(&i) {
+                    t.form = first_using;
+                }
+                if let Some(slot) = t.p.get_mut(i) {
+                    *slot = v;
+                }
+            }
         }
     }
 }

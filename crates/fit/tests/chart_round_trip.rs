@@ -118,3 +118,42 @@ fn the_all_lower_corner_of_the_combined_chart_round_trips() {
         );
     }
 }
+
+#[test]
+fn every_parameter_of_a_registered_family_sets_and_reads_back_through_its_form() {
+    // `Param::Term`: each parameter of each registered family, set on the base model, switches
+    // the family on in a form that uses it and reads back; a parameter the form does not use
+    // reads as inactive (None), so a report never shows a value the model ignores.
+    for q in Param::all() {
+        let Some(desc) = q.term_param() else {
+            continue;
+        };
+        assert_eq!(Param::from_key(q.key()), Some(q), "{}", q.key());
+        let (lo, hi) = desc.bounds;
+        let v = lo + 0.3 * (hi - lo);
+        let mut m = base();
+        q.set(&mut m, v);
+        assert_eq!(q.get(&m), Some(v), "{}", q.key());
+        let term = m.ext.term.expect("switched on");
+        for other in Param::all() {
+            if let (Some(_), Param::Term { index, .. }) = (other.term_param(), other) {
+                let used = term.form().params.contains(&(index as usize));
+                assert_eq!(
+                    other.get(&m).is_some(),
+                    used,
+                    "{} after {}",
+                    other.key(),
+                    q.key()
+                );
+            }
+        }
+        // In the optimiser's chart too.
+        let space = Space::new(m, &[q], &[]);
+        let x = space.point_of(&m);
+        let back = space.model_at(&x).ext.term.expect("still on");
+        assert_eq!((back.family, back.form), (term.family, term.form));
+        for (a, b) in back.p.iter().zip(&term.p) {
+            assert!((a - b).abs() <= 1e-12 * b.abs(), "{} {a} vs {b}", q.key());
+        }
+    }
+}

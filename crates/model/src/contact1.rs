@@ -25,6 +25,8 @@ pub struct State1 {
     pub slip_path: f64,
     /// Time since plastic sliding last occurred [s] (used by time healing).
     pub age: f64,
+    /// Time since the contact started [s] (used by registered terms, see [`crate::terms`]).
+    pub time: f64,
     /// Plastic slip increment of the last step [mm] (signed).
     pub last_plastic: f64,
     /// State variable θ of the rate-and-state forms [s] (unused otherwise).
@@ -47,6 +49,7 @@ impl State1 {
             sin_r: 0.0,
             slip_path: 0.0,
             age: 0.0,
+            time: 0.0,
             last_plastic: 0.0,
             theta: model.ext.rate.map_or(0.0, |r| r.neutral_theta()),
             last_dt: 0.0,
@@ -146,6 +149,7 @@ impl Contact1 {
             sin_r,
             slip_path: st.slip_path,
             age: st.age + dt,
+            time: st.time + dt,
             last_plastic: 0.0,
             theta,
             last_dt: dt,
@@ -190,9 +194,14 @@ impl Contact1 {
             ));
         }
         let (r0, c0, s0) = Self::start_surface(st, sign);
-        let mu_eff0 = self
-            .k
-            .elastic_mu_eff(&local, mu_el, theta_el, st.slip_path, st.rate_held);
+        let mu_eff0 = self.k.elastic_mu_eff(
+            &local,
+            mu_el,
+            theta_el,
+            st.slip_path,
+            st.time + dt,
+            st.rate_held,
+        );
         let magnitude = traction.abs();
         let excess = magnitude - r0 * mu_eff0 * p;
         if excess <= self.k.rest_tolerance(magnitude, p) {
@@ -226,6 +235,7 @@ impl Contact1 {
                 xi_dt,
                 exp_xi_dt,
                 s_acc: st.slip_path,
+                time: st.time + dt,
                 theta: st.theta,
                 local,
                 lam_guess: if self.k.ext.rate.is_some() && st.last_dt > 0.0 {
@@ -258,6 +268,7 @@ impl Contact1 {
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
             age: 0.0,
+            time: st.time + input.dt,
             last_plastic: sign * pl.lam,
             theta: pl.theta,
             last_dt: input.dt,

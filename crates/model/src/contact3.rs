@@ -153,6 +153,8 @@ pub struct State3 {
     pub slip_path: f64,
     /// Time since plastic sliding [s].
     pub age: f64,
+    /// Time since the contact started [s] (used by registered terms, see [`crate::terms`]).
+    pub time: f64,
     /// State variable θ of the rate-and-state forms [s] (unused otherwise).
     pub theta: f64,
     /// The rate terms of the last plastic step (kept at rest by a locked rate form).
@@ -171,6 +173,7 @@ impl State3 {
             sin_r: 0.0,
             slip_path: 0.0,
             age: 0.0,
+            time: 0.0,
             theta: model.ext.rate.map_or(0.0, |r| r.neutral_theta()),
             rate_held: RateHeld::NEUTRAL,
         }
@@ -281,6 +284,7 @@ impl Contact3 {
             ("sin_r", st.sin_r),
             ("slip_path", st.slip_path),
             ("age", st.age),
+            ("time", st.time),
             ("theta", st.theta),
             ("rate_add", st.rate_held.add),
         ];
@@ -324,6 +328,9 @@ impl Contact3 {
         }
         if st.age < 0.0 {
             return bad("age", st.age.to_string(), "a time >= 0 [s]");
+        }
+        if st.time < 0.0 {
+            return bad("time", st.time.to_string(), "a time >= 0 [s]");
         }
         if !(st.rate_held.factor > 0.0 && st.rate_held.factor.is_finite()) {
             return bad(
@@ -418,6 +425,7 @@ impl Contact3 {
                 sin_r,
                 slip_path: st.slip_path,
                 age: st.age + dt,
+                time: st.time + dt,
                 theta: theta_el,
                 rate_held: st.rate_held,
             }
@@ -446,8 +454,14 @@ impl Contact3 {
                 let fm = norm(&f_min);
                 let mu_eff = if fm > 0.0 {
                     let l = self.k.local(p, self.cos_forward(&scale(1.0 / fm, &f_min)));
-                    self.k
-                        .elastic_mu_eff(&l, mu_el, theta_el, st.slip_path, st.rate_held)
+                    self.k.elastic_mu_eff(
+                        &l,
+                        mu_el,
+                        theta_el,
+                        st.slip_path,
+                        st.time + dt,
+                        st.rate_held,
+                    )
                 } else {
                     1.0
                 };
@@ -455,9 +469,14 @@ impl Contact3 {
                 (s0, c0) = (FRAC_PI_2 * r0).sin_cos();
             }
         }
-        let mu_eff0 = self
-            .k
-            .elastic_mu_eff(&local, mu_el, theta_el, st.slip_path, st.rate_held);
+        let mu_eff0 = self.k.elastic_mu_eff(
+            &local,
+            mu_el,
+            theta_el,
+            st.slip_path,
+            st.time + dt,
+            st.rate_held,
+        );
         if magnitude - r0 * mu_eff0 * p <= self.k.rest_tolerance(magnitude, p) {
             let r = (magnitude / (mu_eff0 * p)).min(1.0);
             return Ok(elastic_end(trial, mu_el, r));
@@ -473,6 +492,7 @@ impl Contact3 {
             xi_dt,
             exp_xi_dt: (-xi_dt).exp(),
             s_acc: st.slip_path,
+            time: st.time + dt,
             theta: st.theta,
             local,
             lam_guess: 0.0,
@@ -487,6 +507,7 @@ impl Contact3 {
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
             age: 0.0,
+            time: st.time + dt,
             theta: pl.theta,
             rate_held: pl.held,
         })
@@ -553,9 +574,14 @@ impl Contact3 {
         }
         let t = self.trial_traction(st, trial, magnitude, p, dt);
         let start = self.restart_point(st, &t);
-        let mu_eff0 =
-            self.k
-                .elastic_mu_eff(&t.local, t.mu_el, t.theta_el, st.slip_path, st.rate_held);
+        let mu_eff0 = self.k.elastic_mu_eff(
+            &t.local,
+            t.mu_el,
+            t.theta_el,
+            st.slip_path,
+            st.time + t.dt,
+            st.rate_held,
+        );
         if magnitude - start.r0 * mu_eff0 * p <= self.k.rest_tolerance(magnitude, p) {
             return elastic;
         }
@@ -570,6 +596,7 @@ impl Contact3 {
             xi_dt,
             exp_xi_dt: (-xi_dt).exp(),
             s_acc: st.slip_path,
+            time: st.time + dt,
             theta: st.theta,
             local: t.local,
             lam_guess: 0.0,
@@ -632,8 +659,14 @@ impl Contact3 {
         let lt = self.k.local(p, ct);
         let mu = self.k.rest_mu(&lt, st.mu, st.age, t.dt, t.exp_xi_dt);
         let lm = self.k.local(p, cm);
-        self.k
-            .elastic_mu_eff(&lm, mu, t.theta_el, st.slip_path, st.rate_held)
+        self.k.elastic_mu_eff(
+            &lm,
+            mu,
+            t.theta_el,
+            st.slip_path,
+            st.time + t.dt,
+            st.rate_held,
+        )
     }
 
     /// ∇ of the direction cosine of a vector `v` of length `len` with respect to `v`
@@ -676,8 +709,14 @@ impl Contact3 {
         let fm = norm(&f_min);
         let mu_eff = if fm > 0.0 {
             let l = self.k.local(p, self.cos_forward(&scale(1.0 / fm, &f_min)));
-            self.k
-                .elastic_mu_eff(&l, t.mu_el, t.theta_el, st.slip_path, st.rate_held)
+            self.k.elastic_mu_eff(
+                &l,
+                t.mu_el,
+                t.theta_el,
+                st.slip_path,
+                st.time + t.dt,
+                st.rate_held,
+            )
         } else {
             1.0
         };

@@ -3,14 +3,16 @@
 //!
 //! All act on the friction in the Coulomb cone ‖f_t‖ = r μ_eff f_n (Eqs. 21–22):
 //!
-//! μ_eff = μ · P(p) · D(dir) · V(v) + R(v, θ) + H(s)
+//! μ_eff = μ · P(p) · D(dir) · V(v) + R(v, θ) + H(s) + T(s, t)
 //!
 //! with μ from Eq. (24) between bounds μ_s′, μ_k′ that a pressure or direction effect may move,
 //! P a pressure factor, D a direction factor, V a power law in the plastic slip rate v, R the
 //! log-rate and rate-and-state terms (θ the state variable), H slip hardening in the accumulated
-//! plastic slip s. [`Healing`] replaces the exponential recovery ξ(μ_s − μ) of Eq. (24) at rest.
+//! plastic slip s. A registered family ([`crate::terms`]) adds its term T(s, t) beside H.
+//! [`Healing`] replaces the exponential recovery ξ(μ_s − μ) of Eq. (24) at rest.
 //! Every term is zero (or one) at its reference, so μ_s and μ_k keep their meaning.
 
+use crate::terms::TermEffect;
 use serde::{Deserialize, Serialize};
 
 /// Reference normal stress of the pressure effect when none is given [kPa].
@@ -434,6 +436,9 @@ pub struct Extensions {
     /// Forward/backward asymmetry.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub direction: Option<DirectionEffect>,
+    /// A registered family's term T(s, t) (see [`crate::terms`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub term: Option<TermEffect>,
 }
 
 fn finite_positive(v: f64) -> bool {
@@ -515,6 +520,9 @@ impl Extensions {
             } else if !(e.n > 0.0 && e.n <= 1.0) {
                 v.push(("healing.n", e.n, "an exponent in (0, 1]"));
             }
+        }
+        if let Some(e) = self.term {
+            v.extend(e.issues());
         }
         if let Some(e) = self.direction {
             if !(e.d.is_finite() && e.d < 1.0 && e.d > -1.0) {

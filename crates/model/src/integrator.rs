@@ -124,13 +124,25 @@ impl Consts {
         }
     }
 
-    /// Slip-hardening term H(s) and its derivative.
+    /// The additive terms of accumulated plastic slip `s` and time `t`: slip hardening H(s)
+    /// plus a registered family's T(s, t), and their slope in s.
     #[inline]
-    pub fn slip_term(&self, s: f64) -> (f64, f64) {
-        match self.ext.slip_hardening {
+    pub fn path_terms(&self, s: f64, t: f64) -> (f64, f64) {
+        let mut out = match self.ext.slip_hardening {
             Some(e) => e.term(s),
             None => (0.0, 0.0),
+        };
+        if let Some(e) = self.ext.term {
+            let (v, d) = e.term(s, t);
+            out = (out.0 + v, out.1 + d);
         }
+        out
+    }
+
+    /// True when [`Consts::path_terms`] can be non-zero.
+    #[inline]
+    fn has_path_terms(&self) -> bool {
+        self.ext.slip_hardening.is_some() || self.ext.term.is_some()
     }
 
     /// ξΔt of a plastic step: no recovery while sliding under a time healing that replaces it.
@@ -162,9 +174,9 @@ impl Consts {
     }
 
     /// The terms of μ_eff = μ · factor + add of a contact sliding steadily at rate `v` with
-    /// θ = θ_ss(v), after an accumulated plastic slip `slip_path`.
-    fn sliding_terms(&self, l: &Local, v: f64, slip_path: f64) -> (f64, f64) {
-        let mut add = self.slip_term(slip_path).0;
+    /// θ = θ_ss(v), after an accumulated plastic slip `slip_path` at time `time`.
+    fn sliding_terms(&self, l: &Local, v: f64, slip_path: f64, time: f64) -> (f64, f64) {
+        let mut add = self.path_terms(slip_path, time).0;
         let mut factor = l.mult;
         if let Some(rate) = self.ext.rate {
             match rate.form {
@@ -186,7 +198,7 @@ impl Consts {
     /// μ that puts a contact sliding steadily at rate `v` with θ = θ_ss(v) on a surface of
     /// friction `mu_eff` (the inverse of μ_eff(μ) at that rate), within [μ floor, μ_s].
     pub fn sliding_mu(&self, l: &Local, mu_eff: f64, v: f64) -> f64 {
-        let (factor, add) = self.sliding_terms(l, v, 0.0);
+        let (factor, add) = self.sliding_terms(l, v, 0.0, 0.0);
         ((mu_eff - add) / factor).clamp(self.mu_floor(l), l.mu_s)
     }
 
@@ -215,7 +227,7 @@ impl Consts {
     pub fn steady_history(&self, l: &Local, mu_eff: f64, v: f64) -> Option<(f64, f64)> {
         let h = self.ext.slip_hardening?;
         let mu = self.steady_mu(l, v);
-        let (factor, add) = self.sliding_terms(l, v, 0.0);
+        let (factor, add) = self.sliding_terms(l, v, 0.0, 0.0);
         // H(s₀) = what the steady surface lacks; H(0) = 0 is part of `add`.
         let need = mu_eff - (mu * factor + add);
         if need == 0.0 {
@@ -250,9 +262,9 @@ impl Consts {
     }
 
     /// μ_eff of a contact sliding steadily at rate `v` with friction coefficient `mu`, after an
-    /// accumulated plastic slip `slip_path`.
-    pub fn sliding_mu_eff(&self, l: &Local, mu: f64, v: f64, slip_path: f64) -> f64 {
-        let (factor, add) = self.sliding_terms(l, v, slip_path);
+    /// accumulated plastic slip `slip_path` at time `time`.
+    pub fn sliding_mu_eff(&self, l: &Local, mu: f64, v: f64, slip_path: f64, time: f64) -> f64 {
+        let (factor, add) = self.sliding_terms(l, v, slip_path, time);
         (mu * factor + add).max(MIN_MU_EFF_FRACTION * l.mu_s)
     }
 
@@ -290,8 +302,9 @@ impl Consts {
         held
     }
 
-    /// μ_eff of an elastic step (plastic slip rate zero) from μ at the step's end; `held` are
-    /// the rate terms of the last plastic step, which a locked rate form keeps at rest.
+    /// μ_eff of an elastic step (plastic slip rate zero) from μ at the step's end (time
+    /// `time`); `held` are the rate terms of the last plastic step, which a locked rate form
+    /// keeps at rest.
     #[inline]
     pub fn elastic_mu_eff(
         &self,
@@ -299,13 +312,14 @@ impl Consts {
         mu: f64,
         theta: f64,
         slip_path: f64,
+        time: f64,
         held: RateHeld,
     ) -> f64 {
         let mut mu_eff = mu * l.mult;
         if let Some(rate) = self.ext.rate {
             if rate.locked() {
                 mu_eff = mu_eff * held.factor + held.add;
-                mu_eff += self.slip_term(slip_path).0;
+                mu_eff += self.path_terms(slip_path, time).0;
                 return mu_eff.max(MIN_MU_EFF_FRACTION * l.mu_s);
             }
             match rate.form {
@@ -320,7 +334,7 @@ impl Consts {
                 RateForm::SteadyState => {}
             }
         }
-        mu_eff += self.slip_term(slip_path).0;
+        mu_eff += self.path_terms(slip_path, time).0;
         mu_eff.max(MIN_MU_EFF_FRACTION * l.mu_s)
     }
 }
@@ -365,6 +379,8 @@ pub(crate) struct StepInput {
     pub exp_xi_dt: f64,
     /// Accumulated plastic slip at the start [mm].
     pub s_acc: f64,
+    /// Time at the end of the step, since the contact started [s] (registered terms).
+    pub time: f64,
     /// State variable θ at the start [s] (rate and state).
     pub theta: f64,
     /// The step's constants.
@@ -547,8 +563,8 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
             factor: t.factor,
         };
     }
-    if k.ext.slip_hardening.is_some() {
-        let (h, dh) = k.slip_term(s.s_acc + lam);
+    if k.has_path_terms() {
+        let (h, dh) = k.path_terms(s.s_acc + lam, s.time);
         mu_eff += h;
         dmu_eff += dh;
     }

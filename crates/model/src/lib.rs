@@ -22,6 +22,7 @@ pub mod json;
 pub mod params;
 pub mod scenario;
 pub mod simulate;
+pub mod terms;
 
 pub use contact1::{Contact1, State1};
 pub use contact3::{Contact3, State3, StateError, Tangent3, Vec3};
@@ -37,6 +38,7 @@ pub use simulate::{
     check_start, simulate, simulate_predicted_into, Control, Initial, Protocol, SimError,
     Trajectory, SLIP_RESOLUTION_SHARE,
 };
+pub use terms::{TermEffect, TermFamily};
 
 /// A validated model: the paper's parameters plus optional extensions.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -403,7 +403,7 @@ fn start(model: &Model, proto: &Protocol) -> Result<(State1, Option<(f64, f64)>)
             st.rate_held = k.steady_rate_terms(v);
             // The surface of a contact sliding at that rate (not the one at rest, which a
             // velocity-weakening form puts higher).
-            let cap = k.sliding_mu_eff(&l, st.mu, v, st.slip_path) * p;
+            let cap = k.sliding_mu_eff(&l, st.mu, v, st.slip_path, st.time) * p;
             // On the surface; above it, the first step returns the traction onto it.
             let r = if shear.abs() >= 0.999 * cap {
                 1.0
@@ -413,7 +413,7 @@ fn start(model: &Model, proto: &Protocol) -> Result<(State1, Option<(f64, f64)>)
             (r, cap)
         }
         _ => {
-            let cap = k.elastic_mu_eff(&l, st.mu, st.theta, 0.0, st.rate_held) * p;
+            let cap = k.elastic_mu_eff(&l, st.mu, st.theta, 0.0, st.time, st.rate_held) * p;
             if shear.abs() > cap {
                 if control == Control::Shear {
                     return Err(SimError::Runaway {

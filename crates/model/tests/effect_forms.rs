@@ -724,11 +724,35 @@ fn loaded_start_holds_its_traction_and_reloads_from_it() {
     assert!(f[21] >= 0.2 && f[21] < 0.3, "{}", f[21]);
 }
 
+/// Each form of each registered family (`subfric_model::terms`), its parameters inside their
+/// bounds and away from the values that switch it off.
+fn registered_terms() -> Vec<Extensions> {
+    let mut out = Vec::new();
+    for (i, fam) in subfric_model::terms::FAMILIES.iter().enumerate() {
+        for k in 0..fam.forms().len() {
+            let mut t = subfric_model::TermEffect::new(i as u8, k as u8);
+            for (j, q) in fam.params().iter().enumerate() {
+                let (lo, hi) = q.bounds;
+                t.p[j] = if q.log_scale {
+                    (lo * hi).sqrt()
+                } else {
+                    0.5 * (lo + hi) + 0.05 * (hi - lo)
+                };
+            }
+            out.push(Extensions {
+                term: Some(t),
+                ..Extensions::default()
+            });
+        }
+    }
+    out
+}
+
 /// Every form gives the same answer in 1-D and on a collinear 3-D path (two-way, so that the
 /// direction effect acts).
 #[test]
 fn collinear_3d_equals_1d_for_every_form() {
-    let forms: Vec<Extensions> = vec![
+    let mut forms: Vec<Extensions> = vec![
         Extensions {
             rate: Some(rate_state(RateForm::StateAgeing)),
             ..Extensions::default()
@@ -772,6 +796,7 @@ fn collinear_3d_equals_1d_for_every_form() {
             ..Extensions::default()
         },
     ];
+    forms.extend(registered_terms());
     for ext in forms {
         let m = model(Params::sample(), ext);
         let h = History::new()

@@ -174,6 +174,7 @@ fn a_state_the_model_cannot_have_is_refused_and_its_own_states_are_not() {
         sin_r: 0.0,
         slip_path: 0.0,
         age: 0.0,
+        time: 0.0,
         theta: 0.0,
         rate_held: RateHeld::NEUTRAL,
     };
@@ -205,6 +206,13 @@ fn a_state_the_model_cannot_have_is_refused_and_its_own_states_are_not() {
             "age",
             State3 {
                 age: -1.0,
+                ..virgin
+            },
+        ),
+        (
+            "time",
+            State3 {
+                time: -1.0,
                 ..virgin
             },
         ),

@@ -101,7 +101,7 @@ fn entry(
     let Some(param) = Param::from_key(key) else {
         problems.push(at(format!(
             "unknown parameter `{key}` (expected one of: {})",
-            Param::ALL
+            Param::all()
                 .iter()
                 .map(|p| p.key())
                 .collect::<Vec<_>>()

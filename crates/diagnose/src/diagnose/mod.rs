@@ -13,7 +13,7 @@ pub use report::{
     OwnKindScore, SelectionStage, TestStart, Verdict,
 };
 
-use crate::candidates::library;
+use crate::candidates::library_with;
 use crate::evidence::residual_evidence;
 use crate::fits::{residuals, Effort};
 use crate::localise::localise;
@@ -77,6 +77,9 @@ pub struct DiagnoseOptions {
     /// `selfcheck --unlisted` asks whether a family is still named when the form that made
     /// the data is not among the candidates.
     pub excluded_forms: Vec<String>,
+    /// Registered families tried beyond those tried by default, by name (see
+    /// `subfric_model::terms`; `diagnose --with-family`).
+    pub with_families: Vec<String>,
 }
 
 impl Default for DiagnoseOptions {
@@ -111,6 +114,7 @@ impl Default for DiagnoseOptions {
                 .expect("sample parameters are valid"),
             thresholds: Thresholds::default(),
             excluded_forms: Vec::new(),
+            with_families: Vec::new(),
         }
     }
 }
@@ -194,7 +198,7 @@ pub fn diagnose_reporting(
     let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();
     let localisation = localise(prepared, &residuals(&fulls, &base.model, None));
 
-    let mut lib = library(&cx.features);
+    let mut lib = library_with(&cx.features, &opts.with_families);
     lib.retain(|f| !opts.excluded_forms.iter().any(|x| x == f.name));
     cx.step(2, 0, lib.len());
     let (forms, families) = screen_and_polish(&cx, &base.model, &lib);
@@ -240,6 +244,7 @@ pub fn diagnose_reporting(
         pieces: pieces_by_kind(&cx),
         thresholds: opts.thresholds,
         excluded_forms: opts.excluded_forms.clone(),
+        with_families: opts.with_families.clone(),
         elapsed_s: cx.started.elapsed().as_secs_f64(),
     })
 }

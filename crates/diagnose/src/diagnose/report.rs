@@ -256,6 +256,9 @@ pub struct Diagnosis {
     pub thresholds: Thresholds,
     /// Candidate forms left out on request.
     pub excluded_forms: Vec<String>,
+    /// Registered families tried on request beyond the default library.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub with_families: Vec<String>,
     /// Wall time [s].
     pub elapsed_s: f64,
 }

@@ -146,7 +146,7 @@ fn candidate_score(
         .filter(|f| f.effect != effect)
         .flat_map(|f| f.effect.own_kinds())
         .filter_map(|k| match k {
-            OwnKind::Piece(p) => Some(*p),
+            OwnKind::Piece(p) => Some(p),
             _ => None,
         })
         .collect();
