@@ -19,8 +19,12 @@
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+mod time_trend;
+
+pub use time_trend::TimeTrend;
+
 /// The registered families, in the order the diagnosis tries them.
-pub static FAMILIES: &[&dyn TermFamily] = &[];
+pub static FAMILIES: &[&dyn TermFamily] = &[&TimeTrend];
 
 /// Most parameters a registered family may have.
 pub const MAX_TERM_PARAMS: usize = 4;
