@@ -355,5 +355,65 @@ fn unknown_candidate_forms_and_unlisted_with_sets_are_usage_errors() {
     );
     let err = subfric!().usage_err(args!["selfcheck", "--unlisted", "--sets", &set]);
     assert_mentions(&err, &["--unlisted", "--sets"]);
+    // An unknown registered family: the names the flag takes.
+    let err = subfric!().usage_err(args![
+        "diagnose",
+        &set,
+        "--with-family",
+        "wear",
+        "--out",
+        &out
+    ]);
+    assert_mentions(
+        &err,
+        &["--with-family", "unknown family `wear`", "time-trend"],
+    );
     assert!(!out.exists(), "a rejected diagnosis wrote output");
+}
+
+#[test]
+fn a_registered_family_in_a_parameter_file_is_checked_like_every_extension() {
+    let tmp = tempfile::tempdir().unwrap();
+    let set = experiments().join("table1-medium");
+    let params = tmp.path().join("params.json");
+    let out = tmp.path().join("out");
+    let model = |term: &str| {
+        format!(
+            r#"{{"params": {{"mu_s": 0.45, "mu_k": 0.3, "kappa": 1.2, "xi": 0.003,
+            "u_tilde": 15, "alpha_t": 1000}}, "ext": {{"term": {term}}}}}"#
+        )
+    };
+    for (term, says) in [
+        (
+            r#"{"family": "wear", "c": 1}"#,
+            &["unknown family `wear`", "time-trend"][..],
+        ),
+        (
+            r#"{"family": "time-trend", "form": "cubic"}"#,
+            &["unknown form", "linear", "saturating"][..],
+        ),
+        (
+            r#"{"family": "time-trend", "form": "saturating", "delta": 0.1, "t_s": -5}"#,
+            &["time_trend.t_s", "-5", "expected a finite time > 0"][..],
+        ),
+        (
+            r#"{"family": "time-trend", "form": "linear", "c": 1e-5, "t_s": 10}"#,
+            &["t_s"][..],
+        ),
+    ] {
+        std::fs::write(&params, model(term)).unwrap();
+        let err = run_err(args!["simulate", &set, "--params", &params, "--out", &out]);
+        let mut want = vec!["params.json"];
+        want.extend_from_slice(says);
+        assert_mentions(&err, &want);
+        assert!(!out.exists(), "{term}: a refused model wrote output");
+    }
+    // A valid one simulates.
+    std::fs::write(
+        &params,
+        model(r#"{"family": "time-trend", "form": "linear", "c": 1e-5}"#),
+    )
+    .unwrap();
+    subfric!().ok(args!["simulate", &set, "--params", &params, "--out", &out]);
+    assert!(out.join("experiment.json").exists());
 }

@@ -473,7 +473,8 @@ pub struct DiagnoseArgs {
     pub without_form: Vec<String>,
     /// Also try this registered effect family (`crates/model/src/terms`), one the diagnosis
     /// does not try by default because an artifact can mimic it (repeat for several; the
-    /// names are listed in docs/diagnosis.md and by an unknown name's error).
+    /// names are listed in docs/diagnosis.md and by an unknown name's error)
+    /// [default: none beyond the default library]
     #[arg(long, value_parser = known_family)]
     pub with_family: Vec<String>,
 }
