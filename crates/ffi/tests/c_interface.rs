@@ -309,6 +309,7 @@ fn write_cases(cases: &[Case]) -> (String, usize) {
                 n.sin_r,
                 n.slip_path,
                 n.age,
+                n.time,
                 n.theta,
                 n.rate_held.add,
                 n.rate_held.factor,
