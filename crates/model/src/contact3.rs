@@ -319,18 +319,15 @@ impl Contact3 {
                 &format!("a friction coefficient in [{lo}, {hi}], the range of this model"),
             );
         }
-        if st.slip_path < 0.0 {
-            return bad(
-                "slip_path",
-                st.slip_path.to_string(),
-                "an accumulated slip >= 0 [mm]",
-            );
-        }
-        if st.age < 0.0 {
-            return bad("age", st.age.to_string(), "a time >= 0 [s]");
-        }
-        if st.time < 0.0 {
-            return bad("time", st.time.to_string(), "a time >= 0 [s]");
+        // What only accumulates cannot be negative.
+        for (field, v, expected) in [
+            ("slip_path", st.slip_path, "an accumulated slip >= 0 [mm]"),
+            ("age", st.age, "a time >= 0 [s]"),
+            ("time", st.time, "a time >= 0 [s]"),
+        ] {
+            if v < 0.0 {
+                return bad(field, v.to_string(), expected);
+            }
         }
         if !(st.rate_held.factor > 0.0 && st.rate_held.factor.is_finite()) {
             return bad(
