@@ -102,11 +102,13 @@ pub fn library_equivalents(form: Form) -> &'static [&'static str] {
         Form::HealLog => &[
             "log time, b ln(1 + t/t_c) at rest",
             "log time at rest, added to the recovery xi",
+            "log time at rest, a gain of its own erased by slip over d_h",
         ],
         Form::HealPower => &[
             "power-law time, b t^n at rest",
             "power-law time at rest, added to the recovery xi",
             "general time, b ((1 + t/t_c)^n - 1)/n at rest",
+            "general time at rest, a gain of its own erased by slip over d_h",
         ],
         Form::DirectionMu => &["backward mu x (1 - d)"],
         Form::DirectionMuK => &["backward mu_k x (1 - d)"],

@@ -97,7 +97,7 @@ fn a_family_is_named_through_another_form_when_its_own_is_not_a_candidate() {
             .collect(),
         ..DiagnoseOptions::default()
     };
-    assert_eq!(opts.excluded_forms.len(), 2);
+    assert_eq!(opts.excluded_forms.len(), 4);
     assert_right(&verdict(&g, &opts));
 }
 

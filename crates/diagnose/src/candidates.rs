@@ -255,7 +255,7 @@ fn ext_slip(form: SlipForm) -> Extensions {
     }
 }
 
-fn ext_healing(form: HealingForm, recovery: bool) -> Extensions {
+fn ext_healing(form: HealingForm, recovery: bool, erase_mm: f64) -> Extensions {
     Extensions {
         healing: Some(Healing {
             b: 0.0,
@@ -263,6 +263,7 @@ fn ext_healing(form: HealingForm, recovery: bool) -> Extensions {
             n: 0.3,
             form,
             recovery,
+            erase_mm,
         }),
         ..Extensions::default()
     }
@@ -435,9 +436,9 @@ fn term_forms(family: u8, f: &DataFeatures) -> Vec<Form> {
 ///
 /// ```
 /// let names = subfric_diagnose::candidates::all_form_names();
-/// // 31 built-in forms and every form of the registered families.
+/// // 33 built-in forms and every form of the registered families.
 /// let registered: usize = subfric_model::terms::FAMILIES.iter().map(|f| f.forms().len()).sum();
-/// assert_eq!(names.len(), 31 + registered);
+/// assert_eq!(names.len(), 33 + registered);
 /// assert!(names.contains(&"rate and state, slip law"));
 /// ```
 pub fn all_form_names() -> Vec<&'static str> {
@@ -481,7 +482,7 @@ fn library_for(f: &DataFeatures) -> Vec<Form> {
     }
     out.extend(slip_forms(f.slip_span_mm.max(0.1)));
     if f.holds > 0 {
-        out.extend(healing_forms());
+        out.extend(healing_forms(f.seeds.healing_per_decade));
     }
     if f.reversals > 0 {
         out.extend(direction_forms());
@@ -567,13 +568,16 @@ fn slip_forms(s: f64) -> Vec<Form> {
     out
 }
 
-/// The healing family (data with holds).
-fn healing_forms() -> Vec<Form> {
+/// The healing family (data with holds); `per_decade` is the gain per decade of hold time the
+/// holds read one by one show, when they showed one.
+fn healing_forms(per_decade: Option<f64>) -> Vec<Form> {
+    // b of b ln(1 + t/t_c) from a gain per decade (ln 10 per decade).
+    let b0 = per_decade.map_or(0.005, |d| (d / std::f64::consts::LN_10).clamp(1e-4, 0.1));
     vec![
         Form {
             effect: Effect::LogHealing,
             name: "log time, b ln(1 + t/t_c) at rest",
-            template: ext_healing(HealingForm::Log, false),
+            template: ext_healing(HealingForm::Log, false, 0.0),
             params: vec![Param::HealB, Param::HealTc],
             starts: vec![vec![0.01, 1.0], vec![0.01, 30.0], vec![0.03, 10.0]],
             neutral: vec![0.0, 10.0],
@@ -582,7 +586,7 @@ fn healing_forms() -> Vec<Form> {
         Form {
             effect: Effect::LogHealing,
             name: "power-law time, b t^n at rest",
-            template: ext_healing(HealingForm::Power, false),
+            template: ext_healing(HealingForm::Power, false, 0.0),
             params: vec![Param::HealB, Param::HealN],
             starts: vec![vec![0.005, 0.3], vec![0.002, 0.6], vec![0.01, 0.15]],
             neutral: vec![0.0, 0.3],
@@ -595,7 +599,7 @@ fn healing_forms() -> Vec<Form> {
         Form {
             effect: Effect::LogHealing,
             name: "log time at rest, added to the recovery xi",
-            template: ext_healing(HealingForm::Log, true),
+            template: ext_healing(HealingForm::Log, true, 0.0),
             params: vec![Param::HealB, Param::HealTc],
             starts: vec![vec![0.005, 1.0], vec![0.005, 30.0], vec![0.02, 10.0]],
             neutral: vec![0.0, 10.0],
@@ -604,17 +608,46 @@ fn healing_forms() -> Vec<Form> {
         Form {
             effect: Effect::LogHealing,
             name: "power-law time at rest, added to the recovery xi",
-            template: ext_healing(HealingForm::Power, true),
+            template: ext_healing(HealingForm::Power, true, 0.0),
             params: vec![Param::HealB, Param::HealN],
             starts: vec![vec![0.003, 0.3], vec![0.001, 0.6], vec![0.005, 0.15]],
             neutral: vec![0.0, 0.3],
             bounds: vec![],
         },
+        // A gain of its own on top of μ (which keeps the recovery of Eq. 24), not capped at
+        // μ_s and wiped out by slip over d_h: the peak a slide-hold-slide test shows after each
+        // hold, gone within a short slip, that neither the recovery of μ nor κ can shape.
+        Form {
+            effect: Effect::LogHealing,
+            name: "log time at rest, a gain of its own erased by slip over d_h",
+            template: ext_healing(HealingForm::Log, true, 0.02),
+            params: vec![Param::HealB, Param::HealTc, Param::HealDh],
+            starts: vec![
+                vec![b0, 1.0, 0.02],
+                vec![b0, 10.0, 0.1],
+                vec![0.5 * b0, 1.0, 0.005],
+            ],
+            neutral: vec![0.0, 10.0, 0.02],
+            bounds: vec![(Param::HealDh, 1e-4, 1.0)],
+        },
+        Form {
+            effect: Effect::LogHealing,
+            name: "general time at rest, a gain of its own erased by slip over d_h",
+            template: ext_healing(HealingForm::General, true, 0.02),
+            params: vec![Param::HealB, Param::HealTc, Param::HealN, Param::HealDh],
+            starts: vec![
+                vec![b0, 1.0, 0.05, 0.02],
+                vec![b0, 10.0, 0.3, 0.1],
+                vec![0.5 * b0, 1.0, 0.6, 0.005],
+            ],
+            neutral: vec![0.0, 10.0, 0.3, 0.02],
+            bounds: vec![(Param::HealN, 0.0, 1.0), (Param::HealDh, 1e-4, 1.0)],
+        },
         // The general form of the family (see the pressure family's).
         Form {
             effect: Effect::LogHealing,
             name: "general time, b ((1 + t/t_c)^n - 1)/n at rest",
-            template: ext_healing(HealingForm::General, false),
+            template: ext_healing(HealingForm::General, false, 0.0),
             params: vec![Param::HealB, Param::HealTc, Param::HealN],
             starts: vec![
                 vec![0.01, 1.0, 0.05],

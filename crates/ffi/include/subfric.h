@@ -15,7 +15,7 @@
  * Number of doubles in a [`SubfricState`] (the number of solution-dependent state variables
  * of a friction subroutine that stores it).
  */
-#define SUBFRIC_STATE_LEN 16
+#define SUBFRIC_STATE_LEN 17
 
 /**
  * Largest model file read [bytes]: a fit.json of a joint fit of ten thousand tests is a few
@@ -105,7 +105,7 @@ typedef struct SubfricParams {
 } SubfricParams;
 
 /**
- * The state of one material point (16 doubles, no padding: it can live in the state-variable
+ * The state of one material point (17 doubles, no padding: it can live in the state-variable
  * array of a friction subroutine). Vectors are in the same frame as the slip increments.
  */
 typedef struct SubfricState {
@@ -147,6 +147,10 @@ typedef struct SubfricState {
    * Time since the point started [s] (a registered term of time reads it).
    */
   double time;
+  /**
+   * Healing gain of its own on top of μ (time healing erased by slip; 0 otherwise).
+   */
+  double healed;
   /**
    * State variable θ of the rate-and-state extension [s] (unused otherwise).
    */

@@ -32,7 +32,7 @@ use subfric_model::{Contact3, Model, ModelJsonError, Params, RateHeld, State3, S
 
 /// Number of doubles in a [`SubfricState`] (the number of solution-dependent state variables
 /// of a friction subroutine that stores it).
-pub const SUBFRIC_STATE_LEN: usize = 16;
+pub const SUBFRIC_STATE_LEN: usize = 17;
 
 /// What a call did.
 #[repr(C)]
@@ -78,7 +78,7 @@ pub struct SubfricParams {
     pub mu_0: f64,
 }
 
-/// The state of one material point (16 doubles, no padding: it can live in the state-variable
+/// The state of one material point (17 doubles, no padding: it can live in the state-variable
 /// array of a friction subroutine). Vectors are in the same frame as the slip increments.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -103,6 +103,8 @@ pub struct SubfricState {
     pub age: f64,
     /// Time since the point started [s] (a registered term of time reads it).
     pub time: f64,
+    /// Healing gain of its own on top of μ (time healing erased by slip; 0 otherwise).
+    pub healed: f64,
     /// State variable θ of the rate-and-state extension [s] (unused otherwise).
     pub theta: f64,
     /// Additive rate term R of the last plastic step (kept at rest by a rate extension that is
@@ -553,6 +555,7 @@ fn to_c(s: &State3) -> SubfricState {
         slip_path: s.slip_path,
         age: s.age,
         time: s.time,
+        healed: s.healed,
         theta: s.theta,
         rate_add: s.rate_held.add,
         rate_factor: s.rate_held.factor,
@@ -571,6 +574,7 @@ fn from_c(m: &SubfricModel, s: &SubfricState) -> Result<State3, Failure> {
         slip_path: s.slip_path,
         age: s.age,
         time: s.time,
+        healed: s.healed,
         theta: s.theta,
         rate_held: RateHeld {
             add: s.rate_add,

@@ -310,6 +310,7 @@ fn write_cases(cases: &[Case]) -> (String, usize) {
                 n.slip_path,
                 n.age,
                 n.time,
+                n.healed,
                 n.theta,
                 n.rate_held.add,
                 n.rate_held.factor,

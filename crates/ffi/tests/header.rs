@@ -37,7 +37,7 @@ fn committed_header_is_up_to_date() {
         "subfric_step",
         "subfric_version",
         "SUBFRIC_STATUS_NO_CONVERGENCE",
-        "#define SUBFRIC_STATE_LEN 16",
+        "#define SUBFRIC_STATE_LEN 17",
         "double dshear_dslip[3][3];",
     ] {
         assert!(generated.contains(name), "the header lacks {name}");

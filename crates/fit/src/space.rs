@@ -49,6 +49,8 @@ pub enum Param {
     HealB,
     /// Time healing: n (power form).
     HealN,
+    /// Time healing of its own: the slip d_h that erases it [mm].
+    HealDh,
     /// Direction effect: d.
     DirectionD,
     /// Direction effect on μ_s and μ_k separately: d of μ_k.
@@ -85,7 +87,7 @@ impl Param {
 
     /// Every parameter of the model and its built-in extensions ([`Param::all`] adds those of
     /// the registered families).
-    pub const ALL: [Param; 20] = [
+    pub const ALL: [Param; 21] = [
         Param::MuS,
         Param::MuK,
         Param::Kappa,
@@ -104,6 +106,7 @@ impl Param {
         Param::HealTc,
         Param::HealB,
         Param::HealN,
+        Param::HealDh,
         Param::DirectionD,
         Param::DirectionDK,
     ];
@@ -152,6 +155,7 @@ impl Param {
             Param::HealTc => "healing.t_c",
             Param::HealB => "healing.b",
             Param::HealN => "healing.n",
+            Param::HealDh => "healing.d_h",
             Param::DirectionD => "direction.d",
             Param::DirectionDK => "direction.d_k",
         }
@@ -165,7 +169,7 @@ impl Param {
             Param::Xi => "1/s",
             Param::AlphaT => "kN/mm³",
             Param::RateVc => "mm/s",
-            Param::RateDc | Param::SlipSh => "mm",
+            Param::RateDc | Param::SlipSh | Param::HealDh => "mm",
             Param::SlipH => "1/mm",
             Param::HealTc => "s",
             _ => "",
@@ -257,6 +261,7 @@ impl Param {
             Param::HealTc => (1e-3, 1e6),
             Param::HealB => (0.0, 0.3),
             Param::HealN => (0.05, 1.0),
+            Param::HealDh => (1e-4, 10.0),
             Param::DirectionD | Param::DirectionDK => (-0.9, 0.9),
         }
     }
@@ -284,6 +289,8 @@ impl Param {
             Param::HealTc => e.healing?.t_c,
             Param::HealB => e.healing?.b,
             Param::HealN => e.healing?.n,
+            // Zero is "no erasure of its own": the parameter is then inactive.
+            Param::HealDh => Some(e.healing?.erase_mm).filter(|d| *d > 0.0)?,
             Param::DirectionD => e.direction?.d,
             Param::DirectionDK => e.direction?.d_k,
             Param::Term { family, index } => {
@@ -323,6 +330,7 @@ impl Param {
             Param::HealTc => healing(e).t_c = v,
             Param::HealB => healing(e).b = v,
             Param::HealN => healing(e).n = v,
+            Param::HealDh => healing(e).erase_mm = v,
             Param::DirectionD => direction(e).d = v,
             Param::DirectionDK => direction(e).d_k = v,
             Param::Term { family, index } => {
@@ -387,6 +395,7 @@ fn healing(e: &mut subfric_model::Extensions) -> &mut Healing {
         n: 0.5,
         form: HealingForm::Log,
         recovery: false,
+        erase_mm: 0.0,
     })
 }
 

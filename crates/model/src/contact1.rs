@@ -27,6 +27,8 @@ pub struct State1 {
     pub age: f64,
     /// Time since the contact started [s] (used by registered terms, see [`crate::terms`]).
     pub time: f64,
+    /// Healing gain of its own, on top of μ ([`crate::Healing::own_state`]; 0 otherwise).
+    pub healed: f64,
     /// Plastic slip increment of the last step [mm] (signed).
     pub last_plastic: f64,
     /// State variable θ of the rate-and-state forms [s] (unused otherwise).
@@ -50,6 +52,7 @@ impl State1 {
             slip_path: 0.0,
             age: 0.0,
             time: 0.0,
+            healed: 0.0,
             last_plastic: 0.0,
             theta: model.ext.rate.map_or(0.0, |r| r.neutral_theta()),
             last_dt: 0.0,
@@ -137,6 +140,7 @@ impl Contact1 {
         p: f64,
         dt: f64,
         theta: f64,
+        healed: f64,
     ) -> State1 {
         let r = (shear.abs() / (mu_eff * p)).min(1.0);
         let (sin_r, cos_r) = (FRAC_PI_2 * r).sin_cos();
@@ -150,6 +154,7 @@ impl Contact1 {
             slip_path: st.slip_path,
             age: st.age + dt,
             time: st.time + dt,
+            healed,
             last_plastic: 0.0,
             theta,
             last_dt: dt,
@@ -181,6 +186,7 @@ impl Contact1 {
         let exp_xi_dt = self.exp_xi_dt(dt);
         let mu_el = self.k.rest_mu(&local, st.mu, st.age, dt, exp_xi_dt);
         let theta_el = self.k.rest_theta(st.theta, dt);
+        let healed_el = self.k.rest_healed(st.healed, st.age, dt);
         if traction == 0.0 {
             return Begin::Elastic(Self::elastic(
                 st,
@@ -191,6 +197,7 @@ impl Contact1 {
                 p,
                 dt,
                 theta_el,
+                healed_el,
             ));
         }
         let (r0, c0, s0) = Self::start_surface(st, sign);
@@ -200,6 +207,7 @@ impl Contact1 {
             theta_el,
             st.slip_path,
             st.time + dt,
+            healed_el,
             st.rate_held,
         );
         let magnitude = traction.abs();
@@ -214,6 +222,7 @@ impl Contact1 {
                 p,
                 dt,
                 theta_el,
+                healed_el,
             ));
         }
         let (xi_dt, exp_xi_dt) = if self.k.ext.recovery() {
@@ -236,6 +245,7 @@ impl Contact1 {
                 exp_xi_dt,
                 s_acc: st.slip_path,
                 time: st.time + dt,
+                healed: st.healed,
                 theta: st.theta,
                 local,
                 lam_guess: if self.k.ext.rate.is_some() && st.last_dt > 0.0 {
@@ -269,6 +279,7 @@ impl Contact1 {
             slip_path: st.slip_path + pl.lam,
             age: 0.0,
             time: st.time + input.dt,
+            healed: self.k.slid_healed(input.healed, pl.lam).0,
             last_plastic: sign * pl.lam,
             theta: pl.theta,
             last_dt: input.dt,

@@ -343,6 +343,17 @@ pub struct Healing {
     /// Keep the exponential recovery ξ(μ_s − μ) of Eq. (24) and add the healing to it at rest.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub recovery: bool,
+    /// Slip that erases the healing, e-fold [mm]; 0: none of its own. When > 0 the healing is
+    /// a friction gain of its own (the contact state's `healed`) on top of μ, which keeps the
+    /// recovery of Eq. (24): it grows at rest by Δμ(θ), is not capped at μ_s, and decays as
+    /// exp(−Δs/d_h) with plastic slip — the peak after a hold that sliding wipes out over a
+    /// short distance, as in slide-hold-slide tests.
+    #[serde(default, rename = "d_h", skip_serializing_if = "is_zero")]
+    pub erase_mm: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 fn ten() -> f64 {
@@ -356,6 +367,12 @@ fn log_form() -> HealingForm {
 }
 
 impl Healing {
+    /// True when the healing is a gain of its own, erased by slip (`erase_mm` > 0).
+    #[inline]
+    pub fn own_state(&self) -> bool {
+        self.erase_mm > 0.0
+    }
+
     /// Healing gained between contact ages `age` and `age + dt` [s].
     #[inline]
     pub fn gain(&self, age: f64, dt: f64) -> f64 {
@@ -450,7 +467,7 @@ impl Extensions {
     /// time healing that replaces it.
     #[inline]
     pub fn recovery(&self) -> bool {
-        self.healing.is_none_or(|h| h.recovery)
+        self.healing.is_none_or(|h| h.recovery || h.own_state())
     }
 
     /// True when no extension is active (the base model).
@@ -512,6 +529,9 @@ impl Extensions {
             }
             if !finite_positive(e.t_c) {
                 v.push(("healing.t_c", e.t_c, "a finite time > 0 [s]"));
+            }
+            if !(e.erase_mm >= 0.0 && e.erase_mm.is_finite()) {
+                v.push(("healing.d_h", e.erase_mm, "a finite slip >= 0 [mm]"));
             }
             if e.form == HealingForm::General {
                 if !(0.0..=1.0).contains(&e.n) {
@@ -648,6 +668,7 @@ mod tests {
                 n: 0.4,
                 form,
                 recovery: false,
+                erase_mm: 0.0,
             };
             let whole = h.gain(3.0, 100.0);
             let split = h.gain(3.0, 40.0) + h.gain(43.0, 60.0);
@@ -664,6 +685,7 @@ mod tests {
             n,
             form,
             recovery: false,
+            erase_mm: 0.0,
         };
         for (age, dt) in [(0.0, 1.0), (3.0, 10.0), (100.0, 500.0)] {
             let log = h(HealingForm::Log, 0.5).gain(age, dt);

@@ -119,8 +119,31 @@ impl Consts {
             mu
         };
         match self.ext.healing {
-            Some(h) => (recovered + h.gain(age, dt)).min(l.mu_s),
-            None => recovered,
+            Some(h) if !h.own_state() => (recovered + h.gain(age, dt)).min(l.mu_s),
+            _ => recovered,
+        }
+    }
+
+    /// The healing gain of its own ([`crate::Healing::own_state`]) after an elastic step of
+    /// `dt` at contact age `age` (zero without one).
+    #[inline]
+    pub fn rest_healed(&self, healed: f64, age: f64, dt: f64) -> f64 {
+        match self.ext.healing {
+            Some(h) if h.own_state() => healed + h.gain(age, dt),
+            _ => 0.0,
+        }
+    }
+
+    /// The healing gain of its own after a plastic slip `lam` (it decays as exp(−λ/d_h)), and
+    /// its derivative in λ.
+    #[inline]
+    pub fn slid_healed(&self, healed: f64, lam: f64) -> (f64, f64) {
+        match self.ext.healing {
+            Some(h) if h.own_state() => {
+                let v = healed * (-lam / h.erase_mm).exp();
+                (v, -v / h.erase_mm)
+            }
+            _ => (0.0, 0.0),
         }
     }
 
@@ -305,7 +328,9 @@ impl Consts {
     /// μ_eff of an elastic step (plastic slip rate zero) from μ at the step's end (time
     /// `time`); `held` are the rate terms of the last plastic step, which a locked rate form
     /// keeps at rest.
+    /// `healed` is the healing gain of its own at the step's end.
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     pub fn elastic_mu_eff(
         &self,
         l: &Local,
@@ -313,13 +338,14 @@ impl Consts {
         theta: f64,
         slip_path: f64,
         time: f64,
+        healed: f64,
         held: RateHeld,
     ) -> f64 {
         let mut mu_eff = mu * l.mult;
         if let Some(rate) = self.ext.rate {
             if rate.locked() {
                 mu_eff = mu_eff * held.factor + held.add;
-                mu_eff += self.path_terms(slip_path, time).0;
+                mu_eff += self.path_terms(slip_path, time).0 + healed;
                 return mu_eff.max(MIN_MU_EFF_FRACTION * l.mu_s);
             }
             match rate.form {
@@ -334,7 +360,7 @@ impl Consts {
                 RateForm::SteadyState => {}
             }
         }
-        mu_eff += self.path_terms(slip_path, time).0;
+        mu_eff += self.path_terms(slip_path, time).0 + healed;
         mu_eff.max(MIN_MU_EFF_FRACTION * l.mu_s)
     }
 }
@@ -381,6 +407,8 @@ pub(crate) struct StepInput {
     pub s_acc: f64,
     /// Time at the end of the step, since the contact started [s] (registered terms).
     pub time: f64,
+    /// Healing gain of its own at the start [`crate::Healing::own_state`].
+    pub healed: f64,
     /// State variable θ at the start [s] (rate and state).
     pub theta: f64,
     /// The step's constants.
@@ -565,6 +593,11 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
     }
     if k.has_path_terms() {
         let (h, dh) = k.path_terms(s.s_acc + lam, s.time);
+        mu_eff += h;
+        dmu_eff += dh;
+    }
+    if s.healed != 0.0 {
+        let (h, dh) = k.slid_healed(s.healed, lam);
         mu_eff += h;
         dmu_eff += dh;
     }

@@ -413,7 +413,8 @@ fn start(model: &Model, proto: &Protocol) -> Result<(State1, Option<(f64, f64)>)
             (r, cap)
         }
         _ => {
-            let cap = k.elastic_mu_eff(&l, st.mu, st.theta, 0.0, st.time, st.rate_held) * p;
+            let cap =
+                k.elastic_mu_eff(&l, st.mu, st.theta, 0.0, st.time, st.healed, st.rate_held) * p;
             if shear.abs() > cap {
                 if control == Control::Shear {
                     return Err(SimError::Runaway {

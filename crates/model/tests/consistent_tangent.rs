@@ -4,8 +4,8 @@
 //! circle on a tilted plane, with and without extensions.
 
 use subfric_model::{
-    Contact3, DirectionEffect, Extensions, Model, Params, PressureEffect, PressureForm, RateEffect,
-    RateForm, SlipForm, SlipHardening, State3, Target, Vec3,
+    Contact3, DirectionEffect, Extensions, Healing, HealingForm, Model, Params, PressureEffect,
+    PressureForm, RateEffect, RateForm, SlipForm, SlipHardening, State3, Target, Vec3,
 };
 
 /// Acceptance: ‖K − K_fd‖/‖K‖ (Frobenius) and the same for ∂f_t/∂p.
@@ -341,6 +341,39 @@ fn direction_pressure_and_slip_extensions() {
         eprintln!("extensions, sharp turn: {t:?}");
         assert_eq!(t.plastic, 1, "{t:?}");
     }
+}
+
+#[test]
+fn a_reload_after_a_hold_under_healing_of_its_own() {
+    // The gain of its own decays with the plastic slip inside the return: the tangent of the
+    // reload's steps must carry that slope.
+    let ext = Extensions {
+        healing: Some(Healing {
+            b: 0.02,
+            t_c: 1.0,
+            n: 0.5,
+            form: HealingForm::Log,
+            recovery: true,
+            erase_mm: 0.01,
+        }),
+        ..Extensions::default()
+    };
+    let m = Model::new(penalty_params(), ext).unwrap();
+    let c = Contact3::new(&m, [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]);
+    let mut u: Vec<Vec3> = (1..=10).map(|k| [0.02 * k as f64, 0.0, 0.0]).collect();
+    let mut dts = vec![1.0; u.len()];
+    u.push([0.2, 0.0, 0.0]);
+    dts.push(300.0);
+    for k in 1..=20 {
+        u.push([0.2 + 0.002 * k as f64, 0.0005 * k as f64, 0.0]);
+        dts.push(1.0);
+    }
+    let (t, st) = check_path(&c, State3::virgin(&m, [0.0; 3]), &u, 100.0, &dts);
+    assert!(t.plastic >= 25 && t.skipped == 0, "{t:?}");
+    assert!(
+        st.healed > 0.0,
+        "the slip since the hold leaves part of the gain"
+    );
 }
 
 #[test]

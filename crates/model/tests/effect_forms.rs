@@ -324,6 +324,7 @@ fn time_healing_forms_grow_with_the_hold_as_their_law_says() {
                     n: 0.3,
                     form,
                     recovery: false,
+                    erase_mm: 0.0,
                 }),
                 ..Extensions::default()
             },
@@ -357,6 +358,7 @@ fn healing_added_to_the_recovery_is_the_base_model_at_b_zero_and_adds_its_gain()
                     n: 0.3,
                     form: HealingForm::Log,
                     recovery: true,
+                    erase_mm: 0.0,
                 }),
                 ..Extensions::default()
             },
@@ -390,6 +392,76 @@ fn healing_added_to_the_recovery_is_the_base_model_at_b_zero_and_adds_its_gain()
         assert!(g0[k] > 0.0, "the base model recovers in a hold: {g0:?}");
         assert!(gb[k] > g0[k] + 0.002, "hold {k}: {gb:?} vs the base {g0:?}");
     }
+}
+
+#[test]
+fn healing_of_its_own_peaks_above_mu_s_by_its_law_and_is_erased_over_d_h() {
+    // μ_s = μ_k (flat), no recovery: every change after a hold is the healing of its own. A
+    // hold of t_h gains b ln(1 + t_h/t_c), which the reload shows as a peak above the sliding
+    // level (not capped at μ_s), and slip wipes it out as exp(−s/d_h). (d_h is long against
+    // the slip 1/ũ that the reload needs to reach the surface, which erases part of the gain
+    // before the peak.)
+    let (b, t_c, d_h) = (0.01, 1.0, 0.2);
+    let m = |b: f64| {
+        model(
+            flat_base(),
+            Extensions {
+                healing: Some(Healing {
+                    b,
+                    t_c,
+                    n: 0.3,
+                    form: HealingForm::Log,
+                    recovery: true,
+                    erase_mm: d_h,
+                }),
+                ..Extensions::default()
+            },
+        )
+    };
+    let h = History::new()
+        .slide(0.001, 0.5, 0.0005)
+        .hold(100.0, 50)
+        .slide(0.001, 1.0, 0.0005);
+    let (f0, f) = (
+        run(
+            &model(flat_base(), Extensions::default()),
+            &h,
+            100.0,
+            Initial::Rest,
+        ),
+        run(&m(b), &h, 100.0, Initial::Rest),
+    );
+    let b_zero = run(&m(0.0), &h, 100.0, Initial::Rest);
+    let worst = f0
+        .iter()
+        .zip(&b_zero)
+        .map(|(a, c)| (a - c).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        worst < 1e-12,
+        "b = 0 differs from the base model by {worst}"
+    );
+    let reload = 1001 + 50;
+    let (peak_row, peak) =
+        f[reload..].iter().enumerate().fold(
+            (0, f64::MIN),
+            |(i, m), (j, v)| if *v > m { (j, *v) } else { (i, m) },
+        );
+    let gain = b * (1.0 + 100.0 / t_c).ln();
+    let level = f0[reload - 51];
+    assert!(level > 0.49 && peak > 0.5, "above μ_s = 0.5: peak {peak}");
+    assert!(
+        ((peak - level) / gain - 1.0).abs() < 0.1,
+        "peak {peak} over the sliding level {level}: {} for a gain of {gain}",
+        peak - level
+    );
+    // Erased by slip: 3 d_h of slip after the peak leaves about e⁻³ of it.
+    let later = f[reload + peak_row + (3.0 * d_h / 0.0005) as usize] - level;
+    assert!(
+        later > 0.0 && later < 0.1 * (peak - level),
+        "{later} of {}",
+        peak - level
+    );
 }
 
 #[test]
@@ -792,10 +864,22 @@ fn collinear_3d_equals_1d_for_every_form() {
                 n: 0.5,
                 form: HealingForm::Power,
                 recovery: false,
+                erase_mm: 0.0,
             }),
             ..Extensions::default()
         },
     ];
+    forms.push(Extensions {
+        healing: Some(Healing {
+            b: 0.01,
+            t_c: 3.0,
+            n: 0.5,
+            form: HealingForm::Log,
+            recovery: true,
+            erase_mm: 0.05,
+        }),
+        ..Extensions::default()
+    });
     forms.extend(registered_terms());
     for ext in forms {
         let m = model(Params::sample(), ext);

@@ -175,6 +175,7 @@ fn a_state_the_model_cannot_have_is_refused_and_its_own_states_are_not() {
         slip_path: 0.0,
         age: 0.0,
         time: 0.0,
+        healed: 0.0,
         theta: 0.0,
         rate_held: RateHeld::NEUTRAL,
     };

@@ -4,9 +4,13 @@
 //! same scalar equation as in 1-D is solved, and collinear paths give the 1-D answer.
 
 use crate::extensions::{RateForm, Target};
-use crate::integrator::{return_slip, surface, Consts, Local, RateHeld, StepError, StepInput};
+use crate::integrator::{return_slip, surface, Consts, Local, StepError, StepInput};
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
+
+mod state;
+
+pub use state::{State3, StateError};
 
 /// A 3-vector.
 pub type Vec3 = [f64; 3];
@@ -113,6 +117,8 @@ struct TrialTraction {
     mu_el: f64,
     /// θ after the elastic part of the step.
     theta_el: f64,
+    /// The healing gain of its own after the elastic part of the step.
+    healed_el: f64,
     /// exp(−ξ dt).
     exp_xi_dt: f64,
     /// The step constants depend on the sliding direction.
@@ -134,52 +140,6 @@ struct RestartPoint {
     sens: Option<(Vec3, f64)>,
 }
 
-/// State of a 3-D contact.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct State3 {
-    /// Tangential slip vector [mm].
-    pub slip: Vec3,
-    /// Tangential traction vector f_t [kPa].
-    pub shear: Vec3,
-    /// Friction coefficient μ.
-    pub mu: f64,
-    /// Normal-yield ratio r.
-    pub r: f64,
-    /// cos(π r / 2).
-    pub cos_r: f64,
-    /// sin(π r / 2).
-    pub sin_r: f64,
-    /// Accumulated plastic slip [mm].
-    pub slip_path: f64,
-    /// Time since plastic sliding [s].
-    pub age: f64,
-    /// Time since the contact started [s] (used by registered terms, see [`crate::terms`]).
-    pub time: f64,
-    /// State variable θ of the rate-and-state forms [s] (unused otherwise).
-    pub theta: f64,
-    /// The rate terms of the last plastic step (kept at rest by a locked rate form).
-    pub rate_held: RateHeld,
-}
-
-impl State3 {
-    /// Virgin state at the given tangential slip.
-    pub fn virgin(model: &Model, slip: Vec3) -> Self {
-        State3 {
-            slip,
-            shear: [0.0; 3],
-            mu: model.params.initial_mu(),
-            r: 0.0,
-            cos_r: 1.0,
-            sin_r: 0.0,
-            slip_path: 0.0,
-            age: 0.0,
-            time: 0.0,
-            theta: model.ext.rate.map_or(0.0, |r| r.neutral_theta()),
-            rate_held: RateHeld::NEUTRAL,
-        }
-    }
-}
-
 /// The consistent tangent of one slip-controlled step, from
 /// [`Contact3::step_slip_with_tangent`] (units: kPa, mm).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -193,27 +153,6 @@ pub struct Tangent3 {
     /// Plastic slip increment λ n̂ of the step [mm] (zero for an elastic step).
     pub plastic_slip: Vec3,
 }
-
-/// A state that the model cannot have produced (e.g. read back from a finite-element code's
-/// state array): the field, its value and what the model allows.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("state.{field} = {value} (expected {expected})")]
-pub struct StateError {
-    /// The field.
-    pub field: &'static str,
-    /// Its value, as text.
-    pub value: String,
-    /// What the model allows.
-    pub expected: String,
-}
-
-/// How far cos_r and sin_r of a state may be from cos(πr/2) and sin(πr/2): the integrator
-/// carries them alongside r to round-off (a first-order update inside a converged return adds
-/// ~1e-12), so a larger gap is a state the model did not write.
-const STATE_TRIG_TOLERANCE: f64 = 1e-6;
-
-/// Relative slack on the range of μ (round-off of the relaxation towards a bound).
-const STATE_MU_SLACK: f64 = 1e-9;
 
 /// Integrator of a 3-D contact.
 #[derive(Clone, Debug)]
@@ -257,93 +196,6 @@ impl Contact3 {
             _ => (self.k.mu_k * lo_k).min(self.k.mu_s * lo_s),
         };
         (floor, self.k.mu_s * hi_s)
-    }
-
-    /// Checks a state handed in from outside: finite, r in [0, 1] with cos_r and sin_r its
-    /// cosine and sine of πr/2, μ within [`Contact3::mu_range`], accumulated slip and age ≥ 0,
-    /// θ > 0 under a rate-and-state form. An all-zero array fails (cos_r = 0 is not cos 0): it
-    /// is no state, and a new contact point starts from [`State3::virgin`].
-    pub fn check_state(&self, st: &State3) -> Result<(), StateError> {
-        let bad = |field, value: String, expected: &str| {
-            Err(StateError {
-                field,
-                value,
-                expected: expected.to_string(),
-            })
-        };
-        for (field, v) in [("slip", st.slip), ("shear", st.shear)] {
-            if !(v.iter().all(|x| x.is_finite()) && norm(&v).is_finite()) {
-                let text = format!("[{}, {}, {}]", v[0], v[1], v[2]);
-                return bad(field, text, "finite numbers");
-            }
-        }
-        let scalars = [
-            ("mu", st.mu),
-            ("r", st.r),
-            ("cos_r", st.cos_r),
-            ("sin_r", st.sin_r),
-            ("slip_path", st.slip_path),
-            ("age", st.age),
-            ("time", st.time),
-            ("theta", st.theta),
-            ("rate_add", st.rate_held.add),
-        ];
-        for (field, v) in scalars {
-            if !v.is_finite() {
-                return bad(field, v.to_string(), "a finite number");
-            }
-        }
-        if !(0.0..=1.0).contains(&st.r) {
-            return bad("r", st.r.to_string(), "a number in [0, 1]");
-        }
-        let (sin, cos) = (FRAC_PI_2 * st.r).sin_cos();
-        if (st.cos_r - cos).abs() > STATE_TRIG_TOLERANCE
-            || (st.sin_r - sin).abs() > STATE_TRIG_TOLERANCE
-        {
-            return bad(
-                "cos_r, sin_r",
-                format!("{}, {}", st.cos_r, st.sin_r),
-                &format!(
-                    "cos(πr/2) = {cos}, sin(πr/2) = {sin} of r = {}: not a state of the model \
-                     (an all-zero state is none: a new contact point starts from the virgin state)",
-                    st.r
-                ),
-            );
-        }
-        let (lo, hi) = self.mu_range();
-        let slack = STATE_MU_SLACK * hi.min(f64::MAX);
-        if !(st.mu >= lo - slack && st.mu <= hi + slack) {
-            return bad(
-                "mu",
-                st.mu.to_string(),
-                &format!("a friction coefficient in [{lo}, {hi}], the range of this model"),
-            );
-        }
-        // What only accumulates cannot be negative.
-        for (field, v, expected) in [
-            ("slip_path", st.slip_path, "an accumulated slip >= 0 [mm]"),
-            ("age", st.age, "a time >= 0 [s]"),
-            ("time", st.time, "a time >= 0 [s]"),
-        ] {
-            if v < 0.0 {
-                return bad(field, v.to_string(), expected);
-            }
-        }
-        if !(st.rate_held.factor > 0.0 && st.rate_held.factor.is_finite()) {
-            return bad(
-                "rate_factor",
-                st.rate_held.factor.to_string(),
-                "a finite number > 0 (1 for a new contact point)",
-            );
-        }
-        if self.k.ext.rate.is_some_and(|r| r.has_state()) && st.theta <= 0.0 {
-            return bad(
-                "theta",
-                st.theta.to_string(),
-                "a state variable > 0 [s] (the model has a rate-and-state form)",
-            );
-        }
-        Ok(())
     }
 
     /// Tangential part of a vector.
@@ -410,6 +262,7 @@ impl Contact3 {
         let trial = axpy(self.k.alpha, du, &st.shear);
         let magnitude = norm(&trial);
         let theta_el = self.k.rest_theta(st.theta, dt);
+        let healed_el = self.k.rest_healed(st.healed, st.age, dt);
         let exp_xi_dt = (-self.k.xi * dt).exp();
         let elastic_end = |shear: Vec3, mu: f64, r: f64| {
             let (sin_r, cos_r) = (FRAC_PI_2 * r).sin_cos();
@@ -423,6 +276,7 @@ impl Contact3 {
                 slip_path: st.slip_path,
                 age: st.age + dt,
                 time: st.time + dt,
+                healed: healed_el,
                 theta: theta_el,
                 rate_held: st.rate_held,
             }
@@ -457,6 +311,7 @@ impl Contact3 {
                         theta_el,
                         st.slip_path,
                         st.time + dt,
+                        healed_el,
                         st.rate_held,
                     )
                 } else {
@@ -472,6 +327,7 @@ impl Contact3 {
             theta_el,
             st.slip_path,
             st.time + dt,
+            healed_el,
             st.rate_held,
         );
         if magnitude - r0 * mu_eff0 * p <= self.k.rest_tolerance(magnitude, p) {
@@ -490,6 +346,7 @@ impl Contact3 {
             exp_xi_dt: (-xi_dt).exp(),
             s_acc: st.slip_path,
             time: st.time + dt,
+            healed: st.healed,
             theta: st.theta,
             local,
             lam_guess: 0.0,
@@ -505,6 +362,7 @@ impl Contact3 {
             slip_path: st.slip_path + pl.lam,
             age: 0.0,
             time: st.time + dt,
+            healed: self.k.slid_healed(st.healed, pl.lam).0,
             theta: pl.theta,
             rate_held: pl.held,
         })
@@ -577,6 +435,7 @@ impl Contact3 {
             t.theta_el,
             st.slip_path,
             st.time + t.dt,
+            t.healed_el,
             st.rate_held,
         );
         if magnitude - start.r0 * mu_eff0 * p <= self.k.rest_tolerance(magnitude, p) {
@@ -594,6 +453,7 @@ impl Contact3 {
             exp_xi_dt: (-xi_dt).exp(),
             s_acc: st.slip_path,
             time: st.time + dt,
+            healed: st.healed,
             theta: st.theta,
             local: t.local,
             lam_guess: 0.0,
@@ -643,6 +503,7 @@ impl Contact3 {
             local,
             mu_el,
             theta_el,
+            healed_el: self.k.rest_healed(st.healed, st.age, dt),
             exp_xi_dt,
             with_direction: self.k.ext.direction.is_some() && self.forward != [0.0; 3],
             with_pressure: self.k.ext.pressure.is_some(),
@@ -662,6 +523,7 @@ impl Contact3 {
             t.theta_el,
             st.slip_path,
             st.time + t.dt,
+            t.healed_el,
             st.rate_held,
         )
     }
@@ -712,6 +574,7 @@ impl Contact3 {
                 t.theta_el,
                 st.slip_path,
                 st.time + t.dt,
+                t.healed_el,
                 st.rate_held,
             )
         } else {
