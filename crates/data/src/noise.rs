@@ -167,6 +167,123 @@ pub fn estimate_noise(t: &[f64], x: &[f64]) -> NoiseEstimate {
     }
 }
 
+/// Rows of a window of [`slow_noise_ratio`].
+const SLOW_WINDOW: usize = 60;
+
+/// Fewest windows [`slow_noise_ratio`] measures on.
+const SLOW_MIN_WINDOWS: usize = 3;
+
+/// The RMS residual of `x` about the least-squares parabola in `t` (for 3 rows or more).
+fn parabola_rms(t: &[f64], x: &[f64]) -> f64 {
+    let n = t.len() as f64;
+    let tm = t.iter().sum::<f64>() / n;
+    let span = t
+        .iter()
+        .map(|v| (v - tm).abs())
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
+    // Normal equations in a scaled, centred time (well conditioned for any time unit).
+    let mut g = [[0.0; 3]; 3];
+    let mut b = [0.0; 3];
+    for (&ti, &xi) in t.iter().zip(x) {
+        let u = (ti - tm) / span;
+        let phi = [1.0, u, u * u];
+        for r in 0..3 {
+            b[r] += phi[r] * xi;
+            for c in 0..3 {
+                g[r][c] += phi[r] * phi[c];
+            }
+        }
+    }
+    // Gaussian elimination with partial pivoting.
+    for k in 0..3 {
+        let p = (k..3)
+            .max_by(|&i, &j| g[i][k].abs().total_cmp(&g[j][k].abs()))
+            .unwrap_or(k);
+        g.swap(k, p);
+        b.swap(k, p);
+        if g[k][k].abs() < 1e-300 {
+            return f64::NAN;
+        }
+        let (pivot_row, pivot_b) = (g[k], b[k]);
+        for i in k + 1..3 {
+            let f = g[i][k] / pivot_row[k];
+            for (gi, gk) in g[i].iter_mut().zip(pivot_row).skip(k) {
+                *gi -= f * gk;
+            }
+            b[i] -= f * pivot_b;
+        }
+    }
+    let mut c = [0.0; 3];
+    for k in (0..3).rev() {
+        c[k] = (b[k] - (k + 1..3).map(|j| g[k][j] * c[j]).sum::<f64>()) / g[k][k];
+    }
+    let ss: f64 = t
+        .iter()
+        .zip(x)
+        .map(|(&ti, &xi)| {
+            let u = (ti - tm) / span;
+            let e = xi - (c[0] + c[1] * u + c[2] * u * u);
+            e * e
+        })
+        .sum();
+    (ss / (n - 3.0).max(1.0)).sqrt()
+}
+
+/// How much more a measured column scatters over a slow stretch than its white noise: the
+/// median, over windows of steady driving (the imposed column moving at one rate, within a
+/// fifth, for [`SLOW_WINDOW`] rows), of the variance about a parabola in time, divided by the
+/// variance `white_sd²` that the second differences see ([`estimate_noise`]).
+///
+/// Second differences see only the noise that changes from one reading to the next; a load cell
+/// or amplifier also wanders over seconds (noise correlated in time), which they miss and which
+/// a model's residual shows in full. This measures that part on the record itself, where the
+/// friction is smooth. `None` with fewer than three such windows.
+///
+/// ```
+/// // A steady slide whose friction rises smoothly, with white noise: nothing unseen.
+/// let t: Vec<f64> = (0..2000).map(|i| i as f64 * 0.1).collect();
+/// let slip: Vec<f64> = t.iter().map(|t| 0.01 * t).collect();
+/// // Uniform pseudo-random noise from a linear congruential generator.
+/// let mut seed = 12345u64;
+/// let mut noise = || {
+///     seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+///     (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+/// };
+/// let x: Vec<f64> = t.iter().map(|t| 50.0 + 0.01 * t * t + noise()).collect();
+/// let white = subfric_data::estimate_noise(&t, &x).sd;
+/// let ratio = subfric_data::noise::slow_noise_ratio(&t, &slip, &x, white).unwrap();
+/// assert!((0.7..1.4).contains(&ratio), "{ratio}");
+/// ```
+pub fn slow_noise_ratio(t: &[f64], imposed: &[f64], x: &[f64], white_sd: f64) -> Option<f64> {
+    let n = t.len().min(imposed.len()).min(x.len());
+    if white_sd.is_nan() || white_sd <= 0.0 || n < SLOW_WINDOW {
+        return None;
+    }
+    let rate = |i: usize| (imposed[i + 1] - imposed[i]) / (t[i + 1] - t[i]);
+    let mut ratios = Vec::new();
+    let mut i = 0;
+    while i + SLOW_WINDOW <= n {
+        let rates: Vec<f64> = (i..i + SLOW_WINDOW - 1).map(rate).collect();
+        let mean = rates.iter().sum::<f64>() / rates.len() as f64;
+        let steady = mean != 0.0
+            && rates
+                .iter()
+                .all(|r| r.is_finite() && r.signum() == mean.signum())
+            && rates.iter().map(|r| (r - mean).abs()).fold(0.0, f64::max) < 0.2 * mean.abs();
+        if steady {
+            let rms = parabola_rms(&t[i..i + SLOW_WINDOW], &x[i..i + SLOW_WINDOW]);
+            if rms.is_finite() {
+                ratios.push((rms / white_sd).powi(2));
+            }
+            i += SLOW_WINDOW;
+        } else {
+            i += SLOW_WINDOW / 4;
+        }
+    }
+    (ratios.len() >= SLOW_MIN_WINDOWS).then(|| median(&mut ratios))
+}
+
 /// Robust noise SD of a sampled signal ([`estimate_noise`]'s `sd`).
 ///
 /// ```
@@ -186,6 +303,38 @@ mod tests {
 
     fn gauss(rng: &mut rand::rngs::StdRng) -> f64 {
         StandardNormal.sample(rng)
+    }
+
+    #[test]
+    fn slowly_wandering_noise_that_second_differences_miss_is_measured_on_steady_stretches() {
+        // White noise of SD 0.2 plus a first-order wander of SD 0.2 with a correlation time of
+        // 2 s, read every 0.2 s while the slip is driven steadily: the second differences see
+        // about the white part, the steady stretches both.
+        let mut rng = rand::rngs::StdRng::seed_from_u64(11);
+        let dt = 0.2;
+        let t: Vec<f64> = (0..6000).map(|i| i as f64 * dt).collect();
+        let slip: Vec<f64> = t.iter().map(|t| 0.01 * t).collect();
+        let phi = (-dt / 2.0f64).exp();
+        let mut wander = 0.0;
+        let x: Vec<f64> = t
+            .iter()
+            .map(|_| {
+                wander = phi * wander + 0.2 * (1.0 - phi * phi).sqrt() * gauss(&mut rng);
+                40.0 + wander + 0.2 * gauss(&mut rng)
+            })
+            .collect();
+        let white = estimate_noise(&t, &x).sd;
+        let ratio = slow_noise_ratio(&t, &slip, &x, white).unwrap();
+        assert!(ratio > 1.3 && ratio < 2.5, "white {white}, ratio {ratio}");
+        // The same record without the wander: nothing unseen.
+        let mut rng = rand::rngs::StdRng::seed_from_u64(11);
+        let plain: Vec<f64> = t.iter().map(|_| 40.0 + 0.2 * gauss(&mut rng)).collect();
+        let white = estimate_noise(&t, &plain).sd;
+        let ratio = slow_noise_ratio(&t, &slip, &plain, white).unwrap();
+        assert!((0.8..1.2).contains(&ratio), "white {white}, ratio {ratio}");
+        // No steady driving (a hold): nothing to measure on.
+        let still = vec![0.0; t.len()];
+        assert_eq!(slow_noise_ratio(&t, &still, &plain, white), None);
     }
 
     #[test]

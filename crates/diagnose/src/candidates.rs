@@ -452,6 +452,7 @@ pub fn all_form_names() -> Vec<&'static str> {
         reversals: 1,
         slip_span_mm: 1.0,
         duration_s: 100.0,
+        unseen_noise: 1.0,
         steps: crate::features::StepSignature {
             direct: 0.01,
             steady: 0.0,

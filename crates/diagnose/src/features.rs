@@ -39,6 +39,12 @@ pub struct DataFeatures {
     pub slip_span_mm: f64,
     /// Longest test duration [s].
     pub duration_s: f64,
+    /// How much more the record scatters over its steady stretches than its white noise shows
+    /// (noise correlated in time, which a model's residual shows in full but the noise estimate
+    /// misses; [`subfric_data::noise::slow_noise_ratio`], median over the slip-controlled
+    /// tests, within [1, [`MAX_UNSEEN_NOISE`]]): the misfit below which the gap is noise grows
+    /// by this factor.
+    pub unseen_noise: f64,
     /// Velocity-step signature.
     pub steps: StepSignature,
     /// First guesses from the per-event reading ([`crate::events`]), when it found them.
@@ -225,12 +231,32 @@ pub fn data_features(tests: &[PreparedTest]) -> DataFeatures {
         holds,
         reversals,
         slip_span_mm: median(&mut spans).unwrap_or(1.0),
+        unseen_noise: unseen_noise(tests),
         duration_s: fits
             .iter()
             .map(|t| t.time.last().unwrap_or(&0.0) - t.time.first().unwrap_or(&0.0))
             .fold(0.0, f64::max),
         steps: step_signature(tests),
     }
+}
+
+/// The most [`DataFeatures::unseen_noise`] may be: noise unseen by the second differences is
+/// credited at most as large again as the noise they see, so a misfit of more than twice the
+/// white noise variance is never called noise on this ground.
+pub const MAX_UNSEEN_NOISE: f64 = 2.0;
+
+/// On every row of each test (`full`: the fitted test may hold averaged bins, whose white noise
+/// is smaller).
+fn unseen_noise(tests: &[PreparedTest]) -> f64 {
+    let mut ratios: Vec<f64> = tests
+        .iter()
+        .map(|p| &p.full)
+        .filter(|t| t.control == Control::Slip)
+        .filter_map(|t| {
+            subfric_data::noise::slow_noise_ratio(&t.time, &t.imposed, &t.measured, t.noise_sd)
+        })
+        .collect();
+    median(&mut ratios).map_or(1.0, |r| r.clamp(1.0, MAX_UNSEEN_NOISE))
 }
 
 impl DataFeatures {

@@ -95,9 +95,16 @@ pub(super) fn make_verdict(
         (Some(e), _) => (e.effect, explain_named(&effects, base_chi2, final_chi2)),
         (None, Some(Decision::NoGap)) | (None, None) => (
             Effect::None,
-            format!(
-                "the base model predicts the held-out pieces at {base_chi2:.2}× the noise variance: the gap is noise"
-            ),
+            if base_chi2 > cx.opts.thresholds.gap_chi2 {
+                format!(
+                    "the base model predicts the held-out pieces at {base_chi2:.2}× the noise variance and no candidate explains the rest: the record's steady stretches scatter {:.2}× their white noise variance (noise correlated in time), so the gap is noise",
+                    cx.features.unseen_noise
+                )
+            } else {
+                format!(
+                    "the base model predicts the held-out pieces at {base_chi2:.2}× the noise variance: the gap is noise"
+                )
+            },
         ),
         (None, Some(Decision::Drift)) => (
             Effect::Unexplained,

@@ -645,6 +645,17 @@ fn selection_stage(
     } else {
         decide_further(reference_chi2, &pairs, &own, &corroborated, th)
     };
+    // Within the noise the record's own steady stretches show beyond their white noise, a gap
+    // that no candidate explains is that noise — as below the near-noise gap itself, where
+    // `decide` says so before it keeps a candidate tentatively.
+    let decision = match decision {
+        Decision::Unexplained | Decision::Tentative(_)
+            if first_stage && reference_chi2 <= th.gap_chi2 * cx.features.unseen_noise =>
+        {
+            Decision::NoGap
+        }
+        d => d,
+    };
     (
         SelectionStage {
             reference: current.spec.describe(),
