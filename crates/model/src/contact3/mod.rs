@@ -198,6 +198,29 @@ impl Contact3 {
         (floor, self.k.mu_s * hi_s)
     }
 
+    /// μ_eff of an elastic step of `dt` from `st` that ends with μ = `mu`, θ = `theta` and the
+    /// healing gain `healed`, under the step constants `l`.
+    #[inline]
+    fn elastic_mu_eff(
+        &self,
+        st: &State3,
+        l: &Local,
+        mu: f64,
+        theta: f64,
+        healed: f64,
+        dt: f64,
+    ) -> f64 {
+        self.k.elastic_mu_eff(
+            l,
+            mu,
+            theta,
+            st.slip_path,
+            st.time + dt,
+            healed,
+            st.rate_held,
+        )
+    }
+
     /// Tangential part of a vector.
     pub fn tangential(&self, v: &Vec3) -> Vec3 {
         axpy(-dot(v, &self.normal), &self.normal, v)
@@ -305,15 +328,7 @@ impl Contact3 {
                 let fm = norm(&f_min);
                 let mu_eff = if fm > 0.0 {
                     let l = self.k.local(p, self.cos_forward(&scale(1.0 / fm, &f_min)));
-                    self.k.elastic_mu_eff(
-                        &l,
-                        mu_el,
-                        theta_el,
-                        st.slip_path,
-                        st.time + dt,
-                        healed_el,
-                        st.rate_held,
-                    )
+                    self.elastic_mu_eff(st, &l, mu_el, theta_el, healed_el, dt)
                 } else {
                     1.0
                 };
@@ -321,15 +336,7 @@ impl Contact3 {
                 (s0, c0) = (FRAC_PI_2 * r0).sin_cos();
             }
         }
-        let mu_eff0 = self.k.elastic_mu_eff(
-            &local,
-            mu_el,
-            theta_el,
-            st.slip_path,
-            st.time + dt,
-            healed_el,
-            st.rate_held,
-        );
+        let mu_eff0 = self.elastic_mu_eff(st, &local, mu_el, theta_el, healed_el, dt);
         if magnitude - r0 * mu_eff0 * p <= self.k.rest_tolerance(magnitude, p) {
             let r = (magnitude / (mu_eff0 * p)).min(1.0);
             return Ok(elastic_end(trial, mu_el, r));
@@ -429,15 +436,7 @@ impl Contact3 {
         }
         let t = self.trial_traction(st, trial, magnitude, p, dt);
         let start = self.restart_point(st, &t);
-        let mu_eff0 = self.k.elastic_mu_eff(
-            &t.local,
-            t.mu_el,
-            t.theta_el,
-            st.slip_path,
-            st.time + t.dt,
-            t.healed_el,
-            st.rate_held,
-        );
+        let mu_eff0 = self.elastic_mu_eff(st, &t.local, t.mu_el, t.theta_el, t.healed_el, t.dt);
         if magnitude - start.r0 * mu_eff0 * p <= self.k.rest_tolerance(magnitude, p) {
             return elastic;
         }
@@ -517,15 +516,7 @@ impl Contact3 {
         let lt = self.k.local(p, ct);
         let mu = self.k.rest_mu(&lt, st.mu, st.age, t.dt, t.exp_xi_dt);
         let lm = self.k.local(p, cm);
-        self.k.elastic_mu_eff(
-            &lm,
-            mu,
-            t.theta_el,
-            st.slip_path,
-            st.time + t.dt,
-            t.healed_el,
-            st.rate_held,
-        )
+        self.elastic_mu_eff(st, &lm, mu, t.theta_el, t.healed_el, t.dt)
     }
 
     /// ∇ of the direction cosine of a vector `v` of length `len` with respect to `v`
@@ -568,15 +559,7 @@ impl Contact3 {
         let fm = norm(&f_min);
         let mu_eff = if fm > 0.0 {
             let l = self.k.local(p, self.cos_forward(&scale(1.0 / fm, &f_min)));
-            self.k.elastic_mu_eff(
-                &l,
-                t.mu_el,
-                t.theta_el,
-                st.slip_path,
-                st.time + t.dt,
-                t.healed_el,
-                st.rate_held,
-            )
+            self.elastic_mu_eff(st, &l, t.mu_el, t.theta_el, t.healed_el, t.dt)
         } else {
             1.0
         };
