@@ -198,6 +198,36 @@ impl Contact3 {
         (floor, self.k.mu_s * hi_s)
     }
 
+    /// The input of the plastic return of a step of `dt` from `st` at normal stress `p`, from
+    /// the surface `(r₀, cos(πr₀/2), sin(πr₀/2))` under the step constants `local`.
+    #[inline]
+    fn plastic_input(
+        &self,
+        st: &State3,
+        local: Local,
+        (r_start, c_start, s_start): (f64, f64, f64),
+        p: f64,
+        dt: f64,
+    ) -> StepInput {
+        let xi_dt = self.k.plastic_recovery(dt);
+        StepInput {
+            mu_n: st.mu,
+            c_start,
+            s_start,
+            r_start,
+            p,
+            dt,
+            xi_dt,
+            exp_xi_dt: (-xi_dt).exp(),
+            s_acc: st.slip_path,
+            time: st.time + dt,
+            healed: st.healed,
+            theta: st.theta,
+            local,
+            lam_guess: 0.0,
+        }
+    }
+
     /// μ_eff of an elastic step of `dt` from `st` that ends with μ = `mu`, θ = `theta` and the
     /// healing gain `healed`, under the step constants `l`.
     #[inline]
@@ -341,23 +371,7 @@ impl Contact3 {
             let r = (magnitude / (mu_eff0 * p)).min(1.0);
             return Ok(elastic_end(trial, mu_el, r));
         }
-        let xi_dt = self.k.plastic_recovery(dt);
-        let input = StepInput {
-            mu_n: st.mu,
-            c_start: c0,
-            s_start: s0,
-            r_start: r0,
-            p,
-            dt,
-            xi_dt,
-            exp_xi_dt: (-xi_dt).exp(),
-            s_acc: st.slip_path,
-            time: st.time + dt,
-            healed: st.healed,
-            theta: st.theta,
-            local,
-            lam_guess: 0.0,
-        };
+        let input = self.plastic_input(st, local, (r0, c0, s0), p, dt);
         let pl = return_slip(&self.k, &input, magnitude, magnitude - r0 * mu_eff0 * p)?;
         Ok(State3 {
             slip,
@@ -440,23 +454,7 @@ impl Contact3 {
         if magnitude - start.r0 * mu_eff0 * p <= self.k.rest_tolerance(magnitude, p) {
             return elastic;
         }
-        let xi_dt = self.k.plastic_recovery(dt);
-        let input = StepInput {
-            mu_n: st.mu,
-            c_start: start.c0,
-            s_start: start.s0,
-            r_start: start.r0,
-            p,
-            dt,
-            xi_dt,
-            exp_xi_dt: (-xi_dt).exp(),
-            s_acc: st.slip_path,
-            time: st.time + dt,
-            healed: st.healed,
-            theta: st.theta,
-            local: t.local,
-            lam_guess: 0.0,
-        };
+        let input = self.plastic_input(st, t.local, (start.r0, start.c0, start.s0), p, dt);
         // λ from the end state: the return converged, so g(λ) = 0 there.
         let shear = norm(&next.shear);
         let lam = (magnitude - shear) / alpha;
