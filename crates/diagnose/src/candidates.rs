@@ -46,7 +46,7 @@ impl Effect {
         Effect::Unexplained,
     ];
 
-    /// The built-in physical families ([`Effect::families`] adds the registered ones).
+    /// The built-in physical families (the registered ones are `Effect::Term`).
     pub const FAMILIES: [Effect; 5] = [
         Effect::Rate,
         Effect::Pressure,
@@ -54,12 +54,6 @@ impl Effect {
         Effect::LogHealing,
         Effect::Direction,
     ];
-
-    /// Every physical family: the built-in ones and each registered family.
-    pub fn families() -> Vec<Effect> {
-        let registered = (0..terms::FAMILIES.len()).map(|i| Effect::Term(i as u8));
-        Effect::FAMILIES.into_iter().chain(registered).collect()
-    }
 
     /// Name as in `diagnosis.json`.
     pub fn name(self) -> &'static str {
