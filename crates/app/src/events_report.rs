@@ -101,15 +101,17 @@ fn steps(s: &mut String, e: &EventAnalysis) {
     if let Some(r) = &e.rate {
         let _ = writeln!(
             s,
-            "   together: {} of {} steps show a direct effect (evidence D ≥ {} over a change without one); median a {:.4}, b {:.4}, D_c {:.4} mm; the sign of a − b agrees with the measured change of steady friction in {} of the {} steps where that change exceeds its uncertainty and the fit determines a − b ({} more where it does not: no sign claimed){}",
+            "   together: {} of {} steps show a direct effect (evidence D ≥ {} over a change without one); median a {:.4}, b {:.4}, D_c {:.4} mm; the sign of a − b agrees with the measured change of steady friction in {} of the {} steps where that change exceeds its uncertainty; the fit determines a − b (a direct effect shown, its interval clear of zero) in {} of them and agrees in {} ({} where it does not: no sign claimed){}",
             r.significant,
             r.steps,
             subfric_diagnose::events::STEP_EVIDENCE,
             r.a,
             r.b,
             r.d_c_mm,
-            r.signs_agree,
+            r.changes_agree,
+            r.changes_measured,
             r.signs_checked,
+            r.signs_agree,
             r.signs_undetermined,
             if r.consistent {
                 ": consistent evidence of rate and state"

@@ -66,6 +66,16 @@ impl Estimate {
     pub fn excludes_zero(&self) -> bool {
         self.lo > 0.0 || self.hi < 0.0
     }
+
+    /// This estimate with its interval widened to cover `other`'s (another reading of the
+    /// same quantity); the value stays this one's.
+    pub fn covering(&self, other: &Estimate) -> Estimate {
+        Estimate {
+            value: self.value,
+            lo: self.lo.min(other.lo),
+            hi: self.hi.max(other.hi),
+        }
+    }
 }
 
 /// What the per-event reading found, and what it says about each family.
@@ -98,6 +108,10 @@ pub struct RateConsensus {
     pub b: f64,
     /// Median D_c [mm].
     pub d_c_mm: f64,
+    /// Steps whose measured change of steady friction is larger than its uncertainty.
+    pub changes_measured: usize,
+    /// Of those, how many have a fitted a − b (its value) of the sign of the change.
+    pub changes_agree: usize,
     /// Steps whose measured change of steady friction is larger than its uncertainty and whose
     /// fit determines the sign of a − b.
     pub signs_checked: usize,
@@ -262,6 +276,7 @@ fn consensus(steps: &[StepFit]) -> Option<RateConsensus> {
         significant.clone()
     };
     let checked: Vec<bool> = steps.iter().filter_map(|s| s.sign_agrees).collect();
+    let measured: Vec<&StepFit> = steps.iter().filter(|s| s.steady_change_measured).collect();
     Some(RateConsensus {
         steps: steps.len(),
         significant: significant.len(),
@@ -270,6 +285,11 @@ fn consensus(steps: &[StepFit]) -> Option<RateConsensus> {
         d_c_mm: median(pool.iter().map(|s| s.d_c_mm.value).collect()),
         signs_checked: checked.len(),
         signs_agree: checked.iter().filter(|&&x| x).count(),
+        changes_measured: measured.len(),
+        changes_agree: measured
+            .iter()
+            .filter(|s| s.a_minus_b_agrees_with_measured_change())
+            .count(),
         signs_undetermined: steps
             .iter()
             .filter(|s| s.steady_change_measured && s.sign_agrees.is_none())
