@@ -90,8 +90,14 @@ pub fn simulate_set(dir: &Path, model: &Model, out: &Path, force: bool) -> Resul
         let toe_note = p.toe.as_ref().map(|toe| {
             *t = t.rows_from(toe.first_kept);
             format!(
-                "; the record's first {} rows (a seating toe over {:.3} mm) are left out: the model starts at rest under {:.2} kPa after them",
-                toe.first_kept, toe.travel_mm, toe.start_shear_kpa
+                "; the record's first {} rows (a seating toe over {:.3} mm) are left out: the model starts at rest under {:.2} kPa after them{}",
+                toe.first_kept,
+                toe.travel_mm,
+                toe.start_shear_kpa,
+                toe.remainder.as_ref().map_or(String::new(), |g| format!(
+                    "; the model's travel leaves out the rest of the gap, {:.4} mm, closed on the first reload the same way (the slip column is the record's)",
+                    g.travel_mm
+                ))
             )
         });
         let pred = p.full.predict(model).map_err(|e| {

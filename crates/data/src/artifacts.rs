@@ -2,7 +2,9 @@
 //! first loading — the recorded displacement runs for 0.05–1 mm while the shear barely rises,
 //! as gaps close and the specimen beds in. A model of the interface would have to bend its
 //! parameters to swallow it; the rows of the toe are excluded instead, and the test starts
-//! from rest where the shear begins to rise.
+//! from rest where the shear begins to rise. When the whole first stroke is slack the gap may
+//! not be closed at its end: what is left of it closes on the first reload in the same
+//! direction ([`gap_remainder`]), and that travel is taken out of the imposed column.
 
 use crate::meta::ControlColumn;
 use crate::segment::{Segmentation, StartKind};
@@ -22,8 +24,29 @@ pub struct SeatingToe {
     pub shear_share: f64,
     /// Measured shear at the first row kept [kPa]: the test starts at rest under it.
     pub start_shear_kpa: f64,
+    /// The whole first leg was slack, in this direction of travel (±1): the gap may not have
+    /// closed at its end; `None` when the toe ended in a climb (the gap closed).
+    pub slack_leg_direction: Option<f64>,
+    /// What was left of the gap after a slack first leg, closed on the first reload in its
+    /// direction and taken out of the imposed column (set where the test is prepared).
+    pub remainder: Option<GapRemainder>,
     /// In words.
     pub reason: String,
+}
+
+/// The rest of a gap that a slack first stroke left open, closing on the first reload in the
+/// stroke's direction: after the shear crosses zero it stays below 5 % of what the test reaches
+/// for longer than the steep loading after it needs.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct GapRemainder {
+    /// Last row before the reload's shear crosses zero (the reversal when the gap's travel
+    /// would not fit after it).
+    pub from_row: usize,
+    /// First row at or beyond 5 % of what the test reaches, where the loading is steep.
+    pub to_row: usize,
+    /// Travel taken out of the imposed column from `to_row` on [mm]: the travel from the
+    /// crossing to 5 % less what the steep loading needs for it.
+    pub travel_mm: f64,
 }
 
 /// Share of the first loading's peak below which the shear "barely rises".
@@ -69,17 +92,21 @@ pub fn seating_toe(test: &TestData, seg: &Segmentation) -> Option<SeatingToe> {
     // at rest where that leg ends.
     let later = tau[end..].iter().map(|v| v.abs()).fold(0.0, f64::max);
     if peak < TOE_SHARE * later {
-        let travel = (u[end - 1] - u[0]).abs();
+        // The leg ends at its reversal (or where its hold begins): the test starts there, at
+        // the leg's furthest travel (one row earlier it would still be moving into the gap).
+        let first_kept = end.min(n - 1);
+        let travel = (u[first_kept] - u[0]).abs();
         if travel < MIN_TOE_MM.max(10.0 * seg.conditioned.band) {
             return None;
         }
-        let first_kept = end - 1;
         let start_shear_kpa = tau[first_kept];
         return Some(SeatingToe {
             first_kept,
             travel_mm: travel,
             shear_share: peak / later,
             start_shear_kpa,
+            slack_leg_direction: Some(sign),
+            remainder: None,
             reason: format!(
                 "seating toe: the whole first leg ({travel:.3} mm) raised the shear to at most {:.1} % of what the test reaches after it: its {first_kept} rows excluded, the test starts at rest under {start_shear_kpa:.2} kPa where that leg ends",
                 100.0 * peak / later
@@ -113,12 +140,113 @@ pub fn seating_toe(test: &TestData, seg: &Segmentation) -> Option<SeatingToe> {
         travel_mm: travel,
         shear_share,
         start_shear_kpa,
+        slack_leg_direction: None,
+        remainder: None,
         reason: format!(
             "seating toe: the first {:.3} mm of travel raised the shear to at most {:.1} % of its first peak, where the loading then needs {rise:.4} mm to go from 5 % to 25 %: the first {travel:.3} mm ({first_kept} rows) excluded, the test starts at rest under {start_shear_kpa:.2} kPa (25 % of the peak) at row {first_kept}",
             toe,
             100.0 * shear_share
         ),
     })
+}
+
+/// What is left of a gap after a slack first stroke (travel in `direction`), in a test that
+/// starts where that stroke ended (`test`, segmented as `seg`). Every reversal's reload
+/// travels from the reversal to 5 % of what the test reaches on the other side; once the gap
+/// is closed that travel is elastic, so it is proportional to the change of shear. The first
+/// reload in `direction` is compared with the median of the reloads after it: what it travels
+/// beyond them is the rest of the gap.
+pub fn gap_remainder(test: &TestData, seg: &Segmentation, direction: f64) -> Option<GapRemainder> {
+    let u = &seg.conditioned.values;
+    let tau = &test.shear_kpa;
+    let n = test.len();
+    let later = tau.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    if later.is_nan() || later <= 0.0 || n < 4 {
+        return None;
+    }
+    let level = TOE_SHARE * later;
+    // Each reload: (reversal row, direction, row reaching 5 %, travel to it, shear change).
+    let mut reloads = Vec::new();
+    for (k, &r) in seg.reversals.iter().enumerate() {
+        if r + 1 >= n {
+            continue;
+        }
+        let d = (u[r + 1] - u[r]).signum();
+        let end = seg.reversals.get(k + 1).copied().unwrap_or(n).min(n);
+        let Some(i5) = (r + 1..end).find(|&i| d * tau[i] >= level) else {
+            continue;
+        };
+        let (y0, y1) = (d * tau[i5 - 1], d * tau[i5]);
+        let f = if y1 > y0 {
+            ((level - y0) / (y1 - y0)).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        let u5 = u[i5 - 1] + f * (u[i5] - u[i5 - 1]);
+        let change = level - d * tau[r];
+        if change > 0.0 {
+            reloads.push((r, d, i5, (u5 - u[r]).abs(), change));
+        }
+    }
+    let first = reloads.iter().position(|l| l.1 == direction)?;
+    let mut compliance: Vec<f64> = reloads[first + 1..].iter().map(|l| l.3 / l.4).collect();
+    if compliance.len() < 2 {
+        return None;
+    }
+    compliance.sort_by(f64::total_cmp);
+    let typical = compliance[compliance.len() / 2];
+    let (r, _, i5, travel, change) = reloads[first];
+    let expected = typical * change;
+    let extra = travel - expected;
+    if extra < (0.5 * expected).max(10.0 * seg.conditioned.band) {
+        return None;
+    }
+    // The gap lies where the shear is near zero: from the last row before it crosses zero
+    // (from the reversal when the squeeze would not fit there).
+    let from = (r + 1..i5)
+        .find(|&i| direction * tau[i] >= 0.0)
+        .map_or(r, |i| i - 1)
+        .max(r);
+    let from = if (u[i5] - u[from]).abs() > extra {
+        from
+    } else {
+        r
+    };
+    Some(GapRemainder {
+        from_row: from,
+        to_row: i5,
+        travel_mm: extra.min((u[i5] - u[from]).abs()),
+    })
+}
+
+/// `test` with a gap remainder taken out of its slip column: from where the reload's shear
+/// crosses zero the first `travel_mm` of travel is slack (the imposed column stands still
+/// there, as the interface does while the gap closes), and every row after it moves back by
+/// that travel.
+pub fn close_gap(test: &TestData, gap: &GapRemainder, direction: f64) -> TestData {
+    let mut t = test.clone();
+    let u = &test.slip_mm;
+    let tau = &test.shear_kpa;
+    let a = gap.from_row;
+    // Where the shear crosses zero, read between row a (below zero) and the next.
+    let (y0, y1) = (
+        direction * tau[a],
+        direction * tau[(a + 1).min(t.len() - 1)],
+    );
+    let f = if y0 < 0.0 && y1 > y0 {
+        (-y0 / (y1 - y0)).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let u0 = u[a] + f * (u[(a + 1).min(t.len() - 1)] - u[a]);
+    for (i, (out, &ui)) in t.slip_mm.iter_mut().zip(u).enumerate().skip(a + 1) {
+        *out = if i <= gap.to_row {
+            u0 + direction * (direction * (ui - u0) - gap.travel_mm).max(0.0)
+        } else {
+            ui - direction * gap.travel_mm
+        };
+    }
+    t
 }
 
 #[cfg(test)]
@@ -238,6 +366,79 @@ mod tests {
         slip_test("cyclic", slip, shear)
     }
 
+    /// A cyclic test like [`cyclic`] with a slack first stroke to +0.4 mm and four legs after
+    /// it, whose first reload in + crosses `rest` mm of slack where its shear crosses zero (what
+    /// the stroke left of the gap) before it loads like the others.
+    fn cyclic_with_rest_of_gap(rest: f64) -> TestData {
+        let mut slip = vec![0.0];
+        let mut shear = vec![0.0];
+        for i in 1..=40 {
+            slip.push(0.01 * i as f64);
+            shear.push(0.12 * 0.01 * i as f64 / 0.1);
+        }
+        let mut first_forward = true;
+        for to in [-0.6, 0.6, -0.6, 0.6] {
+            let (from, tau0) = (*slip.last().unwrap(), *shear.last().unwrap());
+            let dir = f64::signum(to - from);
+            let gap = if dir > 0.0 && first_forward {
+                rest
+            } else {
+                0.0
+            };
+            first_forward &= dir < 0.0;
+            let curve = |s: f64| tau0 + (dir * 60.0 - tau0) * (s / 0.05).tanh();
+            // Travel where the shear crosses zero.
+            let cross = 0.05 * (-tau0 / (dir * 60.0 - tau0)).atanh();
+            let rows = ((to - from).abs() / 0.01).round() as usize;
+            for i in 1..=rows {
+                let s = 0.01 * i as f64;
+                let engaged = if s < cross { s } else { cross.max(s - gap) };
+                slip.push(from + dir * s);
+                shear.push(curve(engaged));
+            }
+        }
+        slip_test("cyclic", slip, shear)
+    }
+
+    /// The rest of the gap found on the trimmed test (as the fit prepares it).
+    fn rest_found(t: &TestData) -> Option<GapRemainder> {
+        let seg = segment(t, &SegmentOptions::default());
+        let toe = seating_toe(t, &seg).expect("the slack stroke is a toe");
+        let direction = toe.slack_leg_direction.expect("a slack leg");
+        let trimmed = t.rows_from(toe.first_kept);
+        let seg = segment(&trimmed, &SegmentOptions::default());
+        gap_remainder(&trimmed, &seg, direction)
+    }
+
+    #[test]
+    fn the_rest_of_a_gap_a_slack_stroke_left_open_is_taken_out_of_the_first_reload() {
+        for rest in [0.05, 0.12] {
+            let t = cyclic_with_rest_of_gap(rest);
+            let gap = rest_found(&t).unwrap_or_else(|| panic!("rest {rest}: not found"));
+            assert!(
+                (gap.travel_mm - rest).abs() <= 0.012,
+                "rest {rest}: {} mm taken out",
+                gap.travel_mm
+            );
+            // Taken out, the first reload loads like the others: nothing is left to find.
+            let seg = segment(&t, &SegmentOptions::default());
+            let toe = seating_toe(&t, &seg).expect("toe");
+            let trimmed = t.rows_from(toe.first_kept);
+            let closed = close_gap(&trimmed, &gap, 1.0);
+            let seg = segment(&closed, &SegmentOptions::default());
+            assert_eq!(gap_remainder(&closed, &seg, 1.0), None, "rest {rest}");
+            // Every row after the gap moved back by its travel; rows before it did not move.
+            let last = closed.len() - 1;
+            assert!((trimmed.slip_mm[last] - closed.slip_mm[last] - gap.travel_mm).abs() < 1e-12);
+            assert_eq!(
+                closed.slip_mm[..=gap.from_row],
+                trimmed.slip_mm[..=gap.from_row]
+            );
+        }
+        // A stroke that closed the whole gap leaves nothing.
+        assert_eq!(rest_found(&cyclic_with_rest_of_gap(0.0)), None);
+    }
+
     #[test]
     fn a_first_stroke_shorter_than_the_gap_is_slack_as_a_whole() {
         // The stroke (0.4 mm) ends before the gap has closed: the shear never passes 1 % of
@@ -247,7 +448,7 @@ mod tests {
         let seg = segment(&t, &SegmentOptions::default());
         let toe = seating_toe(&t, &seg).expect("the slack stroke is a toe");
         assert!(
-            (toe.travel_mm - 0.39).abs() <= 0.0101,
+            (toe.travel_mm - 0.40).abs() <= 0.0051,
             "cut after {} mm",
             toe.travel_mm
         );

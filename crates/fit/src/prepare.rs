@@ -5,8 +5,8 @@
 use crate::dataset::FitTest;
 use crate::thin::{bins, scale_for_budget, thin_test};
 use subfric_data::{
-    seating_toe, segment, ExperimentSet, SeatingToe, SegmentKind, SegmentOptions, Segmentation,
-    StartKind, TestData,
+    close_gap, gap_remainder, seating_toe, segment, ExperimentSet, SeatingToe, SegmentKind,
+    SegmentOptions, Segmentation, StartKind, TestData,
 };
 use subfric_model::{Control, Initial, Model};
 
@@ -91,8 +91,23 @@ pub fn prepare_test(test: &TestData, name: String, opts: &SegmentOptions) -> Pre
     let segmentation = segment(test, opts);
     // A seating toe is a rig artifact, not friction: its rows are left out and the test
     // starts at rest under the traction where the steep loading has begun.
-    if let Some(toe) = seating_toe(test, &segmentation) {
-        let trimmed = test.rows_from(toe.first_kept);
+    if let Some(mut toe) = seating_toe(test, &segmentation) {
+        let mut trimmed = test.rows_from(toe.first_kept);
+        // A slack first leg may end before the gap has closed: the rest of it closes on the
+        // first reload the same way, and that travel is no motion of the interface either.
+        if let Some(direction) = toe.slack_leg_direction {
+            let seg = segment(&trimmed, opts);
+            if let Some(gap) = gap_remainder(&trimmed, &seg, direction) {
+                trimmed = close_gap(&trimmed, &gap, direction);
+                toe.reason.push_str(&format!(
+                    "; the rest of the gap, {:.4} mm, closed on the first reload the same way (rows {}–{} of the record, the shear below 5 % of what the test reaches): the imposed travel after it is reduced by that much",
+                    gap.travel_mm,
+                    toe.first_kept + gap.from_row + 1,
+                    toe.first_kept + gap.to_row
+                ));
+                toe.remainder = Some(gap);
+            }
+        }
         let mut p = prepare_untrimmed(&trimmed, name, opts);
         let loaded = Initial::Loaded {
             shear_kpa: toe.start_shear_kpa,
