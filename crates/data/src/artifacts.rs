@@ -176,13 +176,7 @@ pub fn gap_remainder(test: &TestData, seg: &Segmentation, direction: f64) -> Opt
         let Some(i5) = (r + 1..end).find(|&i| d * tau[i] >= level) else {
             continue;
         };
-        let (y0, y1) = (d * tau[i5 - 1], d * tau[i5]);
-        let f = if y1 > y0 {
-            ((level - y0) / (y1 - y0)).clamp(0.0, 1.0)
-        } else {
-            1.0
-        };
-        let u5 = u[i5 - 1] + f * (u[i5] - u[i5 - 1]);
+        let u5 = slip_at_level(u, tau, d, i5 - 1, level);
         let change = level - d * tau[r];
         if change > 0.0 {
             reloads.push((r, d, i5, (u5 - u[r]).abs(), change));
@@ -219,6 +213,18 @@ pub fn gap_remainder(test: &TestData, seg: &Segmentation, direction: f64) -> Opt
     })
 }
 
+/// The slip where `direction` × shear reaches `level`, read linearly between rows `i` and
+/// `i + 1` (row `i + 1` when the shear does not rise between them).
+fn slip_at_level(u: &[f64], tau: &[f64], direction: f64, i: usize, level: f64) -> f64 {
+    let (y0, y1) = (direction * tau[i], direction * tau[i + 1]);
+    let f = if y1 > y0 {
+        ((level - y0) / (y1 - y0)).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
+    u[i] + f * (u[i + 1] - u[i])
+}
+
 /// `test` with a gap remainder taken out of its slip column: from where the reload's shear
 /// crosses zero the first `travel_mm` of travel is slack (the imposed column stands still
 /// there, as the interface does while the gap closes), and every row after it moves back by
@@ -226,19 +232,9 @@ pub fn gap_remainder(test: &TestData, seg: &Segmentation, direction: f64) -> Opt
 pub fn close_gap(test: &TestData, gap: &GapRemainder, direction: f64) -> TestData {
     let mut t = test.clone();
     let u = &test.slip_mm;
-    let tau = &test.shear_kpa;
     let a = gap.from_row;
-    // Where the shear crosses zero, read between row a (below zero) and the next.
-    let (y0, y1) = (
-        direction * tau[a],
-        direction * tau[(a + 1).min(t.len() - 1)],
-    );
-    let f = if y0 < 0.0 && y1 > y0 {
-        (-y0 / (y1 - y0)).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let u0 = u[a] + f * (u[(a + 1).min(t.len() - 1)] - u[a]);
+    // Where the shear crosses zero, between row a (below zero) and the next.
+    let u0 = slip_at_level(u, &test.shear_kpa, direction, a, 0.0);
     for (i, (out, &ui)) in t.slip_mm.iter_mut().zip(u).enumerate().skip(a + 1) {
         *out = if i <= gap.to_row {
             u0 + direction * (direction * (ui - u0) - gap.travel_mm).max(0.0)
