@@ -253,7 +253,8 @@ pub fn diagnose_reporting(
 /// the best [`SHORTLIST_PER_FAMILY`] of each family by their in-sample score on the base, and,
 /// when the velocity steps fitted one by one agree on rate and state, every rate-and-state
 /// form (on a base that lacks another effect they may rank low, and the steps say they are
-/// the ones to try).
+/// the ones to try); when the holds show peaks and the steps do not, every healing form
+/// erased by slip.
 fn shortlist(
     forms: &[FormReport],
     lib: &[crate::Form],
@@ -282,6 +283,17 @@ fn shortlist(
     if steps_agree {
         keep.extend(
             (0..lib.len()).filter(|&i| lib[i].template.rate.is_some_and(|r| r.has_state())),
+        );
+    }
+    // Likewise every healing form with a gain of its own erased by slip when two or more
+    // holds, read one by one, show a peak on reloading clear of zero: on a base that lacks
+    // another effect those forms may rank low, and the holds say they are the ones to try —
+    // unless the steps agree on rate and state, whose ageing law heals at rest itself.
+    let holds_peak =
+        !steps_agree && events.holds.iter().filter(|h| h.peak_gain.lo > 0.0).count() >= 2;
+    if holds_peak {
+        keep.extend(
+            (0..lib.len()).filter(|&i| lib[i].template.healing.is_some_and(|h| h.erase_mm > 0.0)),
         );
     }
     keep.sort_unstable();
