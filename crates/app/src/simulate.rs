@@ -89,13 +89,23 @@ pub fn simulate_set(dir: &Path, model: &Model, out: &Path, force: bool) -> Resul
         // keeps one value per row.
         let toe_note = p.toe.as_ref().map(|toe| {
             *t = t.rows_from(toe.first_kept);
+            // The rows over which the rest of a gap closed are left out too; the slip column
+            // stays the record's.
+            if let (Some(g), Some(direction)) = (&toe.remainder, toe.slack_leg_direction) {
+                let mut closed = subfric_data::close_gap(t, g, direction);
+                for u in &mut closed.slip_mm[g.from_row + 1..] {
+                    *u += direction * g.travel_mm;
+                }
+                *t = closed;
+            }
             format!(
                 "; the record's first {} rows (a seating toe over {:.3} mm) are left out: the model starts at rest under {:.2} kPa after them{}",
                 toe.first_kept,
                 toe.travel_mm,
                 toe.start_shear_kpa,
                 toe.remainder.as_ref().map_or(String::new(), |g| format!(
-                    "; the model's travel leaves out the rest of the gap, {:.4} mm, closed on the first reload the same way (the slip column is the record's)",
+                    "; the {} rows over which the rest of the gap ({:.4} mm) closed on the first reload the same way are left out, and the model's travel after them is shorter by that much (the slip column is the record's)",
+                    g.to_row - g.from_row - 1,
                     g.travel_mm
                 ))
             )

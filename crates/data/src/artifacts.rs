@@ -39,13 +39,13 @@ pub struct SeatingToe {
 /// for longer than the steep loading after it needs.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct GapRemainder {
-    /// Last row before the reload's shear crosses zero (the reversal when the gap's travel
-    /// would not fit after it).
+    /// Last row before the reload's shear crosses zero (kept).
     pub from_row: usize,
-    /// First row at or beyond 5 % of what the test reaches, where the loading is steep.
+    /// First row at or beyond 5 % of what the test reaches, where the loading is steep (kept;
+    /// the rows between the two are left out).
     pub to_row: usize,
-    /// Travel taken out of the imposed column from `to_row` on [mm]: the travel from the
-    /// crossing to 5 % less what the steep loading needs for it.
+    /// Travel taken out of the imposed column from `to_row` on [mm]: what the reload travels
+    /// from its reversal to 5 % of the peak beyond what the reloads after it need.
     pub travel_mm: f64,
 }
 
@@ -195,21 +195,17 @@ pub fn gap_remainder(test: &TestData, seg: &Segmentation, direction: f64) -> Opt
     if extra < (0.5 * expected).max(10.0 * seg.conditioned.band) {
         return None;
     }
-    // The gap lies where the shear is near zero: from the last row before it crosses zero
-    // (from the reversal when the squeeze would not fit there).
+    // The gap lies where the shear is near zero: from the last row before it crosses zero.
     let from = (r + 1..i5)
         .find(|&i| direction * tau[i] >= 0.0)
-        .map_or(r, |i| i - 1)
-        .max(r);
-    let from = if (u[i5] - u[from]).abs() > extra {
-        from
-    } else {
-        r
-    };
+        .map_or(r, |i| i - 1);
+    if (u[i5] - u[r]).abs() <= extra {
+        return None;
+    }
     Some(GapRemainder {
         from_row: from,
         to_row: i5,
-        travel_mm: extra.min((u[i5] - u[from]).abs()),
+        travel_mm: extra,
     })
 }
 
@@ -225,23 +221,45 @@ fn slip_at_level(u: &[f64], tau: &[f64], direction: f64, i: usize, level: f64) -
     u[i] + f * (u[i + 1] - u[i])
 }
 
-/// `test` with a gap remainder taken out of its slip column: from where the reload's shear
-/// crosses zero the first `travel_mm` of travel is slack (the imposed column stands still
-/// there, as the interface does while the gap closes), and every row after it moves back by
-/// that travel.
+/// `test` with a gap remainder taken out: the rows over which the gap closes (between the
+/// last row before the reload's shear crosses zero and the first at 5 % of the peak) are left
+/// out, and every row after them moves back by the remainder's travel. Rows, not travel, are
+/// removed: an imposed column standing still there would read as a hold that swallows the
+/// reversal before it.
 pub fn close_gap(test: &TestData, gap: &GapRemainder, direction: f64) -> TestData {
+    let dropped = gap.from_row + 1..gap.to_row;
+    let keep = |i: &usize| !dropped.contains(i);
+    let pick = |v: &[f64]| -> Vec<f64> {
+        v.iter()
+            .enumerate()
+            .filter(|(i, _)| keep(i))
+            .map(|(_, x)| *x)
+            .collect()
+    };
     let mut t = test.clone();
-    let u = &test.slip_mm;
-    let a = gap.from_row;
-    // Where the shear crosses zero, between row a (below zero) and the next.
-    let u0 = slip_at_level(u, &test.shear_kpa, direction, a, 0.0);
-    for (i, (out, &ui)) in t.slip_mm.iter_mut().zip(u).enumerate().skip(a + 1) {
-        *out = if i <= gap.to_row {
-            u0 + direction * (direction * (ui - u0) - gap.travel_mm).max(0.0)
-        } else {
-            ui - direction * gap.travel_mm
-        };
-    }
+    t.time_s = pick(&test.time_s);
+    t.shear_kpa = pick(&test.shear_kpa);
+    t.normal_kpa = pick(&test.normal_kpa);
+    t.slip_mm = test
+        .slip_mm
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| keep(i))
+        .map(|(i, &u)| {
+            if i >= gap.to_row {
+                u - direction * gap.travel_mm
+            } else {
+                u
+            }
+        })
+        .collect();
+    t.line_of_row = test
+        .line_of_row
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| keep(i))
+        .map(|(_, &l)| l)
+        .collect();
     t
 }
 
@@ -423,12 +441,20 @@ mod tests {
             let closed = close_gap(&trimmed, &gap, 1.0);
             let seg = segment(&closed, &SegmentOptions::default());
             assert_eq!(gap_remainder(&closed, &seg, 1.0), None, "rest {rest}");
-            // Every row after the gap moved back by its travel; rows before it did not move.
-            let last = closed.len() - 1;
-            assert!((trimmed.slip_mm[last] - closed.slip_mm[last] - gap.travel_mm).abs() < 1e-12);
+            // The rows over the gap are left out, every row after it moved back by its travel,
+            // rows before it did not move.
+            let left_out = gap.to_row - gap.from_row - 1;
+            assert!(left_out >= 1, "rest {rest}: {gap:?}");
+            assert_eq!(closed.len(), trimmed.len() - left_out);
+            let (a, b) = (closed.len() - 1, trimmed.len() - 1);
+            assert!((trimmed.slip_mm[b] - closed.slip_mm[a] - gap.travel_mm).abs() < 1e-12);
             assert_eq!(
                 closed.slip_mm[..=gap.from_row],
                 trimmed.slip_mm[..=gap.from_row]
+            );
+            assert_eq!(
+                closed.line_of_row[gap.from_row + 1],
+                trimmed.line_of_row[gap.to_row]
             );
         }
         // A stroke that closed the whole gap leaves nothing.

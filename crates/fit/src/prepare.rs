@@ -100,10 +100,10 @@ pub fn prepare_test(test: &TestData, name: String, opts: &SegmentOptions) -> Pre
             if let Some(gap) = gap_remainder(&trimmed, &seg, direction) {
                 trimmed = close_gap(&trimmed, &gap, direction);
                 toe.reason.push_str(&format!(
-                    "; the rest of the gap, {:.4} mm, closed on the first reload the same way (rows {}–{} of the record, the shear below 5 % of what the test reaches): the imposed travel after it is reduced by that much",
+                    "; the rest of the gap, {:.4} mm, closed on the first reload the same way (rows {}–{} of the record, the shear near zero, left out): the imposed travel after them is shorter by that much",
                     gap.travel_mm,
                     toe.first_kept + gap.from_row + 1,
-                    toe.first_kept + gap.to_row
+                    toe.first_kept + gap.to_row - 1
                 ));
                 toe.remainder = Some(gap);
             }
