@@ -206,7 +206,14 @@ pub(super) fn screen_and_polish(
         .par_iter()
         .map(|&i| {
             let spec = Spec::with(&lib[i]);
-            let polished = cx.fit_spec(base, &spec, &[fits[i].result.model], cx.opts.polish);
+            // From the screened fit, and from its form's values on the base: the screening
+            // rows are a share of the data, and the base parameters fitted to them with the
+            // form can fit all rows worse than the base does.
+            let screened = fits[i].result.model;
+            let mut on_base = subfric_fit::with_base_of(&screened, base);
+            on_base.params.alpha_t = base.params.alpha_t;
+            on_base.params.alpha_n = base.params.alpha_n;
+            let polished = cx.fit_spec(base, &spec, &[screened, on_base], cx.opts.polish);
             Family {
                 effect: forms[i].effect,
                 form: lib[i].clone(),
