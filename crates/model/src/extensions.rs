@@ -341,19 +341,17 @@ pub struct Healing {
     #[serde(default = "log_form")]
     pub form: HealingForm,
     /// Keep the exponential recovery ξ(μ_s − μ) of Eq. (24) and add the healing to it at rest.
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    /// Always written (as is `d_h`): a file that states the default is read back, not refused
+    /// as naming an unknown field.
+    #[serde(default)]
     pub recovery: bool,
     /// Slip that erases the healing, e-fold [mm]; 0: none of its own. When > 0 the healing is
     /// a friction gain of its own (the contact state's `healed`) on top of μ, which keeps the
     /// recovery of Eq. (24): it grows at rest by Δμ(θ), is not capped at μ_s, and decays as
     /// exp(−Δs/d_h) with plastic slip — the peak after a hold that sliding wipes out over a
     /// short distance, as in slide-hold-slide tests.
-    #[serde(default, rename = "d_h", skip_serializing_if = "is_zero")]
+    #[serde(default, rename = "d_h")]
     pub erase_mm: f64,
-}
-
-fn is_zero(v: &f64) -> bool {
-    *v == 0.0
 }
 
 fn ten() -> f64 {

@@ -353,6 +353,28 @@ mod tests {
     }
 
     #[test]
+    fn a_healing_that_states_its_defaults_reads_as_one_that_leaves_them_out() {
+        // `recovery` and `d_h` were left out when written at their defaults, and the check of
+        // unknown keys (every key read is written back) then refused a file that stated them.
+        let with = |healing: &str| format!(r#"{{"params":{FLAT},"ext":{{"healing":{healing}}}}}"#);
+        let bare = model_from_json(&with(r#"{"b":0.005,"t_c":1}"#)).expect("reads");
+        let stated = model_from_json(&with(
+            r#"{"b":0.005,"t_c":1,"form":"log","recovery":false,"d_h":0}"#,
+        ))
+        .expect("the defaults stated are read");
+        assert_eq!(bare, stated);
+        // What is written is read back.
+        let text = format!(
+            r#"{{"params":{FLAT},"ext":{}}}"#,
+            serde_json::to_string(&stated.ext).unwrap()
+        );
+        assert_eq!(model_from_json(&text).expect("written, read back"), stated);
+        // A field healing does not have is still refused.
+        let m = shape(&with(r#"{"b":0.005,"d_hh":0.1}"#));
+        assert!(m.contains("`ext.healing.d_hh` is not a known"), "{m}");
+    }
+
+    #[test]
     fn an_unknown_extension_or_field_is_refused_in_both_model_shapes() {
         for (text, path) in [(fit_json(), "model.ext"), (model_object(), "ext")] {
             let m = shape(&text.replace("slip_hardening", "slip_softening"));
