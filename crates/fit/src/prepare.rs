@@ -99,11 +99,19 @@ pub fn prepare_test(test: &TestData, name: String, opts: &SegmentOptions) -> Pre
             let seg = segment(&trimmed, opts);
             if let Some(gap) = gap_remainder(&trimmed, &seg, direction) {
                 trimmed = close_gap(&trimmed, &gap, direction);
+                let (a, b) = (toe.first_kept + gap.from_row, toe.first_kept + gap.to_row);
+                let rows = if b > a + 1 {
+                    format!(
+                        "rows {}–{} of the record, the shear near zero, left out",
+                        a + 1,
+                        b - 1
+                    )
+                } else {
+                    format!("between rows {a} and {b} of the record")
+                };
                 toe.reason.push_str(&format!(
-                    "; the rest of the gap, {:.4} mm, closed on the first reload the same way (rows {}–{} of the record, the shear near zero, left out): the imposed travel after them is shorter by that much",
+                    "; the rest of the gap, {:.4} mm, closed on the first reload the same way ({rows}): the imposed travel after it is shorter by that much",
                     gap.travel_mm,
-                    toe.first_kept + gap.from_row + 1,
-                    toe.first_kept + gap.to_row - 1
                 ));
                 toe.remainder = Some(gap);
             }
