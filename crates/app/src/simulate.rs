@@ -91,12 +91,8 @@ pub fn simulate_set(dir: &Path, model: &Model, out: &Path, force: bool) -> Resul
             *t = t.rows_from(toe.first_kept);
             // The rows over which the rest of a gap closed are left out too; the slip column
             // stays the record's.
-            if let (Some(g), Some(direction)) = (&toe.remainder, toe.slack_leg_direction) {
-                let mut closed = subfric_data::close_gap(t, g, direction);
-                for u in &mut closed.slip_mm[g.from_row + 1..] {
-                    *u += direction * g.travel_mm;
-                }
-                *t = closed;
+            if let Some(g) = &toe.remainder {
+                *t = subfric_data::without_gap_rows(t, g);
             }
             format!(
                 "; the record's first {} rows (a seating toe over {:.3} mm) are left out: the model starts at rest under {:.2} kPa after them{}",

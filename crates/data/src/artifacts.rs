@@ -223,43 +223,33 @@ fn slip_at_level(u: &[f64], tau: &[f64], direction: f64, i: usize, level: f64) -
 
 /// `test` with a gap remainder taken out: the rows over which the gap closes (between the
 /// last row before the reload's shear crosses zero and the first at 5 % of the peak) are left
-/// out, and every row after them moves back by the remainder's travel. Rows, not travel, are
-/// removed: an imposed column standing still there would read as a hold that swallows the
-/// reversal before it.
+/// out ([`without_gap_rows`]), and every row after them moves back by the remainder's travel.
+/// Rows, not travel, are removed: an imposed column standing still there would read as a hold
+/// that swallows the reversal before it.
 pub fn close_gap(test: &TestData, gap: &GapRemainder, direction: f64) -> TestData {
+    let mut t = without_gap_rows(test, gap);
+    for u in &mut t.slip_mm[gap.from_row + 1..] {
+        *u -= direction * gap.travel_mm;
+    }
+    t
+}
+
+/// `test` without the rows over which a gap remainder closes, every column as recorded.
+pub fn without_gap_rows(test: &TestData, gap: &GapRemainder) -> TestData {
     let dropped = gap.from_row + 1..gap.to_row;
-    let keep = |i: &usize| !dropped.contains(i);
-    let pick = |v: &[f64]| -> Vec<f64> {
+    fn kept<T: Copy>(v: &[T], dropped: &std::ops::Range<usize>) -> Vec<T> {
         v.iter()
             .enumerate()
-            .filter(|(i, _)| keep(i))
+            .filter(|(i, _)| !dropped.contains(i))
             .map(|(_, x)| *x)
             .collect()
-    };
+    }
     let mut t = test.clone();
-    t.time_s = pick(&test.time_s);
-    t.shear_kpa = pick(&test.shear_kpa);
-    t.normal_kpa = pick(&test.normal_kpa);
-    t.slip_mm = test
-        .slip_mm
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| keep(i))
-        .map(|(i, &u)| {
-            if i >= gap.to_row {
-                u - direction * gap.travel_mm
-            } else {
-                u
-            }
-        })
-        .collect();
-    t.line_of_row = test
-        .line_of_row
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| keep(i))
-        .map(|(_, &l)| l)
-        .collect();
+    t.time_s = kept(&test.time_s, &dropped);
+    t.slip_mm = kept(&test.slip_mm, &dropped);
+    t.shear_kpa = kept(&test.shear_kpa, &dropped);
+    t.normal_kpa = kept(&test.normal_kpa, &dropped);
+    t.line_of_row = kept(&test.line_of_row, &dropped);
     t
 }
 

@@ -47,7 +47,9 @@ pub mod summary;
 pub mod text;
 pub mod write;
 
-pub use artifacts::{close_gap, gap_remainder, seating_toe, GapRemainder, SeatingToe};
+pub use artifacts::{
+    close_gap, gap_remainder, seating_toe, without_gap_rows, GapRemainder, SeatingToe,
+};
 pub use condition::{condition_imposed, condition_imposed_with, Conditioned};
 pub use error::{DataError, InputProblem};
 pub use fsio::{write_atomic, PathKind};

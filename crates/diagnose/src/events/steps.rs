@@ -262,6 +262,11 @@ fn line(x: &[f64], y: &[f64]) -> (f64, f64, f64, f64, f64) {
     (p, q, sd, sxx, mx)
 }
 
+/// y − (p + q x), row by row.
+fn line_residuals(x: &[f64], y: &[f64], p: f64, q: f64) -> Vec<f64> {
+    x.iter().zip(y).map(|(a, b)| b - p - q * a).collect()
+}
+
 /// The change of steady friction measured on the record (the steadystate routine's reading):
 /// the mean over the last 20 % of the new rate minus the extrapolation, to that time, of the
 /// line through the friction before the step; its uncertainty from both, the residuals'
@@ -282,11 +287,7 @@ fn measured_change(w: &Window) -> Estimate {
     // (from neighbouring rows) does not see: n correlated rows carry the information of n/τ.
     // The tail is short and sees only a piece of a wander, so its own spread and correlation
     // time understate them; the larger of the two parts' values is used for both.
-    let pre_residuals: Vec<f64> = pre_t
-        .iter()
-        .zip(pre_mu)
-        .map(|(t, m)| m - p - q * t)
-        .collect();
+    let pre_residuals = line_residuals(pre_t, pre_mu, p, q);
     let tail_residuals: Vec<f64> = tail_mu.iter().map(|m| m - mean).collect();
     let tail_sd = {
         let v: f64 = tail_residuals.iter().map(|r| r * r).sum();
@@ -311,12 +312,7 @@ fn pre_step_trend(w: &Window) -> (f64, f64, f64) {
     let pre_s = &w.travel[..=w.step];
     let pre_mu = &w.mu[..=w.step];
     let (p, q, sd, sxx, _) = line(pre_s, pre_mu);
-    let residuals: Vec<f64> = pre_s
-        .iter()
-        .zip(pre_mu)
-        .map(|(s, m)| m - p - q * s)
-        .collect();
-    let tau = subfric_fit::uncertainty::correlation_time(&residuals);
+    let tau = subfric_fit::uncertainty::correlation_time(&line_residuals(pre_s, pre_mu, p, q));
     let se = sd.max(w.sigma) * (tau / sxx.max(1e-300)).sqrt();
     (p, q, se)
 }
@@ -464,12 +460,8 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
         lo: vec![f64::NEG_INFINITY; x.len()],
         hi: vec![f64::INFINITY; x.len()],
     };
-    let mut r = Vec::new();
-    prob.residuals_at(&x, &mut r);
-    let ssr: f64 = r.iter().map(|v| v * v).sum();
+    let (r, ssr, s2) = residuals_and_scale(&prob, &x);
     let n = r.len();
-    let tau = subfric_fit::uncertainty::correlation_time(&r);
-    let s2 = (ssr / (n.saturating_sub(x.len())).max(1) as f64).max(1.0) * tau;
     let mut cov = covariance(&prob, &x, &r, s2);
     // The trend's own uncertainty, carried in: the fit redone with the trend one standard
     // error steeper moves every coordinate together, by d; its share of the covariance is d dᵀ.
@@ -516,11 +508,7 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
         let refit = levenberg_marquardt(&free, &x0, None, &lm);
         if refit.ssr.is_finite() && refit.x.iter().all(|v| v.is_finite()) {
             let on_all = RsfProblem { w, ..free };
-            let mut r = Vec::new();
-            on_all.residuals_at(&refit.x, &mut r);
-            let ssr: f64 = r.iter().map(|v| v * v).sum();
-            let tau = subfric_fit::uncertainty::correlation_time(&r);
-            let s2 = (ssr / (n.saturating_sub(refit.x.len())).max(1) as f64).max(1.0) * tau;
+            let (r, _, s2) = residuals_and_scale(&on_all, &refit.x);
             let mut xj = refit.x.clone();
             let cov_j = covariance(&on_all, &xj, &r, s2).map(|mut c| {
                 // Drop the trend's row and column: the four shared coordinates stay in place.
@@ -692,6 +680,17 @@ fn fit_null(w: &Window, mu0: f64, trend: f64, change: &Estimate, span: f64) -> f
             levenberg_marquardt(&prob, &x0, None, &lm).ssr
         })
         .fold(f64::INFINITY, f64::min)
+}
+
+/// The residuals of `p` at `x` on every row, their SSR, and the variance scale s² of the
+/// covariance: the reduced χ² (at least 1) times the residuals' correlation time.
+fn residuals_and_scale<R: Residuals>(p: &R, x: &[f64]) -> (Vec<f64>, f64, f64) {
+    let mut r = Vec::new();
+    p.residuals_at(x, &mut r);
+    let ssr: f64 = r.iter().map(|v| v * v).sum();
+    let tau = subfric_fit::uncertainty::correlation_time(&r);
+    let s2 = (ssr / (r.len().saturating_sub(x.len())).max(1) as f64).max(1.0) * tau;
+    (r, ssr, s2)
 }
 
 /// s² (JᵀJ)⁻¹ at `x`, or `None` when JᵀJ is singular.
