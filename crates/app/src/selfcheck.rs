@@ -384,7 +384,7 @@ fn truth_of(
         (e, None) => vec![e],
     };
     let known = || {
-        Effect::ALL
+        Effect::every()
             .iter()
             .map(|e| e.name())
             .chain(["drift"])
@@ -485,7 +485,10 @@ mod tests {
         assert_eq!(
             truth_families(&two),
             Some((
-                vec![Effect::SlipHardening, Effect::Pressure],
+                vec![
+                    Effect::from_name("slip-hardening").unwrap(),
+                    Effect::Pressure
+                ],
                 "slip-hardening (slip-softening-exp-add) + pressure (pressure-linear-mu)".into()
             ))
         );

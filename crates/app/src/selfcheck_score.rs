@@ -117,7 +117,7 @@ fn median(v: &mut [f64]) -> Option<f64> {
 
 /// Scores cases.
 pub fn score(cases: &[Case]) -> Scores {
-    let labels: Vec<Effect> = Effect::ALL.to_vec();
+    let labels: Vec<Effect> = Effect::every();
     let idx = |e: Effect| labels.iter().position(|l| *l == e).unwrap_or(0);
     let mut confusion = vec![vec![0; labels.len()]; labels.len()];
     for c in cases.iter().filter(|c| c.truth.len() <= 1) {
@@ -297,13 +297,14 @@ mod tests {
     #[test]
     fn scores_count_what_they_say() {
         use Effect::*;
+        let slip = Effect::from_name("slip-hardening").unwrap();
         let cases = [
             case(&[], &[], "lab"),
             case(&[], &[Unexplained], "rig"),
             case(&[Rate], &[Rate], "lab"),
-            case(&[Rate], &[Rate, SlipHardening], "clean"),
+            case(&[Rate], &[Rate, slip], "clean"),
             case(&[Rate, Pressure], &[Pressure, Rate], "rig"),
-            case(&[SlipHardening, Pressure], &[SlipHardening], "rig"),
+            case(&[slip, Pressure], &[slip], "rig"),
             case(&[Unexplained], &[Unexplained], "clean"),
         ];
         let s = score(&cases);

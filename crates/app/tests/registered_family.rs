@@ -38,7 +38,7 @@ fn set_with_a_time_trend(rise: f64) -> (subfric_data::ExperimentSet, f64) {
     trend.p[0] = c;
     let with = Model {
         ext: subfric_model::Extensions {
-            term: Some(trend),
+            terms: subfric_model::Terms::one(trend),
             ..base.ext
         },
         ..base
@@ -66,9 +66,13 @@ fn set_with_a_time_trend(rise: f64) -> (subfric_data::ExperimentSet, f64) {
 fn a_parameter_file_switches_a_registered_family_on_and_reads_back() {
     let text = r#"{"params": {"mu_s": 0.45, "mu_k": 0.3, "kappa": 1.2, "xi": 0.003,
         "u_tilde": 15, "alpha_t": 1000},
-        "ext": {"term": {"family": "time-trend", "form": "saturating", "delta": 0.04, "t_s": 300}}}"#;
+        "ext": {"time_trend": {"form": "saturating", "delta": 0.04, "t_s": 300}}}"#;
     let m = model_from_json(text).expect("a registered family is a valid extension");
-    let t = m.ext.term.expect("switched on");
+    let (index, _) = family_named("time-trend").unwrap();
+    let t = m.ext.terms.of(index).expect("switched on");
+    // The `term` object of older files reads as the same model.
+    let old = text.replace(r#""time_trend": {"#, r#""term": {"family": "time-trend", "#);
+    assert_eq!(model_from_json(&old).expect("the older shape reads"), m);
     assert_eq!(t.form().key, "saturating");
     let back = serde_json::json!({ "params": m.params, "ext": m.ext }).to_string();
     assert_eq!(model_from_json(&back).unwrap(), m);

@@ -193,7 +193,11 @@ fn the_polished_form_of_each_generated_family_converges() {
     for (name, form, effect) in [
         ("rsf-slip-clean", Form::RsfSlip, Effect::Rate),
         ("pressure-exp-lab", Form::PressureExp, Effect::Pressure),
-        ("slip-capped-clean", Form::SlipCapped, Effect::SlipHardening),
+        (
+            "slip-capped-clean",
+            Form::SlipCapped,
+            Effect::from_name("slip-hardening").unwrap(),
+        ),
         ("heal-power-clean", Form::HealPower, Effect::LogHealing),
         ("direction-muk-clean", Form::DirectionMuK, Effect::Direction),
     ] {

@@ -9,7 +9,7 @@ use subfric_fit::Param;
 use subfric_model::terms::{self, Shows};
 use subfric_model::{
     AtRest, DirectionEffect, Extensions, Healing, HealingForm, PressureEffect, PressureForm,
-    RateEffect, RateForm, SlipForm, SlipHardening, Target,
+    RateEffect, RateForm, Target,
 };
 
 /// An effect the diagnosis can name (a family of forms).
@@ -21,8 +21,6 @@ pub enum Effect {
     Rate,
     /// Pressure dependence of μ, μ_s or μ_k.
     Pressure,
-    /// Slip hardening or softening with accumulated slip.
-    SlipHardening,
     /// Time healing at rest (log or power law) instead of exponential recovery.
     LogHealing,
     /// Forward and backward sliding differ.
@@ -35,22 +33,31 @@ pub enum Effect {
 }
 
 impl Effect {
-    /// Every effect a verdict can name.
-    pub const ALL: [Effect; 7] = [
-        Effect::None,
-        Effect::Rate,
-        Effect::Pressure,
-        Effect::SlipHardening,
-        Effect::LogHealing,
-        Effect::Direction,
-        Effect::Unexplained,
-    ];
+    /// The registered family tried by default whose term follows the accumulated slip alone
+    /// (slip hardening): where a residual that grows with slip or with the cycles points.
+    pub fn of_accumulated_slip() -> Option<Effect> {
+        terms::FAMILIES
+            .iter()
+            .position(|f| f.monotone_in_slip() && f.tried_by_default())
+            .map(|i| Effect::Term(i as u8))
+    }
 
-    /// The built-in physical families (the registered ones are `Effect::Term`).
-    pub const FAMILIES: [Effect; 5] = [
+    /// Every effect a verdict can name: none, the built-in families, the registered ones,
+    /// unexplained.
+    pub fn every() -> Vec<Effect> {
+        let registered = (0..terms::FAMILIES.len()).map(|i| Effect::Term(i as u8));
+        std::iter::once(Effect::None)
+            .chain(Effect::BUILT_IN)
+            .chain(registered)
+            .chain([Effect::Unexplained])
+            .collect()
+    }
+
+    /// The built-in physical families (the registered ones, slip hardening among them, are
+    /// `Effect::Term`).
+    pub const BUILT_IN: [Effect; 4] = [
         Effect::Rate,
         Effect::Pressure,
-        Effect::SlipHardening,
         Effect::LogHealing,
         Effect::Direction,
     ];
@@ -62,22 +69,20 @@ impl Effect {
             Effect::None => "none",
             Effect::Rate => "rate",
             Effect::Pressure => "pressure",
-            Effect::SlipHardening => "slip-hardening",
             Effect::LogHealing => "log-healing",
             Effect::Direction => "direction",
             Effect::Unexplained => "unexplained",
         }
     }
 
-    /// Parses a name (also `healing`, and `drift` for a gap outside the library).
+    /// Parses a name (also `healing`, `drift` for a gap outside the library, and a
+    /// registered family's aliases).
     pub fn from_name(s: &str) -> Option<Effect> {
         match s {
             "healing" | "time-healing" => Some(Effect::LogHealing),
             "drift" => Some(Effect::Unexplained),
-            "slip" | "slip-softening" => Some(Effect::SlipHardening),
-            _ => Effect::ALL
-                .iter()
-                .copied()
+            _ => Effect::every()
+                .into_iter()
                 .find(|e| e.name() == s)
                 .or_else(|| terms::family_named(s).map(|(i, _)| Effect::Term(i))),
         }
@@ -91,7 +96,6 @@ impl Effect {
             Effect::Rate => &[Shows::VelocitySteps, Shows::Holds],
             Effect::LogHealing => &[Shows::Holds],
             Effect::Direction => &[Shows::Reversals],
-            Effect::SlipHardening => &[Shows::AfterFirstLoading],
             Effect::Pressure => &[Shows::AwayFromReferenceStress],
             Effect::Term(i) => terms::family(i).shows(),
             Effect::None | Effect::Unexplained => &[],
@@ -105,7 +109,6 @@ impl Effect {
             Effect::None => "no effect beyond the base model: the remaining gap is noise",
             Effect::Rate => "rate dependence: friction changes with the slip rate",
             Effect::Pressure => "pressure dependence: friction changes with the normal stress",
-            Effect::SlipHardening => "slip hardening/softening: friction changes with accumulated slip",
             Effect::LogHealing => "time healing: friction regains strength at rest as a law of time, not by exponential recovery",
             Effect::Direction => "direction dependence: backward sliding differs from forward sliding",
             Effect::Unexplained => "a real gap none of the candidates explains",
@@ -124,11 +127,9 @@ impl Serialize for Effect {
 impl<'de> Deserialize<'de> for Effect {
     fn deserialize<D: serde::Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
         let name = String::deserialize(de)?;
-        Effect::ALL
-            .iter()
-            .copied()
+        Effect::every()
+            .into_iter()
             .find(|e| e.name() == name)
-            .or_else(|| terms::family_named(&name).map(|(i, _)| Effect::Term(i)))
             .ok_or_else(|| serde::de::Error::custom(format!("unknown effect `{name}`")))
     }
 }
@@ -233,17 +234,6 @@ fn ext_pressure(form: PressureForm, target: Target, p_ref: f64) -> Extensions {
             target,
             p_ref,
             beta_k: 0.0,
-        }),
-        ..Extensions::default()
-    }
-}
-
-fn ext_slip(form: SlipForm) -> Extensions {
-    Extensions {
-        slip_hardening: Some(SlipHardening {
-            h: 0.0,
-            s_h: 1.0,
-            form,
         }),
         ..Extensions::default()
     }
@@ -409,7 +399,7 @@ fn term_forms(family: u8, f: &DataFeatures) -> Vec<Form> {
                 effect: Effect::Term(family),
                 name: form.describe,
                 template: Extensions {
-                    term: Some(terms::TermEffect::new(family, k as u8)),
+                    terms: terms::Terms::one(terms::TermEffect::new(family, k as u8)),
                     ..Extensions::default()
                 },
                 params: form.params.iter().map(|&i| param(i)).collect(),
@@ -430,9 +420,9 @@ fn term_forms(family: u8, f: &DataFeatures) -> Vec<Form> {
 ///
 /// ```
 /// let names = subfric_diagnose::candidates::all_form_names();
-/// // 33 built-in forms and every form of the registered families.
+/// // 30 built-in forms and every form of the registered families.
 /// let registered: usize = subfric_model::terms::FAMILIES.iter().map(|f| f.forms().len()).sum();
-/// assert_eq!(names.len(), 33 + registered);
+/// assert_eq!(names.len(), 30 + registered);
 /// assert!(names.contains(&"rate and state, slip law"));
 /// ```
 pub fn all_form_names() -> Vec<&'static str> {
@@ -475,7 +465,6 @@ fn library_for(f: &DataFeatures) -> Vec<Form> {
     if f.pressure_levels > 1 {
         out.extend(pressure_forms(f.p_ref));
     }
-    out.extend(slip_forms(f.slip_span_mm.max(0.1)));
     if f.holds > 0 {
         out.extend(healing_forms(f.seeds.healing_per_decade));
     }
@@ -531,35 +520,6 @@ fn pressure_forms(p: f64) -> Vec<Form> {
         neutral: vec![0.0, 0.0],
         bounds: vec![],
     });
-    out
-}
-
-/// The slip-hardening family for tests that travel about `s` mm.
-fn slip_forms(s: f64) -> Vec<Form> {
-    let mut out = Vec::new();
-    for (form, name) in [
-        (
-            SlipForm::Exponential,
-            "exponential, h s_h (1 - exp(-s/s_h))",
-        ),
-        (SlipForm::Capped, "capped linear, h min(s, s_h)"),
-        (SlipForm::Hyperbolic, "hyperbolic, h s / (1 + s/s_h)"),
-    ] {
-        out.push(Form {
-            effect: Effect::SlipHardening,
-            name,
-            template: ext_slip(form),
-            params: vec![Param::SlipH, Param::SlipSh],
-            starts: vec![
-                vec![0.05 / s, 0.3 * s],
-                vec![-0.05 / s, 0.3 * s],
-                vec![0.02 / s, 3.0 * s],
-                vec![-0.02 / s, 3.0 * s],
-            ],
-            neutral: vec![0.0, s],
-            bounds: vec![],
-        });
-    }
     out
 }
 

@@ -67,7 +67,7 @@ impl Feature {
         match self {
             Feature::LogRate | Feature::RateChange => Some(Effect::Rate),
             Feature::TimeAtRest => Some(Effect::LogHealing),
-            Feature::AccumulatedSlip | Feature::Cycle => Some(Effect::SlipHardening),
+            Feature::AccumulatedSlip | Feature::Cycle => Effect::of_accumulated_slip(),
             Feature::NormalStress => Some(Effect::Pressure),
             Feature::Direction => Some(Effect::Direction),
             Feature::Time => None,

@@ -71,10 +71,9 @@ pub fn merge(a: &Extensions, b: &Extensions) -> Extensions {
     Extensions {
         rate: b.rate.or(a.rate),
         pressure: b.pressure.or(a.pressure),
-        slip_hardening: b.slip_hardening.or(a.slip_hardening),
         healing: b.healing.or(a.healing),
         direction: b.direction.or(a.direction),
-        term: b.term.or(a.term),
+        terms: b.terms.or(a.terms),
     }
 }
 

@@ -18,7 +18,7 @@ use std::process::Command;
 use std::time::Instant;
 use subfric_model::{
     Contact3, DirectionEffect, Extensions, Model, Params, PressureEffect, PressureForm, RateEffect,
-    RateForm, SlipForm, SlipHardening, State3, Target, Vec3,
+    RateForm, State3, Target, TermEffect, Terms, Vec3,
 };
 
 /// How a case gives its model to the C program.
@@ -166,11 +166,9 @@ fn cases(dir: &Path) -> Vec<Case> {
                 p_ref: 100.0,
                 beta_k: 0.0,
             }),
-            slip_hardening: Some(SlipHardening {
-                h: 0.02,
-                s_h: 0.5,
-                form: SlipForm::Hyperbolic,
-            }),
+            terms: Terms::one(
+                TermEffect::named("slip-hardening", "hyperbolic", &[0.02, 0.5]).unwrap(),
+            ),
             ..Extensions::default()
         },
     )

@@ -5,13 +5,12 @@
 use serde::{Deserialize, Serialize};
 use subfric_model::terms::{self, TermEffect, TermParam};
 use subfric_model::{
-    DirectionEffect, Healing, HealingForm, Model, PressureEffect, PressureForm, RateEffect,
-    SlipForm, SlipHardening, Target,
+    DirectionEffect, Healing, HealingForm, Model, PressureEffect, PressureForm, RateEffect, Target,
 };
 
-/// A parameter of the model or of one of its extensions.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+/// A parameter of the model or of one of its extensions. In files it is its key
+/// ([`Param::key`]: `mu_s`, `rate.d_c`, `slip_hardening.h`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Param {
     /// μ_s.
     MuS,
@@ -39,10 +38,6 @@ pub enum Param {
     PressureBeta,
     /// Pressure effect on μ_s and μ_k separately: β of μ_k.
     PressureBetaK,
-    /// Slip hardening: h.
-    SlipH,
-    /// Slip hardening: s_h [mm].
-    SlipSh,
     /// Time healing: t_c [s] (log form).
     HealTc,
     /// Time healing: b.
@@ -62,6 +57,28 @@ pub enum Param {
         /// Index of the parameter in the family's `params()`.
         index: u8,
     },
+}
+
+impl Serialize for Param {
+    fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        ser.serialize_str(self.key())
+    }
+}
+
+impl<'de> Deserialize<'de> for Param {
+    fn deserialize<D: serde::Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(de)?;
+        Param::from_key_or_old_name(&s).ok_or_else(|| {
+            serde::de::Error::custom(format!(
+                "unknown parameter `{s}` (expected one of: {})",
+                Param::all()
+                    .iter()
+                    .map(|p| p.key())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+        })
+    }
 }
 
 /// How a parameter is mapped to the optimiser's coordinate.
@@ -87,7 +104,7 @@ impl Param {
 
     /// Every parameter of the model and its built-in extensions ([`Param::all`] adds those of
     /// the registered families).
-    pub const ALL: [Param; 21] = [
+    pub const ALL: [Param; 19] = [
         Param::MuS,
         Param::MuK,
         Param::Kappa,
@@ -101,8 +118,6 @@ impl Param {
         Param::RateN,
         Param::PressureBeta,
         Param::PressureBetaK,
-        Param::SlipH,
-        Param::SlipSh,
         Param::HealTc,
         Param::HealB,
         Param::HealN,
@@ -150,8 +165,6 @@ impl Param {
             Param::RateN => "rate.n",
             Param::PressureBeta => "pressure.beta",
             Param::PressureBetaK => "pressure.beta_k",
-            Param::SlipH => "slip_hardening.h",
-            Param::SlipSh => "slip_hardening.s_h",
             Param::HealTc => "healing.t_c",
             Param::HealB => "healing.b",
             Param::HealN => "healing.n",
@@ -169,8 +182,7 @@ impl Param {
             Param::Xi => "1/s",
             Param::AlphaT => "kN/mm³",
             Param::RateVc => "mm/s",
-            Param::RateDc | Param::SlipSh | Param::HealDh => "mm",
-            Param::SlipH => "1/mm",
+            Param::RateDc | Param::HealDh => "mm",
             Param::HealTc => "s",
             _ => "",
         }
@@ -179,6 +191,30 @@ impl Param {
     /// Parses a key (as printed by [`Param::key`]).
     pub fn from_key(s: &str) -> Option<Param> {
         Param::all().into_iter().find(|p| p.key() == s)
+    }
+
+    /// Parses a key, or the name files written before the keys used (`rate_d_c`'s
+    /// `rate_dc`, `slip_h`, ...).
+    fn from_key_or_old_name(s: &str) -> Option<Param> {
+        let key = match s {
+            "rate_a" => "rate.a",
+            "rate_vc" => "rate.v_c",
+            "rate_b" => "rate.b",
+            "rate_dc" => "rate.d_c",
+            "rate_n" => "rate.n",
+            "pressure_beta" => "pressure.beta",
+            "pressure_beta_k" => "pressure.beta_k",
+            "slip_h" => "slip_hardening.h",
+            "slip_sh" => "slip_hardening.s_h",
+            "heal_tc" => "healing.t_c",
+            "heal_b" => "healing.b",
+            "heal_n" => "healing.n",
+            "heal_dh" => "healing.d_h",
+            "direction_d" => "direction.d",
+            "direction_dk" => "direction.d_k",
+            other => other,
+        };
+        Param::from_key(key)
     }
 
     /// Why `lo..hi` (natural units) cannot bound this parameter, if it cannot: both finite,
@@ -231,7 +267,6 @@ impl Param {
             | Param::RateN
             | Param::PressureBeta
             | Param::PressureBetaK
-            | Param::SlipH
             | Param::DirectionD
             | Param::DirectionDK
             | Param::HealB
@@ -256,8 +291,6 @@ impl Param {
             Param::RateDc => (1e-4, 10.0),
             Param::RateN => (-0.5, 0.5),
             Param::PressureBeta | Param::PressureBetaK => (-1.0, 1.0),
-            Param::SlipH => (-1.0, 1.0),
-            Param::SlipSh => (0.01, 1000.0),
             Param::HealTc => (1e-3, 1e6),
             Param::HealB => (0.0, 0.3),
             Param::HealN => (0.05, 1.0),
@@ -284,8 +317,6 @@ impl Param {
             Param::RateN => e.rate?.n,
             Param::PressureBeta => e.pressure?.beta,
             Param::PressureBetaK => e.pressure?.beta_k,
-            Param::SlipH => e.slip_hardening?.h,
-            Param::SlipSh => e.slip_hardening?.s_h,
             Param::HealTc => e.healing?.t_c,
             Param::HealB => e.healing?.b,
             Param::HealN => e.healing?.n,
@@ -296,7 +327,7 @@ impl Param {
             Param::Term { family, index } => {
                 // A parameter the active form does not use is inactive, like an extension
                 // that is off.
-                let t = e.term.filter(|t| t.family == family)?;
+                let t = e.terms.of(family)?;
                 if !t.form().params.contains(&(index as usize)) {
                     return None;
                 }
@@ -325,8 +356,6 @@ impl Param {
             Param::RateN => rate(e).n = v,
             Param::PressureBeta => pressure(e).beta = v,
             Param::PressureBetaK => pressure(e).beta_k = v,
-            Param::SlipH => hardening(e).h = v,
-            Param::SlipSh => hardening(e).s_h = v,
             Param::HealTc => healing(e).t_c = v,
             Param::HealB => healing(e).b = v,
             Param::HealN => healing(e).n = v,
@@ -334,18 +363,18 @@ impl Param {
             Param::DirectionD => direction(e).d = v,
             Param::DirectionDK => direction(e).d_k = v,
             Param::Term { family, index } => {
-                // One registered family at a time; setting a parameter its form does not use
-                // switches to the first form that does (the other values are kept).
+                // Setting a parameter the family's form does not use switches to the first
+                // form that does (the other values are kept).
                 let i = index as usize;
                 let first_using = terms::family(family)
                     .forms()
                     .iter()
                     .position(|f| f.params.contains(&i))
                     .unwrap_or(0) as u8;
-                let t = match e.term {
-                    Some(t) if t.family == family => e.term.as_mut().expect("just matched"),
-                    _ => e.term.insert(TermEffect::new(family, first_using)),
-                };
+                if e.terms.of(family).is_none() {
+                    e.terms.insert(TermEffect::new(family, first_using));
+                }
+                let t = e.terms.of_mut(family).expect("just switched on");
                 if !t.form().params.contains(&i) {
                     t.form = first_using;
                 }
@@ -377,14 +406,6 @@ fn direction(e: &mut subfric_model::Extensions) -> &mut DirectionEffect {
         d: 0.0,
         target: Target::Friction,
         d_k: 0.0,
-    })
-}
-
-fn hardening(e: &mut subfric_model::Extensions) -> &mut SlipHardening {
-    e.slip_hardening.get_or_insert(SlipHardening {
-        h: 0.0,
-        s_h: 1.0,
-        form: SlipForm::Exponential,
     })
 }
 

@@ -70,8 +70,8 @@ proptest! {
             Param::RateA,
             Param::RateVc,
             Param::PressureBeta,
-            Param::SlipH,
-            Param::SlipSh,
+            Param::from_key("slip_hardening.h").unwrap(),
+            Param::from_key("slip_hardening.s_h").unwrap(),
             Param::HealTc,
             Param::HealB,
             Param::DirectionD,
@@ -134,10 +134,14 @@ fn every_parameter_of_a_registered_family_sets_and_reads_back_through_its_form()
         let mut m = base();
         q.set(&mut m, v);
         assert_eq!(q.get(&m), Some(v), "{}", q.key());
-        let term = m.ext.term.expect("switched on");
+        let Param::Term { family: own, .. } = q else {
+            unreachable!("a registered family's parameter")
+        };
+        let term = m.ext.terms.of(own).expect("switched on");
         for other in Param::all() {
-            if let (Some(_), Param::Term { index, .. }) = (other.term_param(), other) {
-                let used = term.form().params.contains(&(index as usize));
+            if let (Some(_), Param::Term { family, index }) = (other.term_param(), other) {
+                // Another family stays off; of this one, the form's parameters are on.
+                let used = family == own && term.form().params.contains(&(index as usize));
                 assert_eq!(
                     other.get(&m).is_some(),
                     used,
@@ -150,10 +154,28 @@ fn every_parameter_of_a_registered_family_sets_and_reads_back_through_its_form()
         // In the optimiser's chart too.
         let space = Space::new(m, &[q], &[]);
         let x = space.point_of(&m);
-        let back = space.model_at(&x).ext.term.expect("still on");
+        let back = space.model_at(&x).ext.terms.of(own).expect("still on");
         assert_eq!((back.family, back.form), (term.family, term.form));
         for (a, b) in back.p.iter().zip(&term.p) {
             assert!((a - b).abs() <= 1e-12 * b.abs(), "{} {a} vs {b}", q.key());
         }
     }
+}
+
+#[test]
+fn a_parameter_is_written_as_its_key_and_read_back_also_from_its_older_name() {
+    for q in Param::all() {
+        let text = serde_json::to_string(&q).unwrap();
+        assert_eq!(text, format!("\"{}\"", q.key()));
+        assert_eq!(serde_json::from_str::<Param>(&text).unwrap(), q);
+    }
+    // Files written before the keys named parameters by the enum's variants.
+    let old: Param = serde_json::from_str("\"slip_sh\"").unwrap();
+    assert_eq!(old.key(), "slip_hardening.s_h");
+    let old: Param = serde_json::from_str("\"rate_dc\"").unwrap();
+    assert_eq!(old, Param::RateDc);
+    let err = serde_json::from_str::<Param>("\"slip_hh\"")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("unknown parameter `slip_hh`"), "{err}");
 }

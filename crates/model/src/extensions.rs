@@ -3,16 +3,17 @@
 //!
 //! All act on the friction in the Coulomb cone ‖f_t‖ = r μ_eff f_n (Eqs. 21–22):
 //!
-//! μ_eff = μ · P(p) · D(dir) · V(v) + R(v, θ) + H(s) + T(s, t)
+//! μ_eff = μ · P(p) · D(dir) · V(v) + R(v, θ) + Σ T(s, t)
 //!
 //! with μ from Eq. (24) between bounds μ_s′, μ_k′ that a pressure or direction effect may move,
 //! P a pressure factor, D a direction factor, V a power law in the plastic slip rate v, R the
-//! log-rate and rate-and-state terms (θ the state variable), H slip hardening in the accumulated
-//! plastic slip s. A registered family ([`crate::terms`]) adds its term T(s, t) beside H.
+//! log-rate and rate-and-state terms (θ the state variable), and T the term of each registered
+//! family switched on ([`crate::terms`]: slip hardening H(s) in the accumulated plastic slip s,
+//! a time trend, ...).
 //! [`Healing`] replaces the exponential recovery ξ(μ_s − μ) of Eq. (24) at rest.
 //! Every term is zero (or one) at its reference, so μ_s and μ_k keep their meaning.
 
-use crate::terms::TermEffect;
+use crate::terms::Terms;
 use serde::{Deserialize, Serialize};
 
 /// Reference normal stress of the pressure effect when none is given [kPa].
@@ -256,59 +257,6 @@ impl PressureEffect {
     }
 }
 
-/// How friction changes with accumulated plastic slip s.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum SlipForm {
-    /// H = h s_h (1 − exp(−s/s_h)).
-    Exponential,
-    /// H = h min(s, s_h).
-    Capped,
-    /// H = h s / (1 + s/s_h).
-    Hyperbolic,
-}
-
-/// Slip hardening (h > 0) or softening (h < 0): an initial slope h per mm that saturates
-/// after a slip of the order of s_h, in one of the [`SlipForm`]s.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SlipHardening {
-    /// Initial rate of change of the friction coefficient with slip h [1/mm].
-    pub h: f64,
-    /// Saturation slip s_h [mm].
-    pub s_h: f64,
-    /// The form.
-    #[serde(default = "exponential_form")]
-    pub form: SlipForm,
-}
-
-fn exponential_form() -> SlipForm {
-    SlipForm::Exponential
-}
-
-impl SlipHardening {
-    /// H(s) and dH/ds.
-    #[inline]
-    pub fn term(&self, s: f64) -> (f64, f64) {
-        match self.form {
-            SlipForm::Capped => {
-                if s < self.s_h {
-                    (self.h * s, self.h)
-                } else {
-                    (self.h * self.s_h, 0.0)
-                }
-            }
-            SlipForm::Exponential => {
-                let x = (-s / self.s_h).exp();
-                (self.h * self.s_h * (1.0 - x), self.h * x)
-            }
-            SlipForm::Hyperbolic => {
-                let q = 1.0 / (1.0 + s / self.s_h);
-                (self.h * s * q, self.h * q * q)
-            }
-        }
-    }
-}
-
 /// How friction heals at rest.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -442,18 +390,16 @@ pub struct Extensions {
     /// Pressure dependence.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pressure: Option<PressureEffect>,
-    /// Slip hardening or softening.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub slip_hardening: Option<SlipHardening>,
     /// Time healing at rest.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub healing: Option<Healing>,
     /// Forward/backward asymmetry.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub direction: Option<DirectionEffect>,
-    /// A registered family's term T(s, t) (see [`crate::terms`]).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub term: Option<TermEffect>,
+    /// The registered families' terms T(s, t) (see [`crate::terms`]): slip hardening and
+    /// the others, each under its key.
+    #[serde(flatten)]
+    pub terms: Terms,
 }
 
 fn finite_positive(v: f64) -> bool {
@@ -513,14 +459,6 @@ impl Extensions {
                 v.push(("pressure.beta_k", e.beta_k, "a finite number in (-5, 5)"));
             }
         }
-        if let Some(e) = self.slip_hardening {
-            if !e.h.is_finite() {
-                v.push(("slip_hardening.h", e.h, "a finite number"));
-            }
-            if !finite_positive(e.s_h) {
-                v.push(("slip_hardening.s_h", e.s_h, "a finite slip > 0 [mm]"));
-            }
-        }
         if let Some(e) = self.healing {
             if !(e.b >= 0.0 && e.b.is_finite()) {
                 v.push(("healing.b", e.b, "a finite number >= 0"));
@@ -539,9 +477,7 @@ impl Extensions {
                 v.push(("healing.n", e.n, "an exponent in (0, 1]"));
             }
         }
-        if let Some(e) = self.term {
-            v.extend(e.issues());
-        }
+        v.extend(self.terms.issues());
         if let Some(e) = self.direction {
             if !(e.d.is_finite() && e.d < 1.0 && e.d > -1.0) {
                 v.push(("direction.d", e.d, "a number in (-1, 1)"));
@@ -611,32 +547,6 @@ impl Extensions {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn slip_forms_start_with_slope_h_and_saturate() {
-        for form in [
-            SlipForm::Exponential,
-            SlipForm::Capped,
-            SlipForm::Hyperbolic,
-        ] {
-            let e = SlipHardening {
-                h: 0.02,
-                s_h: 2.0,
-                form,
-            };
-            let (h0, d0) = e.term(0.0);
-            assert_eq!(h0, 0.0);
-            assert!((d0 - 0.02).abs() < 1e-12, "{form:?}");
-            let (h_far, d_far) = e.term(1e4);
-            assert!(h_far > 0.0 && h_far <= 0.04 + 1e-9, "{form:?}: {h_far}");
-            assert!(d_far.abs() < 1e-6, "{form:?}: {d_far}");
-            // dH/ds by a central difference.
-            let (a, _) = e.term(0.9);
-            let (b, _) = e.term(1.1);
-            let (_, d) = e.term(1.0);
-            assert!(((b - a) / 0.2 - d).abs() < 1e-4, "{form:?}");
-        }
-    }
 
     #[test]
     fn pressure_forms_are_one_at_the_reference() {

@@ -254,14 +254,27 @@ fn extensions_of(e: &Value, path: &str) -> Result<Extensions, ModelJsonError> {
     let ext: Extensions = serde_json::from_value(e.clone())
         .map_err(|err| ModelJsonError::Shape(format!("field `{path}`: {err}")))?;
     // serde ignores unknown keys; everything read is written back, so a key of the input that
-    // is not is unknown.
+    // is not is unknown. A registered family given as the `term` object of older files is
+    // written back under its own key, where it is compared.
     let back = serde_json::to_value(ext).unwrap_or_default();
-    if let Some(key) = unknown_key(e, &back, path) {
+    let input = term_under_its_key(e);
+    if let Some(key) = unknown_key(input.as_ref().unwrap_or(e), &back, path) {
         return Err(ModelJsonError::Shape(format!(
             "field `{key}` is not a known extension or extension field"
         )));
     }
     Ok(ext)
+}
+
+/// `e` with its `term` object (`{"family": name, ...}`, older files) moved under the family's
+/// key without its name; `None` when `e` has none.
+fn term_under_its_key(e: &Value) -> Option<Value> {
+    let mut obj = e.as_object()?.clone();
+    let mut term = obj.remove("term")?.as_object()?.clone();
+    let name = term.remove("family")?;
+    let (_, family) = crate::terms::family_named(name.as_str()?)?;
+    obj.insert(family.key(), Value::Object(term));
+    Some(Value::Object(obj))
 }
 
 /// The first key of `input` (an object, recursively) with a non-null value that `back` (what
@@ -324,8 +337,11 @@ mod tests {
         let object = model_from_json(&model_object()).unwrap();
         assert_eq!(fit, object);
         assert_eq!(fit.params, Params::sample());
-        let h = fit.ext.slip_hardening.expect("slip hardening read");
-        assert_eq!(h.h, 0.01);
+        let h = fit.ext.terms.iter().next().expect("slip hardening read");
+        assert_eq!(
+            (h.family().name(), h.p[0], h.p[1]),
+            ("slip-hardening", 0.01, 1.0)
+        );
         // A model object without extensions, or with `ext: null`, is the base model.
         let bare = format!(r#"{{"params":{FLAT},"ext":null}}"#);
         assert_eq!(model_from_json(&bare).unwrap(), flat);

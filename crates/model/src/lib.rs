@@ -28,7 +28,7 @@ pub use contact1::{Contact1, State1};
 pub use contact3::{Contact3, State3, StateError, Tangent3, Vec3};
 pub use extensions::{
     AtRest, DirectionEffect, Extensions, Healing, HealingForm, PressureEffect, PressureForm,
-    RateEffect, RateForm, SlipForm, SlipHardening, Target,
+    RateEffect, RateForm, Target,
 };
 pub use integrator::{RateHeld, StepError};
 pub use json::{model_from_json, model_from_value, ModelJsonError};
@@ -38,7 +38,7 @@ pub use simulate::{
     check_start, simulate, simulate_predicted_into, Control, Initial, Protocol, SimError,
     Trajectory, SLIP_RESOLUTION_SHARE,
 };
-pub use terms::{TermEffect, TermFamily};
+pub use terms::{TermEffect, TermFamily, Terms};
 
 /// A validated model: the paper's parameters plus optional extensions.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -5,7 +5,7 @@
 
 use subfric_model::{
     Contact3, DirectionEffect, Extensions, Healing, HealingForm, Model, Params, PressureEffect,
-    PressureForm, RateEffect, RateForm, SlipForm, SlipHardening, State3, Target, Vec3,
+    PressureForm, RateEffect, RateForm, State3, Target, TermEffect, Terms, Vec3,
 };
 
 /// Acceptance: ‖K − K_fd‖/‖K‖ (Frobenius) and the same for ∂f_t/∂p.
@@ -313,11 +313,9 @@ fn direction_pressure_and_slip_extensions() {
                 p_ref: 100.0,
                 beta_k: 0.0,
             }),
-            slip_hardening: Some(SlipHardening {
-                h: 0.02,
-                s_h: 0.5,
-                form: SlipForm::Hyperbolic,
-            }),
+            terms: Terms::one(
+                TermEffect::named("slip-hardening", "hyperbolic", &[0.02, 0.5]).unwrap(),
+            ),
             ..rate_and_state()
         },
     ];

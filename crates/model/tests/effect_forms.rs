@@ -3,8 +3,8 @@
 
 use subfric_model::{
     simulate, Contact1, Contact3, Control, DirectionEffect, Extensions, Healing, HealingForm,
-    Initial, Model, Params, PressureEffect, PressureForm, Protocol, RateEffect, RateForm, SlipForm,
-    SlipHardening, State1, State3, Target,
+    Initial, Model, Params, PressureEffect, PressureForm, Protocol, RateEffect, RateForm, State1,
+    State3, Target, TermEffect, Terms,
 };
 
 /// A slip-controlled history built stage by stage at a fixed slip per row.
@@ -660,11 +660,9 @@ fn hyperbolic_slip_hardening_follows_h_s_over_one_plus_s_over_s_h() {
     let m = model(
         flat_base(),
         Extensions {
-            slip_hardening: Some(SlipHardening {
-                h: 0.01,
-                s_h: 2.0,
-                form: SlipForm::Hyperbolic,
-            }),
+            terms: Terms::one(
+                TermEffect::named("slip-hardening", "hyperbolic", &[0.01, 2.0]).unwrap(),
+            ),
             ..Extensions::default()
         },
     );
@@ -756,15 +754,13 @@ fn sliding_start_is_steady_for_every_rate_form() {
     }
     // Slip softening and hardening: the slip accumulated before the cut comes from the traction.
     for h in [-0.01, 0.008] {
-        for form in [
-            SlipForm::Capped,
-            SlipForm::Exponential,
-            SlipForm::Hyperbolic,
-        ] {
+        for form in ["capped", "exponential", "hyperbolic"] {
             sliding_start_matches(
                 base,
                 Extensions {
-                    slip_hardening: Some(SlipHardening { h, s_h: 4.0, form }),
+                    terms: Terms::one(
+                        TermEffect::named("slip-hardening", form, &[h, 4.0]).unwrap(),
+                    ),
                     ..Extensions::default()
                 },
             );
@@ -812,7 +808,7 @@ fn registered_terms() -> Vec<Extensions> {
                 };
             }
             out.push(Extensions {
-                term: Some(t),
+                terms: Terms::one(t),
                 ..Extensions::default()
             });
         }

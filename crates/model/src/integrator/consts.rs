@@ -113,25 +113,17 @@ impl Consts {
         }
     }
 
-    /// The additive terms of accumulated plastic slip `s` and time `t`: slip hardening H(s)
-    /// plus a registered family's T(s, t), and their slope in s.
+    /// The additive terms of accumulated plastic slip `s` and time `t` (each registered
+    /// family's T(s, t): slip hardening, ...), and their slope in s.
     #[inline]
     pub fn path_terms(&self, s: f64, t: f64) -> (f64, f64) {
-        let mut out = match self.ext.slip_hardening {
-            Some(e) => e.term(s),
-            None => (0.0, 0.0),
-        };
-        if let Some(e) = self.ext.term {
-            let (v, d) = e.term(s, t);
-            out = (out.0 + v, out.1 + d);
-        }
-        out
+        self.ext.terms.total(s, t)
     }
 
     /// True when [`Consts::path_terms`] can be non-zero.
     #[inline]
     pub(super) fn has_path_terms(&self) -> bool {
-        self.ext.slip_hardening.is_some() || self.ext.term.is_some()
+        !self.ext.terms.is_empty()
     }
 
     /// ξΔt of a plastic step: no recovery while sliding under a time healing that replaces it.
@@ -210,31 +202,41 @@ impl Consts {
         }
     }
 
-    /// With slip hardening: the steady μ at rate `v` and the accumulated slip s₀ ≥ 0 whose H(s₀)
-    /// makes the steady surface carry friction `mu_eff`; `None` without slip hardening or when
-    /// no slip reaches it.
+    /// With a family whose term grows monotonically with slip alone (slip hardening,
+    /// [`crate::TermFamily::monotone_in_slip`]): the steady μ at rate `v` and the accumulated
+    /// slip s₀ ≥ 0 whose terms make the steady surface carry friction `mu_eff`; `None` without
+    /// such a family, with one that depends on time too, or when no slip reaches it.
     pub fn steady_history(&self, l: &Local, mu_eff: f64, v: f64) -> Option<(f64, f64)> {
-        let h = self.ext.slip_hardening?;
+        let terms = self.ext.terms;
+        if terms.is_empty() || !terms.iter().all(|e| e.family().monotone_in_slip()) {
+            return None;
+        }
         let mu = self.steady_mu(l, v);
         let (factor, add) = self.sliding_terms(l, v, 0.0, 0.0);
-        // H(s₀) = what the steady surface lacks; H(0) = 0 is part of `add`.
+        // Σ T(s₀) = what the steady surface lacks; T(0) = 0 is part of `add`.
         let need = mu_eff - (mu * factor + add);
         if need == 0.0 {
             return Some((mu, 0.0));
         }
-        // H is monotone in s with the sign of h: bracket s₀ by doubling, then bisect.
-        let target = need / h.h.signum();
-        let value = |s: f64| h.term(s).0 / h.h.signum();
-        // NaN counts as "no positive target" too.
-        if target.is_nan() || target <= 0.0 || h.h == 0.0 {
+        // Each T is monotone in s with the sign of its slope at 0; bracket s₀ by doubling,
+        // then bisect.
+        let sign = terms.total(0.0, 0.0).1.signum();
+        if terms.iter().any(|e| e.term(0.0, 0.0).1.signum() != sign) {
+            // Terms of opposite senses: their sum need not be monotone.
             return None;
         }
-        let mut hi = h.s_h.max(1e-6);
+        let target = need * sign;
+        let value = |s: f64| terms.total(s, 0.0).0 * sign;
+        // NaN counts as "no positive target" too.
+        if target.is_nan() || target <= 0.0 || sign == 0.0 {
+            return None;
+        }
+        let mut hi = 1e-3;
         let mut k = 0;
         while value(hi) < target {
             hi *= 2.0;
             k += 1;
-            if k > 60 {
+            if k > 80 {
                 return None;
             }
         }

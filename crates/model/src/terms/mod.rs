@@ -12,19 +12,28 @@
 //! family.
 //!
 //! Adding a family: write its module (a unit struct implementing [`TermFamily`], with its unit
-//! tests), and add one line to [`FAMILIES`]. The five families of [`crate::extensions`] (rate,
-//! pressure, slip hardening, healing, direction) predate this registry: they act on μ's bounds,
-//! a state variable θ or the recovery at rest, which a term T(s, t) cannot express.
+//! tests), and add one line to [`FAMILIES`]. Slip hardening is one; the four families of
+//! [`crate::extensions`] (rate, pressure, healing, direction) predate this registry and act on
+//! μ's bounds, a state variable θ or the recovery at rest, which a term T(s, t) cannot express.
+//!
+//! In a parameter file each family switched on is an object under its key (its name in
+//! snake_case), `"ext": {"slip_hardening": {"form": "capped", "h": 0.01, "s_h": 2}}`; the
+//! form may be left out (the family's first), and so may a parameter (its default).
 
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+mod slip_hardening;
 mod time_trend;
 
+pub use slip_hardening::SlipHardening;
 pub use time_trend::TimeTrend;
 
 /// The registered families, in the order the diagnosis tries them.
-pub static FAMILIES: &[&dyn TermFamily] = &[&TimeTrend];
+pub static FAMILIES: &[&dyn TermFamily] = &[&SlipHardening, &TimeTrend];
+
+/// Most registered families a model may carry at once (one slot each in [`Terms`]).
+pub const MAX_FAMILIES: usize = 4;
 
 /// Most parameters a registered family may have.
 pub const MAX_TERM_PARAMS: usize = 4;
@@ -116,8 +125,17 @@ pub struct FormGuess {
 
 /// An effect family that adds a term T(s, t) to the friction (see the module documentation).
 pub trait TermFamily: Sync + std::fmt::Debug {
-    /// Name in verdicts and parameter files (kebab-case, e.g. `time-trend`).
+    /// Name in verdicts (kebab-case, e.g. `time-trend`); in snake_case it is the family's key
+    /// in parameter files ([`TermFamily::key`]).
     fn name(&self) -> &'static str;
+    /// Other names a user or an older file may give the family (e.g. `slip-softening`).
+    fn aliases(&self) -> &'static [&'static str] {
+        &[]
+    }
+    /// The family's key in the `ext` object of parameter files: its name in snake_case.
+    fn key(&self) -> String {
+        self.name().replace('-', "_")
+    }
     /// One-line physical description.
     fn describe(&self) -> &'static str;
     /// Every parameter of the family.
@@ -134,17 +152,33 @@ pub trait TermFamily: Sync + std::fmt::Debug {
     fn applies(&self, data: &DataScales) -> bool;
     /// First guesses and bounds of form `form` for data of these scales.
     fn guess(&self, form: usize, data: &DataScales) -> FormGuess;
+    /// Whether every form's T depends on the accumulated slip alone, vanishes at s = 0 and is
+    /// monotone in s (in the direction of its slope at s = 0). A record that starts mid-run is
+    /// then placed at the slip whose T gives the friction the record shows.
+    fn monotone_in_slip(&self) -> bool {
+        false
+    }
     /// T and ∂T/∂s of form `form` with the family's parameters `p` (indexed as
     /// [`TermFamily::params`]) at accumulated plastic slip `s` [mm] and time `t` [s].
     fn term(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], s: f64, t: f64) -> (f64, f64);
 }
 
-/// The registered family called `name`, with its index in [`FAMILIES`].
+/// The registered family called `name` (or one of its aliases), with its index in
+/// [`FAMILIES`].
 pub fn family_named(name: &str) -> Option<(u8, &'static dyn TermFamily)> {
     FAMILIES
         .iter()
         .enumerate()
-        .find(|(_, f)| f.name() == name)
+        .find(|(_, f)| f.name() == name || f.aliases().contains(&name))
+        .map(|(i, f)| (i as u8, *f))
+}
+
+/// The registered family whose key in parameter files is `key`, with its index.
+fn family_keyed(key: &str) -> Option<(u8, &'static dyn TermFamily)> {
+    FAMILIES
+        .iter()
+        .enumerate()
+        .find(|(_, f)| f.key() == key)
         .map(|(i, f)| (i as u8, *f))
 }
 
@@ -179,6 +213,30 @@ impl TermEffect {
         TermEffect { family, form, p }
     }
 
+    /// Family `family` (a name or alias) in its form keyed `form` with that form's
+    /// parameters set to `values`, in order; `None` for an unknown family or form, or a count
+    /// of values other than the form's.
+    ///
+    /// ```
+    /// use subfric_model::TermEffect;
+    /// let e = TermEffect::named("slip-hardening", "capped", &[0.01, 2.0]).unwrap();
+    /// assert_eq!(e.term(3.0, 0.0).0, 0.02);
+    /// assert!(TermEffect::named("slip-hardening", "capped", &[0.01]).is_none());
+    /// ```
+    pub fn named(family: &str, form: &str, values: &[f64]) -> Option<TermEffect> {
+        let (index, fam) = family_named(family)?;
+        let k = fam.forms().iter().position(|f| f.key == form)?;
+        let used = fam.forms()[k].params;
+        if used.len() != values.len() {
+            return None;
+        }
+        let mut e = TermEffect::new(index, k as u8);
+        for (&i, &v) in used.iter().zip(values) {
+            e.p[i] = v;
+        }
+        Some(e)
+    }
+
     /// The family.
     pub fn family(&self) -> &'static dyn TermFamily {
         family(self.family)
@@ -208,21 +266,13 @@ impl TermEffect {
     }
 }
 
-// In a parameter file: {"family": "time-trend", "form": "linear", "c": 1e-5} — the form's
-// parameters by name. Only the form's parameters are written, so a parameter of another form
-// read from a file is not written back and the reader refuses it as unknown.
+// Standalone (the `ext.term` object of older files): {"family": "time-trend", "form": "linear",
+// "c": 1e-5} — the form's parameters by name. Only the form's parameters are written, so a
+// parameter of another form read from a file is not written back and the reader refuses it as
+// unknown.
 impl Serialize for TermEffect {
     fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
-        use serde::ser::SerializeMap;
-        let params = self.family().params();
-        let form = self.form();
-        let mut map = ser.serialize_map(Some(2 + form.params.len()))?;
-        map.serialize_entry("family", self.family().name())?;
-        map.serialize_entry("form", form.key)?;
-        for &i in form.params {
-            map.serialize_entry(params[i].name, &self.p[i])?;
-        }
-        map.end()
+        self.write(ser, true)
     }
 }
 
@@ -233,19 +283,43 @@ impl<'de> Deserialize<'de> for TermEffect {
             .get("family")
             .and_then(|v| v.as_str())
             .ok_or_else(|| D::Error::custom("missing field `family` (a registered family)"))?;
-        let registered = || {
-            FAMILIES
-                .iter()
-                .map(|f| f.name())
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
-        let (index, fam) = family_named(name).ok_or_else(|| {
+        let (index, _) = family_named(name).ok_or_else(|| {
             D::Error::custom(format!(
                 "unknown family `{name}` (expected one of: {})",
-                registered()
+                FAMILIES
+                    .iter()
+                    .map(|f| f.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ))
         })?;
+        TermEffect::read(index, &map).map_err(D::Error::custom)
+    }
+}
+
+impl TermEffect {
+    /// Writes the form and its parameters by name, with the family's name first when
+    /// `with_family`.
+    fn write<S: Serializer>(&self, ser: S, with_family: bool) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let params = self.family().params();
+        let form = self.form();
+        let mut map = ser.serialize_map(Some(1 + with_family as usize + form.params.len()))?;
+        if with_family {
+            map.serialize_entry("family", self.family().name())?;
+        }
+        map.serialize_entry("form", form.key)?;
+        for &i in form.params {
+            map.serialize_entry(params[i].name, &self.p[i])?;
+        }
+        map.end()
+    }
+
+    /// Family `index` read from an object of its form (the family's first when left out) and
+    /// parameters by name (their defaults when left out). Other keys are left for the caller's
+    /// check of unknown keys.
+    fn read(index: u8, map: &serde_json::Map<String, serde_json::Value>) -> Result<Self, String> {
+        let fam = family(index);
         let form = match map.get("form") {
             None => 0,
             Some(v) => {
@@ -254,26 +328,159 @@ impl<'de> Deserialize<'de> for TermEffect {
                     .iter()
                     .position(|f| f.key == key)
                     .ok_or_else(|| {
-                        D::Error::custom(format!(
-                            "unknown form {v} of `{name}` (expected one of: {})",
+                        format!(
+                            "unknown form {v} of `{}` (expected one of: {})",
+                            fam.name(),
                             fam.forms()
                                 .iter()
                                 .map(|f| f.key)
                                 .collect::<Vec<_>>()
                                 .join(", ")
-                        ))
+                        )
                     })?
             }
         };
         let mut e = TermEffect::new(index, form as u8);
         for (i, q) in fam.params().iter().enumerate() {
             if let Some(v) = map.get(q.name) {
-                e.p[i] = v.as_f64().ok_or_else(|| {
-                    D::Error::custom(format!("`{}` is {v} (expected a number)", q.key))
-                })?;
+                e.p[i] = v
+                    .as_f64()
+                    .ok_or_else(|| format!("`{}` is {v} (expected a number)", q.key))?;
             }
         }
         Ok(e)
+    }
+}
+
+/// The registered families switched on in a model, at most one form each (slot `i` holds
+/// family `i` of [`FAMILIES`]). In a parameter file each is an object under the family's key;
+/// the reader also takes the `term` object of older files (`{"family": ..., ...}`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Terms([Option<TermEffect>; MAX_FAMILIES]);
+
+impl Terms {
+    /// No registered family.
+    pub const NONE: Terms = Terms([None; MAX_FAMILIES]);
+
+    /// Just `e`.
+    pub fn one(e: TermEffect) -> Terms {
+        let mut t = Terms::NONE;
+        t.insert(e);
+        t
+    }
+
+    /// True when no registered family is on.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.0.iter().all(Option::is_none)
+    }
+
+    /// The families that are on, in registry order.
+    #[inline]
+    pub fn iter(&self) -> impl Iterator<Item = &TermEffect> {
+        self.0.iter().flatten()
+    }
+
+    /// Family `family`, when on.
+    #[inline]
+    pub fn of(&self, family: u8) -> Option<TermEffect> {
+        self.0.get(family as usize).copied().flatten()
+    }
+
+    /// Family `family`, to change it in place, when on.
+    pub fn of_mut(&mut self, family: u8) -> Option<&mut TermEffect> {
+        self.0.get_mut(family as usize).and_then(Option::as_mut)
+    }
+
+    /// Switches `e` on (in place of the same family's, if on); returns it to change in place.
+    pub fn insert(&mut self, e: TermEffect) -> &mut TermEffect {
+        self.0[e.family as usize].insert(e)
+    }
+
+    /// Switches family `family` off.
+    pub fn remove(&mut self, family: u8) {
+        if let Some(slot) = self.0.get_mut(family as usize) {
+            *slot = None;
+        }
+    }
+
+    /// Every family of `self`, with those of `other` that `self` does not have.
+    pub fn or(self, other: Terms) -> Terms {
+        let mut out = self;
+        for (slot, theirs) in out.0.iter_mut().zip(other.0) {
+            if slot.is_none() {
+                *slot = theirs;
+            }
+        }
+        out
+    }
+
+    /// (key, value, expected) of every invalid parameter.
+    pub fn issues(&self) -> Vec<(&'static str, f64, &'static str)> {
+        self.iter().flat_map(TermEffect::issues).collect()
+    }
+
+    /// Sum of every family's T and ∂T/∂s at accumulated plastic slip `s` and time `t`.
+    #[inline]
+    pub fn total(&self, s: f64, t: f64) -> (f64, f64) {
+        self.iter().fold((0.0, 0.0), |(v, d), e| {
+            let (a, b) = e.term(s, t);
+            (v + a, d + b)
+        })
+    }
+}
+
+// Inside `ext`, beside the other extensions (the `Extensions` field is flattened): each family
+// under its key, without its name.
+impl Serialize for Terms {
+    fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        struct Body<'a>(&'a TermEffect);
+        impl Serialize for Body<'_> {
+            fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+                self.0.write(ser, false)
+            }
+        }
+        let mut map = ser.serialize_map(Some(self.iter().count()))?;
+        for e in self.iter() {
+            map.serialize_entry(&e.family().key(), &Body(e))?;
+        }
+        map.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for Terms {
+    fn deserialize<D: Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
+        // Keys that are no family are left alone: the reader of parameter files refuses every
+        // key it cannot write back.
+        let map = serde_json::Map::<String, serde_json::Value>::deserialize(de)?;
+        let mut out = Terms::NONE;
+        for (key, value) in &map {
+            if value.is_null() {
+                continue;
+            }
+            let e = if key == "term" {
+                TermEffect::deserialize(value).map_err(D::Error::custom)?
+            } else if let Some((index, _)) = family_keyed(key) {
+                let Some(obj) = value.as_object() else {
+                    return Err(D::Error::custom(format!(
+                        "`{key}` is {value} (expected an object of the family's form and parameters)"
+                    )));
+                };
+                TermEffect::read(index, obj).map_err(D::Error::custom)?
+            } else {
+                continue;
+            };
+            if out.of(e.family).is_some() {
+                return Err(D::Error::custom(format!(
+                    "family `{}` given twice (under `{}` and `term`)",
+                    e.family().name(),
+                    e.family().key()
+                )));
+            }
+            out.insert(e);
+        }
+        Ok(out)
     }
 }
 
@@ -283,6 +490,7 @@ mod tests {
 
     #[test]
     fn every_family_is_consistent() {
+        assert!(FAMILIES.len() <= MAX_FAMILIES, "raise MAX_FAMILIES");
         let mut names = Vec::new();
         for (index, fam) in FAMILIES.iter().enumerate() {
             assert!(!names.contains(&fam.name()), "{} twice", fam.name());
@@ -344,5 +552,46 @@ mod tests {
             .to_string();
         assert!(err.contains("unknown family `no-such-family`"), "{err}");
         assert!(serde_json::from_str::<TermEffect>(r#"{"form": "linear"}"#).is_err());
+    }
+
+    #[test]
+    fn several_families_are_written_under_their_keys_and_read_back() {
+        let mut terms = Terms::NONE;
+        for (index, fam) in FAMILIES.iter().enumerate() {
+            let k = fam.forms().len() - 1;
+            let e = terms.insert(TermEffect::new(index as u8, k as u8));
+            for &i in fam.forms()[k].params {
+                let q = &fam.params()[i];
+                e.p[i] = 0.25 * q.bounds.0 + 0.75 * q.bounds.1;
+            }
+        }
+        let text = serde_json::to_string(&terms).unwrap();
+        for fam in FAMILIES {
+            assert!(
+                text.contains(&format!("\"{}\":{{\"form\"", fam.key())),
+                "{text}"
+            );
+        }
+        let back: Terms = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, terms);
+        // The `term` object of older files reads as the family's own key.
+        let trend = family_named("time-trend").unwrap().0;
+        let old: Terms =
+            serde_json::from_str(r#"{"term": {"family": "time-trend", "c": 2e-5}}"#).unwrap();
+        assert_eq!(old.of(trend).unwrap().p[0], 2e-5);
+        let twice = r#"{"term": {"family": "time-trend"}, "time_trend": {"c": 1e-5}}"#;
+        let err = serde_json::from_str::<Terms>(twice)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("given twice"), "{err}");
+        // Other keys are not this reader's business; a family's key holding no object is.
+        assert!(serde_json::from_str::<Terms>(r#"{"rate": 3}"#)
+            .unwrap()
+            .is_empty());
+        assert!(serde_json::from_str::<Terms>(r#"{"slip_hardening": 3}"#).is_err());
+        // The sum of the terms is the sum of each.
+        let (s, t) = (0.7, 40.0);
+        let sum: f64 = terms.iter().map(|e| e.term(s, t).0).sum();
+        assert_eq!(terms.total(s, t).0, sum);
     }
 }

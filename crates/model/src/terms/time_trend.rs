@@ -161,7 +161,7 @@ mod tests {
         trend.p[0] = 2e-5;
         let with = Model {
             ext: Extensions {
-                term: Some(trend),
+                terms: crate::terms::Terms::one(trend),
                 ..Extensions::default()
             },
             ..base

@@ -1,0 +1,204 @@
+//! Slip hardening (h > 0) or softening (h < 0): friction changes with the accumulated plastic
+//! slip s, at an initial slope h per mm that saturates after a slip of the order of s_h —
+//! dilation or contraction of the sand next to the metal, wear and smoothing of the surface,
+//! grain crushing in the shear band. Three forms of the literature:
+//!
+//! - exponential, H = h s_h (1 − exp(−s/s_h));
+//! - capped linear, H = h min(s, s_h);
+//! - hyperbolic, H = h s / (1 + s/s_h).
+//!
+//! Every form starts at H(0) = 0 with slope h, so μ_s and μ_k keep their meaning on a fresh
+//! contact, and is monotone in s: a record that starts mid-run is placed at the slip whose H
+//! gives the friction it shows ([`TermFamily::monotone_in_slip`]).
+
+use super::{DataScales, FormGuess, Shows, TermFamily, TermForm, TermParam, MAX_TERM_PARAMS};
+
+/// The slip-hardening family (see the module documentation).
+#[derive(Clone, Copy, Debug)]
+pub struct SlipHardening;
+
+const PARAMS: [TermParam; 2] = [
+    TermParam {
+        key: "slip_hardening.h",
+        name: "h",
+        unit: "1/mm",
+        log_scale: false,
+        bounds: (-1.0, 1.0),
+        default: 0.0,
+        expected: "a finite number",
+    },
+    TermParam {
+        key: "slip_hardening.s_h",
+        name: "s_h",
+        unit: "mm",
+        log_scale: true,
+        bounds: (0.01, 1000.0),
+        default: 1.0,
+        expected: "a finite slip > 0 [mm]",
+    },
+];
+
+const EXPONENTIAL: usize = 0;
+const CAPPED: usize = 1;
+
+const FORMS: [TermForm; 3] = [
+    TermForm {
+        key: "exponential",
+        describe: "exponential, h s_h (1 - exp(-s/s_h))",
+        params: &[0, 1],
+    },
+    TermForm {
+        key: "capped",
+        describe: "capped linear, h min(s, s_h)",
+        params: &[0, 1],
+    },
+    TermForm {
+        key: "hyperbolic",
+        describe: "hyperbolic, h s / (1 + s/s_h)",
+        params: &[0, 1],
+    },
+];
+
+impl TermFamily for SlipHardening {
+    fn name(&self) -> &'static str {
+        "slip-hardening"
+    }
+
+    fn aliases(&self) -> &'static [&'static str] {
+        &["slip", "slip-softening"]
+    }
+
+    fn describe(&self) -> &'static str {
+        "slip hardening/softening: friction changes with accumulated slip"
+    }
+
+    fn params(&self) -> &'static [TermParam] {
+        &PARAMS
+    }
+
+    fn forms(&self) -> &'static [TermForm] {
+        &FORMS
+    }
+
+    fn shows(&self) -> &'static [Shows] {
+        &[Shows::AfterFirstLoading]
+    }
+
+    fn tried_by_default(&self) -> bool {
+        true
+    }
+
+    fn applies(&self, _data: &DataScales) -> bool {
+        // Every test slides.
+        true
+    }
+
+    fn monotone_in_slip(&self) -> bool {
+        true
+    }
+
+    fn guess(&self, _form: usize, data: &DataScales) -> FormGuess {
+        // A change of friction of a few hundredths over the slip of a test, saturating within
+        // it or well beyond it, hardening or softening.
+        let s = data.slip_span_mm.max(0.1);
+        FormGuess {
+            starts: vec![
+                vec![0.05 / s, 0.3 * s],
+                vec![-0.05 / s, 0.3 * s],
+                vec![0.02 / s, 3.0 * s],
+                vec![-0.02 / s, 3.0 * s],
+            ],
+            neutral: vec![0.0, s],
+            bounds: vec![],
+        }
+    }
+
+    fn term(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], s: f64, _t: f64) -> (f64, f64) {
+        let (h, s_h) = (p[0], p[1]);
+        match form {
+            EXPONENTIAL => {
+                let x = (-s / s_h).exp();
+                (h * s_h * (1.0 - x), h * x)
+            }
+            CAPPED => {
+                if s < s_h {
+                    (h * s, h)
+                } else {
+                    (h * s_h, 0.0)
+                }
+            }
+            _ => {
+                let q = 1.0 / (1.0 + s / s_h);
+                (h * s * q, h * q * q)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_form_starts_with_slope_h_and_saturates() {
+        let mut p = [0.0; MAX_TERM_PARAMS];
+        p[0] = 0.02;
+        p[1] = 2.0;
+        for (form, shape) in FORMS.iter().enumerate() {
+            let f = SlipHardening;
+            let (h0, d0) = f.term(form, &p, 0.0, 0.0);
+            assert_eq!(h0, 0.0);
+            assert!((d0 - 0.02).abs() < 1e-12, "{}", shape.key);
+            let (h_far, d_far) = f.term(form, &p, 1e4, 0.0);
+            assert!(
+                h_far > 0.0 && h_far <= 0.04 + 1e-9,
+                "{}: {h_far}",
+                shape.key
+            );
+            assert!(d_far.abs() < 1e-6, "{}: {d_far}", shape.key);
+            // dH/ds by a central difference.
+            let (a, _) = f.term(form, &p, 0.9, 0.0);
+            let (b, _) = f.term(form, &p, 1.1, 0.0);
+            let (_, d) = f.term(form, &p, 1.0, 0.0);
+            assert!(((b - a) / 0.2 - d).abs() < 1e-4, "{}", shape.key);
+            // Time plays no part.
+            assert_eq!(f.term(form, &p, 1.0, 0.0), f.term(form, &p, 1.0, 1e5));
+        }
+    }
+
+    #[test]
+    fn each_form_has_its_closed_form() {
+        let mut p = [0.0; MAX_TERM_PARAMS];
+        p[0] = -0.03;
+        p[1] = 0.5;
+        let f = SlipHardening;
+        let s = 0.8_f64;
+        let exp = -0.03 * 0.5 * (1.0 - (-s / 0.5).exp());
+        assert!((f.term(0, &p, s, 0.0).0 - exp).abs() < 1e-15);
+        assert!((f.term(1, &p, s, 0.0).0 - -0.03 * 0.5).abs() < 1e-15);
+        assert!((f.term(1, &p, 0.2, 0.0).0 - -0.03 * 0.2).abs() < 1e-15);
+        let hyp = -0.03 * s / (1.0 + s / 0.5);
+        assert!((f.term(2, &p, s, 0.0).0 - hyp).abs() < 1e-15);
+    }
+
+    #[test]
+    fn first_guesses_scale_with_the_slip_of_a_test() {
+        let data = |slip_span_mm| DataScales {
+            v_ref: 0.01,
+            p_ref: 100.0,
+            slip_span_mm,
+            duration_s: 100.0,
+            holds: 0,
+            reversals: 0,
+            pressure_levels: 1,
+            sliding_rates: 1,
+        };
+        let short = SlipHardening.guess(0, &data(1.0));
+        let long = SlipHardening.guess(0, &data(10.0));
+        // Each start changes friction by the same amount over the slip of its test.
+        assert!((short.starts[0][0] * 1.0 - long.starts[0][0] * 10.0).abs() < 1e-15);
+        assert!((short.starts[0][1] * 10.0 - long.starts[0][1]).abs() < 1e-12);
+        // A test that barely slides still gets a usable saturation slip.
+        assert!(SlipHardening.guess(0, &data(0.0)).neutral[1] > 0.0);
+    }
+}
