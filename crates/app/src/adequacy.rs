@@ -178,9 +178,22 @@ pub fn misfit_number(v: f64) -> String {
     }
 }
 
-/// The effects `subfric diagnose` tests, for the next-step lines.
-pub const DIAGNOSED_EFFECTS: &str =
-    "rate, normal pressure, slip hardening, healing at rest, slip direction";
+/// The effects `subfric diagnose` tests by default, for the next-step lines: each family's
+/// description up to its colon ("rate dependence, ..., slip hardening/softening").
+pub fn diagnosed_effects() -> String {
+    use subfric_diagnose::Effect;
+    let registered = subfric_model::terms::FAMILIES
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| f.tried_by_default())
+        .map(|(i, _)| Effect::Term(i as u8));
+    Effect::BUILT_IN
+        .into_iter()
+        .chain(registered)
+        .map(|e| e.describe().split(':').next().unwrap_or_default())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
 
 /// What to do after a fit of the sets in `dirs`: diagnose when the model misses, plan when
 /// it fits but leaves parameters undetermined, nothing when every parameter is determined.
@@ -188,9 +201,10 @@ pub fn next_steps(a: &Adequacy, report: &FitReport, dirs: &[PathBuf]) -> Vec<Str
     let sets: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
     let mut out = Vec::new();
     if !a.describes() {
+        let effects = diagnosed_effects();
         for s in &sets {
             out.push(format!(
-                "`subfric diagnose {s}` finds which effect the model lacks ({DIAGNOSED_EFFECTS}) and how much of the gap it explains on data held out from the fit"
+                "`subfric diagnose {s}` finds which effect the model lacks ({effects}) and how much of the gap it explains on data held out from the fit"
             ));
         }
         for s in &sets {

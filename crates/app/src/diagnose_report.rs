@@ -62,7 +62,7 @@ pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
             ),
             _ => v.push(format!(
                 "verdict: unexplained: none of the candidate effects explains the gap ({}); see section 5",
-                crate::adequacy::DIAGNOSED_EFFECTS
+                crate::adequacy::diagnosed_effects()
             )),
         }
         v.push(format!(
