@@ -199,7 +199,11 @@ fn the_polished_form_of_each_generated_family_converges() {
             Effect::from_name("slip-hardening").unwrap(),
         ),
         ("heal-power-clean", Form::HealPower, Effect::LogHealing),
-        ("direction-muk-clean", Form::DirectionMuK, Effect::Direction),
+        (
+            "direction-muk-clean",
+            Form::DirectionMuK,
+            Effect::from_name("direction").unwrap(),
+        ),
     ] {
         let profile = if name.ends_with("lab") {
             Profile::Lab

@@ -8,8 +8,8 @@ use serde::{Deserialize, Serialize};
 use subfric_fit::Param;
 use subfric_model::terms::{self, Shows};
 use subfric_model::{
-    AtRest, DirectionEffect, Extensions, Healing, HealingForm, PressureEffect, PressureForm,
-    RateEffect, RateForm, Target,
+    AtRest, Extensions, Healing, HealingForm, PressureEffect, PressureForm, RateEffect, RateForm,
+    Target,
 };
 
 /// An effect the diagnosis can name (a family of forms).
@@ -23,8 +23,6 @@ pub enum Effect {
     Pressure,
     /// Time healing at rest (log or power law) instead of exponential recovery.
     LogHealing,
-    /// Forward and backward sliding differ.
-    Direction,
     /// A real gap that no candidate explains (e.g. measurement drift).
     Unexplained,
     /// A registered family (index in `subfric_model::terms::FAMILIES`): everything about it
@@ -36,9 +34,19 @@ impl Effect {
     /// The registered family tried by default whose term follows the accumulated slip alone
     /// (slip hardening): where a residual that grows with slip or with the cycles points.
     pub fn of_accumulated_slip() -> Option<Effect> {
+        Effect::registered_where(|f| f.monotone_in_slip())
+    }
+
+    /// The registered family tried by default that reads the sliding direction: where a
+    /// residual that follows the direction points.
+    pub fn of_sliding_direction() -> Option<Effect> {
+        Effect::registered_where(|f| f.reads_direction())
+    }
+
+    fn registered_where(what: impl Fn(&dyn terms::TermFamily) -> bool) -> Option<Effect> {
         terms::FAMILIES
             .iter()
-            .position(|f| f.monotone_in_slip() && f.tried_by_default())
+            .position(|f| f.tried_by_default() && what(*f))
             .map(|i| Effect::Term(i as u8))
     }
 
@@ -55,12 +63,7 @@ impl Effect {
 
     /// The built-in physical families (the registered ones, slip hardening among them, are
     /// `Effect::Term`).
-    pub const BUILT_IN: [Effect; 4] = [
-        Effect::Rate,
-        Effect::Pressure,
-        Effect::LogHealing,
-        Effect::Direction,
-    ];
+    pub const BUILT_IN: [Effect; 3] = [Effect::Rate, Effect::Pressure, Effect::LogHealing];
 
     /// Name as in `diagnosis.json`.
     pub fn name(self) -> &'static str {
@@ -70,7 +73,6 @@ impl Effect {
             Effect::Rate => "rate",
             Effect::Pressure => "pressure",
             Effect::LogHealing => "log-healing",
-            Effect::Direction => "direction",
             Effect::Unexplained => "unexplained",
         }
     }
@@ -95,7 +97,6 @@ impl Effect {
         let shows: &[Shows] = match self {
             Effect::Rate => &[Shows::VelocitySteps, Shows::Holds],
             Effect::LogHealing => &[Shows::Holds],
-            Effect::Direction => &[Shows::Reversals],
             Effect::Pressure => &[Shows::AwayFromReferenceStress],
             Effect::Term(i) => terms::family(i).shows(),
             Effect::None | Effect::Unexplained => &[],
@@ -110,7 +111,6 @@ impl Effect {
             Effect::Rate => "rate dependence: friction changes with the slip rate",
             Effect::Pressure => "pressure dependence: friction changes with the normal stress",
             Effect::LogHealing => "time healing: friction regains strength at rest as a law of time, not by exponential recovery",
-            Effect::Direction => "direction dependence: backward sliding differs from forward sliding",
             Effect::Unexplained => "a real gap none of the candidates explains",
             Effect::Term(i) => terms::family(i).describe(),
         }
@@ -248,17 +248,6 @@ fn ext_healing(form: HealingForm, recovery: bool, erase_mm: f64) -> Extensions {
             form,
             recovery,
             erase_mm,
-        }),
-        ..Extensions::default()
-    }
-}
-
-fn ext_direction(target: Target) -> Extensions {
-    Extensions {
-        direction: Some(DirectionEffect {
-            d: 0.0,
-            target,
-            d_k: 0.0,
         }),
         ..Extensions::default()
     }
@@ -420,9 +409,9 @@ fn term_forms(family: u8, f: &DataFeatures) -> Vec<Form> {
 ///
 /// ```
 /// let names = subfric_diagnose::candidates::all_form_names();
-/// // 30 built-in forms and every form of the registered families.
+/// // 24 built-in forms and every form of the registered families.
 /// let registered: usize = subfric_model::terms::FAMILIES.iter().map(|f| f.forms().len()).sum();
-/// assert_eq!(names.len(), 30 + registered);
+/// assert_eq!(names.len(), 24 + registered);
 /// assert!(names.contains(&"rate and state, slip law"));
 /// ```
 pub fn all_form_names() -> Vec<&'static str> {
@@ -467,9 +456,6 @@ fn library_for(f: &DataFeatures) -> Vec<Form> {
     }
     if f.holds > 0 {
         out.extend(healing_forms(f.seeds.healing_per_decade));
-    }
-    if f.reversals > 0 {
-        out.extend(direction_forms());
     }
     out
 }
@@ -613,37 +599,4 @@ fn healing_forms(per_decade: Option<f64>) -> Vec<Form> {
             bounds: vec![(Param::HealN, 0.0, 1.0)],
         },
     ]
-}
-
-/// The direction family (data with reversals).
-fn direction_forms() -> Vec<Form> {
-    let mut out = Vec::new();
-    for (target, name) in [
-        (Target::Friction, "backward mu x (1 - d)"),
-        (Target::MuS, "backward mu_s x (1 - d)"),
-        (Target::MuK, "backward mu_k x (1 - d)"),
-        (Target::Kappa, "backward kappa x (1 - d)"),
-        (Target::UTilde, "backward u_tilde x (1 - d)"),
-    ] {
-        out.push(Form {
-            effect: Effect::Direction,
-            name,
-            template: ext_direction(target),
-            params: vec![Param::DirectionD],
-            starts: vec![vec![0.15], vec![-0.15]],
-            neutral: vec![0.0],
-            bounds: vec![],
-        });
-    }
-    // The general form on the friction bounds (see the pressure family's).
-    out.push(Form {
-        effect: Effect::Direction,
-        name: "backward mu_s x (1 - d), mu_k x (1 - d_k)",
-        template: ext_direction(Target::Bounds),
-        params: vec![Param::DirectionD, Param::DirectionDK],
-        starts: vec![vec![0.15, 0.15], vec![-0.15, -0.15], vec![0.15, -0.15]],
-        neutral: vec![0.0, 0.0],
-        bounds: vec![],
-    });
-    out
 }

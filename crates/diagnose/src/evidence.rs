@@ -69,7 +69,7 @@ impl Feature {
             Feature::TimeAtRest => Some(Effect::LogHealing),
             Feature::AccumulatedSlip | Feature::Cycle => Effect::of_accumulated_slip(),
             Feature::NormalStress => Some(Effect::Pressure),
-            Feature::Direction => Some(Effect::Direction),
+            Feature::Direction => Effect::of_sliding_direction(),
             Feature::Time => None,
         }
     }

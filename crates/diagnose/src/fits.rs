@@ -72,7 +72,6 @@ pub fn merge(a: &Extensions, b: &Extensions) -> Extensions {
         rate: b.rate.or(a.rate),
         pressure: b.pressure.or(a.pressure),
         healing: b.healing.or(a.healing),
-        direction: b.direction.or(a.direction),
         terms: b.terms.or(a.terms),
     }
 }

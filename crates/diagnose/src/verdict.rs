@@ -144,9 +144,9 @@ pub fn decide(
 /// // ... unless the events read one by one contradict it.
 /// assert_eq!(decide_further(3.0, &[(Effect::Rate, c(25.0, 0.2))], &[c(60.0, 0.8)], &[false], &th), Decision::Unexplained);
 /// // It improves all pieces but not its own: not credited.
-/// assert_eq!(decide_further(3.0, &[(Effect::Direction, c(80.0, 0.8))], &[c(2.0, 0.05)], &[true], &th), Decision::Unexplained);
+/// assert_eq!(decide_further(3.0, &[(Effect::LogHealing, c(80.0, 0.8))], &[c(2.0, 0.05)], &[true], &th), Decision::Unexplained);
 /// // It passes on all pieces and improves its own significantly, if not by enough alone: credited.
-/// assert_eq!(decide_further(3.0, &[(Effect::Direction, c(27.0, 0.72))], &[c(36.0, 0.66)], &[true], &th), Decision::Named(0));
+/// assert_eq!(decide_further(3.0, &[(Effect::LogHealing, c(27.0, 0.72))], &[c(36.0, 0.66)], &[true], &th), Decision::Named(0));
 /// ```
 pub fn decide_further(
     reference_chi2: f64,
@@ -310,7 +310,12 @@ mod tests {
         let a = cmp(100.0, 0.9, 0.5, 6.0);
         let b = cmp(150.0, 0.8, 0.5, 6.0);
         assert_eq!(
-            decide(6.0, &[(Effect::Rate, a), (Effect::Direction, b)], None, &th),
+            decide(
+                6.0,
+                &[(Effect::Rate, a), (Effect::LogHealing, b)],
+                None,
+                &th
+            ),
             Decision::Named(1)
         );
     }
@@ -321,12 +326,17 @@ mod tests {
         let phys = cmp(200.0, 0.75, 0.5, 8.0);
         let drift = cmp(500.0, 0.98, 0.9, 8.0);
         assert_eq!(
-            decide(8.0, &[(Effect::Direction, phys.clone())], Some(&drift), &th),
+            decide(
+                8.0,
+                &[(Effect::LogHealing, phys.clone())],
+                Some(&drift),
+                &th
+            ),
             Decision::Drift
         );
         let weak_drift = cmp(150.0, 0.6, 0.3, 8.0);
         assert_eq!(
-            decide(8.0, &[(Effect::Direction, phys)], Some(&weak_drift), &th),
+            decide(8.0, &[(Effect::LogHealing, phys)], Some(&weak_drift), &th),
             Decision::Named(0)
         );
     }

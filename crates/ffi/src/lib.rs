@@ -287,7 +287,7 @@ fn build(
             ),
         );
     }
-    if !in_plane(&normal, &forward) && (given_forward || model.ext.direction.is_some()) {
+    if !in_plane(&normal, &forward) && (given_forward || model.ext.terms.reads_direction()) {
         let what = if given_forward {
             format!("forward = {}", vec_name(&forward))
         } else {

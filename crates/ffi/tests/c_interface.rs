@@ -17,8 +17,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 use subfric_model::{
-    Contact3, DirectionEffect, Extensions, Model, Params, PressureEffect, PressureForm, RateEffect,
-    RateForm, State3, Target, TermEffect, Terms, Vec3,
+    Contact3, Extensions, Model, Params, PressureEffect, PressureForm, RateEffect, RateForm,
+    State3, Target, TermEffect, Terms, Vec3,
 };
 
 /// How a case gives its model to the C program.
@@ -154,11 +154,6 @@ fn cases(dir: &Path) -> Vec<Case> {
     let extended = Model::new(
         penalty(),
         Extensions {
-            direction: Some(DirectionEffect {
-                d: 0.15,
-                target: Target::MuK,
-                d_k: 0.0,
-            }),
             pressure: Some(PressureEffect {
                 beta: 0.2,
                 form: PressureForm::Exponential,
@@ -166,9 +161,8 @@ fn cases(dir: &Path) -> Vec<Case> {
                 p_ref: 100.0,
                 beta_k: 0.0,
             }),
-            terms: Terms::one(
-                TermEffect::named("slip-hardening", "hyperbolic", &[0.02, 0.5]).unwrap(),
-            ),
+            terms: Terms::one(TermEffect::named("direction", "mu-k", &[0.15]).unwrap())
+                .with(TermEffect::named("slip-hardening", "hyperbolic", &[0.02, 0.5]).unwrap()),
             ..Extensions::default()
         },
     )

@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 use subfric_model::terms::{self, TermEffect, TermParam};
 use subfric_model::{
-    DirectionEffect, Healing, HealingForm, Model, PressureEffect, PressureForm, RateEffect, Target,
+    Healing, HealingForm, Model, PressureEffect, PressureForm, RateEffect, Target,
 };
 
 /// A parameter of the model or of one of its extensions. In files it is its key
@@ -46,10 +46,6 @@ pub enum Param {
     HealN,
     /// Time healing of its own: the slip d_h that erases it [mm].
     HealDh,
-    /// Direction effect: d.
-    DirectionD,
-    /// Direction effect on μ_s and μ_k separately: d of μ_k.
-    DirectionDK,
     /// Parameter `index` of the registered family `family` (see `subfric_model::terms`).
     Term {
         /// Index of the family in `subfric_model::terms::FAMILIES`.
@@ -104,7 +100,7 @@ impl Param {
 
     /// Every parameter of the model and its built-in extensions ([`Param::all`] adds those of
     /// the registered families).
-    pub const ALL: [Param; 19] = [
+    pub const ALL: [Param; 17] = [
         Param::MuS,
         Param::MuK,
         Param::Kappa,
@@ -122,8 +118,6 @@ impl Param {
         Param::HealB,
         Param::HealN,
         Param::HealDh,
-        Param::DirectionD,
-        Param::DirectionDK,
     ];
 
     /// Every parameter: [`Param::ALL`] and those of each registered family.
@@ -169,8 +163,6 @@ impl Param {
             Param::HealB => "healing.b",
             Param::HealN => "healing.n",
             Param::HealDh => "healing.d_h",
-            Param::DirectionD => "direction.d",
-            Param::DirectionDK => "direction.d_k",
         }
     }
 
@@ -267,8 +259,6 @@ impl Param {
             | Param::RateN
             | Param::PressureBeta
             | Param::PressureBetaK
-            | Param::DirectionD
-            | Param::DirectionDK
             | Param::HealB
             | Param::HealN => Scale::Linear,
             _ => Scale::Log,
@@ -295,7 +285,6 @@ impl Param {
             Param::HealB => (0.0, 0.3),
             Param::HealN => (0.05, 1.0),
             Param::HealDh => (1e-4, 10.0),
-            Param::DirectionD | Param::DirectionDK => (-0.9, 0.9),
         }
     }
 
@@ -322,8 +311,6 @@ impl Param {
             Param::HealN => e.healing?.n,
             // Zero is "no erasure of its own": the parameter is then inactive.
             Param::HealDh => Some(e.healing?.erase_mm).filter(|d| *d > 0.0)?,
-            Param::DirectionD => e.direction?.d,
-            Param::DirectionDK => e.direction?.d_k,
             Param::Term { family, index } => {
                 // A parameter the active form does not use is inactive, like an extension
                 // that is off.
@@ -360,8 +347,6 @@ impl Param {
             Param::HealB => healing(e).b = v,
             Param::HealN => healing(e).n = v,
             Param::HealDh => healing(e).erase_mm = v,
-            Param::DirectionD => direction(e).d = v,
-            Param::DirectionDK => direction(e).d_k = v,
             Param::Term { family, index } => {
                 // Setting a parameter the family's form does not use switches to the first
                 // form that does (the other values are kept).
@@ -398,14 +383,6 @@ fn pressure(e: &mut subfric_model::Extensions) -> &mut PressureEffect {
         target: Target::Friction,
         p_ref: subfric_model::extensions::PRESSURE_REF_KPA,
         beta_k: 0.0,
-    })
-}
-
-fn direction(e: &mut subfric_model::Extensions) -> &mut DirectionEffect {
-    e.direction.get_or_insert(DirectionEffect {
-        d: 0.0,
-        target: Target::Friction,
-        d_k: 0.0,
     })
 }
 

@@ -74,7 +74,7 @@ proptest! {
             Param::from_key("slip_hardening.s_h").unwrap(),
             Param::HealTc,
             Param::HealB,
-            Param::DirectionD,
+            Param::from_key("direction.d").unwrap(),
             Param::UTilde,
         ];
         let space = Space::new(base(), &free, &[]);

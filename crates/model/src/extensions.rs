@@ -6,10 +6,10 @@
 //! μ_eff = μ · P(p) · D(dir) · V(v) + R(v, θ) + Σ T(s, t)
 //!
 //! with μ from Eq. (24) between bounds μ_s′, μ_k′ that a pressure or direction effect may move,
-//! P a pressure factor, D a direction factor, V a power law in the plastic slip rate v, R the
-//! log-rate and rate-and-state terms (θ the state variable), and T the term of each registered
-//! family switched on ([`crate::terms`]: slip hardening H(s) in the accumulated plastic slip s,
-//! a time trend, ...).
+//! P a pressure factor, D the factors of the registered families that scale (the direction
+//! effect, [`crate::terms`]), V a power law in the plastic slip rate v, R the log-rate and
+//! rate-and-state terms (θ the state variable), and T the term of each registered family that
+//! adds one (slip hardening H(s) in the accumulated plastic slip s, a time trend, ...).
 //! [`Healing`] replaces the exponential recovery ξ(μ_s − μ) of Eq. (24) at rest.
 //! Every term is zero (or one) at its reference, so μ_s and μ_k keep their meaning.
 
@@ -341,46 +341,6 @@ impl Healing {
     }
 }
 
-/// Forward/backward asymmetry: backward sliding scales the target by (1 − d) (in 3-D by
-/// 1 − d (1 − t̂·e₁)/2, smoothly with the sliding direction).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct DirectionEffect {
-    /// Relative weakening d of backward sliding (negative: backward is stronger).
-    pub d: f64,
-    /// What is scaled: `Friction` (μ as a whole), `MuS`, `MuK`, `Kappa`, `UTilde` or `Bounds`.
-    #[serde(default = "friction_target")]
-    pub target: Target,
-    /// With the target `Bounds`: d of μ_k (d is then that of μ_s).
-    #[serde(default)]
-    pub d_k: f64,
-}
-
-impl DirectionEffect {
-    /// The factor for a sliding direction whose cosine with the forward axis is `cos_forward`.
-    #[inline]
-    pub fn factor(&self, cos_forward: f64) -> f64 {
-        1.0 - self.d * 0.5 * (1.0 - cos_forward)
-    }
-
-    /// The factor on `target` (1 where this effect does not scale it).
-    #[inline]
-    pub fn factor_on(&self, target: Target, cos_forward: f64) -> f64 {
-        match (self.target, target) {
-            (t, u) if t == u => self.factor(cos_forward),
-            (Target::Bounds, Target::MuS) => self.factor(cos_forward),
-            (Target::Bounds, Target::MuK) => 1.0 - self.d_k * 0.5 * (1.0 - cos_forward),
-            _ => 1.0,
-        }
-    }
-
-    /// The least and greatest factor on `target` over every sliding direction (the factor is
-    /// linear in the cosine: its ends are forward and backward sliding).
-    pub fn range_on(&self, target: Target) -> (f64, f64) {
-        let (a, b) = (self.factor_on(target, 1.0), self.factor_on(target, -1.0));
-        (a.min(b), a.max(b))
-    }
-}
-
 /// The set of active extensions; the default is the base model of the paper.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Extensions {
@@ -393,11 +353,8 @@ pub struct Extensions {
     /// Time healing at rest.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub healing: Option<Healing>,
-    /// Forward/backward asymmetry.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub direction: Option<DirectionEffect>,
-    /// The registered families' terms T(s, t) (see [`crate::terms`]): slip hardening and
-    /// the others, each under its key.
+    /// The registered families (see [`crate::terms`]): slip hardening, the direction effect
+    /// and the others, each under its key.
     #[serde(flatten)]
     pub terms: Terms,
 }
@@ -478,14 +435,6 @@ impl Extensions {
             }
         }
         v.extend(self.terms.issues());
-        if let Some(e) = self.direction {
-            if !(e.d.is_finite() && e.d < 1.0 && e.d > -1.0) {
-                v.push(("direction.d", e.d, "a number in (-1, 1)"));
-            }
-            if !(e.d_k.is_finite() && e.d_k < 1.0 && e.d_k > -1.0) {
-                v.push(("direction.d_k", e.d_k, "a number in (-1, 1)"));
-            }
-        }
         v
     }
 
@@ -493,8 +442,7 @@ impl Extensions {
     /// integrator must build its constants per step.
     #[inline]
     pub fn varies_bounds(&self) -> bool {
-        self.pressure.is_some_and(|e| e.target != Target::Friction)
-            || self.direction.is_some_and(|e| e.target != Target::Friction)
+        self.pressure.is_some_and(|e| e.target != Target::Friction) || self.terms.varies_bounds()
     }
 
     /// Multiplier of μ as a whole at normal stress `p` [kPa] and a sliding direction whose cosine
@@ -507,12 +455,7 @@ impl Extensions {
                 f *= e.factor(p);
             }
         }
-        if let Some(e) = self.direction {
-            if e.target == Target::Friction {
-                f *= e.factor(cos_forward);
-            }
-        }
-        f
+        f * self.terms.factor_on(Target::Friction, p, cos_forward)
     }
 
     /// The least and greatest factor on `target` (μ_s or μ_k) over every normal stress and
@@ -523,11 +466,8 @@ impl Extensions {
             let (a, b) = e.range_on(target);
             (lo, hi) = (lo * a, hi * b);
         }
-        if let Some(e) = self.direction {
-            let (a, b) = e.range_on(target);
-            (lo, hi) = (lo * a, hi * b);
-        }
-        (lo, hi)
+        let (a, b) = self.terms.range_on(target);
+        (lo * a, hi * b)
     }
 
     /// Factor on `target` (μ_s, μ_k, κ or ũ) at normal stress `p` and direction `cos_forward`.
@@ -537,10 +477,7 @@ impl Extensions {
         if let Some(e) = self.pressure {
             f *= e.factor_on(target, p);
         }
-        if let Some(e) = self.direction {
-            f *= e.factor_on(target, cos_forward);
-        }
-        f
+        f * self.terms.factor_on(target, p, cos_forward)
     }
 }
 
@@ -613,15 +550,20 @@ mod tests {
 
     #[test]
     fn factors_apply_only_to_their_target() {
-        let ext = Extensions {
-            direction: Some(DirectionEffect {
-                d: 0.2,
-                target: Target::MuK,
-                d_k: 0.0,
+        let mut ext = Extensions {
+            pressure: Some(PressureEffect {
+                beta: 0.1,
+                form: PressureForm::Power,
+                target: Target::Friction,
+                p_ref: 100.0,
+                beta_k: 0.0,
             }),
             ..Extensions::default()
         };
+        assert!(!ext.varies_bounds());
+        ext.terms = Terms::one(crate::TermEffect::named("direction", "mu-k", &[0.2]).unwrap());
         assert!(ext.varies_bounds());
+        // At the reference stress the pressure factor is one.
         assert_eq!(ext.friction_factor(100.0, -1.0), 1.0);
         assert!((ext.bound_factor(Target::MuK, 100.0, -1.0) - 0.8).abs() < 1e-15);
         assert_eq!(ext.bound_factor(Target::MuK, 100.0, 1.0), 1.0);

@@ -254,10 +254,10 @@ fn extensions_of(e: &Value, path: &str) -> Result<Extensions, ModelJsonError> {
     let ext: Extensions = serde_json::from_value(e.clone())
         .map_err(|err| ModelJsonError::Shape(format!("field `{path}`: {err}")))?;
     // serde ignores unknown keys; everything read is written back, so a key of the input that
-    // is not is unknown. A registered family given as the `term` object of older files is
-    // written back under its own key, where it is compared.
+    // is not is unknown. What differs in shape only is compared as the reader writes it
+    // ([`as_read`]).
     let back = serde_json::to_value(ext).unwrap_or_default();
-    let input = term_under_its_key(e);
+    let input = as_read(e);
     if let Some(key) = unknown_key(input.as_ref().unwrap_or(e), &back, path) {
         return Err(ModelJsonError::Shape(format!(
             "field `{key}` is not a known extension or extension field"
@@ -266,15 +266,42 @@ fn extensions_of(e: &Value, path: &str) -> Result<Extensions, ModelJsonError> {
     Ok(ext)
 }
 
-/// `e` with its `term` object (`{"family": name, ...}`, older files) moved under the family's
-/// key without its name; `None` when `e` has none.
-fn term_under_its_key(e: &Value) -> Option<Value> {
+/// `e` as the reader writes it back, where it may differ in shape only: a `term` object
+/// (`{"family": name, ...}`, older files) moved under the family's key without its name, and a
+/// registered family's parameter that its form does not use left out when it holds its default
+/// (older files wrote every field, e.g. the direction effect's `"d_k": 0` whatever its target).
+/// `None` when `e` needs neither.
+fn as_read(e: &Value) -> Option<Value> {
     let mut obj = e.as_object()?.clone();
-    let mut term = obj.remove("term")?.as_object()?.clone();
-    let name = term.remove("family")?;
-    let (_, family) = crate::terms::family_named(name.as_str()?)?;
-    obj.insert(family.key(), Value::Object(term));
-    Some(Value::Object(obj))
+    let mut changed = false;
+    if let Some(mut term) = obj.get("term").and_then(Value::as_object).cloned() {
+        if let Some((_, family)) = term
+            .remove("family")
+            .and_then(|n| crate::terms::family_named(n.as_str()?))
+        {
+            obj.remove("term");
+            obj.insert(family.key(), Value::Object(term));
+            changed = true;
+        }
+    }
+    for family in crate::terms::FAMILIES {
+        let Some(Value::Object(body)) = obj.get_mut(&family.key()) else {
+            continue;
+        };
+        let form = body
+            .get(family.form_field())
+            .and_then(Value::as_str)
+            .and_then(|k| family.forms().iter().find(|f| f.key == k))
+            .unwrap_or(&family.forms()[0]);
+        for (i, q) in family.params().iter().enumerate() {
+            let at_default = body.get(q.name).and_then(Value::as_f64) == Some(q.default);
+            if at_default && !form.params.contains(&i) {
+                body.remove(q.name);
+                changed = true;
+            }
+        }
+    }
+    changed.then_some(Value::Object(obj))
 }
 
 /// The first key of `input` (an object, recursively) with a non-null value that `back` (what
@@ -388,6 +415,44 @@ mod tests {
         // A field healing does not have is still refused.
         let m = shape(&with(r#"{"b":0.005,"d_hh":0.1}"#));
         assert!(m.contains("`ext.healing.d_hh` is not a known"), "{m}");
+    }
+
+    #[test]
+    fn a_direction_effect_as_older_files_wrote_it_reads_and_an_unused_size_is_refused() {
+        // Older files wrote every field of the direction effect, `d_k` at 0 whatever the target.
+        let with = |dir: &str| format!(r#"{{"params":{FLAT},"ext":{{"direction":{dir}}}}}"#);
+        let old = model_from_json(&with(r#"{"d":0.1,"target":"mu-k","d_k":0.0}"#)).expect("reads");
+        let bare = model_from_json(&with(r#"{"d":0.1,"target":"mu-k"}"#)).expect("reads");
+        assert_eq!(old, bare);
+        let e = old
+            .ext
+            .terms
+            .iter()
+            .next()
+            .expect("the direction effect is on");
+        assert_eq!(
+            (e.family().name(), e.form().key, e.p[0]),
+            ("direction", "mu-k", 0.1)
+        );
+        // Written with its target, read back the same.
+        let text = serde_json::to_string(&old.ext).unwrap();
+        assert!(
+            text.contains(r#""direction":{"target":"mu-k","d":0.1}"#),
+            "{text}"
+        );
+        // A size the target does not use, away from its default, is no silent no-op.
+        let m = shape(&with(r#"{"d":0.1,"target":"mu-k","d_k":0.2}"#));
+        assert!(m.contains("`ext.direction.d_k` is not a known"), "{m}");
+        // The general form uses it.
+        let both = model_from_json(&with(r#"{"d":0.1,"target":"bounds","d_k":0.2}"#)).unwrap();
+        assert_eq!(both.ext.terms.iter().next().unwrap().p[1], 0.2);
+        // Out of its range: refused by name.
+        match model_from_json(&with(r#"{"d":1.5}"#)) {
+            Err(ModelJsonError::Invalid(e)) => {
+                assert!(e.to_string().contains("direction.d"), "{e}")
+            }
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]

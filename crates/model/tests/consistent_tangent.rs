@@ -4,8 +4,8 @@
 //! circle on a tilted plane, with and without extensions.
 
 use subfric_model::{
-    Contact3, DirectionEffect, Extensions, Healing, HealingForm, Model, Params, PressureEffect,
-    PressureForm, RateEffect, RateForm, State3, Target, TermEffect, Terms, Vec3,
+    Contact3, Extensions, Healing, HealingForm, Model, Params, PressureEffect, PressureForm,
+    RateEffect, RateForm, State3, Target, TermEffect, Terms, Vec3,
 };
 
 /// Acceptance: ‖K − K_fd‖/‖K‖ (Frobenius) and the same for ∂f_t/∂p.
@@ -286,11 +286,7 @@ fn sharp_turn_restarts_from_the_closest_point_beside_the_origin() {
 fn direction_pressure_and_slip_extensions() {
     let exts = [
         Extensions {
-            direction: Some(DirectionEffect {
-                d: 0.2,
-                target: Target::Friction,
-                d_k: 0.0,
-            }),
+            terms: Terms::one(TermEffect::named("direction", "friction", &[0.2]).unwrap()),
             pressure: Some(PressureEffect {
                 beta: 0.1,
                 form: PressureForm::Power,
@@ -301,11 +297,6 @@ fn direction_pressure_and_slip_extensions() {
             ..Extensions::default()
         },
         Extensions {
-            direction: Some(DirectionEffect {
-                d: 0.15,
-                target: Target::MuK,
-                d_k: 0.0,
-            }),
             pressure: Some(PressureEffect {
                 beta: 0.2,
                 form: PressureForm::Exponential,
@@ -313,9 +304,8 @@ fn direction_pressure_and_slip_extensions() {
                 p_ref: 100.0,
                 beta_k: 0.0,
             }),
-            terms: Terms::one(
-                TermEffect::named("slip-hardening", "hyperbolic", &[0.02, 0.5]).unwrap(),
-            ),
+            terms: Terms::one(TermEffect::named("direction", "mu-k", &[0.15]).unwrap())
+                .with(TermEffect::named("slip-hardening", "hyperbolic", &[0.02, 0.5]).unwrap()),
             ..rate_and_state()
         },
     ];

@@ -2,9 +2,9 @@
 //! initial states of tests that do not start from rest.
 
 use subfric_model::{
-    simulate, Contact1, Contact3, Control, DirectionEffect, Extensions, Healing, HealingForm,
-    Initial, Model, Params, PressureEffect, PressureForm, Protocol, RateEffect, RateForm, State1,
-    State3, Target, TermEffect, Terms,
+    simulate, Contact1, Contact3, Control, Extensions, Healing, HealingForm, Initial, Model,
+    Params, PressureEffect, PressureForm, Protocol, RateEffect, RateForm, State1, State3, Target,
+    TermEffect, Terms,
 };
 
 /// A slip-controlled history built stage by stage at a fixed slip per row.
@@ -531,11 +531,7 @@ fn direction_on_mu_k_weakens_backward_sliding_but_not_the_peak() {
     let m = model(
         base,
         Extensions {
-            direction: Some(DirectionEffect {
-                d,
-                target: Target::MuK,
-                d_k: 0.0,
-            }),
+            terms: Terms::one(TermEffect::named("direction", "mu-k", &[d]).unwrap()),
             ..Extensions::default()
         },
     );
@@ -834,19 +830,11 @@ fn collinear_3d_equals_1d_for_every_form() {
             ..Extensions::default()
         },
         Extensions {
-            direction: Some(DirectionEffect {
-                d: 0.15,
-                target: Target::Kappa,
-                d_k: 0.0,
-            }),
+            terms: Terms::one(TermEffect::named("direction", "kappa", &[0.15]).unwrap()),
             ..Extensions::default()
         },
         Extensions {
-            direction: Some(DirectionEffect {
-                d: 0.15,
-                target: Target::UTilde,
-                d_k: 0.0,
-            }),
+            terms: Terms::one(TermEffect::named("direction", "u-tilde", &[0.15]).unwrap()),
             pressure: Some(PressureEffect {
                 beta: 0.1,
                 form: PressureForm::Exponential,

@@ -248,11 +248,25 @@ pub fn corroborates(e: &EventAnalysis, effect: crate::Effect) -> bool {
     match effect {
         Effect::Rate => e.rate.as_ref().is_none_or(|r| r.consistent),
         Effect::LogHealing => e.healing.as_ref().is_none_or(|h| h.per_decade.value > 0.0),
-        Effect::Direction => e
-            .direction
-            .as_ref()
-            .is_none_or(|d| d.backward_weakening.excludes_zero()),
+        Effect::Term(i) => subfric_model::terms::family(i).corroborated(&e.readings()),
         _ => true,
+    }
+}
+
+impl EventAnalysis {
+    /// What the events read say, for the registered families
+    /// ([`subfric_model::terms::TermFamily::corroborated`]).
+    pub fn readings(&self) -> subfric_model::terms::EventReadings {
+        subfric_model::terms::EventReadings {
+            backward_weakening: self.direction.as_ref().map(|d| {
+                let w = &d.backward_weakening;
+                subfric_model::terms::Reading {
+                    value: w.value,
+                    lo: w.lo,
+                    hi: w.hi,
+                }
+            }),
+        }
     }
 }
 

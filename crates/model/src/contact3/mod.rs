@@ -502,7 +502,7 @@ impl Contact3 {
             theta_el,
             healed_el: self.k.rest_healed(st.healed, st.age, dt),
             exp_xi_dt,
-            with_direction: self.k.ext.direction.is_some() && self.forward != [0.0; 3],
+            with_direction: self.k.ext.terms.reads_direction() && self.forward != [0.0; 3],
             with_pressure: self.k.ext.pressure.is_some(),
         }
     }

@@ -123,7 +123,7 @@ impl Consts {
     /// True when [`Consts::path_terms`] can be non-zero.
     #[inline]
     pub(super) fn has_path_terms(&self) -> bool {
-        !self.ext.terms.is_empty()
+        self.ext.terms.adds_terms()
     }
 
     /// ξΔt of a plastic step: no recovery while sliding under a time healing that replaces it.
@@ -208,7 +208,11 @@ impl Consts {
     /// such a family, with one that depends on time too, or when no slip reaches it.
     pub fn steady_history(&self, l: &Local, mu_eff: f64, v: f64) -> Option<(f64, f64)> {
         let terms = self.ext.terms;
-        if terms.is_empty() || !terms.iter().all(|e| e.family().monotone_in_slip()) {
+        if !terms.adds_terms()
+            || !terms
+                .iter()
+                .all(|e| e.family().monotone_in_slip() || !e.family().adds_term())
+        {
             return None;
         }
         let mu = self.steady_mu(l, v);
@@ -221,7 +225,11 @@ impl Consts {
         // Each T is monotone in s with the sign of its slope at 0; bracket s₀ by doubling,
         // then bisect.
         let sign = terms.total(0.0, 0.0).1.signum();
-        if terms.iter().any(|e| e.term(0.0, 0.0).1.signum() != sign) {
+        if terms
+            .iter()
+            .filter(|e| e.family().adds_term())
+            .any(|e| e.term(0.0, 0.0).1.signum() != sign)
+        {
             // Terms of opposite senses: their sum need not be monotone.
             return None;
         }

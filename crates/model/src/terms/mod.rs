@@ -1,36 +1,43 @@
 //! Registered effect families: one module each, listed in [`FAMILIES`].
 //!
 //! A registered family adds a term T(s, t) to the friction of the cone, μ_eff = … + T, where s is
-//! the accumulated plastic slip [mm] and t the time since the contact started [s]. Everything
-//! the rest of subfric needs to know about the family lives in its module, behind
-//! [`TermFamily`]: its parameters (keys, units, scales, bounds), its forms, the term and its
-//! slope in s (for the implicit return mapping), where in a test it shows, and its first
-//! guesses read off the scales of a data set. The calibration (`subfric-fit`) frees its
-//! parameters as `Param::Term`, the diagnosis (`subfric-diagnose`) fits its forms as candidates
-//! through the same engine as the base model, and parameter files carry it as
-//! `"ext": {"term": {"family": "...", "form": "...", <parameters>}}` — none of them names the
-//! family.
+//! the accumulated plastic slip [mm] and t the time since the contact started [s], or scales μ,
+//! μ_s, μ_k, κ or ũ by a factor of the contact's condition (its normal stress and sliding
+//! direction). Everything the rest of subfric needs to know about the family lives in its
+//! module, behind [`TermFamily`]: its parameters (keys, units, scales, bounds), its forms, the
+//! term and its slope in s (for the implicit return mapping) or the factor and its range, where
+//! in a test it shows, its first guesses read off the scales of a data set, and what the events
+//! read one by one must show for it. The calibration (`subfric-fit`) frees its parameters as
+//! `Param::Term`, the diagnosis (`subfric-diagnose`) fits its forms as candidates through the
+//! same engine as the base model, and parameter files carry it under its key — none of them
+//! names the family.
 //!
 //! Adding a family: write its module (a unit struct implementing [`TermFamily`], with its unit
-//! tests), and add one line to [`FAMILIES`]. Slip hardening is one; the four families of
-//! [`crate::extensions`] (rate, pressure, healing, direction) predate this registry and act on
-//! μ's bounds, a state variable θ or the recovery at rest, which a term T(s, t) cannot express.
+//! tests), and add one line to [`FAMILIES`]. Slip hardening, the time trend and the direction
+//! effect are registered; rate, pressure and healing (in [`crate::extensions`]) predate the
+//! registry: rate and healing carry state of their own (θ, the healed gain, the rate terms
+//! held at rest) that neither a term nor a factor expresses.
 //!
 //! In a parameter file each family switched on is an object under its key (its name in
 //! snake_case), `"ext": {"slip_hardening": {"form": "capped", "h": 0.01, "s_h": 2}}`; the
-//! form may be left out (the family's first), and so may a parameter (its default).
+//! form may be left out (the family's first), and so may a parameter (its default). Older files
+//! gave a family as `"term": {"family": "time-trend", ...}`, which is still read.
 
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use crate::Target;
+
+mod direction;
 mod slip_hardening;
 mod time_trend;
 
+pub use direction::Direction;
 pub use slip_hardening::SlipHardening;
 pub use time_trend::TimeTrend;
 
 /// The registered families, in the order the diagnosis tries them.
-pub static FAMILIES: &[&dyn TermFamily] = &[&SlipHardening, &TimeTrend];
+pub static FAMILIES: &[&dyn TermFamily] = &[&SlipHardening, &TimeTrend, &Direction];
 
 /// Most registered families a model may carry at once (one slot each in [`Terms`]).
 pub const MAX_FAMILIES: usize = 4;
@@ -55,12 +62,18 @@ pub struct TermParam {
     pub default: f64,
     /// What a valid value is, in words (for the refusal of an invalid one).
     pub expected: &'static str,
+    /// The open interval a valid value lies in (infinite ends: no limit but finiteness).
+    pub within: (f64, f64),
 }
 
+/// No limit on a parameter but finiteness.
+pub const ANY: (f64, f64) = (f64::NEG_INFINITY, f64::INFINITY);
+
 impl TermParam {
-    /// Whether `v` is a value the model accepts (finite; > 0 on a log scale).
+    /// Whether `v` is a value the model accepts (finite, within its interval; > 0 on a log
+    /// scale).
     pub fn valid(&self, v: f64) -> bool {
-        v.is_finite() && (!self.log_scale || v > 0.0)
+        v.is_finite() && (!self.log_scale || v > 0.0) && v > self.within.0 && v < self.within.1
     }
 }
 
@@ -112,6 +125,33 @@ pub struct DataScales {
     pub sliding_rates: usize,
 }
 
+/// What the events of a record read one by one say (filled by the diagnosis where it read
+/// them), for a family to check that they leave room for it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EventReadings {
+    /// Backward weakening d = 1 − |μ backward| / μ forward over the reversals: value and its
+    /// interval.
+    pub backward_weakening: Option<Reading>,
+}
+
+/// A value read off a record with its interval.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reading {
+    /// The value.
+    pub value: f64,
+    /// Lower end of its interval.
+    pub lo: f64,
+    /// Upper end of its interval.
+    pub hi: f64,
+}
+
+impl Reading {
+    /// Whether the interval leaves zero out.
+    pub fn excludes_zero(&self) -> bool {
+        self.lo > 0.0 || self.hi < 0.0
+    }
+}
+
 /// Starting values and bounds of one form for one data set.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FormGuess {
@@ -159,8 +199,53 @@ pub trait TermFamily: Sync + std::fmt::Debug {
         false
     }
     /// T and ∂T/∂s of form `form` with the family's parameters `p` (indexed as
-    /// [`TermFamily::params`]) at accumulated plastic slip `s` [mm] and time `t` [s].
-    fn term(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], s: f64, t: f64) -> (f64, f64);
+    /// [`TermFamily::params`]) at accumulated plastic slip `s` [mm] and time `t` [s]; zero for
+    /// a family that only scales ([`TermFamily::adds_term`] false).
+    fn term(&self, _form: usize, _p: &[f64; MAX_TERM_PARAMS], _s: f64, _t: f64) -> (f64, f64) {
+        (0.0, 0.0)
+    }
+    /// Whether the family adds a term T (every form); false for one that only scales.
+    fn adds_term(&self) -> bool {
+        true
+    }
+    /// The field of a parameter file that names the form (`form`, unless the family's files
+    /// have always named it otherwise).
+    fn form_field(&self) -> &'static str {
+        "form"
+    }
+    /// What form `form` scales: μ as a whole ([`Target::Friction`]), μ_s, μ_k, κ or ũ, or μ_s
+    /// and μ_k each by its own size ([`Target::Bounds`]); none for a family of terms.
+    fn targets(&self, _form: usize) -> &'static [Target] {
+        &[]
+    }
+    /// The factor form `form` puts on `target` (one of μ as a whole, μ_s, μ_k, κ, ũ) of a
+    /// contact at normal stress `normal_kpa` sliding in a direction whose cosine with the
+    /// forward axis is `cos_forward` (±1 in 1-D); 1 where it does not act.
+    fn factor_on(
+        &self,
+        _form: usize,
+        _p: &[f64; MAX_TERM_PARAMS],
+        _target: Target,
+        _normal_kpa: f64,
+        _cos_forward: f64,
+    ) -> f64 {
+        1.0
+    }
+    /// The least and greatest factor of [`TermFamily::factor_on`] on `target` over every
+    /// condition (infinite where unbounded).
+    fn range_on(&self, _form: usize, _p: &[f64; MAX_TERM_PARAMS], _target: Target) -> (f64, f64) {
+        (1.0, 1.0)
+    }
+    /// Whether the family reads the sliding direction (a 3-D contact then needs its forward
+    /// axis).
+    fn reads_direction(&self) -> bool {
+        false
+    }
+    /// Whether what the events read one by one leaves room for the family (true where they
+    /// say nothing of it).
+    fn corroborated(&self, _events: &EventReadings) -> bool {
+        true
+    }
 }
 
 /// The registered family called `name` (or one of its aliases), with its index in
@@ -308,7 +393,7 @@ impl TermEffect {
         if with_family {
             map.serialize_entry("family", self.family().name())?;
         }
-        map.serialize_entry("form", form.key)?;
+        map.serialize_entry(self.family().form_field(), form.key)?;
         for &i in form.params {
             map.serialize_entry(params[i].name, &self.p[i])?;
         }
@@ -320,7 +405,7 @@ impl TermEffect {
     /// check of unknown keys.
     fn read(index: u8, map: &serde_json::Map<String, serde_json::Value>) -> Result<Self, String> {
         let fam = family(index);
-        let form = match map.get("form") {
+        let form = match map.get(fam.form_field()) {
             None => 0,
             Some(v) => {
                 let key = v.as_str().unwrap_or_default();
@@ -367,6 +452,12 @@ impl Terms {
         let mut t = Terms::NONE;
         t.insert(e);
         t
+    }
+
+    /// These families and `e` (in place of the same family's, if on).
+    pub fn with(mut self, e: TermEffect) -> Terms {
+        self.insert(e);
+        self
     }
 
     /// True when no registered family is on.
@@ -427,6 +518,57 @@ impl Terms {
             let (a, b) = e.term(s, t);
             (v + a, d + b)
         })
+    }
+
+    /// True when a family on adds a term T.
+    #[inline]
+    pub fn adds_terms(&self) -> bool {
+        self.iter().any(|e| e.family().adds_term())
+    }
+
+    /// The product of every family's factor on `target` at normal stress `normal_kpa` and
+    /// sliding direction `cos_forward` ([`TermFamily::factor_on`]).
+    #[inline]
+    pub fn factor_on(&self, target: Target, normal_kpa: f64, cos_forward: f64) -> f64 {
+        self.iter().fold(1.0, |f, e| {
+            f * e
+                .family()
+                .factor_on(e.form as usize, &e.p, target, normal_kpa, cos_forward)
+        })
+    }
+
+    /// The least and greatest product of the factors on `target` over every condition.
+    pub fn range_on(&self, target: Target) -> (f64, f64) {
+        self.iter().fold((1.0, 1.0), |(lo, hi), e| {
+            let (a, b) = e.family().range_on(e.form as usize, &e.p, target);
+            (lo * a, hi * b)
+        })
+    }
+
+    /// True when a family on scales `target` (its form lists it, or [`Target::Bounds`] for
+    /// μ_s or μ_k).
+    pub fn scales(&self, target: Target) -> bool {
+        self.iter().any(|e| {
+            let t = e.family().targets(e.form as usize);
+            t.contains(&target)
+                || (matches!(target, Target::MuS | Target::MuK) && t.contains(&Target::Bounds))
+        })
+    }
+
+    /// True when a family on scales anything but μ as a whole (the integrator then builds the
+    /// bounds per step).
+    pub fn varies_bounds(&self) -> bool {
+        self.iter().any(|e| {
+            e.family()
+                .targets(e.form as usize)
+                .iter()
+                .any(|&t| t != Target::Friction)
+        })
+    }
+
+    /// True when a family on reads the sliding direction.
+    pub fn reads_direction(&self) -> bool {
+        self.iter().any(|e| e.family().reads_direction())
     }
 }
 
@@ -568,7 +710,7 @@ mod tests {
         let text = serde_json::to_string(&terms).unwrap();
         for fam in FAMILIES {
             assert!(
-                text.contains(&format!("\"{}\":{{\"form\"", fam.key())),
+                text.contains(&format!("\"{}\":{{\"{}\"", fam.key(), fam.form_field())),
                 "{text}"
             );
         }

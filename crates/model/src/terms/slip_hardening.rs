@@ -11,7 +11,7 @@
 //! contact, and is monotone in s: a record that starts mid-run is placed at the slip whose H
 //! gives the friction it shows ([`TermFamily::monotone_in_slip`]).
 
-use super::{DataScales, FormGuess, Shows, TermFamily, TermForm, TermParam, MAX_TERM_PARAMS};
+use super::{DataScales, FormGuess, Shows, TermFamily, TermForm, TermParam, ANY, MAX_TERM_PARAMS};
 
 /// The slip-hardening family (see the module documentation).
 #[derive(Clone, Copy, Debug)]
@@ -26,6 +26,7 @@ const PARAMS: [TermParam; 2] = [
         bounds: (-1.0, 1.0),
         default: 0.0,
         expected: "a finite number",
+        within: ANY,
     },
     TermParam {
         key: "slip_hardening.s_h",
@@ -35,6 +36,7 @@ const PARAMS: [TermParam; 2] = [
         bounds: (0.01, 1000.0),
         default: 1.0,
         expected: "a finite slip > 0 [mm]",
+        within: ANY,
     },
 ];
 

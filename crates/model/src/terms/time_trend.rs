@@ -9,7 +9,7 @@
 //! scales with the normal stress and acts only on the cone, a drift of the measurement does
 //! neither.
 
-use super::{DataScales, FormGuess, Shows, TermFamily, TermForm, TermParam, MAX_TERM_PARAMS};
+use super::{DataScales, FormGuess, Shows, TermFamily, TermForm, TermParam, ANY, MAX_TERM_PARAMS};
 
 /// The time-trend family (see the module documentation).
 #[derive(Clone, Copy, Debug)]
@@ -24,6 +24,7 @@ const PARAMS: [TermParam; 3] = [
         bounds: (-1e-2, 1e-2),
         default: 0.0,
         expected: "a finite rate of change of friction [1/s]",
+        within: ANY,
     },
     TermParam {
         key: "time_trend.delta",
@@ -33,6 +34,7 @@ const PARAMS: [TermParam; 3] = [
         bounds: (-0.5, 0.5),
         default: 0.0,
         expected: "a finite change of the friction coefficient",
+        within: ANY,
     },
     TermParam {
         key: "time_trend.t_s",
@@ -42,6 +44,7 @@ const PARAMS: [TermParam; 3] = [
         bounds: (1.0, 1e7),
         default: 1000.0,
         expected: "a finite time > 0 [s]",
+        within: ANY,
     },
 ];
 
