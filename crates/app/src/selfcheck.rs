@@ -487,7 +487,7 @@ mod tests {
             Some((
                 vec![
                     Effect::from_name("slip-hardening").unwrap(),
-                    Effect::Pressure
+                    Effect::from_name("pressure").unwrap()
                 ],
                 "slip-hardening (slip-softening-exp-add) + pressure (pressure-linear-mu)".into()
             ))

@@ -298,13 +298,14 @@ mod tests {
     fn scores_count_what_they_say() {
         use Effect::*;
         let slip = Effect::from_name("slip-hardening").unwrap();
+        let pressure = Effect::from_name("pressure").unwrap();
         let cases = [
             case(&[], &[], "lab"),
             case(&[], &[Unexplained], "rig"),
             case(&[Rate], &[Rate], "lab"),
             case(&[Rate], &[Rate, slip], "clean"),
-            case(&[Rate, Pressure], &[Pressure, Rate], "rig"),
-            case(&[slip, Pressure], &[slip], "rig"),
+            case(&[Rate, pressure], &[pressure, Rate], "rig"),
+            case(&[slip, pressure], &[slip], "rig"),
             case(&[Unexplained], &[Unexplained], "clean"),
         ];
         let s = score(&cases);

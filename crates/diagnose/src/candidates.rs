@@ -7,10 +7,7 @@ use crate::folds::PieceKind;
 use serde::{Deserialize, Serialize};
 use subfric_fit::Param;
 use subfric_model::terms::{self, Shows};
-use subfric_model::{
-    AtRest, Extensions, Healing, HealingForm, PressureEffect, PressureForm, RateEffect, RateForm,
-    Target,
-};
+use subfric_model::{AtRest, Extensions, Healing, HealingForm, RateEffect, RateForm};
 
 /// An effect the diagnosis can name (a family of forms).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -19,8 +16,6 @@ pub enum Effect {
     None,
     /// Rate dependence: direct effect, rate and state, power law, steady state only.
     Rate,
-    /// Pressure dependence of μ, μ_s or μ_k.
-    Pressure,
     /// Time healing at rest (log or power law) instead of exponential recovery.
     LogHealing,
     /// A real gap that no candidate explains (e.g. measurement drift).
@@ -43,6 +38,12 @@ impl Effect {
         Effect::registered_where(|f| f.reads_direction())
     }
 
+    /// The registered family tried by default that reads the normal stress: where a residual
+    /// that follows the normal stress points.
+    pub fn of_normal_stress() -> Option<Effect> {
+        Effect::registered_where(|f| f.reads_normal_stress())
+    }
+
     fn registered_where(what: impl Fn(&dyn terms::TermFamily) -> bool) -> Option<Effect> {
         terms::FAMILIES
             .iter()
@@ -63,7 +64,7 @@ impl Effect {
 
     /// The built-in physical families (the registered ones, slip hardening among them, are
     /// `Effect::Term`).
-    pub const BUILT_IN: [Effect; 3] = [Effect::Rate, Effect::Pressure, Effect::LogHealing];
+    pub const BUILT_IN: [Effect; 2] = [Effect::Rate, Effect::LogHealing];
 
     /// Name as in `diagnosis.json`.
     pub fn name(self) -> &'static str {
@@ -71,7 +72,6 @@ impl Effect {
             Effect::Term(i) => terms::family(i).name(),
             Effect::None => "none",
             Effect::Rate => "rate",
-            Effect::Pressure => "pressure",
             Effect::LogHealing => "log-healing",
             Effect::Unexplained => "unexplained",
         }
@@ -97,7 +97,6 @@ impl Effect {
         let shows: &[Shows] = match self {
             Effect::Rate => &[Shows::VelocitySteps, Shows::Holds],
             Effect::LogHealing => &[Shows::Holds],
-            Effect::Pressure => &[Shows::AwayFromReferenceStress],
             Effect::Term(i) => terms::family(i).shows(),
             Effect::None | Effect::Unexplained => &[],
         };
@@ -109,7 +108,6 @@ impl Effect {
         match self {
             Effect::None => "no effect beyond the base model: the remaining gap is noise",
             Effect::Rate => "rate dependence: friction changes with the slip rate",
-            Effect::Pressure => "pressure dependence: friction changes with the normal stress",
             Effect::LogHealing => "time healing: friction regains strength at rest as a law of time, not by exponential recovery",
             Effect::Unexplained => "a real gap none of the candidates explains",
             Effect::Term(i) => terms::family(i).describe(),
@@ -221,19 +219,6 @@ fn ext_rate(form: RateForm, v_ref: f64, at_rest: AtRest) -> Extensions {
             n: 0.0,
             v_ref,
             at_rest,
-        }),
-        ..Extensions::default()
-    }
-}
-
-fn ext_pressure(form: PressureForm, target: Target, p_ref: f64) -> Extensions {
-    Extensions {
-        pressure: Some(PressureEffect {
-            beta: 0.0,
-            form,
-            target,
-            p_ref,
-            beta_k: 0.0,
         }),
         ..Extensions::default()
     }
@@ -372,32 +357,37 @@ pub fn registered_family_names() -> Vec<&'static str> {
     terms::FAMILIES.iter().map(|f| f.name()).collect()
 }
 
-/// The forms of registered family `family`, with its first guesses for these data.
+/// The forms of registered family `family` that the diagnosis tries, with its first guesses
+/// and references for these data.
 fn term_forms(family: u8, f: &DataFeatures) -> Vec<Form> {
     let fam = terms::family(family);
     let param = |index: usize| Param::Term {
         family,
         index: index as u8,
     };
-    fam.forms()
-        .iter()
-        .enumerate()
-        .map(|(k, form)| {
+    (0..fam.forms().len())
+        .filter(|&k| fam.tries(k))
+        .map(|k| {
             let g = fam.guess(k, &f.scales());
+            let fitted = fam.fitted(k);
+            let mut on = terms::TermEffect::new(family, k as u8);
+            for &(i, v) in &g.references {
+                on.p[i] = v;
+            }
             Form {
                 effect: Effect::Term(family),
-                name: form.describe,
+                name: fam.forms()[k].describe,
                 template: Extensions {
-                    terms: terms::Terms::one(terms::TermEffect::new(family, k as u8)),
+                    terms: terms::Terms::one(on),
                     ..Extensions::default()
                 },
-                params: form.params.iter().map(|&i| param(i)).collect(),
+                params: fitted.iter().map(|&i| param(i)).collect(),
                 starts: g.starts,
                 neutral: g.neutral,
                 bounds: g
                     .bounds
                     .iter()
-                    .map(|&(i, lo, hi)| (param(form.params[i]), lo, hi))
+                    .map(|&(i, lo, hi)| (param(fitted[i]), lo, hi))
                     .collect(),
             }
         })
@@ -409,9 +399,12 @@ fn term_forms(family: u8, f: &DataFeatures) -> Vec<Form> {
 ///
 /// ```
 /// let names = subfric_diagnose::candidates::all_form_names();
-/// // 24 built-in forms and every form of the registered families.
-/// let registered: usize = subfric_model::terms::FAMILIES.iter().map(|f| f.forms().len()).sum();
-/// assert_eq!(names.len(), 24 + registered);
+/// // 16 built-in forms and every form of the registered families the diagnosis tries.
+/// let registered: usize = subfric_model::terms::FAMILIES
+///     .iter()
+///     .map(|f| (0..f.forms().len()).filter(|&k| f.tries(k)).count())
+///     .sum();
+/// assert_eq!(names.len(), 16 + registered);
 /// assert!(names.contains(&"rate and state, slip law"));
 /// ```
 pub fn all_form_names() -> Vec<&'static str> {
@@ -451,61 +444,9 @@ fn library_for(f: &DataFeatures) -> Vec<Form> {
     if f.sliding_rates > 1 || f.holds > 0 {
         out.extend(rate_forms(f));
     }
-    if f.pressure_levels > 1 {
-        out.extend(pressure_forms(f.p_ref));
-    }
     if f.holds > 0 {
         out.extend(healing_forms(f.seeds.healing_per_decade));
     }
-    out
-}
-
-/// The pressure family at the reference normal stress `p` [kPa].
-fn pressure_forms(p: f64) -> Vec<Form> {
-    let mut out = Vec::new();
-    for (form, target, name) in [
-        (
-            PressureForm::Power,
-            Target::Friction,
-            "power law on mu, (p/p_ref)^-beta",
-        ),
-        (
-            PressureForm::Linear,
-            Target::Friction,
-            "linear on mu, 1 - beta (p/p_ref - 1)",
-        ),
-        (
-            PressureForm::Exponential,
-            Target::Friction,
-            "exponential on mu, exp(-beta (p/p_ref - 1))",
-        ),
-        (PressureForm::Power, Target::MuS, "power law on mu_s only"),
-        (PressureForm::Power, Target::MuK, "power law on mu_k only"),
-        (PressureForm::Linear, Target::MuS, "linear on mu_s only"),
-        (PressureForm::Linear, Target::MuK, "linear on mu_k only"),
-    ] {
-        out.push(Form {
-            effect: Effect::Pressure,
-            name,
-            template: ext_pressure(form, target, p),
-            params: vec![Param::PressureBeta],
-            starts: vec![vec![0.1], vec![-0.1]],
-            neutral: vec![0.0],
-            bounds: vec![],
-        });
-    }
-    // The general form of the family: μ_s and μ_k each with its own exponent holds μ as a
-    // whole, μ_s only and μ_k only, and whatever lies between, for effects in forms that
-    // none of the above names.
-    out.push(Form {
-        effect: Effect::Pressure,
-        name: "power law on mu_s and mu_k, each its own beta",
-        template: ext_pressure(PressureForm::Power, Target::Bounds, p),
-        params: vec![Param::PressureBeta, Param::PressureBetaK],
-        starts: vec![vec![0.1, 0.1], vec![-0.1, -0.1], vec![0.1, -0.1]],
-        neutral: vec![0.0, 0.0],
-        bounds: vec![],
-    });
     out
 }
 

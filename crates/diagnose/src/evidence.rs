@@ -68,7 +68,7 @@ impl Feature {
             Feature::LogRate | Feature::RateChange => Some(Effect::Rate),
             Feature::TimeAtRest => Some(Effect::LogHealing),
             Feature::AccumulatedSlip | Feature::Cycle => Effect::of_accumulated_slip(),
-            Feature::NormalStress => Some(Effect::Pressure),
+            Feature::NormalStress => Effect::of_normal_stress(),
             Feature::Direction => Effect::of_sliding_direction(),
             Feature::Time => None,
         }

@@ -70,7 +70,6 @@ impl Spec {
 pub fn merge(a: &Extensions, b: &Extensions) -> Extensions {
     Extensions {
         rate: b.rate.or(a.rate),
-        pressure: b.pressure.or(a.pressure),
         healing: b.healing.or(a.healing),
         terms: b.terms.or(a.terms),
     }

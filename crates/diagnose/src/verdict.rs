@@ -299,7 +299,7 @@ mod tests {
         let th = Thresholds::default();
         let c = cmp(19.0, 0.99, 0.9, 5.0);
         assert_eq!(
-            decide(5.0, &[(Effect::Pressure, c)], None, &th),
+            decide(5.0, &[(Effect::Rate, c)], None, &th),
             Decision::Unexplained
         );
     }

@@ -17,8 +17,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 use subfric_model::{
-    Contact3, Extensions, Model, Params, PressureEffect, PressureForm, RateEffect, RateForm,
-    State3, Target, TermEffect, Terms, Vec3,
+    Contact3, Extensions, Model, Params, RateEffect, RateForm, State3, TermEffect, Terms, Vec3,
 };
 
 /// How a case gives its model to the C program.
@@ -154,15 +153,9 @@ fn cases(dir: &Path) -> Vec<Case> {
     let extended = Model::new(
         penalty(),
         Extensions {
-            pressure: Some(PressureEffect {
-                beta: 0.2,
-                form: PressureForm::Exponential,
-                target: Target::MuS,
-                p_ref: 100.0,
-                beta_k: 0.0,
-            }),
             terms: Terms::one(TermEffect::named("direction", "mu-k", &[0.15]).unwrap())
-                .with(TermEffect::named("slip-hardening", "hyperbolic", &[0.02, 0.5]).unwrap()),
+                .with(TermEffect::named("slip-hardening", "hyperbolic", &[0.02, 0.5]).unwrap())
+                .with(TermEffect::named("pressure", "exponential-mu-s", &[0.2, 100.0]).unwrap()),
             ..Extensions::default()
         },
     )

@@ -4,9 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 use subfric_model::terms::{self, TermEffect, TermParam};
-use subfric_model::{
-    Healing, HealingForm, Model, PressureEffect, PressureForm, RateEffect, Target,
-};
+use subfric_model::{Healing, HealingForm, Model, RateEffect};
 
 /// A parameter of the model or of one of its extensions. In files it is its key
 /// ([`Param::key`]: `mu_s`, `rate.d_c`, `slip_hardening.h`).
@@ -34,10 +32,6 @@ pub enum Param {
     RateDc,
     /// Power law in rate: n.
     RateN,
-    /// Pressure effect: β.
-    PressureBeta,
-    /// Pressure effect on μ_s and μ_k separately: β of μ_k.
-    PressureBetaK,
     /// Time healing: t_c [s] (log form).
     HealTc,
     /// Time healing: b.
@@ -100,7 +94,7 @@ impl Param {
 
     /// Every parameter of the model and its built-in extensions ([`Param::all`] adds those of
     /// the registered families).
-    pub const ALL: [Param; 17] = [
+    pub const ALL: [Param; 15] = [
         Param::MuS,
         Param::MuK,
         Param::Kappa,
@@ -112,19 +106,21 @@ impl Param {
         Param::RateB,
         Param::RateDc,
         Param::RateN,
-        Param::PressureBeta,
-        Param::PressureBetaK,
         Param::HealTc,
         Param::HealB,
         Param::HealN,
         Param::HealDh,
     ];
 
-    /// Every parameter: [`Param::ALL`] and those of each registered family.
+    /// Every parameter: [`Param::ALL`] and those of each registered family (not its
+    /// references, such as the reference normal stress, which the data set and no fit gives).
     pub fn all() -> Vec<Param> {
         let mut out = Param::ALL.to_vec();
         for (family, f) in terms::FAMILIES.iter().enumerate() {
-            for index in 0..f.params().len() {
+            for (index, q) in f.params().iter().enumerate() {
+                if q.reference {
+                    continue;
+                }
                 out.push(Param::Term {
                     family: family as u8,
                     index: index as u8,
@@ -157,8 +153,6 @@ impl Param {
             Param::RateB => "rate.b",
             Param::RateDc => "rate.d_c",
             Param::RateN => "rate.n",
-            Param::PressureBeta => "pressure.beta",
-            Param::PressureBetaK => "pressure.beta_k",
             Param::HealTc => "healing.t_c",
             Param::HealB => "healing.b",
             Param::HealN => "healing.n",
@@ -254,13 +248,9 @@ impl Param {
                 _ => Scale::Linear,
             },
             Param::MuK => Scale::RatioToMuS,
-            Param::RateA
-            | Param::RateB
-            | Param::RateN
-            | Param::PressureBeta
-            | Param::PressureBetaK
-            | Param::HealB
-            | Param::HealN => Scale::Linear,
+            Param::RateA | Param::RateB | Param::RateN | Param::HealB | Param::HealN => {
+                Scale::Linear
+            }
             _ => Scale::Log,
         }
     }
@@ -280,7 +270,6 @@ impl Param {
             Param::RateB => (-0.2, 0.2),
             Param::RateDc => (1e-4, 10.0),
             Param::RateN => (-0.5, 0.5),
-            Param::PressureBeta | Param::PressureBetaK => (-1.0, 1.0),
             Param::HealTc => (1e-3, 1e6),
             Param::HealB => (0.0, 0.3),
             Param::HealN => (0.05, 1.0),
@@ -304,8 +293,6 @@ impl Param {
             Param::RateB => e.rate?.b,
             Param::RateDc => e.rate?.d_c,
             Param::RateN => e.rate?.n,
-            Param::PressureBeta => e.pressure?.beta,
-            Param::PressureBetaK => e.pressure?.beta_k,
             Param::HealTc => e.healing?.t_c,
             Param::HealB => e.healing?.b,
             Param::HealN => e.healing?.n,
@@ -341,8 +328,6 @@ impl Param {
             Param::RateB => rate(e).b = v,
             Param::RateDc => rate(e).d_c = v,
             Param::RateN => rate(e).n = v,
-            Param::PressureBeta => pressure(e).beta = v,
-            Param::PressureBetaK => pressure(e).beta_k = v,
             Param::HealTc => healing(e).t_c = v,
             Param::HealB => healing(e).b = v,
             Param::HealN => healing(e).n = v,
@@ -374,16 +359,6 @@ impl Param {
 // An extension switched on by setting one of its parameters starts in its first form.
 fn rate(e: &mut subfric_model::Extensions) -> &mut RateEffect {
     e.rate.get_or_insert(RateEffect::log_direct(0.0, 1e-4))
-}
-
-fn pressure(e: &mut subfric_model::Extensions) -> &mut PressureEffect {
-    e.pressure.get_or_insert(PressureEffect {
-        beta: 0.0,
-        form: PressureForm::Power,
-        target: Target::Friction,
-        p_ref: subfric_model::extensions::PRESSURE_REF_KPA,
-        beta_k: 0.0,
-    })
 }
 
 fn healing(e: &mut subfric_model::Extensions) -> &mut Healing {

@@ -69,7 +69,7 @@ proptest! {
             Param::MuS,
             Param::RateA,
             Param::RateVc,
-            Param::PressureBeta,
+            Param::from_key("pressure.beta").unwrap(),
             Param::from_key("slip_hardening.h").unwrap(),
             Param::from_key("slip_hardening.s_h").unwrap(),
             Param::HealTc,

@@ -6,8 +6,8 @@
 //! μ_eff = μ · P(p) · D(dir) · V(v) + R(v, θ) + Σ T(s, t)
 //!
 //! with μ from Eq. (24) between bounds μ_s′, μ_k′ that a pressure or direction effect may move,
-//! P a pressure factor, D the factors of the registered families that scale (the direction
-//! effect, [`crate::terms`]), V a power law in the plastic slip rate v, R the log-rate and
+//! P and D the factors of the registered families that scale (pressure, direction:
+//! [`crate::terms`]), V a power law in the plastic slip rate v, R the log-rate and
 //! rate-and-state terms (θ the state variable), and T the term of each registered family that
 //! adds one (slip hardening H(s) in the accumulated plastic slip s, a time trend, ...).
 //! [`Healing`] replaces the exponential recovery ξ(μ_s − μ) of Eq. (24) at rest.
@@ -164,99 +164,6 @@ pub enum Target {
     Bounds,
 }
 
-/// How friction depends on the normal stress p.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum PressureForm {
-    /// P = (p/p_ref)^(−β).
-    Power,
-    /// P = 1 − β (p/p_ref − 1) (kept above 0.05).
-    Linear,
-    /// P = exp(−β (p/p_ref − 1)).
-    Exponential,
-}
-
-/// Pressure dependence: a factor P(p) on μ, μ_s or μ_k (β > 0: friction falls with pressure).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PressureEffect {
-    /// Exponent or slope β.
-    pub beta: f64,
-    /// The form of P.
-    #[serde(default = "power_form")]
-    pub form: PressureForm,
-    /// What P scales: `Friction` (all of μ), `MuS`, `MuK` or `Bounds`.
-    #[serde(default = "friction_target")]
-    pub target: Target,
-    /// Reference normal stress p_ref where P = 1 [kPa].
-    #[serde(default = "pressure_ref")]
-    pub p_ref: f64,
-    /// With the target `Bounds`: β of μ_k (β is then that of μ_s).
-    #[serde(default)]
-    pub beta_k: f64,
-}
-
-fn power_form() -> PressureForm {
-    PressureForm::Power
-}
-fn friction_target() -> Target {
-    Target::Friction
-}
-fn pressure_ref() -> f64 {
-    PRESSURE_REF_KPA
-}
-
-impl PressureEffect {
-    /// The factor P(p).
-    #[inline]
-    pub fn factor(&self, p: f64) -> f64 {
-        self.factor_with(self.beta, p)
-    }
-
-    /// P(p) with the size `beta`.
-    #[inline]
-    fn factor_with(&self, beta: f64, p: f64) -> f64 {
-        let x = p / self.p_ref;
-        match self.form {
-            PressureForm::Power => x.powf(-beta),
-            PressureForm::Linear => (1.0 - beta * (x - 1.0)).max(0.05),
-            PressureForm::Exponential => (-beta * (x - 1.0)).exp(),
-        }
-    }
-
-    /// The factor on `target` (1 where this effect does not scale it).
-    #[inline]
-    pub fn factor_on(&self, target: Target, p: f64) -> f64 {
-        match (self.target, target) {
-            (t, u) if t == u => self.factor(p),
-            (Target::Bounds, Target::MuS) => self.factor(p),
-            (Target::Bounds, Target::MuK) => self.factor_with(self.beta_k, p),
-            _ => 1.0,
-        }
-    }
-
-    /// The least and greatest factor on `target` over every normal stress p > 0 (infinite
-    /// where the form is unbounded).
-    pub fn range_on(&self, target: Target) -> (f64, f64) {
-        let beta = match (self.target, target) {
-            (t, u) if t == u => self.beta,
-            (Target::Bounds, Target::MuS) => self.beta,
-            (Target::Bounds, Target::MuK) => self.beta_k,
-            _ => 0.0,
-        };
-        if beta == 0.0 {
-            return (1.0, 1.0);
-        }
-        // P is monotone in p: its ends are its limits at p → 0 (x = 0) and p → ∞.
-        match (self.form, beta > 0.0) {
-            (PressureForm::Power, _) => (0.0, f64::INFINITY),
-            (PressureForm::Linear, true) => (0.05, (1.0 + beta).max(0.05)),
-            (PressureForm::Linear, false) => ((1.0 + beta).max(0.05), f64::INFINITY),
-            (PressureForm::Exponential, true) => (0.0, beta.exp()),
-            (PressureForm::Exponential, false) => (beta.exp(), f64::INFINITY),
-        }
-    }
-}
-
 /// How friction heals at rest.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -347,9 +254,6 @@ pub struct Extensions {
     /// Rate dependence.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rate: Option<RateEffect>,
-    /// Pressure dependence.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pressure: Option<PressureEffect>,
     /// Time healing at rest.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub healing: Option<Healing>,
@@ -398,24 +302,6 @@ impl Extensions {
                 v.push(("rate.n", e.n, "an exponent in (-2, 2)"));
             }
         }
-        if let Some(e) = self.pressure {
-            if !(e.beta.is_finite() && e.beta.abs() < 5.0) {
-                v.push(("pressure.beta", e.beta, "a finite number in (-5, 5)"));
-            }
-            if !finite_positive(e.p_ref) {
-                v.push(("pressure.p_ref", e.p_ref, "a finite stress > 0 [kPa]"));
-            }
-            if matches!(e.target, Target::Kappa | Target::UTilde) {
-                v.push((
-                    "pressure.target",
-                    f64::NAN,
-                    "friction, mu-s, mu-k or bounds",
-                ));
-            }
-            if !(e.beta_k.is_finite() && e.beta_k.abs() < 5.0) {
-                v.push(("pressure.beta_k", e.beta_k, "a finite number in (-5, 5)"));
-            }
-        }
         if let Some(e) = self.healing {
             if !(e.b >= 0.0 && e.b.is_finite()) {
                 v.push(("healing.b", e.b, "a finite number >= 0"));
@@ -442,67 +328,32 @@ impl Extensions {
     /// integrator must build its constants per step.
     #[inline]
     pub fn varies_bounds(&self) -> bool {
-        self.pressure.is_some_and(|e| e.target != Target::Friction) || self.terms.varies_bounds()
+        self.terms.varies_bounds()
     }
 
     /// Multiplier of μ as a whole at normal stress `p` [kPa] and a sliding direction whose cosine
     /// with the forward axis is `cos_forward` (±1 in 1-D).
     #[inline]
     pub fn friction_factor(&self, p: f64, cos_forward: f64) -> f64 {
-        let mut f = 1.0;
-        if let Some(e) = self.pressure {
-            if e.target == Target::Friction && e.beta != 0.0 {
-                f *= e.factor(p);
-            }
-        }
-        f * self.terms.factor_on(Target::Friction, p, cos_forward)
+        self.terms.factor_on(Target::Friction, p, cos_forward)
     }
 
     /// The least and greatest factor on `target` (μ_s or μ_k) over every normal stress and
     /// sliding direction: μ_s and μ_k lie within these multiples of the parameters.
     pub fn bound_factor_range(&self, target: Target) -> (f64, f64) {
-        let (mut lo, mut hi) = (1.0, 1.0);
-        if let Some(e) = self.pressure {
-            let (a, b) = e.range_on(target);
-            (lo, hi) = (lo * a, hi * b);
-        }
-        let (a, b) = self.terms.range_on(target);
-        (lo * a, hi * b)
+        self.terms.range_on(target)
     }
 
     /// Factor on `target` (μ_s, μ_k, κ or ũ) at normal stress `p` and direction `cos_forward`.
     #[inline]
     pub fn bound_factor(&self, target: Target, p: f64, cos_forward: f64) -> f64 {
-        let mut f = 1.0;
-        if let Some(e) = self.pressure {
-            f *= e.factor_on(target, p);
-        }
-        f * self.terms.factor_on(target, p, cos_forward)
+        self.terms.factor_on(target, p, cos_forward)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn pressure_forms_are_one_at_the_reference() {
-        for form in [
-            PressureForm::Power,
-            PressureForm::Linear,
-            PressureForm::Exponential,
-        ] {
-            let e = PressureEffect {
-                beta: 0.1,
-                form,
-                target: Target::Friction,
-                p_ref: 250.0,
-                beta_k: 0.0,
-            };
-            assert!((e.factor(250.0) - 1.0).abs() < 1e-15);
-            assert!(e.factor(500.0) < 1.0 && e.factor(100.0) > 1.0, "{form:?}");
-        }
-    }
 
     #[test]
     fn healing_gains_add_up_over_split_steps() {
@@ -550,19 +401,22 @@ mod tests {
 
     #[test]
     fn factors_apply_only_to_their_target() {
+        let on_mu = crate::TermEffect::named("pressure", "power-friction", &[0.1, 100.0]).unwrap();
         let mut ext = Extensions {
-            pressure: Some(PressureEffect {
-                beta: 0.1,
-                form: PressureForm::Power,
-                target: Target::Friction,
-                p_ref: 100.0,
-                beta_k: 0.0,
-            }),
+            terms: Terms::one(on_mu),
             ..Extensions::default()
         };
         assert!(!ext.varies_bounds());
-        ext.terms = Terms::one(crate::TermEffect::named("direction", "mu-k", &[0.2]).unwrap());
+        ext.terms = ext
+            .terms
+            .with(crate::TermEffect::named("direction", "mu-k", &[0.2]).unwrap());
         assert!(ext.varies_bounds());
+        // Away from it, μ as a whole is scaled, whatever the direction.
+        let want = 2f64.powf(-0.1);
+        assert!((ext.friction_factor(200.0, 1.0) - want).abs() < 1e-15);
+        assert!((ext.bound_factor(Target::MuK, 200.0, -1.0) - 0.8).abs() < 1e-15);
+        let (lo, hi) = ext.bound_factor_range(Target::MuK);
+        assert_eq!((lo, hi), (0.8, 1.0));
         // At the reference stress the pressure factor is one.
         assert_eq!(ext.friction_factor(100.0, -1.0), 1.0);
         assert!((ext.bound_factor(Target::MuK, 100.0, -1.0) - 0.8).abs() < 1e-15);

@@ -288,11 +288,7 @@ fn as_read(e: &Value) -> Option<Value> {
         let Some(Value::Object(body)) = obj.get_mut(&family.key()) else {
             continue;
         };
-        let form = body
-            .get(family.form_field())
-            .and_then(Value::as_str)
-            .and_then(|k| family.forms().iter().find(|f| f.key == k))
-            .unwrap_or(&family.forms()[0]);
+        let form = &family.forms()[family.read_form(body).unwrap_or(0)];
         for (i, q) in family.params().iter().enumerate() {
             let at_default = body.get(q.name).and_then(Value::as_f64) == Some(q.default);
             if at_default && !form.params.contains(&i) {

@@ -26,10 +26,7 @@ pub mod terms;
 
 pub use contact1::{Contact1, State1};
 pub use contact3::{Contact3, State3, StateError, Tangent3, Vec3};
-pub use extensions::{
-    AtRest, Extensions, Healing, HealingForm, PressureEffect, PressureForm, RateEffect, RateForm,
-    Target,
-};
+pub use extensions::{AtRest, Extensions, Healing, HealingForm, RateEffect, RateForm, Target};
 pub use integrator::{RateHeld, StepError};
 pub use json::{model_from_json, model_from_value, ModelJsonError};
 pub use params::{ParamError, ParamIssue, Params, MAX_ALPHA};

@@ -4,8 +4,8 @@
 //! circle on a tilted plane, with and without extensions.
 
 use subfric_model::{
-    Contact3, Extensions, Healing, HealingForm, Model, Params, PressureEffect, PressureForm,
-    RateEffect, RateForm, State3, Target, TermEffect, Terms, Vec3,
+    Contact3, Extensions, Healing, HealingForm, Model, Params, RateEffect, RateForm, State3,
+    TermEffect, Terms, Vec3,
 };
 
 /// Acceptance: ‖K − K_fd‖/‖K‖ (Frobenius) and the same for ∂f_t/∂p.
@@ -286,26 +286,14 @@ fn sharp_turn_restarts_from_the_closest_point_beside_the_origin() {
 fn direction_pressure_and_slip_extensions() {
     let exts = [
         Extensions {
-            terms: Terms::one(TermEffect::named("direction", "friction", &[0.2]).unwrap()),
-            pressure: Some(PressureEffect {
-                beta: 0.1,
-                form: PressureForm::Power,
-                target: Target::Friction,
-                p_ref: 100.0,
-                beta_k: 0.0,
-            }),
+            terms: Terms::one(TermEffect::named("direction", "friction", &[0.2]).unwrap())
+                .with(TermEffect::named("pressure", "power-friction", &[0.1, 100.0]).unwrap()),
             ..Extensions::default()
         },
         Extensions {
-            pressure: Some(PressureEffect {
-                beta: 0.2,
-                form: PressureForm::Exponential,
-                target: Target::MuS,
-                p_ref: 100.0,
-                beta_k: 0.0,
-            }),
             terms: Terms::one(TermEffect::named("direction", "mu-k", &[0.15]).unwrap())
-                .with(TermEffect::named("slip-hardening", "hyperbolic", &[0.02, 0.5]).unwrap()),
+                .with(TermEffect::named("slip-hardening", "hyperbolic", &[0.02, 0.5]).unwrap())
+                .with(TermEffect::named("pressure", "exponential-mu-s", &[0.2, 100.0]).unwrap()),
             ..rate_and_state()
         },
     ];

@@ -3,8 +3,7 @@
 
 use subfric_model::{
     simulate, Contact1, Contact3, Control, Extensions, Healing, HealingForm, Initial, Model,
-    Params, PressureEffect, PressureForm, Protocol, RateEffect, RateForm, State1, State3, Target,
-    TermEffect, Terms,
+    Params, Protocol, RateEffect, RateForm, State1, State3, Target, TermEffect, Terms,
 };
 
 /// A slip-controlled history built stage by stage at a fixed slip per row.
@@ -567,22 +566,12 @@ fn pressure_on_mu_k_only_keeps_the_peak_and_lowers_residual_friction() {
         u_tilde: 50.0,
         ..flat_base()
     };
-    for form in [
-        PressureForm::Power,
-        PressureForm::Linear,
-        PressureForm::Exponential,
-    ] {
-        let eff = PressureEffect {
-            beta: 0.1,
-            form,
-            target: Target::MuK,
-            p_ref: 100.0,
-            beta_k: 0.0,
-        };
+    for form in ["power-mu-k", "linear-mu-k", "exponential-mu-k"] {
+        let eff = TermEffect::named("pressure", form, &[0.1, 100.0]).unwrap();
         let m = model(
             base,
             Extensions {
-                pressure: Some(eff),
+                terms: Terms::one(eff),
                 ..Extensions::default()
             },
         );
@@ -590,12 +579,14 @@ fn pressure_on_mu_k_only_keeps_the_peak_and_lowers_residual_friction() {
         let low = run(&m, &h, 100.0, Initial::Rest);
         let high = run(&m, &h, 400.0, Initial::Rest);
         let peak = |f: &[f64]| f.iter().cloned().fold(f64::MIN, f64::max);
-        assert!((peak(&low) - peak(&high)).abs() < 0.02, "{form:?}");
+        assert!((peak(&low) - peak(&high)).abs() < 0.02, "{form}");
         let ratio = high.last().unwrap() / low.last().unwrap();
+        let factor = eff
+            .family()
+            .factor_on(eff.form as usize, &eff.p, Target::MuK, 400.0, 1.0);
         assert!(
-            (ratio - eff.factor(400.0)).abs() < 2e-3,
-            "{form:?}: residual ratio {ratio} expected {}",
-            eff.factor(400.0)
+            (ratio - factor).abs() < 2e-3,
+            "{form}: residual ratio {ratio} expected {factor}"
         );
     }
 }
@@ -612,17 +603,17 @@ fn effects_on_both_bounds_reduce_to_one_bound_when_the_other_size_is_zero() {
         u_tilde: 50.0,
         ..flat_base()
     };
-    let pressure = |beta: f64, target: Target, beta_k: f64| {
+    let pressure = |beta: f64, target: &str, beta_k: f64| {
+        let values = if target == "bounds" {
+            vec![beta, beta_k, 100.0]
+        } else {
+            vec![beta, 100.0]
+        };
+        let e = TermEffect::named("pressure", &format!("power-{target}"), &values).unwrap();
         model(
             base,
             Extensions {
-                pressure: Some(PressureEffect {
-                    beta,
-                    form: PressureForm::Power,
-                    target,
-                    p_ref: 100.0,
-                    beta_k,
-                }),
+                terms: Terms::one(e),
                 ..Extensions::default()
             },
         )
@@ -630,14 +621,14 @@ fn effects_on_both_bounds_reduce_to_one_bound_when_the_other_size_is_zero() {
     let h = History::new().slide(0.01, 4.0, 0.002);
     let at = |m: &Model| run(m, &h, 400.0, Initial::Rest);
     assert_eq!(
-        at(&pressure(0.0, Target::Bounds, 0.15)),
-        at(&pressure(0.15, Target::MuK, 0.0))
+        at(&pressure(0.0, "bounds", 0.15)),
+        at(&pressure(0.15, "mu-k", 0.0))
     );
     assert_eq!(
-        at(&pressure(0.15, Target::Bounds, 0.0)),
-        at(&pressure(0.15, Target::MuS, 0.0))
+        at(&pressure(0.15, "bounds", 0.0)),
+        at(&pressure(0.15, "mu-s", 0.0))
     );
-    let both = at(&pressure(0.1, Target::Bounds, 0.2));
+    let both = at(&pressure(0.1, "bounds", 0.2));
     let residual = both.last().unwrap();
     let expected = 0.4 * 4f64.powf(-0.2);
     assert!(
@@ -834,14 +825,8 @@ fn collinear_3d_equals_1d_for_every_form() {
             ..Extensions::default()
         },
         Extensions {
-            terms: Terms::one(TermEffect::named("direction", "u-tilde", &[0.15]).unwrap()),
-            pressure: Some(PressureEffect {
-                beta: 0.1,
-                form: PressureForm::Exponential,
-                target: Target::MuS,
-                p_ref: 50.0,
-                beta_k: 0.0,
-            }),
+            terms: Terms::one(TermEffect::named("direction", "u-tilde", &[0.15]).unwrap())
+                .with(TermEffect::named("pressure", "exponential-mu-s", &[0.1, 50.0]).unwrap()),
             healing: Some(Healing {
                 b: 0.01,
                 t_c: 3.0,

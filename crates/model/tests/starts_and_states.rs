@@ -4,8 +4,8 @@
 //! of traction from a state with μ = 100).
 
 use subfric_model::{
-    check_start, simulate, Contact3, Control, Extensions, Initial, Model, Params, PressureEffect,
-    PressureForm, Protocol, RateHeld, SimError, State3, Target,
+    check_start, simulate, Contact3, Control, Extensions, Initial, Model, Params, Protocol,
+    RateHeld, SimError, State3, TermEffect, Terms,
 };
 
 /// μ_s = 0.45 at 100 kPa: a capacity of 45 kPa.
@@ -232,13 +232,9 @@ fn a_state_the_model_cannot_have_is_refused_and_its_own_states_are_not() {
     let pressure_bounds = Model::new(
         Params::sample(),
         Extensions {
-            pressure: Some(PressureEffect {
-                beta: 0.3,
-                form: PressureForm::Power,
-                target: Target::Bounds,
-                p_ref: 100.0,
-                beta_k: 0.1,
-            }),
+            terms: Terms::one(
+                TermEffect::named("pressure", "power-bounds", &[0.3, 0.1, 100.0]).unwrap(),
+            ),
             ..Extensions::default()
         },
     )

@@ -701,13 +701,13 @@ mod tests {
         let mut r = vec![
             report(Effect::Rate, "a", 10.0, 5.0),
             report(Effect::Rate, "b", 30.0, 4.0),
-            report(Effect::Pressure, "c", 50.0, f64::NAN),
-            report(Effect::Pressure, "d", -5.0, 9.0),
+            report(Effect::LogHealing, "c", 50.0, f64::NAN),
+            report(Effect::LogHealing, "d", -5.0, 9.0),
             report(Effect::Rate, "e", 20.0, 4.5),
         ];
         let mut chosen = choose_forms(&mut r);
         chosen.sort_unstable();
-        // Rate: "b" (30 beats 10 and 20); pressure: "d", since "c" failed (non-finite misfit)
+        // Rate: "b" (30 beats 10 and 20); healing: "d", since "c" failed (non-finite misfit)
         // however high its score.
         assert_eq!(chosen, vec![1, 3]);
         let marked: Vec<bool> = r.iter().map(|f| f.chosen).collect();

@@ -503,7 +503,7 @@ impl Contact3 {
             healed_el: self.k.rest_healed(st.healed, st.age, dt),
             exp_xi_dt,
             with_direction: self.k.ext.terms.reads_direction() && self.forward != [0.0; 3],
-            with_pressure: self.k.ext.pressure.is_some(),
+            with_pressure: self.k.ext.terms.reads_normal_stress(),
         }
     }
 

@@ -27,6 +27,7 @@ const PARAMS: [TermParam; 2] = [
         default: 0.0,
         expected: "a number in (-1, 1)",
         within: (-1.0, 1.0),
+        reference: false,
     },
     TermParam {
         key: "direction.d_k",
@@ -37,6 +38,7 @@ const PARAMS: [TermParam; 2] = [
         default: 0.0,
         expected: "a number in (-1, 1)",
         within: (-1.0, 1.0),
+        reference: false,
     },
 ];
 
@@ -126,12 +128,14 @@ impl TermFamily for Direction {
                 starts: vec![vec![0.15, 0.15], vec![-0.15, -0.15], vec![0.15, -0.15]],
                 neutral: vec![0.0, 0.0],
                 bounds: vec![],
+                references: vec![],
             }
         } else {
             FormGuess {
                 starts: vec![vec![0.15], vec![-0.15]],
                 neutral: vec![0.0],
                 bounds: vec![],
+                references: vec![],
             }
         }
     }

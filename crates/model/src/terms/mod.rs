@@ -13,10 +13,10 @@
 //! names the family.
 //!
 //! Adding a family: write its module (a unit struct implementing [`TermFamily`], with its unit
-//! tests), and add one line to [`FAMILIES`]. Slip hardening, the time trend and the direction
-//! effect are registered; rate, pressure and healing (in [`crate::extensions`]) predate the
-//! registry: rate and healing carry state of their own (θ, the healed gain, the rate terms
-//! held at rest) that neither a term nor a factor expresses.
+//! tests), and add one line to [`FAMILIES`]. Pressure, slip hardening, the time trend and the
+//! direction effect are registered; rate and healing (in [`crate::extensions`]) carry state of
+//! their own (θ, the healed gain, the rate terms held at rest) that neither a term nor a factor
+//! expresses.
 //!
 //! In a parameter file each family switched on is an object under its key (its name in
 //! snake_case), `"ext": {"slip_hardening": {"form": "capped", "h": 0.01, "s_h": 2}}`; the
@@ -29,18 +29,20 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use crate::Target;
 
 mod direction;
+mod pressure;
 mod slip_hardening;
 mod time_trend;
 
 pub use direction::Direction;
+pub use pressure::Pressure;
 pub use slip_hardening::SlipHardening;
 pub use time_trend::TimeTrend;
 
 /// The registered families, in the order the diagnosis tries them.
-pub static FAMILIES: &[&dyn TermFamily] = &[&SlipHardening, &TimeTrend, &Direction];
+pub static FAMILIES: &[&dyn TermFamily] = &[&Pressure, &SlipHardening, &TimeTrend, &Direction];
 
 /// Most registered families a model may carry at once (one slot each in [`Terms`]).
-pub const MAX_FAMILIES: usize = 4;
+pub const MAX_FAMILIES: usize = 6;
 
 /// Most parameters a registered family may have.
 pub const MAX_TERM_PARAMS: usize = 4;
@@ -64,6 +66,9 @@ pub struct TermParam {
     pub expected: &'static str,
     /// The open interval a valid value lies in (infinite ends: no limit but finiteness).
     pub within: (f64, f64),
+    /// A reference of the data set (e.g. the reference normal stress), not a parameter a fit
+    /// frees: the diagnosis sets it from [`FormGuess::references`].
+    pub reference: bool,
 }
 
 /// No limit on a parameter but finiteness.
@@ -159,8 +164,11 @@ pub struct FormGuess {
     pub starts: Vec<Vec<f64>>,
     /// Values that switch the effect off (T ≡ 0).
     pub neutral: Vec<f64>,
-    /// Bounds other than the defaults: (index into the form's parameters, lo, hi).
+    /// Bounds other than the defaults: (index into the form's fitted parameters, lo, hi).
     pub bounds: Vec<(usize, f64, f64)>,
+    /// Values of the form's references ([`TermParam::reference`]) for these data: (index into
+    /// the family's parameters, value).
+    pub references: Vec<(usize, f64)>,
 }
 
 /// An effect family that adds a term T(s, t) to the friction (see the module documentation).
@@ -213,6 +221,44 @@ pub trait TermFamily: Sync + std::fmt::Debug {
     fn form_field(&self) -> &'static str {
         "form"
     }
+    /// The form an object of a parameter file names (the family's first when it names none).
+    /// A family whose files name the form by more than one field reads them here.
+    fn read_form(&self, obj: &serde_json::Map<String, serde_json::Value>) -> Result<usize, String> {
+        let Some(v) = obj.get(self.form_field()) else {
+            return Ok(0);
+        };
+        let key = v.as_str().unwrap_or_default();
+        self.forms()
+            .iter()
+            .position(|f| f.key == key)
+            .ok_or_else(|| {
+                format!(
+                    "unknown {} {v} of `{}` (expected one of: {})",
+                    self.form_field(),
+                    self.name(),
+                    self.forms()
+                        .iter()
+                        .map(|f| f.key)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            })
+    }
+    /// The fields that name form `form` in a parameter file, as [`TermFamily::read_form`]
+    /// reads them.
+    fn form_fields(&self, form: usize) -> Vec<(&'static str, &'static str)> {
+        vec![(self.form_field(), self.forms()[form].key)]
+    }
+    /// Whether the diagnosis tries form `form` (a family may read forms from files that the
+    /// diagnosis leaves to the user).
+    fn tries(&self, _form: usize) -> bool {
+        true
+    }
+    /// Whether the family reads the normal stress (the 3-D contact's tangent in p then takes
+    /// its factor's change with p into account).
+    fn reads_normal_stress(&self) -> bool {
+        false
+    }
     /// What form `form` scales: μ as a whole ([`Target::Friction`]), μ_s, μ_k, κ or ũ, or μ_s
     /// and μ_k each by its own size ([`Target::Bounds`]); none for a family of terms.
     fn targets(&self, _form: usize) -> &'static [Target] {
@@ -245,6 +291,19 @@ pub trait TermFamily: Sync + std::fmt::Debug {
     /// say nothing of it).
     fn corroborated(&self, _events: &EventReadings) -> bool {
         true
+    }
+}
+
+impl dyn TermFamily {
+    /// Indices into [`TermFamily::params`] of the parameters of form `form` that a fit frees
+    /// (its references left out), in order: what [`FormGuess`] starts and bounds index.
+    pub fn fitted(&self, form: usize) -> Vec<usize> {
+        self.forms()[form]
+            .params
+            .iter()
+            .copied()
+            .filter(|&i| !self.params()[i].reference)
+            .collect()
     }
 }
 
@@ -389,11 +448,15 @@ impl TermEffect {
         use serde::ser::SerializeMap;
         let params = self.family().params();
         let form = self.form();
-        let mut map = ser.serialize_map(Some(1 + with_family as usize + form.params.len()))?;
+        let names = self.family().form_fields(self.form as usize);
+        let fields = names.len() + with_family as usize + form.params.len();
+        let mut map = ser.serialize_map(Some(fields))?;
         if with_family {
             map.serialize_entry("family", self.family().name())?;
         }
-        map.serialize_entry(self.family().form_field(), form.key)?;
+        for (field, key) in names {
+            map.serialize_entry(field, key)?;
+        }
         for &i in form.params {
             map.serialize_entry(params[i].name, &self.p[i])?;
         }
@@ -405,26 +468,7 @@ impl TermEffect {
     /// check of unknown keys.
     fn read(index: u8, map: &serde_json::Map<String, serde_json::Value>) -> Result<Self, String> {
         let fam = family(index);
-        let form = match map.get(fam.form_field()) {
-            None => 0,
-            Some(v) => {
-                let key = v.as_str().unwrap_or_default();
-                fam.forms()
-                    .iter()
-                    .position(|f| f.key == key)
-                    .ok_or_else(|| {
-                        format!(
-                            "unknown form {v} of `{}` (expected one of: {})",
-                            fam.name(),
-                            fam.forms()
-                                .iter()
-                                .map(|f| f.key)
-                                .collect::<Vec<_>>()
-                                .join(", ")
-                        )
-                    })?
-            }
-        };
+        let form = fam.read_form(map)?;
         let mut e = TermEffect::new(index, form as u8);
         for (i, q) in fam.params().iter().enumerate() {
             if let Some(v) = map.get(q.name) {
@@ -570,6 +614,11 @@ impl Terms {
     pub fn reads_direction(&self) -> bool {
         self.iter().any(|e| e.family().reads_direction())
     }
+
+    /// True when a family on reads the normal stress.
+    pub fn reads_normal_stress(&self) -> bool {
+        self.iter().any(|e| e.family().reads_normal_stress())
+    }
 }
 
 // Inside `ext`, beside the other extensions (the `Extensions` field is flattened): each family
@@ -627,113 +676,4 @@ impl<'de> Deserialize<'de> for Terms {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn every_family_is_consistent() {
-        assert!(FAMILIES.len() <= MAX_FAMILIES, "raise MAX_FAMILIES");
-        let mut names = Vec::new();
-        for (index, fam) in FAMILIES.iter().enumerate() {
-            assert!(!names.contains(&fam.name()), "{} twice", fam.name());
-            names.push(fam.name());
-            assert!(fam.params().len() <= MAX_TERM_PARAMS, "{}", fam.name());
-            assert!(!fam.forms().is_empty() && !fam.shows().is_empty());
-            for q in fam.params() {
-                let (lo, hi) = q.bounds;
-                assert!(lo < hi && q.valid(lo) && q.valid(hi), "{}", q.key);
-                assert!(q.key.ends_with(q.name), "{}", q.key);
-            }
-            let scales = DataScales {
-                v_ref: 0.01,
-                p_ref: 100.0,
-                slip_span_mm: 5.0,
-                duration_s: 600.0,
-                holds: 1,
-                reversals: 1,
-                pressure_levels: 2,
-                sliding_rates: 2,
-            };
-            for (k, form) in fam.forms().iter().enumerate() {
-                let g = fam.guess(k, &scales);
-                assert!(!g.starts.is_empty());
-                for v in g.starts.iter().chain([&g.neutral]) {
-                    assert_eq!(v.len(), form.params.len(), "{}", form.key);
-                }
-                // The neutral values switch the term off everywhere.
-                let mut e = TermEffect::new(index as u8, k as u8);
-                for (&i, &v) in form.params.iter().zip(&g.neutral) {
-                    e.p[i] = v;
-                }
-                for (s, t) in [(0.0, 0.0), (3.0, 100.0), (10.0, 1e4)] {
-                    assert_eq!(fam.term(k, &e.p, s, t).0, 0.0, "{}", form.key);
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn a_term_reads_back_what_it_writes_and_refuses_an_unknown_family() {
-        for (index, fam) in FAMILIES.iter().enumerate() {
-            for k in 0..fam.forms().len() {
-                let mut e = TermEffect::new(index as u8, k as u8);
-                for (i, q) in fam.params().iter().enumerate() {
-                    // A valid value away from the default, so a lost field shows.
-                    e.p[i] = 0.5 * (q.bounds.0 + q.bounds.1) + 0.25 * (q.bounds.1 - q.bounds.0);
-                }
-                let text = serde_json::to_string(&e).unwrap();
-                let back: TermEffect = serde_json::from_str(&text).unwrap();
-                for &i in fam.forms()[k].params {
-                    assert_eq!(back.p[i], e.p[i], "{text}");
-                }
-                assert_eq!((back.family, back.form), (e.family, e.form), "{text}");
-            }
-        }
-        let err = serde_json::from_str::<TermEffect>(r#"{"family": "no-such-family"}"#)
-            .unwrap_err()
-            .to_string();
-        assert!(err.contains("unknown family `no-such-family`"), "{err}");
-        assert!(serde_json::from_str::<TermEffect>(r#"{"form": "linear"}"#).is_err());
-    }
-
-    #[test]
-    fn several_families_are_written_under_their_keys_and_read_back() {
-        let mut terms = Terms::NONE;
-        for (index, fam) in FAMILIES.iter().enumerate() {
-            let k = fam.forms().len() - 1;
-            let e = terms.insert(TermEffect::new(index as u8, k as u8));
-            for &i in fam.forms()[k].params {
-                let q = &fam.params()[i];
-                e.p[i] = 0.25 * q.bounds.0 + 0.75 * q.bounds.1;
-            }
-        }
-        let text = serde_json::to_string(&terms).unwrap();
-        for fam in FAMILIES {
-            assert!(
-                text.contains(&format!("\"{}\":{{\"{}\"", fam.key(), fam.form_field())),
-                "{text}"
-            );
-        }
-        let back: Terms = serde_json::from_str(&text).unwrap();
-        assert_eq!(back, terms);
-        // The `term` object of older files reads as the family's own key.
-        let trend = family_named("time-trend").unwrap().0;
-        let old: Terms =
-            serde_json::from_str(r#"{"term": {"family": "time-trend", "c": 2e-5}}"#).unwrap();
-        assert_eq!(old.of(trend).unwrap().p[0], 2e-5);
-        let twice = r#"{"term": {"family": "time-trend"}, "time_trend": {"c": 1e-5}}"#;
-        let err = serde_json::from_str::<Terms>(twice)
-            .unwrap_err()
-            .to_string();
-        assert!(err.contains("given twice"), "{err}");
-        // Other keys are not this reader's business; a family's key holding no object is.
-        assert!(serde_json::from_str::<Terms>(r#"{"rate": 3}"#)
-            .unwrap()
-            .is_empty());
-        assert!(serde_json::from_str::<Terms>(r#"{"slip_hardening": 3}"#).is_err());
-        // The sum of the terms is the sum of each.
-        let (s, t) = (0.7, 40.0);
-        let sum: f64 = terms.iter().map(|e| e.term(s, t).0).sum();
-        assert_eq!(terms.total(s, t).0, sum);
-    }
-}
+mod tests;

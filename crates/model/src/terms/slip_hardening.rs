@@ -27,6 +27,7 @@ const PARAMS: [TermParam; 2] = [
         default: 0.0,
         expected: "a finite number",
         within: ANY,
+        reference: false,
     },
     TermParam {
         key: "slip_hardening.s_h",
@@ -37,6 +38,7 @@ const PARAMS: [TermParam; 2] = [
         default: 1.0,
         expected: "a finite slip > 0 [mm]",
         within: ANY,
+        reference: false,
     },
 ];
 
@@ -112,6 +114,7 @@ impl TermFamily for SlipHardening {
             ],
             neutral: vec![0.0, s],
             bounds: vec![],
+            references: vec![],
         }
     }
 

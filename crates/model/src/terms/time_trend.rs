@@ -25,6 +25,7 @@ const PARAMS: [TermParam; 3] = [
         default: 0.0,
         expected: "a finite rate of change of friction [1/s]",
         within: ANY,
+        reference: false,
     },
     TermParam {
         key: "time_trend.delta",
@@ -35,6 +36,7 @@ const PARAMS: [TermParam; 3] = [
         default: 0.0,
         expected: "a finite change of the friction coefficient",
         within: ANY,
+        reference: false,
     },
     TermParam {
         key: "time_trend.t_s",
@@ -45,6 +47,7 @@ const PARAMS: [TermParam; 3] = [
         default: 1000.0,
         expected: "a finite time > 0 [s]",
         within: ANY,
+        reference: false,
     },
 ];
 
@@ -100,6 +103,7 @@ impl TermFamily for TimeTrend {
                 starts: vec![vec![0.03 / t], vec![-0.03 / t], vec![0.005 / t]],
                 neutral: vec![0.0],
                 bounds: vec![(0, -1.0 / t, 1.0 / t)],
+                references: vec![],
             }
         } else {
             FormGuess {
@@ -110,6 +114,7 @@ impl TermFamily for TimeTrend {
                 ],
                 neutral: vec![0.0, t],
                 bounds: vec![(1, t / 100.0, 10.0 * t)],
+                references: vec![],
             }
         }
     }
