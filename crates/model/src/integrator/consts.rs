@@ -18,6 +18,11 @@ pub(crate) struct Consts {
     /// α_t [kPa/mm].
     pub alpha: f64,
     pub ext: Extensions,
+    /// Whether a registered family scales μ or its bounds (read once: the step's constants
+    /// are then the parameters themselves, without a look at the families).
+    scaled: bool,
+    /// Whether one scales μ_s, μ_k, κ or ũ ([`Extensions::varies_bounds`]).
+    varies_bounds: bool,
 }
 
 /// The constants of one step: μ_s, μ_k, κ, ũ after the pressure and direction effects that act
@@ -44,6 +49,8 @@ impl Consts {
             u_tilde: p.u_tilde,
             alpha: p.alpha_t_kpa_per_mm(),
             ext: *ext,
+            scaled: ext.terms.iter().any(|e| !e.family().targets(e.form as usize).is_empty()),
+            varies_bounds: ext.varies_bounds(),
         }
     }
 
@@ -51,8 +58,12 @@ impl Consts {
     /// forward axis is `cos_forward`.
     #[inline]
     pub fn local(&self, p: f64, cos_forward: f64) -> Local {
-        let mult = self.ext.friction_factor(p, cos_forward);
-        if !self.ext.varies_bounds() {
+        let mult = if self.scaled {
+            self.ext.friction_factor(p, cos_forward)
+        } else {
+            1.0
+        };
+        if !self.varies_bounds {
             return Local {
                 mu_s: self.mu_s,
                 mu_k: self.mu_k,
