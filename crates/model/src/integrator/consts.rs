@@ -49,7 +49,10 @@ impl Consts {
             u_tilde: p.u_tilde,
             alpha: p.alpha_t_kpa_per_mm(),
             ext: *ext,
-            scaled: ext.terms.iter().any(|e| !e.family().targets(e.form as usize).is_empty()),
+            scaled: ext
+                .terms
+                .iter()
+                .any(|e| !e.family().targets(e.form as usize).is_empty()),
             varies_bounds: ext.varies_bounds(),
         }
     }

@@ -160,12 +160,8 @@ impl TermFamily for Direction {
         _normal_kpa: f64,
         cos_forward: f64,
     ) -> f64 {
-        match (TARGETS[form], target) {
-            (t, u) if t == u => scaled(p[0], cos_forward),
-            (Target::Bounds, Target::MuS) => scaled(p[0], cos_forward),
-            (Target::Bounds, Target::MuK) => scaled(p[1], cos_forward),
-            _ => 1.0,
-        }
+        // d scales the form's target (μ_s under the general form), d_k μ_k.
+        super::size_on(TARGETS[form], target).map_or(1.0, |i| scaled(p[i], cos_forward))
     }
 
     fn range_on(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], target: Target) -> (f64, f64) {

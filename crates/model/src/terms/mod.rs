@@ -130,6 +130,18 @@ pub struct DataScales {
     pub sliding_rates: usize,
 }
 
+/// Which size of a factor family's form scaling `on` acts on `target`: the first (μ as a
+/// whole, μ_s, μ_k, κ or ũ when `on` names it, and μ_s under [`Target::Bounds`]), the second
+/// (μ_k under [`Target::Bounds`]), or none.
+pub fn size_on(on: Target, target: Target) -> Option<usize> {
+    match (on, target) {
+        (t, u) if t == u => Some(0),
+        (Target::Bounds, Target::MuS) => Some(0),
+        (Target::Bounds, Target::MuK) => Some(1),
+        _ => None,
+    }
+}
+
 /// What the events of a record read one by one say (filled by the diagnosis where it read
 /// them), for a family to check that they leave room for it.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

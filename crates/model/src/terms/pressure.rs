@@ -297,22 +297,13 @@ impl TermFamily for Pressure {
     ) -> f64 {
         let (shape, on) = SHAPES[form];
         let x = normal_kpa / p[P_REF];
-        match (on, target) {
-            (t, u) if t == u => shape.factor(p[BETA], x),
-            (Target::Bounds, Target::MuS) => shape.factor(p[BETA], x),
-            (Target::Bounds, Target::MuK) => shape.factor(p[BETA_K], x),
-            _ => 1.0,
-        }
+        // β scales the form's target (μ_s under the general form), β_k μ_k.
+        super::size_on(on, target).map_or(1.0, |i| shape.factor(p[[BETA, BETA_K][i]], x))
     }
 
     fn range_on(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], target: Target) -> (f64, f64) {
         let (shape, on) = SHAPES[form];
-        match (on, target) {
-            (t, u) if t == u => shape.range(p[BETA]),
-            (Target::Bounds, Target::MuS) => shape.range(p[BETA]),
-            (Target::Bounds, Target::MuK) => shape.range(p[BETA_K]),
-            _ => (1.0, 1.0),
-        }
+        super::size_on(on, target).map_or((1.0, 1.0), |i| shape.range(p[[BETA, BETA_K][i]]))
     }
 
     fn reads_normal_stress(&self) -> bool {
