@@ -544,13 +544,6 @@ impl Terms {
         self.0[e.family as usize].insert(e)
     }
 
-    /// Switches family `family` off.
-    pub fn remove(&mut self, family: u8) {
-        if let Some(slot) = self.0.get_mut(family as usize) {
-            *slot = None;
-        }
-    }
-
     /// Every family of `self`, with those of `other` that `self` does not have.
     pub fn or(self, other: Terms) -> Terms {
         let mut out = self;
@@ -601,14 +594,10 @@ impl Terms {
         })
     }
 
-    /// True when a family on scales `target` (its form lists it, or [`Target::Bounds`] for
-    /// μ_s or μ_k).
-    pub fn scales(&self, target: Target) -> bool {
-        self.iter().any(|e| {
-            let t = e.family().targets(e.form as usize);
-            t.contains(&target)
-                || (matches!(target, Target::MuS | Target::MuK) && t.contains(&Target::Bounds))
-        })
+    /// True when a family on scales μ or its bounds.
+    pub fn has_factors(&self) -> bool {
+        self.iter()
+            .any(|e| !e.family().targets(e.form as usize).is_empty())
     }
 
     /// True when a family on scales anything but μ as a whole (the integrator then builds the
