@@ -452,6 +452,38 @@ mod tests {
     }
 
     #[test]
+    fn a_pressure_effect_as_older_files_wrote_it_reads_back_the_same() {
+        let with = |p: &str| format!(r#"{{"params":{FLAT},"ext":{{"pressure":{p}}}}}"#);
+        // Every field, as the pressure effect was always written.
+        let old = r#"{"beta":0.1,"form":"linear","target":"mu-s","p_ref":196.0,"beta_k":0.0}"#;
+        let m = model_from_json(&with(old)).expect("reads");
+        let e = m
+            .ext
+            .terms
+            .iter()
+            .next()
+            .expect("the pressure effect is on");
+        assert_eq!(e.form().describe, "linear on mu_s only");
+        assert_eq!((e.p[0], e.p[2]), (0.1, 196.0));
+        let text = serde_json::to_string(&m.ext).unwrap();
+        assert!(
+            text.contains(
+                r#""pressure":{"form":"linear","target":"mu-s","beta":0.1,"p_ref":196.0}"#
+            ),
+            "{text}"
+        );
+        let back = format!(r#"{{"params":{FLAT},"ext":{text}}}"#);
+        assert_eq!(model_from_json(&back).unwrap(), m);
+        // Left out: a power law on μ as a whole at 100 kPa.
+        let bare = model_from_json(&with(r#"{"beta":0.1}"#)).unwrap();
+        let e = bare.ext.terms.iter().next().unwrap();
+        assert_eq!((e.form().key, e.p[2]), ("power-friction", 100.0));
+        // A target pressure cannot scale is refused by name.
+        let m = shape(&with(r#"{"beta":0.1,"target":"kappa"}"#));
+        assert!(m.contains("`pressure.target` is \"kappa\""), "{m}");
+    }
+
+    #[test]
     fn an_unknown_extension_or_field_is_refused_in_both_model_shapes() {
         for (text, path) in [(fit_json(), "model.ext"), (model_object(), "ext")] {
             let m = shape(&text.replace("slip_hardening", "slip_softening"));
