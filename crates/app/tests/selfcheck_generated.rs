@@ -113,6 +113,18 @@ fn healing_erased_by_slip_is_named_beside_a_direction_effect() {
 }
 
 #[test]
+fn healing_is_named_beside_a_direction_effect_that_alone_fits_within_the_noise() {
+    // Issue 20: with a direction effect the whole record was fitted within the noise (held-out
+    // misfit 1.06x), so no further candidate was tried, though the holds alone were still
+    // missed at 1.9x the noise and their peaks read one by one were clear of zero. A kind of
+    // piece a remaining family acts on, still missed beyond the noise, now keeps the selection
+    // going; the family must then explain that kind on its own. The set is the healing +
+    // direction set of the generator's campaign of seed 7 (gen-22-1), where this was found.
+    let g = campaign(7, &[Form::HealLog, Form::DirectionMu]);
+    assert_right(&verdict(&g, &DiagnoseOptions::default()));
+}
+
+#[test]
 fn a_drifting_load_cell_is_unexplained() {
     let g = set("drift-logger", &[Form::Drift], Profile::Logger);
     assert_right(&verdict(&g, &DiagnoseOptions::default()));

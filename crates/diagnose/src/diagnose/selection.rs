@@ -7,7 +7,7 @@ use super::report::{
 };
 use crate::candidates::{Effect, Form, OwnKind};
 use crate::fits::{residuals, with_values, Effort, Spec};
-use crate::folds::PieceKind;
+use crate::folds::{Piece, PieceKind};
 use crate::score::{by_kind, compare, Comparison, HeldOut};
 use crate::verdict::{decide, decide_further, material, named_count, Decision};
 use rayon::prelude::*;
@@ -128,18 +128,11 @@ fn kind_shrinks(c: &Comparison) -> Vec<KindShrink> {
         .collect()
 }
 
-fn candidate_score(
-    cx: &Context,
-    effect: Effect,
-    spec: &Spec,
-    model: Model,
-    reference: &HeldOut,
-    held: &HeldOut,
-) -> CandidateScore {
-    let c = compare(&cx.pieces, &cx.weights, reference, held);
-    // Kinds of piece the effects already in the model act on: a further effect is not credited
-    // there, where it would only take up what the named effect's form leaves (a trend within
-    // the velocity steps standing in as slip hardening after a rate effect).
+/// The held-out pieces of each kind family `effect` acts on, leaving out the kinds the other
+/// effects of `spec` act on already: a further effect is not credited there, where it would
+/// only take up what the named effect's form leaves (a trend within the velocity steps
+/// standing in as slip hardening after a rate effect).
+fn own_pieces(cx: &Context, effect: Effect, spec: &Spec) -> Vec<(OwnKind, Vec<Piece>)> {
     let claimed: Vec<PieceKind> = spec
         .forms
         .iter()
@@ -150,11 +143,11 @@ fn candidate_score(
             _ => None,
         })
         .collect();
-    let own_kinds = effect
+    effect
         .own_kinds()
-        .iter()
-        .filter_map(|&kind| {
-            let own: Vec<_> = cx
+        .into_iter()
+        .filter_map(|kind| {
+            let own: Vec<Piece> = cx
                 .pieces
                 .iter()
                 .filter(|p| {
@@ -163,10 +156,40 @@ fn candidate_score(
                 })
                 .cloned()
                 .collect();
-            (!own.is_empty()).then(|| OwnKindScore {
-                kind,
-                held_out: compare(&own, &cx.weights, reference, held),
-            })
+            (!own.is_empty()).then_some((kind, own))
+        })
+        .collect()
+}
+
+/// Whether the current model still misses, beyond the noise, the pieces of a kind that one of
+/// the remaining families acts on (the holds after a direction effect, say), though it fits
+/// all pieces together within the noise: such a gap is left for that family to explain on its
+/// own kind ([`crate::verdict::decide_further`]).
+fn own_kind_gap(cx: &Context, current: &Current, families: &[Family]) -> bool {
+    families
+        .iter()
+        .filter(|f| !current.spec.forms.iter().any(|g| g.effect == f.effect))
+        .flat_map(|f| own_pieces(cx, f.effect, &current.spec))
+        .any(|(_, own)| {
+            compare(&own, &cx.weights, &current.held, &current.held).reference_chi2
+                > cx.opts.thresholds.gap_chi2
+        })
+}
+
+fn candidate_score(
+    cx: &Context,
+    effect: Effect,
+    spec: &Spec,
+    model: Model,
+    reference: &HeldOut,
+    held: &HeldOut,
+) -> CandidateScore {
+    let c = compare(&cx.pieces, &cx.weights, reference, held);
+    let own_kinds = own_pieces(cx, effect, spec)
+        .into_iter()
+        .map(|(kind, own)| OwnKindScore {
+            kind,
+            held_out: compare(&own, &cx.weights, reference, held),
         })
         .collect();
     CandidateScore {
@@ -556,7 +579,10 @@ fn selection_stage(
     let reference_chi2 =
         compare(&cx.pieces, &cx.weights, &current.held, &current.held).reference_chi2;
     let first_stage = current.spec.forms.is_empty();
-    if !first_stage && reference_chi2 <= cx.opts.thresholds.gap_chi2 {
+    if !first_stage
+        && reference_chi2 <= cx.opts.thresholds.gap_chi2
+        && !own_kind_gap(cx, current, families)
+    {
         // Nothing left to explain: no candidate is fitted.
         return (
             SelectionStage {
@@ -676,102 +702,5 @@ fn selection_stage(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::folds::PieceKind;
-    use crate::score::PieceScore;
-    use subfric_model::Params;
-
-    fn report(effect: Effect, form: &'static str, score: f64, ssr: f64) -> FormReport {
-        FormReport {
-            effect,
-            form: form.into(),
-            parameters: BTreeMap::new(),
-            ssr,
-            in_sample_score: score,
-            converged: true,
-            termination: subfric_fit::Termination::CostConverged,
-            chosen: false,
-            model: Model::base(Params::sample()).unwrap(),
-        }
-    }
-
-    #[test]
-    fn the_best_scoring_form_of_each_family_is_chosen_and_failed_fits_never() {
-        let mut r = vec![
-            report(Effect::Rate, "a", 10.0, 5.0),
-            report(Effect::Rate, "b", 30.0, 4.0),
-            report(Effect::LogHealing, "c", 50.0, f64::NAN),
-            report(Effect::LogHealing, "d", -5.0, 9.0),
-            report(Effect::Rate, "e", 20.0, 4.5),
-        ];
-        let mut chosen = choose_forms(&mut r);
-        chosen.sort_unstable();
-        // Rate: "b" (30 beats 10 and 20); healing: "d", since "c" failed (non-finite misfit)
-        // however high its score.
-        assert_eq!(chosen, vec![1, 3]);
-        let marked: Vec<bool> = r.iter().map(|f| f.chosen).collect();
-        assert_eq!(marked, vec![false, true, false, true, false]);
-    }
-
-    fn comparison(score: f64, n_eff: f64, pieces: Vec<PieceScore>) -> Comparison {
-        Comparison {
-            score,
-            shape_score: score,
-            level_score: 0.0,
-            excess_shrink: 0.5,
-            relative_shrink: 0.5,
-            typical_shrink: 0.1,
-            reference_chi2: 4.0,
-            candidate_chi2: 2.0,
-            rows: 100,
-            n_eff,
-            pieces,
-        }
-    }
-
-    #[test]
-    fn each_extra_parameter_costs_the_log_of_the_independent_rows() {
-        let c = comparison(50.0, 1000.0, vec![]);
-        assert_eq!(penalised(&c, 0), 50.0);
-        assert!((penalised(&c, 2) - (50.0 - 2.0 * 1000f64.ln())).abs() < 1e-12);
-        // Fewer than one independent row counts as one (no reward for a negative log).
-        let tiny = comparison(5.0, 0.2, vec![]);
-        assert_eq!(penalised(&tiny, 3), 5.0);
-    }
-
-    #[test]
-    fn the_shrink_by_kind_of_piece_is_the_share_of_its_misfit_removed() {
-        let piece = |kind, test, rows, b: f64, c: f64| PieceScore {
-            kind,
-            test,
-            rows,
-            n_eff: rows as f64,
-            reference_ssr: b,
-            candidate_ssr: c,
-        };
-        let c = comparison(
-            40.0,
-            300.0,
-            vec![
-                piece(PieceKind::VelocityStep, 0, 100, 400.0, 100.0),
-                piece(PieceKind::VelocityStep, 1, 100, 200.0, 200.0),
-                piece(PieceKind::Hold, 0, 50, 100.0, 150.0),
-            ],
-        );
-        let k = kind_shrinks(&c);
-        let steps = k
-            .iter()
-            .find(|s| s.kind == PieceKind::VelocityStep.name())
-            .unwrap();
-        assert_eq!(steps.rows, 200);
-        assert!((steps.shrink - 0.5).abs() < 1e-12, "{}", steps.shrink);
-        assert!((steps.reference_chi2 - 3.0).abs() < 1e-12);
-        let holds = k.iter().find(|s| s.kind == PieceKind::Hold.name()).unwrap();
-        assert!(
-            (holds.shrink + 0.5).abs() < 1e-12,
-            "worse: {}",
-            holds.shrink
-        );
-    }
-}
+#[path = "selection_tests.rs"]
+mod tests;
