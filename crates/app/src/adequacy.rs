@@ -182,14 +182,11 @@ pub fn misfit_number(v: f64) -> String {
 /// description up to its colon ("rate dependence, ..., slip hardening/softening").
 pub fn diagnosed_effects() -> String {
     use subfric_diagnose::Effect;
-    let registered = subfric_model::terms::FAMILIES
+    subfric_model::terms::FAMILIES
         .iter()
         .enumerate()
         .filter(|(_, f)| f.tried_by_default())
-        .map(|(i, _)| Effect::Term(i as u8));
-    Effect::BUILT_IN
-        .into_iter()
-        .chain(registered)
+        .map(|(i, _)| Effect::Term(i as u8))
         .map(|e| e.describe().split(':').next().unwrap_or_default())
         .collect::<Vec<_>>()
         .join(", ")

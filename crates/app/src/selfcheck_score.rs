@@ -299,12 +299,13 @@ mod tests {
         use Effect::*;
         let slip = Effect::from_name("slip-hardening").unwrap();
         let pressure = Effect::from_name("pressure").unwrap();
+        let rate = Effect::family("rate");
         let cases = [
             case(&[], &[], "lab"),
             case(&[], &[Unexplained], "rig"),
-            case(&[Rate], &[Rate], "lab"),
-            case(&[Rate], &[Rate, slip], "clean"),
-            case(&[Rate, pressure], &[pressure, Rate], "rig"),
+            case(&[rate], &[rate], "lab"),
+            case(&[rate], &[rate, slip], "clean"),
+            case(&[rate, pressure], &[pressure, rate], "rig"),
             case(&[slip, pressure], &[slip], "rig"),
             case(&[Unexplained], &[Unexplained], "clean"),
         ];

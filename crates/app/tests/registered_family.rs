@@ -38,8 +38,7 @@ fn set_with_a_time_trend(rise: f64) -> (subfric_data::ExperimentSet, f64) {
     trend.p[0] = c;
     let with = Model {
         ext: subfric_model::Extensions {
-            terms: subfric_model::Terms::one(trend),
-            ..base.ext
+            terms: base.ext.terms.with(trend),
         },
         ..base
     };

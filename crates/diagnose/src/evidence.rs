@@ -65,8 +65,8 @@ impl Feature {
     /// The effect family a feature points to (time points to none: a drift).
     pub fn family(self) -> Option<Effect> {
         match self {
-            Feature::LogRate | Feature::RateChange => Some(Effect::Rate),
-            Feature::TimeAtRest => Some(Effect::LogHealing),
+            Feature::LogRate | Feature::RateChange => Effect::of_slip_rate(),
+            Feature::TimeAtRest => Effect::of_time_at_rest(),
             Feature::AccumulatedSlip | Feature::Cycle => Effect::of_accumulated_slip(),
             Feature::NormalStress => Effect::of_normal_stress(),
             Feature::Direction => Effect::of_sliding_direction(),

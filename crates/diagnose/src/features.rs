@@ -271,6 +271,13 @@ impl DataFeatures {
             reversals: self.reversals,
             pressure_levels: self.pressure_levels,
             sliding_rates: self.sliding_rates,
+            healing_per_decade: self.seeds.healing_per_decade,
+            steps: subfric_model::terms::StepReading {
+                direct: self.steps.direct,
+                steady: self.steps.steady,
+                decay_mm: self.steps.decay_mm,
+            },
+            rate_and_state: self.seeds.rate_and_state,
         }
     }
 }

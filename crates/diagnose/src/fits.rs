@@ -69,8 +69,6 @@ impl Spec {
 /// Extensions of `a` with those set in `b` switched on.
 pub fn merge(a: &Extensions, b: &Extensions) -> Extensions {
     Extensions {
-        rate: b.rate.or(a.rate),
-        healing: b.healing.or(a.healing),
         terms: b.terms.or(a.terms),
     }
 }

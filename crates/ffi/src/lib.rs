@@ -658,7 +658,7 @@ pub unsafe extern "C" fn subfric_step(
                 format!("dt = {dt} (expected a finite time increment >= 0 [s])"),
             );
         }
-        if dt == 0.0 && m.model.ext.rate.is_some() {
+        if dt == 0.0 && m.model.ext.rate().is_some() {
             return fail(
                 SubfricStatus::InvalidInput,
                 "dt = 0 (expected a time increment > 0 [s]: the model has a rate effect)",

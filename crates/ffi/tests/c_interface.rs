@@ -126,19 +126,16 @@ fn cases(dir: &Path) -> Vec<Case> {
     // A fit.json as `subfric fit` writes it (the model to use is its `model`).
     let rate_state = Model::new(
         penalty(),
-        Extensions {
-            rate: Some(RateEffect {
-                form: RateForm::StateAgeing,
-                a: 0.01,
-                v_c: 1e-6,
-                b: 0.008,
-                d_c: 0.02,
-                n: 0.0,
-                v_ref: 0.001,
-                at_rest: subfric_model::AtRest::Creep,
-            }),
-            ..Extensions::default()
-        },
+        Extensions::default().with_rate(RateEffect {
+            form: RateForm::StateAgeing,
+            a: 0.01,
+            v_c: 1e-6,
+            b: 0.008,
+            d_c: 0.02,
+            n: 0.0,
+            v_ref: 0.001,
+            at_rest: subfric_model::AtRest::Creep,
+        }),
     )
     .unwrap();
     let fit = serde_json::json!({
@@ -156,7 +153,6 @@ fn cases(dir: &Path) -> Vec<Case> {
             terms: Terms::one(TermEffect::named("direction", "mu-k", &[0.15]).unwrap())
                 .with(TermEffect::named("slip-hardening", "hyperbolic", &[0.02, 0.5]).unwrap())
                 .with(TermEffect::named("pressure", "exponential-mu-s", &[0.2, 100.0]).unwrap()),
-            ..Extensions::default()
         },
     )
     .unwrap();

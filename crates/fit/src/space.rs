@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 use subfric_model::terms::{self, TermEffect, TermParam};
-use subfric_model::{Healing, HealingForm, Model, RateEffect};
+use subfric_model::Model;
 
 /// A parameter of the model or of one of its extensions. In files it is its key
 /// ([`Param::key`]: `mu_s`, `rate.d_c`, `slip_hardening.h`).
@@ -22,24 +22,6 @@ pub enum Param {
     UTilde,
     /// α_t [kN/mm³] (α_n follows it).
     AlphaT,
-    /// Rate effect: a (direct effect, or the μ_k slope of the steady-state form).
-    RateA,
-    /// Rate effect: v_c [mm/s].
-    RateVc,
-    /// Rate and state: b.
-    RateB,
-    /// Rate and state: D_c [mm].
-    RateDc,
-    /// Power law in rate: n.
-    RateN,
-    /// Time healing: t_c [s] (log form).
-    HealTc,
-    /// Time healing: b.
-    HealB,
-    /// Time healing: n (power form).
-    HealN,
-    /// Time healing of its own: the slip d_h that erases it [mm].
-    HealDh,
     /// Parameter `index` of the registered family `family` (see `subfric_model::terms`).
     Term {
         /// Index of the family in `subfric_model::terms::FAMILIES`.
@@ -92,24 +74,15 @@ impl Param {
         Param::UTilde,
     ];
 
-    /// Every parameter of the model and its built-in extensions ([`Param::all`] adds those of
-    /// the registered families).
-    pub const ALL: [Param; 15] = [
+    /// The paper's parameters and α_t ([`Param::all`] adds those of the registered effect
+    /// families).
+    pub const ALL: [Param; 6] = [
         Param::MuS,
         Param::MuK,
         Param::Kappa,
         Param::Xi,
         Param::UTilde,
         Param::AlphaT,
-        Param::RateA,
-        Param::RateVc,
-        Param::RateB,
-        Param::RateDc,
-        Param::RateN,
-        Param::HealTc,
-        Param::HealB,
-        Param::HealN,
-        Param::HealDh,
     ];
 
     /// Every parameter: [`Param::ALL`] and those of each registered family (not its
@@ -148,15 +121,6 @@ impl Param {
             Param::Xi => "xi",
             Param::UTilde => "u_tilde",
             Param::AlphaT => "alpha_t",
-            Param::RateA => "rate.a",
-            Param::RateVc => "rate.v_c",
-            Param::RateB => "rate.b",
-            Param::RateDc => "rate.d_c",
-            Param::RateN => "rate.n",
-            Param::HealTc => "healing.t_c",
-            Param::HealB => "healing.b",
-            Param::HealN => "healing.n",
-            Param::HealDh => "healing.d_h",
         }
     }
 
@@ -167,9 +131,6 @@ impl Param {
             Param::Kappa | Param::UTilde => "1/mm",
             Param::Xi => "1/s",
             Param::AlphaT => "kN/mm³",
-            Param::RateVc => "mm/s",
-            Param::RateDc | Param::HealDh => "mm",
-            Param::HealTc => "s",
             _ => "",
         }
     }
@@ -248,9 +209,6 @@ impl Param {
                 _ => Scale::Linear,
             },
             Param::MuK => Scale::RatioToMuS,
-            Param::RateA | Param::RateB | Param::RateN | Param::HealB | Param::HealN => {
-                Scale::Linear
-            }
             _ => Scale::Log,
         }
     }
@@ -265,15 +223,6 @@ impl Param {
             Param::Xi => (1e-7, 10.0),
             Param::UTilde => (0.1, 1e5),
             Param::AlphaT => (1e-3, 1e6),
-            Param::RateA => (-0.2, 0.2),
-            Param::RateVc => (1e-9, 10.0),
-            Param::RateB => (-0.2, 0.2),
-            Param::RateDc => (1e-4, 10.0),
-            Param::RateN => (-0.5, 0.5),
-            Param::HealTc => (1e-3, 1e6),
-            Param::HealB => (0.0, 0.3),
-            Param::HealN => (0.05, 1.0),
-            Param::HealDh => (1e-4, 10.0),
         }
     }
 
@@ -288,16 +237,6 @@ impl Param {
             Param::Xi => m.params.xi,
             Param::UTilde => m.params.u_tilde,
             Param::AlphaT => m.params.alpha_t,
-            Param::RateA => e.rate?.a,
-            Param::RateVc => e.rate?.v_c,
-            Param::RateB => e.rate?.b,
-            Param::RateDc => e.rate?.d_c,
-            Param::RateN => e.rate?.n,
-            Param::HealTc => e.healing?.t_c,
-            Param::HealB => e.healing?.b,
-            Param::HealN => e.healing?.n,
-            // Zero is "no erasure of its own": the parameter is then inactive.
-            Param::HealDh => Some(e.healing?.erase_mm).filter(|d| *d > 0.0)?,
             Param::Term { family, index } => {
                 // A parameter the active form does not use is inactive, like an extension
                 // that is off.
@@ -323,15 +262,6 @@ impl Param {
                 m.params.alpha_t = v;
                 m.params.alpha_n = v;
             }
-            Param::RateA => rate(e).a = v,
-            Param::RateVc => rate(e).v_c = v,
-            Param::RateB => rate(e).b = v,
-            Param::RateDc => rate(e).d_c = v,
-            Param::RateN => rate(e).n = v,
-            Param::HealTc => healing(e).t_c = v,
-            Param::HealB => healing(e).b = v,
-            Param::HealN => healing(e).n = v,
-            Param::HealDh => healing(e).erase_mm = v,
             Param::Term { family, index } => {
                 // Setting a parameter the family's form does not use switches to the first
                 // form that does (the other values are kept).
@@ -354,22 +284,6 @@ impl Param {
             }
         }
     }
-}
-
-// An extension switched on by setting one of its parameters starts in its first form.
-fn rate(e: &mut subfric_model::Extensions) -> &mut RateEffect {
-    e.rate.get_or_insert(RateEffect::log_direct(0.0, 1e-4))
-}
-
-fn healing(e: &mut subfric_model::Extensions) -> &mut Healing {
-    e.healing.get_or_insert(Healing {
-        b: 0.0,
-        t_c: 10.0,
-        n: 0.5,
-        form: HealingForm::Log,
-        recovery: false,
-        erase_mm: 0.0,
-    })
 }
 
 /// One coordinate of the optimiser.

@@ -32,19 +32,16 @@ fn long_record() -> ExperimentSet {
             alpha_n: 1000.0,
             mu_0: None,
         },
-        Extensions {
-            rate: Some(RateEffect {
-                form: RateForm::StateAgeing,
-                a: 0.012,
-                b: 0.009,
-                d_c: 0.03,
-                v_c: 1e-6,
-                n: 0.0,
-                v_ref: 0.01,
-                at_rest: subfric_model::AtRest::Creep,
-            }),
-            ..Extensions::default()
-        },
+        Extensions::default().with_rate(RateEffect {
+            form: RateForm::StateAgeing,
+            a: 0.012,
+            b: 0.009,
+            d_c: 0.03,
+            v_c: 1e-6,
+            n: 0.0,
+            v_ref: 0.01,
+            at_rest: subfric_model::AtRest::Creep,
+        }),
     )
     .expect("valid model");
     let mut rng = ChaCha8Rng::seed_from_u64(3);

@@ -27,7 +27,7 @@ pub struct State1 {
     pub age: f64,
     /// Time since the contact started [s] (used by registered terms, see [`crate::terms`]).
     pub time: f64,
-    /// Healing gain of its own, on top of μ ([`crate::Healing::own_state`]; 0 otherwise).
+    /// Healing gain of its own, on top of μ ([`crate::TermFamily::erased_over`]; 0 otherwise).
     pub healed: f64,
     /// Plastic slip increment of the last step [mm] (signed).
     pub last_plastic: f64,
@@ -54,7 +54,7 @@ impl State1 {
             time: 0.0,
             healed: 0.0,
             last_plastic: 0.0,
-            theta: model.ext.rate.map_or(0.0, |r| r.neutral_theta()),
+            theta: model.ext.rate().map_or(0.0, |r| r.neutral_theta()),
             last_dt: 0.0,
             rate_held: RateHeld::NEUTRAL,
         }
@@ -225,7 +225,7 @@ impl Contact1 {
                 healed_el,
             ));
         }
-        let (xi_dt, exp_xi_dt) = if self.k.ext.recovery() {
+        let (xi_dt, exp_xi_dt) = if self.k.recovery() {
             (self.k.xi * dt, exp_xi_dt)
         } else {
             (0.0, 1.0)
@@ -248,7 +248,7 @@ impl Contact1 {
                 healed: st.healed,
                 theta: st.theta,
                 local,
-                lam_guess: if self.k.ext.rate.is_some() && st.last_dt > 0.0 {
+                lam_guess: if self.k.rate.is_some() && st.last_dt > 0.0 {
                     st.last_plastic.abs() * dt / st.last_dt
                 } else {
                     0.0

@@ -269,7 +269,9 @@ fn extensions_of(e: &Value, path: &str) -> Result<Extensions, ModelJsonError> {
 /// `e` as the reader writes it back, where it may differ in shape only: a `term` object
 /// (`{"family": name, ...}`, older files) moved under the family's key without its name, and a
 /// registered family's parameter that its form does not use left out when it holds its default
-/// (older files wrote every field, e.g. the direction effect's `"d_k": 0` whatever its target).
+/// (older files wrote every field, e.g. the direction effect's `"d_k": 0` whatever its target),
+/// or whatever it holds for a family whose older files wrote every parameter (time healing's
+/// `"n"` beside a log law).
 /// `None` when `e` needs neither.
 fn as_read(e: &Value) -> Option<Value> {
     let mut obj = e.as_object()?.clone();
@@ -291,7 +293,8 @@ fn as_read(e: &Value) -> Option<Value> {
         let form = &family.forms()[family.read_form(body).unwrap_or(0)];
         for (i, q) in family.params().iter().enumerate() {
             let at_default = body.get(q.name).and_then(Value::as_f64) == Some(q.default);
-            if at_default && !form.params.contains(&i) {
+            let dropped = at_default || family.older_files_wrote_every_param();
+            if dropped && body.contains_key(q.name) && !form.params.contains(&i) {
                 body.remove(q.name);
                 changed = true;
             }
@@ -411,6 +414,46 @@ mod tests {
         // A field healing does not have is still refused.
         let m = shape(&with(r#"{"b":0.005,"d_hh":0.1}"#));
         assert!(m.contains("`ext.healing.d_hh` is not a known"), "{m}");
+    }
+
+    #[test]
+    fn a_rate_effect_as_older_files_wrote_it_reads_as_the_same_law() {
+        // Older files wrote every field of the rate effect whatever the form.
+        let with = |rate: &str| format!(r#"{{"params":{FLAT},"ext":{{"rate":{rate}}}}}"#);
+        let old = model_from_json(&with(
+            r#"{"form":"state-slip","a":0.01,"v_c":1e-6,"b":0.012,"d_c":0.05,"n":0.0,"v_ref":0.01,"at_rest":"locked"}"#,
+        ))
+        .expect("reads");
+        let law = old.ext.rate().expect("a rate law");
+        assert_eq!(law.form, crate::RateForm::StateSlip);
+        assert!(law.locked());
+        assert_eq!(
+            (law.a, law.b, law.d_c, law.v_c, law.v_ref),
+            (0.01, 0.012, 0.05, 1e-6, 0.01)
+        );
+        // A direct effect as they wrote it, with the b and D_c it does not use.
+        let direct = model_from_json(&with(
+            r#"{"form":"log-direct","a":0.01,"v_c":1e-6,"b":0.3,"d_c":0.01,"n":0.0,"v_ref":0.0,"at_rest":"creep"}"#,
+        ))
+        .expect("reads");
+        let law = direct.ext.rate().expect("a rate law");
+        assert_eq!(
+            (law.form, law.a, law.v_c),
+            (crate::RateForm::LogDirect, 0.01, 1e-6)
+        );
+        // What is written is read back.
+        let text = format!(
+            r#"{{"params":{FLAT},"ext":{}}}"#,
+            serde_json::to_string(&old.ext).unwrap()
+        );
+        assert_eq!(model_from_json(&text).expect("written, read back"), old);
+        // A field the family does not have, or an invalid value, is refused by name.
+        let m = shape(&with(r#"{"form":"power","n":0.1,"d_cc":1}"#));
+        assert!(m.contains("`ext.rate.d_cc` is not a known"), "{m}");
+        let e = model_from_json(&with(r#"{"form":"state-ageing","a":0.01,"v_c":-1}"#))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("rate.v_c"), "{e}");
     }
 
     #[test]

@@ -385,7 +385,7 @@ fn start(model: &Model, proto: &Protocol) -> Result<(State1, Option<(f64, f64)>)
     let (r, cap) = match proto.initial {
         Initial::Sliding { rate_mm_s, .. } => {
             let v = rate_mm_s.abs();
-            if let Some(rate) = model.ext.rate {
+            if let Some(rate) = model.ext.rate() {
                 if rate.has_state() && v > 0.0 {
                     st.theta = rate.steady_theta(v);
                 }

@@ -4,8 +4,7 @@
 //! circle on a tilted plane, with and without extensions.
 
 use subfric_model::{
-    Contact3, Extensions, Healing, HealingForm, Model, Params, RateEffect, RateForm, State3,
-    TermEffect, Terms, Vec3,
+    Contact3, Extensions, Model, Params, RateEffect, RateForm, State3, TermEffect, Terms, Vec3,
 };
 
 /// Acceptance: ‖K − K_fd‖/‖K‖ (Frobenius) and the same for ∂f_t/∂p.
@@ -179,19 +178,16 @@ fn penalty_params() -> Params {
 }
 
 fn rate_and_state() -> Extensions {
-    Extensions {
-        rate: Some(RateEffect {
-            form: RateForm::StateAgeing,
-            a: 0.01,
-            v_c: 1e-6,
-            b: 0.008,
-            d_c: 0.02,
-            n: 0.0,
-            v_ref: 0.001,
-            at_rest: subfric_model::AtRest::Creep,
-        }),
-        ..Extensions::default()
-    }
+    Extensions::default().with_rate(RateEffect {
+        form: RateForm::StateAgeing,
+        a: 0.01,
+        v_c: 1e-6,
+        b: 0.008,
+        d_c: 0.02,
+        n: 0.0,
+        v_ref: 0.001,
+        at_rest: subfric_model::AtRest::Creep,
+    })
 }
 
 #[test]
@@ -212,11 +208,10 @@ fn two_way_cycle_base_model_paper_stiffness() {
 /// The ageing law read as locked at rest: the rate terms of the last slide hold while the
 /// contact rests.
 fn locked_rate_and_state() -> Extensions {
-    let mut ext = rate_and_state();
-    if let Some(r) = ext.rate.as_mut() {
-        r.at_rest = subfric_model::AtRest::Locked;
-    }
-    ext
+    let ext = rate_and_state();
+    let mut law = ext.rate().expect("rate and state");
+    law.at_rest = subfric_model::AtRest::Locked;
+    ext.with_rate(law)
 }
 
 #[test]
@@ -227,10 +222,10 @@ fn two_way_cycle_penalty_stiffness_with_and_without_rate_and_state() {
         let u = two_way(&[1.0, 0.0, 0.0], 0.5, 50, 4, 1e-5);
         let dts = vec![0.5; u.len()];
         let (t, _) = check_path(&c, State3::virgin(&m, [0.0; 3]), &u, 150.0, &dts);
-        eprintln!("penalty, rate {:?}: {t:?}", ext.rate.is_some());
+        eprintln!("penalty, rate {:?}: {t:?}", ext.rate().is_some());
         // Under rate and state some of the small unloading steps creep (the surface at rest
         // is lower than while sliding).
-        let elastic = if ext.rate.is_some() { 4 } else { 8 };
+        let elastic = if ext.rate().is_some() { 4 } else { 8 };
         assert!(
             t.elastic >= elastic && t.plastic >= 240 && t.skipped == 0,
             "{t:?}"
@@ -288,13 +283,13 @@ fn direction_pressure_and_slip_extensions() {
         Extensions {
             terms: Terms::one(TermEffect::named("direction", "friction", &[0.2]).unwrap())
                 .with(TermEffect::named("pressure", "power-friction", &[0.1, 100.0]).unwrap()),
-            ..Extensions::default()
         },
         Extensions {
-            terms: Terms::one(TermEffect::named("direction", "mu-k", &[0.15]).unwrap())
+            terms: rate_and_state()
+                .terms
+                .with(TermEffect::named("direction", "mu-k", &[0.15]).unwrap())
                 .with(TermEffect::named("slip-hardening", "hyperbolic", &[0.02, 0.5]).unwrap())
                 .with(TermEffect::named("pressure", "exponential-mu-s", &[0.2, 100.0]).unwrap()),
-            ..rate_and_state()
         },
     ];
     for ext in exts {
@@ -324,15 +319,9 @@ fn a_reload_after_a_hold_under_healing_of_its_own() {
     // The gain of its own decays with the plastic slip inside the return: the tangent of the
     // reload's steps must carry that slope.
     let ext = Extensions {
-        healing: Some(Healing {
-            b: 0.02,
-            t_c: 1.0,
-            n: 0.5,
-            form: HealingForm::Log,
-            recovery: true,
-            erase_mm: 0.01,
-        }),
-        ..Extensions::default()
+        terms: subfric_model::Terms::one(
+            subfric_model::TermEffect::named("healing", "log-erased", &[0.02, 1.0, 0.01]).unwrap(),
+        ),
     };
     let m = Model::new(penalty_params(), ext).unwrap();
     let c = Contact3::new(&m, [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]);
@@ -373,7 +362,7 @@ fn elastic_steps_and_a_hold() {
             [s[0] - 1.2e-5, s[1] + 5e-6, 0.0],
         ];
         let (t, _) = check_path(&c, st, &u, 100.0, &[1.0, 1.0, 1.0, 100.0]);
-        if ext.rate.is_none() {
+        if ext.rate().is_none() {
             assert_eq!((t.elastic, t.plastic, t.skipped), (4, 0, 0), "{t:?}");
             let (_, tan) = c.step_slip_with_tangent(&st, &u[0], 100.0, 1.0).unwrap();
             let alpha = 1e6;

@@ -2,8 +2,8 @@
 //! initial states of tests that do not start from rest.
 
 use subfric_model::{
-    simulate, Contact1, Contact3, Control, Extensions, Healing, HealingForm, Initial, Model,
-    Params, Protocol, RateEffect, RateForm, State1, State3, Target, TermEffect, Terms,
+    simulate, Contact1, Contact3, Control, Extensions, Initial, Model, Params, Protocol,
+    RateEffect, RateForm, State1, State3, Target, TermEffect, Terms,
 };
 
 /// A slip-controlled history built stage by stage at a fixed slip per row.
@@ -141,13 +141,7 @@ fn model(params: Params, ext: Extensions) -> Model {
 fn rate_and_state_velocity_step_jumps_by_a_then_evolves_over_d_c() {
     for form in [RateForm::StateAgeing, RateForm::StateSlip] {
         let rate = rate_state(form);
-        let m = model(
-            flat_base(),
-            Extensions {
-                rate: Some(rate),
-                ..Extensions::default()
-            },
-        );
+        let m = model(flat_base(), Extensions::default().with_rate(rate));
         let du = 0.0005;
         let h = History::new().slide(0.001, 1.0, du).slide(0.01, 0.4, du);
         let f = run(&m, &h, 100.0, Initial::Rest);
@@ -206,17 +200,11 @@ fn hold_gains(m: &Model, holds: &[f64]) -> Vec<f64> {
 fn ageing_law_heals_at_rest_log_linearly_and_slip_law_heals_less() {
     let ageing = model(
         flat_base(),
-        Extensions {
-            rate: Some(rate_state(RateForm::StateAgeing)),
-            ..Extensions::default()
-        },
+        Extensions::default().with_rate(rate_state(RateForm::StateAgeing)),
     );
     let slip = model(
         flat_base(),
-        Extensions {
-            rate: Some(rate_state(RateForm::StateSlip)),
-            ..Extensions::default()
-        },
+        Extensions::default().with_rate(rate_state(RateForm::StateSlip)),
     );
     let g_age = hold_gains(&ageing, &[100.0, 1000.0]);
     let g_slip = hold_gains(&slip, &[100.0, 1000.0]);
@@ -246,10 +234,7 @@ fn locked_rate_forms_hold_the_traction_at_rest_and_heal_at_once_on_reloading() {
         .hold(t_h, 200)
         .slide(v, 0.2, du);
     let i_hold = (0.6 / du).round() as usize;
-    let ext = |rate| Extensions {
-        rate: Some(rate),
-        ..Extensions::default()
-    };
+    let ext = |rate| Extensions::default().with_rate(rate);
     // Creep reading: the held traction relaxes (the direct effect at a vanishing rate).
     let creep = run(
         &model(flat_base(), ext(rate_state(RateForm::StateAgeing))),
@@ -308,31 +293,18 @@ fn time_healing_forms_grow_with_the_hold_as_their_law_says() {
         kappa: 20.0,
         ..flat_base()
     };
-    for (form, expected_ratio) in [
+    for (form, values, expected_ratio) in [
         // Log: b ln(1 + t/t_c) with t_c = 1 s: gain(1000)/gain(100) = ln 1001 / ln 101.
-        (HealingForm::Log, 1001f64.ln() / 101f64.ln()),
+        ("log", [0.005, 1.0], 1001f64.ln() / 101f64.ln()),
         // Power: b t^n with n = 0.3: 10^0.3.
-        (HealingForm::Power, 10f64.powf(0.3)),
+        ("power", [0.005, 0.3], 10f64.powf(0.3)),
     ] {
-        let m = model(
-            base,
-            Extensions {
-                healing: Some(Healing {
-                    b: 0.005,
-                    t_c: 1.0,
-                    n: 0.3,
-                    form,
-                    recovery: false,
-                    erase_mm: 0.0,
-                }),
-                ..Extensions::default()
-            },
-        );
+        let m = model(base, healing(form, &values));
         let g = hold_gains(&m, &[100.0, 1000.0]);
         let ratio = g[1] / g[0];
         assert!(
             (ratio - expected_ratio).abs() < 0.08 * expected_ratio,
-            "{form:?}: ratio {ratio} expected {expected_ratio}"
+            "{form}: ratio {ratio} expected {expected_ratio}"
         );
     }
 }
@@ -347,22 +319,7 @@ fn healing_added_to_the_recovery_is_the_base_model_at_b_zero_and_adds_its_gain()
         xi: 0.002,
         ..flat_base()
     };
-    let healing = |b: f64| {
-        model(
-            base,
-            Extensions {
-                healing: Some(Healing {
-                    b,
-                    t_c: 1.0,
-                    n: 0.3,
-                    form: HealingForm::Log,
-                    recovery: true,
-                    erase_mm: 0.0,
-                }),
-                ..Extensions::default()
-            },
-        )
-    };
+    let healing = |b: f64| model(base, healing("log-added", &[b, 1.0]));
     let plain = model(base, Extensions::default());
     let h = History::new()
         .slide(0.001, 0.6, 0.0005)
@@ -401,22 +358,7 @@ fn healing_of_its_own_peaks_above_mu_s_by_its_law_and_is_erased_over_d_h() {
     // the slip 1/ũ that the reload needs to reach the surface, which erases part of the gain
     // before the peak.)
     let (b, t_c, d_h) = (0.01, 1.0, 0.2);
-    let m = |b: f64| {
-        model(
-            flat_base(),
-            Extensions {
-                healing: Some(Healing {
-                    b,
-                    t_c,
-                    n: 0.3,
-                    form: HealingForm::Log,
-                    recovery: true,
-                    erase_mm: d_h,
-                }),
-                ..Extensions::default()
-            },
-        )
-    };
+    let m = |b: f64| model(flat_base(), healing("log-erased", &[b, t_c, d_h]));
     let h = History::new()
         .slide(0.001, 0.5, 0.0005)
         .hold(100.0, 50)
@@ -472,17 +414,14 @@ fn power_law_and_steady_state_rate_forms_change_steady_friction_as_stated() {
     let n = 0.02;
     let m = model(
         flat_base(),
-        Extensions {
-            rate: Some(RateEffect {
-                form: RateForm::Power,
-                n,
-                v_c: 1e-7,
-                v_ref: 0.001,
-                at_rest: subfric_model::AtRest::Creep,
-                ..RateEffect::log_direct(0.0, 1e-7)
-            }),
-            ..Extensions::default()
-        },
+        Extensions::default().with_rate(RateEffect {
+            form: RateForm::Power,
+            n,
+            v_c: 1e-7,
+            v_ref: 0.001,
+            at_rest: subfric_model::AtRest::Creep,
+            ..RateEffect::log_direct(0.0, 1e-7)
+        }),
     );
     let f = run(&m, &h, 100.0, Initial::Rest);
     let ratio = f.last().unwrap() / f[i_step];
@@ -497,17 +436,14 @@ fn power_law_and_steady_state_rate_forms_change_steady_friction_as_stated() {
     let a = 0.01;
     let m = model(
         base,
-        Extensions {
-            rate: Some(RateEffect {
-                form: RateForm::SteadyState,
-                a,
-                v_c: 1e-7,
-                v_ref: 0.001,
-                at_rest: subfric_model::AtRest::Creep,
-                ..RateEffect::log_direct(0.0, 1e-7)
-            }),
-            ..Extensions::default()
-        },
+        Extensions::default().with_rate(RateEffect {
+            form: RateForm::SteadyState,
+            a,
+            v_c: 1e-7,
+            v_ref: 0.001,
+            at_rest: subfric_model::AtRest::Creep,
+            ..RateEffect::log_direct(0.0, 1e-7)
+        }),
     );
     let f = run(&m, &h, 100.0, Initial::Rest);
     let change = f.last().unwrap() - f[i_step];
@@ -531,7 +467,6 @@ fn direction_on_mu_k_weakens_backward_sliding_but_not_the_peak() {
         base,
         Extensions {
             terms: Terms::one(TermEffect::named("direction", "mu-k", &[d]).unwrap()),
-            ..Extensions::default()
         },
     );
     let du = 0.002;
@@ -572,7 +507,6 @@ fn pressure_on_mu_k_only_keeps_the_peak_and_lowers_residual_friction() {
             base,
             Extensions {
                 terms: Terms::one(eff),
-                ..Extensions::default()
             },
         );
         let h = History::new().slide(0.01, 4.0, 0.002);
@@ -614,7 +548,6 @@ fn effects_on_both_bounds_reduce_to_one_bound_when_the_other_size_is_zero() {
             base,
             Extensions {
                 terms: Terms::one(e),
-                ..Extensions::default()
             },
         )
     };
@@ -650,7 +583,6 @@ fn hyperbolic_slip_hardening_follows_h_s_over_one_plus_s_over_s_h() {
             terms: Terms::one(
                 TermEffect::named("slip-hardening", "hyperbolic", &[0.01, 2.0]).unwrap(),
             ),
-            ..Extensions::default()
         },
     );
     let du = 0.002;
@@ -673,10 +605,7 @@ fn sliding_start_continues_a_run_without_a_new_initial_loading() {
     let base = Params::sample();
     for ext in [
         Extensions::default(),
-        Extensions {
-            rate: Some(rate_state(RateForm::StateAgeing)),
-            ..Extensions::default()
-        },
+        Extensions::default().with_rate(rate_state(RateForm::StateAgeing)),
     ] {
         let m = model(base, ext);
         let du = 0.002;
@@ -731,13 +660,7 @@ fn sliding_start_is_steady_for_every_rate_form() {
             ..RateEffect::log_direct(0.0, 1e-6)
         },
     ] {
-        sliding_start_matches(
-            base,
-            Extensions {
-                rate: Some(rate),
-                ..Extensions::default()
-            },
-        );
+        sliding_start_matches(base, Extensions::default().with_rate(rate));
     }
     // Slip softening and hardening: the slip accumulated before the cut comes from the traction.
     for h in [-0.01, 0.008] {
@@ -748,7 +671,6 @@ fn sliding_start_is_steady_for_every_rate_form() {
                     terms: Terms::one(
                         TermEffect::named("slip-hardening", form, &[h, 4.0]).unwrap(),
                     ),
-                    ..Extensions::default()
                 },
             );
         }
@@ -796,7 +718,6 @@ fn registered_terms() -> Vec<Extensions> {
             }
             out.push(Extensions {
                 terms: Terms::one(t),
-                ..Extensions::default()
             });
         }
     }
@@ -808,47 +729,19 @@ fn registered_terms() -> Vec<Extensions> {
 #[test]
 fn collinear_3d_equals_1d_for_every_form() {
     let mut forms: Vec<Extensions> = vec![
-        Extensions {
-            rate: Some(rate_state(RateForm::StateAgeing)),
-            ..Extensions::default()
-        },
-        Extensions {
-            rate: Some(locked(RateForm::StateAgeing)),
-            ..Extensions::default()
-        },
-        Extensions {
-            rate: Some(rate_state(RateForm::StateSlip)),
-            ..Extensions::default()
-        },
+        Extensions::default().with_rate(rate_state(RateForm::StateAgeing)),
+        Extensions::default().with_rate(locked(RateForm::StateAgeing)),
+        Extensions::default().with_rate(rate_state(RateForm::StateSlip)),
         Extensions {
             terms: Terms::one(TermEffect::named("direction", "kappa", &[0.15]).unwrap()),
-            ..Extensions::default()
         },
         Extensions {
             terms: Terms::one(TermEffect::named("direction", "u-tilde", &[0.15]).unwrap())
-                .with(TermEffect::named("pressure", "exponential-mu-s", &[0.1, 50.0]).unwrap()),
-            healing: Some(Healing {
-                b: 0.01,
-                t_c: 3.0,
-                n: 0.5,
-                form: HealingForm::Power,
-                recovery: false,
-                erase_mm: 0.0,
-            }),
-            ..Extensions::default()
+                .with(TermEffect::named("pressure", "exponential-mu-s", &[0.1, 50.0]).unwrap())
+                .with(TermEffect::named("healing", "power", &[0.01, 0.5]).unwrap()),
         },
     ];
-    forms.push(Extensions {
-        healing: Some(Healing {
-            b: 0.01,
-            t_c: 3.0,
-            n: 0.5,
-            form: HealingForm::Log,
-            recovery: true,
-            erase_mm: 0.05,
-        }),
-        ..Extensions::default()
-    });
+    forms.push(healing("log-erased", &[0.01, 3.0, 0.05]));
     forms.extend(registered_terms());
     for ext in forms {
         let m = model(Params::sample(), ext);
@@ -874,5 +767,12 @@ fn collinear_3d_equals_1d_for_every_form() {
                 s3.shear[0]
             );
         }
+    }
+}
+
+/// Time healing in its form `form` (a key of the family's forms) with that form's parameters.
+fn healing(form: &str, values: &[f64]) -> Extensions {
+    Extensions {
+        terms: Terms::one(TermEffect::named("healing", form, values).expect("a healing form")),
     }
 }

@@ -235,7 +235,6 @@ fn a_state_the_model_cannot_have_is_refused_and_its_own_states_are_not() {
             terms: Terms::one(
                 TermEffect::named("pressure", "power-bounds", &[0.3, 0.1, 100.0]).unwrap(),
             ),
-            ..Extensions::default()
         },
     )
     .unwrap();

@@ -542,7 +542,10 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("sd = -2 is not positive"));
-        let bad = Priors::default().with(Param::RateA, Prior::LogUniform { lo: 0.1, hi: 1.0 });
+        let bad = Priors::default().with(
+            Param::from_key("rate.a").unwrap(),
+            Prior::LogUniform { lo: 0.1, hi: 1.0 },
+        );
         assert!(bad
             .unwrap_err()
             .to_string()
@@ -579,7 +582,7 @@ mod tests {
             other => panic!("{other:?}"),
         }
         // A parameter charted linearly: uniform on its box.
-        let linear = Space::new(m, &[Param::RateA], &[]);
+        let linear = Space::new(m, &[Param::from_key("rate.a").unwrap()], &[]);
         assert_eq!(
             Priors::default().resolve(&linear).unwrap()[0],
             ResolvedPrior::Default(Prior::Uniform { lo: -0.2, hi: 0.2 })

@@ -253,7 +253,15 @@ mod tests {
     #[test]
     fn the_jacobian_of_logarithmic_coordinates_is_the_product_of_the_values() {
         let m = Model::base(Params::sample()).unwrap();
-        let space = Space::new(m, &[Param::Kappa, Param::UTilde, Param::RateA], &[]);
+        let space = Space::new(
+            m,
+            &[
+                Param::Kappa,
+                Param::UTilde,
+                Param::from_key("rate.a").unwrap(),
+            ],
+            &[],
+        );
         let x = space.point_of(&m);
         // κ and ũ are charted as logarithms (d value/dx = value), rate.a linearly.
         let want = x[0] + x[1];

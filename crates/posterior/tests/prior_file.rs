@@ -57,18 +57,23 @@ fn a_toml_file_with_every_distribution_is_read() {
         other => panic!("{other:?}"),
     }
     assert_eq!(
-        p.get(Param::RateA).unwrap().prior,
+        p.get(Param::from_key("rate.a").unwrap()).unwrap().prior,
         Prior::Normal {
             mean: 0.0,
             sd: 0.01
         }
     );
     assert_eq!(
-        p.get(Param::RateA).unwrap().origin.as_ref().unwrap().line,
+        p.get(Param::from_key("rate.a").unwrap())
+            .unwrap()
+            .origin
+            .as_ref()
+            .unwrap()
+            .line,
         12
     );
     assert_eq!(
-        p.get(Param::RateVc).unwrap().prior,
+        p.get(Param::from_key("rate.v_c").unwrap()).unwrap().prior,
         Prior::Uniform {
             lo: 1e-6,
             hi: 1000.0
@@ -94,7 +99,12 @@ fn a_json_file_is_read_with_the_lines_of_its_entries() {
         }
     );
     assert_eq!(
-        p.get(Param::HealB).unwrap().origin.as_ref().unwrap().line,
+        p.get(Param::from_key("healing.b").unwrap())
+            .unwrap()
+            .origin
+            .as_ref()
+            .unwrap()
+            .line,
         4
     );
     // An empty TOML file gives no priors: every parameter keeps the default.

@@ -250,17 +250,15 @@ pub fn diagnose_reporting(
 }
 
 /// Forms of each family that later selection stages refit on top of the model they reach:
-/// the best [`SHORTLIST_PER_FAMILY`] of each family by their in-sample score on the base, and,
-/// when the velocity steps fitted one by one agree on rate and state, every rate-and-state
-/// form (on a base that lacks another effect they may rank low, and the steps say they are
-/// the ones to try); when the holds show peaks and the steps do not, every healing form
-/// erased by slip.
+/// the best [`SHORTLIST_PER_FAMILY`] of each family by their in-sample score on the base, and
+/// the forms the events read one by one single out
+/// ([`subfric_model::terms::TermFamily::singled_out`]: every rate-and-state form when the
+/// velocity steps agree on rate and state, healing erased by slip when the holds show peaks).
 fn shortlist(
     forms: &[FormReport],
     lib: &[crate::Form],
     events: &crate::events::EventAnalysis,
 ) -> Vec<crate::Form> {
-    let steps_agree = events.rate.as_ref().is_some_and(|r| r.consistent);
     let mut by_family: BTreeMap<crate::Effect, Vec<(f64, usize)>> = BTreeMap::new();
     for (i, f) in forms.iter().enumerate() {
         if f.ssr.is_finite() {
@@ -280,21 +278,18 @@ fn shortlist(
                 .map(|(_, i)| i),
         );
     }
-    if steps_agree {
-        keep.extend(
-            (0..lib.len()).filter(|&i| lib[i].template.rate.is_some_and(|r| r.has_state())),
-        );
-    }
-    // Likewise every healing form with a gain of its own erased by slip when two or more
-    // holds, read one by one, show a peak on reloading clear of zero: on a base that lacks
-    // another effect those forms may rank low, and the holds say they are the ones to try —
-    // unless the steps agree on rate and state, whose ageing law heals at rest itself.
-    let holds_peak =
-        !steps_agree && events.holds.iter().filter(|h| h.peak_gain.lo > 0.0).count() >= 2;
-    if holds_peak {
-        keep.extend(
-            (0..lib.len()).filter(|&i| lib[i].template.healing.is_some_and(|h| h.erase_mm > 0.0)),
-        );
+    // And the forms a family's module says the events single out: every rate-and-state form
+    // when the velocity steps agree on rate and state (on a base that lacks another effect they
+    // may rank low, and the steps say they are the ones to try), healing erased by slip when
+    // the holds show peaks, ...
+    let readings = events.readings();
+    for (family, fam) in subfric_model::terms::FAMILIES.iter().enumerate() {
+        for form in fam.singled_out(&readings) {
+            let name = fam.forms()[form].describe;
+            keep.extend((0..lib.len()).filter(|&i| {
+                lib[i].effect == crate::Effect::Term(family as u8) && lib[i].name == name
+            }));
+        }
     }
     keep.sort_unstable();
     keep.dedup();

@@ -4,6 +4,10 @@ use crate::folds::PieceKind;
 use crate::score::PieceScore;
 use subfric_model::Params;
 
+fn healing() -> Effect {
+    Effect::from_name("log-healing").unwrap()
+}
+
 fn report(effect: Effect, form: &'static str, score: f64, ssr: f64) -> FormReport {
     FormReport {
         effect,
@@ -21,11 +25,11 @@ fn report(effect: Effect, form: &'static str, score: f64, ssr: f64) -> FormRepor
 #[test]
 fn the_best_scoring_form_of_each_family_is_chosen_and_failed_fits_never() {
     let mut r = vec![
-        report(Effect::Rate, "a", 10.0, 5.0),
-        report(Effect::Rate, "b", 30.0, 4.0),
-        report(Effect::LogHealing, "c", 50.0, f64::NAN),
-        report(Effect::LogHealing, "d", -5.0, 9.0),
-        report(Effect::Rate, "e", 20.0, 4.5),
+        report(Effect::family("rate"), "a", 10.0, 5.0),
+        report(Effect::family("rate"), "b", 30.0, 4.0),
+        report(healing(), "c", 50.0, f64::NAN),
+        report(healing(), "d", -5.0, 9.0),
+        report(Effect::family("rate"), "e", 20.0, 4.5),
     ];
     let mut chosen = choose_forms(&mut r);
     chosen.sort_unstable();

@@ -239,15 +239,14 @@ impl EventAnalysis {
     }
 }
 
-/// Whether the events read one by one leave room for a family: velocity steps that were read
-/// must mostly show a direct effect for a rate effect, a healing rate read over the holds must
-/// be positive for healing, an asymmetry read over the reversals must be clear of zero for
-/// direction. Where no such event was read, nothing speaks against the family.
+/// Whether the events read one by one leave room for a family, as its module says
+/// ([`subfric_model::terms::TermFamily::corroborated`]: velocity steps that mostly show a direct
+/// effect for rate, a positive healing rate over the holds for healing, an asymmetry of the
+/// reversals clear of zero for direction). Where no such event was read, nothing speaks against
+/// the family.
 pub fn corroborates(e: &EventAnalysis, effect: crate::Effect) -> bool {
     use crate::Effect;
     match effect {
-        Effect::Rate => e.rate.as_ref().is_none_or(|r| r.consistent),
-        Effect::LogHealing => e.healing.as_ref().is_none_or(|h| h.per_decade.value > 0.0),
         Effect::Term(i) => subfric_model::terms::family(i).corroborated(&e.readings()),
         _ => true,
     }
@@ -257,15 +256,23 @@ impl EventAnalysis {
     /// What the events read say, for the registered families
     /// ([`subfric_model::terms::TermFamily::corroborated`]).
     pub fn readings(&self) -> subfric_model::terms::EventReadings {
+        use subfric_model::terms::Reading;
         subfric_model::terms::EventReadings {
             backward_weakening: self.direction.as_ref().map(|d| {
                 let w = &d.backward_weakening;
-                subfric_model::terms::Reading {
+                Reading {
                     value: w.value,
                     lo: w.lo,
                     hi: w.hi,
                 }
             }),
+            healing_per_decade: self.healing.as_ref().map(|h| Reading {
+                value: h.per_decade.value,
+                lo: h.per_decade.lo,
+                hi: h.per_decade.hi,
+            }),
+            holds_with_peak: self.holds.iter().filter(|h| h.peak_gain.lo > 0.0).count(),
+            steps_agree_on_rate_and_state: self.rate.as_ref().map(|r| r.consistent),
         }
     }
 }

@@ -3,8 +3,9 @@
 //! The normal stress is imposed; the plastic return is radial in the tangential plane, so the
 //! same scalar equation as in 1-D is solved, and collinear paths give the 1-D answer.
 
-use crate::extensions::{RateForm, Target};
+use crate::extensions::Target;
 use crate::integrator::{return_slip, surface, Consts, Local, StepError, StepInput};
+use crate::terms::RateForm;
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
 
@@ -191,7 +192,7 @@ impl Contact3 {
         let ext = &self.k.ext;
         let (lo_s, hi_s) = ext.bound_factor_range(Target::MuS);
         let (lo_k, _) = ext.bound_factor_range(Target::MuK);
-        let floor = match ext.rate {
+        let floor = match self.k.rate {
             Some(r) if r.form == RateForm::SteadyState => 0.0,
             _ => (self.k.mu_k * lo_k).min(self.k.mu_s * lo_s),
         };

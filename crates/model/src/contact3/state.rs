@@ -27,7 +27,7 @@ pub struct State3 {
     pub age: f64,
     /// Time since the contact started [s] (used by registered terms, see [`crate::terms`]).
     pub time: f64,
-    /// Healing gain of its own, on top of μ ([`crate::Healing::own_state`]; 0 otherwise).
+    /// Healing gain of its own, on top of μ ([`crate::TermFamily::erased_over`]; 0 otherwise).
     pub healed: f64,
     /// State variable θ of the rate-and-state forms [s] (unused otherwise).
     pub theta: f64,
@@ -49,7 +49,7 @@ impl State3 {
             age: 0.0,
             time: 0.0,
             healed: 0.0,
-            theta: model.ext.rate.map_or(0.0, |r| r.neutral_theta()),
+            theta: model.ext.rate().map_or(0.0, |r| r.neutral_theta()),
             rate_held: RateHeld::NEUTRAL,
         }
     }
@@ -156,7 +156,7 @@ impl Contact3 {
                 "a finite number > 0 (1 for a new contact point)",
             );
         }
-        if self.k.ext.rate.is_some_and(|r| r.has_state()) && st.theta <= 0.0 {
+        if self.k.rate.is_some_and(|r| r.has_state()) && st.theta <= 0.0 {
             return bad(
                 "theta",
                 st.theta.to_string(),

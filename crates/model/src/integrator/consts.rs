@@ -3,8 +3,9 @@
 //! slip and time, and the surfaces of elastic steps and of steady sliding.
 
 use super::{RateHeld, RETURN_TOLERANCE};
-use crate::extensions::{Extensions, RateForm, Target, MIN_MU_EFF_FRACTION};
+use crate::extensions::{Extensions, Target, MIN_MU_EFF_FRACTION};
 use crate::params::Params;
+use crate::terms::{RateEffect, RateForm, TermEffect};
 use std::f64::consts::FRAC_PI_2;
 
 /// Constants of a model, precomputed once (units: kPa, mm, s).
@@ -23,6 +24,31 @@ pub(crate) struct Consts {
     scaled: bool,
     /// Whether one scales μ_s, μ_k, κ or ũ ([`Extensions::varies_bounds`]).
     varies_bounds: bool,
+    /// The family that gains friction at rest (time healing), read once.
+    rest_gain: Option<RestGain>,
+    /// Whether the recovery ξ(μ_s − μ) of Eq. (24) acts ([`Extensions::recovery`]).
+    recovery: bool,
+    /// The slip-rate law of the family that reads the slip rate (rate), read once.
+    pub rate: Option<RateEffect>,
+    /// Whether a family adds a term T(s, t) (read once: the return mapping asks at every
+    /// iteration).
+    path_terms: bool,
+}
+
+/// A family that gains friction at rest, and where its gain goes.
+#[derive(Clone, Copy, Debug)]
+struct RestGain {
+    effect: TermEffect,
+    /// The slip that erases a gain of its own (e-fold) [mm]; `None`: the gain adds to μ.
+    erased_over: Option<f64>,
+}
+
+impl RestGain {
+    #[inline]
+    fn gain(&self, age: f64, dt: f64) -> f64 {
+        let e = &self.effect;
+        e.family().rest_gain(e.form as usize, &e.p, age, dt)
+    }
 }
 
 /// The constants of one step: μ_s, μ_k, κ, ũ after the pressure and direction effects that act
@@ -54,7 +80,21 @@ impl Consts {
                 .iter()
                 .any(|e| !e.family().targets(e.form as usize).is_empty()),
             varies_bounds: ext.varies_bounds(),
+            rest_gain: ext.terms.rest_gain().map(|effect| RestGain {
+                effect,
+                erased_over: effect.family().erased_over(effect.form as usize, &effect.p),
+            }),
+            recovery: ext.recovery(),
+            rate: ext.rate(),
+            path_terms: ext.terms.adds_terms(),
         }
+    }
+
+    /// True when the recovery ξ(μ_s − μ) of Eq. (24) acts: always, but under a time healing
+    /// that replaces it.
+    #[inline]
+    pub fn recovery(&self) -> bool {
+        self.recovery
     }
 
     /// The step constants at normal stress `p` for a sliding direction whose cosine with the
@@ -93,23 +133,23 @@ impl Consts {
     /// towards μ_s (Eq. 24), time healing instead, or time healing on top of it.
     #[inline]
     pub fn rest_mu(&self, l: &Local, mu: f64, age: f64, dt: f64, exp_xi_dt: f64) -> f64 {
-        let recovered = if self.ext.recovery() {
+        let recovered = if self.recovery {
             l.mu_s - (l.mu_s - mu) * exp_xi_dt
         } else {
             mu
         };
-        match self.ext.healing {
-            Some(h) if !h.own_state() => (recovered + h.gain(age, dt)).min(l.mu_s),
+        match self.rest_gain {
+            Some(h) if h.erased_over.is_none() => (recovered + h.gain(age, dt)).min(l.mu_s),
             _ => recovered,
         }
     }
 
-    /// The healing gain of its own ([`crate::Healing::own_state`]) after an elastic step of
-    /// `dt` at contact age `age` (zero without one).
+    /// The healing gain of its own ([`crate::TermFamily::erased_over`]) after an elastic step
+    /// of `dt` at contact age `age` (zero without one).
     #[inline]
     pub fn rest_healed(&self, healed: f64, age: f64, dt: f64) -> f64 {
-        match self.ext.healing {
-            Some(h) if h.own_state() => healed + h.gain(age, dt),
+        match self.rest_gain {
+            Some(h) if h.erased_over.is_some() => healed + h.gain(age, dt),
             _ => 0.0,
         }
     }
@@ -118,12 +158,12 @@ impl Consts {
     /// its derivative in λ.
     #[inline]
     pub fn slid_healed(&self, healed: f64, lam: f64) -> (f64, f64) {
-        match self.ext.healing {
-            Some(h) if h.own_state() => {
-                let v = healed * (-lam / h.erase_mm).exp();
-                (v, -v / h.erase_mm)
+        match self.rest_gain.and_then(|h| h.erased_over) {
+            Some(d_h) => {
+                let v = healed * (-lam / d_h).exp();
+                (v, -v / d_h)
             }
-            _ => (0.0, 0.0),
+            None => (0.0, 0.0),
         }
     }
 
@@ -131,19 +171,22 @@ impl Consts {
     /// family's T(s, t): slip hardening, ...), and their slope in s.
     #[inline]
     pub fn path_terms(&self, s: f64, t: f64) -> (f64, f64) {
+        if !self.path_terms {
+            return (0.0, 0.0);
+        }
         self.ext.terms.total(s, t)
     }
 
     /// True when [`Consts::path_terms`] can be non-zero.
     #[inline]
     pub(super) fn has_path_terms(&self) -> bool {
-        self.ext.terms.adds_terms()
+        self.path_terms
     }
 
     /// ξΔt of a plastic step: no recovery while sliding under a time healing that replaces it.
     #[inline]
     pub fn plastic_recovery(&self, dt: f64) -> f64 {
-        if self.ext.recovery() {
+        if self.recovery {
             self.xi * dt
         } else {
             0.0
@@ -153,7 +196,7 @@ impl Consts {
     /// Lowest bound of μ after a plastic step (the steady-state rate form moves μ_k with v).
     #[inline]
     pub fn mu_floor(&self, l: &Local) -> f64 {
-        match self.ext.rate {
+        match self.rate {
             Some(r) if r.form == RateForm::SteadyState => 0.0,
             _ => l.mu_k,
         }
@@ -162,7 +205,7 @@ impl Consts {
     /// The state variable θ after an elastic step of `dt` (ageing law: the contact ages).
     #[inline]
     pub fn rest_theta(&self, theta: f64, dt: f64) -> f64 {
-        match self.ext.rate {
+        match self.rate {
             Some(r) if r.form == RateForm::StateAgeing => theta + dt,
             _ => theta,
         }
@@ -173,7 +216,7 @@ impl Consts {
     fn sliding_terms(&self, l: &Local, v: f64, slip_path: f64, time: f64) -> (f64, f64) {
         let mut add = self.path_terms(slip_path, time).0;
         let mut factor = l.mult;
-        if let Some(rate) = self.ext.rate {
+        if let Some(rate) = self.rate {
             match rate.form {
                 RateForm::LogDirect | RateForm::StateAgeing | RateForm::StateSlip => {
                     add += rate.a * ((v / rate.v_c).ln_1p() - rate.direct_at_ref());
@@ -201,13 +244,13 @@ impl Consts {
     /// time healing).
     pub fn steady_mu(&self, l: &Local, v: f64) -> f64 {
         let mut mu_k = l.mu_k;
-        if let Some(rate) = self.ext.rate {
+        if let Some(rate) = self.rate {
             if rate.form == RateForm::SteadyState {
                 mu_k = (mu_k + rate.a * ((v + rate.v_c) / (rate.v_ref + rate.v_c)).ln())
                     .clamp(0.0, l.mu_s);
             }
         }
-        let xi = if self.ext.recovery() { self.xi } else { 0.0 };
+        let xi = if self.recovery { self.xi } else { 0.0 };
         let kv = l.kappa * v;
         if kv + xi > 0.0 {
             (kv * mu_k + xi * l.mu_s) / (kv + xi)
@@ -287,7 +330,7 @@ impl Consts {
     /// round-off into a plastic step, whose rate terms at a vanishing rate would make it creep.
     #[inline]
     pub fn rest_tolerance(&self, traction: f64, p: f64) -> f64 {
-        match self.ext.rate {
+        match self.rate {
             Some(rate) if rate.locked() => RETURN_TOLERANCE * p + 8.0 * f64::EPSILON * traction,
             _ => 0.0,
         }
@@ -296,7 +339,7 @@ impl Consts {
     /// The rate terms (additive R, factor V) of a contact sliding steadily at rate `v` with
     /// θ = θ_ss(v): what a locked rate form keeps at rest after such a slide.
     pub fn steady_rate_terms(&self, v: f64) -> RateHeld {
-        let Some(rate) = self.ext.rate else {
+        let Some(rate) = self.rate else {
             return RateHeld::NEUTRAL;
         };
         let mut held = RateHeld::NEUTRAL;
@@ -332,7 +375,7 @@ impl Consts {
         held: RateHeld,
     ) -> f64 {
         let mut mu_eff = mu * l.mult;
-        if let Some(rate) = self.ext.rate {
+        if let Some(rate) = self.rate {
             if rate.locked() {
                 mu_eff = mu_eff * held.factor + held.add;
                 mu_eff += self.path_terms(slip_path, time).0 + healed;

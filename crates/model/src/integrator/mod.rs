@@ -10,7 +10,7 @@
 //! Newton iteration safeguarded by bisection. A step that does not converge returns an error
 //! value so the caller can retry with substeps.
 
-use crate::extensions::{RateForm, MIN_MU_EFF_FRACTION};
+use crate::extensions::MIN_MU_EFF_FRACTION;
 use std::f64::consts::FRAC_PI_2;
 
 mod consts;
@@ -86,7 +86,7 @@ pub(crate) struct StepInput {
     pub s_acc: f64,
     /// Time at the end of the step, since the contact started [s] (registered terms).
     pub time: f64,
-    /// Healing gain of its own at the start [`crate::Healing::own_state`].
+    /// Healing gain of its own at the start ([`crate::TermFamily::erased_over`]).
     pub healed: f64,
     /// State variable θ at the start [s] (rate and state).
     pub theta: f64,
@@ -142,75 +142,13 @@ fn asin_small(x: f64) -> f64 {
 
 /// (1 − e^(−x))/x and its derivative, with series near 0.
 #[inline]
-fn relax_weight(x: f64, e: f64) -> (f64, f64) {
+pub(crate) fn relax_weight(x: f64, e: f64) -> (f64, f64) {
     if x > 1e-4 {
         let g = (1.0 - e) / x;
         (g, (e * (1.0 + x) - 1.0) / (x * x))
     } else {
         (1.0 - x * (0.5 - x / 6.0), -0.5 + x * (1.0 / 3.0 - x / 8.0))
     }
-}
-
-/// Rate terms at plastic increment `lam`: the additive term R and its derivative, the factor V
-/// on μ and its derivative, μ_k(v) and its derivative, and θ at the end of the step.
-#[inline]
-fn rate_terms(rate: &crate::extensions::RateEffect, s: &StepInput, lam: f64) -> RateTerms {
-    let vdt = rate.v_c * s.dt;
-    let mut t = RateTerms {
-        add: 0.0,
-        dadd: 0.0,
-        factor: 1.0,
-        dfactor: 0.0,
-        mu_k_shift: 0.0,
-        dmu_k: 0.0,
-        theta: s.theta,
-    };
-    match rate.form {
-        RateForm::LogDirect | RateForm::StateAgeing | RateForm::StateSlip => {
-            t.add = rate.a * ((lam / vdt).ln_1p() - rate.direct_at_ref());
-            t.dadd = rate.a / (vdt + lam);
-            if rate.has_state() {
-                // Constant v = λ/Δt over the step: both laws integrate in closed form.
-                let x = lam / rate.d_c;
-                let e = exp_neg(x);
-                let (g, dg) = relax_weight(x, e);
-                let (ln_theta, dln_theta) = if rate.form == RateForm::StateAgeing {
-                    let theta = s.theta * e + s.dt * g;
-                    (theta.ln(), (-s.theta * e + s.dt * dg) / (rate.d_c * theta))
-                } else {
-                    let lam = lam.max(1e-30 * rate.d_c);
-                    let ln_ss = (rate.d_c * s.dt / lam).ln();
-                    let ln0 = s.theta.ln();
-                    (
-                        e * ln0 + (1.0 - e) * ln_ss,
-                        (e * (ln_ss - ln0) - g) / rate.d_c,
-                    )
-                };
-                t.theta = ln_theta.exp();
-                t.add += rate.b * (ln_theta + (rate.state_ref() / rate.d_c).ln());
-                t.dadd += rate.b * dln_theta;
-            }
-        }
-        RateForm::Power => {
-            t.factor = ((lam / s.dt + rate.v_c) / (rate.v_ref + rate.v_c)).powf(rate.n);
-            t.dfactor = rate.n * t.factor / (lam + vdt);
-        }
-        RateForm::SteadyState => {
-            t.mu_k_shift = rate.a * ((lam / s.dt + rate.v_c) / (rate.v_ref + rate.v_c)).ln();
-            t.dmu_k = rate.a / (lam + vdt);
-        }
-    }
-    t
-}
-
-struct RateTerms {
-    add: f64,
-    dadd: f64,
-    factor: f64,
-    dfactor: f64,
-    mu_k_shift: f64,
-    dmu_k: f64,
-    theta: f64,
 }
 
 #[inline(always)]
@@ -228,7 +166,7 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
         f64::INFINITY
     };
 
-    let rate = k.ext.rate.map(|rate| rate_terms(&rate, s, lam));
+    let rate = k.rate.map(|rate| rate.plastic_terms(s.theta, s.dt, lam));
     // The kinetic bound; the steady-state rate form moves it with v = λ/Δt.
     let (mu_k, dmu_k) = match &rate {
         Some(t) if t.dmu_k != 0.0 => {

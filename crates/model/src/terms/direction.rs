@@ -228,6 +228,7 @@ mod tests {
                 lo,
                 hi,
             }),
+            ..EventReadings::default()
         };
         assert!(Direction.corroborated(&EventReadings::default()));
         assert!(Direction.corroborated(&read(0.02, 0.1)));

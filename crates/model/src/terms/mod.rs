@@ -1,9 +1,10 @@
 //! Registered effect families: one module each, listed in [`FAMILIES`].
 //!
 //! A registered family adds a term T(s, t) to the friction of the cone, μ_eff = … + T, where s is
-//! the accumulated plastic slip [mm] and t the time since the contact started [s], or scales μ,
+//! the accumulated plastic slip [mm] and t the time since the contact started [s], scales μ,
 //! μ_s, μ_k, κ or ũ by a factor of the contact's condition (its normal stress and sliding
-//! direction). Everything the rest of subfric needs to know about the family lives in its
+//! direction), or gains friction at rest as a law of the contact's age (time healing: in place
+//! of the recovery of Eq. 24, beside it, or as a gain of its own that slip erases). Everything the rest of subfric needs to know about the family lives in its
 //! module, behind [`TermFamily`]: its parameters (keys, units, scales, bounds), its forms, the
 //! term and its slope in s (for the implicit return mapping) or the factor and its range, where
 //! in a test it shows, its first guesses read off the scales of a data set, and what the events
@@ -13,10 +14,11 @@
 //! names the family.
 //!
 //! Adding a family: write its module (a unit struct implementing [`TermFamily`], with its unit
-//! tests), and add one line to [`FAMILIES`]. Pressure, slip hardening, the time trend and the
-//! direction effect are registered; rate and healing (in [`crate::extensions`]) carry state of
-//! their own (θ, the healed gain, the rate terms held at rest) that neither a term nor a factor
-//! expresses.
+//! tests), and add one line to [`FAMILIES`]. Every effect family of subfric is registered:
+//! rate, time healing, pressure, slip hardening, the time trend and the direction effect. A
+//! family whose friction depends on the plastic slip rate gives the return mapping its law as a
+//! [`RateEffect`] (the rate family), one that gains friction at rest its gain
+//! ([`TermFamily::rest_gain`], time healing); the integrator reads them through the trait.
 //!
 //! In a parameter file each family switched on is an object under its key (its name in
 //! snake_case), `"ext": {"slip_hardening": {"form": "capped", "h": 0.01, "s_h": 2}}`; the
@@ -29,23 +31,36 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use crate::Target;
 
 mod direction;
+mod healing;
 mod pressure;
+mod rate;
 mod slip_hardening;
+mod slots;
 mod time_trend;
 
 pub use direction::Direction;
+pub use healing::TimeHealing;
 pub use pressure::Pressure;
+pub use rate::{AtRest, Rate, RateEffect, RateForm};
 pub use slip_hardening::SlipHardening;
+pub use slots::Terms;
 pub use time_trend::TimeTrend;
 
 /// The registered families, in the order the diagnosis tries them.
-pub static FAMILIES: &[&dyn TermFamily] = &[&Pressure, &SlipHardening, &TimeTrend, &Direction];
+pub static FAMILIES: &[&dyn TermFamily] = &[
+    &Rate,
+    &TimeHealing,
+    &Pressure,
+    &SlipHardening,
+    &TimeTrend,
+    &Direction,
+];
 
 /// Most registered families a model may carry at once (one slot each in [`Terms`]).
-pub const MAX_FAMILIES: usize = 6;
+pub const MAX_FAMILIES: usize = 8;
 
 /// Most parameters a registered family may have.
-pub const MAX_TERM_PARAMS: usize = 4;
+pub const MAX_TERM_PARAMS: usize = 6;
 
 /// A parameter of a registered family.
 #[derive(Clone, Copy, Debug)]
@@ -128,6 +143,25 @@ pub struct DataScales {
     pub pressure_levels: usize,
     /// Distinct sliding rates.
     pub sliding_rates: usize,
+    /// The friction gained per decade of hold time that the holds read one by one show, when
+    /// they were read.
+    pub healing_per_decade: Option<f64>,
+    /// The velocity steps' signature read off the curves.
+    pub steps: StepReading,
+    /// Rate and state (a, b, D_c [mm]) from the velocity steps fitted one by one, when they
+    /// could be.
+    pub rate_and_state: Option<(f64, f64, f64)>,
+}
+
+/// The velocity steps' signature, per e-fold of rate.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepReading {
+    /// Friction jump right after a step (the direct effect a).
+    pub direct: f64,
+    /// Change of steady friction (a − b).
+    pub steady: f64,
+    /// Slip over which the excess over the new steady level decays by e [mm].
+    pub decay_mm: f64,
 }
 
 /// Which size of a factor family's form scaling `on` acts on `target`: the first (μ as a
@@ -149,6 +183,13 @@ pub struct EventReadings {
     /// Backward weakening d = 1 − |μ backward| / μ forward over the reversals: value and its
     /// interval.
     pub backward_weakening: Option<Reading>,
+    /// Friction gained per decade of hold time over the holds: value and its interval.
+    pub healing_per_decade: Option<Reading>,
+    /// Holds whose peak on reloading is clear of zero.
+    pub holds_with_peak: usize,
+    /// Whether the velocity steps fitted one by one agree on rate and state (most show a
+    /// direct effect); `None` when no step was read.
+    pub steps_agree_on_rate_and_state: Option<bool>,
 }
 
 /// A value read off a record with its interval.
@@ -258,8 +299,14 @@ pub trait TermFamily: Sync + std::fmt::Debug {
     }
     /// The fields that name form `form` in a parameter file, as [`TermFamily::read_form`]
     /// reads them.
-    fn form_fields(&self, form: usize) -> Vec<(&'static str, &'static str)> {
-        vec![(self.form_field(), self.forms()[form].key)]
+    fn form_fields(&self, form: usize) -> Vec<(&'static str, serde_json::Value)> {
+        vec![(self.form_field(), self.forms()[form].key.into())]
+    }
+    /// Whether older files wrote every parameter of the family whatever the form, so that one
+    /// the form does not use is read and dropped whatever its value (otherwise it is accepted
+    /// only at its default).
+    fn older_files_wrote_every_param(&self) -> bool {
+        false
     }
     /// Whether the diagnosis tries form `form` (a family may read forms from files that the
     /// diagnosis leaves to the user).
@@ -303,6 +350,58 @@ pub trait TermFamily: Sync + std::fmt::Debug {
     /// say nothing of it).
     fn corroborated(&self, _events: &EventReadings) -> bool {
         true
+    }
+    /// Forms the events read one by one single out: the diagnosis refits them in later stages
+    /// whatever their rank on the base (on which a form may rank low for want of another
+    /// effect).
+    fn singled_out(&self, _events: &EventReadings) -> Vec<usize> {
+        Vec::new()
+    }
+    /// (key, value, expected) of every invalid parameter of form `form`: by default each
+    /// parameter the form uses, against [`TermParam::valid`].
+    fn issues(
+        &self,
+        form: usize,
+        p: &[f64; MAX_TERM_PARAMS],
+    ) -> Vec<(&'static str, f64, &'static str)> {
+        let params = self.params();
+        self.forms()[form]
+            .params
+            .iter()
+            .map(|&i| (&params[i], p[i]))
+            .filter(|(q, v)| !q.valid(*v))
+            .map(|(q, v)| (q.key, v, q.expected))
+            .collect()
+    }
+    /// Whether the family gains friction at rest as a law of the contact's age (the time since
+    /// it last slid): time healing. At most one such family is on in a model.
+    fn gains_at_rest(&self) -> bool {
+        false
+    }
+    /// The friction form `form` gains at rest between contact ages `age` and `age + dt` [s].
+    fn rest_gain(&self, _form: usize, _p: &[f64; MAX_TERM_PARAMS], _age: f64, _dt: f64) -> f64 {
+        0.0
+    }
+    /// Whether form `form`'s gain at rest replaces the exponential recovery ξ(μ_s − μ) of
+    /// Eq. (24) (which then acts neither at rest nor while sliding).
+    fn replaces_recovery(&self, _form: usize) -> bool {
+        false
+    }
+    /// The slip [mm] over which form `form`'s gain at rest, a friction of its own on top of μ,
+    /// decays (e-fold) while the contact slides; `None` when the gain adds to μ itself, up to
+    /// μ_s.
+    fn erased_over(&self, _form: usize, _p: &[f64; MAX_TERM_PARAMS]) -> Option<f64> {
+        None
+    }
+    /// Whether the family makes friction depend on the plastic slip rate (the return mapping
+    /// then solves for it). At most one such family is on in a model.
+    fn reads_slip_rate(&self) -> bool {
+        false
+    }
+    /// The law of form `form` as the return mapping solves it, for a family that reads the
+    /// slip rate ([`TermFamily::reads_slip_rate`]).
+    fn slip_rate_law(&self, _form: usize, _p: &[f64; MAX_TERM_PARAMS]) -> Option<RateEffect> {
+        None
     }
 }
 
@@ -411,14 +510,7 @@ impl TermEffect {
 
     /// (key, value, expected) of every invalid parameter of the form.
     pub fn issues(&self) -> Vec<(&'static str, f64, &'static str)> {
-        let params = self.family().params();
-        self.form()
-            .params
-            .iter()
-            .map(|&i| (&params[i], self.p[i]))
-            .filter(|(q, v)| !q.valid(*v))
-            .map(|(q, v)| (q.key, v, q.expected))
-            .collect()
+        self.family().issues(self.form as usize, &self.p)
     }
 }
 
@@ -466,8 +558,8 @@ impl TermEffect {
         if with_family {
             map.serialize_entry("family", self.family().name())?;
         }
-        for (field, key) in names {
-            map.serialize_entry(field, key)?;
+        for (field, value) in &names {
+            map.serialize_entry(field, value)?;
         }
         for &i in form.params {
             map.serialize_entry(params[i].name, &self.p[i])?;
@@ -490,189 +582,6 @@ impl TermEffect {
             }
         }
         Ok(e)
-    }
-}
-
-/// The registered families switched on in a model, at most one form each (slot `i` holds
-/// family `i` of [`FAMILIES`]). In a parameter file each is an object under the family's key;
-/// the reader also takes the `term` object of older files (`{"family": ..., ...}`).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Terms([Option<TermEffect>; MAX_FAMILIES]);
-
-impl Terms {
-    /// No registered family.
-    pub const NONE: Terms = Terms([None; MAX_FAMILIES]);
-
-    /// Just `e`.
-    pub fn one(e: TermEffect) -> Terms {
-        let mut t = Terms::NONE;
-        t.insert(e);
-        t
-    }
-
-    /// These families and `e` (in place of the same family's, if on).
-    pub fn with(mut self, e: TermEffect) -> Terms {
-        self.insert(e);
-        self
-    }
-
-    /// True when no registered family is on.
-    #[inline]
-    pub fn is_empty(&self) -> bool {
-        self.0.iter().all(Option::is_none)
-    }
-
-    /// The families that are on, in registry order.
-    #[inline]
-    pub fn iter(&self) -> impl Iterator<Item = &TermEffect> {
-        self.0.iter().flatten()
-    }
-
-    /// Family `family`, when on.
-    #[inline]
-    pub fn of(&self, family: u8) -> Option<TermEffect> {
-        self.0.get(family as usize).copied().flatten()
-    }
-
-    /// Family `family`, to change it in place, when on.
-    pub fn of_mut(&mut self, family: u8) -> Option<&mut TermEffect> {
-        self.0.get_mut(family as usize).and_then(Option::as_mut)
-    }
-
-    /// Switches `e` on (in place of the same family's, if on); returns it to change in place.
-    pub fn insert(&mut self, e: TermEffect) -> &mut TermEffect {
-        self.0[e.family as usize].insert(e)
-    }
-
-    /// Every family of `self`, with those of `other` that `self` does not have.
-    pub fn or(self, other: Terms) -> Terms {
-        let mut out = self;
-        for (slot, theirs) in out.0.iter_mut().zip(other.0) {
-            if slot.is_none() {
-                *slot = theirs;
-            }
-        }
-        out
-    }
-
-    /// (key, value, expected) of every invalid parameter.
-    pub fn issues(&self) -> Vec<(&'static str, f64, &'static str)> {
-        self.iter().flat_map(TermEffect::issues).collect()
-    }
-
-    /// Sum of every family's T and ∂T/∂s at accumulated plastic slip `s` and time `t`.
-    #[inline]
-    pub fn total(&self, s: f64, t: f64) -> (f64, f64) {
-        self.iter().fold((0.0, 0.0), |(v, d), e| {
-            let (a, b) = e.term(s, t);
-            (v + a, d + b)
-        })
-    }
-
-    /// True when a family on adds a term T.
-    #[inline]
-    pub fn adds_terms(&self) -> bool {
-        self.iter().any(|e| e.family().adds_term())
-    }
-
-    /// The product of every family's factor on `target` at normal stress `normal_kpa` and
-    /// sliding direction `cos_forward` ([`TermFamily::factor_on`]).
-    #[inline]
-    pub fn factor_on(&self, target: Target, normal_kpa: f64, cos_forward: f64) -> f64 {
-        self.iter().fold(1.0, |f, e| {
-            f * e
-                .family()
-                .factor_on(e.form as usize, &e.p, target, normal_kpa, cos_forward)
-        })
-    }
-
-    /// The least and greatest product of the factors on `target` over every condition.
-    pub fn range_on(&self, target: Target) -> (f64, f64) {
-        self.iter().fold((1.0, 1.0), |(lo, hi), e| {
-            let (a, b) = e.family().range_on(e.form as usize, &e.p, target);
-            (lo * a, hi * b)
-        })
-    }
-
-    /// True when a family on scales μ or its bounds.
-    pub fn has_factors(&self) -> bool {
-        self.iter()
-            .any(|e| !e.family().targets(e.form as usize).is_empty())
-    }
-
-    /// True when a family on scales anything but μ as a whole (the integrator then builds the
-    /// bounds per step).
-    pub fn varies_bounds(&self) -> bool {
-        self.iter().any(|e| {
-            e.family()
-                .targets(e.form as usize)
-                .iter()
-                .any(|&t| t != Target::Friction)
-        })
-    }
-
-    /// True when a family on reads the sliding direction.
-    pub fn reads_direction(&self) -> bool {
-        self.iter().any(|e| e.family().reads_direction())
-    }
-
-    /// True when a family on reads the normal stress.
-    pub fn reads_normal_stress(&self) -> bool {
-        self.iter().any(|e| e.family().reads_normal_stress())
-    }
-}
-
-// Inside `ext`, beside the other extensions (the `Extensions` field is flattened): each family
-// under its key, without its name.
-impl Serialize for Terms {
-    fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
-        use serde::ser::SerializeMap;
-        struct Body<'a>(&'a TermEffect);
-        impl Serialize for Body<'_> {
-            fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
-                self.0.write(ser, false)
-            }
-        }
-        let mut map = ser.serialize_map(Some(self.iter().count()))?;
-        for e in self.iter() {
-            map.serialize_entry(&e.family().key(), &Body(e))?;
-        }
-        map.end()
-    }
-}
-
-impl<'de> Deserialize<'de> for Terms {
-    fn deserialize<D: Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
-        // Keys that are no family are left alone: the reader of parameter files refuses every
-        // key it cannot write back.
-        let map = serde_json::Map::<String, serde_json::Value>::deserialize(de)?;
-        let mut out = Terms::NONE;
-        for (key, value) in &map {
-            if value.is_null() {
-                continue;
-            }
-            let e = if key == "term" {
-                TermEffect::deserialize(value).map_err(D::Error::custom)?
-            } else if let Some((index, _)) = family_keyed(key) {
-                let Some(obj) = value.as_object() else {
-                    return Err(D::Error::custom(format!(
-                        "`{key}` is {value} (expected an object of the family's form and parameters)"
-                    )));
-                };
-                TermEffect::read(index, obj).map_err(D::Error::custom)?
-            } else {
-                continue;
-            };
-            if out.of(e.family).is_some() {
-                return Err(D::Error::custom(format!(
-                    "family `{}` given twice (under `{}` and `term`)",
-                    e.family().name(),
-                    e.family().key()
-                )));
-            }
-            out.insert(e);
-        }
-        Ok(out)
     }
 }
 

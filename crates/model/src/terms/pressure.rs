@@ -273,9 +273,12 @@ impl TermFamily for Pressure {
             })
     }
 
-    fn form_fields(&self, form: usize) -> Vec<(&'static str, &'static str)> {
+    fn form_fields(&self, form: usize) -> Vec<(&'static str, serde_json::Value)> {
         let (shape, target) = SHAPES[form];
-        vec![("form", shape.key()), ("target", target_key(target))]
+        vec![
+            ("form", shape.key().into()),
+            ("target", target_key(target).into()),
+        ]
     }
 
     fn targets(&self, form: usize) -> &'static [Target] {
@@ -375,13 +378,13 @@ mod tests {
         assert_eq!(FORMS[k].describe, "linear on mu_k only");
         assert_eq!(
             f.form_fields(k),
-            vec![("form", "linear"), ("target", "mu-k")]
+            vec![("form", "linear".into()), ("target", "mu-k".into())]
         );
         // Every combination reads back from what it writes.
         for form in 0..FORMS.len() {
             let mut o = serde_json::Map::new();
-            for (field, key) in f.form_fields(form) {
-                o.insert(field.into(), key.into());
+            for (field, value) in f.form_fields(form) {
+                o.insert(field.into(), value);
             }
             assert_eq!(f.read_form(&o), Ok(form));
         }
@@ -402,6 +405,9 @@ mod tests {
             reversals: 0,
             pressure_levels: 3,
             sliding_rates: 1,
+            healing_per_decade: None,
+            steps: crate::terms::StepReading::default(),
+            rate_and_state: None,
         };
         assert_eq!((0..FORMS.len()).filter(|&k| Pressure.tries(k)).count(), 8);
         assert_eq!(Pressure.guess(3, &data).references, vec![(P_REF, 196.0)]);

@@ -197,6 +197,9 @@ mod tests {
             reversals: 0,
             pressure_levels: 1,
             sliding_rates: 1,
+            healing_per_decade: None,
+            steps: crate::terms::StepReading::default(),
+            rate_and_state: None,
         };
         let short = SlipHardening.guess(0, &data(1.0));
         let long = SlipHardening.guess(0, &data(10.0));

@@ -170,7 +170,6 @@ mod tests {
         let with = Model {
             ext: Extensions {
                 terms: crate::terms::Terms::one(trend),
-                ..Extensions::default()
             },
             ..base
         };
@@ -199,6 +198,9 @@ mod tests {
             reversals: 0,
             pressure_levels: 1,
             sliding_rates: 1,
+            healing_per_decade: None,
+            steps: crate::terms::StepReading::default(),
+            rate_and_state: None,
         };
         let short = TimeTrend.guess(0, &data(100.0));
         let long = TimeTrend.guess(0, &data(10_000.0));
