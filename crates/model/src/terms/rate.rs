@@ -520,7 +520,7 @@ impl TermFamily for Rate {
 
     fn issues(
         &self,
-        form: usize,
+        _form: usize,
         p: &[f64; MAX_TERM_PARAMS],
     ) -> Vec<(&'static str, f64, &'static str)> {
         // Every parameter, whatever the form, as files have always been checked.
@@ -540,7 +540,6 @@ impl TermFamily for Rate {
         if p[N].abs() >= 2.0 {
             out.push((PARAMS[N].key, p[N], PARAMS[N].expected));
         }
-        let _ = form;
         out
     }
 
