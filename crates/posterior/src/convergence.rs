@@ -431,14 +431,10 @@ fn fft(re: &mut [f64], im: &mut [f64], inverse: bool) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rand::{RngExt, SeedableRng};
+    use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
-    fn normal(rng: &mut ChaCha8Rng) -> f64 {
-        let u1: f64 = rng.random::<f64>().max(1e-300);
-        let u2: f64 = rng.random();
-        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
-    }
+    use crate::predictive::normal;
 
     /// AR(1) series x_t = ρ x_{t−1} + √(1−ρ²) e_t, whose τ is (1 + ρ)/(1 − ρ).
     fn ar1(rho: f64, n: usize, seed: u64) -> Vec<f64> {
