@@ -127,10 +127,7 @@ impl RateEffect {
 
     /// The registered family's effect that carries this law (see [`Rate`]).
     pub fn effect(&self) -> TermEffect {
-        let family = super::FAMILIES
-            .iter()
-            .position(|f| f.name() == Rate.name())
-            .expect("rate is registered") as u8;
+        let (family, _) = super::family_named(Rate.name()).expect("rate is registered");
         let locked = self.at_rest == AtRest::Locked && self.form != RateForm::SteadyState;
         let form = SHAPES
             .iter()

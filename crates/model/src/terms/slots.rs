@@ -4,8 +4,11 @@
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use super::{family_keyed, RateEffect, TermEffect, MAX_FAMILIES};
+use super::{family_keyed, RateEffect, TermEffect, TermFamily, MAX_FAMILIES};
 use crate::Target;
+
+/// A kind of family a model may hold once.
+type Kind = fn(&dyn TermFamily) -> bool;
 
 /// The registered families switched on in a model, at most one form each (slot `i` holds
 /// family `i` of [`FAMILIES`]). In a parameter file each is an object under the family's key;
@@ -70,22 +73,24 @@ impl Terms {
     }
 
     /// (key, value, expected) of every invalid parameter, and a second family that gains
-    /// friction at rest (the contact holds one gain of its own).
+    /// friction at rest or reads the slip rate (the contact holds one gain of its own and one
+    /// rate law).
     pub fn issues(&self) -> Vec<(&'static str, f64, &'static str)> {
         let mut out: Vec<_> = self.iter().flat_map(TermEffect::issues).collect();
-        if let Some(second) = self.iter().filter(|e| e.family().gains_at_rest()).nth(1) {
-            out.push((
-                second.family().params()[0].key,
-                second.p[0],
+        let single: [(Kind, &'static str); 2] = [
+            (
+                |f| f.gains_at_rest(),
                 "one family that gains friction at rest, not two",
-            ));
-        }
-        if let Some(second) = self.iter().filter(|e| e.family().reads_slip_rate()).nth(1) {
-            out.push((
-                second.family().params()[0].key,
-                second.p[0],
+            ),
+            (
+                |f| f.reads_slip_rate(),
                 "one family that reads the slip rate, not two",
-            ));
+            ),
+        ];
+        for (kind, expected) in single {
+            if let Some(second) = self.iter().filter(|e| kind(e.family())).nth(1) {
+                out.push((second.family().params()[0].key, second.p[0], expected));
+            }
         }
         out
     }
