@@ -475,7 +475,10 @@ mod tests {
         let dev = serde_json::json!({"effect": "rate", "form": "rsf-slip", "effects": ["rate"]});
         assert_eq!(
             truth_families(&dev),
-            Some((vec![Effect::family("rate")], "rate (rsf-slip)".into()))
+            Some((
+                vec![Effect::from_name("rate").unwrap()],
+                "rate (rsf-slip)".into()
+            ))
         );
         let none = serde_json::json!({"effect": "none", "form": "none", "effects": ["none"]});
         assert_eq!(truth_families(&none), Some((vec![], "none".into())));

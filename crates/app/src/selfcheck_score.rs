@@ -299,7 +299,7 @@ mod tests {
         use Effect::*;
         let slip = Effect::from_name("slip-hardening").unwrap();
         let pressure = Effect::from_name("pressure").unwrap();
-        let rate = Effect::family("rate");
+        let rate = Effect::from_name("rate").unwrap();
         let cases = [
             case(&[], &[], "lab"),
             case(&[], &[Unexplained], "rig"),

@@ -69,16 +69,6 @@ impl Effect {
             .collect()
     }
 
-    /// The registered family called `name` (or one of its aliases).
-    ///
-    /// # Panics
-    ///
-    /// On a name no registered family has: for names the code itself writes.
-    pub fn family(name: &str) -> Effect {
-        let (i, _) = terms::family_named(name).expect("a registered family");
-        Effect::Term(i)
-    }
-
     /// Name as in `diagnosis.json`.
     pub fn name(self) -> &'static str {
         match self {

@@ -84,13 +84,13 @@ pub fn passes(c: &Comparison, th: &Thresholds) -> bool {
 /// use subfric_diagnose::Effect;
 /// let good = Comparison { score: 400.0, shape_score: 300.0, level_score: 100.0, excess_shrink: 0.95, relative_shrink: 0.9, typical_shrink: 0.6,
 ///     reference_chi2: 12.0, candidate_chi2: 1.5, rows: 2000, n_eff: 1500.0, pieces: vec![] };
-/// let d = decide(12.0, &[(Effect::family("rate"), good.clone())], None, &Thresholds::default());
+/// let d = decide(12.0, &[(Effect::from_name("rate").unwrap(), good.clone())], None, &Thresholds::default());
 /// assert_eq!(d, Decision::Named(0));
 /// // Near the noise overall, a candidate that explains too little is no gap.
 /// let weak = Comparison { excess_shrink: 0.3, typical_shrink: 0.1, ..good.clone() };
-/// assert_eq!(decide(1.1, &[(Effect::family("rate"), weak)], None, &Thresholds::default()), Decision::NoGap);
+/// assert_eq!(decide(1.1, &[(Effect::from_name("rate").unwrap(), weak)], None, &Thresholds::default()), Decision::NoGap);
 /// // ... but one that passes is named: an effect confined to a few pieces.
-/// assert_eq!(decide(1.1, &[(Effect::family("rate"), good)], None, &Thresholds::default()), Decision::Named(0));
+/// assert_eq!(decide(1.1, &[(Effect::from_name("rate").unwrap(), good)], None, &Thresholds::default()), Decision::Named(0));
 /// ```
 pub fn decide(
     reference_chi2: f64,
@@ -140,9 +140,9 @@ pub fn decide(
 ///     candidate_chi2: 1.2, rows: 1000, n_eff: 900.0, pieces: vec![] };
 /// let th = Thresholds::default();
 /// // Its own pieces improve a lot, the others not at all: credited.
-/// assert_eq!(decide_further(3.0, &[(Effect::family("rate"), c(25.0, 0.2))], &[c(60.0, 0.8)], &[true], &th), Decision::Named(0));
+/// assert_eq!(decide_further(3.0, &[(Effect::from_name("rate").unwrap(), c(25.0, 0.2))], &[c(60.0, 0.8)], &[true], &th), Decision::Named(0));
 /// // ... unless the events read one by one contradict it.
-/// assert_eq!(decide_further(3.0, &[(Effect::family("rate"), c(25.0, 0.2))], &[c(60.0, 0.8)], &[false], &th), Decision::Unexplained);
+/// assert_eq!(decide_further(3.0, &[(Effect::from_name("rate").unwrap(), c(25.0, 0.2))], &[c(60.0, 0.8)], &[false], &th), Decision::Unexplained);
 /// // It improves all pieces but not its own: not credited.
 /// let healing = Effect::from_name("log-healing").unwrap();
 /// assert_eq!(decide_further(3.0, &[(healing, c(80.0, 0.8))], &[c(2.0, 0.05)], &[true], &th), Decision::Unexplained);
@@ -267,12 +267,22 @@ mod tests {
         // tentative however much a typical piece improves.
         let partial = cmp(300.0, 0.6, 0.5, 4.0);
         assert_eq!(
-            decide(4.0, &[(Effect::family("rate"), partial)], None, &th),
+            decide(
+                4.0,
+                &[(Effect::from_name("rate").unwrap(), partial)],
+                None,
+                &th
+            ),
             Decision::Tentative(0)
         );
         let full = cmp(300.0, 0.71, 0.5, 4.0);
         assert_eq!(
-            decide(4.0, &[(Effect::family("rate"), full)], None, &th),
+            decide(
+                4.0,
+                &[(Effect::from_name("rate").unwrap(), full)],
+                None,
+                &th
+            ),
             Decision::Named(0)
         );
     }
@@ -282,19 +292,34 @@ mod tests {
         let th = Thresholds::default();
         let c = cmp(300.0, 0.3, th.min_typical_shrink + 0.01, 5000.0);
         assert_eq!(
-            decide(5000.0, &[(Effect::family("rate"), c)], None, &th),
+            decide(
+                5000.0,
+                &[(Effect::from_name("rate").unwrap(), c)],
+                None,
+                &th
+            ),
             Decision::Named(0)
         );
         // Just under the typical threshold: significant, so kept only tentatively.
         let weak = cmp(300.0, 0.3, th.min_typical_shrink - 0.01, 5000.0);
         assert_eq!(
-            decide(5000.0, &[(Effect::family("rate"), weak)], None, &th),
+            decide(
+                5000.0,
+                &[(Effect::from_name("rate").unwrap(), weak)],
+                None,
+                &th
+            ),
             Decision::Tentative(0)
         );
         // The same typical improvement near the noise does not count.
         let near_noise = cmp(300.0, 0.3, th.min_typical_shrink + 0.01, 5.0);
         assert_eq!(
-            decide(5.0, &[(Effect::family("rate"), near_noise)], None, &th),
+            decide(
+                5.0,
+                &[(Effect::from_name("rate").unwrap(), near_noise)],
+                None,
+                &th
+            ),
             Decision::Tentative(0)
         );
     }
@@ -304,7 +329,7 @@ mod tests {
         let th = Thresholds::default();
         let c = cmp(19.0, 0.99, 0.9, 5.0);
         assert_eq!(
-            decide(5.0, &[(Effect::family("rate"), c)], None, &th),
+            decide(5.0, &[(Effect::from_name("rate").unwrap(), c)], None, &th),
             Decision::Unexplained
         );
     }
@@ -317,7 +342,7 @@ mod tests {
         assert_eq!(
             decide(
                 6.0,
-                &[(Effect::family("rate"), a), (healing(), b)],
+                &[(Effect::from_name("rate").unwrap(), a), (healing(), b)],
                 None,
                 &th
             ),
@@ -346,12 +371,22 @@ mod tests {
         let th = Thresholds::default();
         let partial = cmp(120.0, 0.5, 0.05, 6.0);
         assert_eq!(
-            decide(6.0, &[(Effect::family("rate"), partial)], None, &th),
+            decide(
+                6.0,
+                &[(Effect::from_name("rate").unwrap(), partial)],
+                None,
+                &th
+            ),
             Decision::Tentative(0)
         );
         let worse = cmp(120.0, -0.1, 0.05, 6.0);
         assert_eq!(
-            decide(6.0, &[(Effect::family("rate"), worse)], None, &th),
+            decide(
+                6.0,
+                &[(Effect::from_name("rate").unwrap(), worse)],
+                None,
+                &th
+            ),
             Decision::Unexplained
         );
     }
@@ -361,7 +396,12 @@ mod tests {
         let th = Thresholds::default();
         let partial = cmp(50.0, th.near_noise_excess_shrink - 0.01, 0.5, 1.25);
         assert_eq!(
-            decide(1.25, &[(Effect::family("rate"), partial)], None, &th),
+            decide(
+                1.25,
+                &[(Effect::from_name("rate").unwrap(), partial)],
+                None,
+                &th
+            ),
             Decision::NoGap
         );
         let half = cmp(50.0, th.near_noise_excess_shrink + 0.01, 0.5, 1.25);
@@ -371,7 +411,12 @@ mod tests {
         );
         let insignificant = cmp(10.0, 0.9, 0.5, 1.25);
         assert_eq!(
-            decide(1.25, &[(Effect::family("rate"), insignificant)], None, &th),
+            decide(
+                1.25,
+                &[(Effect::from_name("rate").unwrap(), insignificant)],
+                None,
+                &th
+            ),
             Decision::NoGap
         );
         let confined = cmp(50.0, 0.9, 0.5, 1.25);

@@ -25,11 +25,11 @@ fn report(effect: Effect, form: &'static str, score: f64, ssr: f64) -> FormRepor
 #[test]
 fn the_best_scoring_form_of_each_family_is_chosen_and_failed_fits_never() {
     let mut r = vec![
-        report(Effect::family("rate"), "a", 10.0, 5.0),
-        report(Effect::family("rate"), "b", 30.0, 4.0),
+        report(Effect::from_name("rate").unwrap(), "a", 10.0, 5.0),
+        report(Effect::from_name("rate").unwrap(), "b", 30.0, 4.0),
         report(healing(), "c", 50.0, f64::NAN),
         report(healing(), "d", -5.0, 9.0),
-        report(Effect::family("rate"), "e", 20.0, 4.5),
+        report(Effect::from_name("rate").unwrap(), "e", 20.0, 4.5),
     ];
     let mut chosen = choose_forms(&mut r);
     chosen.sort_unstable();
