@@ -100,6 +100,29 @@ fn healing_behind_a_compliant_rig_is_named_when_its_screened_fit_is_polished_on_
 }
 
 #[test]
+fn rate_and_state_that_creeps_in_the_holds_is_named_when_the_polish_decides_its_form() {
+    // Issue 20: holds relaxing by 0.13 in friction (rate and state, slip law, creep at rest;
+    // slip softening beside it, lab profile). Screened on a share of the rows, the locked slip
+    // law ranked above the creeping one (14.6 against -15.1); polished, the creeping one scores
+    // 31.5 and the locked 14.6, but only the best screened form of a family was polished: the
+    // locked form, which cannot relax the holds, failed on the held-out pieces and the verdict
+    // was `unexplained`. The two best screened forms of each family are now polished and the
+    // better one taken. The rate + slip softening set of the generator's campaign of seed 3
+    // (gen-21-1), where this was found; the softening is not named yet (left in the issue).
+    let c = verdict(
+        &campaign(3, &[Form::RsfSlip, Form::SlipCapped]),
+        &DiagnoseOptions::default(),
+    );
+    let rate = Effect::from_name("rate").unwrap();
+    let softening = Effect::from_name("slip-hardening").unwrap();
+    assert!(c.verdict.contains(&rate), "rate not named: {c:?}");
+    assert!(
+        c.verdict.iter().all(|e| *e == rate || *e == softening),
+        "an effect the set does not hold: {c:?}"
+    );
+}
+
+#[test]
 fn healing_erased_by_slip_is_named_beside_a_direction_effect() {
     // Issue 20: on top of a direction effect the peaks after the holds were left unexplained
     // (verdict `direction`, its held-out misfit 4.6x the noise, 97 % of it after the holds),

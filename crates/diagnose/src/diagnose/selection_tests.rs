@@ -40,6 +40,21 @@ fn the_best_scoring_form_of_each_family_is_chosen_and_failed_fits_never() {
     assert_eq!(marked, vec![false, true, false, true, false]);
 }
 
+#[test]
+fn the_forms_polished_are_the_two_best_screened_of_each_family_best_first() {
+    let rate = Effect::from_name("rate").unwrap();
+    let r = vec![
+        report(rate, "a", 10.0, 5.0),
+        report(rate, "b", 30.0, 4.0),
+        report(healing(), "c", 50.0, f64::NAN),
+        report(healing(), "d", -5.0, 9.0),
+        report(rate, "e", 20.0, 4.5),
+    ];
+    // Rate's "b" then "e" ("a" third); healing's "d" alone ("c" failed).
+    assert_eq!(ranked_by_family(&r, 2), vec![vec![1, 4], vec![3]]);
+    assert_eq!(ranked_by_family(&r, 1), vec![vec![1], vec![3]]);
+}
+
 fn comparison(score: f64, n_eff: f64, pieces: Vec<PieceScore>) -> Comparison {
     Comparison {
         score,
