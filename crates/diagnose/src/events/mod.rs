@@ -239,6 +239,16 @@ impl EventAnalysis {
     }
 }
 
+/// Whether the events read one by one speak against a family outright, as its module says
+/// ([`subfric_model::terms::TermFamily::contradicted`]: velocity steps read of which none shows a
+/// direct effect for rate, friction falling with hold time for healing).
+pub fn contradicts(e: &EventAnalysis, effect: crate::Effect) -> bool {
+    match effect {
+        crate::Effect::Term(i) => subfric_model::terms::family(i).contradicted(&e.readings()),
+        _ => false,
+    }
+}
+
 /// Whether the events read one by one leave room for a family, as its module says
 /// ([`subfric_model::terms::TermFamily::corroborated`]: velocity steps that mostly show a direct
 /// effect for rate, a positive healing rate over the holds for healing, an asymmetry of the
@@ -273,6 +283,8 @@ impl EventAnalysis {
             }),
             holds_with_peak: self.holds.iter().filter(|h| h.peak_gain.lo > 0.0).count(),
             steps_agree_on_rate_and_state: self.rate.as_ref().map(|r| r.consistent),
+            steps_read: self.steps.len(),
+            steps_with_direct_effect: self.steps.iter().filter(|s| s.significant()).count(),
         }
     }
 }

@@ -393,6 +393,11 @@ impl TermFamily for TimeHealing {
         events.healing_per_decade.is_none_or(|h| h.value > 0.0)
     }
 
+    fn contradicted(&self, events: &EventReadings) -> bool {
+        // Friction read to fall with the hold time, the whole interval below zero.
+        events.healing_per_decade.is_some_and(|h| h.hi < 0.0)
+    }
+
     fn singled_out(&self, events: &EventReadings) -> Vec<usize> {
         // Two or more holds with a peak clear of zero point to a gain erased by slip — unless
         // the steps agree on rate and state, whose ageing law heals at rest itself.
@@ -524,6 +529,26 @@ mod tests {
             }
             assert_eq!(TimeHealing.read_form(&o), Ok(form));
         }
+    }
+
+    #[test]
+    fn only_friction_read_to_fall_with_hold_time_speaks_against_healing() {
+        let read = |lo: f64, hi: f64| EventReadings {
+            healing_per_decade: Some(crate::terms::Reading {
+                value: 0.5 * (lo + hi),
+                lo,
+                hi,
+            }),
+            ..EventReadings::default()
+        };
+        assert!(!TimeHealing.contradicted(&EventReadings::default()));
+        // Uncertain, or healing: not contradicted (an interval about zero only fails to
+        // corroborate when its value is not positive).
+        assert!(!TimeHealing.contradicted(&read(-0.01, 0.002)));
+        assert!(!TimeHealing.corroborated(&read(-0.01, 0.002)));
+        assert!(!TimeHealing.contradicted(&read(0.001, 0.01)));
+        // Friction falls with the hold time, the whole interval below zero.
+        assert!(TimeHealing.contradicted(&read(-0.01, -0.002)));
     }
 
     #[test]

@@ -190,6 +190,10 @@ pub struct EventReadings {
     /// Whether the velocity steps fitted one by one agree on rate and state (most show a
     /// direct effect); `None` when no step was read.
     pub steps_agree_on_rate_and_state: Option<bool>,
+    /// Velocity steps read one by one, and how many of them show a direct effect.
+    pub steps_read: usize,
+    /// Of [`EventReadings::steps_read`], the steps that show a direct effect.
+    pub steps_with_direct_effect: usize,
 }
 
 /// A value read off a record with its interval.
@@ -350,6 +354,13 @@ pub trait TermFamily: Sync + std::fmt::Debug {
     /// say nothing of it).
     fn corroborated(&self, _events: &EventReadings) -> bool {
         true
+    }
+    /// Whether the events read one by one speak against the family outright (velocity steps
+    /// read, and not one shows a direct effect), a stronger reading than not corroborating it:
+    /// a first effect that explains only a typical piece's share of the misfit, not most of its
+    /// excess, is not named against it. False where they say nothing of it.
+    fn contradicted(&self, _events: &EventReadings) -> bool {
+        false
     }
     /// Forms the events read one by one single out: the diagnosis refits them in later stages
     /// whatever their rank on the base (on which a form may rank low for want of another

@@ -547,6 +547,11 @@ impl TermFamily for Rate {
             .is_none_or(|agree| agree)
     }
 
+    fn contradicted(&self, events: &EventReadings) -> bool {
+        // Two or more steps read, and not one shows a direct effect.
+        events.steps_read >= 2 && events.steps_with_direct_effect == 0
+    }
+
     fn singled_out(&self, events: &EventReadings) -> Vec<usize> {
         // When the steps agree on rate and state, every rate-and-state form: on a base that
         // lacks another effect they may rank low, and the steps say they are the ones to try.
@@ -698,6 +703,17 @@ mod tests {
         assert!(Rate.singled_out(&events).is_empty());
         events.steps_agree_on_rate_and_state = Some(false);
         assert!(!Rate.corroborated(&events));
+        // Not corroborated is not contradicted: one step in four shows a direct effect.
+        (events.steps_read, events.steps_with_direct_effect) = (4, 1);
+        assert!(!Rate.contradicted(&events));
+        // Contradicted: steps read, and none shows one.
+        events.steps_with_direct_effect = 0;
+        assert!(Rate.contradicted(&events));
+        events.steps_read = 1;
+        assert!(
+            !Rate.contradicted(&events),
+            "one step alone does not speak against it"
+        );
         events.steps_agree_on_rate_and_state = Some(true);
         assert!(Rate.corroborated(&events));
         let keys: Vec<_> = Rate
