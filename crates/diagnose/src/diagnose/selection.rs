@@ -49,16 +49,26 @@ fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, Spe
         .collect()
 }
 
-/// The best form of each family (largest penalised in-sample score), marked `chosen`.
-fn choose_forms(reports: &mut [FormReport]) -> Vec<usize> {
-    let best: Vec<usize> = ranked_by_family(reports, 1).into_iter().flatten().collect();
-    for r in reports.iter_mut() {
-        r.chosen = false;
+/// The best form of each family among forms `among` (largest penalised in-sample score; of
+/// equal scores the one listed first), marked `chosen`.
+fn choose_forms(reports: &mut [FormReport], among: &[usize]) -> Vec<usize> {
+    let mut best: BTreeMap<Effect, usize> = BTreeMap::new();
+    for &i in among {
+        let r = &reports[i];
+        if !r.ssr.is_finite() {
+            continue;
+        }
+        match best.get(&r.effect) {
+            Some(&j) if reports[j].in_sample_score >= r.in_sample_score => {}
+            _ => {
+                best.insert(r.effect, i);
+            }
+        }
     }
-    for &i in &best {
+    for &i in best.values() {
         reports[i].chosen = true;
     }
-    best
+    best.into_values().collect()
 }
 
 /// The `per_family` best forms of each family by penalised in-sample score, best first
@@ -272,20 +282,14 @@ pub(super) fn screen_and_polish(
     }
     // A form's screened score ranks it only roughly (a few iterations on a share of the rows):
     // the family's form is the best of its forms once polished.
-    let mut polished_forms: Vec<FormReport> = to_polish.iter().map(|&i| forms[i].clone()).collect();
-    let chosen: Vec<usize> = choose_forms(&mut polished_forms)
-        .into_iter()
-        .map(|k| to_polish[k])
-        .collect();
-    for &i in &chosen {
-        forms[i].chosen = true;
-    }
+    let chosen = choose_forms(&mut forms, &to_polish);
+    let mut polished: BTreeMap<usize, SpecFit> = to_polish.iter().copied().zip(polished).collect();
     let families: Vec<Family> = chosen
         .iter()
         .map(|&i| Family {
             effect: forms[i].effect,
             form: lib[i].clone(),
-            alone: polished[to_polish.iter().position(|&j| j == i).expect("polished")].clone(),
+            alone: polished.remove(&i).expect("chosen among the polished"),
         })
         .collect();
     cx.trace("best forms polished");

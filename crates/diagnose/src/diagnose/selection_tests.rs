@@ -31,7 +31,7 @@ fn the_best_scoring_form_of_each_family_is_chosen_and_failed_fits_never() {
         report(healing(), "d", -5.0, 9.0),
         report(Effect::from_name("rate").unwrap(), "e", 20.0, 4.5),
     ];
-    let mut chosen = choose_forms(&mut r);
+    let mut chosen = choose_forms(&mut r, &[0, 1, 2, 3, 4]);
     chosen.sort_unstable();
     // Rate: "b" (30 beats 10 and 20); healing: "d", since "c" failed (non-finite misfit)
     // however high its score.
