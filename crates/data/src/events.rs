@@ -707,10 +707,12 @@ fn reversals_outside_holds(
     band: f64,
 ) -> Vec<usize> {
     let inside = |r: usize| holds.iter().position(|&(s, e)| r + 1 >= s && r < e);
+    // A reversal has motion on both sides: the first and last rows are none (a column that
+    // starts by moving back from its first reading has that reading as its extreme).
     let mut out: Vec<usize> = revs
         .iter()
         .copied()
-        .filter(|&r| inside(r).is_none())
+        .filter(|&r| r > 0 && r + 1 < n && inside(r).is_none())
         .collect();
     for (k, &(s, e)) in holds.iter().enumerate() {
         let (a, b) = (s - 1, (e - 1).min(n - 1));
