@@ -283,8 +283,8 @@ impl EventAnalysis {
             }),
             holds_with_peak: self.holds.iter().filter(|h| h.peak_gain.lo > 0.0).count(),
             steps_agree_on_rate_and_state: self.rate.as_ref().map(|r| r.consistent),
-            steps_read: self.steps.len(),
-            steps_with_direct_effect: self.steps.iter().filter(|s| s.significant()).count(),
+            steps_read: self.rate.as_ref().map_or(0, |r| r.steps),
+            steps_with_direct_effect: self.rate.as_ref().map_or(0, |r| r.significant),
         }
     }
 }

@@ -190,7 +190,7 @@ pub struct EventReadings {
     /// Whether the velocity steps fitted one by one agree on rate and state (most show a
     /// direct effect); `None` when no step was read.
     pub steps_agree_on_rate_and_state: Option<bool>,
-    /// Velocity steps read one by one, and how many of them show a direct effect.
+    /// Velocity steps read one by one.
     pub steps_read: usize,
     /// Of [`EventReadings::steps_read`], the steps that show a direct effect.
     pub steps_with_direct_effect: usize,
