@@ -627,6 +627,12 @@ const LEVEL_SMOOTHING_BANDS: f64 = 15.0;
 /// machine turns imposed-column noise into simulated traction noise; below the resolution of
 /// the column there is no signal to keep. Where rows are farther apart than the window nothing
 /// changes.
+///
+/// A line in time stands for the column only while it moves at the level's rate: an interval
+/// whose travel departs from the level's rate times its duration by more than half the window
+/// (a stretch of rows taken out of the record, a stall too short to read as a hold) is a
+/// break, and each side is smoothed on its own — a line across it would move the rows next to
+/// it by a share of that departure.
 fn smooth_levels(t: &[f64], y: &mut [f64], levels: &[RateLevel], window: f64) {
     let half = 0.5 * window;
     for l in levels {
@@ -634,51 +640,64 @@ fn smooth_levels(t: &[f64], y: &mut [f64], levels: &[RateLevel], window: f64) {
             l.start.saturating_sub(1),
             l.end.saturating_sub(1).min(y.len() - 1),
         );
-        if b <= a + 2 {
-            continue;
-        }
-        let src: Vec<f64> = y[a..=b].to_vec();
-        let tt: Vec<f64> = t[a..=b].iter().map(|v| v - t[a]).collect();
-        // Sums over the window src[lo..=hi]; both ends only move forward (src is monotone).
-        let mut sums = [0.0f64; 5]; // n, Σt, Σu, Σt², Σtu
-        let add = |s: &mut [f64; 5], k: usize, sign: f64| {
-            s[0] += sign;
-            s[1] += sign * tt[k];
-            s[2] += sign * src[k];
-            s[3] += sign * tt[k] * tt[k];
-            s[4] += sign * tt[k] * src[k];
-        };
-        let (mut lo, mut hi) = (0usize, 0usize);
-        add(&mut sums, 0, 1.0);
-        for i in 1..src.len() - 1 {
-            while hi < i || (hi + 1 < src.len() && (src[hi + 1] - src[i]).abs() <= half) {
-                hi += 1;
-                add(&mut sums, hi, 1.0);
-            }
-            while lo < i && (src[i] - src[lo]).abs() > half {
-                add(&mut sums, lo, -1.0);
-                lo += 1;
-            }
-            let [n, st, su, stt, stu] = sums;
-            if n >= 3.0 {
-                let tm = st / n;
-                let var = stt / n - tm * tm;
-                if var > 1e-12 * (tm * tm).max(1e-300) {
-                    let slope = (stu / n - tm * su / n) / var;
-                    y[a + i] = su / n + slope * (tt[i] - tm);
-                }
+        let mut from = a;
+        for k in a..b {
+            let departure = (y[k + 1] - y[k] - l.rate * (t[k + 1] - t[k])).abs();
+            if departure > half {
+                smooth_stretch(t, y, from, k, half);
+                from = k + 1;
             }
         }
-        // Keep the level monotone and within its ends.
-        let (ya, yb) = (src[0], src[src.len() - 1]);
-        let (lo_v, hi_v) = (ya.min(yb), ya.max(yb));
-        let up = yb >= ya;
-        for i in a + 1..b {
-            y[i] = y[i].clamp(lo_v, hi_v);
-            let prev = y[i - 1];
-            if (up && y[i] < prev) || (!up && y[i] > prev) {
-                y[i] = prev;
+        smooth_stretch(t, y, from, b, half);
+    }
+}
+
+/// [`smooth_levels`] over rows `a..=b` of one level, which move at one rate.
+fn smooth_stretch(t: &[f64], y: &mut [f64], a: usize, b: usize, half: f64) {
+    if b <= a + 2 {
+        return;
+    }
+    let src: Vec<f64> = y[a..=b].to_vec();
+    let tt: Vec<f64> = t[a..=b].iter().map(|v| v - t[a]).collect();
+    // Sums over the window src[lo..=hi]; both ends only move forward (src is monotone).
+    let mut sums = [0.0f64; 5]; // n, Σt, Σu, Σt², Σtu
+    let add = |s: &mut [f64; 5], k: usize, sign: f64| {
+        s[0] += sign;
+        s[1] += sign * tt[k];
+        s[2] += sign * src[k];
+        s[3] += sign * tt[k] * tt[k];
+        s[4] += sign * tt[k] * src[k];
+    };
+    let (mut lo, mut hi) = (0usize, 0usize);
+    add(&mut sums, 0, 1.0);
+    for i in 1..src.len() - 1 {
+        while hi < i || (hi + 1 < src.len() && (src[hi + 1] - src[i]).abs() <= half) {
+            hi += 1;
+            add(&mut sums, hi, 1.0);
+        }
+        while lo < i && (src[i] - src[lo]).abs() > half {
+            add(&mut sums, lo, -1.0);
+            lo += 1;
+        }
+        let [n, st, su, stt, stu] = sums;
+        if n >= 3.0 {
+            let tm = st / n;
+            let var = stt / n - tm * tm;
+            if var > 1e-12 * (tm * tm).max(1e-300) {
+                let slope = (stu / n - tm * su / n) / var;
+                y[a + i] = su / n + slope * (tt[i] - tm);
             }
+        }
+    }
+    // Keep the level monotone and within its ends.
+    let (ya, yb) = (src[0], src[src.len() - 1]);
+    let (lo_v, hi_v) = (ya.min(yb), ya.max(yb));
+    let up = yb >= ya;
+    for i in a + 1..b {
+        y[i] = y[i].clamp(lo_v, hi_v);
+        let prev = y[i - 1];
+        if (up && y[i] < prev) || (!up && y[i] > prev) {
+            y[i] = prev;
         }
     }
 }
