@@ -133,7 +133,7 @@ pub(crate) fn analyze(t: &[f64], x: &[f64], opts: &SegmentOptions) -> Analysis {
     let mut values = raw.clone();
     if n >= 3 && finite {
         fit_runs(&raw, &ev.reversals, &mut values);
-        flatten_holds(&mut values, &ev.reversals, &ev.holds);
+        flatten_holds(&mut values, &ev.reversals, &ev.holds, &ev.noise);
     }
     let changed = values.iter().zip(&raw).any(|(a, b)| a != b);
     Analysis {
@@ -153,7 +153,15 @@ pub(crate) fn analyze(t: &[f64], x: &[f64], opts: &SegmentOptions) -> Analysis {
 
 /// Makes every hold exactly flat at its mean, kept between its neighbours so that the motion
 /// into and out of it stays monotone.
-fn flatten_holds(values: &mut [f64], reversals: &[usize], holds: &[(usize, usize)]) {
+fn flatten_holds(
+    values: &mut [f64],
+    reversals: &[usize],
+    holds: &[(usize, usize)],
+    noise: &NoiseEstimate,
+) {
+    // A reading off the hold's level by more than this is not at it: four SDs of one reading,
+    // or two and a half quanta of a quantised column.
+    let off_level = (4.0 * noise.sd).max(2.5 * noise.quantum);
     let n = values.len();
     let mut bounds: Vec<usize> = vec![0];
     bounds.extend(reversals);
@@ -164,8 +172,21 @@ fn flatten_holds(values: &mut [f64], reversals: &[usize], holds: &[(usize, usize
         dirs.get(k).copied().unwrap_or(1)
     };
     for &(s, e) in holds {
-        let a = s - 1; // the row where the hold begins (last moving row)
         let b = (e - 1).min(n - 1); // last row of the hold
+        if b < s {
+            continue;
+        }
+        // The row where the hold begins (the last moving row), unless its reading is off the
+        // hold's level (the end of a slow unload whose last interval read as still, moving
+        // less than the band that makes a motion an event but far more than one reading's
+        // noise): that row keeps its reading, and the level starts after it.
+        let mut hold_rows = values[s..=b].to_vec();
+        let level = crate::noise::median(&mut hold_rows);
+        let a = if (values[s - 1] - level).abs() > off_level {
+            s
+        } else {
+            s - 1
+        };
         if b <= a {
             continue;
         }
@@ -233,6 +254,39 @@ mod tests {
         );
         assert_eq!(pava(&[3.0, 1.0, 2.0, 0.0], -1), vec![3.0, 1.5, 1.5, 0.0]);
         assert!(pava_increasing(&[]).is_empty());
+    }
+
+    #[test]
+    fn the_last_row_of_a_slow_unload_keeps_its_reading_when_the_hold_after_it_is_flattened() {
+        // A load point backing off slowly (0.0005 mm/s) into a hold, read to 0.1 µm with a
+        // noise of 0.14 µm: the last interval of the unload (1.1 µm over 2 s) read as still.
+        // Its first row is 8 SDs off the hold's level — 7 kPa of an elastic unload on a stiff
+        // rig — and keeps its reading; the hold's rows take their level.
+        let noise = NoiseEstimate {
+            sd: 0.00014,
+            quantum: 0.0001,
+            floor: false,
+            block_range: (0.00014, 0.00014),
+        };
+        let unload = [2.1499, 2.1492, 2.1476, 2.1460, 2.1437];
+        let hold = [
+            2.1426, 2.1427, 2.1426, 2.1424, 2.1427, 2.1426, 2.1427, 2.1427, 2.1425,
+        ];
+        let mut values: Vec<f64> = unload.iter().chain(&hold).copied().collect();
+        let n = values.len();
+        let (s, e) = (unload.len(), n);
+        flatten_holds(&mut values, &[], &[(s, e)], &noise);
+        assert_eq!(values[s - 1], 2.1437, "the unload's last row moved");
+        assert!(
+            values[s..].iter().all(|&v| (v - 2.14261).abs() < 2e-5),
+            "{values:?}"
+        );
+        // A last moving row within a reading's noise of the level is the hold's first row, as
+        // before: it takes the level.
+        let mut values: Vec<f64> = [2.1460, 2.1427].iter().chain(&hold).copied().collect();
+        let (s, e) = (2, values.len());
+        flatten_holds(&mut values, &[], &[(s, e)], &noise);
+        assert!((values[s - 1] - values[s]).abs() < 1e-12, "{values:?}");
     }
 
     #[test]
