@@ -173,8 +173,10 @@ const SLOW_WINDOW: usize = 60;
 /// Fewest windows [`slow_noise_ratio`] measures on.
 const SLOW_MIN_WINDOWS: usize = 3;
 
-/// The RMS residual of `x` about the least-squares parabola in `t` (for 3 rows or more).
-fn parabola_rms(t: &[f64], x: &[f64]) -> f64 {
+/// The RMS residual of `x` about the least-squares polynomial in `t` with `terms` terms (1: a
+/// constant, 2: a line, 3: a parabola; for more rows than terms).
+fn polynomial_rms(t: &[f64], x: &[f64], terms: usize) -> f64 {
+    let terms = terms.clamp(1, 3);
     let n = t.len() as f64;
     let tm = t.iter().sum::<f64>() / n;
     let span = t
@@ -188,16 +190,16 @@ fn parabola_rms(t: &[f64], x: &[f64]) -> f64 {
     for (&ti, &xi) in t.iter().zip(x) {
         let u = (ti - tm) / span;
         let phi = [1.0, u, u * u];
-        for r in 0..3 {
+        for r in 0..terms {
             b[r] += phi[r] * xi;
-            for c in 0..3 {
+            for c in 0..terms {
                 g[r][c] += phi[r] * phi[c];
             }
         }
     }
     // Gaussian elimination with partial pivoting.
-    for k in 0..3 {
-        let p = (k..3)
+    for k in 0..terms {
+        let p = (k..terms)
             .max_by(|&i, &j| g[i][k].abs().total_cmp(&g[j][k].abs()))
             .unwrap_or(k);
         g.swap(k, p);
@@ -206,7 +208,7 @@ fn parabola_rms(t: &[f64], x: &[f64]) -> f64 {
             return f64::NAN;
         }
         let (pivot_row, pivot_b) = (g[k], b[k]);
-        for i in k + 1..3 {
+        for i in k + 1..terms {
             let f = g[i][k] / pivot_row[k];
             for (gi, gk) in g[i].iter_mut().zip(pivot_row).skip(k) {
                 *gi -= f * gk;
@@ -215,8 +217,8 @@ fn parabola_rms(t: &[f64], x: &[f64]) -> f64 {
         }
     }
     let mut c = [0.0; 3];
-    for k in (0..3).rev() {
-        c[k] = (b[k] - (k + 1..3).map(|j| g[k][j] * c[j]).sum::<f64>()) / g[k][k];
+    for k in (0..terms).rev() {
+        c[k] = (b[k] - (k + 1..terms).map(|j| g[k][j] * c[j]).sum::<f64>()) / g[k][k];
     }
     let ss: f64 = t
         .iter()
@@ -227,7 +229,7 @@ fn parabola_rms(t: &[f64], x: &[f64]) -> f64 {
             e * e
         })
         .sum();
-    (ss / (n - 3.0).max(1.0)).sqrt()
+    (ss / (n - terms as f64).max(1.0)).sqrt()
 }
 
 /// How much more a measured column scatters over a slow stretch than its white noise: the
@@ -256,15 +258,29 @@ fn parabola_rms(t: &[f64], x: &[f64]) -> f64 {
 /// assert!((0.7..1.4).contains(&ratio), "{ratio}");
 /// ```
 pub fn slow_noise_ratio(t: &[f64], imposed: &[f64], x: &[f64], white_sd: f64) -> Option<f64> {
+    slow_noise_ratio_over(t, imposed, x, white_sd, SLOW_WINDOW, 3)
+}
+
+/// [`slow_noise_ratio`] over windows of `window` rows, about a polynomial in time of `terms`
+/// terms (1: the window's mean, 2: a line, 3: a parabola) in each.
+pub fn slow_noise_ratio_over(
+    t: &[f64],
+    imposed: &[f64],
+    x: &[f64],
+    white_sd: f64,
+    window: usize,
+    terms: usize,
+) -> Option<f64> {
+    let window = window.max(4);
     let n = t.len().min(imposed.len()).min(x.len());
-    if white_sd.is_nan() || white_sd <= 0.0 || n < SLOW_WINDOW {
+    if white_sd.is_nan() || white_sd <= 0.0 || n < window {
         return None;
     }
     let rate = |i: usize| (imposed[i + 1] - imposed[i]) / (t[i + 1] - t[i]);
     let mut ratios = Vec::new();
     let mut i = 0;
-    while i + SLOW_WINDOW <= n {
-        let rates: Vec<f64> = (i..i + SLOW_WINDOW - 1).map(rate).collect();
+    while i + window <= n {
+        let rates: Vec<f64> = (i..i + window - 1).map(rate).collect();
         let mean = rates.iter().sum::<f64>() / rates.len() as f64;
         let steady = mean != 0.0
             && rates
@@ -272,13 +288,13 @@ pub fn slow_noise_ratio(t: &[f64], imposed: &[f64], x: &[f64], white_sd: f64) ->
                 .all(|r| r.is_finite() && r.signum() == mean.signum())
             && rates.iter().map(|r| (r - mean).abs()).fold(0.0, f64::max) < 0.2 * mean.abs();
         if steady {
-            let rms = parabola_rms(&t[i..i + SLOW_WINDOW], &x[i..i + SLOW_WINDOW]);
+            let rms = polynomial_rms(&t[i..i + window], &x[i..i + window], terms);
             if rms.is_finite() {
                 ratios.push((rms / white_sd).powi(2));
             }
-            i += SLOW_WINDOW;
+            i += window;
         } else {
-            i += SLOW_WINDOW / 4;
+            i += window / 4;
         }
     }
     (ratios.len() >= SLOW_MIN_WINDOWS).then(|| median(&mut ratios))
@@ -303,6 +319,48 @@ mod tests {
 
     fn gauss(rng: &mut rand::rngs::StdRng) -> f64 {
         StandardNormal.sample(rng)
+    }
+
+    #[test]
+    fn a_wander_slower_than_the_short_windows_is_seen_over_long_windows_about_a_line() {
+        // The residual of a model that fits: white noise of SD 0.2 plus a first-order wander of
+        // SD 0.2 with a correlation time of 6 s, read every 0.2 s. Sixty rows (12 s, two
+        // correlation times) about a parabola absorb most of the wander; 240 rows (48 s) about
+        // a line see most of it: the variance is about twice the white part's.
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        let dt = 0.2;
+        let t: Vec<f64> = (0..12000).map(|i| i as f64 * dt).collect();
+        let slip: Vec<f64> = t.iter().map(|t| 0.01 * t).collect();
+        let phi = (-dt / 6.0f64).exp();
+        let mut wander = 0.0;
+        let r: Vec<f64> = t
+            .iter()
+            .map(|_| {
+                wander = phi * wander + 0.2 * (1.0 - phi * phi).sqrt() * gauss(&mut rng);
+                wander + 0.2 * gauss(&mut rng)
+            })
+            .collect();
+        let white = estimate_noise(&t, &r).sd;
+        let short = slow_noise_ratio(&t, &slip, &r, white).unwrap();
+        let long = slow_noise_ratio_over(&t, &slip, &r, white, 240, 2).unwrap();
+        assert!(short < 1.4, "white {white}, 60 rows {short}");
+        assert!(long > 1.6 && long < 2.4, "white {white}, 240 rows {long}");
+        // Without the wander both see the white noise alone.
+        let plain: Vec<f64> = t.iter().map(|_| 0.2 * gauss(&mut rng)).collect();
+        let white = estimate_noise(&t, &plain).sd;
+        let long = slow_noise_ratio_over(&t, &slip, &plain, white, 240, 2).unwrap();
+        assert!(
+            (0.85..1.15).contains(&long),
+            "white {white}, 240 rows {long}"
+        );
+        // A slow trend the model missed (a line over the whole stretch) is not noise: the line
+        // of each window takes it out.
+        let trend: Vec<f64> = t.iter().zip(&plain).map(|(t, e)| 0.01 * t + e).collect();
+        let long = slow_noise_ratio_over(&t, &slip, &trend, white, 240, 2).unwrap();
+        assert!(
+            (0.85..1.15).contains(&long),
+            "white {white}, 240 rows {long}"
+        );
     }
 
     #[test]

@@ -42,8 +42,9 @@ pub struct DataFeatures {
     /// How much more the record scatters over its steady stretches than its white noise shows
     /// (noise correlated in time, which a model's residual shows in full but the noise estimate
     /// misses; [`subfric_data::noise::slow_noise_ratio`], median over the slip-controlled
-    /// tests, within [1, [`MAX_UNSEEN_NOISE`]]): the misfit below which the gap is noise grows
-    /// by this factor.
+    /// tests, within [1, [`MAX_UNSEEN_NOISE`]]; once the base model is fitted, the larger of
+    /// that and the same measure on its residual over longer windows, [`unseen_noise_about`]):
+    /// the misfit below which the gap is noise grows by this factor.
     pub unseen_noise: f64,
     /// Velocity-step signature.
     pub steps: StepSignature,
@@ -257,6 +258,49 @@ fn unseen_noise(tests: &[PreparedTest]) -> f64 {
         })
         .collect();
     median(&mut ratios).map_or(1.0, |r| r.clamp(1.0, MAX_UNSEEN_NOISE))
+}
+
+/// Rows of the longest window of [`unseen_noise_about`]: four times the raw record's window, so
+/// that it spans several correlation times of a wander that 60 rows of steady driving absorb.
+const RESIDUAL_WINDOW: usize = 240;
+
+/// [`DataFeatures::unseen_noise`] measured again on the residual of the model fitted to the
+/// record (`model`, the base), over windows of steady driving with a straight line in time
+/// removed from each: the model has taken out the friction's own curvature, which is what keeps
+/// the raw record's windows short (over a longer window a parabola no longer follows the
+/// friction), so a window can span the wander that the raw windows absorb, and a line still
+/// takes out what the model misses slowly. Each test is measured over the longest windows it
+/// holds three of: [`RESIDUAL_WINDOW`] rows, else half as many, down to 60. The larger of the
+/// median over the tests and the raw record's figure, within [`MAX_UNSEEN_NOISE`].
+pub fn unseen_noise_about(tests: &[PreparedTest], model: &subfric_model::Model) -> f64 {
+    let mut ratios: Vec<f64> = tests
+        .iter()
+        .map(|p| &p.full)
+        .filter(|t| t.control == Control::Slip)
+        .filter_map(|t| {
+            let predicted = t.predict(model).ok()?;
+            let residual: Vec<f64> = predicted
+                .iter()
+                .zip(&t.measured)
+                .map(|(p, m)| m - p)
+                .collect();
+            if residual.iter().any(|r| !r.is_finite()) {
+                return None;
+            }
+            // The longest window the test holds three of.
+            std::iter::successors(Some(RESIDUAL_WINDOW), |w| Some(w / 2))
+                .take_while(|&w| w >= 60)
+                .find_map(|w| {
+                    subfric_data::noise::slow_noise_ratio_over(
+                        &t.time, &t.imposed, &residual, t.noise_sd, w, 2,
+                    )
+                })
+        })
+        .collect();
+    let about_model = median(&mut ratios).unwrap_or(1.0);
+    unseen_noise(tests)
+        .max(about_model)
+        .clamp(1.0, MAX_UNSEEN_NOISE)
 }
 
 impl DataFeatures {
