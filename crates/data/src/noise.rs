@@ -168,7 +168,7 @@ pub fn estimate_noise(t: &[f64], x: &[f64]) -> NoiseEstimate {
 }
 
 /// Rows of a window of [`slow_noise_ratio`].
-const SLOW_WINDOW: usize = 60;
+pub const SLOW_WINDOW: usize = 60;
 
 /// Fewest windows [`slow_noise_ratio`] measures on.
 const SLOW_MIN_WINDOWS: usize = 3;

@@ -265,35 +265,29 @@ fn unseen_noise(tests: &[PreparedTest]) -> f64 {
 const RESIDUAL_WINDOW: usize = 240;
 
 /// [`DataFeatures::unseen_noise`] measured again on the residual of the model fitted to the
-/// record (`model`, the base), over windows of steady driving with a straight line in time
-/// removed from each: the model has taken out the friction's own curvature, which is what keeps
-/// the raw record's windows short (over a longer window a parabola no longer follows the
-/// friction), so a window can span the wander that the raw windows absorb, and a line still
-/// takes out what the model misses slowly. Each test is measured over the longest windows it
-/// holds three of: [`RESIDUAL_WINDOW`] rows, else half as many, down to 60. The larger of the
+/// record (`residuals`: the base model's on every row of each test, in units of the test's
+/// noise as [`crate::fits::residuals`] gives them), over windows of steady driving with a
+/// straight line in time removed from each: the model has taken out the friction's own
+/// curvature, which is what keeps the raw record's windows short (over a longer window a
+/// parabola no longer follows the friction), so a window can span the wander that the raw
+/// windows absorb, and a line still takes out what the model misses slowly. Each test is
+/// measured over the longest windows it holds three of: [`RESIDUAL_WINDOW`] rows, else half as
+/// many, down to the raw record's [`subfric_data::noise::SLOW_WINDOW`]. The larger of the
 /// median over the tests and the raw record's figure, within [`MAX_UNSEEN_NOISE`].
-pub fn unseen_noise_about(tests: &[PreparedTest], model: &subfric_model::Model) -> f64 {
+pub fn unseen_noise_about(tests: &[PreparedTest], residuals: &crate::score::HeldOut) -> f64 {
     let mut ratios: Vec<f64> = tests
         .iter()
         .map(|p| &p.full)
-        .filter(|t| t.control == Control::Slip)
-        .filter_map(|t| {
-            let predicted = t.predict(model).ok()?;
-            let residual: Vec<f64> = predicted
-                .iter()
-                .zip(&t.measured)
-                .map(|(p, m)| m - p)
-                .collect();
-            if residual.iter().any(|r| !r.is_finite()) {
-                return None;
-            }
-            // The longest window the test holds three of.
+        .zip(residuals)
+        .filter(|(t, r)| t.control == Control::Slip && r.iter().all(|v| v.is_finite()))
+        .filter_map(|(t, r)| {
+            // The residuals are scaled by the test's weight over its noise: one white SD is
+            // the square root of the weight.
+            let white = t.weight.sqrt();
             std::iter::successors(Some(RESIDUAL_WINDOW), |w| Some(w / 2))
-                .take_while(|&w| w >= 60)
+                .take_while(|&w| w >= subfric_data::noise::SLOW_WINDOW)
                 .find_map(|w| {
-                    subfric_data::noise::slow_noise_ratio_over(
-                        &t.time, &t.imposed, &residual, t.noise_sd, w, 2,
-                    )
+                    subfric_data::noise::slow_noise_ratio_over(&t.time, &t.imposed, r, white, w, 2)
                 })
         })
         .collect();

@@ -196,8 +196,9 @@ pub fn diagnose_reporting(
     cx.step(1, 0, 0);
     let base = fit_base(&mut cx, &template)?;
     let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();
-    cx.features.unseen_noise = crate::features::unseen_noise_about(prepared, &base.model);
-    let localisation = localise(prepared, &residuals(&fulls, &base.model, None));
+    let base_on_all_rows = residuals(&fulls, &base.model, None);
+    cx.features.unseen_noise = crate::features::unseen_noise_about(prepared, &base_on_all_rows);
+    let localisation = localise(prepared, &base_on_all_rows);
 
     let mut lib = library_with(&cx.features, &opts.with_families);
     lib.retain(|f| !opts.excluded_forms.iter().any(|x| x == f.name));
