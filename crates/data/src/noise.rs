@@ -321,6 +321,19 @@ mod tests {
         StandardNormal.sample(rng)
     }
 
+    /// White noise of SD 0.2 plus a first-order wander of SD 0.2 and correlation time `tau`
+    /// s, at the instants `t` read every `dt` s.
+    fn white_and_wander(rng: &mut rand::rngs::StdRng, t: &[f64], dt: f64, tau: f64) -> Vec<f64> {
+        let phi = (-dt / tau).exp();
+        let mut wander = 0.0;
+        t.iter()
+            .map(|_| {
+                wander = phi * wander + 0.2 * (1.0 - phi * phi).sqrt() * gauss(rng);
+                wander + 0.2 * gauss(rng)
+            })
+            .collect()
+    }
+
     #[test]
     fn a_wander_slower_than_the_short_windows_is_seen_over_long_windows_about_a_line() {
         // The residual of a model that fits: white noise of SD 0.2 plus a first-order wander of
@@ -331,15 +344,7 @@ mod tests {
         let dt = 0.2;
         let t: Vec<f64> = (0..12000).map(|i| i as f64 * dt).collect();
         let slip: Vec<f64> = t.iter().map(|t| 0.01 * t).collect();
-        let phi = (-dt / 6.0f64).exp();
-        let mut wander = 0.0;
-        let r: Vec<f64> = t
-            .iter()
-            .map(|_| {
-                wander = phi * wander + 0.2 * (1.0 - phi * phi).sqrt() * gauss(&mut rng);
-                wander + 0.2 * gauss(&mut rng)
-            })
-            .collect();
+        let r = white_and_wander(&mut rng, &t, dt, 6.0);
         let white = estimate_noise(&t, &r).sd;
         let short = slow_noise_ratio(&t, &slip, &r, white).unwrap();
         let long = slow_noise_ratio_over(&t, &slip, &r, white, 240, 2).unwrap();
@@ -372,14 +377,9 @@ mod tests {
         let dt = 0.2;
         let t: Vec<f64> = (0..6000).map(|i| i as f64 * dt).collect();
         let slip: Vec<f64> = t.iter().map(|t| 0.01 * t).collect();
-        let phi = (-dt / 2.0f64).exp();
-        let mut wander = 0.0;
-        let x: Vec<f64> = t
+        let x: Vec<f64> = white_and_wander(&mut rng, &t, dt, 2.0)
             .iter()
-            .map(|_| {
-                wander = phi * wander + 0.2 * (1.0 - phi * phi).sqrt() * gauss(&mut rng);
-                40.0 + wander + 0.2 * gauss(&mut rng)
-            })
+            .map(|v| 40.0 + v)
             .collect();
         let white = estimate_noise(&t, &x).sd;
         let ratio = slow_noise_ratio(&t, &slip, &x, white).unwrap();

@@ -63,6 +63,41 @@ fn segments_cover_all_rows() {
     assert_eq!(next, 50);
 }
 
+/// A level of `rows` rows at `rate` mm/s read every `dt` s, with the second half's rows later
+/// by `removed_s` (rows taken out) and short of the level's travel over that time by
+/// `missing_mm`, smoothed with `window`: the rows beside the junction keep their readings.
+fn assert_junction_rows_kept(
+    rows: usize,
+    dt: f64,
+    rate: f64,
+    removed_s: f64,
+    missing_mm: f64,
+    window: f64,
+) {
+    let mut t: Vec<f64> = (0..rows).map(|i| i as f64 * dt).collect();
+    let mut y: Vec<f64> = t.iter().map(|t| rate * t).collect();
+    let half = rows / 2;
+    for i in half..rows {
+        t[i] += removed_s;
+        y[i] += rate * removed_s - missing_mm;
+    }
+    let raw = y.clone();
+    let level = [RateLevel {
+        start: 1,
+        end: rows,
+        rate,
+    }];
+    smooth_levels(&t, &mut y, &level, window);
+    for i in half - 3..half + 3 {
+        assert!(
+            (y[i] - raw[i]).abs() < 2e-4,
+            "row {i}: {} moved to {}",
+            raw[i],
+            y[i]
+        );
+    }
+}
+
 #[test]
 fn rows_next_to_a_stretch_taken_out_of_a_level_keep_their_readings() {
     // A level at 0.0058 mm/s read every 0.8 s, from which the rows of 4 s were taken out
@@ -70,50 +105,10 @@ fn rows_next_to_a_stretch_taken_out_of_a_level_keep_their_readings() {
     // 0.028 mm). A line in time through the rows on either side would move the two rows next
     // to the junction by about 0.002 mm, ten times the resolution and 10 kPa of an elastic
     // reload; each side is smoothed on its own instead.
-    let mut t: Vec<f64> = (0..40).map(|i| i as f64 * 0.8).collect();
-    let mut y: Vec<f64> = t.iter().map(|t| 0.0058 * t).collect();
-    for i in 20..40 {
-        t[i] += 4.1;
-        y[i] += 0.0058 * 4.1 - 0.0218;
-    }
-    let raw = y.clone();
-    let level = [RateLevel {
-        start: 1,
-        end: 40,
-        rate: 0.0058,
-    }];
-    smooth_levels(&t, &mut y, &level, 0.015);
-    for i in 17..23 {
-        assert!(
-            (y[i] - raw[i]).abs() < 2e-4,
-            "row {i}: {} moved to {}",
-            raw[i],
-            y[i]
-        );
-    }
+    assert_junction_rows_kept(40, 0.8, 0.0058, 4.1, 0.0218, 0.015);
     // A smaller departure, within half the window but four bands: 0.02 mm/s read every
     // 0.17 s, 0.0059 mm of travel missing over 0.69 s; the band is 1.4 µm, the window 21 µm.
-    let mut t: Vec<f64> = (0..60).map(|i| i as f64 * 0.17).collect();
-    let mut y: Vec<f64> = t.iter().map(|t| 0.02 * t).collect();
-    for i in 30..60 {
-        t[i] += 0.52;
-        y[i] += 0.02 * 0.52 - 0.0059;
-    }
-    let raw = y.clone();
-    let level = [RateLevel {
-        start: 1,
-        end: 60,
-        rate: 0.02,
-    }];
-    smooth_levels(&t, &mut y, &level, 0.021);
-    for i in 27..33 {
-        assert!(
-            (y[i] - raw[i]).abs() < 2e-4,
-            "row {i}: {} moved to {}",
-            raw[i],
-            y[i]
-        );
-    }
+    assert_junction_rows_kept(60, 0.17, 0.02, 0.52, 0.0059, 0.021);
 }
 
 #[test]
