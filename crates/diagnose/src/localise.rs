@@ -77,10 +77,20 @@ pub fn localise(prepared: &[PreparedTest], res: &HeldOut) -> Localisation {
             .get(i)
             .map(|k| k.name().to_string())
     };
+    // Per-test figures are read once: the groupings below ask for them on every row, and a
+    // record of 70 000 rows made that quadratic (1.5 s of a real record's diagnosis).
+    let cycles: Vec<u32> = prepared.iter().map(|p| p.segmentation.cycles()).collect();
+    let stresses: Vec<String> = prepared
+        .iter()
+        .map(|p| {
+            let f = &p.full;
+            let mean = f.normal.iter().sum::<f64>() / f.normal.len().max(1) as f64;
+            format!("{mean:.0} kPa")
+        })
+        .collect();
     let cycle = |t: usize, i: usize| {
-        let seg = &prepared[t].segmentation;
-        let n = seg.cycles();
-        let c = *seg.cycle_of_row.get(i)?;
+        let n = cycles[t];
+        let c = *prepared[t].segmentation.cycle_of_row.get(i)?;
         (n >= 2).then(|| {
             if c <= n / 2 {
                 "early cycles".to_string()
@@ -89,11 +99,7 @@ pub fn localise(prepared: &[PreparedTest], res: &HeldOut) -> Localisation {
             }
         })
     };
-    let stress = |t: usize| {
-        let f = &prepared[t].full;
-        let mean = f.normal.iter().sum::<f64>() / f.normal.len().max(1) as f64;
-        format!("{mean:.0} kPa")
-    };
+    let stress = |t: usize| stresses[t].clone();
     Localisation {
         by_test: group_misfit(res, |t, _| Some(name(t))),
         by_segment: group_misfit(res, kind),
