@@ -96,11 +96,20 @@ fn ranked_by_family(reports: &[FormReport], per_family: usize) -> Vec<Vec<usize>
 }
 
 /// The best form of every family not yet in `current`, each fitted on top of it: an effect
-/// masked by another one not yet modelled may show its best form only now. Starts: the current
-/// model with the form switched off, and at the form's own starts (ranked by one run each).
+/// masked by another one not yet modelled may show its best form only now. Every form is
+/// screened (starts: the current model with the form switched off, and the form's own starts);
+/// the best of each family and those the screening cannot tell from it (see
+/// [`polished_among`]) are polished on the current model, and the best once polished is the
+/// family's form, as in the first stage.
 fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
     let own_residuals = residuals(&cx.tests, &current.model, None);
-    let scored: Vec<(usize, f64, SpecFit)> = lib
+    // (penalised score, effective rows) of a fitted model against the current one.
+    let score_of = |model: &Model, f: &Form| {
+        let r = residuals(&cx.tests, model, None);
+        let c = compare(&cx.pieces, &cx.weights, &own_residuals, &r);
+        (penalised(&c, f.params.len()), c.n_eff)
+    };
+    let scored: Vec<(usize, f64, f64, SpecFit)> = lib
         .par_iter()
         .enumerate()
         .filter(|(_, f)| !current.spec.forms.iter().any(|g| g.effect == f.effect))
@@ -117,14 +126,45 @@ fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
                     .map(|v| with_values(&current.model, &alone, std::slice::from_ref(v))),
             );
             let fitted = cx.screen_spec(&current.model, &spec, &starts, cx.opts.rescreening);
-            let r = residuals(&cx.tests, &fitted.result.model, None);
-            let c = compare(&cx.pieces, &cx.weights, &own_residuals, &r);
-            let score = penalised(&c, f.params.len());
+            let (score, n_eff) = score_of(&fitted.result.model, f);
+            (i, score, n_eff, fitted)
+        })
+        .collect();
+    let mut by_family: BTreeMap<Effect, Vec<(usize, f64, f64, SpecFit)>> = BTreeMap::new();
+    for entry in scored {
+        if entry.1.is_finite() {
+            by_family
+                .entry(lib[entry.0].effect)
+                .or_default()
+                .push(entry);
+        }
+    }
+    let to_polish: Vec<(usize, SpecFit)> = by_family
+        .into_values()
+        .flat_map(|mut ranked| {
+            // Stable: of equal scores the form listed first stays first.
+            ranked.sort_by(|a, b| b.1.total_cmp(&a.1));
+            let keep = polished_among(&ranked.iter().map(|r| (r.1, r.2)).collect::<Vec<_>>());
+            ranked.truncate(keep);
+            ranked.into_iter().map(|(i, _, _, fitted)| (i, fitted))
+        })
+        .collect();
+    let polished: Vec<(usize, f64, SpecFit)> = to_polish
+        .into_par_iter()
+        .map(|(i, screened)| {
+            let spec = current.spec.plus(&lib[i]);
+            let fitted = cx.fit_spec(
+                &current.model,
+                &spec,
+                &[screened.result.model],
+                Effort::refit(cx.opts.candidate_iterations),
+            );
+            let (score, _) = score_of(&fitted.result.model, &lib[i]);
             (i, score, fitted)
         })
         .collect();
     let mut best: BTreeMap<Effect, (usize, f64, SpecFit)> = BTreeMap::new();
-    for (i, score, fitted) in scored {
+    for (i, score, fitted) in polished {
         let e = lib[i].effect;
         if best.get(&e).is_none_or(|b| score > b.1) {
             best.insert(e, (i, score, fitted));
@@ -294,6 +334,22 @@ pub(super) fn screen_and_polish(
         .collect();
     cx.trace("best forms polished");
     (forms, families)
+}
+
+/// How many of a family's forms, ranked by screened (score, effective rows) best first, a later
+/// stage polishes: the best, and every further form the screening cannot tell from it — within
+/// two parameters' penalty, 2 ln n_eff. A few screening iterations leave a rate-and-state form,
+/// slow to converge, just behind a direct effect that converges at once (9 points on 3 000
+/// rows; once polished, the rate-and-state form explains the velocity steps and the direct
+/// effect does not). Forms clearly behind are not polished: each costs a full refit per stage.
+fn polished_among(ranked: &[(f64, f64)]) -> usize {
+    let Some(&(best, _)) = ranked.first() else {
+        return 0;
+    };
+    1 + ranked[1..]
+        .iter()
+        .take_while(|(score, n_eff)| *score >= best - 2.0 * n_eff.max(1.0).ln())
+        .count()
 }
 
 /// Forms of each family polished before the family's form is chosen: the screening ranks
@@ -642,18 +698,9 @@ fn selection_stage(
         .filter(|f| !current.spec.forms.iter().any(|g| g.effect == f.effect))
         .map(|f| {
             let spec = current.spec.plus(&f.form);
-            // The family's best form was fitted on top of the current model already (on the
-            // base in the first stage); later stages polish it, reweighted.
-            let fitted = if first_stage {
-                f.alone.clone()
-            } else {
-                cx.fit_spec(
-                    &current.model,
-                    &spec,
-                    &[f.alone.result.model],
-                    Effort::refit(cx.opts.candidate_iterations),
-                )
-            };
+            // The family's best form was polished on top of the current model already (on the
+            // base in the first stage, by `rescreen` in later ones).
+            let fitted = f.alone.clone();
             let model = fitted.result.model;
             let held = cx.held_out(
                 &current.model,

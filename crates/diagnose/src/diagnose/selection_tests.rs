@@ -115,3 +115,16 @@ fn the_shrink_by_kind_of_piece_is_the_share_of_its_misfit_removed() {
         holds.shrink
     );
 }
+
+#[test]
+fn a_later_stage_polishes_the_best_screened_form_and_those_the_screening_cannot_tell_from_it() {
+    // 2 ln(1000) = 13.8: the runner-up 8.7 behind is polished too, one 30 behind is not.
+    let n = 1000.0;
+    assert_eq!(polished_among(&[(-133.6, n), (-142.3, n), (-172.0, n)]), 2);
+    assert_eq!(polished_among(&[(-133.6, n), (-163.6, n), (-164.0, n)]), 1);
+    // Ties all the way down are all polished; an empty family polishes nothing.
+    assert_eq!(polished_among(&[(5.0, n), (5.0, n), (4.0, n)]), 3);
+    assert_eq!(polished_among(&[]), 0);
+    // The margin grows with the effective rows: on 10 rows, 2 ln 10 = 4.6.
+    assert_eq!(polished_among(&[(0.0, 10.0), (-8.7, 10.0)]), 1);
+}
