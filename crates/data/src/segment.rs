@@ -294,13 +294,6 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         &seg.levels,
         LEVEL_SMOOTHING_BANDS * seg.conditioned.band,
     );
-    settle_reversal_rows(
-        t,
-        &mut seg.conditioned.values,
-        &seg.reversals,
-        &seg.levels,
-        seg.conditioned.noise_sd,
-    );
     let event_at = events_at_rows(n, &seg);
     classify_rows(test, &y, &in_hold, &event_at, opts, &mut seg);
     seg.segments = collect_segments(t, &y, &event_at, &seg);
@@ -628,20 +621,12 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
 /// noise into friction noise.
 const LEVEL_SMOOTHING_BANDS: f64 = 15.0;
 
-/// Rows on either side that the smoothing line of a level always takes, however far apart:
-/// where a rate-adaptive logger samples a row per several µm, the window in travel holds no
-/// neighbour and the column kept its reading noise, which a stiff elastic leg after each
-/// reversal turns into kPa (0.14 µm of slip noise at 5.4 kPa/µm is seven times a shear noise
-/// of 0.11 kPa). A level moves at one rate, so a line through a few rows either side stands for
-/// it as well as one through many.
-const LEVEL_SMOOTHING_ROWS: usize = 4;
-
 /// Smooths the imposed column within each sliding level at the scale of its noise: each
 /// interior row is replaced by the straight line fitted to the rows within `window / 2` of
 /// travel on either side (never across the level's ends, which stay as they are). A compliant
 /// machine turns imposed-column noise into simulated traction noise; below the resolution of
-/// the column there is no signal to keep. Where rows are farther apart than the window the line
-/// takes [`LEVEL_SMOOTHING_ROWS`] rows on either side.
+/// the column there is no signal to keep. Where rows are farther apart than the window nothing
+/// changes.
 ///
 /// A line in time stands for the column only while it moves at the level's rate: an interval
 /// whose travel departs from the level's rate times its duration by more than half the window
@@ -689,14 +674,11 @@ fn smooth_stretch(t: &[f64], y: &mut [f64], a: usize, b: usize, half: f64) {
     let (mut lo, mut hi) = (0usize, 0usize);
     add(&mut sums, 0, 1.0);
     for i in 1..src.len() - 1 {
-        while hi < i
-            || (hi + 1 < src.len()
-                && ((src[hi + 1] - src[i]).abs() <= half || hi + 1 - i <= LEVEL_SMOOTHING_ROWS))
-        {
+        while hi < i || (hi + 1 < src.len() && (src[hi + 1] - src[i]).abs() <= half) {
             hi += 1;
             add(&mut sums, hi, 1.0);
         }
-        while lo < i && (src[i] - src[lo]).abs() > half && i - lo > LEVEL_SMOOTHING_ROWS {
+        while lo < i && (src[i] - src[lo]).abs() > half {
             add(&mut sums, lo, -1.0);
             lo += 1;
         }
@@ -722,73 +704,6 @@ fn smooth_stretch(t: &[f64], y: &mut [f64], a: usize, b: usize, half: f64) {
         }
     }
 }
-
-/// The reading of each reversal row, taken off the lines through the rows of the two legs
-/// beside it. The row at a reversal is the end of both levels and no level's line smooths it,
-/// yet every row of the elastic leg after it is simulated from it: its reading noise shifts the
-/// whole leg (0.2 µm of noise, 1.1 kPa on each row of a leg at 5.4 kPa/µm). The two legs'
-/// lines (at most [`REVERSAL_LINE_ROWS`] rows each, one level each) meet at the corner; the
-/// row takes the line of the leg it lies on at its time — the leg before when the corner
-/// comes after it. Left as read when the legs do not meet between its neighbours, when the
-/// line is farther from the reading than four noise SDs (not noise), or when the row would no
-/// longer be the extreme.
-fn settle_reversal_rows(
-    t: &[f64],
-    y: &mut [f64],
-    reversals: &[usize],
-    levels: &[RateLevel],
-    noise_sd: f64,
-) {
-    let k = REVERSAL_LINE_ROWS;
-    for &r in reversals {
-        if r == 0 || r + 1 >= y.len() {
-            continue;
-        }
-        let (Some(before), Some(after)) = (
-            levels.iter().find(|l| l.end == r + 1),
-            levels.iter().find(|l| l.start == r + 1),
-        ) else {
-            continue;
-        };
-        let leg_a = before.start.saturating_sub(1).max(r.saturating_sub(k))..r;
-        let leg_b = r + 1..after.end.min(r + 1 + k);
-        if leg_a.len() < 3 || leg_b.len() < 3 {
-            continue;
-        }
-        // y ≈ p + q (t − t_r) on each leg.
-        let fit = |rows: std::ops::Range<usize>| {
-            let tt: Vec<f64> = rows.clone().map(|i| t[i] - t[r]).collect();
-            let yy: Vec<f64> = rows.map(|i| y[i]).collect();
-            let n = tt.len() as f64;
-            let (mt, my) = (tt.iter().sum::<f64>() / n, yy.iter().sum::<f64>() / n);
-            let stt: f64 = tt.iter().map(|v| (v - mt) * (v - mt)).sum();
-            let sty: f64 = tt.iter().zip(&yy).map(|(a, b)| (a - mt) * (b - my)).sum();
-            let q = if stt > 0.0 { sty / stt } else { 0.0 };
-            (my - q * mt, q)
-        };
-        let ((pa, qa), (pb, qb)) = (fit(leg_a), fit(leg_b));
-        if qa * qb >= 0.0 {
-            continue;
-        }
-        let corner = (pb - pa) / (qa - qb);
-        if !(corner > t[r - 1] - t[r] && corner < t[r + 1] - t[r]) {
-            continue;
-        }
-        let settled = if corner >= 0.0 { pa } else { pb };
-        // Still the extreme of the two runs it joins.
-        let outward = qa.signum();
-        let extreme =
-            (settled - y[r - 1]) * outward >= 0.0 && (settled - y[r + 1]) * outward >= 0.0;
-        if extreme && (settled - y[r]).abs() <= 4.0 * noise_sd {
-            y[r] = settled;
-        }
-    }
-}
-
-/// Rows of each leg whose line settles a reversal row: a line read at its end is only as good
-/// as about 2/√n of one reading, so more than the level smoothing's few (a level moves at one
-/// rate, so its line stays straight over them).
-const REVERSAL_LINE_ROWS: usize = 20;
 
 /// Shear control: is |shear| decreasing over the interval ending at row `i`?
 fn unloading(y: &[f64], i: usize) -> bool {

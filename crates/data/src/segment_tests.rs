@@ -147,71 +147,14 @@ fn levels_are_smoothed_at_the_noise_scale_only() {
     );
     assert_eq!((y[0], y[2000]), (noisy[0], noisy[2000]), "the ends stay");
     assert!(y.windows(2).all(|w| w[1] >= w[0]), "monotone");
-    // Rows farther apart than the window (0.1 µm between rows, a window of 0.05 µm): the line
-    // takes LEVEL_SMOOTHING_ROWS rows on either side, and the reading noise falls all the same.
+    // Rows farther apart than the window: nothing changes.
     let sparse: Vec<f64> = truth
         .iter()
         .map(|u| u + 0.00002 * (rng.gen::<f64>() - 0.5))
         .collect();
     let mut z = sparse.clone();
     smooth_levels(&t, &mut z, &level, 0.00005);
-    assert!(
-        rms(&z) < 0.6 * rms(&sparse),
-        "{} vs {}",
-        rms(&z),
-        rms(&sparse)
-    );
-    assert_eq!((z[0], z[2000]), (sparse[0], sparse[2000]), "the ends stay");
-    assert!(z.windows(2).all(|w| w[1] >= w[0]), "monotone");
-}
-
-/// A logger's row every 0.2 s of a column driven at 0.02 mm/s (4 µm a row) out to a reversal
-/// `after` s past row 50 and back: the true column, and the reading (noise of 0.14 µm
-/// SD, and `reversal_error` mm more on row 50, the extreme reading).
-fn sparse_reversal(after: f64, reversal_error: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    use rand::{Rng, SeedableRng};
-    let mut rng = rand::rngs::StdRng::seed_from_u64(11);
-    let t: Vec<f64> = (0..101).map(|i| i as f64 * 0.2).collect();
-    let corner = t[50] + after;
-    let truth: Vec<f64> = t
-        .iter()
-        .map(|&t| 0.02 * t.min(corner) - 0.02 * (t - corner).max(0.0))
-        .collect();
-    let mut read: Vec<f64> = truth
-        .iter()
-        .map(|u| u + 0.00014 * 1.73 * (2.0 * rng.gen::<f64>() - 1.0))
-        .collect();
-    read[50] = truth[50] + reversal_error;
-    (t, truth, read)
-}
-
-#[test]
-fn the_extreme_row_of_a_reversal_takes_the_line_of_its_leg() {
-    // Every row of the elastic leg after a reversal is simulated from the reversal row's
-    // reading: 0.3 µm of error there is 1.6 kPa on each of them on a stiff rig. The row takes
-    // the line of the leg it lies on, whether the corner is at the row or after it.
-    for after in [0.0, 0.1] {
-        let (t, truth, read) = sparse_reversal(after, 0.0003);
-        let s = segment(
-            &data(ControlColumn::Slip, t, read.clone()),
-            &SegmentOptions::default(),
-        );
-        assert_eq!(s.reversals, vec![50], "corner {after} s after the row");
-        let settled = s.conditioned.values[50];
-        assert!(
-            (settled - truth[50]).abs() < 0.4 * (read[50] - truth[50]).abs(),
-            "corner {after} s after the row: read {}, settled {settled}, truth {}",
-            read[50],
-            truth[50]
-        );
-    }
-    // A reading far off both lines (here 5 µm, well over four noise SDs) is not noise: kept.
-    let (t, _, read) = sparse_reversal(0.0, 0.005);
-    let s = segment(
-        &data(ControlColumn::Slip, t, read.clone()),
-        &SegmentOptions::default(),
-    );
-    assert_eq!(s.conditioned.values[50], read[50]);
+    assert!(z == sparse, "sparse rows were changed");
 }
 
 #[test]
