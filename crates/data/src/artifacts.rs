@@ -479,7 +479,7 @@ mod tests {
 
     #[test]
     fn the_rest_of_a_gap_a_slack_stroke_left_open_is_taken_out_of_the_first_reload() {
-        // 0.01 mm: a third of the reload's elastic travel to 5 % of the peak (0.029 mm), far more
+        // 0.01 mm: a third of the reload's elastic travel to 15 % of the peak (0.033 mm), far more
         // than the later reloads differ by (they do not: no noise), so it is found.
         for rest in [0.01, 0.05, 0.12] {
             let t = cyclic_with_rest_of_gap(rest);
