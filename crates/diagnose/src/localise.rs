@@ -78,7 +78,7 @@ pub fn localise(prepared: &[PreparedTest], res: &HeldOut) -> Localisation {
             .map(|k| k.name().to_string())
     };
     // Per-test figures are read once: the groupings below ask for them on every row, and a
-    // record of 70 000 rows made that quadratic (1.5 s of a real record's diagnosis).
+    // record of 70 000 rows made that quadratic (3 s of a real record's diagnosis).
     let cycles: Vec<u32> = prepared.iter().map(|p| p.segmentation.cycles()).collect();
     let stresses: Vec<String> = prepared
         .iter()
