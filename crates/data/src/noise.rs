@@ -300,6 +300,136 @@ pub fn slow_noise_ratio_over(
     (ratios.len() >= SLOW_MIN_WINDOWS).then(|| median(&mut ratios))
 }
 
+/// The semivariogram in time of a residual over stretches of steady driving, pooled over tests,
+/// for a wander slower than any window of [`slow_noise_ratio_over`] holds: a rate-adaptive
+/// logger writes a row per few µm, so sixty or even 240 rows of a fast stretch span seconds
+/// while a load cell's wander runs over tens of seconds, and a line through each window takes
+/// most of it out. Within one stretch the semivariogram γ(Δt) = ½ E[(r(t + Δt) − r(t))²] of
+/// white noise plus a first-order wander rises from the white variance at short lags to the
+/// whole variance at lags beyond its correlation time τ: γ = w + s (1 − e^(−Δt/τ)).
+/// [`Variogram::wander_ratio`] fits that and returns (w + s) / w.
+///
+/// Pairs are taken at lags of 1, 2, 4, … rows within each stretch (n log n pairs), never
+/// across a change of rate, a reversal or a hold, where the model's transients are.
+#[derive(Clone, Debug, Default)]
+pub struct Variogram {
+    /// Per half-octave of lag (index round(2 log2 Δt)): sum of ½ (Δr)² and the pair count.
+    bins: std::collections::BTreeMap<i64, (f64, usize)>,
+    /// Duration of the longest stretch, s.
+    longest_s: f64,
+}
+
+/// Fewest rows of a stretch of steady driving the [`Variogram`] takes.
+const VARIOGRAM_MIN_ROWS: usize = 20;
+
+/// Fewest pairs of a lag bin the [`Variogram`] fit takes.
+const VARIOGRAM_MIN_PAIRS: usize = 30;
+
+/// The longest correlation time credited, as a fraction of the longest stretch: the
+/// semivariogram must have flattened at lags the stretches hold, so that a slow trend (a shape
+/// the model misses, rising without a sill) is not taken for noise.
+const RESOLVED_TAU_FRACTION: f64 = 1.0 / 6.0;
+
+impl Variogram {
+    /// Adds the pairs of `r` (in units of its white noise SD) within each stretch of steady
+    /// driving of `imposed` (the column moving at one rate, each row's rate within a fifth of
+    /// the stretch's mean so far, one sign).
+    pub fn add(&mut self, t: &[f64], imposed: &[f64], r: &[f64]) {
+        let n = t.len().min(imposed.len()).min(r.len());
+        let rate = |i: usize| (imposed[i + 1] - imposed[i]) / (t[i + 1] - t[i]);
+        let mut i = 0;
+        while i + 1 < n {
+            let r0 = rate(i);
+            if !r0.is_finite() || r0 == 0.0 {
+                i += 1;
+                continue;
+            }
+            let (mut sum, mut j) = (0.0, i);
+            while j + 1 < n {
+                let rj = rate(j);
+                let mean = if j > i { sum / (j - i) as f64 } else { r0 };
+                if !(rj.is_finite() && rj * mean > 0.0 && (rj - mean).abs() < 0.2 * mean.abs()) {
+                    break;
+                }
+                sum += rj;
+                j += 1;
+            }
+            // Rows i..=j moved at one rate.
+            if j + 1 - i >= VARIOGRAM_MIN_ROWS {
+                self.add_stretch(&t[i..=j], &r[i..=j]);
+            }
+            i = j.max(i + 1);
+        }
+    }
+
+    fn add_stretch(&mut self, t: &[f64], r: &[f64]) {
+        let n = t.len();
+        self.longest_s = self.longest_s.max(t[n - 1] - t[0]);
+        let mut lag = 1;
+        while lag < n {
+            for i in 0..n - lag {
+                let (dt, d) = (t[i + lag] - t[i], r[i + lag] - r[i]);
+                if dt > 0.0 && d.is_finite() {
+                    let bin = self
+                        .bins
+                        .entry((2.0 * dt.log2()).round() as i64)
+                        .or_default();
+                    bin.0 += 0.5 * d * d;
+                    bin.1 += 1;
+                }
+            }
+            lag *= 2;
+        }
+    }
+
+    /// The total variance of the residual's noise over its white variance, (w + s) / w, from
+    /// the least-squares fit of γ = w + s (1 − e^(−Δt/τ)) over the lag bins (each weighted by
+    /// its pairs; τ on a grid up to a third of the longest stretch). `None` with fewer than
+    /// four bins or when the best τ is longer than [`RESOLVED_TAU_FRACTION`] of the longest
+    /// stretch (no sill seen).
+    pub fn wander_ratio(&self) -> Option<f64> {
+        let points: Vec<(f64, f64, f64)> = self
+            .bins
+            .iter()
+            .filter(|(_, b)| b.1 >= VARIOGRAM_MIN_PAIRS)
+            .map(|(k, b)| (2f64.powf(*k as f64 / 2.0), b.0 / b.1 as f64, b.1 as f64))
+            .collect();
+        if points.len() < 4 {
+            return None;
+        }
+        let mut best: Option<(f64, f64, f64, f64)> = None; // (sse, tau, w, s)
+        let mut tau = points[0].0;
+        while tau <= self.longest_s / 3.0 {
+            let f = |dt: f64| 1.0 - (-dt / tau).exp();
+            let (mut sw, mut sf, mut sff, mut sg, mut sfg) = (0.0, 0.0, 0.0, 0.0, 0.0);
+            for &(dt, g, c) in &points {
+                let fi = f(dt);
+                sw += c;
+                sf += c * fi;
+                sff += c * fi * fi;
+                sg += c * g;
+                sfg += c * fi * g;
+            }
+            let det = sw * sff - sf * sf;
+            if det > 0.0 {
+                // A wander adds variance: the sill is never below the white part.
+                let s = ((sw * sfg - sf * sg) / det).max(0.0);
+                let w = (sg - s * sf) / sw;
+                let sse: f64 = points
+                    .iter()
+                    .map(|&(dt, g, c)| c * (g - w - s * f(dt)).powi(2))
+                    .sum();
+                if best.is_none_or(|b| sse < b.0) {
+                    best = Some((sse, tau, w, s));
+                }
+            }
+            tau *= 1.25;
+        }
+        let (_, tau, w, s) = best?;
+        (w > 0.0 && tau <= RESOLVED_TAU_FRACTION * self.longest_s).then(|| (w + s) / w)
+    }
+}
+
 /// Robust noise SD of a sampled signal ([`estimate_noise`]'s `sd`).
 ///
 /// ```
@@ -366,6 +496,76 @@ mod tests {
             (0.85..1.15).contains(&long),
             "white {white}, 240 rows {long}"
         );
+    }
+
+    #[test]
+    fn a_wander_slower_than_any_window_is_read_off_the_semivariogram_of_the_steady_stretches() {
+        // A rate-adaptive logger: a row per 5 µm at 0.0167 mm/s (0.3 s a row), legs of 800 rows
+        // (240 s) between reversals. White noise of SD 0.2 plus a wander of SD 0.2 with a
+        // correlation time of 30 s: 240 rows (72 s) about a line miss most of it, the
+        // semivariogram within the legs reaches its sill, twice the white variance.
+        let mut rng = rand::rngs::StdRng::seed_from_u64(17);
+        let dt = 0.3;
+        let t: Vec<f64> = (0..16000).map(|i| i as f64 * dt).collect();
+        let slip: Vec<f64> = t
+            .iter()
+            .map(|t| {
+                let (leg, within) = ((t / 240.0).floor(), t % 240.0);
+                let sign = if leg as i64 % 2 == 0 { 1.0 } else { -1.0 };
+                sign * 0.0167 * (within - 120.0)
+            })
+            .collect();
+        let r = white_and_wander(&mut rng, &t, dt, 30.0);
+        let white = estimate_noise(&t, &r).sd;
+        let units: Vec<f64> = r.iter().map(|v| v / white).collect();
+        let windows = slow_noise_ratio_over(&t, &slip, &r, white, 240, 2).unwrap_or(1.0);
+        let mut v = Variogram::default();
+        v.add(&t, &slip, &units);
+        let ratio = v.wander_ratio().unwrap();
+        assert!(windows < 1.5, "240 rows about a line: {windows}");
+        assert!((1.7..2.4).contains(&ratio), "semivariogram: {ratio}");
+
+        // White noise alone: nothing beyond it.
+        let plain: Vec<f64> = t.iter().map(|_| gauss(&mut rng)).collect();
+        let mut v = Variogram::default();
+        v.add(&t, &slip, &plain);
+        let ratio = v.wander_ratio().unwrap_or(1.0);
+        assert!((0.9..1.1).contains(&ratio), "white noise: {ratio}");
+
+        // A shape the model misses, rising over each leg without a sill (a parabola of 1.2
+        // white SDs): not credited as noise (no sill at lags the legs hold).
+        let missed: Vec<f64> = t
+            .iter()
+            .zip(&plain)
+            .map(|(t, e)| e + 1.2 * ((t % 240.0) / 240.0).powi(2))
+            .collect();
+        let mut v = Variogram::default();
+        v.add(&t, &slip, &missed);
+        let ratio = v.wander_ratio().unwrap_or(1.0);
+        assert!(ratio < 1.15, "a trend within each leg: {ratio}");
+
+        // Pairs never straddle a reversal: a jump between legs that alternate in level (a
+        // direction effect the model missed) adds nothing.
+        let stepped: Vec<f64> = t
+            .iter()
+            .zip(&plain)
+            .map(|(t, e)| {
+                e + if (t / 240.0).floor() as i64 % 2 == 0 {
+                    1.5
+                } else {
+                    -1.5
+                }
+            })
+            .collect();
+        let mut v = Variogram::default();
+        v.add(&t, &slip, &stepped);
+        let ratio = v.wander_ratio().unwrap_or(1.0);
+        assert!((0.9..1.1).contains(&ratio), "a level per leg: {ratio}");
+
+        // No steady driving (a hold): nothing to measure on.
+        let mut v = Variogram::default();
+        v.add(&t, &vec![0.0; t.len()], &plain);
+        assert_eq!(v.wander_ratio(), None);
     }
 
     #[test]

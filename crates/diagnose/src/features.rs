@@ -273,7 +273,9 @@ const RESIDUAL_WINDOW: usize = 240;
 /// windows absorb, and a line still takes out what the model misses slowly. Each test is
 /// measured over the longest windows it holds three of: [`RESIDUAL_WINDOW`] rows, else half as
 /// many, down to the raw record's [`subfric_data::noise::SLOW_WINDOW`]. The larger of the
-/// median over the tests and the raw record's figure, within [`MAX_UNSEEN_NOISE`].
+/// median over the tests and the raw record's figure, and of the wander the residual's
+/// semivariogram within stretches of steady driving shows ([`subfric_data::noise::Variogram`],
+/// for a wander slower than those windows), within [`MAX_UNSEEN_NOISE`].
 pub fn unseen_noise_about(tests: &[PreparedTest], residuals: &crate::score::HeldOut) -> f64 {
     let mut ratios: Vec<f64> = tests
         .iter()
@@ -292,8 +294,20 @@ pub fn unseen_noise_about(tests: &[PreparedTest], residuals: &crate::score::Held
         })
         .collect();
     let about_model = median(&mut ratios).unwrap_or(1.0);
+    // A wander slower than those windows: the residual's semivariogram within each stretch of
+    // steady driving, pooled over the tests (in units of each test's white noise).
+    let mut variogram = subfric_data::noise::Variogram::default();
+    for (t, r) in tests.iter().map(|p| &p.full).zip(residuals) {
+        if t.control == Control::Slip && r.iter().all(|v| v.is_finite()) {
+            let white = t.weight.sqrt();
+            let scaled: Vec<f64> = r.iter().map(|v| v / white).collect();
+            variogram.add(&t.time, &t.imposed, &scaled);
+        }
+    }
+    let slower = variogram.wander_ratio().unwrap_or(1.0);
     unseen_noise(tests)
         .max(about_model)
+        .max(slower)
         .clamp(1.0, MAX_UNSEEN_NOISE)
 }
 
