@@ -101,10 +101,18 @@ fn steps(s: &mut String, e: &EventAnalysis) {
     if let Some(r) = &e.rate {
         let _ = writeln!(
             s,
-            "   together: {} of {} steps show a direct effect (evidence D ≥ {} over a change without one); median a {:.4}, b {:.4}, D_c {:.4} mm; the sign of a − b agrees with the measured change of steady friction in {} of the {} steps where that change exceeds its uncertainty; the fit determines a − b (a direct effect shown, its interval clear of zero) in {} of them and agrees in {} ({} where it does not: no sign claimed){}",
+            "   together: {} of {} steps show a direct effect (evidence D ≥ {} over a change without one){}; median a {:.4}, b {:.4}, D_c {:.4} mm; the sign of a − b agrees with the measured change of steady friction in {} of the {} steps where that change exceeds its uncertainty; the fit determines a − b (a direct effect shown, its interval clear of zero) in {} of them and agrees in {} ({} where it does not: no sign claimed){}",
             r.significant,
             r.steps,
             subfric_diagnose::events::STEP_EVIDENCE,
+            if r.resolved < r.steps {
+                format!(
+                    " ({} too fast for their rows: a fit with or without a direct effect moves friction within a row, where the two look the same; they count neither way)",
+                    r.steps - r.resolved
+                )
+            } else {
+                String::new()
+            },
             r.a,
             r.b,
             r.d_c_mm,

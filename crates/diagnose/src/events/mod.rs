@@ -120,7 +120,11 @@ pub struct RateConsensus {
     /// Steps whose measured change exceeds its uncertainty but whose fit does not determine
     /// a − b (no direct effect shown, or a − b's interval spans zero): no sign is claimed.
     pub signs_undetermined: usize,
-    /// Most of the steps (at least two, and two thirds) show a direct effect.
+    /// Steps whose transient the rows resolve ([`StepFit::resolves_transient`]): the ones
+    /// that can show a direct effect or its absence.
+    pub resolved: usize,
+    /// Most of the steps that resolve their transient (at least two, and two thirds) show a
+    /// direct effect.
     pub consistent: bool,
 }
 
@@ -308,6 +312,7 @@ fn consensus(steps: &[StepFit]) -> Option<RateConsensus> {
     } else {
         significant.clone()
     };
+    let resolved = steps.iter().filter(|s| s.resolves_transient()).count();
     let checked: Vec<bool> = steps.iter().filter_map(|s| s.sign_agrees).collect();
     let measured: Vec<&StepFit> = steps.iter().filter(|s| s.steady_change_measured).collect();
     Some(RateConsensus {
@@ -327,6 +332,8 @@ fn consensus(steps: &[StepFit]) -> Option<RateConsensus> {
             .iter()
             .filter(|s| s.steady_change_measured && s.sign_agrees.is_none())
             .count(),
-        consistent: significant.len() >= 2 && 3 * significant.len() >= 2 * steps.len(),
+        resolved,
+        // A step too fast for its rows says nothing for or against a direct effect.
+        consistent: significant.len() >= 2 && 3 * significant.len() >= 2 * resolved,
     })
 }

@@ -63,6 +63,11 @@ pub struct StepFit {
     pub steady_change_measured: bool,
     /// The least-squares runs converged.
     pub converged: bool,
+    /// The load-point travel between two rows after the step (median) [mm].
+    pub row_travel_mm: f64,
+    /// The slip over which the best fit without a direct effect (the null model behind
+    /// `evidence`) moves friction to its new level [mm].
+    pub null_length_mm: f64,
 }
 
 impl StepFit {
@@ -80,6 +85,18 @@ impl StepFit {
             && self.a.lo > 0.0
             && self.a.hi.is_finite()
             && self.a.hi < 10.0 * self.a.lo
+    }
+
+    /// Whether the step can show a direct effect or its absence. Where either fit moves
+    /// friction within a row — the best fit without a direct effect (an e-folding slip
+    /// shorter than the travel between two rows), or the rate-and-state fit, its state
+    /// relaxing within a row (D_c within twice the shortest the rows resolve, a tenth of a
+    /// row: only a − b is read) — a jump of a ln(v₁/v₀) and an evolution that fast look the
+    /// same, and the step counts neither way. A step that shows a direct effect resolves it.
+    pub fn resolves_transient(&self) -> bool {
+        self.significant()
+            || (self.null_length_mm > self.row_travel_mm
+                && self.d_c_mm.value > 0.2 * self.row_travel_mm)
     }
 }
 
@@ -526,7 +543,7 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
             a_minus_b = a_minus_b.covering(&amb_j);
         }
     }
-    let null = fit_null(w, mu0, trend, &change, span);
+    let (null, null_length_mm) = fit_null(w, mu0, trend, &change, span);
     let evidence = (null - ssr) / s2;
     let change_measured = change.excludes_zero();
     let mut fit = StepFit {
@@ -554,6 +571,8 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
         sign_agrees: None,
         steady_change_measured: change_measured,
         converged,
+        row_travel_mm: row_travel(full),
+        null_length_mm,
     };
     // The fit claims a sign of a − b only where it determines it: a direct effect shown (a
     // fit that finds none has no a and b to speak of) and the interval of a − b clear of zero.
@@ -627,9 +646,15 @@ fn thin(w: &Window) -> Window {
     }
 }
 
-/// A tenth of the median load-point travel between two rows after the step: the shortest
-/// D_c the record can tell from zero.
+/// A tenth of the travel between two rows after the step: the shortest D_c the record can
+/// tell from zero.
 fn resolved_dc_floor(w: &Window) -> f64 {
+    0.1 * row_travel(w)
+}
+
+/// The median load-point travel between two rows after the step (0 when the rows do not
+/// move).
+fn row_travel(w: &Window) -> f64 {
     let mut steps: Vec<f64> = w.travel[w.step..]
         .windows(2)
         .map(|p| (p[1] - p[0]).abs())
@@ -639,7 +664,7 @@ fn resolved_dc_floor(w: &Window) -> f64 {
         return 0.0;
     }
     steps.sort_by(f64::total_cmp);
-    0.1 * steps[steps.len() / 2]
+    steps[steps.len() / 2]
 }
 
 /// A first guess of the spring stiffness: the steepest rise of friction with load-point travel
@@ -661,8 +686,9 @@ fn initial_slope(w: &Window) -> f64 {
     }
 }
 
-/// SSR of the best null model (no direct effect).
-fn fit_null(w: &Window, mu0: f64, trend: f64, change: &Estimate, span: f64) -> f64 {
+/// SSR of the best null model (no direct effect) and the slip over which its change happens
+/// [mm].
+fn fit_null(w: &Window, mu0: f64, trend: f64, change: &Estimate, span: f64) -> (f64, f64) {
     let prob = NullProblem {
         w,
         trend,
@@ -677,9 +703,16 @@ fn fit_null(w: &Window, mu0: f64, trend: f64, change: &Estimate, span: f64) -> f
         .iter()
         .map(|f| {
             let x0 = vec![mu0, change.value.clamp(-0.29, 0.29), (f * span).ln()];
-            levenberg_marquardt(&prob, &x0, None, &lm).ssr
+            let r = levenberg_marquardt(&prob, &x0, None, &lm);
+            (r.ssr, r.x[2].exp())
         })
-        .fold(f64::INFINITY, f64::min)
+        .fold((f64::INFINITY, f64::NAN), |best, r| {
+            if r.0 < best.0 {
+                r
+            } else {
+                best
+            }
+        })
 }
 
 /// The residuals of `p` at `x` on every row, their SSR, and the variance scale s² of the

@@ -126,3 +126,78 @@ fn an_unchanged_step_under_slowly_wandering_noise_is_rarely_called_a_change() {
     let white = false_changes(n, 1e-6);
     assert!((2..=n as usize / 10).contains(&white), "{white} of {n}");
 }
+
+#[test]
+fn a_step_faster_than_its_rows_counts_neither_for_nor_against_a_direct_effect() {
+    // Friction that jumps to its new steady level at the step (3 µm of travel a row): the best
+    // fit without a direct effect moves within a row, where a direct jump and an evolution
+    // that fast look the same, so the step resolves no transient (its evidence D ≈ 10 speaks
+    // of the evolution, not of a direct effect). Friction that moves to the same level over
+    // about seven rows with no jump resolves it: a step that shows no direct effect.
+    for seed in 0..5 {
+        let fast = fit_step("t", &moving_to_a_new_level(seed, 0.0), None).expect("a fit");
+        assert!(
+            !fast.resolves_transient(),
+            "seed {seed}: without a direct effect over {} mm, {} mm a row, evidence {}",
+            fast.null_length_mm,
+            fast.row_travel_mm,
+            fast.evidence
+        );
+        assert!(fast.a_minus_b.value > 0.0, "{:?}", fast.a_minus_b);
+        let gradual = fit_step("t", &moving_to_a_new_level(seed, 0.02), None).expect("a fit");
+        assert!(
+            gradual.resolves_transient() && !gradual.significant(),
+            "seed {seed}: without a direct effect over {} mm, {} mm a row, evidence {}",
+            gradual.null_length_mm,
+            gradual.row_travel_mm,
+            gradual.evidence
+        );
+    }
+}
+
+/// The unchanged step of `seed` under white noise, its friction moving up by 0.004 after the
+/// step over an e-folding slip of `slip_mm` (0: at once), with no direct effect.
+fn moving_to_a_new_level(seed: u64, slip_mm: f64) -> Window {
+    let mut w = unchanged_step(seed, 1e-6);
+    for (m, u) in w.mu.iter_mut().zip(&w.travel) {
+        if *u > 0.0 {
+            *m += 0.004 * (1.0 - (-u / slip_mm.max(1e-12)).exp());
+        }
+    }
+    w
+}
+
+#[test]
+fn steps_too_fast_for_their_rows_leave_the_consensus_to_the_steps_that_resolve_theirs() {
+    // Two steps that show a direct effect (friction jumps by 0.008 and falls back by 0.007
+    // over about seven rows, white noise): beside two steps too fast for their rows, the
+    // steps agree on rate and state; beside two that move gradually with no jump, they do
+    // not (two of four).
+    let shown = |seed: u64| {
+        let mut w = unchanged_step(seed, 1e-6);
+        for (m, u) in w.mu.iter_mut().zip(&w.travel) {
+            if *u > 0.0 {
+                *m += 0.008 - 0.007 * (1.0 - (-u / 0.02).exp());
+            }
+        }
+        let fit = fit_step("t", &w, None).expect("a fit");
+        assert!(
+            fit.significant(),
+            "evidence {}, a {:?}",
+            fit.evidence,
+            fit.a
+        );
+        fit
+    };
+    let fit = |seed: u64, slip_mm: f64| {
+        fit_step("t", &moving_to_a_new_level(seed, slip_mm), None).expect("a fit")
+    };
+    let with_fast = [shown(1), shown(2), fit(3, 0.0), fit(4, 0.0)];
+    let r = super::super::consensus(&with_fast).expect("steps read");
+    assert_eq!((r.significant, r.resolved), (2, 2));
+    assert!(r.consistent);
+    let with_gradual = [shown(1), shown(2), fit(3, 0.02), fit(4, 0.02)];
+    let r = super::super::consensus(&with_gradual).expect("steps read");
+    assert_eq!((r.significant, r.resolved), (2, 4));
+    assert!(!r.consistent);
+}
