@@ -438,3 +438,24 @@ fn rate_and_state_behind_slip_hardening_is_named_when_steps_too_fast_for_their_r
         &DiagnoseOptions::default(),
     ));
 }
+
+#[test]
+fn a_rate_law_the_velocity_steps_speak_against_is_not_tried_as_a_runner_up_first_effect() {
+    // Seed 19's slip softening set (capped, additive; logger profile, gen-11-1): at the first
+    // stage slip hardening was kept tentatively (D 27, 10 % of the excess) and a steady-state
+    // rate law (D 21, 9 %) tried beside it as the runner-up, although none of the four
+    // velocity steps showed a direct effect. Its path ended with `rate` named, an effect the
+    // set does not hold (held-out shrink −11 %). A runner-up is now tried only where the
+    // events do not speak against its family.
+    let c = verdict(
+        &campaign(19, &[Form::SlipCapped]),
+        &DiagnoseOptions::default(),
+    );
+    let softening = Effect::from_name("slip-hardening").unwrap();
+    assert!(
+        c.verdict
+            .iter()
+            .all(|e| *e == softening || *e == Effect::Unexplained),
+        "an effect the set does not hold: {c:?}"
+    );
+}

@@ -402,11 +402,17 @@ pub(super) fn forward_selection(
     let firsts: Vec<usize> = match first.decision {
         Decision::Named(i) => vec![i],
         Decision::Tentative(i) => {
+            // The runner-up is tried as a first effect only where the events read one by one
+            // do not speak against its family, as for a tentative effect at a later stage (a
+            // rate law 7 D behind slip hardening, over four velocity steps of which none shows
+            // a direct effect, was taken and named).
             let runner_up = (0..first.candidates.len())
                 .filter(|&j| j != i)
                 .filter(|&j| {
                     let c = &first.candidates[j].held_out;
-                    c.score >= th.min_score && c.excess_shrink > 0.0
+                    c.score >= th.min_score
+                        && c.excess_shrink > 0.0
+                        && crate::events::corroborates(&cx.events, first.candidates[j].effect)
                 })
                 .max_by(|&a, &b| {
                     let score = |k: usize| first.candidates[k].held_out.score;
