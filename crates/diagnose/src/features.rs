@@ -277,33 +277,27 @@ const RESIDUAL_WINDOW: usize = 240;
 /// semivariogram within stretches of steady driving shows ([`subfric_data::noise::Variogram`],
 /// for a wander slower than those windows), within [`MAX_UNSEEN_NOISE`].
 pub fn unseen_noise_about(tests: &[PreparedTest], residuals: &crate::score::HeldOut) -> f64 {
-    let mut ratios: Vec<f64> = tests
-        .iter()
-        .map(|p| &p.full)
-        .zip(residuals)
-        .filter(|(t, r)| t.control == Control::Slip && r.iter().all(|v| v.is_finite()))
-        .filter_map(|(t, r)| {
-            // The residuals are scaled by the test's weight over its noise: one white SD is
-            // the square root of the weight.
-            let white = t.weight.sqrt();
-            std::iter::successors(Some(RESIDUAL_WINDOW), |w| Some(w / 2))
-                .take_while(|&w| w >= subfric_data::noise::SLOW_WINDOW)
-                .find_map(|w| {
-                    subfric_data::noise::slow_noise_ratio_over(&t.time, &t.imposed, r, white, w, 2)
-                })
-        })
-        .collect();
-    let about_model = median(&mut ratios).unwrap_or(1.0);
+    let mut ratios = Vec::new();
     // A wander slower than those windows: the residual's semivariogram within each stretch of
     // steady driving, pooled over the tests (in units of each test's white noise).
     let mut variogram = subfric_data::noise::Variogram::default();
     for (t, r) in tests.iter().map(|p| &p.full).zip(residuals) {
-        if t.control == Control::Slip && r.iter().all(|v| v.is_finite()) {
-            let white = t.weight.sqrt();
-            let scaled: Vec<f64> = r.iter().map(|v| v / white).collect();
-            variogram.add(&t.time, &t.imposed, &scaled);
+        if t.control != Control::Slip || !r.iter().all(|v| v.is_finite()) {
+            continue;
         }
+        // The residuals are scaled by the test's weight over its noise: one white SD is the
+        // square root of the weight.
+        let white = t.weight.sqrt();
+        let longest = std::iter::successors(Some(RESIDUAL_WINDOW), |w| Some(w / 2))
+            .take_while(|&w| w >= subfric_data::noise::SLOW_WINDOW)
+            .find_map(|w| {
+                subfric_data::noise::slow_noise_ratio_over(&t.time, &t.imposed, r, white, w, 2)
+            });
+        ratios.extend(longest);
+        let scaled: Vec<f64> = r.iter().map(|v| v / white).collect();
+        variogram.add(&t.time, &t.imposed, &scaled);
     }
+    let about_model = median(&mut ratios).unwrap_or(1.0);
     let slower = variogram.wander_ratio().unwrap_or(1.0);
     unseen_noise(tests)
         .max(about_model)
