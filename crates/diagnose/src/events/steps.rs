@@ -90,13 +90,13 @@ impl StepFit {
     /// Whether the step can show a direct effect or its absence. Where either fit moves
     /// friction within a row — the best fit without a direct effect (an e-folding slip
     /// shorter than the travel between two rows), or the rate-and-state fit, its state
-    /// relaxing within a row (D_c within twice the shortest the rows resolve, a tenth of a
-    /// row: only a − b is read) — a jump of a ln(v₁/v₀) and an evolution that fast look the
-    /// same, and the step counts neither way. A step that shows a direct effect resolves it.
+    /// relaxing within a row (D_c within twice the shortest the rows resolve: only a − b is
+    /// read) — a jump of a ln(v₁/v₀) and an evolution that fast look the same, and the step
+    /// counts neither way. A step that shows a direct effect resolves it.
     pub fn resolves_transient(&self) -> bool {
         self.significant()
             || (self.null_length_mm > self.row_travel_mm
-                && self.d_c_mm.value > 0.2 * self.row_travel_mm)
+                && self.d_c_mm.value > 2.0 * dc_floor_for(self.row_travel_mm))
     }
 }
 
@@ -384,7 +384,7 @@ pub(super) fn fit_step(test: &str, w: &Window, compliant_start: Option<f64>) -> 
     // D_c below a tenth of the slip between two rows is beyond what the record resolves (the
     // state would relax within one row); that floor also bounds the compliant integration's
     // substeps per row.
-    let dc_floor = resolved_dc_floor(w).max(1e-5);
+    let dc_floor = resolved_dc_floor(w);
     // The fits run on the window thinned: dense just after the step, where the transient is,
     // spaced as a share of the travel since the step further on (the guesses, the resolution
     // and the measured change above read every row).
@@ -649,7 +649,13 @@ fn thin(w: &Window) -> Window {
 /// A tenth of the travel between two rows after the step: the shortest D_c the record can
 /// tell from zero.
 fn resolved_dc_floor(w: &Window) -> f64 {
-    0.1 * row_travel(w)
+    dc_floor_for(row_travel(w))
+}
+
+/// The shortest D_c resolved where the rows lie `row_travel` mm apart (a tenth of it, at least
+/// 10 nm).
+fn dc_floor_for(row_travel: f64) -> f64 {
+    (0.1 * row_travel).max(1e-5)
 }
 
 /// The median load-point travel between two rows after the step (0 when the rows do not
