@@ -792,20 +792,17 @@ fn selection_stage(
     // removes half the excess with significant evidence (an effect confined to a few pieces:
     // a rate law taking 69 % of the excess, the velocity steps 22× → 3×, is not noise however
     // much the record wanders).
+    let within_unseen_noise =
+        first_stage && reference_chi2 <= th.gap_chi2 * cx.features.unseen_noise;
     let decision = match decision {
-        Decision::Unexplained | Decision::Tentative(_)
-            if first_stage && reference_chi2 <= th.gap_chi2 * cx.features.unseen_noise =>
+        Decision::Tentative(i)
+            if within_unseen_noise
+                && pairs[i].1.score >= th.min_score
+                && pairs[i].1.excess_shrink >= th.near_noise_excess_shrink =>
         {
-            match decision {
-                Decision::Tentative(i)
-                    if pairs[i].1.score >= th.min_score
-                        && pairs[i].1.excess_shrink >= th.near_noise_excess_shrink =>
-                {
-                    Decision::Named(i)
-                }
-                _ => Decision::NoGap,
-            }
+            Decision::Named(i)
         }
+        Decision::Unexplained | Decision::Tentative(_) if within_unseen_noise => Decision::NoGap,
         d => d,
     };
     (
