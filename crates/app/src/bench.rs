@@ -132,7 +132,7 @@ fn diagnoses() -> Result<Vec<DiagnosisTime>> {
         "lab-15k",
         &[Form::RsfAgeing],
         Profile::Logger,
-        &Options { rows_scale: 1.4 },
+        &Options::rows(1.4),
         5,
     )
     .map_err(|e| anyhow::anyhow!("generating the lab-like set: {e}"))?

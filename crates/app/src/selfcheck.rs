@@ -13,10 +13,13 @@ use std::path::{Path, PathBuf};
 use subfric_data::PathKind;
 use subfric_diagnose::{prepare_for_diagnosis, DiagnoseOptions, Effect};
 use subfric_harness::generator::{
-    all_classes, campaign_set, class_label, write_campaign, Class, Form, Generated, Options,
+    all_classes, campaign_set, class_label, classes_of, write_campaign, Class, Form, Generated,
+    Options,
 };
 
 pub use crate::selfcheck_score::{score, Case, Scores};
+
+pub use subfric_harness::generator::Layout;
 
 /// Which generated sets: classes by their 1-based numbers (all when empty), sets per class,
 /// seed.
@@ -29,6 +32,8 @@ pub struct Campaign {
     pub per_class: usize,
     /// Seed (each set has its own, derived from it, its class and its number).
     pub seed: u64,
+    /// What tests each set holds (a mixed campaign, or a direct-shear programme).
+    pub layout: Layout,
 }
 
 /// What to score.
@@ -57,11 +62,12 @@ pub struct SelfcheckRequest {
     pub force: bool,
 }
 
-/// The classes, numbered from 1 as `--classes` takes them.
-pub fn class_list() -> Vec<(usize, String)> {
-    all_classes()
+/// The classes a campaign of `layout` can hold, numbered from 1 as `--classes` takes them
+/// (a direct-shear programme leaves out the effects its tests cannot show; the others keep
+/// their numbers).
+pub fn class_list(layout: Layout) -> Vec<(usize, String)> {
+    classes_of(layout)
         .iter()
-        .enumerate()
         .map(|(i, c)| (i + 1, class_label(c)))
         .collect()
 }
@@ -146,16 +152,23 @@ pub fn run(
     Ok((cases, scores))
 }
 
-/// The classes numbered `numbers` (from 1; all when empty), with their numbers from 0.
-fn chosen_classes(numbers: &[usize]) -> Result<Vec<(usize, Class)>> {
-    let all = all_classes();
+/// The classes numbered `numbers` (from 1; all that `layout` can show when empty), with their
+/// numbers from 0.
+fn chosen_classes(numbers: &[usize], layout: Layout) -> Result<Vec<(usize, Class)>> {
     if numbers.is_empty() {
-        return Ok(all.into_iter().enumerate().collect());
+        return Ok(classes_of(layout));
     }
+    let all = all_classes();
     numbers
         .iter()
         .map(|&k| match all.get(k.wrapping_sub(1)) {
-            Some(c) => Ok((k - 1, c.clone())),
+            Some(c) if c.iter().all(|f| layout.shows(*f)) => Ok((k - 1, c.clone())),
+            Some(c) => bail!(
+                "--classes {k}: {} cannot show in a direct-shear programme (monotonic tests at \
+                 one rate, no holds or reversals; expected one of {})",
+                class_label(c),
+                numbers_of(layout)
+            ),
             None => bail!(
                 "--classes {k}: no such class (expected numbers from 1 to {})",
                 all.len()
@@ -164,11 +177,24 @@ fn chosen_classes(numbers: &[usize]) -> Result<Vec<(usize, Class)>> {
         .collect()
 }
 
+/// The class numbers of `layout`, from 1, as a list for a message.
+fn numbers_of(layout: Layout) -> String {
+    classes_of(layout)
+        .iter()
+        .map(|(i, _)| (i + 1).to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// Every set of `campaign`, generated one at a time and handed to `each`.
 fn for_each_set(campaign: &Campaign, mut each: impl FnMut(Generated) -> Result<()>) -> Result<()> {
-    for (ci, class) in chosen_classes(&campaign.classes)? {
+    let opts = Options {
+        layout: campaign.layout,
+        ..Options::default()
+    };
+    for (ci, class) in chosen_classes(&campaign.classes, campaign.layout)? {
         for k in 0..campaign.per_class {
-            let g = campaign_set(campaign.seed, ci, k, &class, &Options::default())
+            let g = campaign_set(campaign.seed, ci, k, &class, &opts)
                 .map_err(|e| anyhow!("generating set {k} of class {}: {e}", ci + 1))?;
             each(g)?;
         }

@@ -16,14 +16,8 @@ use subfric_model::{model_from_json, Control, Model};
 /// The generator's no-effect set with a friction trend of `rise` over its longest test added
 /// by our model; returns the set and the trend's rate c [1/s].
 fn set_with_a_time_trend(rise: f64) -> (subfric_data::ExperimentSet, f64) {
-    let g = generate_seeded(
-        "time-trend",
-        &[],
-        Profile::Clean,
-        &Options { rows_scale: 0.6 },
-        2026,
-    )
-    .expect("the set generates");
+    let g = generate_seeded("time-trend", &[], Profile::Clean, &Options::rows(0.6), 2026)
+        .expect("the set generates");
     let params = serde_json::json!({ "params": g.truth.json["params"] }).to_string();
     let base = model_from_json(&params).expect("the generator's parameters are a model");
     let longest = g

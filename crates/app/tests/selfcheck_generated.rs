@@ -12,7 +12,7 @@ use subfric_harness::generator::{
 };
 
 /// Fewer rows than a lab file keep the diagnoses short.
-const ROWS: Options = Options { rows_scale: 0.6 };
+const ROWS: Options = Options::rows(0.6);
 
 fn set(name: &str, class: &[Form], profile: Profile) -> Generated {
     generate_seeded(name, class, profile, &ROWS, 2026).expect("the set generates")

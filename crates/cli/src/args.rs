@@ -538,6 +538,26 @@ pub struct PlanArgs {
     pub progress: ProgressMode,
 }
 
+/// What tests a generated set holds (`selfcheck --layout`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LayoutArg {
+    /// Velocity steps, slide-hold-slide, two-way cycles and monotonic tests at several normal
+    /// stresses.
+    Mixed,
+    /// A direct-shear programme: monotonic tests at three or four normal stresses through the
+    /// peak to the residual on a soft rig (only pressure, slip-hardening and load-cell classes).
+    DirectShear,
+}
+
+impl From<LayoutArg> for subfric_app::selfcheck::Layout {
+    fn from(a: LayoutArg) -> Self {
+        match a {
+            LayoutArg::Mixed => subfric_app::selfcheck::Layout::Mixed,
+            LayoutArg::DirectShear => subfric_app::selfcheck::Layout::DirectShear,
+        }
+    }
+}
+
 /// `subfric selfcheck`.
 #[derive(Args, Debug)]
 pub struct SelfcheckArgs {
@@ -562,6 +582,9 @@ pub struct SelfcheckArgs {
     /// [default: all].
     #[arg(long, value_delimiter = ',')]
     pub classes: Vec<usize>,
+    /// What tests each generated set holds.
+    #[arg(long, value_enum, default_value_t = LayoutArg::Mixed, conflicts_with = "sets")]
+    pub layout: LayoutArg,
     /// Print the numbered classes and stop.
     #[arg(long, conflicts_with_all = ["sets", "json", "write"])]
     pub list_classes: bool,

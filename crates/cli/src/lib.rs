@@ -317,7 +317,7 @@ fn run_reproduce(a: ReproduceArgs) -> Result<()> {
 /// `subfric selfcheck`.
 fn selfcheck(a: SelfcheckArgs) -> Result<()> {
     if a.list_classes {
-        for (number, label) in class_list() {
+        for (number, label) in class_list(a.layout.into()) {
             println!("{number:>3}  {label}");
         }
         return Ok(());
@@ -326,6 +326,7 @@ fn selfcheck(a: SelfcheckArgs) -> Result<()> {
         classes: a.classes,
         per_class: a.per_class,
         seed: a.seed,
+        layout: a.layout.into(),
     };
     if let Some(dir) = a.write {
         let t0 = std::time::Instant::now();

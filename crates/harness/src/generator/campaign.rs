@@ -33,6 +33,16 @@ const SET_DRAWS: usize = 8;
 /// A class of generated sets: the forms built in (empty: none).
 pub type Class = Vec<Form>;
 
+/// The classes of a campaign of `layout`: of [`all_classes`], those whose every form can show
+/// in its tests (numbered as there, so that set names and seeds agree).
+pub fn classes_of(layout: Layout) -> Vec<(usize, Class)> {
+    all_classes()
+        .into_iter()
+        .enumerate()
+        .filter(|(_, c)| c.iter().all(|f| layout.shows(*f)))
+        .collect()
+}
+
 /// None, every form alone, and six pairs of two effects.
 pub fn all_classes() -> Vec<Class> {
     let mut out: Vec<Class> = vec![Vec::new()];
@@ -90,11 +100,57 @@ pub struct Generated {
 pub struct Options {
     /// Rows relative to a lab file (0.5: half as many rows, for fast tests).
     pub rows_scale: f64,
+    /// What tests a campaign holds.
+    pub layout: Layout,
+}
+
+impl Options {
+    /// Lab-file rows, the mixed campaign.
+    pub const DEFAULT: Options = Options {
+        rows_scale: 1.0,
+        layout: Layout::Mixed,
+    };
+
+    /// The mixed campaign with rows scaled by `rows_scale`.
+    pub const fn rows(rows_scale: f64) -> Options {
+        Options {
+            rows_scale,
+            layout: Layout::Mixed,
+        }
+    }
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { rows_scale: 1.0 }
+        Options::DEFAULT
+    }
+}
+
+/// What tests a campaign holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Layout {
+    /// Velocity steps, slide–hold–slide, two-way cycles and monotonic tests (see
+    /// [`draw::plans`]).
+    #[default]
+    Mixed,
+    /// A direct-shear programme: monotonic tests only, at three or four normal stresses, each
+    /// through its peak to the residual, on a soft rig (the specimen and the box in series
+    /// with the interface: 10⁻⁴–10⁻³ kN/mm³, so that the peak comes at a few tenths of a mm to
+    /// a mm or two of displacement; see [`draw::direct_shear_plans`]).
+    DirectShear,
+}
+
+impl Layout {
+    /// Can an effect of `form` show in this layout's tests? A direct-shear programme slides at
+    /// one rate in one direction without holds: only what changes with the normal stress, with
+    /// slip or with time can show.
+    pub fn shows(self, form: Form) -> bool {
+        match self {
+            Layout::Mixed => true,
+            Layout::DirectShear => {
+                matches!(form.family(), "pressure" | "slip-hardening" | "unexplained")
+            }
+        }
     }
 }
 
@@ -266,8 +322,18 @@ fn draw_world(
 ) -> Result<World, GenError> {
     let base = draw::base(rng);
     let v0 = draw::log_uniform(rng, 0.005, 0.02);
-    let mut plans = draw::plans(v0, profile.rig(), rng);
-    let mut arts = draw::artifacts(profile, &base, &mut plans, rng);
+    let (plans, mut arts) = match opts.layout {
+        Layout::Mixed => {
+            let mut plans = draw::plans(v0, profile.rig(), rng);
+            let arts = draw::artifacts(profile, &base, &mut plans, rng);
+            (plans, arts)
+        }
+        Layout::DirectShear => {
+            let mut plans = draw::direct_shear_plans(v0, profile.rig(), rng);
+            let arts = draw::direct_shear_artifacts(profile, &base, &mut plans, rng);
+            (plans, arts)
+        }
+    };
     arts.sampling = scaled(arts.sampling, opts.rows_scale);
     let setting = Setting {
         v0,

@@ -513,6 +513,48 @@ pub fn plans(v0: f64, unloads: bool, rng: &mut ChaCha8Rng) -> Vec<TestPlan> {
     out
 }
 
+/// A direct-shear programme at the base rate `v0`: monotonic tests at three or four normal
+/// stresses (25 to 400 kPa), each over 5–10 mm, through its peak to the residual; with
+/// `unloads`, one of them is unloaded, held and reloaded half way.
+pub fn direct_shear_plans(v0: f64, unloads: bool, rng: &mut ChaCha8Rng) -> Vec<TestPlan> {
+    let mut stresses = vec![25.0, 50.0, 100.0, 200.0, 300.0, 400.0];
+    let keep = if rng.gen::<bool>() { 3 } else { 4 };
+    while stresses.len() > keep {
+        let i = rng.gen_range(0..stresses.len());
+        stresses.remove(i);
+    }
+    let unloaded = unloads.then(|| rng.gen_range(0..stresses.len()));
+    stresses
+        .into_iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let travel = uniform(rng, 5.0, 10.0);
+            let segments = if unloaded == Some(k) {
+                vec![
+                    slide(v0, 0.5 * travel),
+                    Segment::Unload {
+                        fraction: uniform(rng, 0.05, 0.2),
+                        duration: uniform(rng, 10.0, 30.0),
+                    },
+                    Segment::Hold {
+                        duration: uniform(rng, 5.0, 30.0),
+                    },
+                    slide(v0, 0.5 * travel),
+                ]
+            } else {
+                vec![slide(v0, travel)]
+            };
+            TestPlan {
+                name: format!("ds-{p:.0}kPa"),
+                p,
+                segments,
+                cut_mm: None,
+                toe: None,
+            }
+        })
+        .collect()
+}
+
 /// The rig and logger of a set of `profile`, and its tests changed to match (toes, cuts).
 pub fn artifacts(
     profile: Profile,
@@ -521,12 +563,38 @@ pub fn artifacts(
     rng: &mut ChaCha8Rng,
 ) -> Artifacts {
     let machine = profile.rig().then(|| log_uniform(rng, 0.002, 0.02));
+    rig_and_logger(profile, b, plans, rng, machine, profile == Profile::Lab)
+}
+
+/// The rig and logger of a direct-shear programme of `profile`: whatever the profile, the
+/// specimen and the box are soft in series with the interface (10⁻⁴–10⁻³ kN/mm³, i.e. 100 to
+/// 1000 kPa per mm of the recorded displacement), and every file starts at rest (no cuts).
+pub fn direct_shear_artifacts(
+    profile: Profile,
+    b: &Base,
+    plans: &mut [TestPlan],
+    rng: &mut ChaCha8Rng,
+) -> Artifacts {
+    let machine = Some(log_uniform(rng, 1e-4, 1e-3));
+    rig_and_logger(profile, b, plans, rng, machine, false)
+}
+
+/// The rig and logger of a set of `profile` with the series spring `machine` [kN/mm³], the
+/// first tests cut from a longer run when `cuts`.
+fn rig_and_logger(
+    profile: Profile,
+    b: &Base,
+    plans: &mut [TestPlan],
+    rng: &mut ChaCha8Rng,
+    machine: Option<f64>,
+    cuts: bool,
+) -> Artifacts {
     let alpha = b.alpha_t * KPA_PER_MM_PER_KN_MM3;
     let series = match machine {
         Some(m) => 1.0 / (1.0 / alpha + 1.0 / (m * KPA_PER_MM_PER_KN_MM3)),
         None => alpha,
     };
-    if profile == Profile::Lab {
+    if cuts {
         // The velocity steps, and half the time the holds too, come from a longer run: cut
         // during the run-in's steady sliding.
         let cut = if rng.gen::<bool>() { 2 } else { 1 };

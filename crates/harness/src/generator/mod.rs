@@ -14,7 +14,7 @@ pub mod path;
 pub mod record;
 
 pub use campaign::{
-    all_classes, campaign_set, class_label, generate, generate_seeded, long_record_set,
-    write_campaign, Class, Generated, Options, Truth,
+    all_classes, campaign_set, class_label, classes_of, generate, generate_seeded, long_record_set,
+    write_campaign, Class, Generated, Layout, Options, Truth,
 };
 pub use draw::{Form, Profile};
