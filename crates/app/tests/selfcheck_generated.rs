@@ -8,7 +8,7 @@
 use subfric_app::selfcheck::{diagnose_generated, library_equivalents, Case};
 use subfric_diagnose::{DiagnoseOptions, Effect};
 use subfric_harness::generator::{
-    all_classes, campaign_set, generate_seeded, Form, Generated, Options, Profile,
+    all_classes, campaign_set, generate_seeded, Form, Generated, Layout, Options, Profile,
 };
 
 /// Fewer rows than a lab file keep the diagnoses short.
@@ -458,4 +458,81 @@ fn a_rate_law_the_velocity_steps_speak_against_is_not_tried_as_a_runner_up_first
             .all(|e| *e == softening || *e == Effect::Unexplained),
         "an effect the set does not hold: {c:?}"
     );
+}
+
+/// Set 1 of `class` in the direct-shear programme of `seed`: what `subfric selfcheck --layout
+/// direct-shear --seed SEED --write DIR` writes as gen-NN-1. Monotonic tests at three or four
+/// normal stresses on a soft rig (10⁻⁴–10⁻³ kN/mm³ in series: the peak a few tenths of a mm
+/// to a mm or two into the test), the generator's profiles in turn.
+fn direct_shear(seed: u64, class: &[Form]) -> Generated {
+    let index = all_classes()
+        .iter()
+        .position(|c| c == class)
+        .expect("a class of the campaign");
+    let opts = Options {
+        layout: Layout::DirectShear,
+        ..Options::default()
+    };
+    campaign_set(seed, index, 0, class, &opts).expect("the set generates")
+}
+
+#[test]
+fn a_fit_of_a_direct_shear_programme_on_a_soft_rig_recovers_mu_s_mu_k_and_its_stiffness() {
+    // Issue 20 (real direct-shear tests of dense sand: μ_s 1.90, μ_k 0.002). A lab
+    // programme at 25, 100 and 400 kPa through a box of 178 kPa/mm, a seating toe on every
+    // test (0.25–0.76 mm), an unload and hold half way through the 400 kPa test. α_t was
+    // held at 1000 kN/mm³: after a toe the first loading no longer counted as one from rest,
+    // and the unload's 0.2 mm window saw less than a third of its shear change (base misfit
+    // 1568×, μ_s at its bound 3). Below 10⁻³ kN/mm³ α_t could not go at all.
+    use subfric_app::fit::{run_fit, FitRequest};
+    use subfric_app::progress::Silent;
+    use subfric_fit::FitOptions;
+    let g = direct_shear(7, &[]);
+    let tmp = tempfile::tempdir().unwrap();
+    subfric_harness::generator::write_campaign(tmp.path(), std::slice::from_ref(&g)).unwrap();
+    let dir = tmp.path().join(&g.set.meta.name);
+    let out = run_fit(&FitRequest::of_set(dir, FitOptions::default()), &Silent).unwrap();
+    let params = &g.truth.json["params"];
+    let fitted = &out.report.model.params;
+    for (name, got) in [("mu_s", fitted.mu_s), ("mu_k", fitted.mu_k)] {
+        let want = params[name].as_f64().unwrap();
+        assert!(
+            (got - want).abs() <= 0.05 * want,
+            "{name}: fitted {got}, truth {want}"
+        );
+    }
+    // The recorded displacement is the load point's: α_t is the series stiffness.
+    let series = g.truth.json["artifacts"]["series_kpa_per_mm"]
+        .as_f64()
+        .unwrap()
+        / 1e6;
+    assert!(
+        (fitted.alpha_t / series - 1.0).abs() <= 0.1,
+        "α_t {} kN/mm³, series stiffness {series}",
+        fitted.alpha_t
+    );
+    let toes = out
+        .artifacts
+        .iter()
+        .filter(|a| a.kind == "seating-toe")
+        .count();
+    assert_eq!(toes, 3, "{:?}", out.artifacts);
+    assert!(
+        out.artifacts.iter().any(|a| a.kind == "compliance"),
+        "{:?}",
+        out.artifacts
+    );
+}
+
+#[test]
+fn a_pressure_dependence_in_a_direct_shear_programme_on_a_soft_rig_is_named_pressure() {
+    // Rig profile, 25, 100, 200 and 400 kPa, μ_s changing exponentially with the normal
+    // stress (by 0.14 over 290 kPa), through a box of 314 kPa/mm, a seating toe of 0.33–0.78
+    // mm on every test, an unload and hold. With α_t held at or above 10⁻³ kN/mm³ (1000
+    // kPa/mm) the base fit bent μ_s, ũ and κ to a loading three times too stiff, and a rate
+    // law was named on tests that all slide at one rate.
+    assert_right(&verdict(
+        &direct_shear(3, &[Form::PressureExp]),
+        &DiagnoseOptions::default(),
+    ));
 }

@@ -222,7 +222,7 @@ impl Param {
             Param::Kappa => (1e-3, 1e4),
             Param::Xi => (1e-7, 10.0),
             Param::UTilde => (0.1, 1e5),
-            Param::AlphaT => (1e-3, 1e6),
+            Param::AlphaT => (1e-6, 1e6),
         }
     }
 

@@ -81,11 +81,27 @@ fn slopes(p: &PreparedTest) -> Slopes {
     if let Some(k) = first_loading_slope(p) {
         out.reloads.push(k);
     }
+    let hold_starts: Vec<usize> = seg.holds.iter().map(|h| h.0).collect();
     for &r in &events {
-        // The transient: until the imposed column has moved 0.2 mm or the next event.
-        let mut j = r + 1;
-        while j + 1 < t.len() && (u[j] - u[r]).abs() < 0.2 && !seg.reversals.contains(&j) {
-            j += 1;
+        // The transient: until the imposed column has moved `travel` mm or the next reversal
+        // (or hold, when `at_holds`).
+        let transient_end = |travel: f64, at_holds: bool| {
+            let mut j = r + 1;
+            while j + 1 < t.len()
+                && (u[j] - u[r]).abs() < travel
+                && !seg.reversals.contains(&j)
+                && !(at_holds && hold_starts.contains(&j))
+            {
+                j += 1;
+            }
+            j
+        };
+        let mut j = transient_end(0.2, false);
+        if (tau[j] - tau[r]).abs() < 0.3 * typical {
+            // A soft rig (a direct-shear box: 100–1000 kPa per mm) unloads 0.2 mm of travel
+            // by less than a third of its shear: the elastic change needs up to a few mm, as
+            // far as the next reversal or hold.
+            j = transient_end(SOFT_TRANSIENT_MM, true);
         }
         if j <= r + 2 {
             continue;
@@ -144,7 +160,10 @@ fn unload_slope(u: &[f64], tau: &[f64], r: usize, j: usize, band: f64) -> Option
 fn first_loading_slope(p: &PreparedTest) -> Option<f64> {
     let t = &p.full;
     let seg = &p.segmentation;
-    if seg.start.kind != subfric_data::StartKind::Rest || t.len() < 10 {
+    // A test whose seating toe was excluded starts at rest under a quarter of its peak, on
+    // the steep loading: the rest of that loading is as elastic as a loading from zero.
+    let from_rest = seg.start.kind == subfric_data::StartKind::Rest || p.toe.is_some();
+    if !from_rest || t.len() < 10 {
         return None;
     }
     let end = seg
@@ -169,6 +188,9 @@ fn first_loading_slope(p: &PreparedTest) -> Option<f64> {
     let resolved = first + second >= RESOLVED_BANDS * seg.conditioned.band && i20 >= 4;
     (straight && resolved).then(|| 0.2 * peak / (first + second))
 }
+
+/// Travel [mm] within which the elastic change after an event is looked for on a soft rig.
+const SOFT_TRANSIENT_MM: f64 = 3.0;
 
 /// The second tenth of a straight rise needs at most this many times the travel of the first.
 const LINEAR_RISE: f64 = 1.5;
