@@ -7,7 +7,8 @@ use serde_json::Value;
 use subfric_data::{load_set, plausibility, summary};
 use subfric_harness::generator::campaign::{profile_of, MIN_VISIBILITY};
 use subfric_harness::generator::{
-    all_classes, campaign_set, write_campaign, Form, Generated, Options, Profile,
+    all_classes, campaign_set, classes_of, write_campaign, Form, Generated, Layout, Options,
+    Profile,
 };
 
 fn set(class_index: usize, k: usize) -> Generated {
@@ -257,6 +258,58 @@ fn every_class_shows_its_effects_in_the_data() {
         }
         for (form, family) in class.iter().zip(&g.truth.families) {
             assert_eq!(form.family(), *family);
+        }
+    }
+}
+
+#[test]
+fn a_direct_shear_programme_slides_one_way_through_a_soft_rig() {
+    // Every class the layout keeps, every profile: three or four tests at distinct normal
+    // stresses, each sliding forward (an unload and hold at most),
+    // the series stiffness 100–1000 kPa/mm, no file cut from a run; and only effects such tests
+    // can show (none of rate, healing or direction).
+    let opts = Options {
+        layout: Layout::DirectShear,
+        ..Options::default()
+    };
+    let kept = classes_of(Layout::DirectShear);
+    assert_eq!(kept.len(), 10, "{kept:?}");
+    for (ci, class) in &kept {
+        assert!(class
+            .iter()
+            .all(|f| matches!(f.family(), "pressure" | "slip-hardening" | "unexplained")));
+        for k in 0..4 {
+            let g = campaign_set(3, *ci, k, class, &opts).expect("the set generates");
+            let tests = &g.set.tests;
+            assert!((3..=4).contains(&tests.len()), "{}", tests.len());
+            let mut stresses: Vec<f64> = tests.iter().map(|t| t.spec.normal_stress_kpa).collect();
+            stresses.dedup();
+            assert_eq!(stresses.len(), tests.len(), "{stresses:?}");
+            let arts = &g.truth.json["artifacts"];
+            let series = arts["series_kpa_per_mm"].as_f64().unwrap();
+            assert!((99.0..=1001.0).contains(&series), "{series}");
+            assert!(arts["midrun"].as_array().unwrap().is_empty());
+            for t in tests {
+                // Forward overall, and back (by more than the displacement noise) in one
+                // stretch at most: the unload.
+                let (first, last) = (t.slip_mm[0], *t.slip_mm.last().unwrap());
+                assert!(last - first > 4.0, "{}: {first} → {last}", t.spec.name);
+                let (mut top, mut backward, mut stretches) = (f64::MIN, false, 0);
+                for &u in &t.slip_mm {
+                    if u >= top {
+                        top = u;
+                        backward = false;
+                    } else if top - u > 0.01 && !backward {
+                        backward = true;
+                        stretches += 1;
+                    }
+                }
+                assert!(
+                    stretches <= 1,
+                    "{}: {stretches} stretches back",
+                    t.spec.name
+                );
+            }
         }
     }
 }
