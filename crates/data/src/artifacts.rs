@@ -62,6 +62,12 @@ const MIN_TOE_MM: f64 = 0.02;
 /// rig under a high normal stress needs a tenth or more of a mm to climb from 5 % to 25 %
 /// (0.19 mm at 170 kPa/mm to a 160 kPa peak), as long as the toes of 0.05–0.8 mm beside it.
 const TOE_OVER_RISE: f64 = 1.5;
+/// A shorter toe counts when the climb from 5 % to 25 %, read on at least [`LINE_ROWS`] rows
+/// as a straight line of shear on travel, reaches zero shear this many times the climb's
+/// travel after the start (without a toe it reaches zero at or before the start).
+const LINE_TOE_OVER_RISE: f64 = 0.25;
+/// Rows the climb must hold to be read as a line.
+const LINE_ROWS: usize = 6;
 
 /// The seating toe of a slip-controlled test that starts at rest, if it has one.
 pub fn seating_toe(test: &TestData, seg: &Segmentation) -> Option<SeatingToe> {
@@ -128,8 +134,35 @@ pub fn seating_toe(test: &TestData, seg: &Segmentation) -> Option<SeatingToe> {
     let toe = (u[i_toe] - u[0]).abs();
     let rise = (u[i_rise] - u[i_toe]).abs().max(1e-12);
     let resolution = 10.0 * seg.conditioned.band;
-    if toe < MIN_TOE_MM.max(resolution) || toe < TOE_OVER_RISE * rise || i_toe < 3 {
+    if toe < MIN_TOE_MM.max(resolution) || i_toe < 3 {
         return None;
+    }
+    let mut reached_back = None;
+    if toe < TOE_OVER_RISE * rise {
+        // A toe shorter than the climb after it (a soft rig under a high normal stress): the
+        // climb from 5 % to 25 % of the peak, a straight line of shear on travel, reaches back
+        // to zero shear where the contact began to carry load — before the start without a
+        // toe (a loading from rest is steepest at its start), past it after one. Read on many
+        // rows, that line is not moved by the noise that moves the last reading under 5 %.
+        let rows: Vec<usize> = (i_toe..=i_rise)
+            .filter(|&i| {
+                let f = sign * tau[i];
+                f >= TOE_SHARE * peak && f <= SLOPE_SHARE * peak
+            })
+            .collect();
+        let travel: Vec<f64> = rows.iter().map(|&i| sign * (u[i] - u[0])).collect();
+        let shear: Vec<f64> = rows.iter().map(|&i| sign * tau[i]).collect();
+        // Shear on travel (the travel is the precise column: a line of travel on a noisy
+        // shear would be flattened by the noise and reach back too far).
+        let reaches_back = (rows.len() >= LINE_ROWS)
+            .then(|| crate::line::fit_line(&travel, &shear))
+            .flatten()
+            .filter(|l| l.slope > 0.0)
+            .map_or(0.0, |l| -l.intercept / l.slope);
+        if reaches_back < MIN_TOE_MM.max(resolution) || reaches_back < LINE_TOE_OVER_RISE * rise {
+            return None;
+        }
+        reached_back = Some(reaches_back);
     }
     // The toe closes as the shear rises and its last part overlaps the steep loading: the
     // record is kept from where the shear first reaches a quarter of the peak, where the
@@ -147,9 +180,12 @@ pub fn seating_toe(test: &TestData, seg: &Segmentation) -> Option<SeatingToe> {
         slack_leg_direction: None,
         remainder: None,
         reason: format!(
-            "seating toe: the first {:.3} mm of travel raised the shear to at most {:.1} % of its first peak, where the loading then needs {rise:.4} mm to go from 5 % to 25 %: the first {travel:.3} mm ({first_kept} rows) excluded, the test starts at rest under {start_shear_kpa:.2} kPa (25 % of the peak) at row {first_kept}",
+            "seating toe: the first {:.3} mm of travel raised the shear to at most {:.1} % of its first peak, where the loading then needs {rise:.4} mm to go from 5 % to 25 %{}: the first {travel:.3} mm ({first_kept} rows) excluded, the test starts at rest under {start_shear_kpa:.2} kPa (25 % of the peak) at row {first_kept}",
             toe,
-            100.0 * shear_share
+            100.0 * shear_share,
+            reached_back.map_or(String::new(), |b| format!(
+                ", a straight climb that reaches zero shear {b:.3} mm into the test"
+            )),
         ),
     })
 }
@@ -381,6 +417,24 @@ mod tests {
                 .unwrap_or_else(|| panic!("noise {noise}: the toe is not found"));
             assert!(
                 (toe.travel_mm - 0.631).abs() < 0.02,
+                "noise {noise}: cut after {} mm",
+                toe.travel_mm
+            );
+        }
+    }
+
+    #[test]
+    fn a_toe_shorter_than_the_soft_loading_after_it_is_found_where_the_climb_reaches_back() {
+        // 0.15 mm of toe before a climb of 0.185 mm from 5 % to 25 %: the climb's line reaches
+        // zero shear 0.15 mm after the start, noisy or not; the test is cut where the shear
+        // reaches a quarter of its peak, 0.231 mm after the gap.
+        for noise in [0.0, 2.0] {
+            let t = soft_loading(0.15, noise);
+            let seg = segment(&t, &SegmentOptions::default());
+            let toe = seating_toe(&t, &seg)
+                .unwrap_or_else(|| panic!("noise {noise}: the toe is not found"));
+            assert!(
+                (toe.travel_mm - 0.381).abs() < 0.02,
                 "noise {noise}: cut after {} mm",
                 toe.travel_mm
             );
