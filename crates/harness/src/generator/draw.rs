@@ -494,23 +494,29 @@ pub fn plans(v0: f64, unloads: bool, rng: &mut ChaCha8Rng) -> Vec<TestPlan> {
     for (k, p) in mono.into_iter().enumerate() {
         let travel = uniform(rng, 3.0, 6.0);
         let segs = if unloads && k == unloaded {
-            vec![
-                slide(v0, 0.5 * travel),
-                Segment::Unload {
-                    fraction: uniform(rng, 0.05, 0.2),
-                    duration: uniform(rng, 10.0, 30.0),
-                },
-                Segment::Hold {
-                    duration: uniform(rng, 5.0, 30.0),
-                },
-                slide(v0, 0.5 * travel),
-            ]
+            unloaded_half_way(v0, travel, rng)
         } else {
             vec![slide(v0, travel)]
         };
         out.push(plan(format!("mono-{p:.0}kPa"), p, segs));
     }
     out
+}
+
+/// A monotonic slide over `travel` mm at `v0`, unloaded to 5–20 % of its shear over 10–30 s
+/// half way, held 5–30 s, and reloaded.
+fn unloaded_half_way(v0: f64, travel: f64, rng: &mut ChaCha8Rng) -> Vec<Segment> {
+    vec![
+        slide(v0, 0.5 * travel),
+        Segment::Unload {
+            fraction: uniform(rng, 0.05, 0.2),
+            duration: uniform(rng, 10.0, 30.0),
+        },
+        Segment::Hold {
+            duration: uniform(rng, 5.0, 30.0),
+        },
+        slide(v0, 0.5 * travel),
+    ]
 }
 
 /// A direct-shear programme at the base rate `v0`: monotonic tests at three or four normal
@@ -530,17 +536,7 @@ pub fn direct_shear_plans(v0: f64, unloads: bool, rng: &mut ChaCha8Rng) -> Vec<T
         .map(|(k, p)| {
             let travel = uniform(rng, 5.0, 10.0);
             let segments = if unloaded == Some(k) {
-                vec![
-                    slide(v0, 0.5 * travel),
-                    Segment::Unload {
-                        fraction: uniform(rng, 0.05, 0.2),
-                        duration: uniform(rng, 10.0, 30.0),
-                    },
-                    Segment::Hold {
-                        duration: uniform(rng, 5.0, 30.0),
-                    },
-                    slide(v0, 0.5 * travel),
-                ]
+                unloaded_half_way(v0, travel, rng)
             } else {
                 vec![slide(v0, travel)]
             };
