@@ -61,6 +61,11 @@ pub struct EventSeeds {
     pub healing_per_decade: Option<f64>,
     /// Backward weakening d = 1 − |μ backward| / μ forward.
     pub backward_weakening: Option<f64>,
+    /// Relative change of the tests' peak and residual stress ratios per e-fold of normal
+    /// stress.
+    pub stress_trend: (Option<f64>, Option<f64>),
+    /// The residual stress ratio's slope with slip past the peak [1/mm].
+    pub slip_slope_per_mm: Option<f64>,
 }
 
 impl EventSeeds {
@@ -77,6 +82,17 @@ impl EventSeeds {
                 .direction
                 .as_ref()
                 .and_then(|d| finite(d.backward_weakening.value)),
+            stress_trend: (
+                e.levels
+                    .peak
+                    .as_ref()
+                    .and_then(|t| finite(t.relative_per_efold.value)),
+                e.levels
+                    .residual
+                    .as_ref()
+                    .and_then(|t| finite(t.relative_per_efold.value)),
+            ),
+            slip_slope_per_mm: e.levels.slip_slope_per_mm.and_then(|s| finite(s.value)),
         }
     }
 }
@@ -324,6 +340,11 @@ impl DataFeatures {
                 decay_mm: self.steps.decay_mm,
             },
             rate_and_state: self.seeds.rate_and_state,
+            stress_trend: subfric_model::terms::StressReading {
+                peak: self.seeds.stress_trend.0,
+                residual: self.seeds.stress_trend.1,
+            },
+            slip_slope_per_mm: self.seeds.slip_slope_per_mm,
         }
     }
 }

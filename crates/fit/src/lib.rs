@@ -11,9 +11,11 @@
 
 pub mod calibrate;
 pub mod dataset;
+pub mod estimate;
 pub mod global;
 pub mod guess;
 pub mod interval;
+pub mod levels;
 pub mod lm;
 pub mod prepare;
 pub mod problem;
@@ -35,7 +37,9 @@ pub use calibrate::{
     Status,
 };
 pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
+pub use estimate::Estimate;
 pub use interval::Interval;
+pub use levels::{read_levels, LevelReadings, StressTrend, TestLevels};
 pub use lm::Termination;
 pub use prepare::{
     control_of, prepare_set, prepare_set_with, prepare_test, reference_model, thin_prepared,

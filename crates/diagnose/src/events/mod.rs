@@ -26,57 +26,7 @@ pub const STEP_EVIDENCE: f64 = 20.0;
 /// Largest ratio between the springs of the velocity steps that still counts as one machine.
 pub const SPRING_AGREEMENT: f64 = 3.0;
 
-/// A value with its 95 % interval (ends infinite where open).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Estimate {
-    /// Best value.
-    pub value: f64,
-    /// Lower end.
-    pub lo: f64,
-    /// Upper end.
-    pub hi: f64,
-}
-
-impl Estimate {
-    /// value ± half.
-    pub fn symmetric(value: f64, half: f64) -> Estimate {
-        let half = if half.is_finite() {
-            half
-        } else {
-            f64::INFINITY
-        };
-        Estimate {
-            value,
-            lo: value - half,
-            hi: value + half,
-        }
-    }
-
-    /// A value with no interval.
-    pub fn open(value: f64) -> Estimate {
-        Estimate::symmetric(value, f64::INFINITY)
-    }
-
-    /// Half the width of the interval.
-    pub fn half_width(&self) -> f64 {
-        0.5 * (self.hi - self.lo)
-    }
-
-    /// True when the interval excludes zero.
-    pub fn excludes_zero(&self) -> bool {
-        self.lo > 0.0 || self.hi < 0.0
-    }
-
-    /// This estimate with its interval widened to cover `other`'s (another reading of the
-    /// same quantity); the value stays this one's.
-    pub fn covering(&self, other: &Estimate) -> Estimate {
-        Estimate {
-            value: self.value,
-            lo: self.lo.min(other.lo),
-            hi: self.hi.max(other.hi),
-        }
-    }
-}
+pub use subfric_fit::Estimate;
 
 /// What the per-event reading found, and what it says about each family.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -93,6 +43,9 @@ pub struct EventAnalysis {
     pub direction: Option<DirectionAsymmetry>,
     /// The rate-and-state reading across steps.
     pub rate: Option<RateConsensus>,
+    /// Every test's peak and residual stress ratio, and their change with the normal stress
+    /// and with slip.
+    pub levels: subfric_fit::LevelReadings,
 }
 
 /// What the velocity steps say together.
@@ -196,6 +149,7 @@ pub fn analyse(prepared: &[PreparedTest], stiffness: Option<&Stiffness>) -> Even
     let reversal_changes: Vec<ReversalChange> =
         views.iter().flat_map(reversals::reversals).collect();
     EventAnalysis {
+        levels: subfric_fit::read_levels(prepared),
         rate: consensus(&step_fits),
         healing: holds::healing_trend(&holds),
         direction: reversals::asymmetry(&reversal_changes),
@@ -253,6 +207,16 @@ pub fn contradicts(e: &EventAnalysis, effect: crate::Effect) -> bool {
     }
 }
 
+/// Whether the events read one by one show a family's effect outright, as its module says
+/// ([`subfric_model::terms::TermFamily::shown`]: the tests' stress ratios changing with the
+/// normal stress beyond their intervals, for pressure).
+pub fn shows(e: &EventAnalysis, effect: crate::Effect) -> bool {
+    match effect {
+        crate::Effect::Term(i) => subfric_model::terms::family(i).shown(&e.readings()),
+        _ => false,
+    }
+}
+
 /// Whether the events read one by one leave room for a family, as its module says
 /// ([`subfric_model::terms::TermFamily::corroborated`]: velocity steps that mostly show a direct
 /// effect for rate, a positive healing rate over the holds for healing, an asymmetry of the
@@ -289,6 +253,9 @@ impl EventAnalysis {
             steps_agree_on_rate_and_state: self.rate.as_ref().map(|r| r.consistent),
             steps_read: self.rate.as_ref().map_or(0, |r| r.steps),
             steps_with_direct_effect: self.rate.as_ref().map_or(0, |r| r.significant),
+            ratio_changes_with_stress: (self.levels.peak.is_some()
+                || self.levels.residual.is_some())
+            .then(|| self.levels.change_with_stress()),
         }
     }
 }

@@ -151,6 +151,22 @@ pub struct DataScales {
     /// Rate and state (a, b, D_c [mm]) from the velocity steps fitted one by one, when they
     /// could be.
     pub rate_and_state: Option<(f64, f64, f64)>,
+    /// How the tests' peak and residual stress ratios change with the normal stress, read test
+    /// by test.
+    pub stress_trend: StressReading,
+    /// The residual stress ratio's change with slip past the peak, pooled over the tests
+    /// [1/mm], when it was read.
+    pub slip_slope_per_mm: Option<f64>,
+}
+
+/// The relative change of the tests' stress ratios per e-fold of normal stress,
+/// d ln R / d ln p (−β of a power law), where two stresses or more were read.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StressReading {
+    /// Of the peak stress ratio.
+    pub peak: Option<f64>,
+    /// Of the residual stress ratio.
+    pub residual: Option<f64>,
 }
 
 /// The velocity steps' signature, per e-fold of rate.
@@ -194,6 +210,9 @@ pub struct EventReadings {
     pub steps_read: usize,
     /// Of [`EventReadings::steps_read`], the steps that show a direct effect.
     pub steps_with_direct_effect: usize,
+    /// Whether the peak or the residual stress ratio read test by test changes with the normal
+    /// stress beyond its uncertainty; `None` when fewer than two stresses were read.
+    pub ratio_changes_with_stress: Option<bool>,
 }
 
 /// A value read off a record with its interval.
@@ -360,6 +379,16 @@ pub trait TermFamily: Sync + std::fmt::Debug {
     /// a first effect that explains only a typical piece's share of the misfit, not most of its
     /// excess, is not named against it. False where they say nothing of it.
     fn contradicted(&self, _events: &EventReadings) -> bool {
+        false
+    }
+    /// Whether the events read one by one show the family's effect outright, as a measurement
+    /// across events (for pressure: the tests' peak or residual stress ratio changing with the
+    /// normal stress beyond its interval). The held-out pieces weigh such an effect coarsely —
+    /// each normal stress is one piece, predicted from the others, so three stresses give three
+    /// pieces and a smooth misfit few independent rows in each — and a family shown this way is
+    /// named when its candidate predicts every held-out piece of its kind better and explains
+    /// enough, whatever its held-out evidence D. False where they do not.
+    fn shown(&self, _events: &EventReadings) -> bool {
         false
     }
     /// Forms the events read one by one single out: the diagnosis refits them in later stages

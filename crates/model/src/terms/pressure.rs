@@ -187,6 +187,32 @@ const FORMS: [TermForm; 12] = [
     },
 ];
 
+/// Largest |β| a first guess read off the tests takes (the bounds are ±1).
+const READ_BETA: f64 = 0.9;
+
+/// β (and β_k) of a form scaling `on`, read off the tests' stress ratios: every shape has
+/// d ln P / d ln p = −β at the reference stress (the power law's exponent, the linear and the
+/// exponential laws' slope there), so −β is the relative change of the peak (μ_s), of the
+/// residual (μ_k) or of both (μ as a whole: their mean) per e-fold of normal stress. `None`
+/// when the tests show neither.
+fn read_off_tests(on: Target, t: &super::StressReading) -> Option<Vec<f64>> {
+    let beta = |r: Option<f64>| {
+        r.filter(|v| v.is_finite())
+            .map(|v| (-v).clamp(-READ_BETA, READ_BETA))
+    };
+    let (peak, residual) = (beta(t.peak), beta(t.residual));
+    match on {
+        Target::MuS => peak.map(|b| vec![b]),
+        Target::MuK => residual.map(|b| vec![b]),
+        Target::Bounds => (peak.is_some() || residual.is_some())
+            .then(|| vec![peak.unwrap_or(0.0), residual.unwrap_or(0.0)]),
+        _ => match (peak, residual) {
+            (Some(a), Some(b)) => Some(vec![0.5 * (a + b)]),
+            (a, b) => a.or(b).map(|v| vec![v]),
+        },
+    }
+}
+
 /// The name of a target in files.
 fn target_key(t: Target) -> &'static str {
     match t {
@@ -234,11 +260,14 @@ impl TermFamily for Pressure {
     }
 
     fn guess(&self, form: usize, data: &DataScales) -> FormGuess {
-        let starts = if SHAPES[form].1 == Target::Bounds {
+        let mut starts = if SHAPES[form].1 == Target::Bounds {
             vec![vec![0.1, 0.1], vec![-0.1, -0.1], vec![0.1, -0.1]]
         } else {
             vec![vec![0.1], vec![-0.1]]
         };
+        if let Some(read) = read_off_tests(SHAPES[form].1, &data.stress_trend) {
+            starts.insert(0, read);
+        }
         FormGuess {
             neutral: vec![0.0; starts[0].len()],
             starts,
@@ -311,6 +340,10 @@ impl TermFamily for Pressure {
 
     fn reads_normal_stress(&self) -> bool {
         true
+    }
+
+    fn shown(&self, events: &super::EventReadings) -> bool {
+        events.ratio_changes_with_stress == Some(true)
     }
 }
 
@@ -408,6 +441,8 @@ mod tests {
             healing_per_decade: None,
             steps: crate::terms::StepReading::default(),
             rate_and_state: None,
+            stress_trend: Default::default(),
+            slip_slope_per_mm: None,
         };
         assert_eq!((0..FORMS.len()).filter(|&k| Pressure.tries(k)).count(), 8);
         assert_eq!(Pressure.guess(3, &data).references, vec![(P_REF, 196.0)]);
@@ -415,5 +450,40 @@ mod tests {
             pressure_levels: 1,
             ..data
         }));
+    }
+
+    #[test]
+    fn the_first_start_is_read_off_the_tests_peaks_and_residuals() {
+        let mut data = DataScales {
+            v_ref: 0.01,
+            p_ref: 100.0,
+            slip_span_mm: 5.0,
+            duration_s: 100.0,
+            holds: 0,
+            reversals: 0,
+            pressure_levels: 3,
+            sliding_rates: 1,
+            healing_per_decade: None,
+            steps: crate::terms::StepReading::default(),
+            rate_and_state: None,
+            stress_trend: Default::default(),
+            slip_slope_per_mm: None,
+        };
+        // Nothing read: the generic starts only.
+        assert_eq!(Pressure.guess(3, &data).starts, vec![vec![0.1], vec![-0.1]]);
+        // Peaks falling 8 % per e-fold of stress, residuals 2 %: β 0.08 on μ_s, 0.02 on μ_k.
+        data.stress_trend = crate::terms::StressReading {
+            peak: Some(-0.08),
+            residual: Some(-0.02),
+        };
+        let first = |form: usize| Pressure.guess(form, &data).starts[0].clone();
+        let close = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-12);
+        let key = |k: &str| FORMS.iter().position(|f| f.key == k).unwrap();
+        assert!(close(&first(key("power-mu-s")), &[0.08]));
+        assert!(close(&first(key("linear-mu-k")), &[0.02]));
+        assert!(close(&first(key("power-bounds")), &[0.08, 0.02]));
+        assert!(close(&first(key("exponential-friction")), &[0.05]));
+        // The generic starts stay behind it.
+        assert_eq!(Pressure.guess(key("power-mu-s"), &data).starts.len(), 3);
     }
 }

@@ -42,6 +42,9 @@ const PARAMS: [TermParam; 2] = [
     },
 ];
 
+/// Largest |h| [1/mm] a first guess read off the tests takes.
+const READ_SLOPE: f64 = 0.5;
+
 const EXPONENTIAL: usize = 0;
 const CAPPED: usize = 1;
 
@@ -105,13 +108,22 @@ impl TermFamily for SlipHardening {
         // A change of friction of a few hundredths over the slip of a test, saturating within
         // it or well beyond it, hardening or softening.
         let s = data.slip_span_mm.max(0.1);
+        let mut starts = vec![
+            vec![0.05 / s, 0.3 * s],
+            vec![-0.05 / s, 0.3 * s],
+            vec![0.02 / s, 3.0 * s],
+            vec![-0.02 / s, 3.0 * s],
+        ];
+        // First, the slope the tests' residual stress ratio shows past its peak, kept over the
+        // slip of a test and beyond (it did not saturate where it was read).
+        if let Some(g) = data
+            .slip_slope_per_mm
+            .filter(|g| g.is_finite() && *g != 0.0)
+        {
+            starts.insert(0, vec![g.clamp(-READ_SLOPE, READ_SLOPE), 2.0 * s]);
+        }
         FormGuess {
-            starts: vec![
-                vec![0.05 / s, 0.3 * s],
-                vec![-0.05 / s, 0.3 * s],
-                vec![0.02 / s, 3.0 * s],
-                vec![-0.02 / s, 3.0 * s],
-            ],
+            starts,
             neutral: vec![0.0, s],
             bounds: vec![],
             references: vec![],
@@ -200,6 +212,8 @@ mod tests {
             healing_per_decade: None,
             steps: crate::terms::StepReading::default(),
             rate_and_state: None,
+            stress_trend: Default::default(),
+            slip_slope_per_mm: None,
         };
         let short = SlipHardening.guess(0, &data(1.0));
         let long = SlipHardening.guess(0, &data(10.0));
@@ -208,5 +222,13 @@ mod tests {
         assert!((short.starts[0][1] * 10.0 - long.starts[0][1]).abs() < 1e-12);
         // A test that barely slides still gets a usable saturation slip.
         assert!(SlipHardening.guess(0, &data(0.0)).neutral[1] > 0.0);
+        // A slope read off the tests' residual comes first, its saturation beyond the test.
+        let read = DataScales {
+            slip_slope_per_mm: Some(-0.004),
+            ..data(5.0)
+        };
+        let g = SlipHardening.guess(1, &read);
+        assert_eq!(g.starts[0], vec![-0.004, 10.0]);
+        assert_eq!(g.starts.len(), 5);
     }
 }

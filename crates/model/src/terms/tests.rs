@@ -27,6 +27,8 @@ fn every_family_is_consistent() {
             healing_per_decade: None,
             steps: StepReading::default(),
             rate_and_state: None,
+            stress_trend: Default::default(),
+            slip_slope_per_mm: None,
         };
         for (k, form) in fam.forms().iter().enumerate() {
             let g = fam.guess(k, &scales);

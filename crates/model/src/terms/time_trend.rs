@@ -201,6 +201,8 @@ mod tests {
             healing_per_decade: None,
             steps: crate::terms::StepReading::default(),
             rate_and_state: None,
+            stress_trend: Default::default(),
+            slip_slope_per_mm: None,
         };
         let short = TimeTrend.guess(0, &data(100.0));
         let long = TimeTrend.guess(0, &data(10_000.0));
