@@ -85,6 +85,7 @@ pub(super) fn make_verdict(
                 score: c.score,
                 tail_shrink: tail,
                 leave_one_test_out_shrink: loto,
+                shown_by_events: crate::events::shows(&cx.events, form.effect),
             }
         })
         .collect();
@@ -150,6 +151,11 @@ fn explain_named(effects: &[NamedEffect], base_chi2: f64, final_chi2: f64) -> St
                 e.score,
                 100.0 * e.typical_shrink
             );
+            if e.shown_by_events {
+                t.push_str(
+                    " (the events read one by one show it outright, section 1b: each held-out piece of its kind predicted better suffices)",
+                );
+            }
             if e.relative_shrink >= 0.0 {
                 t.push_str(&format!(
                     ", and {:.0}% of the held-out misfit is removed ({:.0}% of its excess over the noise)",

@@ -152,6 +152,10 @@ pub struct NamedEffect {
     /// Shrink with each test left out in turn (an effect seen in one test cannot be learned
     /// without it).
     pub leave_one_test_out_shrink: Option<f64>,
+    /// The events read one by one show the effect outright
+    /// ([`subfric_model::terms::TermFamily::shown`]: for pressure, the tests' stress ratios
+    /// changing with the normal stress beyond their intervals).
+    pub shown_by_events: bool,
 }
 
 /// The answer for scripts.
