@@ -15,12 +15,14 @@ fn main() {
         println!("{} ({:.2} s)", set.meta.name, t0.elapsed().as_secs_f64());
         for p in &prepared {
             println!(
-                "  {:<20} rows {:>6} fitted on {:>5}  start {:?}  noise {:.4}",
+                "  {:<20} rows {:>6} fitted on {:>5}  start {:?} ({:?})  noise {:.4}  band {:.3e} mm",
                 p.fit.name,
                 p.full.len(),
                 p.fit.len(),
                 p.fit.initial,
-                p.fit.noise_sd
+                p.segmentation.start.kind,
+                p.fit.noise_sd,
+                p.segmentation.conditioned.band
             );
         }
         match subfric_fit::resolved_stiffness(&prepared) {
