@@ -25,16 +25,95 @@ fn interval(e: &Estimate, digits: usize) -> String {
 /// Section "1b": each event read on its own.
 pub(crate) fn events_section(s: &mut String, d: &Diagnosis) {
     let e = &d.events;
-    if e.steps.is_empty() && e.holds.is_empty() && e.reversals.is_empty() {
+    if e.steps.is_empty()
+        && e.holds.is_empty()
+        && e.reversals.is_empty()
+        && e.levels.tests.is_empty()
+    {
         return;
     }
     let _ = writeln!(
         s,
         "\n1b. each event read on its own, as friction labs read a record (95 % intervals):"
     );
+    levels(s, &e.levels);
     steps(s, e);
     holds(s, e);
     reversals(s, e);
+}
+
+/// The tests' peak and residual stress ratios, and their change with the normal stress and
+/// with slip.
+pub(crate) fn levels(s: &mut String, l: &subfric_fit::LevelReadings) {
+    if l.tests.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "   stress ratios of each test's first loading (peak from rest; residual where the excess has decayed):"
+    );
+    let _ = writeln!(
+        s,
+        "   {:<18} {:>10} {:>12} {:>26} {:>12} {:>26} {:>30}",
+        "test", "σ_n [kPa]", "rate [mm/s]", "peak", "at [mm]", "residual", "residual slope [1/mm]"
+    );
+    let or_dash = |e: Option<subfric_fit::Estimate>, digits: usize| {
+        e.map_or_else(|| "—".to_string(), |e| interval(&e, digits))
+    };
+    for t in &l.tests {
+        let _ = writeln!(
+            s,
+            "   {:<18} {:>10.1} {:>12.3e} {:>26} {:>12} {:>26} {:>30}",
+            crate::diagnose_report::truncate(&t.test, 18),
+            t.normal_kpa,
+            t.rate_mm_s,
+            or_dash(t.peak, 4),
+            t.slip_to_peak_mm
+                .map_or_else(|| "—".to_string(), |u| format!("{u:.3}")),
+            or_dash(t.residual, 4),
+            or_dash(t.slope_per_mm, 5)
+        );
+    }
+    for (what, trend) in [("peak", &l.peak), ("residual", &l.residual)] {
+        let Some(t) = trend else {
+            continue;
+        };
+        let _ = writeln!(
+            s,
+            "   {what} stress ratio over {} tests at {} normal stresses: {} per e-fold of normal stress ({} relative: a power law's −β){}; Mohr–Coulomb envelope φ {} °, c {} kPa",
+            t.tests,
+            t.stresses,
+            interval(&t.per_efold, 4),
+            interval(&t.relative_per_efold, 4),
+            if t.changes() {
+                if t.per_efold.value < 0.0 {
+                    ": FALLS with the normal stress"
+                } else {
+                    ": RISES with the normal stress"
+                }
+            } else {
+                ": no change beyond the readings' uncertainty"
+            },
+            interval(&t.friction_angle_deg, 1),
+            interval(&t.cohesion_kpa, 1)
+        );
+    }
+    if let Some(g) = &l.slip_slope_per_mm {
+        let _ = writeln!(
+            s,
+            "   residual stress ratio past the peak, together: {} per mm of slip{}",
+            interval(g, 5),
+            if g.excludes_zero() {
+                if g.value > 0.0 {
+                    " (hardening)"
+                } else {
+                    " (softening)"
+                }
+            } else {
+                ""
+            }
+        );
+    }
 }
 
 fn steps(s: &mut String, e: &EventAnalysis) {

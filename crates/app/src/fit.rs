@@ -79,6 +79,8 @@ pub struct FitOutcome {
     pub artifacts: Vec<Artifact>,
     /// μ_s and μ_k beside the peak and residual stress ratios the record shows.
     pub read_off: Vec<subfric_fit::ReadOff>,
+    /// Each test's peak and residual stress ratio, and their change with the normal stress.
+    pub levels: subfric_fit::LevelReadings,
 }
 
 /// A rig artifact recognised in a record, and what the fit did about it.
@@ -438,6 +440,7 @@ fn calibrate_setup(
         progress.warning(&r.sentence());
     }
     Ok(FitOutcome {
+        levels: subfric_fit::read_levels(&setup.tests),
         read_off,
         report,
         adequacy,
@@ -673,6 +676,10 @@ pub fn fit_json(out: &FitOutcome) -> Result<serde_json::Value> {
     }
     if !out.read_off.is_empty() {
         v["read_off"] = serde_json::to_value(&out.read_off)?;
+    }
+    // Only where tests at two normal stresses or more were compared.
+    if out.levels.peak.is_some() || out.levels.residual.is_some() {
+        v["levels"] = serde_json::to_value(&out.levels)?;
     }
     Ok(v)
 }

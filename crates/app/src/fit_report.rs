@@ -185,6 +185,41 @@ fn write_read_off(s: &mut String, out: &FitOutcome) {
             "  the fitted model does not keep what the record shows: the fit traded the level for something else (a rig artifact, an effect the model lacks: subfric diagnose); quote μ_s and μ_k only with that said."
         );
     }
+    write_stress_trends(s, &out.levels);
+}
+
+/// A peak or residual stress ratio that changes with the normal stress across the tests: one
+/// μ_s (or μ_k) cannot keep them all, and the reader is told which way they go.
+fn write_stress_trends(s: &mut String, l: &subfric_fit::LevelReadings) {
+    for (what, param, trend, pick) in [
+        (
+            "peak",
+            "μ_s",
+            &l.peak,
+            (|t: &subfric_fit::TestLevels| t.peak) as fn(&subfric_fit::TestLevels) -> _,
+        ),
+        ("residual", "μ_k", &l.residual, |t| t.residual),
+    ] {
+        let Some(t) = trend.as_ref().filter(|t| t.changes()) else {
+            continue;
+        };
+        let values: Vec<String> = l
+            .tests
+            .iter()
+            .filter_map(|x| pick(x).map(|e| format!("{:.3} at {:.0} kPa", e.value, x.normal_kpa)))
+            .collect();
+        let _ = writeln!(
+            s,
+            "  the {what} stress ratio {} with the normal stress ({}; {:+.4} [{:+.4}, {:+.4}] per e-fold of it, Mohr–Coulomb φ {:.1}°, c {:.1} kPa): one {param} cannot keep every test's {what}; `subfric diagnose` tries a pressure effect",
+            if t.per_efold.value < 0.0 { "falls" } else { "rises" },
+            values.join(", "),
+            t.per_efold.value,
+            t.per_efold.lo,
+            t.per_efold.hi,
+            t.friction_angle_deg.value,
+            t.cohesion_kpa.value
+        );
+    }
 }
 
 /// One line per parameter: value (or what the data allow), standard error, interval,
