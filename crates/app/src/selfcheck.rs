@@ -13,8 +13,7 @@ use std::path::{Path, PathBuf};
 use subfric_data::PathKind;
 use subfric_diagnose::{prepare_for_diagnosis, DiagnoseOptions, Effect};
 use subfric_harness::generator::{
-    all_classes, campaign_set, class_label, classes_of, write_campaign, Class, Form, Generated,
-    Options,
+    all_classes, campaign_set, classes_of, write_campaign, Class, Form, Generated, Options,
 };
 
 pub use crate::selfcheck_score::{score, Case, Scores};
@@ -68,7 +67,7 @@ pub struct SelfcheckRequest {
 pub fn class_list(layout: Layout) -> Vec<(usize, String)> {
     classes_of(layout)
         .iter()
-        .map(|(i, c)| (i + 1, class_label(c)))
+        .map(|(i, c)| (i + 1, layout.class_label(c)))
         .collect()
 }
 
@@ -166,7 +165,7 @@ fn chosen_classes(numbers: &[usize], layout: Layout) -> Result<Vec<(usize, Class
             Some(c) => bail!(
                 "--classes {k}: {} cannot show in a direct-shear programme (monotonic tests at \
                  one rate, no holds or reversals; expected one of {})",
-                class_label(c),
+                layout.class_label(c),
                 numbers_of(layout)
             ),
             None => bail!(

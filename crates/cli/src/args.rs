@@ -547,6 +547,10 @@ pub enum LayoutArg {
     /// A direct-shear programme: monotonic tests at three or four normal stresses through the
     /// peak to the residual on a soft rig (only pressure, slip-hardening and load-cell classes).
     DirectShear,
+    /// A direct-shear programme of dense sand whose curves follow the geotechnical
+    /// literature's empirical laws, not the model (Bolton's peak, a saturating rise,
+    /// exponential softening): class 1 the shape alone, class 2 pressure.
+    DenseSand,
 }
 
 impl From<LayoutArg> for subfric_app::selfcheck::Layout {
@@ -554,6 +558,7 @@ impl From<LayoutArg> for subfric_app::selfcheck::Layout {
         match a {
             LayoutArg::Mixed => subfric_app::selfcheck::Layout::Mixed,
             LayoutArg::DirectShear => subfric_app::selfcheck::Layout::DirectShear,
+            LayoutArg::DenseSand => subfric_app::selfcheck::Layout::DenseSand,
         }
     }
 }

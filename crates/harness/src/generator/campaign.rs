@@ -138,9 +138,25 @@ pub enum Layout {
     /// with the interface: 10⁻⁴–10⁻³ kN/mm³, so that the peak comes at a few tenths of a mm to
     /// a mm or two of displacement; see [`draw::direct_shear_plans`]).
     DirectShear,
+    /// A direct-shear programme of dense sand whose curves follow the geotechnical
+    /// literature's empirical laws, not the paper's model (Bolton's stress–dilatancy peak, a
+    /// saturating rise, exponential softening; see [`super::dense_sand`]): the shape a real
+    /// shear box records. Two classes: none (one peak ratio at every stress; what is left is
+    /// the shape the model lacks, `unexplained`) and pressure (Bolton's peak falling with the
+    /// normal stress).
+    DenseSand,
 }
 
 impl Layout {
+    /// A class of this layout in words.
+    pub fn class_label(self, class: &[Form]) -> String {
+        match (self, class.is_empty()) {
+            (Layout::DenseSand, true) => "the empirical shape alone (no listed effect)".into(),
+            (Layout::DenseSand, false) => "pressure: Bolton's stress-dilatancy peak".into(),
+            _ => class_label(class),
+        }
+    }
+
     /// Can an effect of `form` show in this layout's tests? A direct-shear programme slides at
     /// one rate in one direction without holds: only what changes with the normal stress, with
     /// slip or with time can show.
@@ -150,6 +166,8 @@ impl Layout {
             Layout::DirectShear => {
                 matches!(form.family(), "pressure" | "slip-hardening" | "unexplained")
             }
+            // One pressure class: Bolton's law stands for the family.
+            Layout::DenseSand => form == Form::PressurePower,
         }
     }
 }
@@ -182,6 +200,13 @@ pub fn campaign_set(
     class: &[Form],
     opts: &Options,
 ) -> Result<Generated, GenError> {
+    if opts.layout == Layout::DenseSand {
+        return Ok(super::dense_sand::dense_sand_programme(
+            &set_name(class_index, k),
+            !class.is_empty(),
+            set_seed(seed, class_index, k),
+        ));
+    }
     let mut rng = ChaCha8Rng::seed_from_u64(set_seed(seed, class_index, k));
     generate(
         &set_name(class_index, k),
@@ -328,7 +353,9 @@ fn draw_world(
             let arts = draw::artifacts(profile, &base, &mut plans, rng);
             (plans, arts)
         }
-        Layout::DirectShear => {
+        // A dense-sand programme is made by its own empirical laws (`campaign_set`); drawn
+        // through the forward model it is a direct-shear programme.
+        Layout::DirectShear | Layout::DenseSand => {
             let mut plans = draw::direct_shear_plans(v0, profile.rig(), rng);
             let arts = draw::direct_shear_artifacts(profile, &base, &mut plans, rng);
             (plans, arts)

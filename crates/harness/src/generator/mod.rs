@@ -7,6 +7,7 @@
 //! Documentation: `docs/selfcheck-generator.md`.
 
 pub mod campaign;
+pub mod dense_sand;
 pub mod draw;
 pub mod effects;
 pub mod forward;
@@ -17,4 +18,5 @@ pub use campaign::{
     all_classes, campaign_set, class_label, classes_of, generate, generate_seeded, long_record_set,
     write_campaign, Class, Generated, Layout, Options, Truth,
 };
+pub use dense_sand::dense_sand_programme;
 pub use draw::{Form, Profile};
