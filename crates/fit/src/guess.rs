@@ -33,21 +33,7 @@ pub fn features(t: &FitTest) -> Option<CurveFeatures> {
         let far = t.imposed.iter().skip(1).find(|u| (**u - u0).abs() > 1e-9)?;
         (far - u0).signum()
     };
-    // First loading: until the slip reverses or stops for a while.
-    let mut end = 1;
-    let mut still = 0;
-    while end < t.len() {
-        let du = sign * (t.imposed[end] - t.imposed[end - 1]);
-        if du < -1e-12 {
-            break;
-        }
-        still = if du <= 1e-12 { still + 1 } else { 0 };
-        if still >= 3 {
-            end -= still - 1;
-            break;
-        }
-        end += 1;
-    }
+    let end = loading_end(t, 0, sign);
     if end < 8 {
         return None;
     }
@@ -100,6 +86,27 @@ pub fn features(t: &FitTest) -> Option<CurveFeatures> {
         rate,
         holds,
     })
+}
+
+/// One past the last row of the monotonic loading that starts at row `from` in direction
+/// `sign`: until the imposed column reverses, or stands still for three rows (the loading then
+/// ends at the first of them).
+pub(crate) fn loading_end(t: &FitTest, from: usize, sign: f64) -> usize {
+    let mut end = from + 1;
+    let mut still = 0;
+    while end < t.len() {
+        let du = sign * (t.imposed[end] - t.imposed[end - 1]);
+        if du < -1e-12 {
+            break;
+        }
+        still = if du <= 1e-12 { still + 1 } else { 0 };
+        if still >= 3 {
+            end -= still - 1;
+            break;
+        }
+        end += 1;
+    }
+    end
 }
 
 /// sign·shear/normal over `rows`, or `None` if a row cannot give one (normal stress not

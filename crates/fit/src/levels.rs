@@ -151,26 +151,14 @@ fn levels_of(read: Vec<TestLevels>) -> LevelReadings {
     }
 }
 
-/// The first loading of `t`: rows `first..end` moving one way from rest, and its sign.
+/// The first loading of `t`: rows `first..end` moving one way from rest (as the first
+/// guesses read it, [`crate::guess::loading_end`]), and its sign.
 fn first_loading(t: &FitTest) -> Option<(usize, usize, f64)> {
     let u0 = t.imposed[0];
     let moved = t.imposed.iter().position(|u| (u - u0).abs() > 1e-9)?;
     let first = moved.saturating_sub(1);
     let sign = (t.imposed[moved] - u0).signum();
-    let mut end = moved;
-    let mut still = 0;
-    while end < t.len() {
-        let du = sign * (t.imposed[end] - t.imposed[end - 1]);
-        if du < -1e-12 {
-            break;
-        }
-        still = if du <= 1e-12 { still + 1 } else { 0 };
-        if still >= 3 {
-            end -= still - 1;
-            break;
-        }
-        end += 1;
-    }
+    let end = crate::guess::loading_end(t, first, sign);
     (end >= first + MIN_ROWS).then_some((first, end, sign))
 }
 
@@ -452,24 +440,16 @@ fn line_over(u: &[f64], f: &[f64], from: f64) -> Option<Line> {
     if n < MIN_ROWS {
         return None;
     }
-    let (mx, my) = (
-        x.iter().sum::<f64>() / n as f64,
-        y.iter().sum::<f64>() / n as f64,
-    );
+    let line = subfric_data::line::fit_line(x, y)?;
+    let mx = x.iter().sum::<f64>() / n as f64;
     let sxx: f64 = x.iter().map(|v| (v - mx) * (v - mx)).sum();
-    if sxx.is_nan() || sxx <= 0.0 {
-        return None;
-    }
-    let slope = x
-        .iter()
-        .zip(y)
-        .map(|(a, b)| (a - mx) * (b - my))
-        .sum::<f64>()
-        / sxx;
+    // The level at the stretch's middle, where it is read best.
+    let my = line.intercept + line.slope * mx;
+    let slope = line.slope;
     let r: Vec<f64> = x
         .iter()
         .zip(y)
-        .map(|(a, b)| b - my - slope * (a - mx))
+        .map(|(a, b)| b - line.intercept - slope * a)
         .collect();
     let (sd, inflation) = spread(&r, 2);
     let se_level = (sd * inflation / (n as f64).sqrt()).max(REPRODUCIBILITY_SHARE * my.abs());
