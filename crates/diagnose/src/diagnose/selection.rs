@@ -824,6 +824,17 @@ fn selection_stage(
     } else {
         decide_further(reference_chi2, &pairs, &own, &corroborated, th)
     };
+    // A family the events show outright (the tests' stress ratios changing with the normal
+    // stress) is weighed coarsely by the held-out pieces: each stress is one piece, so three
+    // stresses cannot reach D 20 however consistently the candidate predicts them. It is named
+    // when it predicts every held-out piece of its kind better, explains enough and beats the
+    // drift of the measurement; the events carry the significance.
+    let decision = match decision {
+        d @ (Decision::Tentative(_) | Decision::Unexplained) => {
+            shown_and_predicted(cx, &candidates, drift.as_ref()).map_or(d, Decision::Named)
+        }
+        d => d,
+    };
     // Within the noise the record's own steady stretches show beyond their white noise, a gap
     // that no candidate explains is that noise — as below the near-noise gap itself, where
     // `decide` says so before it keeps a candidate tentatively, and where it names one that
@@ -836,17 +847,6 @@ fn selection_stage(
     // with that leverage (μ_s 4 % low from the 25 and 50 kPa tests of a direct-shear
     // programme misses the 400 kPa peak by 7 kPa: held out 7.5×, all rows 2.1×, where the
     // record's unseen noise is 2).
-    // A family the events show outright (the tests' stress ratios changing with the normal
-    // stress) is weighed coarsely by the held-out pieces: each stress is one piece, so three
-    // stresses cannot reach D 20 however consistently the candidate predicts them. It is named
-    // when it predicts every held-out piece of its kind better, explains enough and beats the
-    // drift of the measurement; the events carry the significance.
-    let decision = match decision {
-        d @ (Decision::Tentative(_) | Decision::Unexplained) => {
-            shown_and_predicted(cx, &candidates, drift.as_ref()).map_or(d, Decision::Named)
-        }
-        d => d,
-    };
     let unseen_gap = th.gap_chi2 * cx.features.unseen_noise;
     let in_sample_chi2 = || {
         compare(
