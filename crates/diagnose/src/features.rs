@@ -62,9 +62,10 @@ pub struct EventSeeds {
     /// Backward weakening d = 1 − |μ backward| / μ forward.
     pub backward_weakening: Option<f64>,
     /// Relative change of the tests' peak and residual stress ratios per e-fold of normal
-    /// stress.
+    /// stress, where it is clear of zero.
     pub stress_trend: (Option<f64>, Option<f64>),
-    /// The residual stress ratio's slope with slip past the peak [1/mm].
+    /// The residual stress ratio's slope with slip past the peak [1/mm], where it is clear of
+    /// zero.
     pub slip_slope_per_mm: Option<f64>,
 }
 
@@ -82,17 +83,27 @@ impl EventSeeds {
                 .direction
                 .as_ref()
                 .and_then(|d| finite(d.backward_weakening.value)),
+            // A reading within its uncertainty of zero is no guess (the generic starts hold
+            // the neutral already): a start from it only moves the screening to another basin
+            // (a hyperbolic slip hardening at its bound, standing in for the rise the model
+            // lacks).
             stress_trend: (
                 e.levels
                     .peak
                     .as_ref()
+                    .filter(|t| t.changes())
                     .and_then(|t| finite(t.relative_per_efold.value)),
                 e.levels
                     .residual
                     .as_ref()
+                    .filter(|t| t.changes())
                     .and_then(|t| finite(t.relative_per_efold.value)),
             ),
-            slip_slope_per_mm: e.levels.slip_slope_per_mm.and_then(|s| finite(s.value)),
+            slip_slope_per_mm: e
+                .levels
+                .slip_slope_per_mm
+                .filter(|s| s.excludes_zero())
+                .and_then(|s| finite(s.value)),
         }
     }
 }
