@@ -203,8 +203,24 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         || req.fix.iter().any(|(p, _)| *p == Param::AlphaT);
     // A series stiffness the loading slopes resolve (the machine's compliance in the slip
     // column) is fitted, from the slopes' estimate, unless the request says what to do with α_t.
+    // Else, where a first loading rises over several rows, from a trial: α_t free against α_t
+    // held (with the request's other parameters), kept when the rise decides it.
     let resolved = (!alpha_given)
-        .then(|| subfric_fit::resolved_stiffness(&tests))
+        .then(|| {
+            subfric_fit::resolved_stiffness(&tests).or_else(|| {
+                let mut held = template;
+                for (p, v) in &req.fix {
+                    p.set(&mut held, *v);
+                }
+                let free: Vec<Param> = req
+                    .free
+                    .iter()
+                    .copied()
+                    .filter(|p| !req.fix.iter().any(|(q, _)| q == p))
+                    .collect();
+                subfric_fit::stiffness_by_trial(&tests, &held, &free, &req.options)
+            })
+        })
         .flatten();
     let mut free_alpha = false;
     match (&resolved, why) {

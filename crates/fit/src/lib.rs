@@ -49,4 +49,4 @@ pub use problem::{model_runs, Problem};
 pub use read_off::{read_off, ReadOff};
 pub use residuals::Residuals;
 pub use space::{Coord, Param, Space};
-pub use stiffness::{resolved_stiffness, Stiffness};
+pub use stiffness::{resolved_stiffness, stiffness_by_trial, Stiffness};

@@ -189,7 +189,23 @@ pub fn diagnose_reporting(
     let events = crate::events::analyse(prepared, resolved_stiffness(prepared).as_ref());
     // The elastic stiffness: from unloads and reloads when the record resolves it there, else
     // from the springs the velocity steps needed one by one.
-    let stiffness = resolved_stiffness(prepared).or_else(|| events.stiffness());
+    // Else, where a first loading rises over several rows, from a trial: α_t free against α_t
+    // held, kept when the rise decides it.
+    let stiffness = resolved_stiffness(prepared)
+        .or_else(|| events.stiffness())
+        .or_else(|| {
+            subfric_fit::stiffness_by_trial(
+                prepared,
+                &opts.template,
+                &subfric_fit::Param::BASE,
+                &subfric_fit::FitOptions {
+                    seed: opts.seed,
+                    global_evaluations: opts.global_evaluations,
+                    starts: opts.starts,
+                    ..subfric_fit::FitOptions::default()
+                },
+            )
+        });
     let (mut cx, template) = Context::new(prepared, stiffness.as_ref(), opts, report);
     cx.features.seeds = crate::features::EventSeeds::from_events(&events);
     cx.events = events.clone();
