@@ -152,3 +152,38 @@ fn a_fit_of_a_dense_sand_programme_reads_the_box_stiffness_and_says_one_mu_s_can
         "{text}"
     );
 }
+
+#[test]
+fn a_box_rise_no_straight_line_reads_is_freed_on_trial_and_the_misfit_falls() {
+    use subfric_app::fit::{run_fit, FitRequest};
+    use subfric_app::progress::Silent;
+    use subfric_fit::FitOptions;
+    // gen-06-6: no unload, and no first loading rises straight over ten resolution bands, so
+    // nothing reads the stiffness; α_t held at 1000 kN/mm³ left the misfit at 391× the noise
+    // variance. Freed on trial from the rises' secant, α_t is a box's (10⁻³ kN/mm³) and the
+    // misfit falls about four times.
+    let g = programme(true, 5);
+    let prepared = subfric_diagnose::prepare_for_diagnosis(&g.set);
+    assert!(subfric_fit::resolved_stiffness(&prepared).is_none());
+    let tmp = tempfile::tempdir().unwrap();
+    subfric_harness::generator::write_campaign(tmp.path(), std::slice::from_ref(&g)).unwrap();
+    let dir = tmp.path().join(&g.set.meta.name);
+    let out = run_fit(&FitRequest::of_set(dir, FitOptions::default()), &Silent).unwrap();
+    let compliance = out
+        .artifacts
+        .iter()
+        .find(|a| a.kind == "compliance")
+        .unwrap_or_else(|| panic!("α_t not freed: {:?}", out.artifacts));
+    assert!(
+        compliance.detail.contains("freeing α_t from the secant"),
+        "{}",
+        compliance.detail
+    );
+    let alpha = out.report.model.params.alpha_t;
+    assert!((1e-4..1e-2).contains(&alpha), "α_t {alpha} kN/mm³");
+    assert!(
+        out.report.reduced_chi2 < 150.0,
+        "misfit {}× the noise variance",
+        out.report.reduced_chi2
+    );
+}
