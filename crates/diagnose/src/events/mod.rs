@@ -234,28 +234,31 @@ impl EventAnalysis {
     /// What the events read say, for the registered families
     /// ([`subfric_model::terms::TermFamily::corroborated`]).
     pub fn readings(&self) -> subfric_model::terms::EventReadings {
-        use subfric_model::terms::Reading;
+        let reading = |e: &Estimate| subfric_model::terms::Reading {
+            value: e.value,
+            lo: e.lo,
+            hi: e.hi,
+        };
         subfric_model::terms::EventReadings {
-            backward_weakening: self.direction.as_ref().map(|d| {
-                let w = &d.backward_weakening;
-                Reading {
-                    value: w.value,
-                    lo: w.lo,
-                    hi: w.hi,
-                }
-            }),
-            healing_per_decade: self.healing.as_ref().map(|h| Reading {
-                value: h.per_decade.value,
-                lo: h.per_decade.lo,
-                hi: h.per_decade.hi,
-            }),
+            backward_weakening: self
+                .direction
+                .as_ref()
+                .map(|d| reading(&d.backward_weakening)),
+            healing_per_decade: self.healing.as_ref().map(|h| reading(&h.per_decade)),
             holds_with_peak: self.holds.iter().filter(|h| h.peak_gain.lo > 0.0).count(),
             steps_agree_on_rate_and_state: self.rate.as_ref().map(|r| r.consistent),
             steps_read: self.rate.as_ref().map_or(0, |r| r.steps),
             steps_with_direct_effect: self.rate.as_ref().map_or(0, |r| r.significant),
-            ratio_changes_with_stress: (self.levels.peak.is_some()
-                || self.levels.residual.is_some())
-            .then(|| self.levels.change_with_stress()),
+            peak_change_per_efold: self
+                .levels
+                .peak
+                .as_ref()
+                .map(|t| reading(&t.relative_per_efold)),
+            residual_change_per_efold: self
+                .levels
+                .residual
+                .as_ref()
+                .map(|t| reading(&t.relative_per_efold)),
         }
     }
 }

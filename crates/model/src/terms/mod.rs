@@ -210,9 +210,11 @@ pub struct EventReadings {
     pub steps_read: usize,
     /// Of [`EventReadings::steps_read`], the steps that show a direct effect.
     pub steps_with_direct_effect: usize,
-    /// Whether the peak or the residual stress ratio read test by test changes with the normal
-    /// stress beyond its uncertainty; `None` when fewer than two stresses were read.
-    pub ratio_changes_with_stress: Option<bool>,
+    /// The relative change of the tests' peak stress ratio per e-fold of normal stress,
+    /// d ln R / d ln p, with its interval; `None` when fewer than two stresses were read.
+    pub peak_change_per_efold: Option<Reading>,
+    /// The same of the residual stress ratio.
+    pub residual_change_per_efold: Option<Reading>,
 }
 
 /// A value read off a record with its interval.

@@ -187,6 +187,12 @@ const FORMS: [TermForm; 12] = [
     },
 ];
 
+/// A relative change of a stress ratio per e-fold of normal stress that the tests rule out
+/// when its interval lies within ±this: 2 %, twice the reproducibility of one test's reading
+/// (repeat specimens differ by 1 %) and below the weakest pressure dependence the literature
+/// reports for sand on steel (an exponent of 0.03).
+const NEUTRAL_PER_EFOLD: f64 = 0.02;
+
 /// Largest |β| a first guess read off the tests takes (the bounds are ±1).
 const READ_BETA: f64 = 0.9;
 
@@ -343,7 +349,29 @@ impl TermFamily for Pressure {
     }
 
     fn shown(&self, events: &super::EventReadings) -> bool {
-        events.ratio_changes_with_stress == Some(true)
+        // The peak or the residual changes with the normal stress beyond its interval.
+        [
+            events.peak_change_per_efold,
+            events.residual_change_per_efold,
+        ]
+        .iter()
+        .flatten()
+        .any(|r| r.excludes_zero())
+    }
+
+    fn contradicted(&self, events: &super::EventReadings) -> bool {
+        // Both the peak and the residual read over two stresses or more, and neither can
+        // change by as much as NEUTRAL_PER_EFOLD: every form scales μ, μ_s or μ_k, so a
+        // pressure effect moves one of them.
+        match (
+            events.peak_change_per_efold,
+            events.residual_change_per_efold,
+        ) {
+            (Some(p), Some(r)) => [p, r]
+                .iter()
+                .all(|x| x.lo > -NEUTRAL_PER_EFOLD && x.hi < NEUTRAL_PER_EFOLD),
+            _ => false,
+        }
     }
 }
 
@@ -485,5 +513,34 @@ mod tests {
         assert!(close(&first(key("exponential-friction")), &[0.05]));
         // The generic starts stay behind it.
         assert_eq!(Pressure.guess(key("power-mu-s"), &data).starts.len(), 3);
+    }
+
+    #[test]
+    fn the_tests_readings_show_a_change_with_stress_or_rule_it_out() {
+        use super::super::{EventReadings, Reading};
+        let read = |value: f64, half: f64| Reading {
+            value,
+            lo: value - half,
+            hi: value + half,
+        };
+        let events = |peak, residual| EventReadings {
+            peak_change_per_efold: peak,
+            residual_change_per_efold: residual,
+            ..EventReadings::default()
+        };
+        // Peaks falling 10 % per e-fold: shown.
+        let falling = events(Some(read(-0.1, 0.02)), Some(read(0.0, 0.01)));
+        assert!(Pressure.shown(&falling) && !Pressure.contradicted(&falling));
+        // Both flat within ±2 %: ruled out.
+        let flat = events(Some(read(-0.003, 0.007)), Some(read(-0.001, 0.008)));
+        assert!(!Pressure.shown(&flat) && Pressure.contradicted(&flat));
+        // Flat but too uncertain to rule out 2 %, or only the peak read: neither.
+        for e in [
+            events(Some(read(0.0, 0.03)), Some(read(0.0, 0.01))),
+            events(Some(read(0.0, 0.01)), None),
+            EventReadings::default(),
+        ] {
+            assert!(!Pressure.shown(&e) && !Pressure.contradicted(&e), "{e:?}");
+        }
     }
 }
