@@ -21,6 +21,9 @@
 
 use crate::dataset::{median, FitTest};
 use crate::guess::features;
+// After its peak a loading must slide this many decay lengths for its end to be read as the
+// residual stress ratio: one rule with the tests' level readings.
+use crate::levels::RESIDUAL_DECAYS;
 use serde::Serialize;
 use subfric_model::{Control, Initial, Model};
 
@@ -31,10 +34,6 @@ pub const DEPARTURE_SHARE: f64 = 0.03;
 
 /// Noise SDs of friction within which a stress ratio is kept (see [`DEPARTURE_SHARE`]).
 pub const NOISE_MULTIPLE: f64 = 3.0;
-
-/// After its peak a loading must slide this many decay lengths for its end to be read as the
-/// residual stress ratio (the post-peak excess has then fallen below e⁻³ = 5 % of itself).
-const RESIDUAL_DECAYS: f64 = 3.0;
 
 /// A stress ratio of one test: measured, and of the fitted model.
 #[derive(Clone, Debug, PartialEq, Serialize)]
