@@ -117,12 +117,25 @@ impl LevelReadings {
     }
 }
 
-/// Reads every slip-controlled test's first loading (up to its first velocity step) and the
-/// trends across them.
+/// Reads every slip-controlled test's first loading (up to its first velocity step; the
+/// residual alone where the file starts loaded, without a seating toe cut) and the trends
+/// across them.
 pub fn read_levels(tests: &[PreparedTest]) -> LevelReadings {
     let read: Vec<TestLevels> = tests
         .iter()
-        .filter_map(|p| test_levels(&p.full, p.segmentation.rate_changes.first().copied()))
+        .filter_map(|p| {
+            let mut l = test_levels(&p.full, p.segmentation.rate_changes.first().copied())?;
+            // A file that starts at rest under a load (a hold in which the normal stress was
+            // raised) reloads an interface that slid before: its rise is no fresh peak, and
+            // the slope after it is the reload's transient, not slip hardening. Where a
+            // seating toe was cut, the loaded start is the same fresh loading.
+            if matches!(p.full.initial, Initial::Loaded { .. }) && p.toe.is_none() {
+                l.peak = None;
+                l.slip_to_peak_mm = None;
+                l.slope_per_mm = None;
+            }
+            Some(l)
+        })
         .collect();
     levels_of(read)
 }
