@@ -452,18 +452,36 @@ pub fn generate(
         tests.push(test_data(&plan.name, plan.p, rec, comments));
     }
     let truth = truth(class, &base, &fx, &arts, &seen);
-    let set = ExperimentSet {
+    let set = generated_set(
+        name,
+        format!("Sand-steel interface, generated set {name}"),
+        "subfric selfcheck generator",
+        "synthetic: an independent forward model with withheld effects and rig artifacts",
+        "silica sand",
+        tests,
+    );
+    Ok(Generated { set, truth })
+}
+
+/// A generated set of `tests` on steel, named `name` with its title, source, provenance and
+/// soil.
+pub(super) fn generated_set(
+    name: &str,
+    title: String,
+    source: &str,
+    provenance: &str,
+    soil: &str,
+    tests: Vec<subfric_data::TestData>,
+) -> ExperimentSet {
+    ExperimentSet {
         dir: name.into(),
         meta: ExperimentMeta {
             name: name.into(),
-            title: format!("Sand-steel interface, generated set {name}"),
-            source: "subfric selfcheck generator".into(),
-            provenance: Some(
-                "synthetic: an independent forward model with withheld effects and rig artifacts"
-                    .into(),
-            ),
+            title,
+            source: source.into(),
+            provenance: Some(provenance.into()),
             interface: Interface {
-                soil: Some("silica sand".into()),
+                soil: Some(soil.into()),
                 surface: Some("steel".into()),
                 roughness_rmax_um: None,
                 extra: Default::default(),
@@ -473,8 +491,7 @@ pub fn generate(
             extra: Default::default(),
         },
         tests,
-    };
-    Ok(Generated { set, truth })
+    }
 }
 
 /// Copies the effects `one` switches on into `fx`.

@@ -27,7 +27,6 @@ use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde_json::json;
-use subfric_data::{ExperimentMeta, ExperimentSet, Interface};
 
 /// Bolton's constant Q for quartz sand, with p′ in kPa.
 const BOLTON_Q: f64 = 10.0;
@@ -232,28 +231,14 @@ pub fn dense_sand_programme(name: &str, pressure: bool, seed: u64) -> Generated 
         },
         "forms": [{"effect": family, "form": form, "kw": kw}],
     });
-    let set = ExperimentSet {
-        dir: name.into(),
-        meta: ExperimentMeta {
-            name: name.into(),
-            title: format!("Dense sand on steel in direct shear, generated set {name}"),
-            source: "subfric selfcheck generator (dense sand, empirical laws)".into(),
-            provenance: Some(
-                "synthetic: Bolton's stress-dilatancy peak, a saturating rise and exponential softening; not the subloading-friction model"
-                    .into(),
-            ),
-            interface: Interface {
-                soil: Some("dense silica sand".into()),
-                surface: Some("steel".into()),
-                roughness_rmax_um: None,
-                extra: Default::default(),
-            },
-            tests: tests.iter().map(|t| t.spec.clone()).collect(),
-            reference_parameters: None,
-            extra: Default::default(),
-        },
+    let set = super::campaign::generated_set(
+        name,
+        format!("Dense sand on steel in direct shear, generated set {name}"),
+        "subfric selfcheck generator (dense sand, empirical laws)",
+        "synthetic: Bolton's stress-dilatancy peak, a saturating rise and exponential softening; not the subloading-friction model",
+        "dense silica sand",
         tests,
-    };
+    );
     Generated {
         set,
         truth: Truth {
