@@ -650,6 +650,23 @@ mod tests {
         )
     }
 
+    /// One loading of the same stress-ratio curve at each of `stresses`.
+    fn alike(stresses: &[f64]) -> Vec<FitTest> {
+        stresses
+            .iter()
+            .enumerate()
+            .map(|(k, &p)| {
+                loading(
+                    &format!("t{k}"),
+                    p,
+                    (0.8, 0.6, 1.0, 0.6, 0.0),
+                    0.004,
+                    k as u64,
+                )
+            })
+            .collect()
+    }
+
     /// The readings of whole tests (no velocity step).
     fn read(tests: &[FitTest]) -> LevelReadings {
         levels_of(tests.iter().filter_map(|t| test_levels(t, None)).collect())
@@ -746,37 +763,13 @@ mod tests {
         );
         assert!(r.change_with_stress());
         // The same peaks at every stress: no change claimed.
-        let flat: Vec<FitTest> = stresses
-            .iter()
-            .enumerate()
-            .map(|(k, &p)| {
-                loading(
-                    &format!("t{k}"),
-                    p,
-                    (0.8, 0.6, 1.0, 0.6, 0.0),
-                    0.004,
-                    k as u64,
-                )
-            })
-            .collect();
+        let flat = alike(&stresses);
         assert!(!read(&flat).change_with_stress(), "{:?}", read(&flat));
     }
 
     #[test]
     fn tests_at_another_rate_are_not_compared_across_stresses() {
-        let mut tests: Vec<FitTest> = [50.0, 150.0, 400.0]
-            .iter()
-            .enumerate()
-            .map(|(k, &p)| {
-                loading(
-                    &format!("t{k}"),
-                    p,
-                    (0.8, 0.6, 1.0, 0.6, 0.0),
-                    0.004,
-                    k as u64,
-                )
-            })
-            .collect();
+        let mut tests = alike(&[50.0, 150.0, 400.0]);
         // The 400 kPa test ten times faster, with a higher peak (a rate effect).
         let mut fast = loading("fast", 400.0, (0.9, 0.6, 1.0, 0.6, 0.0), 0.004, 9);
         for t in &mut fast.time {

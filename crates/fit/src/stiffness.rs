@@ -503,23 +503,11 @@ mod tests {
         // grows as the square root of the plastic slip): nothing resolved.
         let mut params = Params::sample();
         params.u_tilde = 3.0;
-        let model = Model::base(params).unwrap();
-        let u: Vec<f64> = (0..=1200).map(|i| 0.005 * i as f64).collect();
-        let curve = simulate(
-            &model,
-            &Protocol {
-                control: subfric_model::Control::Slip,
-                time: &u.iter().map(|x| 60.0 * x).collect::<Vec<_>>(),
-                imposed: &u,
-                normal: &vec![200.0; u.len()],
-                initial_slip: 0.0,
-                initial: Default::default(),
-            },
-        )
-        .unwrap()
-        .shear;
-        let model_rise = monotonic(|x| curve[(x / 0.005).round() as usize]);
-        let prepared = prepare_test(&model_rise, "box".into(), &SegmentOptions::default());
+        let prepared = prepare_test(
+            &model_slide(params),
+            "box".into(),
+            &SegmentOptions::default(),
+        );
         assert!(resolved_stiffness(&[prepared]).is_none());
     }
 

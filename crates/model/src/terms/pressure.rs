@@ -455,11 +455,11 @@ mod tests {
         assert!(e.contains("`pressure.form` is \"cubic\""), "{e}");
     }
 
-    #[test]
-    fn the_diagnosis_tries_its_eight_forms_at_the_data_sets_reference_stress() {
-        let data = DataScales {
+    /// A data set of three normal stresses about `p_ref`, nothing read test by test.
+    fn three_stresses(p_ref: f64) -> DataScales {
+        DataScales {
             v_ref: 0.01,
-            p_ref: 196.0,
+            p_ref,
             slip_span_mm: 5.0,
             duration_s: 100.0,
             holds: 0,
@@ -471,7 +471,12 @@ mod tests {
             rate_and_state: None,
             stress_trend: Default::default(),
             slip_slope_per_mm: None,
-        };
+        }
+    }
+
+    #[test]
+    fn the_diagnosis_tries_its_eight_forms_at_the_data_sets_reference_stress() {
+        let data = three_stresses(196.0);
         assert_eq!((0..FORMS.len()).filter(|&k| Pressure.tries(k)).count(), 8);
         assert_eq!(Pressure.guess(3, &data).references, vec![(P_REF, 196.0)]);
         assert!(!Pressure.applies(&DataScales {
@@ -482,21 +487,7 @@ mod tests {
 
     #[test]
     fn the_first_start_is_read_off_the_tests_peaks_and_residuals() {
-        let mut data = DataScales {
-            v_ref: 0.01,
-            p_ref: 100.0,
-            slip_span_mm: 5.0,
-            duration_s: 100.0,
-            holds: 0,
-            reversals: 0,
-            pressure_levels: 3,
-            sliding_rates: 1,
-            healing_per_decade: None,
-            steps: crate::terms::StepReading::default(),
-            rate_and_state: None,
-            stress_trend: Default::default(),
-            slip_slope_per_mm: None,
-        };
+        let mut data = three_stresses(100.0);
         // Nothing read: the generic starts only.
         assert_eq!(Pressure.guess(3, &data).starts, vec![vec![0.1], vec![-0.1]]);
         // Peaks falling 8 % per e-fold of stress, residuals 2 %: β 0.08 on μ_s, 0.02 on μ_k.
