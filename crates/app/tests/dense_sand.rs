@@ -54,6 +54,13 @@ fn diagnosed(g: &Generated) -> (Case, subfric_diagnose::Diagnosis) {
     (c, d)
 }
 
+fn assert_no_pressure(c: &Case) {
+    assert!(
+        !c.verdict.contains(&Effect::from_name("pressure").unwrap()),
+        "a false pressure: {c:?}"
+    );
+}
+
 #[test]
 fn peaks_falling_with_the_normal_stress_name_pressure_where_three_held_out_tests_cannot() {
     // gen-06-2: three stresses. The pressure candidate predicts each held-out test better
@@ -112,10 +119,7 @@ fn one_peak_ratio_at_every_stress_is_not_named_pressure() {
         "{:?}",
         d.events.levels
     );
-    assert!(
-        !c.verdict.contains(&Effect::from_name("pressure").unwrap()),
-        "a false pressure: {c:?}"
-    );
+    assert_no_pressure(&c);
 }
 
 #[test]
@@ -136,10 +140,7 @@ fn a_pressure_candidate_the_tests_readings_rule_out_is_not_named_on_a_typical_pi
         "{:?}",
         d.events.levels
     );
-    assert!(
-        !c.verdict.contains(&Effect::from_name("pressure").unwrap()),
-        "a false pressure: {c:?}"
-    );
+    assert_no_pressure(&c);
 }
 
 #[test]
