@@ -383,15 +383,21 @@ pub fn diagnose_generated(g: &Generated, opts: &DiagnoseOptions) -> Result<Case>
     let d = subfric_diagnose::diagnose(&prepare_for_diagnosis(&g.set), opts)
         .map_err(|e| anyhow!("{name}: {e}"))?;
     check_diagnosis_finite(Path::new(name), &d)?;
+    Ok(scored(g, &d))
+}
+
+/// Diagnosis `d` of generated set `g` scored against its truth (a drift counts as
+/// `unexplained`).
+pub fn scored(g: &Generated, d: &subfric_diagnose::Diagnosis) -> Case {
     let families = g
         .truth
         .families
         .iter()
         .map(|f| Effect::from_name(f).unwrap_or(Effect::Unexplained))
         .collect();
-    let mut c = Case::new(name, families, g.truth.label.clone(), &d);
+    let mut c = Case::new(&g.set.meta.name, families, g.truth.label.clone(), d);
     c.profile = profile_name(&g.truth.json);
-    Ok(c)
+    c
 }
 
 /// The truth of the set `name` in `truth.json` (`truth`, read from `path`): either

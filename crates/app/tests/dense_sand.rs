@@ -8,7 +8,7 @@
 //! Each set is the one of `subfric selfcheck --write DIR --layout dense-sand --per-class 6
 //! --seed 21` named in its test.
 
-use subfric_app::selfcheck::Case;
+use subfric_app::selfcheck::{scored, Case};
 use subfric_diagnose::{DiagnoseOptions, Effect};
 use subfric_harness::generator::{campaign_set, Form, Generated, Layout, Options};
 
@@ -40,13 +40,7 @@ fn diagnosed(g: &Generated) -> (Case, subfric_diagnose::Diagnosis) {
         &DiagnoseOptions::default(),
     )
     .expect("the diagnosis runs");
-    let truth = g
-        .truth
-        .families
-        .iter()
-        .map(|f| Effect::from_name(f).unwrap_or(Effect::Unexplained))
-        .collect();
-    let c = Case::new(&g.set.meta.name, truth, g.truth.label.clone(), &d);
+    let c = scored(g, &d);
     eprintln!(
         "{}: truth {}, named {:?}\n  levels: {:?}\n  truth.json: {}",
         c.name, c.truth_label, c.verdict, d.events.levels, g.truth.json
