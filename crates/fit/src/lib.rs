@@ -9,6 +9,7 @@
 //! tests at different normal stresses and controls weigh fairly and a reduced χ² of 1 means
 //! "at the noise level".
 
+pub mod bedding;
 pub mod calibrate;
 pub mod dataset;
 pub mod estimate;
@@ -31,6 +32,7 @@ pub mod uncertainty;
 #[cfg(test)]
 mod test_problems;
 
+pub use bedding::{fit_bedding, seat, Bedding, Seated};
 pub use calibrate::{
     best_informed_guesses, calibrate, calibrate_from, compare_with_published, with_base_of,
     CalibrationStage, Combination, FitError, FitOptions, FitReport, LocalRun, Method, ParamReport,
@@ -39,7 +41,7 @@ pub use calibrate::{
 pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
 pub use estimate::Estimate;
 pub use interval::Interval;
-pub use levels::{read_levels, LevelReadings, StressTrend, TestLevels};
+pub use levels::{loading_levels, read_levels, LevelReadings, StressTrend, TestLevels};
 pub use lm::Termination;
 pub use prepare::{
     control_of, prepare_set, prepare_set_with, prepare_test, reference_model, thin_prepared,

@@ -23,6 +23,9 @@ pub struct PreparedTest {
     pub segmentation: Segmentation,
     /// A seating toe excluded from the start of the record (its rows are not in `full`).
     pub toe: Option<SeatingToe>,
+    /// The record's rows the test was prepared from (after a seating toe was cut), one per
+    /// row of `full`.
+    pub source: TestData,
 }
 
 impl PreparedTest {
@@ -156,6 +159,35 @@ fn finish(test: &TestData, name: String, segmentation: Segmentation) -> Prepared
         fit,
         segmentation,
         toe: None,
+        source: test.clone(),
+    }
+}
+
+impl PreparedTest {
+    /// The test prepared again with `shift[i]` taken off the slip of row `i` of its record (a
+    /// rig's closure taken out of the travel): segmented anew (a rise that looked stepped
+    /// because the closure ran ahead of the interface is one loading) and thinned to as many
+    /// rows as before; how it starts and any seating toe cut stay as they were decided.
+    pub fn with_travel_less(&self, shift: &[f64]) -> PreparedTest {
+        let mut test = self.source.clone();
+        for (u, d) in test.slip_mm.iter_mut().zip(shift) {
+            *u -= d;
+        }
+        let mut p = finish(
+            &test,
+            self.full.name.clone(),
+            segment(&test, &SegmentOptions::default()),
+        );
+        p.segmentation.start = self.segmentation.start.clone();
+        p.full.initial = self.full.initial;
+        p.fit.initial = self.fit.initial;
+        p.full.weight = self.full.weight;
+        p.fit.weight = self.fit.weight;
+        p.toe = self.toe.clone();
+        if self.is_thinned() {
+            thin_prepared(&mut p, self.fit.len());
+        }
+        p
     }
 }
 

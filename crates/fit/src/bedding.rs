@@ -1,0 +1,693 @@
+//! Bedding: the travel a specimen and its box take up while they seat under the first shear,
+//! modelled as a closing compliance in series with the interface and fitted, not cut.
+//!
+//! A shear box seats as its first loading rises: gaps between the specimen, the box and the
+//! plate close, and the load-point travel counts the closure as slip although the interface
+//! has not moved. The closure is stiffening and one-off, as a rock joint closes under normal
+//! load (Bandis, Lumsden and Barton 1983): once closed at a shear it stays closed, so it grows
+//! only while the shear exceeds every shear before it. Its law differs from rig to rig (a gap
+//! that closes at once, a toe, a soft layer), so no form is assumed: the closure is any
+//! non-decreasing function c(x) of the running peak x of the measured shear (smoothed against
+//! the noise, as a share of the first loading's peak), zero at the first row, saturating where
+//! the shear nears its peak, at most [`MAX_SHARE_OF_TRAVEL`] of the travel to the peak. The
+//! interface slip is the imposed travel less c(x).
+//!
+//! Given a model, c is found as the horizontal misfit of the rise: at each row the travel by
+//! which the model's rise must be shifted to pass through the measured shear (the vertical
+//! misfit over the model's slope there), projected on non-decreasing functions of x (pool
+//! adjacent violators, each row weighted as its vertical misfit counts), a few rounds against
+//! the model's response to the corrected travel. A rise the model already follows leaves a
+//! closure near zero and a misfit that barely moves; a toe, a gap or a soft seating leaves one
+//! that takes the rise's misfit away. Fitted per test (each specimen seats its own way) with
+//! the base model refitted on the corrected travel, and kept only where it halves the first
+//! loading's misfit (the share [`crate::stiffness::TRIAL_SHARE`] a freed stiffness must earn).
+//!
+//! Reading the running peak off the measurement, not the model, keeps the correction a fixed
+//! transformation of the imposed column once fitted: every later fit (candidates, folds) sees
+//! the corrected travel and needs no parameter of the rig.
+
+use crate::dataset::FitTest;
+use crate::prepare::PreparedTest;
+use crate::stiffness::TRIAL_SHARE;
+use serde::Serialize;
+use subfric_model::{simulate_predicted_into, Control, Initial, Model};
+
+/// The closure is read on the rise up to this share of the peak shear and held beyond: near
+/// the peak the curve is flat, and a horizontal misfit there says nothing about the travel.
+const SATURATION: f64 = 0.95;
+
+/// The closure may take up at most this share of the travel to the peak: the interface itself
+/// must move for the shear to peak.
+pub const MAX_SHARE_OF_TRAVEL: f64 = 0.9;
+
+/// Rows either side over which the measured shear is averaged before its running peak is
+/// read (a noisy maximum runs ahead of the true one).
+const SMOOTH_ROWS: usize = 2;
+
+/// Model runs of the global stage of the calibration [`seat`] reads closures against, at most.
+const SEAT_EVALUATIONS: usize = 1000;
+
+/// Local runs of that calibration, at most.
+const SEAT_STARTS: usize = 4;
+
+/// Rounds of (base refitted, closures read again) at most.
+const ALTERNATIONS: usize = 6;
+
+/// The closures have settled when none moves by more than this share of itself in a round.
+const SETTLED: f64 = 0.02;
+
+/// Fewest rows a first loading must span to be read for bedding.
+const MIN_ROWS: usize = 8;
+
+/// The closure fitted to one test.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Bedding {
+    /// Test name.
+    pub test: String,
+    /// Travel closed by the time the shear nears its first peak [mm].
+    pub closure_mm: f64,
+    /// Share of the peak shear at which half of that travel had closed.
+    pub half_closed_at: f64,
+    /// Travel from the first row to the peak of the first loading, as recorded [mm].
+    pub travel_to_peak_mm: f64,
+    /// Misfit of the first loading (mean square residual / noise variance) with the travel
+    /// as recorded, under the base model fitted to it.
+    pub misfit_without: f64,
+    /// The same with the closure taken out, under the base refitted with it.
+    pub misfit_with: f64,
+    /// The closure curve: (share of the peak shear, travel closed [mm]), non-decreasing.
+    pub curve: Vec<(f64, f64)>,
+}
+
+impl Bedding {
+    /// What the closure is and what it did, in one sentence for the reports.
+    pub fn describe(&self) -> String {
+        format!(
+            "bedding: the first loading's travel held {:.4} mm of closure by its peak (half of it closed by {:.0} % of the peak shear; {:.0} % of the {:.4} mm travel to the peak), taken out as the rig's, not the interface's: the first loading's misfit falls from {:.3}× to {:.3}× the noise variance",
+            self.closure_mm,
+            100.0 * self.half_closed_at,
+            100.0 * self.closure_mm / self.travel_to_peak_mm.max(f64::MIN_POSITIVE),
+            self.travel_to_peak_mm,
+            self.misfit_without,
+            self.misfit_with
+        )
+    }
+
+    /// The closure at a running peak that is share `x` of the first loading's peak (linear
+    /// between the curve's points, constant beyond its ends).
+    pub fn closure_at(&self, x: f64) -> f64 {
+        closure_at(&self.curve, x)
+    }
+}
+
+fn closure_at(curve: &[(f64, f64)], x: f64) -> f64 {
+    let Some(&(x0, c0)) = curve.first() else {
+        return 0.0;
+    };
+    if x <= x0 {
+        return c0;
+    }
+    for w in curve.windows(2) {
+        let ((xa, ca), (xb, cb)) = (w[0], w[1]);
+        if x <= xb {
+            return if xb > xa {
+                ca + (cb - ca) * (x - xa) / (xb - xa)
+            } else {
+                cb
+            };
+        }
+    }
+    curve.last().map_or(0.0, |p| p.1)
+}
+
+/// The first loading of a slip-controlled test that starts at rest or loaded: one past its
+/// last row, its direction, the row of its peak, and the running peak of the smoothed shear
+/// over the whole test as a share of that peak.
+#[derive(Clone, Debug)]
+struct FirstLoading {
+    end: usize,
+    sign: f64,
+    peak_row: usize,
+    share: Vec<f64>,
+}
+
+fn first_loading(t: &FitTest) -> Option<FirstLoading> {
+    if t.control != Control::Slip
+        || matches!(t.initial, Initial::Sliding { .. })
+        || t.len() < MIN_ROWS
+    {
+        return None;
+    }
+    let u0 = t.imposed[0];
+    let moved = t.imposed.iter().position(|u| (u - u0).abs() > 1e-9)?;
+    let sign = (t.imposed[moved] - u0).signum();
+    let end = crate::guess::loading_end(t, moved.saturating_sub(1), sign);
+    if end < MIN_ROWS || !t.measured.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let n = t.len();
+    let smooth: Vec<f64> = (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(SMOOTH_ROWS), (i + SMOOTH_ROWS + 1).min(n));
+            t.measured[a..b].iter().map(|v| v * sign).sum::<f64>() / (b - a) as f64
+        })
+        .collect();
+    let (peak_row, &peak) = smooth[..end]
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(b.1))?;
+    // A loading that has not turned over may still be rising: its peak is not read.
+    if peak <= 0.0 || peak_row + 2 >= end {
+        return None;
+    }
+    let mut running = f64::NEG_INFINITY;
+    let share = smooth
+        .iter()
+        .map(|&s| {
+            running = running.max(s.abs());
+            running / peak
+        })
+        .collect();
+    Some(FirstLoading {
+        end,
+        sign,
+        peak_row,
+        share,
+    })
+}
+
+/// `t` with the closure `curve` taken out of its imposed travel; `share` as read on the
+/// record, `kept[i]` the record's row that row `i` of `t` stands for.
+fn corrected(
+    t: &FitTest,
+    share: &[f64],
+    kept: &[usize],
+    sign: f64,
+    curve: &[(f64, f64)],
+) -> FitTest {
+    let mut out = t.clone();
+    let c0 = closure_at(curve, share[kept[0]]);
+    for (i, u) in out.imposed.iter_mut().enumerate() {
+        *u -= sign * (closure_at(curve, share[kept[i]]) - c0);
+    }
+    out
+}
+
+/// Sum of squared noise-normalised residuals of `model` on rows `..end` of `t` (∞ when it
+/// cannot be simulated); `scratch` receives the prediction.
+fn ssr_until(t: &FitTest, model: &Model, end: usize, scratch: &mut Vec<f64>) -> f64 {
+    if simulate_predicted_into(model, &t.protocol_until(end), scratch).is_err() {
+        return f64::INFINITY;
+    }
+    let k = t.weight / (t.noise_sd * t.noise_sd);
+    (0..end.min(scratch.len()))
+        .map(|i| {
+            let r = scratch[i] - t.measured[i];
+            k * t.weight_of(i) * r * r
+        })
+        .sum()
+}
+
+/// Pool-adjacent-violators: the non-decreasing sequence closest to `y` in weighted least
+/// squares (weights `w` > 0).
+fn isotonic(y: &[f64], w: &[f64]) -> Vec<f64> {
+    // Blocks of (mean, weight, count).
+    let mut blocks: Vec<(f64, f64, usize)> = Vec::with_capacity(y.len());
+    for (&v, &wi) in y.iter().zip(w) {
+        blocks.push((v, wi, 1));
+        while blocks.len() >= 2 {
+            let (m2, w2, n2) = blocks[blocks.len() - 1];
+            let (m1, w1, n1) = blocks[blocks.len() - 2];
+            if m1 <= m2 {
+                break;
+            }
+            blocks.pop();
+            let wsum = w1 + w2;
+            *blocks.last_mut().expect("two blocks") = ((m1 * w1 + m2 * w2) / wsum, wsum, n1 + n2);
+        }
+    }
+    blocks
+        .into_iter()
+        .flat_map(|(m, _, n)| std::iter::repeat_n(m, n))
+        .collect()
+}
+
+/// Points of the model's own rise a closure is read against.
+const RISE_POINTS: usize = 2000;
+
+/// The closure curve that fits the rise of `t`'s first loading under `model`: the model's
+/// rise from the test's start at its loading rate, on a fine grid; at each row of the
+/// record's rise the travel the model needs to reach the measured shear, and the closure the
+/// rest of the recorded travel; projected on non-decreasing functions of the running peak,
+/// each row weighted as its vertical misfit counts (the model's slope there squared).
+fn closure_curve(
+    t: &FitTest,
+    kept: &[usize],
+    fl: &FirstLoading,
+    model: &Model,
+    c_max: f64,
+) -> Vec<(f64, f64)> {
+    // Rows of `t` on the rise: up to the first that reaches SATURATION of the peak.
+    let Some(rise_end) = (0..t.len())
+        .position(|i| fl.share[kept[i]] >= SATURATION || kept[i] >= fl.peak_row)
+        .map(|i| i + 1)
+    else {
+        return Vec::new();
+    };
+    if rise_end < 3 {
+        return Vec::new();
+    }
+    let travel = fl.sign * (t.imposed[rise_end - 1] - t.imposed[0]);
+    let duration = t.time[rise_end - 1] - t.time[0];
+    if !(travel > 0.0 && duration > 0.0) {
+        return Vec::new();
+    }
+    // The model's rise over the recorded travel and a half again, at the loading's rate.
+    let span = 1.5 * travel;
+    let rate = travel / duration;
+    let time: Vec<f64> = (0..RISE_POINTS)
+        .map(|k| span / rate * k as f64 / (RISE_POINTS - 1) as f64)
+        .collect();
+    let slip: Vec<f64> = (0..RISE_POINTS)
+        .map(|k| t.imposed[0] + fl.sign * span * k as f64 / (RISE_POINTS - 1) as f64)
+        .collect();
+    let mut normal_rise: Vec<f64> = t.normal[..rise_end].to_vec();
+    normal_rise.sort_by(f64::total_cmp);
+    let normal = vec![normal_rise[rise_end / 2]; RISE_POINTS];
+    let proto = subfric_model::Protocol {
+        control: Control::Slip,
+        time: &time,
+        imposed: &slip,
+        normal: &normal,
+        initial_slip: t.initial_slip,
+        initial: t.initial,
+    };
+    let mut tau = Vec::new();
+    if simulate_predicted_into(model, &proto, &mut tau).is_err() {
+        return Vec::new();
+    }
+    // The rise as a non-decreasing shear against travel, to its peak.
+    let top = tau
+        .iter()
+        .enumerate()
+        .max_by(|a, b| (fl.sign * a.1).total_cmp(&(fl.sign * b.1)))
+        .map_or(0, |(k, _)| k);
+    let du = span / (RISE_POINTS - 1) as f64;
+    let travel_to = |shear: f64| -> Option<(f64, f64)> {
+        // First point at or above `shear` on the rise, interpolated; the slope there.
+        let k = (1..=top).find(|&k| fl.sign * tau[k] >= shear)?;
+        let (a, b) = (fl.sign * tau[k - 1], fl.sign * tau[k]);
+        let slope = (b - a) / du;
+        let frac = if b > a { (shear - a) / (b - a) } else { 0.0 };
+        Some(((k - 1) as f64 * du + frac * du, slope))
+    };
+    let (mut target, mut weight) = (vec![0.0; rise_end], vec![0.0; rise_end]);
+    for i in 0..rise_end {
+        let recorded = fl.sign * (t.imposed[i] - t.imposed[0]);
+        let shear = fl.sign * t.measured[i];
+        match travel_to(shear) {
+            Some((u, slope)) if slope > 0.0 => {
+                target[i] = (recorded - u).clamp(0.0, c_max);
+                weight[i] = slope * slope * t.weight_of(i);
+            }
+            // Below the model's start or above its peak: nothing read here.
+            _ => {
+                target[i] = 0.0;
+                weight[i] = 0.0;
+            }
+        }
+    }
+    // The first row is where the closure is counted from.
+    target[0] = 0.0;
+    let heaviest = weight.iter().cloned().fold(0.0, f64::max);
+    if heaviest <= 0.0 {
+        return Vec::new();
+    }
+    weight[0] = 1e6 * heaviest;
+    for w in weight.iter_mut() {
+        *w = w.max(1e-12 * heaviest);
+    }
+    let c = isotonic(&target, &weight);
+    // The curve is a function of x: one value per distinct running peak along the rise.
+    let mut out: Vec<(f64, f64)> = Vec::with_capacity(c.len());
+    for i in 0..rise_end {
+        let x = fl.share[kept[i]];
+        match out.last_mut() {
+            Some(last) if x <= last.0 => last.1 = last.1.max(c[i]),
+            _ => out.push((x, c[i])),
+        }
+    }
+    out
+}
+
+/// A test's first loading as read for bedding, with the rows of `fit` it spans.
+struct Candidate {
+    index: usize,
+    loading: FirstLoading,
+    /// One past the last row of `fit` in the first loading.
+    fit_end: usize,
+    travel_to_peak: f64,
+}
+
+fn candidates(tests: &[PreparedTest]) -> Vec<Candidate> {
+    tests
+        .iter()
+        .enumerate()
+        .filter_map(|(index, p)| {
+            let loading = first_loading(&p.full)?;
+            let fit_end = p.kept.iter().take_while(|&&r| r < loading.end).count();
+            let travel_to_peak = (p.full.imposed[loading.peak_row] - p.full.imposed[0]).abs();
+            (fit_end >= MIN_ROWS && travel_to_peak > 0.0).then_some(Candidate {
+                index,
+                loading,
+                fit_end,
+                travel_to_peak,
+            })
+        })
+        .collect()
+}
+
+/// Takes `curve` out of test `p`'s fitted rows (a trial: the rows stay segmented as they
+/// were).
+fn apply(p: &mut PreparedTest, fl: &FirstLoading, curve: &[(f64, f64)]) {
+    let all: Vec<usize> = (0..p.full.len()).collect();
+    p.full = corrected(&p.full, &fl.share, &all, fl.sign, curve);
+    p.fit = corrected(&p.fit, &fl.share, &p.kept, fl.sign, curve);
+}
+
+/// Test `p` prepared again with `curve` taken out of its record's travel.
+fn reprepared(p: &PreparedTest, fl: &FirstLoading, curve: &[(f64, f64)]) -> PreparedTest {
+    let c0 = closure_at(curve, fl.share[0]);
+    let shift: Vec<f64> = fl
+        .share
+        .iter()
+        .map(|&x| fl.sign * (closure_at(curve, x) - c0))
+        .collect();
+    p.with_travel_less(&shift)
+}
+
+/// Mean square of the normalised residuals over the rows a test's SSR was taken on.
+fn per_row(t: &FitTest, ssr: f64, end: usize) -> f64 {
+    let rows: f64 = (0..end.min(t.len())).map(|i| t.weight_of(i)).sum();
+    ssr / (t.weight * rows).max(1.0)
+}
+
+/// Share of the peak shear at which half of the curve's closure had closed.
+fn half_closed_at(curve: &[(f64, f64)]) -> f64 {
+    let total = curve.last().map_or(0.0, |p| p.1);
+    curve
+        .iter()
+        .find(|p| p.1 >= 0.5 * total)
+        .map_or(f64::NAN, |p| p.0)
+}
+
+/// Fits a closure to the first loading of every test that starts at rest (or loaded) under
+/// slip control, against `base` (the base model fitted to the tests as recorded), refitting
+/// the base on the corrected travel with `refit(tests, start)`; returns the tests with the
+/// closures that halve their first loading's misfit taken out, and those closures.
+pub fn fit_bedding(
+    tests: &[PreparedTest],
+    base: &Model,
+    refit: &dyn Fn(&[FitTest], &Model) -> Model,
+) -> (Vec<PreparedTest>, Vec<Bedding>) {
+    let found = candidates(tests);
+    if found.is_empty() {
+        return (tests.to_vec(), Vec::new());
+    }
+    let mut scratch = Vec::new();
+    let without: Vec<f64> = found
+        .iter()
+        .map(|c| ssr_until(&tests[c.index].fit, base, c.fit_end, &mut scratch))
+        .collect();
+    let curves_against = |model: &Model| -> Vec<Vec<(f64, f64)>> {
+        found
+            .iter()
+            .map(|c| {
+                let p = &tests[c.index];
+                closure_curve(
+                    &p.fit,
+                    &p.kept,
+                    &c.loading,
+                    model,
+                    MAX_SHARE_OF_TRAVEL * c.travel_to_peak,
+                )
+            })
+            .collect()
+    };
+    let correct = |curves: &[Vec<(f64, f64)>]| {
+        let mut out = tests.to_vec();
+        for (c, curve) in found.iter().zip(curves) {
+            apply(&mut out[c.index], &c.loading, curve);
+        }
+        out
+    };
+    let fits = |ps: &[PreparedTest]| ps.iter().map(|p| p.fit.clone()).collect::<Vec<_>>();
+    // Against the base as fitted to the recorded travel first; then, in turn, the base
+    // refitted on the corrected travel (it had bent to the uncorrected rise, and a bent rise
+    // hides part of the closure) and the closures read again against it, until they settle.
+    let mut curves = curves_against(base);
+    let mut refitted = *base;
+    for _ in 0..ALTERNATIONS {
+        refitted = refit(&fits(&correct(&curves)), &refitted);
+        let next = curves_against(&refitted);
+        let settled = next.iter().zip(&curves).all(|(a, b)| {
+            let (a, b) = (a.last().map_or(0.0, |p| p.1), b.last().map_or(0.0, |p| p.1));
+            (a - b).abs() <= SETTLED * a.max(b)
+        });
+        curves = next;
+        if settled {
+            break;
+        }
+    }
+    let trial = correct(&curves);
+    let mut kept = Vec::new();
+    let mut out = tests.to_vec();
+    for ((c, curve), &before) in found.iter().zip(&curves).zip(&without) {
+        let t = &trial[c.index].fit;
+        let after = ssr_until(t, &refitted, c.fit_end, &mut scratch);
+        let closure_mm = curve.last().map_or(0.0, |p| p.1);
+        if closure_mm > 0.0 && after.is_finite() && after <= TRIAL_SHARE * before {
+            out[c.index] = reprepared(&tests[c.index], &c.loading, curve);
+            kept.push(Bedding {
+                test: tests[c.index].full.name.clone(),
+                closure_mm,
+                half_closed_at: half_closed_at(curve),
+                travel_to_peak_mm: c.travel_to_peak,
+                misfit_without: per_row(&tests[c.index].fit, before, c.fit_end),
+                misfit_with: per_row(t, after, c.fit_end),
+                curve: curve.clone(),
+            });
+        }
+    }
+    (out, kept)
+}
+
+/// What seating the first loadings showed: the tests with every kept closure taken out of
+/// their travel, the closures, and the base model calibrated on the corrected travel.
+#[derive(Clone, Debug)]
+pub struct Seated {
+    /// The tests as corrected.
+    pub tests: Vec<PreparedTest>,
+    /// The closures kept, one per test that showed one.
+    pub bedding: Vec<Bedding>,
+    /// The base model fitted to the corrected tests (a start for later calibrations).
+    pub base: Option<Model>,
+}
+
+/// The bedding of a set's first loadings, for `fit` and `diagnose` alike: the base model
+/// (parameters `free` of `template`) calibrated with `options` on the tests as recorded, the
+/// closures fitted against it ([`fit_bedding`]) with the base refitted by least squares on
+/// the corrected travel.
+pub fn seat(
+    tests: &[PreparedTest],
+    template: &Model,
+    free: &[crate::Param],
+    options: &crate::FitOptions,
+) -> Seated {
+    let unchanged = || Seated {
+        tests: tests.to_vec(),
+        bedding: Vec::new(),
+        base: None,
+    };
+    if candidates(tests).is_empty() {
+        return unchanged();
+    }
+    let fits: Vec<FitTest> = tests.iter().map(|t| t.fit.clone()).collect();
+    let Ok(space) = crate::Space::try_with_rate(*template, free, &[], crate::typical_rate(&fits))
+    else {
+        return unchanged();
+    };
+    // A coarse calibration, as the stiffness trial's: the closures are read against its rise.
+    let opts = crate::FitOptions {
+        profiles: false,
+        statistics: false,
+        global_evaluations: options.global_evaluations.min(SEAT_EVALUATIONS),
+        starts: options.starts.min(SEAT_STARTS),
+        ..*options
+    };
+    let Ok(base) = crate::calibrate(&fits, space.clone(), &opts, &|_| {}) else {
+        return unchanged();
+    };
+    let refit_opts = crate::FitOptions {
+        global_evaluations: 0,
+        starts: 1,
+        informed_guesses: false,
+        ..opts
+    };
+    let refit = |fits: &[FitTest], start: &Model| -> Model {
+        crate::calibrate_from(fits, space.clone(), &[*start], &refit_opts, &|_| {})
+            .map_or(*start, |r| r.model)
+    };
+    let (corrected, bedding) = fit_bedding(tests, &base.model, &refit);
+    if bedding.is_empty() {
+        return Seated {
+            tests: corrected,
+            bedding,
+            base: Some(base.model),
+        };
+    }
+    let fits: Vec<FitTest> = corrected.iter().map(|t| t.fit.clone()).collect();
+    let model = refit(&fits, &base.model);
+    Seated {
+        tests: corrected,
+        bedding,
+        base: Some(model),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subfric_model::{simulate, Params, Protocol};
+
+    /// A monotonic test of the sample parameters at 100 kPa, its recorded travel the
+    /// interface slip plus `toe` mm closed exponentially in the running
+    /// peak shear.
+    fn seated(toe: f64, rows: usize) -> PreparedTest {
+        let model = Model::base(Params::sample()).unwrap();
+        let time: Vec<f64> = (0..rows).map(|i| i as f64).collect();
+        let slip: Vec<f64> = (0..rows)
+            .map(|i| 3.0 * i as f64 / (rows - 1) as f64)
+            .collect();
+        let normal = vec![100.0; rows];
+        let proto = Protocol {
+            control: Control::Slip,
+            time: &time,
+            imposed: &slip,
+            normal: &normal,
+            initial_slip: 0.0,
+            initial: Default::default(),
+        };
+        let shear = simulate(&model, &proto).unwrap().shear;
+        let peak = shear.iter().fold(0.0f64, |m, v| m.max(*v));
+        let mut running = 0.0f64;
+        let recorded: Vec<f64> = slip
+            .iter()
+            .zip(&shear)
+            .map(|(u, s)| {
+                running = running.max(*s);
+                u + toe * (1.0 - (-running / (0.2 * peak)).exp())
+            })
+            .collect();
+        // Noise of 0.1 % of the peak from a fixed linear congruential sequence.
+        let mut state = 12345u64;
+        let measured: Vec<f64> = shear
+            .iter()
+            .map(|s| {
+                let mut u = 0.0;
+                for _ in 0..12 {
+                    state = state
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    u += (state >> 11) as f64 / (1u64 << 53) as f64;
+                }
+                s + 1e-3 * peak * (u - 6.0)
+            })
+            .collect();
+        let n = time.len();
+        let spec = subfric_data::TestSpec::new(
+            "mono",
+            "mono.csv",
+            subfric_data::ControlColumn::Slip,
+            100.0,
+        );
+        let data = subfric_data::TestData {
+            spec,
+            path: "mono.csv".into(),
+            time_s: time.clone(),
+            slip_mm: recorded.clone(),
+            shear_kpa: measured.clone(),
+            normal_kpa: normal.clone(),
+            friction_given: false,
+            line_of_row: (2..n + 2).collect(),
+            comments: vec![],
+        };
+        let segmentation = subfric_data::segment(&data, &Default::default());
+        let t = FitTest::new("mono", Control::Slip, time, recorded, measured, normal);
+        PreparedTest {
+            full: t.clone(),
+            kept: (0..t.len()).collect(),
+            fit: t,
+            segmentation,
+            toe: None,
+            source: data,
+        }
+    }
+
+    #[test]
+    fn pool_adjacent_violators_gives_the_closest_non_decreasing_sequence() {
+        assert_eq!(
+            isotonic(&[1.0, 3.0, 2.0, 4.0], &[1.0; 4]),
+            vec![1.0, 2.5, 2.5, 4.0]
+        );
+        // A heavier row pulls the pooled value towards itself.
+        let v = isotonic(&[3.0, 1.0], &[3.0, 1.0]);
+        assert!((v[0] - 2.5).abs() < 1e-12 && (v[1] - 2.5).abs() < 1e-12);
+        let curve = [(0.1, 0.0), (0.5, 0.04), (0.9, 0.06)];
+        assert_eq!(closure_at(&curve, 0.0), 0.0);
+        assert!((closure_at(&curve, 0.3) - 0.02).abs() < 1e-12);
+        assert_eq!(closure_at(&curve, 2.0), 0.06);
+    }
+
+    #[test]
+    fn a_seating_toe_is_fitted_and_taken_out_of_the_travel() {
+        let model = Model::base(Params::sample()).unwrap();
+        for toe in [0.03, 0.08, 0.15] {
+            let p = seated(toe, 400);
+            let refit = |_: &[FitTest], m: &Model| *m;
+            let (out, kept) = fit_bedding(std::slice::from_ref(&p), &model, &refit);
+            assert_eq!(kept.len(), 1, "{kept:?}");
+            let b = &kept[0];
+            assert!(b.misfit_with < 0.1 * b.misfit_without, "{b:?}");
+            assert!(b.misfit_with < 3.0, "{b:?}");
+            // The travel after the peak moves back by about the toe (it closed by e⁻⁵ of
+            // itself at the peak, and the curve is read to 95 % of it).
+            let last = p.full.len() - 1;
+            let shift = p.full.imposed[last] - out[0].full.imposed[last];
+            assert!((shift - toe).abs() < 0.1 * toe, "toe {toe}: shift {shift}");
+        }
+    }
+
+    #[test]
+    fn a_loading_without_a_toe_keeps_its_travel() {
+        let model = Model::base(Params::sample()).unwrap();
+        let p = seated(0.0, 400);
+        let refit = |_: &[FitTest], m: &Model| *m;
+        let (out, kept) = fit_bedding(std::slice::from_ref(&p), &model, &refit);
+        assert!(kept.is_empty(), "{kept:?}");
+        assert_eq!(out[0].full.imposed, p.full.imposed);
+    }
+
+    #[test]
+    fn a_test_that_starts_sliding_has_no_first_loading_to_seat() {
+        let mut p = seated(0.08, 200);
+        p.fit.initial = Initial::Sliding {
+            shear_kpa: 10.0,
+            rate_mm_s: 0.01,
+        };
+        assert!(first_loading(&p.fit).is_none());
+        p.fit.initial = Initial::Rest;
+        p.fit.control = Control::Shear;
+        assert!(first_loading(&p.fit).is_none());
+    }
+}
