@@ -16,6 +16,7 @@ pub mod features;
 pub mod fits;
 pub mod folds;
 pub mod localise;
+pub mod readings;
 pub mod score;
 pub mod verdict;
 

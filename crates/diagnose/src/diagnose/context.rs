@@ -11,7 +11,7 @@ use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use subfric_fit::{
-    best_informed_guesses, calibrate, with_base_of, FitError, FitOptions, FitTest, Param,
+    best_informed_guesses, calibrate_from, with_base_of, FitError, FitOptions, FitTest, Param,
     PreparedTest, Space, Stiffness,
 };
 use subfric_model::Model;
@@ -38,6 +38,8 @@ pub(super) struct Context<'a> {
     pub(super) features: DataFeatures,
     pub(super) base_free: Vec<Param>,
     pub(super) pieces: Vec<Piece>,
+    /// What a lab reads off each first-loading piece (evidence for whole-test effects).
+    pub(super) readings: crate::readings::Readings,
     pub(super) folds: Vec<Fold>,
     /// Rows of the record each fitted row stands for.
     pub(super) weights: Weights,
@@ -81,8 +83,10 @@ impl<'a> Context<'a> {
             .iter()
             .map(|t| (0..t.len()).map(|i| t.weight_of(i)).collect())
             .collect();
+        let readings = crate::readings::Readings::new(&tests, &all_pieces);
         let cx = Context {
             weights,
+            readings,
             reweight: false,
             base_residuals: Vec::new(),
             tests,
@@ -249,6 +253,22 @@ impl<'a> Context<'a> {
         )
     }
 
+    /// Compares `candidate` with `reference` on `pieces` ([`crate::score::compare`]), with the
+    /// evidence of the first loadings' readings among them.
+    pub(super) fn compare(
+        &self,
+        pieces: &[Piece],
+        reference: &HeldOut,
+        candidate: &HeldOut,
+    ) -> Comparison {
+        compare(pieces, &self.weights, reference, candidate).with_readings(self.readings.score(
+            &self.tests,
+            pieces,
+            reference,
+            candidate,
+        ))
+    }
+
     /// In-sample comparison of a model's residuals with the base's, piece by piece.
     pub(super) fn in_sample(
         &self,
@@ -257,7 +277,7 @@ impl<'a> Context<'a> {
         fit_tests: &[FitTest],
     ) -> Comparison {
         let own = residuals(&self.tests, model, spec.drift.then_some(fit_tests));
-        compare(&self.pieces, &self.weights, &self.base_residuals, &own)
+        self.compare(&self.pieces, &self.base_residuals, &own)
     }
 }
 
@@ -310,11 +330,11 @@ pub(super) struct Current {
     pub(super) held: HeldOut,
 }
 
-/// Step 1: the base fit and its held-out residuals. When model error dominates, every spec
-/// from here on is fitted with a variance per piece, the base included.
-pub(super) fn fit_base(cx: &mut Context, template: &Model) -> Result<Current, FitError> {
-    let mut base = calibrated_base(cx, template)?;
-    cx.trace("base fit");
+/// Step 1: the base fit (`calibrated`, from [`calibrated_base`]) and its held-out residuals.
+/// When model error dominates, every spec from here on is fitted with a variance per piece, the
+/// base included.
+pub(super) fn fit_base(cx: &mut Context, calibrated: Model) -> Result<Current, FitError> {
+    let mut base = calibrated;
     cx.informed = best_informed_guesses(
         &cx.screening,
         &cx.space(&base, &Spec::base()),
@@ -343,12 +363,18 @@ pub(super) fn fit_base(cx: &mut Context, template: &Model) -> Result<Current, Fi
     })
 }
 
-/// The base calibration (global stage and polish), with α_t free when the data resolve it.
-fn calibrated_base(cx: &Context, template: &Model) -> Result<Model, FitError> {
+/// The base calibration (global stage and polish), with α_t free when the data resolve it,
+/// from `starts` as well as from the informed guesses.
+pub(super) fn calibrated_base(
+    cx: &Context,
+    template: &Model,
+    starts: &[Model],
+) -> Result<Model, FitError> {
     let space = cx.space(template, &Spec::base());
-    let report = calibrate(
+    let report = calibrate_from(
         &cx.tests,
         space,
+        starts,
         &FitOptions {
             seed: cx.opts.seed,
             global_evaluations: cx.opts.global_evaluations,

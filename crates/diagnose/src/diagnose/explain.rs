@@ -7,7 +7,6 @@ use crate::candidates::Effect;
 use crate::evidence::ResidualEvidence;
 use crate::fits::{cross_validate, Spec};
 use crate::folds::{extra_folds, Fold, Piece, PieceKind};
-use crate::score::compare;
 use crate::verdict::Decision;
 use subfric_fit::FitTest;
 use subfric_model::Model;
@@ -55,7 +54,7 @@ fn extra_shrinks(
                 kind: PieceKind::InitialLoading,
             })
             .collect();
-        Some(compare(&whole, &cx.weights, &b, &c).excess_shrink)
+        Some(cx.compare(&whole, &b, &c).excess_shrink)
     };
     (shrink(&tail), shrink(&loto))
 }
@@ -91,7 +90,9 @@ pub(super) fn make_verdict(
         .collect();
     let first = selection.stages.first();
     let base_chi2 = first.map_or(0.0, |s| s.reference_chi2);
-    let final_chi2 = compare(&cx.pieces, &cx.weights, &current.held, &current.held).reference_chi2;
+    let final_chi2 = cx
+        .compare(&cx.pieces, &current.held, &current.held)
+        .reference_chi2;
     let (effect, explanation) = match (effects.first(), first.map(|s| s.decision)) {
         (Some(e), _) => (e.effect, explain_named(&effects, base_chi2, final_chi2)),
         (None, Some(Decision::NoGap)) | (None, None) => (

@@ -18,7 +18,7 @@ use crate::evidence::residual_evidence;
 use crate::fits::{residuals, Effort};
 use crate::localise::localise;
 use crate::verdict::Thresholds;
-use context::{fit_base, fold_index, ssr_of, Context, Current};
+use context::{calibrated_base, fit_base, fold_index, ssr_of, Context, Current};
 use explain::make_verdict;
 use selection::{forward_selection, screen_and_polish};
 use std::collections::BTreeMap;
@@ -206,11 +206,37 @@ pub fn diagnose_reporting(
                 },
             )
         });
-    let (mut cx, template) = Context::new(prepared, stiffness.as_ref(), opts, report);
+    let (cx, template) = Context::new(prepared, stiffness.as_ref(), opts, report);
+    cx.step(1, 0, 0);
+    let calibrated = calibrated_base(&cx, &template, &[])?;
+    cx.trace("base fit");
+    // Bedding: where a first loading's rise is a closure of the rig rather than the
+    // interface's, it is taken out of the travel, and the diagnosis runs on the corrected tests
+    // (see subfric_fit::bedding); the base is calibrated again on them.
+    let (seated, bedding) = {
+        let space = cx.space(&template, &crate::fits::Spec::base());
+        let refit = |fits: &[FitTest], start: &Model| {
+            crate::fits::fit(
+                fits,
+                &space,
+                &[*start],
+                Effort::refit(opts.polish.iterations),
+            )
+            .model
+        };
+        subfric_fit::fit_bedding(prepared, &calibrated, &refit)
+    };
+    let (prepared, mut cx, calibrated) = if bedding.is_empty() {
+        (prepared, cx, calibrated)
+    } else {
+        let (cx, _) = Context::new(&seated, stiffness.as_ref(), opts, report);
+        let start = calibrated_base(&cx, &template, &[calibrated])?;
+        cx.trace("base fit on the travel with the bedding taken out");
+        (&seated[..], cx, start)
+    };
     cx.features.seeds = crate::features::EventSeeds::from_events(&events);
     cx.events = events.clone();
-    cx.step(1, 0, 0);
-    let base = fit_base(&mut cx, &template)?;
+    let base = fit_base(&mut cx, calibrated)?;
     let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();
     let base_on_all_rows = residuals(&fulls, &base.model, None);
     cx.features.unseen_noise = crate::features::unseen_noise_about(prepared, &base_on_all_rows);
@@ -248,6 +274,8 @@ pub fn diagnose_reporting(
         data: cx.features.clone(),
         starts: test_starts(prepared),
         stiffness,
+        bedding,
+        prepared: prepared.to_vec(),
         localisation,
         events,
         forms,

@@ -232,6 +232,13 @@ pub struct Diagnosis {
     pub starts: Vec<TestStart>,
     /// The elastic stiffness, when the data resolve it (then α_t is fitted).
     pub stiffness: Option<Stiffness>,
+    /// The closures of the rig on first loading taken out of the travel (bedding), per test
+    /// that showed one ([`subfric_fit::bedding`]).
+    pub bedding: Vec<subfric_fit::Bedding>,
+    /// The tests as diagnosed: prepared as given, with any bedding taken out of their travel
+    /// (what the figures of the diagnosis draw).
+    #[serde(skip)]
+    pub prepared: Vec<subfric_fit::PreparedTest>,
     /// Where the base residual lies (all rows).
     pub localisation: Localisation,
     /// Every velocity step, hold and reversal read on its own, and what they say together.

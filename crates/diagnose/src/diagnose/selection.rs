@@ -8,7 +8,7 @@ use super::report::{
 use crate::candidates::{Effect, Form, OwnKind};
 use crate::fits::{residuals, with_values, Effort, Spec};
 use crate::folds::{Piece, PieceKind};
-use crate::score::{by_kind, compare, Comparison, HeldOut};
+use crate::score::{by_kind, Comparison, HeldOut};
 use crate::verdict::{decide, decide_further, material, named_count, Decision};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -106,7 +106,7 @@ fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
     // (penalised score, effective rows) of a fitted model against the current one.
     let score_of = |model: &Model, f: &Form| {
         let r = residuals(&cx.tests, model, None);
-        let c = compare(&cx.pieces, &cx.weights, &own_residuals, &r);
+        let c = cx.compare(&cx.pieces, &own_residuals, &r);
         (penalised(&c, f.params.len()), c.n_eff)
     };
     let scored: Vec<(usize, f64, f64, SpecFit)> = lib
@@ -237,7 +237,8 @@ fn own_kind_gap(cx: &Context, current: &Current, families: &[Family]) -> bool {
         .filter(|f| !current.spec.forms.iter().any(|g| g.effect == f.effect))
         .flat_map(|f| own_pieces(cx, f.effect, &current.spec))
         .any(|(_, own)| {
-            compare(&own, &cx.weights, &current.held, &current.held).reference_chi2
+            cx.compare(&own, &current.held, &current.held)
+                .reference_chi2
                 > cx.opts.thresholds.gap_chi2
         })
 }
@@ -250,12 +251,12 @@ fn candidate_score(
     reference: &HeldOut,
     held: &HeldOut,
 ) -> CandidateScore {
-    let c = compare(&cx.pieces, &cx.weights, reference, held);
+    let c = cx.compare(&cx.pieces, reference, held);
     let own_kinds = own_pieces(cx, effect, spec)
         .into_iter()
         .map(|(kind, own)| OwnKindScore {
             kind,
-            held_out: compare(&own, &cx.weights, reference, held),
+            held_out: cx.compare(&own, reference, held),
         })
         .collect();
     CandidateScore {
@@ -486,7 +487,7 @@ impl Path {
             .expect("a selected spec has a form")
             .clone();
         self.joint
-            .push(compare(&cx.pieces, &cx.weights, &base.held, &next.held));
+            .push(cx.compare(&cx.pieces, &base.held, &next.held));
         self.selected.push(Selected {
             form,
             // A further effect is judged on all pieces when it passes there, else on the
@@ -595,13 +596,13 @@ fn backward_elimination(cx: &Context, base: &Current, selection: &mut Selection)
             .par_iter()
             .map(|&i| {
                 let r = without(cx, current, i);
-                let c = compare(&cx.pieces, &cx.weights, &r.held, &current.held);
+                let c = cx.compare(&cx.pieces, &r.held, &current.held);
                 (i, r, c)
             })
             .collect();
         cx.trace("backward step");
         let still_explains =
-            |r: &Current| material(&compare(&cx.pieces, &cx.weights, &base.held, &r.held), th);
+            |r: &Current| material(&cx.compare(&cx.pieces, &base.held, &r.held), th);
         let weakest = (0..reduced.len())
             .filter(|&k| reduced[k].2.score < th.min_score && still_explains(&reduced[k].1))
             .min_by(|&a, &b| reduced[a].2.score.total_cmp(&reduced[b].2.score));
@@ -623,18 +624,11 @@ fn backward_elimination(cx: &Context, base: &Current, selection: &mut Selection)
     // What each remaining effect adds to the others (to the base when it is alone).
     let current = selection.current.clone();
     let own: Vec<Comparison> = if selection.named.len() == 1 {
-        vec![compare(&cx.pieces, &cx.weights, &base.held, &current.held)]
+        vec![cx.compare(&cx.pieces, &base.held, &current.held)]
     } else {
         (0..selection.named.len())
             .into_par_iter()
-            .map(|i| {
-                compare(
-                    &cx.pieces,
-                    &cx.weights,
-                    &without(cx, &current, i).held,
-                    &current.held,
-                )
-            })
+            .map(|i| cx.compare(&cx.pieces, &without(cx, &current, i).held, &current.held))
             .collect()
     };
     for (s, c) in selection.named.iter_mut().zip(own) {
@@ -718,8 +712,9 @@ fn selection_stage(
     families: &[Family],
     with_drift: bool,
 ) -> (SelectionStage, Vec<Current>) {
-    let reference_chi2 =
-        compare(&cx.pieces, &cx.weights, &current.held, &current.held).reference_chi2;
+    let reference_chi2 = cx
+        .compare(&cx.pieces, &current.held, &current.held)
+        .reference_chi2;
     let first_stage = current.spec.forms.is_empty();
     if !first_stage
         && reference_chi2 <= cx.opts.thresholds.gap_chi2
@@ -849,13 +844,8 @@ fn selection_stage(
     // record's unseen noise is 2).
     let unseen_gap = th.gap_chi2 * cx.features.unseen_noise;
     let in_sample_chi2 = || {
-        compare(
-            &cx.pieces,
-            &cx.weights,
-            &cx.base_residuals,
-            &cx.base_residuals,
-        )
-        .reference_chi2
+        cx.compare(&cx.pieces, &cx.base_residuals, &cx.base_residuals)
+            .reference_chi2
     };
     let within_unseen_noise =
         first_stage && (reference_chi2 <= unseen_gap || in_sample_chi2() <= unseen_gap);
