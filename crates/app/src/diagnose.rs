@@ -75,6 +75,8 @@ fn diagnose_set(
     let d = diagnose_reporting(&prepared, opts, &report).map_err(|e| located(e.into(), dir))?;
     check_diagnosis_finite(dir, &d)?;
     let json = diagnosis_json(&set.meta.name, &d);
+    // The figures draw the tests as diagnosed (any bedding taken out of the travel).
+    let prepared = d.prepared.clone();
     Ok(Diagnosed {
         name: set.meta.name,
         diagnosis: d,

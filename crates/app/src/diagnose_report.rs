@@ -166,6 +166,9 @@ fn header(s: &mut String, name: &str, d: &Diagnosis) {
     if let Some(k) = &d.stiffness {
         let _ = writeln!(s, "   α_t fitted: {}", k.evidence);
     }
+    for b in &d.bedding {
+        let _ = writeln!(s, "   {}: {}", b.test, b.describe());
+    }
     let _ = writeln!(
         s,
         "base model: misfit {}× the noise variance on all rows (μ_s {:.3}, μ_k {:.3}, κ {:.4}, ξ {:.3e}, ũ {:.3}, α_t {:.4})",

@@ -232,15 +232,6 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         (None, Some(why)) if !alpha_given => progress.note(&why),
         _ => {}
     }
-    let artifacts = artifacts_of(&tests, resolved.as_ref());
-    for a in &artifacts {
-        let place = if a.test.is_empty() {
-            String::new()
-        } else {
-            format!("{}: ", crate::visible(&a.test))
-        };
-        progress.note(&format!("{place}{}", a.detail));
-    }
     for (p, v) in &req.fix {
         p.set(&mut template, *v);
     }
@@ -253,6 +244,24 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         .collect();
     if free_alpha {
         free.push(Param::AlphaT);
+    }
+    // Bedding: a closure of the rig on first loading is taken out of the travel, as the
+    // diagnosis does (subfric_fit::bedding).
+    let seated = subfric_fit::seat(&tests, &template, &free, &req.options);
+    let tests = seated.tests;
+    let mut artifacts = artifacts_of(&tests, resolved.as_ref());
+    artifacts.extend(seated.bedding.iter().map(|b| Artifact {
+        test: b.test.clone(),
+        kind: "bedding",
+        detail: b.describe(),
+    }));
+    for a in &artifacts {
+        let place = if a.test.is_empty() {
+            String::new()
+        } else {
+            format!("{}: ", crate::visible(&a.test))
+        };
+        progress.note(&format!("{place}{}", a.detail));
     }
     let fits: Vec<FitTest> = tests.iter().map(|t| t.fit.clone()).collect();
     let space = Space::try_with_rate(template, &free, &req.bounds, typical_rate(&fits))
