@@ -94,8 +94,7 @@ pub fn basis(set: &Path, name: &str, explicit: Option<&Path>) -> Result<Basis> {
 
 /// Reads a diagnosis.json written by `subfric diagnose` for the set `name`.
 fn read_basis(f: &Path, name: &str) -> Result<Basis> {
-    let text = std::fs::read_to_string(f)
-        .map_err(|e| anyhow!("{}: cannot read the diagnosis: {e}", f.display()))?;
+    let text = crate::io::read_settings_text(f, "the diagnosis")?;
     let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
         anyhow!(
             "{}:{}:{}: not valid JSON: {e} (expected a diagnosis.json written by subfric diagnose)",

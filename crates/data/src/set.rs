@@ -127,22 +127,8 @@ impl ExperimentSet {
     }
 }
 
-fn read_text(path: &Path) -> Result<String, DataError> {
-    let bytes = std::fs::read(path).map_err(|e| DataError::io(path, e))?;
-    match String::from_utf8(bytes) {
-        Ok(s) => Ok(s),
-        Err(e) => {
-            let valid = e.utf8_error().valid_up_to();
-            let bytes = e.into_bytes();
-            let line = 1 + bytes[..valid].iter().filter(|&&b| b == b'\n').count();
-            Err(DataError::Problems(vec![InputProblem::new(
-                path,
-                Some(line),
-                None,
-                "the file is not valid UTF-8 text (expected a UTF-8 encoded file)",
-            )]))
-        }
-    }
+fn read_text(path: &Path, what: &str, max: u64) -> Result<String, DataError> {
+    crate::fsio::read_user_text(path, what, max)
 }
 
 /// Loads and validates an experiment set folder: `experiment.json` and every test CSV.
@@ -176,7 +162,11 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
             )]));
         }
     }
-    let text = match read_text(&json_path) {
+    let text = match read_text(
+        &json_path,
+        EXPERIMENT_JSON,
+        crate::fsio::MAX_SETTINGS_FILE_BYTES,
+    ) {
         Ok(t) => t,
         Err(DataError::Io { path, source }) if source.kind() == std::io::ErrorKind::NotFound => {
             let what = if dir.is_dir() {
@@ -277,7 +267,7 @@ fn load_test_inner(dir: &Path, spec: &TestSpec, check_spec: bool) -> Result<Test
         );
         return Err(DataError::Problems(problems.into_vec()));
     }
-    let text = read_text(&path)?;
+    let text = read_text(&path, "the test's CSV", crate::fsio::MAX_DATA_FILE_BYTES)?;
     let result = parse_test_csv(&text, &path, spec);
     match result {
         Ok(t) => problems.into_result(t),
