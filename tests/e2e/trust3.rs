@@ -250,3 +250,56 @@ fn a_device_fifo_or_oversized_file_given_as_diagnosis_priors_or_params_is_refuse
     assert_eq!(o.status.code(), Some(1));
     assert_mentions(&text(&o.stderr), &["monotonic.csv", "1073741825 bytes"]);
 }
+
+// 3. "The gap is noise" with nothing held out -----------------------------------------------
+
+#[test]
+fn a_set_with_nothing_to_hold_out_gets_cannot_judge_never_the_gap_is_noise() {
+    let s = subfric!();
+    let tmp = tempfile::tempdir().unwrap();
+    // One monotonic test with slip hardening: friction rising with slip past the peak.
+    let rows: Vec<[f64; 3]> = (0..300)
+        .map(|i| {
+            let slip = 3.0 * i as f64 / 299.0;
+            let mu = 0.4 + 0.05 * slip - 0.4 * (-slip / 0.05).exp();
+            [100.0 * slip, slip, 100.0 * mu + 0.2 * noise(i, 3)]
+        })
+        .collect();
+    let set = tmp.path().join("one");
+    subfric_e2e::write_small_set(&set, "one", &[("m", "slip", 100.0, rows)]);
+    let out = tmp.path().join("d");
+    let (stdout, _) = s.ok_both(args!["diagnose", &set, "--out", &out]);
+    assert!(!stdout.contains("gap is noise"), "{stdout}");
+    assert!(!stdout.contains("no missing effect"), "{stdout}");
+    assert_mentions(&stdout, &["verdict: cannot judge: nothing held out"]);
+    let json = subfric_e2e::read_json(&out.join("diagnosis.json"));
+    assert_eq!(json["verdict"]["effect"], "cannot-judge", "{json}");
+    assert!(
+        json["verdict"]["explanation"]
+            .as_str()
+            .unwrap()
+            .starts_with("cannot judge: nothing held out"),
+        "{json}"
+    );
+    assert!(json["diagnosis"]["verdict"]["final_chi2"].is_null());
+    assert_eq!(
+        json["diagnosis"]["verdict"]["effects"],
+        serde_json::json!([])
+    );
+    // The plan built on that diagnosis plans on the base model.
+    let plan = s.ok(args![
+        "plan",
+        &set,
+        "--diagnosis",
+        &out.join("diagnosis.json"),
+        "--out",
+        &tmp.path().join("plan")
+    ]);
+    assert_mentions(
+        &plan,
+        &[
+            "planned on the base model",
+            "could not judge which effect is missing",
+        ],
+    );
+}

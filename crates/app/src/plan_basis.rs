@@ -46,6 +46,10 @@ impl Basis {
                 self.model_words(),
                 f.display()
             ),
+            (Some(f), Some(v)) if v == "cannot-judge" => format!(
+                "planned on the base model (the diagnosis {} could not judge which effect is missing: nothing held out)",
+                f.display()
+            ),
             (Some(f), Some(v)) => format!(
                 "planned on the base model (the diagnosis {} found {})",
                 f.display(),

@@ -68,6 +68,14 @@ pub(super) fn make_verdict(
     selection: &Selection,
     evidence: &ResidualEvidence,
 ) -> Verdict {
+    let held_rows: usize = cx
+        .folds
+        .iter()
+        .map(|f| f.held_rows.iter().flatten().filter(|&&h| h).count())
+        .sum();
+    if held_rows == 0 {
+        return nothing_held_out(cx);
+    }
     let current = &selection.current;
     let effects: Vec<NamedEffect> = selection
         .named
@@ -137,6 +145,28 @@ pub(super) fn make_verdict(
         explanation,
         final_chi2,
         evidence_supports,
+    }
+}
+
+/// The verdict when no row could be held out: no effect is named and none is ruled out, since
+/// every judgement of the diagnosis is a prediction of held-out pieces; the misfit on held-out
+/// data is not determined (NaN, `null` in diagnosis.json).
+fn nothing_held_out(cx: &Context) -> Verdict {
+    let pieces = cx.pieces.len();
+    Verdict {
+        effect: Effect::CannotJudge,
+        held_out_shrink: 0.0,
+        effects: Vec::new(),
+        explanation: format!(
+            "cannot judge: nothing held out: the set's {} test{} give{} {pieces} piece{} and no kind of piece occurs twice, so none can be predicted after a refit without it; the base model's misfit on all rows says whether it describes the data, not which effect it lacks (a second test of the same kind, or velocity steps, holds or reversals, give pieces to hold out)",
+            cx.tests.len(),
+            if cx.tests.len() == 1 { "" } else { "s" },
+            if cx.tests.len() == 1 { "s" } else { "" },
+            if pieces == 1 { "" } else { "s" },
+        ),
+        extra_parameters: Default::default(),
+        final_chi2: f64::NAN,
+        evidence_supports: None,
     }
 }
 
