@@ -303,3 +303,57 @@ fn a_set_with_nothing_to_hold_out_gets_cannot_judge_never_the_gap_is_noise() {
         ],
     );
 }
+
+// 4. The same data counted twice -----------------------------------------------------------------
+
+#[test]
+fn the_same_rows_under_two_names_are_refused_by_content_not_by_path() {
+    let s = subfric!();
+    let tmp = tempfile::tempdir().unwrap();
+    let t1 = small_set(tmp.path(), "t1");
+    // A copy of the set under another folder and name: other paths, the same rows.
+    let copy = tmp.path().join("t1copy");
+    std::fs::create_dir(&copy).unwrap();
+    std::fs::copy(t1.join("monotonic.csv"), copy.join("monotonic.csv")).unwrap();
+    let meta = std::fs::read_to_string(t1.join("experiment.json"))
+        .unwrap()
+        .replace("\"t1\"", "\"t1copy\"");
+    std::fs::write(copy.join("experiment.json"), meta).unwrap();
+    let f = tmp.path().join("f");
+    let mut a: Vec<&OsStr> = args!["fit", &t1, &copy, "--out", &f].to_vec();
+    a.extend(QUICK.iter().map(OsStr::new));
+    let err = s.err(&a);
+    assert_mentions(
+        &err,
+        &[
+            "t1copy/monotonic.csv",
+            "test `t1copy/monotonic` holds the same rows as test `t1/monotonic`",
+            "--tests",
+        ],
+    );
+    // Leaving one of them out is the way.
+    let mut a: Vec<&OsStr> =
+        args!["fit", &t1, &copy, "--tests", "t1/monotonic", "--out", &f].to_vec();
+    a.extend(QUICK.iter().map(OsStr::new));
+    s.ok(&a);
+    // One set naming the same bytes under two tests (one file named twice was refused already).
+    let two = tmp.path().join("two");
+    let rows = monotonic_rows(80, 100.0, 0.2, 5);
+    subfric_e2e::write_small_set(
+        &two,
+        "two",
+        &[
+            ("a", "slip", 100.0, rows.clone()),
+            ("b", "slip", 100.0, rows),
+        ],
+    );
+    let err = s.err(args!["check", &two]);
+    assert_mentions(
+        &err,
+        &[
+            "experiment.json:",
+            "field `tests[1].file`",
+            "test `b` (b.csv) holds the same 80 rows as test `a` (a.csv)",
+        ],
+    );
+}

@@ -159,6 +159,7 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
     let mut names = Vec::new();
     let mut warnings = Vec::new();
     let mut files = Vec::new();
+    let mut contents: Vec<(String, PathBuf, u64)> = Vec::new();
     let mut stiffness = Vec::new();
     for d in &req.dirs {
         progress.stage(&format!("reading {}", d.display()), None);
@@ -176,6 +177,7 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
             } else {
                 t.spec.name.clone()
             };
+            contents.push((name.clone(), t.path.clone(), t.content_hash()));
             files.push((name, t.path.clone()));
         }
         let rows: usize = set.tests.iter().map(|t| t.len()).sum();
@@ -186,6 +188,7 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         tests.extend(prepare_set(&set, joint));
     }
     select_tests(&mut tests, &req.tests)?;
+    refuse_repeated_tests(&tests, &contents)?;
     apply_weights(&mut tests, &req.weights)?;
     // Template: the given model, else the published α (which lab data rarely determine; in a
     // joint fit the value every set publishes) with the sample values.
@@ -296,6 +299,34 @@ fn refuse_repeated_sets(dirs: &[PathBuf]) -> Result<()> {
             );
         }
         seen.push((c, d));
+    }
+    Ok(())
+}
+
+/// Refuses two fitted tests that hold the same rows (`fit t1 t1copy` with `t1copy` a copy of
+/// `t1` under another folder or name, or two sets sharing a CSV's bytes): as with a set given
+/// twice, the rows would count twice. Compared by content ([`TestData::content_hash`]), not
+/// by path; `--tests` leaves one of them out.
+///
+/// [`TestData::content_hash`]: subfric_data::TestData::content_hash
+fn refuse_repeated_tests(
+    tests: &[PreparedTest],
+    contents: &[(String, PathBuf, u64)],
+) -> Result<()> {
+    let fitted: Vec<&(String, PathBuf, u64)> = contents
+        .iter()
+        .filter(|(n, _, _)| tests.iter().any(|t| &t.fit.name == n))
+        .collect();
+    for (j, (name, path, hash)) in fitted.iter().enumerate() {
+        if let Some((first, first_path, _)) = fitted[..j].iter().find(|(_, _, h)| h == hash) {
+            bail!(
+                "{}: test `{}` holds the same rows as test `{}` ({}), value for value: one measurement given twice would count twice and every interval would be too narrow by √2 (expected each measured test once: leave one out with --tests, or remove the copy)",
+                path.display(),
+                crate::visible(name),
+                crate::visible(first),
+                first_path.display()
+            );
+        }
     }
     Ok(())
 }

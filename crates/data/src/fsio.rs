@@ -192,7 +192,7 @@ pub fn utf8_text(path: &Path, what: &str, bytes: Vec<u8>) -> Result<String, Data
                 path,
                 Some(line),
                 None,
-                format!("{what} is not valid UTF-8 text from this line on (expected a UTF-8 encoded file)"),
+                format!("the file is not valid UTF-8 text from this line on (expected {what} as a UTF-8 encoded file)"),
             )]))
         }
     }

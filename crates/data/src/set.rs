@@ -103,6 +103,26 @@ impl TestData {
             .any(|&n| n != self.spec.normal_stress_kpa)
     }
 
+    /// A fingerprint of the test's rows (time, slip, shear and normal stress, bit for bit):
+    /// two tests with the same fingerprint hold the same data, whatever their names and files
+    /// (a 64-bit SipHash: two different records share one by chance once in 10¹⁹).
+    pub fn content_hash(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        self.len().hash(&mut h);
+        for col in [
+            &self.time_s,
+            &self.slip_mm,
+            &self.shear_kpa,
+            &self.normal_kpa,
+        ] {
+            for x in col.iter() {
+                x.to_bits().hash(&mut h);
+            }
+        }
+        h.finish()
+    }
+
     /// 1-based CSV line of a row (0 if unknown).
     pub fn line(&self, row: usize) -> usize {
         self.line_of_row.get(row).copied().unwrap_or(0)
@@ -212,6 +232,9 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
             Err(e) => return Err(e),
         }
     }
+    if problems.is_empty() {
+        problems.extend(repeated_tests(&tests, &json_path, &positions));
+    }
     if !problems.is_empty() {
         return Err(DataError::Problems(problems));
     }
@@ -220,6 +243,37 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
         meta,
         tests,
     })
+}
+
+/// Tests of one set that hold the same rows (a CSV copied under another name, or one file
+/// named by two tests): each is refused at its `file` in `experiment.json`, naming the test it
+/// repeats. Its rows would count twice and every interval would be too narrow by √2.
+fn repeated_tests(
+    tests: &[TestData],
+    json: &Path,
+    positions: &HashMap<String, (usize, usize)>,
+) -> Vec<InputProblem> {
+    let hashes: Vec<u64> = tests.iter().map(TestData::content_hash).collect();
+    let mut problems = Vec::new();
+    for (j, t) in tests.iter().enumerate() {
+        if let Some(i) = (0..j).find(|&i| hashes[i] == hashes[j]) {
+            let field = format!("tests[{j}].file");
+            problems.push(InputProblem::new(
+                json,
+                positions.get(&field).map(|p| p.0),
+                Some(&field),
+                format!(
+                    "test `{}` ({}) holds the same {} rows as test `{}` ({}), value for value: its rows would count twice and every interval would be too narrow by √2 (expected each measured test once: remove the copy)",
+                    t.spec.name,
+                    t.spec.file,
+                    t.len(),
+                    tests[i].spec.name,
+                    tests[i].spec.file
+                ),
+            ));
+        }
+    }
+    problems
 }
 
 /// Loads and validates the CSV of one test of the set in `dir`.
