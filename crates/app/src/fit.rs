@@ -481,7 +481,13 @@ fn calibrate_setup(
     if let Some(p) = &setup.published {
         compare_with_published(&mut report, p);
     }
-    let adequacy = Adequacy::of_fit(&report, &setup.tests);
+    let adequacy = match noise_not_measured(&setup.tests, &report) {
+        Some(reason) => {
+            report.withhold_intervals();
+            Adequacy::unjudged(report.reduced_chi2, reason)
+        }
+        None => Adequacy::of_fit(&report, &setup.tests),
+    };
     let read_off = subfric_fit::read_off(&fulls, &report.model);
     for r in read_off.iter().filter(|r| r.departs) {
         progress.warning(&r.sentence());
@@ -496,6 +502,48 @@ fn calibrate_setup(
         tests: setup.tests,
         published: setup.published,
         artifacts: setup.artifacts,
+    })
+}
+
+/// Fewest degrees of freedom of the measured noise variance for a 95 % interval to be shown.
+/// An interval computed as if the noise were known, with the noise estimated from m values,
+/// covers the truth as often as Student's t with m degrees of freedom stays within ±1.96:
+/// P(|T₅| ≤ 1.96) = 0.893, P(|T₆| ≤ 1.96) = 0.902. From 6 on it holds at least 90 % of the time
+/// (95 % as m grows); below, it is no 95 % interval and none is shown.
+pub const MIN_NOISE_DEGREES_OF_FREEDOM: usize = 6;
+
+/// Why the intervals of a fit cannot be shown, if they cannot: every interval and the misfit
+/// are in units of each test's noise, which the test's own record measures (second
+/// differences, [`subfric_data::NoiseEstimate::degrees_of_freedom`]) and which weighs its
+/// rows; a fit of no more rows than free parameters leaves no residual to check it. A short
+/// test gives a noise read off a handful of differences, or none (then a floor of 10⁻⁴ of the
+/// scale stands in and its rows weigh without measure): intervals computed from it exclude the
+/// truth. So every fitted test must measure its noise with [`MIN_NOISE_DEGREES_OF_FREEDOM`].
+fn noise_not_measured(tests: &[PreparedTest], report: &FitReport) -> Option<String> {
+    let (dof, test) = tests
+        .iter()
+        .map(|t| {
+            let e = subfric_data::estimate_noise(&t.full.time, &t.full.measured);
+            (e.degrees_of_freedom(), t.full.name.as_str())
+        })
+        .min()?;
+    let free = report
+        .parameters
+        .iter()
+        .filter(|p| p.status != subfric_fit::Status::Fixed)
+        .count();
+    let rows: usize = tests.iter().map(|t| t.full.time.len()).sum();
+    if rows <= free {
+        return Some(format!(
+            "{rows} rows for {free} free parameters leave no residual to measure the noise by (expected more rows than free parameters: longer tests, or --fix)"
+        ));
+    }
+    (dof < MIN_NOISE_DEGREES_OF_FREEDOM).then(|| {
+        format!(
+            "test `{}` measures its noise with {dof} degree{} of freedom (expected at least {MIN_NOISE_DEGREES_OF_FREEDOM}, some 20 rows of a test: an interval from a noise read off fewer covers the truth less than 90 % of the time), so no interval is shown and the misfit is in units of a noise not known",
+            crate::visible(test),
+            if dof == 1 { "" } else { "s" }
+        )
     })
 }
 
