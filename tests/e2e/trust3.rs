@@ -496,3 +496,81 @@ fn intervals_of_tests_too_short_to_measure_their_noise_are_withheld_and_longer_o
         "{held} of {shown} intervals hold the truth"
     );
 }
+
+// 6, 7. reference_parameters validated; duplicate keys at any depth -----------------------------
+
+#[test]
+fn malformed_published_parameters_are_refused_at_their_line_not_dropped() {
+    let s = subfric!();
+    let tmp = tempfile::tempdir().unwrap();
+    let good = r#"{"source": "a paper", "mu_s": 0.6, "mu_k": 0.5, "kappa": 2, "xi": 0.01, "u_tilde": 15, "alpha_t": 2000}"#;
+    for bad in [
+        good.replace("\"mu_s\": 0.6", "\"mu_s\": \"x\""),
+        good.replace("\"mu_s\": 0.6", "\"mu_s\": -1"),
+        good.replace("\"mu_k\": 0.5", "\"mu_k\": 5"),
+        good.replace("\"alpha_t\": 2000", "\"alpha_t\": 1e20"),
+        "[0.6, 0.5]".to_string(),
+    ] {
+        let set = small_set(tmp.path(), "pub");
+        let json = set.join("experiment.json");
+        let text = std::fs::read_to_string(&json).unwrap().replacen(
+            "\"tests\"",
+            &format!("\"reference_parameters\": {bad},\n  \"tests\""),
+            1,
+        );
+        std::fs::write(&json, text).unwrap();
+        let line = subfric_e2e::line_of(&json, "reference_parameters");
+        for cmd in ["check", "fit", "plot"] {
+            let o = tmp.path().join("o");
+            let a = args![cmd, &set, "--out", &o];
+            let err = s.err(&a[..if cmd == "check" { 2 } else { 4 }]);
+            assert_mentions(
+                &err,
+                &[
+                    &format!("experiment.json:{line}: field `reference_parameters`"),
+                    "expected",
+                ],
+            );
+        }
+        std::fs::remove_dir_all(&set).unwrap();
+    }
+}
+
+#[test]
+fn a_key_given_twice_is_refused_at_any_depth_of_experiment_json() {
+    let s = subfric!();
+    let tmp = tempfile::tempdir().unwrap();
+    for (place, twice) in [
+        ("interface", r#""interface": {"soil": "a", "soil": "b"},"#),
+        (
+            "reference_parameters",
+            r#""reference_parameters": {"mu_s": 0.6, "mu_k": 0.5, "kappa": 2, "xi": 0.01, "u_tilde": 15, "alpha_t": 2000,
+  "alpha_t": 1000},"#,
+        ),
+        ("extra", r#""lab": {"rig": {"cell": 1, "cell": 2}},"#),
+    ] {
+        let set = small_set(tmp.path(), "dup");
+        let json = set.join("experiment.json");
+        let text = std::fs::read_to_string(&json).unwrap().replacen(
+            "\"tests\"",
+            &format!("{twice}\n  \"tests\""),
+            1,
+        );
+        std::fs::write(&json, text).unwrap();
+        let err = s.err(args!["check", &set]);
+        let field = match place {
+            "extra" => "lab.rig.cell".to_string(),
+            "interface" => "interface.soil".to_string(),
+            _ => "reference_parameters.alpha_t".to_string(),
+        };
+        assert_mentions(
+            &err,
+            &[
+                "experiment.json:",
+                &format!("field `{field}`: appears twice"),
+                "expected each field once",
+            ],
+        );
+        std::fs::remove_dir_all(&set).unwrap();
+    }
+}

@@ -14,8 +14,8 @@ use anyhow::{anyhow, bail, Result};
 use std::path::{Path, PathBuf};
 use subfric_data::{load_set, plausibility, Warning};
 use subfric_fit::{
-    calibrate_from, compare_with_published, prepare_set, reference_model, typical_rate, FitOptions,
-    FitReport, FitTest, Param, PreparedTest, Space,
+    calibrate_from, compare_with_published, prepare_set, typical_rate, FitOptions, FitReport,
+    FitTest, Param, PreparedTest, Space,
 };
 use subfric_model::{Model, Params};
 
@@ -164,7 +164,7 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
     for d in &req.dirs {
         progress.stage(&format!("reading {}", d.display()), None);
         let set = load_set(d)?;
-        let reference = reference_model(&set);
+        let reference = crate::sets::published(&set)?;
         stiffness.push((set.meta.name.clone(), reference.as_ref().map(|m| m.params)));
         if !joint {
             published = reference;

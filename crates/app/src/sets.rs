@@ -35,10 +35,34 @@ impl Checked {
     }
 }
 
-/// `subfric check`: the set in `dir` validated (an error names the file, line and field),
-/// summarised, and looked over for implausible data.
+/// `subfric check`: the set in `dir` validated (an error names the file, line and field; its
+/// published parameters too), summarised, and looked over for implausible data.
 pub fn check(dir: &Path) -> Result<Checked> {
-    Ok(Checked::of(load_set(dir)?))
+    let set = load_set(dir)?;
+    published(&set)?;
+    Ok(Checked::of(set))
+}
+
+/// The set's published parameters (`reference_parameters` of its `experiment.json`), if it
+/// gives any, checked as every parameter file is ([`subfric_model::model_from_value`]): a
+/// value that is not a number, outside its parameter's domain, or not an object at all is
+/// refused at its line, never dropped (a fit would then hold α_t at a typical value "as the
+/// set publishes none").
+pub fn published(set: &ExperimentSet) -> Result<Option<subfric_model::Model>> {
+    let Some(v) = &set.meta.reference_parameters else {
+        return Ok(None);
+    };
+    subfric_model::model_from_value(v).map(Some).map_err(|e| {
+        let json = set.dir.join(subfric_data::EXPERIMENT_JSON);
+        let line = crate::io::read_settings_text(&json, subfric_data::EXPERIMENT_JSON)
+            .ok()
+            .and_then(|text| subfric_data::meta::field_line(&text, "reference_parameters"))
+            .map_or(String::new(), |l| format!(":{l}"));
+        anyhow::anyhow!(
+            "{}{line}: field `reference_parameters`: {e} (expected the published parameters: an object of numbers mu_s, mu_k, kappa, xi, u_tilde, alpha_t in their domains, or no reference_parameters)",
+            json.display()
+        )
+    })
 }
 
 /// `subfric import`: the laboratory export `file` read as `spec` says and added as a test of
