@@ -574,3 +574,95 @@ fn a_key_given_twice_is_refused_at_any_depth_of_experiment_json() {
         std::fs::remove_dir_all(&set).unwrap();
     }
 }
+
+// 8. import: both columns, an existing set kept as written, never into results -------------------
+
+#[test]
+fn import_refuses_two_shear_columns_keeps_an_existing_description_as_written_and_never_writes_results(
+) {
+    let s = subfric!();
+    let tmp = tempfile::tempdir().unwrap();
+    let lab = tmp.path().join("lab.txt");
+    let mut text = String::from("t\tu\ttau\tmu\n");
+    for (i, r) in monotonic_rows(40, 100.0, 0.2, 8).iter().enumerate() {
+        text.push_str(&format!(
+            "{}\t{}\t{}\t{}\n",
+            r[0],
+            r[1],
+            r[2],
+            r[2] / 100.0 + 1e-3 * i as f64
+        ));
+    }
+    std::fs::write(&lab, text).unwrap();
+    let cols = ["--time", "1", "--slip", "2", "--normal-stress", "100"];
+    let out = tmp.path().join("set");
+    // Both a shear and a friction column: one would be dropped.
+    let mut a: Vec<&OsStr> = args![
+        "import",
+        &lab,
+        "--out",
+        &out,
+        "--shear",
+        "3",
+        "--friction",
+        "4"
+    ]
+    .to_vec();
+    a.extend(cols.iter().map(OsStr::new));
+    let o = s.run(&a);
+    let err = text_of(&o);
+    assert_ne!(o.status.code(), Some(0), "{err}");
+    assert_mentions(&err, &["friction", "both a shear and a friction column"]);
+    assert!(!out.exists());
+    // An existing set: its description keeps every value as written.
+    let set = small_set(tmp.path(), "kept");
+    let json = set.join("experiment.json");
+    let written = std::fs::read_to_string(&json).unwrap().replacen(
+        "\"tests\"",
+        "\"lab\": {\"serial\": 98765432109876543210, \"tiny\": 1e-400, \"gauge\": 0.10000000000000000001},\n  \"tests\"",
+        1,
+    );
+    std::fs::write(&json, &written).unwrap();
+    let mut a: Vec<&OsStr> = args![
+        "import",
+        &lab,
+        "--out",
+        &set,
+        "--shear",
+        "3",
+        "--test-name",
+        "lab"
+    ]
+    .to_vec();
+    a.extend(cols.iter().map(OsStr::new));
+    s.ok(&a);
+    let now = std::fs::read_to_string(&json).unwrap();
+    for kept in ["98765432109876543210", "1e-400", "0.10000000000000000001"] {
+        assert!(now.contains(kept), "{kept} rewritten:\n{now}");
+    }
+    let head = &written[..written.rfind(']').unwrap()];
+    assert!(now.starts_with(head.trim_end()), "{now}");
+    s.ok(args!["check", &set]);
+    // Into a fit's results folder: refused, the folder as it was.
+    let fits = tmp.path().join("fits");
+    let mut a: Vec<&OsStr> = args!["fit", &set, "--out", &fits].to_vec();
+    a.extend(QUICK.iter().map(OsStr::new));
+    s.ok(&a);
+    let before = subfric_e2e::snapshot(&fits);
+    let mut a: Vec<&OsStr> = args!["import", &lab, "--out", &fits, "--shear", "3"].to_vec();
+    a.extend(cols.iter().map(OsStr::new));
+    let err = s.err(&a);
+    assert_mentions(
+        &err,
+        &["holds the results of a subfric command", ".subfric-source"],
+    );
+    assert_eq!(subfric_e2e::snapshot(&fits), before);
+    // The fit can still be written there again.
+    let mut a: Vec<&OsStr> = args!["fit", &set, "--out", &fits].to_vec();
+    a.extend(QUICK.iter().map(OsStr::new));
+    s.ok(&a);
+}
+
+fn text_of(o: &Output) -> String {
+    text(&o.stderr)
+}

@@ -70,6 +70,16 @@ pub fn published(set: &ExperimentSet) -> Result<Option<subfric_model::Model>> {
 /// set's description are written all or nothing, and `out` is locked meanwhile: two imports
 /// into one set at once cannot both add their test to the description each read.
 pub fn import_test(file: &Path, spec: &ImportSpec, out: &Path) -> Result<Checked> {
+    // Measured data never go among results (as results never go among measured data): a fit
+    // could never be written there again.
+    let record = out.join(crate::output::SOURCE_FILE);
+    if PathKind::of(&record) != PathKind::Absent {
+        anyhow::bail!(
+            "{}: holds the results of a subfric command ({}); a set never goes into a results folder, where the command that wrote them could not write them again (expected a set folder, or a new --out folder)",
+            out.display(),
+            crate::output::SOURCE_FILE
+        );
+    }
     // Anything but a folder (or nothing) at `out`: the import says what is wrong with it.
     let lock = match PathKind::of(out) {
         PathKind::Absent | PathKind::Folder => Some(LockedFolder::new(out, &[])?),

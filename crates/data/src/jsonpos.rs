@@ -13,10 +13,29 @@ pub(crate) fn value_positions(text: &str) -> HashMap<String, (usize, usize)> {
         col: 1,
         out: HashMap::new(),
         duplicates: Vec::new(),
+        end_of: None,
     };
     s.skip_ws();
     s.value(String::new(), 0);
     s.out
+}
+
+/// Where the value at `field` ends in `text`: the index (in chars) just past its last char.
+/// `None` when the text is not JSON or has no such field.
+pub(crate) fn value_end(text: &str, field: &str) -> Option<usize> {
+    let mut s = Scanner {
+        chars: text.chars().collect(),
+        pos: 0,
+        line: 1,
+        col: 1,
+        out: HashMap::new(),
+        duplicates: Vec::new(),
+        end_of: None,
+    };
+    s.skip_ws();
+    s.end_of = Some((field.to_string(), None));
+    s.value(String::new(), 0);
+    s.end_of.and_then(|(_, end)| end)
 }
 
 /// The keys given twice in one object, at any depth, with the line and column of the second:
@@ -30,6 +49,7 @@ pub(crate) fn duplicate_keys(text: &str) -> Vec<(String, usize, usize)> {
         col: 1,
         out: HashMap::new(),
         duplicates: Vec::new(),
+        end_of: None,
     };
     s.skip_ws();
     s.value(String::new(), 0);
@@ -43,6 +63,8 @@ struct Scanner {
     col: usize,
     out: HashMap<String, (usize, usize)>,
     duplicates: Vec<(String, usize, usize)>,
+    /// A path whose value's end is wanted, and that end once found.
+    end_of: Option<(String, Option<usize>)>,
 }
 
 const MAX_DEPTH: usize = 200;
@@ -76,6 +98,18 @@ impl Scanner {
             return false;
         }
         self.out.insert(path.clone(), (self.line, self.col));
+        let ok = self.value_inner(&path, depth);
+        if ok {
+            if let Some((want, end)) = &mut self.end_of {
+                if *want == path {
+                    *end = Some(self.pos);
+                }
+            }
+        }
+        ok
+    }
+
+    fn value_inner(&mut self, path: &str, depth: usize) -> bool {
         match self.peek() {
             Some('{') => {
                 self.bump();
