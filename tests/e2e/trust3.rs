@@ -666,3 +666,99 @@ fn import_refuses_two_shear_columns_keeps_an_existing_description_as_written_and
 fn text_of(o: &Output) -> String {
     text(&o.stderr)
 }
+
+// 11. Messages that point the right way -------------------------------------------------------
+
+#[test]
+fn messages_point_at_the_value_flag_or_encoding_that_is_wrong() {
+    let s = subfric!();
+    let tmp = tempfile::tempdir().unwrap();
+    // A normal stress above 1e12 is "beyond", not "not positive"; 309 digits are not printed.
+    let set = small_set(tmp.path(), "big");
+    let json = set.join("experiment.json");
+    let meta = std::fs::read_to_string(&json).unwrap();
+    std::fs::write(&json, meta.replace("100.0", "2e12")).unwrap();
+    let err = s.err(args!["check", &set]);
+    assert_mentions(&err, &["beyond"]);
+    assert!(
+        !err.contains("not positive") && !err.contains("negative"),
+        "{err}"
+    );
+    let huge = format!("1{}", "0".repeat(308));
+    std::fs::write(&json, meta.replace("100.0", &huge)).unwrap();
+    let err = s.err(args!["check", &set]);
+    assert!(!err.contains(&"0".repeat(30)), "{err}");
+    assert_mentions(&err, &["1e308"]);
+    // A byte-order mark in experiment.json is read as a CSV's is.
+    std::fs::write(&json, format!("\u{feff}{meta}")).unwrap();
+    s.ok(args!["check", &set]);
+    // A tiny normal stress: the message names the normal stress, not only the slip.
+    std::fs::write(&json, meta.replace("100.0", "1e-9")).unwrap();
+    let o = s.run(args!["fit", &set, "--out", &tmp.path().join("f")]);
+    let err = text(&o.stderr);
+    assert_mentions(&err, &["normal stress", "1e-9 kPa"]);
+    assert!(!err.contains("0.000e0 mm"), "{err}");
+    std::fs::write(&json, &meta).unwrap();
+    // A UTF-16 lab file is named as such.
+    let lab = tmp.path().join("lab16.txt");
+    let mut bytes = vec![0xFF, 0xFE];
+    for u in "time_s,slip_mm,shear_kpa\n0,0,0\n1,0.01,5\n".encode_utf16() {
+        bytes.extend(u.to_le_bytes());
+    }
+    std::fs::write(&lab, bytes).unwrap();
+    let out = tmp.path().join("imported");
+    let err = s.err(args![
+        "import",
+        &lab,
+        "--out",
+        &out,
+        "--normal-stress",
+        "100"
+    ]);
+    assert_mentions(&err, &["lab16.txt", "UTF-16LE", "not UTF-8"]);
+    // --area 1e-320: the area is named, once, not "inf" on every row.
+    let lab = tmp.path().join("lab.txt");
+    std::fs::write(&lab, "t,u,f\n0,0,0\n1,0.01,5\n2,0.02,7\n").unwrap();
+    let err = s.err(args![
+        "import",
+        &lab,
+        "--out",
+        &out,
+        "--normal-stress",
+        "100",
+        "--time",
+        "1",
+        "--slip",
+        "2",
+        "--shear",
+        "3",
+        "--shear-unit",
+        "N",
+        "--area",
+        "1e-320"
+    ]);
+    assert_mentions(&err, &["area", "1e-320", "beyond the doubles"]);
+    assert!(!err.contains("value inf"), "{err}");
+    // --out /dev/null: what it is, not "File exists".
+    let err = s.err(args![
+        "import",
+        &lab,
+        "--out",
+        "/dev/null",
+        "--normal-stress",
+        "100",
+        "--time",
+        "1",
+        "--slip",
+        "2",
+        "--shear",
+        "3"
+    ]);
+    assert_mentions(&err, &["/dev/null", "not a regular file"]);
+    assert!(!err.contains("os error 17"), "{err}");
+    // Counts of 0 are usage errors, not a silent single start or an empty self-check.
+    let err = s.usage_err(args!["selfcheck", "--per-class", "0"]);
+    assert_mentions(&err, &["--per-class", "expected a whole number >= 1"]);
+    let err = s.usage_err(args!["fit", &set, "--starts", "0"]);
+    assert_mentions(&err, &["--starts", "expected a whole number >= 1"]);
+}

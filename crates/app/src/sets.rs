@@ -80,10 +80,13 @@ pub fn import_test(file: &Path, spec: &ImportSpec, out: &Path) -> Result<Checked
             crate::output::SOURCE_FILE
         );
     }
-    // Anything but a folder (or nothing) at `out`: the import says what is wrong with it.
     let lock = match PathKind::of(out) {
         PathKind::Absent | PathKind::Folder => Some(LockedFolder::new(out, &[])?),
-        _ => None,
+        kind => anyhow::bail!(
+            "{}: --out {} (expected a set folder, or a new folder to make one in)",
+            out.display(),
+            kind.describe()
+        ),
     };
     let set = import(file, spec, out)?;
     if let Some(l) = lock {

@@ -427,6 +427,14 @@ impl Ctx<'_> {
             Some(Value::Number(n)) => match n.as_f64() {
                 Some(x)
                     if x.is_finite() && x <= MAX_MAGNITUDE && (x > 0.0 || !grain && x == 0.0) => {}
+                Some(x) if x > MAX_MAGNITUDE => self.problem(
+                    pr,
+                    &field,
+                    format!(
+                        "{} {unit} is beyond {MAX_MAGNITUDE:e} (expected the {what} in {unit}: a typing or unit mistake?)",
+                        crate::text::short_number(x)
+                    ),
+                ),
                 _ => self.problem(
                     pr,
                     &field,
@@ -599,7 +607,8 @@ impl Ctx<'_> {
                     pr,
                     &field,
                     format!(
-                        "normal stress {n} kPa is not positive (expected a normal stress > 0 kPa)"
+                        "normal stress {} kPa is not positive (expected a normal stress > 0 kPa)",
+                        n.as_f64().map_or_else(|| n.to_string(), crate::text::short_number)
                     ),
                 ),
             },

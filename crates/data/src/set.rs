@@ -297,13 +297,16 @@ fn load_test_inner(dir: &Path, spec: &TestSpec, check_spec: bool) -> Result<Test
             return Err(DataError::Problems(problems.into_vec()));
         }
         if !(spec.normal_stress_kpa > 0.0 && spec.normal_stress_kpa <= MAX_MAGNITUDE) {
+            let n = spec.normal_stress_kpa;
             problems.add(
                 &json,
                 None,
                 Some("normal_stress_kpa"),
                 format!(
-                    "test `{}`: normal stress {} kPa is not positive or beyond 1e12 (expected a normal stress > 0 kPa)",
-                    spec.name, spec.normal_stress_kpa
+                    "test `{}`: normal stress {} kPa is {} (expected a normal stress > 0 kPa, at most 1e12)",
+                    spec.name,
+                    crate::text::short_number(n),
+                    if n > MAX_MAGNITUDE { "beyond 1e12" } else { "not positive" }
                 ),
             );
         }
@@ -752,7 +755,10 @@ pub(crate) fn validate_data(td: &TestData, normal_from_column: bool) -> Vec<Inpu
                     path,
                     line,
                     Some(name),
-                    format!("value {x} is not finite (expected a finite number)"),
+                    format!(
+                        "value {} is not finite (expected a finite number)",
+                        crate::text::short_number(x)
+                    ),
                 );
             } else if x.abs() > MAX_MAGNITUDE {
                 pr.add(

@@ -160,7 +160,20 @@ fn area_problems(lf: &Path, spec: &ImportSpec, pr: &mut Problems) {
             lf,
             None,
             Some("area"),
-            format!("contact area {a} mm² is not positive (expected the area in mm², > 0)"),
+            format!(
+                "contact area {} mm² is {} (expected the area in mm², a finite number > 0)",
+                crate::text::short_number(a),
+                if a.is_nan() { "not a number" } else if a <= 0.0 { "not positive" } else { "infinite" }
+            ),
+        ),
+        Some(a) if forces.iter().any(|(_, u)| !u.kpa_per_unit(Some(a)).is_some_and(|k| k.is_finite() && k > 0.0)) => pr.add(
+            lf,
+            None,
+            Some("area"),
+            format!(
+                "contact area {} mm² is so small that a force over it is beyond the doubles (expected the area in mm², e.g. 3600 for a 60 mm square shear box)",
+                crate::text::short_number(a)
+            ),
         ),
         Some(a) if forces.is_empty() => pr.add(
             lf,
