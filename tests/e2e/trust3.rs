@@ -762,3 +762,67 @@ fn messages_point_at_the_value_flag_or_encoding_that_is_wrong() {
     let err = s.usage_err(args!["fit", &set, "--starts", "0"]);
     assert_mentions(&err, &["--starts", "expected a whole number >= 1"]);
 }
+
+// 12. Pure noise is not named as effects ----------------------------------------------------------
+
+#[test]
+fn a_constant_shear_plus_noise_is_never_diagnosed_as_effects() {
+    let s = subfric!();
+    let tmp = tempfile::tempdir().unwrap();
+    // The self-check generator's programmes (monotonic tests at several stresses, velocity
+    // steps, slide-hold-slide, two-way cycles), their shear replaced by a constant plus noise.
+    let gen = tmp.path().join("gen");
+    s.ok(args![
+        "selfcheck",
+        "--write",
+        &gen,
+        "--per-class",
+        "1",
+        "--classes",
+        "1,2,3"
+    ]);
+    let mut sets: Vec<PathBuf> = std::fs::read_dir(&gen)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.join("experiment.json").is_file())
+        .collect();
+    sets.sort();
+    assert_eq!(sets.len(), 3);
+    for (k, set) in sets.iter().enumerate() {
+        let meta = subfric_e2e::read_json(&set.join("experiment.json"));
+        for (j, t) in meta["tests"].as_array().unwrap().iter().enumerate() {
+            let csv = set.join(t["file"].as_str().unwrap());
+            let p = t["normal_stress_kpa"].as_f64().unwrap();
+            let text = std::fs::read_to_string(&csv).unwrap();
+            let mut lines = text.lines();
+            let mut out = String::new();
+            let mut shear_col = None;
+            for (i, line) in lines.by_ref().enumerate() {
+                if let Some(c) = shear_col {
+                    let mut cells: Vec<String> = line.split(',').map(String::from).collect();
+                    cells[c] = format!("{:.3}", 0.4 * p + 0.3 * noise(i, (k * 100 + j) as u64));
+                    out.push_str(&cells.join(","));
+                } else {
+                    if line.starts_with("time_s") {
+                        shear_col = line.split(',').position(|c| c == "shear_kpa");
+                    }
+                    out.push_str(line);
+                }
+                out.push('\n');
+            }
+            assert!(shear_col.is_some(), "{}", csv.display());
+            std::fs::write(&csv, out).unwrap();
+        }
+        let out = tmp.path().join(format!("d{k}"));
+        let (stdout, _) = s.ok_both(args!["diagnose", set, "--out", &out]);
+        let json = subfric_e2e::read_json(&out.join("diagnosis.json"));
+        assert_eq!(
+            json["diagnosis"]["verdict"]["effects"],
+            serde_json::json!([]),
+            "{}: {stdout}",
+            set.display()
+        );
+        assert_eq!(json["verdict"]["effect"], "cannot-judge", "{stdout}");
+        assert_mentions(&stdout, &["does not follow the imposed one"]);
+    }
+}

@@ -285,8 +285,10 @@ fn held_out_selection(s: &mut String, d: &Diagnosis) {
     if d.verdict.effect == subfric_diagnose::Effect::CannotJudge {
         let _ = writeln!(
             s,
-            "\n3. held out: nothing: pieces ({}), no kind of which occurs twice, so no fold can leave one out; no candidate is judged",
-            counts.join(", ")
+            "\n3. held out: pieces ({}) left out in {} folds; no candidate is judged: {}",
+            counts.join(", "),
+            d.folds.len(),
+            d.verdict.explanation
         );
         return;
     }

@@ -162,7 +162,7 @@ pub fn misfit_warning(a: &Adequacy, basis: &Basis, set: &Path) -> Option<String>
             set.display()
         )
     } else if basis.verdict.as_deref() == Some("cannot-judge") {
-        format!("{what}; the diagnosis could not judge which effect is missing (nothing held out: more tests of a kind, or events, would let it), see its report")
+        format!("{what}; the diagnosis could not judge which effect is missing, see its verdict")
     } else {
         format!("{what}; the diagnosis found no effect that closes the gap, see its report")
     })

@@ -47,7 +47,7 @@ impl Basis {
                 f.display()
             ),
             (Some(f), Some(v)) if v == "cannot-judge" => format!(
-                "planned on the base model (the diagnosis {} could not judge which effect is missing: nothing held out)",
+                "planned on the base model (the diagnosis {} could not judge which effect is missing: see its verdict)",
                 f.display()
             ),
             (Some(f), Some(v)) => format!(
