@@ -826,3 +826,27 @@ fn a_constant_shear_plus_noise_is_never_diagnosed_as_effects() {
         assert_mentions(&stdout, &["does not follow the imposed one"]);
     }
 }
+
+#[test]
+fn a_slip_in_micrometres_labelled_millimetres_gets_a_warning_from_check_and_fit() {
+    let s = subfric!();
+    let tmp = tempfile::tempdir().unwrap();
+    let rows: Vec<[f64; 3]> = monotonic_rows(200, 100.0, 0.2, 12)
+        .into_iter()
+        .map(|[t, u, f]| [t, 1000.0 * u, f])
+        .collect();
+    let set = tmp.path().join("um");
+    subfric_e2e::write_small_set(&set, "um", &[("monotonic", "slip", 100.0, rows)]);
+    let warning = "is the slip in µm, labelled mm?";
+    let (_, err) = s.ok_both(args!["check", &set]);
+    assert_mentions(&err, &["monotonic.csv", "slip_mm", warning]);
+    let f = tmp.path().join("f");
+    let mut a: Vec<&OsStr> = args!["fit", &set, "--out", &f].to_vec();
+    a.extend(QUICK.iter().map(OsStr::new));
+    let (_, err) = s.ok_both(&a);
+    assert_mentions(&err, &[warning]);
+    // The same curve in millimetres: no such warning.
+    let mm = small_set(tmp.path(), "mm");
+    let (_, err) = s.ok_both(args!["check", &mm]);
+    assert!(!err.contains(warning), "{err}");
+}
