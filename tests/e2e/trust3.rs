@@ -850,3 +850,37 @@ fn a_slip_in_micrometres_labelled_millimetres_gets_a_warning_from_check_and_fit(
     let (_, err) = s.ok_both(args!["check", &mm]);
     assert!(!err.contains(warning), "{err}");
 }
+
+#[test]
+fn importing_the_same_record_twice_is_refused_before_anything_is_written() {
+    let s = subfric!();
+    let tmp = tempfile::tempdir().unwrap();
+    let lab = tmp.path().join("lab.csv");
+    let mut text = String::from("time_s,slip_mm,shear_kpa\n");
+    for r in monotonic_rows(40, 100.0, 0.2, 9) {
+        text.push_str(&format!("{},{},{}\n", r[0], r[1], r[2]));
+    }
+    std::fs::write(&lab, text).unwrap();
+    let out = tmp.path().join("set");
+    let import = |name: &str| {
+        args![
+            "import",
+            &lab,
+            "--out",
+            &out,
+            "--normal-stress",
+            "100",
+            "--test-name",
+            name
+        ]
+        .iter()
+        .map(|s| s.to_os_string())
+        .collect::<Vec<_>>()
+    };
+    s.ok(&os(&import("first")));
+    let before = subfric_e2e::snapshot(&out);
+    let err = s.err(&os(&import("again")));
+    assert_mentions(&err, &["holds the same 40 rows as test `first`"]);
+    assert_eq!(subfric_e2e::snapshot(&out), before);
+    s.ok(args!["check", &out]);
+}

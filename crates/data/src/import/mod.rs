@@ -584,6 +584,20 @@ fn set_meta_for(
                     ),
                 );
             }
+            let hash = test.content_hash();
+            if let Some(same) = existing.tests.iter().find(|t| t.content_hash() == hash) {
+                pr.add(
+                    &json_path,
+                    None,
+                    Some("tests"),
+                    format!(
+                        "the lab file holds the same {} rows as test `{}` ({}) of the set, value for value (expected a new record: the same rows twice would count twice and every interval would be too narrow by √2)",
+                        test.len(),
+                        same.spec.name,
+                        same.spec.file
+                    ),
+                );
+            }
             if existing.meta.tests.iter().any(|t| t.file == test.spec.file) || csv_taken {
                 pr.add(
                     &csv_path,
