@@ -183,7 +183,7 @@ impl SlipResolution {
                  friction capacity μ_s p = {:.4e} kPa (expected |slip| < {largest:.3e} mm at \
                  this normal stress, or a normal stress above {least_p:.3e} kPa for this slip: \
                  check the normal stress's value and unit; the model depends only on slip \
-                 differences: a large slip can have a constant subtracted)",
+                 differences: subtract a constant from the slip)",
                 self.alpha_t,
                 self.alpha * spacing,
                 100.0 * SLIP_RESOLUTION_SHARE,
