@@ -344,24 +344,28 @@ fn fit<'py>(
     residuals: &str,
 ) -> PyResult<FitResult<'py>> {
     // The command line's own parsers, so that a value is refused with the same reason.
-    let free = match free {
+    let free_given = free.is_some();
+    let free: Vec<Param> = match free {
         None => Param::BASE.to_vec(),
         Some(keys) => keys
             .iter()
             .map(|k| parse_param(k).map_err(|e| fail(format!("free: {e}"))))
             .collect::<PyResult<_>>()?,
     };
-    let fix = fix
+    let fix: Vec<(Param, f64)> = fix
         .iter()
         .map(|(k, v)| parse_fix(&format!("{k}={v}")).map_err(|e| fail(format!("fix: {e}"))))
         .collect::<PyResult<_>>()?;
-    let bounds = bounds
+    let bounds: Vec<(Param, f64, f64)> = bounds
         .iter()
         .map(|(k, lo, hi)| {
             parse_bound(&format!("{k}={lo}:{hi}")).map_err(|e| fail(format!("bounds: {e}")))
         })
         .collect::<PyResult<_>>()?;
     check_weights(&weights)?;
+    // What the command line refuses as contradicting options (`--free xi --fix xi=0.1`).
+    subfric_app::flags::conflicts(free_given.then_some(&free[..]), &fix, &bounds, &weights)
+        .map_err(fail)?;
     let residuals = residuals_of(residuals)?;
     if !posterior {
         let given: Vec<&str> = [

@@ -21,6 +21,7 @@ the command prints (file, line, field, and what was expected). The long calls (`
 """
 
 import json
+import operator
 import os
 import warnings as _warnings
 
@@ -209,9 +210,81 @@ def simulate(params, time, imposed, normal, control="slip", *, initial=None, ini
     )
 
 
+# Arguments are checked here, each refused with SubfricError naming it, as the command line
+# refuses a flag's value: never coerced (``starts=1.5`` is not 1), never an internal error.
+
+
+def _count(name, v, least):
+    """A whole number of at least ``least`` (a bool or a float is refused, not coerced)."""
+    if isinstance(v, bool) or isinstance(v, float):
+        raise SubfricError(f"{name}: {v!r} is not a whole number (expected an int >= {least})")
+    try:
+        n = operator.index(v)
+    except TypeError:
+        raise SubfricError(
+            f"{name}: {type(v).__name__} {v!r} is not a whole number (expected an int >= {least})"
+        ) from None
+    if n < least:
+        raise SubfricError(f"{name}: {n} is below {least} (expected an int >= {least})")
+    return n
+
+
+def _flag(name, v):
+    if not isinstance(v, (bool, np.bool_)):
+        raise SubfricError(f"{name}: {type(v).__name__} {v!r} is not True or False (expected a bool)")
+    return bool(v)
+
+
+def _text(name, v):
+    if not isinstance(v, str):
+        raise SubfricError(f"{name}: {type(v).__name__} {v!r} is not a string (expected a str)")
+    return v
+
+
+def _number(name, v):
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, float, np.integer, np.floating)):
+        raise SubfricError(f"{name}: {type(v).__name__} {v!r} is not a number (expected a float)")
+    return float(v)
+
+
+def _names(name, v):
+    """A list of names, or None; an empty list is refused (``None`` means all)."""
+    if v is None:
+        return None
+    if isinstance(v, str) or not isinstance(v, (list, tuple)):
+        raise SubfricError(
+            f"{name}: {type(v).__name__} {v!r} is not a list of names (expected a list of str, or None)"
+        )
+    if not v:
+        raise SubfricError(f"{name}: an empty list (expected at least one name, or None for all)")
+    return [_text(f"{name}[{i}]", k) for i, k in enumerate(v)]
+
+
+def _mapping(name, v, value):
+    """A dict of key -> value(``name[key]``, v), or {} for None."""
+    if v is None:
+        return []
+    if not isinstance(v, dict):
+        raise SubfricError(
+            f"{name}: {type(v).__name__} {v!r} is not a dict (expected a dict such as {{\"xi\": 0.003}})"
+        )
+    return [(_text(f"{name} key", k), value(f"{name}[{k!r}]", x)) for k, x in v.items()]
+
+
+def _range(name, v):
+    if not isinstance(v, (list, tuple)) or len(v) != 2:
+        raise SubfricError(f"{name}: {v!r} is not a (lo, hi) pair (expected two numbers)")
+    return (_number(f"{name}[0]", v[0]), _number(f"{name}[1]", v[1]))
+
+
 def _set_paths(sets):
     if isinstance(sets, (str, os.PathLike, ExperimentSet)):
         sets = [sets]
+    if not isinstance(sets, (list, tuple)):
+        raise SubfricError(f"sets: {type(sets).__name__} {sets!r} is not a set folder or a list of them")
+    for i, s in enumerate(sets):
+        if not isinstance(s, (str, os.PathLike, ExperimentSet)):
+            raise SubfricError(f"sets[{i}]: {type(s).__name__} {s!r} is not a set folder (expected a path)")
     paths = [os.fspath(s) for s in sets]
     if not paths:
         raise SubfricError("sets: no set folder given (expected one or more)")
@@ -269,23 +342,24 @@ def fit(
     ``max_evals`` it needs. A prior file with an error raises :class:`SubfricError` naming
     its line and field.
     """
-    free_keys = None if free is None else [str(k) for k in free]
+    if priors is not None and not isinstance(priors, (str, os.PathLike)):
+        raise SubfricError(f"priors: {type(priors).__name__} {priors!r} is not a path (expected a str or a path)")
     text, curves, warns, chain = _native.fit(
         _set_paths(sets),
-        tests=[str(t) for t in (tests or [])],
-        free=free_keys,
-        fix=[(str(k), float(v)) for k, v in (fix or {}).items()],
-        bounds=[(str(k), float(lo), float(hi)) for k, (lo, hi) in (bounds or {}).items()],
-        weights=[(str(k), float(w)) for k, w in (weights or {}).items()],
-        method=str(method),
-        starts=int(starts),
-        seed=int(seed),
-        global_evals=int(global_evals),
-        profiles=bool(profiles),
-        posterior=bool(posterior),
+        tests=_names("tests", tests) or [],
+        free=_names("free", free),
+        fix=_mapping("fix", fix, _number),
+        bounds=[(k, lo, hi) for k, (lo, hi) in _mapping("bounds", bounds, _range)],
+        weights=_mapping("weights", weights, _number),
+        method=_text("method", method),
+        starts=_count("starts", starts, 1),
+        seed=_count("seed", seed, 0),
+        global_evals=_count("global_evals", global_evals, 0),
+        profiles=_flag("profiles", profiles),
+        posterior=_flag("posterior", posterior),
         priors=None if priors is None else os.fspath(priors),
-        max_evals=None if max_evals is None else int(max_evals),
-        residuals=str(residuals),
+        max_evals=None if max_evals is None else _count("max_evals", max_evals, 1),
+        residuals=_text("residuals", residuals),
     )
     _warn(warns)
     result = json.loads(text)
@@ -309,7 +383,9 @@ def diagnose(set, *, seed=1):
     ``held_out_shrink``, ``explanation``, ``extra_parameters``) and ``diagnosis`` (everything
     else: the base fit, localisation by test and segment, candidates, selection, evidence).
     """
-    text, warns = _native.diagnose(os.fspath(set), seed=int(seed))
+    if not isinstance(set, (str, os.PathLike, ExperimentSet)):
+        raise SubfricError(f"set: {type(set).__name__} {set!r} is not a set folder (expected a path or an ExperimentSet)")
+    text, warns = _native.diagnose(os.fspath(set), seed=_count("seed", seed, 0))
     _warn(warns)
     return json.loads(text)
 

@@ -88,19 +88,24 @@ def campaign(
     ``seconds``) and ``files`` (the table and figures written). A set that failed does not stop
     the others: it is in ``rows`` and ``runs`` and issued as a :class:`SubfricWarning`.
     """
+    from . import _count, _flag
+
     source = _sets_argument(sets)
+    if out is not None and not isinstance(out, (str, os.PathLike)):
+        raise _native.SubfricError(f"out: {type(out).__name__} {out!r} is not a path (expected a str or a path)")
     options = dict(
         out=None if out is None else os.fspath(out),
-        seed=int(seed),
-        starts=int(starts),
-        global_evals=int(global_evals),
-        profiles=bool(profiles),
-        diagnose=bool(diagnose),
-        force=bool(force),
+        seed=_count("seed", seed, 0),
+        starts=_count("starts", starts, 1),
+        global_evals=_count("global_evals", global_evals, 0),
+        profiles=_flag("profiles", profiles),
+        diagnose=_flag("diagnose", diagnose),
+        force=_flag("force", force),
     )
+    jobs = None if jobs is None else _count("jobs", jobs, 1)
     if client is None:
         result = json.loads(
-            _native.campaign_run(source, jobs=None if jobs is None else int(jobs), **options)
+            _native.campaign_run(source, jobs=jobs, **options)
         )
     else:
         plan = json.loads(_native.campaign_prepare(source, **options))

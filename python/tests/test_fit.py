@@ -148,3 +148,47 @@ def test_status_words_and_the_verdict_are_the_command_s(cli, tmp_path):
     # Does the model describe the data: the same sentence as the command's first line.
     assert r["verdict"]["describes_the_data"] is True
     assert printed.splitlines()[0] == "verdict: " + r["verdict"]["sentence"]
+
+
+# Trust, round three (issue 42, case 9): an argument is checked and refused with SubfricError
+# naming it, as the command line refuses a flag's value; never coerced, never an internal error.
+@pytest.mark.parametrize(
+    "kwargs, named",
+    [
+        (dict(free=["xi"], fix={"xi": 0.1}), "--free xi and --fix xi=0.1"),
+        (dict(tests=[]), "tests: an empty list"),
+        (dict(tests="monotonic"), "tests: str"),
+        (dict(starts=0), "starts: 0 is below 1"),
+        (dict(starts=1.5), "starts: 1.5 is not a whole number"),
+        (dict(seed=2.7), "seed: 2.7 is not a whole number"),
+        (dict(seed=-1), "seed: -1 is below 0"),
+        (dict(starts=True), "starts: True is not a whole number"),
+        (dict(global_evals="100"), "global_evals: str '100' is not a whole number"),
+        (dict(fix=[("xi", 0.1)]), "fix: list"),
+        (dict(fix={"xi": "0.1"}), "fix['xi']: str '0.1' is not a number"),
+        (dict(bounds={"kappa": 3}), "bounds['kappa']: 3 is not a (lo, hi) pair"),
+        (dict(weights={"monotonic": None}), "weights['monotonic']: NoneType"),
+        (dict(profiles="no"), "profiles: str 'no' is not True or False"),
+        (dict(method=1), "method: int 1 is not a string"),
+        (dict(max_evals=0, posterior=True), "max_evals: 0 is below 1"),
+        (dict(priors=3, posterior=True), "priors: int 3 is not a path"),
+    ],
+)
+def test_arguments_are_refused_with_subfric_error_naming_them(kwargs, named):
+    with pytest.raises(subfric.SubfricError) as e:
+        subfric.fit(EXPERIMENTS / "table1-medium", **kwargs)
+    assert named in str(e.value), str(e.value)
+
+
+def test_other_functions_refuse_wrong_arguments_with_subfric_error(tmp_path):
+    for call, named in [
+        (lambda: subfric.fit(42), "sets: int 42"),
+        (lambda: subfric.fit([EXPERIMENTS / "table1-medium", 3]), "sets[1]: int 3"),
+        (lambda: subfric.diagnose(EXPERIMENTS / "table1-medium", seed=0.5), "seed: 0.5"),
+        (lambda: subfric.diagnose(None), "set: NoneType"),
+        (lambda: subfric.campaign([EXPERIMENTS / "table1-medium"], out=tmp_path / "c", jobs=0), "jobs: 0 is below 1"),
+        (lambda: subfric.campaign([EXPERIMENTS / "table1-medium"], out=tmp_path / "c", starts=2.5), "starts: 2.5"),
+    ]:
+        with pytest.raises(subfric.SubfricError) as e:
+            call()
+        assert named in str(e.value), str(e.value)

@@ -544,11 +544,15 @@ fn import_converts_units_of_a_tab_delimited_lab_file() {
     let last = rows.last().unwrap();
     assert!((last[0] - 39.0 * 30.0).abs() < 1e-9 && (last[1] - 0.975).abs() < 1e-12);
 
-    // A second test joins the same set; a duplicate name is refused and names the set file.
+    // A second test (another record: the same rows twice are refused) joins the same set; a
+    // duplicate name is refused and names the set file.
+    let lab2 = tmp.path().join("export2.txt");
+    let text = std::fs::read_to_string(&lab).unwrap();
+    std::fs::write(&lab2, text.replace("\t0.0", "\t0.1")).unwrap();
     let second = |name: &str| {
         args![
             "import",
-            &lab,
+            &lab2,
             "--out",
             &out,
             "--time",

@@ -485,10 +485,12 @@ fn figures_of_names_a_file_name_cannot_tell_apart_never_overwrite_each_other() {
     let tmp = tempfile::tempdir().unwrap();
     let set = copy_set("table1-medium", tmp.path());
     let names = ["x y", "x_y", "a/b", "a_b", "é", "_", "M", "m"];
-    let csv = std::fs::read(set.join("monotonic.csv")).unwrap();
+    let csv = std::fs::read_to_string(set.join("monotonic.csv")).unwrap();
     std::fs::remove_file(set.join("monotonic.csv")).unwrap();
     let mut tests = Vec::new();
     for (i, n) in names.iter().enumerate() {
+        // Each test its own record (the same rows twice are refused): a last row of its own.
+        let csv = format!("{csv}{},3.01,{}\n", 181 + i, 20.0 + i as f64);
         std::fs::write(set.join(format!("t{i}.csv")), &csv).unwrap();
         tests.push(serde_json::json!({"name": n, "file": format!("t{i}.csv"), "control": "slip", "normal_stress_kpa": 78.4}));
     }
@@ -818,7 +820,9 @@ fn a_joint_fit_holds_the_stiffness_every_set_publishes_and_says_so() {
     let s = subfric!();
     let tmp = tempfile::tempdir().unwrap();
     let a = named_copy(&tmp.path().join("a"), "set-a");
-    let b = named_copy(&tmp.path().join("b"), "set-b");
+    // Another record (one set's rows twice are refused, whatever the set's name).
+    let b = copy_set("table1-rough", &tmp.path().join("b"));
+    edit_meta(&b, |m| m["name"] = "set-b".into());
     let out = tmp.path().join("joint");
     let (_, err) = s.ok_both(&os(&quick_fit(
         &[&a, &b],

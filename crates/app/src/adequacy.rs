@@ -29,6 +29,9 @@ pub enum Level {
     AboveNoise,
     /// Model error dominates: the model does not describe the data.
     Fails,
+    /// The noise the misfit is measured in is not known: whether the model describes the data
+    /// cannot be judged ([`Adequacy::unjudged`] says why).
+    CannotJudge,
 }
 
 /// A group of rows where the model misses (a test and a kind of segment).
@@ -51,6 +54,9 @@ pub struct Adequacy {
     pub level: Level,
     /// Where the model misses most (above the noise only).
     pub worst: Vec<Miss>,
+    /// Why the misfit cannot be judged ([`Level::CannotJudge`]), if it cannot.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unjudged: Option<String>,
 }
 
 /// Groups listed as where the model misses most.
@@ -89,6 +95,18 @@ impl Adequacy {
             reduced_chi2,
             level,
             worst,
+            unjudged: None,
+        }
+    }
+
+    /// A misfit in units of a noise that is not known: no level, no place where the model
+    /// misses, the reason instead.
+    pub fn unjudged(reduced_chi2: f64, reason: String) -> Adequacy {
+        Adequacy {
+            reduced_chi2,
+            level: Level::CannotJudge,
+            worst: Vec::new(),
+            unjudged: Some(reason),
         }
     }
 
@@ -136,6 +154,14 @@ impl Adequacy {
             misfit_number(self.reduced_chi2)
         );
         let mut s = match self.level {
+            Level::CannotJudge => {
+                return format!(
+                    "cannot judge whether {subject} describes {data}: {}",
+                    self.unjudged
+                        .as_deref()
+                        .unwrap_or("the noise is not measured")
+                )
+            }
             Level::AtNoise => format!("{subject} describes {data}: {misfit}"),
             Level::AboveNoise => format!("{subject} describes {data} only roughly: {misfit}"),
             Level::Fails => format!("{subject} does NOT describe {data}: {misfit}"),
@@ -197,6 +223,12 @@ pub fn diagnosed_effects() -> String {
 pub fn next_steps(a: &Adequacy, report: &FitReport, dirs: &[PathBuf]) -> Vec<String> {
     let sets: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
     let mut out = Vec::new();
+    if a.level == Level::CannotJudge {
+        out.push(
+            "record longer tests (tens of rows each, so that the data measure their own noise), or fix parameters with --fix: nothing can be judged before the noise is known".into(),
+        );
+        return out;
+    }
     if !a.describes() {
         let effects = diagnosed_effects();
         for s in &sets {

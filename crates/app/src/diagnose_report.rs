@@ -60,6 +60,10 @@ pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
             subfric_diagnose::Effect::None => v.push(
                 "verdict: no missing effect: none of the candidate effects predicts held-out data better than the base model".into(),
             ),
+            subfric_diagnose::Effect::CannotJudge => v.push(format!(
+                "verdict: {}",
+                d.verdict.explanation
+            )),
             _ => v.push(format!(
                 "verdict: unexplained: none of the candidate effects explains the gap ({}); see section 5",
                 crate::adequacy::diagnosed_effects()
@@ -281,6 +285,16 @@ fn every_form(s: &mut String, d: &Diagnosis) {
 /// 3. The forward selection on held-out pieces, stage by stage, and the backward step.
 fn held_out_selection(s: &mut String, d: &Diagnosis) {
     let counts: Vec<String> = d.pieces.iter().map(|(k, n)| format!("{n} {k}")).collect();
+    if d.verdict.effect == subfric_diagnose::Effect::CannotJudge {
+        let _ = writeln!(
+            s,
+            "\n3. held out: pieces ({}) left out in {} folds; no candidate is judged: {}",
+            counts.join(", "),
+            d.folds.len(),
+            d.verdict.explanation
+        );
+        return;
+    }
     let _ = writeln!(
         s,
         "\n3. held out: pieces ({}) left out in {} folds, each predicted after refitting without it",

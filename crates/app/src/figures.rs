@@ -7,7 +7,7 @@ use crate::progress::Progress;
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 use subfric_data::load_set;
-use subfric_fit::{prepare_set, reference_model, FitTest, PreparedTest};
+use subfric_fit::{prepare_set, FitTest, PreparedTest};
 use subfric_model::{Control, Model};
 use subfric_plot::{render_png, Figure, Panel, Series, Style};
 
@@ -48,7 +48,7 @@ pub fn plot(
     };
     let fitted = params.as_deref().map(load_model).transpose()?;
     let prepared = prepare_set(&set, false);
-    let published = reference_model(&set);
+    let published = crate::sets::published(&set)?;
     let dir = to
         .dir
         .clone()

@@ -14,8 +14,8 @@ use anyhow::{anyhow, bail, Result};
 use std::path::{Path, PathBuf};
 use subfric_data::{load_set, plausibility, Warning};
 use subfric_fit::{
-    calibrate_from, compare_with_published, prepare_set, reference_model, typical_rate, FitOptions,
-    FitReport, FitTest, Param, PreparedTest, Space,
+    calibrate_from, compare_with_published, prepare_set, typical_rate, FitOptions, FitReport,
+    FitTest, Param, PreparedTest, Space,
 };
 use subfric_model::{Model, Params};
 
@@ -159,11 +159,12 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
     let mut names = Vec::new();
     let mut warnings = Vec::new();
     let mut files = Vec::new();
+    let mut contents: Vec<(String, PathBuf, u64)> = Vec::new();
     let mut stiffness = Vec::new();
     for d in &req.dirs {
         progress.stage(&format!("reading {}", d.display()), None);
         let set = load_set(d)?;
-        let reference = reference_model(&set);
+        let reference = crate::sets::published(&set)?;
         stiffness.push((set.meta.name.clone(), reference.as_ref().map(|m| m.params)));
         if !joint {
             published = reference;
@@ -176,6 +177,7 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
             } else {
                 t.spec.name.clone()
             };
+            contents.push((name.clone(), t.path.clone(), t.content_hash()));
             files.push((name, t.path.clone()));
         }
         let rows: usize = set.tests.iter().map(|t| t.len()).sum();
@@ -186,6 +188,7 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         tests.extend(prepare_set(&set, joint));
     }
     select_tests(&mut tests, &req.tests)?;
+    refuse_repeated_tests(&tests, &contents)?;
     apply_weights(&mut tests, &req.weights)?;
     // Template: the given model, else the published α (which lab data rarely determine; in a
     // joint fit the value every set publishes) with the sample values.
@@ -305,6 +308,34 @@ fn refuse_repeated_sets(dirs: &[PathBuf]) -> Result<()> {
             );
         }
         seen.push((c, d));
+    }
+    Ok(())
+}
+
+/// Refuses two fitted tests that hold the same rows (`fit t1 t1copy` with `t1copy` a copy of
+/// `t1` under another folder or name, or two sets sharing a CSV's bytes): as with a set given
+/// twice, the rows would count twice. Compared by content ([`TestData::content_hash`]), not
+/// by path; `--tests` leaves one of them out.
+///
+/// [`TestData::content_hash`]: subfric_data::TestData::content_hash
+fn refuse_repeated_tests(
+    tests: &[PreparedTest],
+    contents: &[(String, PathBuf, u64)],
+) -> Result<()> {
+    let fitted: Vec<&(String, PathBuf, u64)> = contents
+        .iter()
+        .filter(|(n, _, _)| tests.iter().any(|t| &t.fit.name == n))
+        .collect();
+    for (j, (name, path, hash)) in fitted.iter().enumerate() {
+        if let Some((first, first_path, _)) = fitted[..j].iter().find(|(_, _, h)| h == hash) {
+            bail!(
+                "{}: test `{}` holds the same rows as test `{}` ({}), value for value: one measurement given twice would count twice and every interval would be too narrow by √2 (expected each measured test once: leave one out with --tests, or remove the copy)",
+                path.display(),
+                crate::visible(name),
+                crate::visible(first),
+                first_path.display()
+            );
+        }
     }
     Ok(())
 }
@@ -459,7 +490,13 @@ fn calibrate_setup(
     if let Some(p) = &setup.published {
         compare_with_published(&mut report, p);
     }
-    let adequacy = Adequacy::of_fit(&report, &setup.tests);
+    let adequacy = match noise_not_measured(&setup.tests, &report) {
+        Some(reason) => {
+            report.withhold_intervals();
+            Adequacy::unjudged(report.reduced_chi2, reason)
+        }
+        None => Adequacy::of_fit(&report, &setup.tests),
+    };
     let read_off = subfric_fit::read_off(&fulls, &report.model);
     for r in read_off.iter().filter(|r| r.departs) {
         progress.warning(&r.sentence());
@@ -474,6 +511,48 @@ fn calibrate_setup(
         tests: setup.tests,
         published: setup.published,
         artifacts: setup.artifacts,
+    })
+}
+
+/// Fewest degrees of freedom of the measured noise variance for a 95 % interval to be shown.
+/// An interval computed as if the noise were known, with the noise estimated from m values,
+/// covers the truth as often as Student's t with m degrees of freedom stays within ±1.96:
+/// P(|T₅| ≤ 1.96) = 0.893, P(|T₆| ≤ 1.96) = 0.902. From 6 on it holds at least 90 % of the time
+/// (95 % as m grows); below, it is no 95 % interval and none is shown.
+pub const MIN_NOISE_DEGREES_OF_FREEDOM: usize = 6;
+
+/// Why the intervals of a fit cannot be shown, if they cannot: every interval and the misfit
+/// are in units of each test's noise, which the test's own record measures (second
+/// differences, [`subfric_data::NoiseEstimate::degrees_of_freedom`]) and which weighs its
+/// rows; a fit of no more rows than free parameters leaves no residual to check it. A short
+/// test gives a noise read off a handful of differences, or none (then a floor of 10⁻⁴ of the
+/// scale stands in and its rows weigh without measure): intervals computed from it exclude the
+/// truth. So every fitted test must measure its noise with [`MIN_NOISE_DEGREES_OF_FREEDOM`].
+fn noise_not_measured(tests: &[PreparedTest], report: &FitReport) -> Option<String> {
+    let (dof, test) = tests
+        .iter()
+        .map(|t| {
+            let e = subfric_data::estimate_noise(&t.full.time, &t.full.measured);
+            (e.degrees_of_freedom(), t.full.name.as_str())
+        })
+        .min()?;
+    let free = report
+        .parameters
+        .iter()
+        .filter(|p| p.status != subfric_fit::Status::Fixed)
+        .count();
+    let rows: usize = tests.iter().map(|t| t.full.time.len()).sum();
+    if rows <= free {
+        return Some(format!(
+            "{rows} rows for {free} free parameters leave no residual to measure the noise by (expected more rows than free parameters: longer tests, or --fix)"
+        ));
+    }
+    (dof < MIN_NOISE_DEGREES_OF_FREEDOM).then(|| {
+        format!(
+            "test `{}` measures its noise with {dof} degree{} of freedom (expected at least {MIN_NOISE_DEGREES_OF_FREEDOM}, some 20 rows of a test: an interval from a noise read off fewer covers the truth less than 90 % of the time), so no interval is shown and the misfit is in units of a noise not known",
+            crate::visible(test),
+            if dof == 1 { "" } else { "s" }
+        )
     })
 }
 

@@ -46,7 +46,10 @@ pub fn interval_text(p: &ParamReport) -> String {
 pub fn undetermined(p: &ParamReport) -> bool {
     matches!(
         p.status,
-        Status::NotDetermined | Status::LowerBoundOnly | Status::UpperBoundOnly
+        Status::NotDetermined
+            | Status::LowerBoundOnly
+            | Status::UpperBoundOnly
+            | Status::NoiseUnknown
     )
 }
 
@@ -124,12 +127,19 @@ fn table(out: &FitOutcome, timed: bool) -> String {
     for l in verdict_lines(out) {
         let _ = writeln!(s, "{l}");
     }
+    let misfit = if out.adequacy.level == crate::adequacy::Level::CannotJudge {
+        "misfit not judged (the noise is not measured)".to_string()
+    } else {
+        format!(
+            "misfit {}× the noise variance",
+            misfit_number(r.reduced_chi2)
+        )
+    };
     let _ = writeln!(
         s,
-        "fit of {}: {} rows, misfit {}× the noise variance",
+        "fit of {}: {} rows, {misfit}",
         crate::visible(name),
-        r.rows,
-        misfit_number(r.reduced_chi2)
+        r.rows
     );
     write_parameter_rows(&mut s, r);
     write_read_off(&mut s, out);

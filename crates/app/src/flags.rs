@@ -86,6 +86,18 @@ pub fn parse_weight(s: &str) -> Result<(String, f64), String> {
     }
 }
 
+/// A count of at least 1 (`--starts`, `selfcheck --per-class`): 0 would run nothing, or one
+/// start without saying so.
+pub fn parse_count(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(0) => Err("0 (expected a whole number >= 1)".into()),
+        Ok(n) => Ok(n),
+        Err(_) => Err(format!(
+            "`{s}` is not a whole number (expected a whole number >= 1)"
+        )),
+    }
+}
+
 /// Hours of lab time (`--setup-hours`): a finite number >= 0.
 pub fn parse_hours(s: &str) -> Result<f64, String> {
     let h = number(s.trim(), "hours")?;

@@ -43,6 +43,7 @@ impl Mark {
             crate::adequacy::Level::AtNoise => Mark::Ok,
             crate::adequacy::Level::AboveNoise => Mark::Rough,
             crate::adequacy::Level::Fails => Mark::Fails,
+            crate::adequacy::Level::CannotJudge => Mark::Rough,
         }
     }
 

@@ -20,8 +20,7 @@ pub fn load_model(path: &Path) -> Result<Model> {
             kind.describe()
         );
     }
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("{}: cannot read the parameter file", path.display()))?;
+    let text = read_settings_text(path, "the parameter file")?;
     model_from_json(&text).map_err(|e| match e {
         ModelJsonError::Syntax {
             line,
@@ -39,6 +38,23 @@ pub fn load_model(path: &Path) -> Result<Model> {
     })
 }
 
+/// Reads a settings or results file a user names or subfric wrote (a parameter file, a
+/// diagnosis.json, a scenario, a manifest, a record) as UTF-8 text, with the one reader of
+/// user files ([`subfric_data::fsio::read_user_text`]): a regular file of at most
+/// [`subfric_data::fsio::MAX_SETTINGS_FILE_BYTES`], never a FIFO or a device (which would
+/// block or never end). `what` names it in messages ("the diagnosis").
+pub fn read_settings_text(path: &Path, what: &str) -> Result<String> {
+    subfric_data::fsio::read_user_text(path, what, subfric_data::fsio::MAX_SETTINGS_FILE_BYTES)
+        .map_err(|e| {
+            anyhow!(
+                "{}",
+                e.problems()
+                    .first()
+                    .map_or_else(|| e.to_string(), |p| p.to_string())
+            )
+        })
+}
+
 /// Writes pretty JSON, creating the folder; atomically (see [`write_text`]).
 pub fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<()> {
     let text = serde_json::to_string_pretty(value)?;
@@ -50,6 +66,7 @@ pub fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<()> {
 /// and a symbolic link at `path` is replaced, not written through.
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        crate::output::refuse_link(dir, "the folder written")?;
         std::fs::create_dir_all(dir)
             .map_err(|e| anyhow!("{}: cannot create the folder: {e}", dir.display()))?;
     }

@@ -8,6 +8,11 @@
 //! kill included), so a stale lock never blocks a folder. The file holds the holder's process
 //! id, for the message, and is removed when the lock is released. On a file system without
 //! locks (some network mounts) the folder is written unlocked.
+//!
+//! The lock file is opened without following a symbolic link and without blocking, and only a
+//! regular file with no other name (one link) is taken as a lock file: a link, a FIFO, a device
+//! or a hard link to some other file planted at its name is refused, never written through
+//! (it would receive a process id) nor truncated.
 
 use anyhow::{anyhow, bail, Result};
 use std::fs::{File, OpenOptions, TryLockError};
@@ -31,13 +36,7 @@ impl FolderLock {
         // A holder removes the file when it lets go: a file opened just before that is no
         // longer the folder's lock file, and is opened again.
         for _ in 0..100 {
-            let mut file = OpenOptions::new()
-                .read(true)
-                .write(true)
-                .create(true)
-                .truncate(false)
-                .open(&path)
-                .map_err(|e| anyhow!("{}: cannot create the lock file: {e}", path.display()))?;
+            let mut file = open_lock_file(&path)?;
             match file.try_lock() {
                 Ok(()) => {}
                 Err(TryLockError::WouldBlock) => bail!(
@@ -65,6 +64,51 @@ impl FolderLock {
             dir.display()
         )
     }
+}
+
+/// Opens (creating it if need be) the lock file at `path`: never through a symbolic link,
+/// never blocking on a FIFO, and refusing anything but a regular file of one link.
+fn open_lock_file(path: &Path) -> Result<File> {
+    let refuse = |what: &str| {
+        anyhow!(
+            "{}: {what} where subfric keeps its lock file (expected a regular file subfric wrote, or nothing: remove it, or give another --out)",
+            path.display()
+        )
+    };
+    if let Ok(m) = std::fs::symlink_metadata(path) {
+        if m.file_type().is_symlink() {
+            return Err(refuse("a symbolic link"));
+        }
+    }
+    let mut options = OpenOptions::new();
+    options.read(true).write(true).create(true).truncate(false);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
+    }
+    let file = options.open(path).map_err(|e| {
+        #[cfg(unix)]
+        if e.raw_os_error() == Some(libc::ELOOP) {
+            return refuse("a symbolic link");
+        }
+        anyhow!("{}: cannot create the lock file: {e}", path.display())
+    })?;
+    let meta = file
+        .metadata()
+        .map_err(|e| anyhow!("{}: cannot read the lock file: {e}", path.display()))?;
+    if !meta.is_file() {
+        return Err(refuse(
+            "a FIFO, socket, device or folder (not a regular file)",
+        ));
+    }
+    #[cfg(unix)]
+    if std::os::unix::fs::MetadataExt::nlink(&meta) > 1 {
+        return Err(refuse(
+            "a file with another name too (a hard link: it may be some other file)",
+        ));
+    }
+    Ok(file)
 }
 
 impl Drop for FolderLock {

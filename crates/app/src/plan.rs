@@ -161,6 +161,8 @@ pub fn misfit_warning(a: &Adequacy, basis: &Basis, set: &Path) -> Option<String>
             "{what}; run `subfric diagnose {}` first, and `subfric plan` then plans on the model the diagnosis chooses",
             set.display()
         )
+    } else if basis.verdict.as_deref() == Some("cannot-judge") {
+        format!("{what}; the diagnosis could not judge which effect is missing, see its verdict")
     } else {
         format!("{what}; the diagnosis found no effect that closes the gap, see its report")
     })

@@ -46,6 +46,10 @@ impl Basis {
                 self.model_words(),
                 f.display()
             ),
+            (Some(f), Some(v)) if v == "cannot-judge" => format!(
+                "planned on the base model (the diagnosis {} could not judge which effect is missing: see its verdict)",
+                f.display()
+            ),
             (Some(f), Some(v)) => format!(
                 "planned on the base model (the diagnosis {} found {})",
                 f.display(),
@@ -94,8 +98,7 @@ pub fn basis(set: &Path, name: &str, explicit: Option<&Path>) -> Result<Basis> {
 
 /// Reads a diagnosis.json written by `subfric diagnose` for the set `name`.
 fn read_basis(f: &Path, name: &str) -> Result<Basis> {
-    let text = std::fs::read_to_string(f)
-        .map_err(|e| anyhow!("{}: cannot read the diagnosis: {e}", f.display()))?;
+    let text = crate::io::read_settings_text(f, "the diagnosis")?;
     let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
         anyhow!(
             "{}:{}:{}: not valid JSON: {e} (expected a diagnosis.json written by subfric diagnose)",

@@ -186,7 +186,11 @@ pub fn diagnosis_page(
             .collect(),
     );
     page.h2("selection", "Effects on data held out from the fit");
-    for (k, st) in d.selection.iter().enumerate() {
+    let judged = d.verdict.effect != subfric_diagnose::Effect::CannotJudge;
+    if !judged {
+        page.p(&d.verdict.explanation);
+    }
+    for (k, st) in d.selection.iter().enumerate().filter(|_| judged) {
         page.h3(&format!(
             "Stage {}: added to {} (held-out misfit {}× the noise variance)",
             k + 1,

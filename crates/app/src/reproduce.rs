@@ -56,7 +56,7 @@ struct Job {
 
 fn read_meta(dir: &Path) -> Result<ExperimentMeta> {
     let json = dir.join(EXPERIMENT_JSON);
-    let text = std::fs::read_to_string(&json).map_err(|e| anyhow!("{}: {e}", json.display()))?;
+    let text = crate::io::read_settings_text(&json, EXPERIMENT_JSON)?;
     Ok(parse_meta(&text, &json)?)
 }
 

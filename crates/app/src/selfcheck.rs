@@ -292,12 +292,8 @@ pub fn score_folder(
     progress: &dyn Progress,
 ) -> Result<(Vec<Case>, Scores)> {
     let truth_path = root.join("truth.json");
-    let text = std::fs::read_to_string(&truth_path).map_err(|e| {
-        anyhow!(
-            "{}: cannot read ({e}); expected {{\"set\": {{\"effect\": name}}}}",
-            truth_path.display()
-        )
-    })?;
+    let text = crate::io::read_settings_text(&truth_path, "the truth file")
+        .map_err(|e| anyhow!("{e}; expected {{\"set\": {{\"effect\": name}}}}"))?;
     let truth: Value = serde_json::from_str(&text)
         .map_err(|e| anyhow!("{}:{}:{}: {e}", truth_path.display(), e.line(), e.column()))?;
     let mut dirs: Vec<PathBuf> = std::fs::read_dir(root)?

@@ -4,7 +4,7 @@
 
 use crate::io::load_model;
 use crate::output::SetDir;
-use anyhow::{anyhow, Context, Result};
+use anyhow::{anyhow, Result};
 use std::path::{Path, PathBuf};
 use subfric_data::import::file_name_for;
 use subfric_data::{
@@ -151,8 +151,7 @@ pub fn simulate_scenario(
             kind.describe()
         );
     }
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("{}: cannot read the scenario", path.display()))?;
+    let text = crate::io::read_settings_text(path, "the scenario")?;
     let sc: Scenario = serde_json::from_str(&text)
         .map_err(|e| anyhow!("{}:{}:{}: {e}", path.display(), e.line(), e.column()))?;
     let rows = sc.rows_with_limit(max_rows).map_err(|e| {

@@ -6,7 +6,7 @@
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 use subfric_app::flags::{
-    conflicts, parse_bound, parse_fix, parse_hours, parse_param, parse_weight,
+    conflicts, parse_bound, parse_count, parse_fix, parse_hours, parse_param, parse_weight,
 };
 use subfric_data::{ColumnRef, ControlColumn, Delimiter, LengthUnit, StressUnit, TimeUnit};
 use subfric_fit::{Method, Param};
@@ -390,7 +390,7 @@ pub struct FitArgs {
     #[arg(long, value_enum, default_value_t = MethodArg::Lsq)]
     pub method: MethodArg,
     /// Local starts.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, value_parser = parse_count)]
     pub starts: usize,
     /// Seed.
     #[arg(long, default_value_t = 1)]
@@ -568,7 +568,7 @@ impl From<LayoutArg> for subfric_app::selfcheck::Layout {
 pub struct SelfcheckArgs {
     /// Sets per class (set k of class c is recorded with profile c + k in turn: lab, clean,
     /// logger, rig).
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = 2, value_parser = parse_count)]
     pub per_class: usize,
     /// Seed.
     #[arg(long, default_value_t = 7)]

@@ -267,6 +267,7 @@ mod tests {
             quantum: 0.0001,
             floor: false,
             block_range: (0.00014, 0.00014),
+            residuals: 14,
         };
         let unload = [2.1499, 2.1492, 2.1476, 2.1460, 2.1437];
         let hold = [

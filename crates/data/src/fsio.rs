@@ -1,7 +1,7 @@
 //! Files on disk: writes that never leave a half-written file, and what kind of thing a path
 //! names before it is read.
 
-use std::io::Write;
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -99,6 +99,127 @@ pub fn temp_file_writer(name: &str) -> Option<u32> {
     }
     let rest = &name[name.rfind(TEMP_MARK)? + TEMP_MARK.len()..];
     rest.split('-').next()?.parse().ok()
+}
+
+/// Largest description or settings file read (`experiment.json`, a parameter file, a
+/// diagnosis.json, a prior file, a scenario, a campaign manifest, the records subfric keeps):
+/// 64 MiB, a thousand times the largest one bundled, as the C interface's model files.
+pub const MAX_SETTINGS_FILE_BYTES: u64 = 64 << 20;
+
+/// Largest data file read (a test's CSV, a lab export): 1 GiB, some 20 million rows of five
+/// columns, ten times the largest scenario `simulate` makes by default.
+pub const MAX_DATA_FILE_BYTES: u64 = 1 << 30;
+
+/// Reads a whole user file (`what` names it in messages: "the diagnosis", "the prior file"):
+/// refuses what is not a regular file (a folder, a FIFO, a device such as `/dev/zero`), and a
+/// file of more than `max` bytes, with an error naming the file. The file is opened without
+/// blocking, so a FIFO put in its place between the look and the open is refused too, not
+/// waited on; and it is read at most to `max` + 1 bytes, so a file that grows while it is read
+/// is refused rather than read without end.
+pub fn read_user_file(path: &Path, what: &str, max: u64) -> Result<Vec<u8>, DataError> {
+    let refuse =
+        |message: String| DataError::Problems(vec![InputProblem::new(path, None, None, message)]);
+    let kind = PathKind::of(path);
+    if !matches!(kind, PathKind::File | PathKind::Absent) {
+        return Err(refuse(format!(
+            "{what} {} (expected a regular file)",
+            kind.describe()
+        )));
+    }
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    let file = options.open(path).map_err(|e| DataError::io(path, e))?;
+    let meta = file.metadata().map_err(|e| DataError::io(path, e))?;
+    if !meta.is_file() {
+        return Err(refuse(format!(
+            "{what} {} (expected a regular file)",
+            PathKind::Special.describe()
+        )));
+    }
+    let too_big = |grew: bool, n: u64| {
+        refuse(format!(
+            "{what} {} {n} bytes, more than the {max} bytes a file of its kind may hold (expected {what} as subfric or a laboratory writes it: is this the right file?)",
+            if grew { "grew while it was read, past" } else { "holds" }
+        ))
+    };
+    if meta.len() > max {
+        return Err(too_big(false, meta.len()));
+    }
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(max + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| DataError::io(path, e))?;
+    if bytes.len() as u64 > max {
+        return Err(too_big(true, max));
+    }
+    Ok(bytes)
+}
+
+/// [`read_user_file`] as UTF-8 text: a file that is not UTF-8 is refused at the line where it
+/// stops being so, and a UTF-16 file (by its byte-order mark, or zero bytes between ASCII
+/// ones) is named as such. A UTF-8 byte-order mark is dropped.
+pub fn read_user_text(path: &Path, what: &str, max: u64) -> Result<String, DataError> {
+    let bytes = read_user_file(path, what, max)?;
+    utf8_text(path, what, bytes)
+}
+
+/// The text of `bytes` read from `path`, or an error naming the line where they stop being
+/// UTF-8 (and UTF-16 as such). A UTF-8 byte-order mark is dropped.
+pub fn utf8_text(path: &Path, what: &str, bytes: Vec<u8>) -> Result<String, DataError> {
+    if let Some(encoding) = utf16_encoding(&bytes) {
+        return Err(DataError::Problems(vec![InputProblem::new(
+            path,
+            Some(1),
+            None,
+            format!("{what} is {encoding} text, not UTF-8 (expected UTF-8: save it as UTF-8, e.g. `iconv -f UTF-16 -t UTF-8`)"),
+        )]));
+    }
+    match String::from_utf8(bytes) {
+        Ok(s) => Ok(match s.strip_prefix('\u{feff}') {
+            Some(rest) => rest.to_string(),
+            None => s,
+        }),
+        Err(e) => {
+            let valid = e.utf8_error().valid_up_to();
+            let bytes = e.into_bytes();
+            let line = 1 + bytes[..valid].iter().filter(|&&b| b == b'\n').count();
+            Err(DataError::Problems(vec![InputProblem::new(
+                path,
+                Some(line),
+                None,
+                format!("the file is not valid UTF-8 text from this line on (expected {what} as a UTF-8 encoded file)"),
+            )]))
+        }
+    }
+}
+
+/// "UTF-16LE" or "UTF-16BE" when `bytes` look like UTF-16 text: a byte-order mark, or a zero
+/// byte in every other place of the first ASCII characters.
+pub fn utf16_encoding(bytes: &[u8]) -> Option<&'static str> {
+    match bytes {
+        [0xFF, 0xFE, ..] => return Some("UTF-16LE"),
+        [0xFE, 0xFF, ..] => return Some("UTF-16BE"),
+        _ => {}
+    }
+    let head = &bytes[..bytes.len().min(64) & !1];
+    if head.len() < 4 {
+        return None;
+    }
+    let pairs = head.chunks_exact(2);
+    let le = pairs.clone().all(|p| p[1] == 0 && p[0] != 0);
+    let be = pairs.clone().all(|p| p[0] == 0 && p[1] != 0);
+    if le {
+        Some("UTF-16LE")
+    } else if be {
+        Some("UTF-16BE")
+    } else {
+        None
+    }
 }
 
 /// What a path names, for messages that say what is there instead of "absent".

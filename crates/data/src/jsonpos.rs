@@ -12,10 +12,48 @@ pub(crate) fn value_positions(text: &str) -> HashMap<String, (usize, usize)> {
         line: 1,
         col: 1,
         out: HashMap::new(),
+        duplicates: Vec::new(),
+        end_of: None,
     };
     s.skip_ws();
     s.value(String::new(), 0);
     s.out
+}
+
+/// Where the value at `field` ends in `text`: the index (in chars) just past its last char.
+/// `None` when the text is not JSON or has no such field.
+pub(crate) fn value_end(text: &str, field: &str) -> Option<usize> {
+    let mut s = Scanner {
+        chars: text.chars().collect(),
+        pos: 0,
+        line: 1,
+        col: 1,
+        out: HashMap::new(),
+        duplicates: Vec::new(),
+        end_of: None,
+    };
+    s.skip_ws();
+    s.end_of = Some((field.to_string(), None));
+    s.value(String::new(), 0);
+    s.end_of.and_then(|(_, end)| end)
+}
+
+/// The keys given twice in one object, at any depth, with the line and column of the second:
+/// a JSON reader keeps one of the two silently (serde_json the last), so which value was meant
+/// is not known. Paths as in [`value_positions`]; never panics.
+pub(crate) fn duplicate_keys(text: &str) -> Vec<(String, usize, usize)> {
+    let mut s = Scanner {
+        chars: text.chars().collect(),
+        pos: 0,
+        line: 1,
+        col: 1,
+        out: HashMap::new(),
+        duplicates: Vec::new(),
+        end_of: None,
+    };
+    s.skip_ws();
+    s.value(String::new(), 0);
+    s.duplicates
 }
 
 struct Scanner {
@@ -24,6 +62,9 @@ struct Scanner {
     line: usize,
     col: usize,
     out: HashMap<String, (usize, usize)>,
+    duplicates: Vec<(String, usize, usize)>,
+    /// A path whose value's end is wanted, and that end once found.
+    end_of: Option<(String, Option<usize>)>,
 }
 
 const MAX_DEPTH: usize = 200;
@@ -57,6 +98,18 @@ impl Scanner {
             return false;
         }
         self.out.insert(path.clone(), (self.line, self.col));
+        let ok = self.value_inner(&path, depth);
+        if ok {
+            if let Some((want, end)) = &mut self.end_of {
+                if *want == path {
+                    *end = Some(self.pos);
+                }
+            }
+        }
+        ok
+    }
+
+    fn value_inner(&mut self, path: &str, depth: usize) -> bool {
         match self.peek() {
             Some('{') => {
                 self.bump();
@@ -65,11 +118,14 @@ impl Scanner {
                     self.bump();
                     return true;
                 }
+                let mut keys = std::collections::HashSet::new();
                 loop {
                     self.skip_ws();
+                    let at = (self.line, self.col);
                     let Some(key) = self.string() else {
                         return false;
                     };
+                    let again = !keys.insert(key.clone());
                     self.skip_ws();
                     if self.bump() != Some(':') {
                         return false;
@@ -80,6 +136,9 @@ impl Scanner {
                     } else {
                         format!("{path}.{key}")
                     };
+                    if again {
+                        self.duplicates.push((child.clone(), at.0, at.1));
+                    }
                     if !self.value(child, depth + 1) {
                         return false;
                     }
@@ -171,6 +230,16 @@ mod tests {
         assert_eq!(p["a"], (2, 8));
         assert_eq!(p["tests[0].name"].0, 4);
         assert_eq!(p["tests[0].control"].0, 5);
+    }
+
+    #[test]
+    fn finds_keys_given_twice_at_any_depth() {
+        let text = "{\"a\": {\"b\": 1,\n \"b\": 2}, \"c\": [{\"d\": 0, \"d\": 1}], \"e\": 1, \"f.g\": 1, \"f\": {\"g\": 2}}";
+        let d = duplicate_keys(text);
+        assert_eq!(
+            d,
+            vec![("a.b".to_string(), 2, 2), ("c[0].d".to_string(), 2, 26)]
+        );
     }
 
     #[test]

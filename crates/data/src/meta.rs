@@ -207,6 +207,19 @@ pub(crate) fn file_name_problem(file: &str) -> Option<String> {
     None
 }
 
+/// The 1-based line where the value of `field` (a JSON path: `reference_parameters`,
+/// `tests[1].file`, ...) starts in the JSON `text`, for messages about a value found wrong
+/// after parsing.
+///
+/// ```
+/// let text = "{\n  \"name\": \"a\",\n  \"reference_parameters\": {\"mu_s\": -1}\n}";
+/// assert_eq!(subfric_data::meta::field_line(text, "reference_parameters"), Some(3));
+/// assert_eq!(subfric_data::meta::field_line(text, "nothing"), None);
+/// ```
+pub fn field_line(text: &str, field: &str) -> Option<usize> {
+    value_positions(text).get(field).map(|p| p.0)
+}
+
 /// Parses and validates the text of an `experiment.json`; `path` is used in messages.
 ///
 /// All shape problems are collected (missing or mistyped fields, unknown control, duplicate
@@ -220,6 +233,17 @@ pub fn parse_meta(text: &str, path: &Path) -> Result<ExperimentMeta, DataError> 
     })?;
     let pos = value_positions(text);
     let mut problems = Problems::default();
+    for (field, line, column) in crate::jsonpos::duplicate_keys(text) {
+        problems.add(
+            path,
+            Some(line),
+            Some(&field),
+            format!("appears twice (the second at column {column}) (expected each field once: which of the two values is meant?)"),
+        );
+    }
+    if !problems.is_empty() {
+        return Err(DataError::Problems(problems.into_vec()));
+    }
     check_shape(&value, path, &pos, &mut problems);
     if !problems.is_empty() {
         return Err(DataError::Problems(problems.into_vec()));
@@ -403,6 +427,14 @@ impl Ctx<'_> {
             Some(Value::Number(n)) => match n.as_f64() {
                 Some(x)
                     if x.is_finite() && x <= MAX_MAGNITUDE && (x > 0.0 || !grain && x == 0.0) => {}
+                Some(x) if x > MAX_MAGNITUDE => self.problem(
+                    pr,
+                    &field,
+                    format!(
+                        "{} {unit} is beyond {MAX_MAGNITUDE:e} (expected the {what} in {unit}: a typing or unit mistake?)",
+                        crate::text::short_number(x)
+                    ),
+                ),
                 _ => self.problem(
                     pr,
                     &field,
@@ -575,7 +607,8 @@ impl Ctx<'_> {
                     pr,
                     &field,
                     format!(
-                        "normal stress {n} kPa is not positive (expected a normal stress > 0 kPa)"
+                        "normal stress {} kPa is not positive (expected a normal stress > 0 kPa)",
+                        n.as_f64().map_or_else(|| n.to_string(), crate::text::short_number)
                     ),
                 ),
             },

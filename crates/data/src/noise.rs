@@ -28,6 +28,31 @@ pub struct NoiseEstimate {
     /// Smallest and largest block estimate: a wide range means the noise changes along the
     /// record (e.g. with the sampling rate).
     pub block_range: (f64, f64),
+    /// How many second differences of the record the estimate rests on.
+    pub residuals: usize,
+}
+
+/// Asymptotic efficiency of the median absolute deviation against the standard deviation for
+/// Gaussian noise (2/π / (4 φ(Φ⁻¹(3/4))² · Φ⁻¹(3/4)²)… = 0.367): a MAD over k values measures
+/// the noise about as well as a standard deviation over 0.367 k.
+pub const MAD_EFFICIENCY: f64 = 0.367;
+
+impl NoiseEstimate {
+    /// The degrees of freedom of the noise variance this estimate measured: as many as a
+    /// standard deviation over [`MAD_EFFICIENCY`] × the second differences it rests on (it is
+    /// their median absolute deviation), or 0 when it measured nothing (at the floor without a
+    /// quantisation step: too few rows, or a record without scatter, whose noise is then a
+    /// guess). A quantisation step is read from at least 20 steps and its noise q/√12 is known,
+    /// so rounding noise counts as measured by every difference.
+    pub fn degrees_of_freedom(&self) -> usize {
+        if !self.floor {
+            (MAD_EFFICIENCY * self.residuals as f64).floor() as usize
+        } else if self.quantum > 0.0 {
+            self.residuals
+        } else {
+            0
+        }
+    }
 }
 
 pub(crate) fn median(v: &mut [f64]) -> f64 {
@@ -164,6 +189,7 @@ pub fn estimate_noise(t: &[f64], x: &[f64]) -> NoiseEstimate {
         quantum: q,
         floor,
         block_range: if lo.is_finite() { (lo, hi) } else { (0.0, 0.0) },
+        residuals: r.len(),
     }
 }
 

@@ -44,6 +44,10 @@ pub const PLAUSIBLE_NORMAL_KPA: (f64, f64) = (1.0, 1.0e5);
 pub const MAX_PLAUSIBLE_SLIP_MM: f64 = 1.0e4;
 /// Largest plausible mean slip rate of a laboratory test [mm/s].
 pub const MAX_PLAUSIBLE_RATE_MM_S: f64 = 100.0;
+/// Largest plausible slip [mm] a test from rest takes to reach half its largest shear: a
+/// sand–metal interface mobilises its friction within about a millimetre (a soft shear box or
+/// ring within a few); a rise over more than 10 mm is a slip in µm labelled mm.
+pub const MAX_PLAUSIBLE_HALF_RISE_MM: f64 = 10.0;
 /// Fewest rows of a test that can show a curve.
 pub const MIN_PLAUSIBLE_ROWS: usize = 10;
 
@@ -70,6 +74,20 @@ fn span(v: &[f64]) -> f64 {
     } else {
         0.0
     }
+}
+
+/// The slip a slip-controlled test that starts at rest (its first shear below half its
+/// largest) takes to reach half its largest |shear|, from its first row.
+fn half_rise_slip(t: &TestData) -> Option<f64> {
+    if t.spec.control != ControlColumn::Slip || t.is_empty() {
+        return None;
+    }
+    let peak = max_abs(&t.shear_kpa);
+    if peak.is_nan() || peak <= 0.0 || t.shear_kpa[0].abs() >= 0.5 * peak {
+        return None;
+    }
+    let i = t.shear_kpa.iter().position(|s| s.abs() >= 0.5 * peak)?;
+    Some((t.slip_mm[i] - t.slip_mm[0]).abs())
 }
 
 fn max_abs(v: &[f64]) -> f64 {
@@ -126,6 +144,15 @@ pub fn test_warnings(t: &TestData) -> Vec<Warning> {
             format!(
                 "the shear never exceeds {} times the normal stress (expected a peak |shear|/normal above {MIN_PLAUSIBLE_PEAK_FRICTION}): is the shear in MPa rather than kPa, or the normal stress in Pa?",
                 num(peak_friction)
+            ),
+        );
+    }
+    if let Some(rise) = half_rise_slip(t).filter(|&r| r > MAX_PLAUSIBLE_HALF_RISE_MM) {
+        warn(
+            "slip_mm",
+            format!(
+                "the shear takes {} mm of slip from rest to reach half its largest value (expected well under {MAX_PLAUSIBLE_HALF_RISE_MM} mm: a sand–metal interface mobilises its friction within about a millimetre): is the slip in µm, labelled mm?",
+                num(rise)
             ),
         );
     }

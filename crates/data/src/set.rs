@@ -103,6 +103,26 @@ impl TestData {
             .any(|&n| n != self.spec.normal_stress_kpa)
     }
 
+    /// A fingerprint of the test's rows (time, slip, shear and normal stress, bit for bit):
+    /// two tests with the same fingerprint hold the same data, whatever their names and files
+    /// (a 64-bit SipHash: two different records share one by chance once in 10¹⁹).
+    pub fn content_hash(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        self.len().hash(&mut h);
+        for col in [
+            &self.time_s,
+            &self.slip_mm,
+            &self.shear_kpa,
+            &self.normal_kpa,
+        ] {
+            for x in col.iter() {
+                x.to_bits().hash(&mut h);
+            }
+        }
+        h.finish()
+    }
+
     /// 1-based CSV line of a row (0 if unknown).
     pub fn line(&self, row: usize) -> usize {
         self.line_of_row.get(row).copied().unwrap_or(0)
@@ -127,22 +147,8 @@ impl ExperimentSet {
     }
 }
 
-fn read_text(path: &Path) -> Result<String, DataError> {
-    let bytes = std::fs::read(path).map_err(|e| DataError::io(path, e))?;
-    match String::from_utf8(bytes) {
-        Ok(s) => Ok(s),
-        Err(e) => {
-            let valid = e.utf8_error().valid_up_to();
-            let bytes = e.into_bytes();
-            let line = 1 + bytes[..valid].iter().filter(|&&b| b == b'\n').count();
-            Err(DataError::Problems(vec![InputProblem::new(
-                path,
-                Some(line),
-                None,
-                "the file is not valid UTF-8 text (expected a UTF-8 encoded file)",
-            )]))
-        }
-    }
+fn read_text(path: &Path, what: &str, max: u64) -> Result<String, DataError> {
+    crate::fsio::read_user_text(path, what, max)
 }
 
 /// Loads and validates an experiment set folder: `experiment.json` and every test CSV.
@@ -176,7 +182,11 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
             )]));
         }
     }
-    let text = match read_text(&json_path) {
+    let text = match read_text(
+        &json_path,
+        EXPERIMENT_JSON,
+        crate::fsio::MAX_SETTINGS_FILE_BYTES,
+    ) {
         Ok(t) => t,
         Err(DataError::Io { path, source }) if source.kind() == std::io::ErrorKind::NotFound => {
             let what = if dir.is_dir() {
@@ -222,6 +232,9 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
             Err(e) => return Err(e),
         }
     }
+    if problems.is_empty() {
+        problems.extend(repeated_tests(&tests, &json_path, &positions));
+    }
     if !problems.is_empty() {
         return Err(DataError::Problems(problems));
     }
@@ -230,6 +243,37 @@ pub fn load_set(dir: &Path) -> Result<ExperimentSet, DataError> {
         meta,
         tests,
     })
+}
+
+/// Tests of one set that hold the same rows (a CSV copied under another name, or one file
+/// named by two tests): each is refused at its `file` in `experiment.json`, naming the test it
+/// repeats. Its rows would count twice and every interval would be too narrow by √2.
+fn repeated_tests(
+    tests: &[TestData],
+    json: &Path,
+    positions: &HashMap<String, (usize, usize)>,
+) -> Vec<InputProblem> {
+    let hashes: Vec<u64> = tests.iter().map(TestData::content_hash).collect();
+    let mut problems = Vec::new();
+    for (j, t) in tests.iter().enumerate() {
+        if let Some(i) = (0..j).find(|&i| hashes[i] == hashes[j]) {
+            let field = format!("tests[{j}].file");
+            problems.push(InputProblem::new(
+                json,
+                positions.get(&field).map(|p| p.0),
+                Some(&field),
+                format!(
+                    "test `{}` ({}) holds the same {} rows as test `{}` ({}), value for value: its rows would count twice and every interval would be too narrow by √2 (expected each measured test once: remove the copy)",
+                    t.spec.name,
+                    t.spec.file,
+                    t.len(),
+                    tests[i].spec.name,
+                    tests[i].spec.file
+                ),
+            ));
+        }
+    }
+    problems
 }
 
 /// Loads and validates the CSV of one test of the set in `dir`.
@@ -253,13 +297,16 @@ fn load_test_inner(dir: &Path, spec: &TestSpec, check_spec: bool) -> Result<Test
             return Err(DataError::Problems(problems.into_vec()));
         }
         if !(spec.normal_stress_kpa > 0.0 && spec.normal_stress_kpa <= MAX_MAGNITUDE) {
+            let n = spec.normal_stress_kpa;
             problems.add(
                 &json,
                 None,
                 Some("normal_stress_kpa"),
                 format!(
-                    "test `{}`: normal stress {} kPa is not positive or beyond 1e12 (expected a normal stress > 0 kPa)",
-                    spec.name, spec.normal_stress_kpa
+                    "test `{}`: normal stress {} kPa is {} (expected a normal stress > 0 kPa, at most 1e12)",
+                    spec.name,
+                    crate::text::short_number(n),
+                    if n > MAX_MAGNITUDE { "beyond 1e12" } else { "not positive" }
                 ),
             );
         }
@@ -277,7 +324,7 @@ fn load_test_inner(dir: &Path, spec: &TestSpec, check_spec: bool) -> Result<Test
         );
         return Err(DataError::Problems(problems.into_vec()));
     }
-    let text = read_text(&path)?;
+    let text = read_text(&path, "the test's CSV", crate::fsio::MAX_DATA_FILE_BYTES)?;
     let result = parse_test_csv(&text, &path, spec);
     match result {
         Ok(t) => problems.into_result(t),
@@ -708,7 +755,10 @@ pub(crate) fn validate_data(td: &TestData, normal_from_column: bool) -> Vec<Inpu
                     path,
                     line,
                     Some(name),
-                    format!("value {x} is not finite (expected a finite number)"),
+                    format!(
+                        "value {} is not finite (expected a finite number)",
+                        crate::text::short_number(x)
+                    ),
                 );
             } else if x.abs() > MAX_MAGNITUDE {
                 pr.add(

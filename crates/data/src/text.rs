@@ -64,6 +64,26 @@ pub fn visible(name: &str) -> String {
 }
 
 /// Why `name` (the value of `field`) is too long, if it is: more than [`MAX_NAME_BYTES`].
+/// A number as a message shows it: plain when that is short (`0.3`, `-5`, `200000`), else in
+/// scientific notation (`1e308`, not 309 digits; `1e-320`, not 321).
+///
+/// ```
+/// use subfric_data::text::short_number;
+/// assert_eq!(short_number(0.3), "0.3");
+/// assert_eq!(short_number(-5.0), "-5");
+/// assert_eq!(short_number(1e308), "1e308");
+/// assert_eq!(short_number(1e-320), "1e-320");
+/// assert_eq!(short_number(f64::INFINITY), "inf");
+/// ```
+pub fn short_number(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() <= 16 || !x.is_finite() {
+        plain
+    } else {
+        format!("{x:e}")
+    }
+}
+
 pub(crate) fn name_too_long(name: &str, what: &str) -> Option<String> {
     (name.len() > MAX_NAME_BYTES).then(|| {
         format!(

@@ -17,6 +17,9 @@ pub enum Effect {
     None,
     /// A real gap that no candidate explains (e.g. measurement drift).
     Unexplained,
+    /// Nothing could be held out (no kind of piece occurs twice, as in a set of one monotonic
+    /// test): whether an effect is missing cannot be judged on held-out data.
+    CannotJudge,
     /// A registered family (index in `subfric_model::terms::FAMILIES`): everything about it
     /// comes from its module.
     Term(u8),
@@ -75,6 +78,7 @@ impl Effect {
             Effect::Term(i) => terms::family(i).name(),
             Effect::None => "none",
             Effect::Unexplained => "unexplained",
+            Effect::CannotJudge => "cannot-judge",
         }
     }
 
@@ -96,7 +100,7 @@ impl Effect {
     pub fn own_kinds(self) -> Vec<OwnKind> {
         let shows: &[Shows] = match self {
             Effect::Term(i) => terms::family(i).shows(),
-            Effect::None | Effect::Unexplained => &[],
+            Effect::None | Effect::Unexplained | Effect::CannotJudge => &[],
         };
         shows.iter().map(|&s| OwnKind::from(s)).collect()
     }
@@ -106,6 +110,7 @@ impl Effect {
         match self {
             Effect::None => "no effect beyond the base model: the remaining gap is noise",
             Effect::Unexplained => "a real gap none of the candidates explains",
+            Effect::CannotJudge => "cannot judge: nothing could be held out of these data",
             Effect::Term(i) => terms::family(i).describe(),
         }
     }
@@ -123,6 +128,7 @@ impl<'de> Deserialize<'de> for Effect {
         let name = String::deserialize(de)?;
         Effect::every()
             .into_iter()
+            .chain([Effect::CannotJudge])
             .find(|e| e.name() == name)
             .ok_or_else(|| serde::de::Error::custom(format!("unknown effect `{name}`")))
     }

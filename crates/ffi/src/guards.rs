@@ -72,25 +72,58 @@ pub(crate) fn read_model_file(path: &str) -> Result<String, Failure> {
     })
 }
 
+/// Every number of a state, by name, in the order of the struct: destructured, so that a field
+/// added to [`SubfricState`] cannot be left out of a guard (it would not compile).
+pub(crate) fn state_numbers(s: &SubfricState) -> [(&'static str, f64); crate::SUBFRIC_STATE_LEN] {
+    let SubfricState {
+        slip,
+        shear,
+        mu,
+        r,
+        cos_r,
+        sin_r,
+        slip_path,
+        age,
+        time,
+        healed,
+        theta,
+        rate_add,
+        rate_factor,
+    } = *s;
+    [
+        ("slip[0]", slip[0]),
+        ("slip[1]", slip[1]),
+        ("slip[2]", slip[2]),
+        ("shear[0]", shear[0]),
+        ("shear[1]", shear[1]),
+        ("shear[2]", shear[2]),
+        ("mu", mu),
+        ("r", r),
+        ("cos_r", cos_r),
+        ("sin_r", sin_r),
+        ("slip_path", slip_path),
+        ("age", age),
+        ("time", time),
+        ("healed", healed),
+        ("theta", theta),
+        ("rate_add", rate_add),
+        ("rate_factor", rate_factor),
+    ]
+}
+
+/// The first field of a state that is not a finite number, by name, with its value.
+pub(crate) fn first_not_finite(s: &SubfricState) -> Option<(&'static str, f64)> {
+    state_numbers(s).into_iter().find(|(_, x)| !x.is_finite())
+}
+
 /// Whether every number of a step's result (state and response) is finite.
 pub(crate) fn all_finite(out: &SubfricState, r: &SubfricResponse) -> bool {
-    let scalars = [
-        out.mu,
-        out.r,
-        out.cos_r,
-        out.sin_r,
-        out.slip_path,
-        out.age,
-        out.theta,
-    ];
-    out.slip
-        .iter()
-        .chain(&out.shear)
-        .chain(&scalars)
-        .chain(&r.shear)
-        .chain(&r.traction)
-        .chain(r.dshear_dslip.iter().flatten())
-        .chain(&r.dshear_dpressure)
-        .chain(&r.plastic_slip)
-        .all(|x| x.is_finite())
+    first_not_finite(out).is_none()
+        && r.shear
+            .iter()
+            .chain(&r.traction)
+            .chain(r.dshear_dslip.iter().flatten())
+            .chain(&r.dshear_dpressure)
+            .chain(&r.plastic_slip)
+            .all(|x| x.is_finite())
 }

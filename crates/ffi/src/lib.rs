@@ -303,12 +303,71 @@ fn build(
         );
     }
     let contact = Contact3::new(&model, normal, forward);
+    probe_steps(&model, &contact)?;
     let normal = normal.map(|x| x / len);
     Ok(Box::new(SubfricModel {
         model,
         contact,
         normal,
     }))
+}
+
+/// The slip increments (mm) of [`probe_steps`], one after the other from rest, each over 1 s
+/// at 100 kPa: a micrometre to a millimetre per second, the rates of a laboratory test and of
+/// a pile.
+const PROBE_SLIPS: [f64; 3] = [1e-6, 1e-3, 1.0];
+
+/// Refuses a model its own integrator cannot step: from the virgin state, the slip increments
+/// of [`PROBE_SLIPS`] in turn along the plane at 100 kPa over 1 s each, then a hold of 1000 s,
+/// must each converge to finite numbers. An extension parameter far beyond what the
+/// doubles can carry through the return mapping (`rate.a = 1e300`: a friction change of 10³⁰⁰
+/// per decade; `slip_hardening.h = 1e300` per mm) fails here, at construction, instead of
+/// asking the finite-element code to cut every increment forever. No tuned bound: the model
+/// is refused exactly when it cannot integrate an ordinary step.
+fn probe_steps(model: &Model, contact: &Contact3) -> Result<(), Failure> {
+    let along = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        .into_iter()
+        .map(|a| contact.tangential(&a))
+        .find(|t| t.iter().map(|x| x * x).sum::<f64>() > 0.25)
+        .unwrap_or([1.0, 0.0, 0.0]);
+    let refuse = |what: String| {
+        Failure(
+            SubfricStatus::InvalidParameters,
+            format!(
+                "the model cannot take an ordinary step: {what} (expected extension parameters the integrator can carry: ext = {})",
+                serde_json::to_string(&model.ext).unwrap_or_default()
+            ),
+        )
+    };
+    let mut st = State3::virgin(model, [0.0; 3]);
+    let mut slid = 0.0;
+    for du in PROBE_SLIPS {
+        let inc = along.map(|x| x * du);
+        let (next, _) = contact
+            .step_increment_with_tangent(&st, &inc, 100.0, 1.0)
+            .map_err(|e| {
+                refuse(format!(
+                    "a slip of {du} mm in 1 s at 100 kPa after {slid} mm from rest: {e}"
+                ))
+            })?;
+        slid += du;
+        let out = to_c(&next);
+        if let Some((field, x)) = guards::first_not_finite(&out) {
+            return Err(refuse(format!(
+                "a slip of {du} mm in 1 s at 100 kPa gives {field} = {x}"
+            )));
+        }
+        st = next;
+    }
+    let (held, _) = contact
+        .step_increment_with_tangent(&st, &[0.0; 3], 100.0, 1000.0)
+        .map_err(|e| refuse(format!("a hold of 1000 s after {slid} mm: {e}")))?;
+    if let Some((field, x)) = guards::first_not_finite(&to_c(&held)) {
+        return Err(refuse(format!(
+            "a hold of 1000 s after {slid} mm gives {field} = {x}"
+        )));
+    }
+    Ok(())
 }
 
 fn params_of(p: &SubfricParams) -> Params {
@@ -564,6 +623,14 @@ fn to_c(s: &State3) -> SubfricState {
 
 /// The state of `s`, if it is one the model can have (see [`Contact3::check_state`]).
 fn from_c(m: &SubfricModel, s: &SubfricState) -> Result<State3, Failure> {
+    if let Some((field, x)) = guards::first_not_finite(s) {
+        return Err(Failure(
+            SubfricStatus::InvalidInput,
+            format!(
+                "state_in.{field} = {x} (expected a finite number: not a state the model writes); a new contact point starts from subfric_state_init"
+            ),
+        ));
+    }
     let st = State3 {
         slip: s.slip,
         shear: s.shear,

@@ -423,3 +423,97 @@ fn a_fifo_a_device_a_folder_and_a_huge_file_are_refused_as_model_files() {
         );
     }
 }
+
+// Issue 42, case 10 -----------------------------------------------------------------------------
+
+/// A model from a JSON string; its status, message and handle.
+fn from_json(text: &str) -> (SubfricStatus, String, *mut SubfricModel) {
+    let json = CString::new(text).unwrap();
+    let mut m = std::ptr::null_mut();
+    let (status, msg) = call(|buf, len| {
+        // SAFETY: a NUL-terminated text, a valid output, a buffer of `len` bytes.
+        unsafe {
+            subfric_model_from_json(
+                json.as_ptr(),
+                std::ptr::null(),
+                std::ptr::null(),
+                &mut m,
+                buf,
+                len,
+            )
+        }
+    });
+    (status, msg, m)
+}
+
+#[test]
+fn every_state_field_time_included_is_guarded_in_and_out() {
+    let (_, _, m) = model(&sample_params(), None, None);
+    // In: each field of a real state made infinite (or NaN) in turn is refused, by name.
+    let names = [
+        "time",
+        "healed",
+        "rate_add",
+        "rate_factor",
+        "age",
+        "theta",
+        "slip_path",
+    ];
+    for (k, name) in names.iter().enumerate() {
+        let mut st = init(m);
+        let bad = if k % 2 == 0 { f64::INFINITY } else { f64::NAN };
+        match *name {
+            "time" => st.time = bad,
+            "healed" => st.healed = bad,
+            "rate_add" => st.rate_add = bad,
+            "rate_factor" => st.rate_factor = bad,
+            "age" => st.age = bad,
+            "theta" => st.theta = bad,
+            _ => st.slip_path = bad,
+        }
+        let (status, msg, _, _) = step(m, &st, [1e-3, 0.0, 0.0], 100.0, 1.0);
+        assert_eq!(status, SubfricStatus::InvalidInput, "{name}: {msg}");
+        assert!(msg.contains(&format!("state_in.{name} = ")), "{msg}");
+    }
+    // Out: a time at the edge of the doubles plus a step of them is no success with time = inf.
+    let mut st = init(m);
+    st.time = f64::MAX;
+    let (status, msg, next, _) = step(m, &st, [1e-3, 0.0, 0.0], 100.0, f64::MAX);
+    assert_ne!(status, SubfricStatus::Ok, "time = {} {msg}", next.time);
+    free(m);
+}
+
+#[test]
+fn extension_parameters_the_integrator_cannot_carry_are_refused_at_construction() {
+    let base =
+        r#""params": {"mu_s":0.45,"mu_k":0.3,"kappa":1.2,"xi":0.003,"u_tilde":15,"alpha_t":1000}"#;
+    for (ext, named) in [
+        (
+            r#"{"rate": {"form": "log-direct", "a": 1e300, "v_ref": 0.001}}"#,
+            "rate",
+        ),
+        (
+            r#"{"slip_hardening": {"h": 1e300, "s_h": 0.5}}"#,
+            "slip_hardening",
+        ),
+    ] {
+        let (status, msg, m) = from_json(&format!("{{{base}, \"ext\": {ext}}}"));
+        assert_eq!(status, SubfricStatus::InvalidParameters, "{ext}: {msg}");
+        assert!(
+            msg.contains("cannot take an ordinary step") && msg.contains(named),
+            "{msg}"
+        );
+        assert!(m.is_null());
+    }
+    // The fitted magnitudes still build, and step.
+    for ext in [
+        r#"{"rate": {"form": "log-direct", "a": 0.01, "v_ref": 0.001}}"#,
+        r#"{"slip_hardening": {"h": 0.05, "s_h": 0.5}}"#,
+    ] {
+        let (status, msg, m) = from_json(&format!("{{{base}, \"ext\": {ext}}}"));
+        assert_eq!(status, SubfricStatus::Ok, "{ext}: {msg}");
+        let (status, msg, _, _) = step(m, &init(m), [1e-3, 0.0, 0.0], 100.0, 1.0);
+        assert_eq!(status, SubfricStatus::Ok, "{msg}");
+        free(m);
+    }
+}

@@ -38,6 +38,10 @@ pub enum Status {
     /// No profile computed; standard error only.
     #[serde(rename = "not profiled")]
     Unprofiled,
+    /// No interval or standard error: the noise variance every interval rests on is not
+    /// measured well enough (too few rows to read it, or no more rows than free parameters).
+    #[serde(rename = "not determined (the noise is not measured)")]
+    NoiseUnknown,
 }
 
 impl Status {
@@ -51,6 +55,7 @@ impl Status {
             Status::UpperBoundOnly => "not determined (upper bound only)",
             Status::NotDetermined => "not determined",
             Status::Unprofiled => "not profiled",
+            Status::NoiseUnknown => "not determined (the noise is not measured)",
         }
     }
 }
@@ -170,6 +175,24 @@ pub struct FitReport {
 }
 
 impl FitReport {
+    /// Withholds every interval and standard error of the free parameters (their status
+    /// becomes [`Status::NoiseUnknown`]) and of the combinations: the noise variance they rest
+    /// on is not known. The values stay (the optimiser's point).
+    pub fn withhold_intervals(&mut self) {
+        for p in &mut self.parameters {
+            if p.status != Status::Fixed {
+                p.status = Status::NoiseUnknown;
+                p.interval = None;
+                p.std_error = None;
+                p.difference_percent = None;
+            }
+        }
+        for c in &mut self.combinations {
+            c.interval = None;
+            c.determined = false;
+        }
+    }
+
     /// Parameter report by key.
     pub fn param(&self, key: &str) -> Option<&ParamReport> {
         self.parameters.iter().find(|p| p.name == key)

@@ -170,14 +170,19 @@ impl SlipResolution {
         }
         // Doubles in [2^e, 2^(e+1)) are 2^(e−52) apart: the largest resolved binade.
         let largest = 2f64.powf((allowed / self.alpha).log2().floor() + 53.0);
+        // The normal stress at which this slip would be resolved: the other way to read it (a
+        // normal stress of 1e-9 kPa, a unit mistake, makes every ordinary slip unresolved).
+        let least_p = self.alpha * spacing / self.share_of_mu_s;
         Err(SimError::Input {
             row,
             field,
             message: format!(
-                "slip {u:e} mm is beyond what this model resolves: doubles near it are \
-                 {spacing:.2e} mm apart, which α_t = {} kN/mm³ turns into steps of {:.3e} kPa \
-                 in the shear, more than {}% of the friction capacity μ_s p = {:.4} kPa \
-                 (expected |slip| < {largest:.3e} mm; the model depends only on slip \
+                "slip {u:e} mm at a normal stress of {p:e} kPa is beyond what this model \
+                 resolves: doubles near the slip are {spacing:.2e} mm apart, which α_t = {} \
+                 kN/mm³ turns into steps of {:.3e} kPa in the shear, more than {}% of the \
+                 friction capacity μ_s p = {:.4e} kPa (expected |slip| < {largest:.3e} mm at \
+                 this normal stress, or a normal stress above {least_p:.3e} kPa for this slip: \
+                 check the normal stress's value and unit; the model depends only on slip \
                  differences: subtract a constant from the slip)",
                 self.alpha_t,
                 self.alpha * spacing,

@@ -38,9 +38,14 @@ const EXPECTED: Expected = Expected {
 
 /// Reads and checks a prior file.
 pub fn load(path: &Path) -> Result<Priors, PriorError> {
-    let text = std::fs::read_to_string(path).map_err(|source| PriorError::Io {
-        path: path.to_path_buf(),
-        source,
+    let text = subfric_data::fsio::read_user_text(
+        path,
+        "the prior file",
+        subfric_data::fsio::MAX_SETTINGS_FILE_BYTES,
+    )
+    .map_err(|e| match e {
+        subfric_data::DataError::Io { path, source } => PriorError::Io { path, source },
+        e => PriorError::Invalid(e.problems().to_vec()),
     })?;
     parse(&text, path)
 }

@@ -123,8 +123,7 @@ const OPTION_KEYS: [&str; 9] = [
 /// Reads and checks the manifest at `path`, its options laid over `defaults` to check each
 /// set's (a `fix` in one place and a `free` of the same parameter in another are found too).
 pub fn load(path: &Path, defaults: &SetOptions) -> Result<Manifest> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| anyhow!("{}: cannot read the manifest: {e}", path.display()))?;
+    let text = crate::io::read_settings_text(path, "the manifest")?;
     parse(&text, path, defaults)
 }
 

@@ -208,11 +208,8 @@ impl Plan {
     /// The plan in the campaign folder `out`.
     pub fn read(out: &Path) -> Result<Plan> {
         let file = out.join(PLAN_FILE);
-        let text = std::fs::read_to_string(&file).map_err(|e| {
-            anyhow!(
-                "{}: no campaign plan ({e}) (expected a folder written by `subfric campaign` or `--emit-slurm`)",
-                file.display()
-            )
+        let text = crate::io::read_settings_text(&file, "the campaign plan").map_err(|e| {
+            anyhow!("{e} (expected a folder written by `subfric campaign` or `--emit-slurm`)")
         })?;
         serde_json::from_str(&text).map_err(|e| {
             anyhow!(

@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use sha2::{Digest, Sha256};
 use std::path::Path;
+use subfric_data::fsio::{read_user_file, MAX_DATA_FILE_BYTES, MAX_SETTINGS_FILE_BYTES};
 use subfric_data::{load_set, parse_meta, ExperimentMeta, EXPERIMENT_JSON};
 
 /// The record of a set's results folder.
@@ -71,7 +72,7 @@ impl SetRecord {
     /// The record in `dir`, if there is a readable one (an unreadable one is as none: the set
     /// runs again).
     pub fn read(dir: &Path) -> Option<SetRecord> {
-        let text = std::fs::read_to_string(dir.join(RECORD_FILE)).ok()?;
+        let text = crate::io::read_settings_text(&dir.join(RECORD_FILE), "the record").ok()?;
         serde_json::from_str(&text).ok()
     }
 
@@ -85,9 +86,9 @@ impl SetRecord {
 /// and every file it is read from, hashed.
 pub fn read_inputs(dir: &Path) -> Result<(ExperimentMeta, Vec<InputFile>)> {
     let json = dir.join(EXPERIMENT_JSON);
-    let bytes = match std::fs::read(&json) {
+    let bytes = match read_user_file(&json, EXPERIMENT_JSON, MAX_SETTINGS_FILE_BYTES) {
         Ok(b) => b,
-        Err(e) => return Err(load_error(dir).unwrap_or_else(|| anyhow!("{}: {e}", json.display()))),
+        Err(e) => return Err(load_error(dir).unwrap_or_else(|| anyhow!("{e}"))),
     };
     let text = String::from_utf8_lossy(&bytes);
     let meta = parse_meta(&text, &json)?;
@@ -97,9 +98,8 @@ pub fn read_inputs(dir: &Path) -> Result<(ExperimentMeta, Vec<InputFile>)> {
     }];
     for t in &meta.tests {
         let path = dir.join(&t.file);
-        let bytes = std::fs::read(&path).map_err(|e| {
-            load_error(dir).unwrap_or_else(|| anyhow!("{}: cannot read: {e}", path.display()))
-        })?;
+        let bytes = read_user_file(&path, "the test's CSV", MAX_DATA_FILE_BYTES)
+            .map_err(|e| load_error(dir).unwrap_or_else(|| anyhow!("{e}")))?;
         inputs.push(InputFile {
             file: t.file.clone(),
             sha256: sha256_hex(&bytes),

@@ -160,7 +160,20 @@ fn area_problems(lf: &Path, spec: &ImportSpec, pr: &mut Problems) {
             lf,
             None,
             Some("area"),
-            format!("contact area {a} mm² is not positive (expected the area in mm², > 0)"),
+            format!(
+                "contact area {} mm² is {} (expected the area in mm², a finite number > 0)",
+                crate::text::short_number(a),
+                if a.is_nan() { "not a number" } else if a <= 0.0 { "not positive" } else { "infinite" }
+            ),
+        ),
+        Some(a) if forces.iter().any(|(_, u)| !u.kpa_per_unit(Some(a)).is_some_and(|k| k.is_finite() && k > 0.0)) => pr.add(
+            lf,
+            None,
+            Some("area"),
+            format!(
+                "contact area {} mm² is so small that a force over it is beyond the doubles (expected the area in mm², e.g. 3600 for a 60 mm square shear box)",
+                crate::text::short_number(a)
+            ),
         ),
         Some(a) if forces.is_empty() => pr.add(
             lf,
@@ -183,6 +196,14 @@ fn spec_problems(lf: &Path, spec: &ImportSpec) -> Problems {
             None,
             Some("test_name"),
             "empty test name (expected a name for the test)",
+        );
+    }
+    if spec.shear.is_some() && spec.friction.is_some() {
+        pr.add(
+            lf,
+            None,
+            Some("friction"),
+            "both a shear and a friction column were given (expected one of them: the test is written with the one given, and the other would be dropped)",
         );
     }
     if spec.shear.is_none() && spec.friction.is_none() {
@@ -563,6 +584,20 @@ fn set_meta_for(
                     ),
                 );
             }
+            let hash = test.content_hash();
+            if let Some(same) = existing.tests.iter().find(|t| t.content_hash() == hash) {
+                pr.add(
+                    &json_path,
+                    None,
+                    Some("tests"),
+                    format!(
+                        "the lab file holds the same {} rows as test `{}` ({}) of the set, value for value (expected a new record: the same rows twice would count twice and every interval would be too narrow by √2)",
+                        test.len(),
+                        same.spec.name,
+                        same.spec.file
+                    ),
+                );
+            }
             if existing.meta.tests.iter().any(|t| t.file == test.spec.file) || csv_taken {
                 pr.add(
                     &csv_path,
@@ -621,6 +656,53 @@ fn set_meta_for(
     })
 }
 
+/// The text of the existing `experiment.json` at `json_path` with `spec` added at the end of
+/// its `tests`: the rest of the text as written, so that every value keeps its digits
+/// (`98765432109876543210` is not rewritten as `9.876543210987654e+19`, nor `1e-400` as `0.0`),
+/// and its key order, spacing and comments-by-field stay. Refused, naming the file, when the
+/// edited text would not read back as the set with the test added.
+fn with_test_appended(
+    json_path: &Path,
+    meta: &ExperimentMeta,
+    spec: &crate::meta::TestSpec,
+) -> Result<String, DataError> {
+    let text = crate::fsio::read_user_text(
+        json_path,
+        EXPERIMENT_JSON,
+        crate::fsio::MAX_SETTINGS_FILE_BYTES,
+    )?;
+    let refuse = |why: &str| {
+        DataError::Problems(vec![InputProblem::new(
+            json_path,
+            None,
+            Some("tests"),
+            format!("cannot add the test to this description without rewriting it: {why} (expected an experiment.json whose `tests` is an array; add the test by hand, or import into a new folder)"),
+        )])
+    };
+    let end = crate::jsonpos::value_end(&text, "tests")
+        .ok_or_else(|| refuse("no `tests` array found"))?;
+    let chars: Vec<char> = text.chars().collect();
+    if end == 0 || chars.get(end - 1) != Some(&']') {
+        return Err(refuse("`tests` is not an array"));
+    }
+    let close = end - 1;
+    let last = chars[..close].iter().rposition(|c| !c.is_whitespace());
+    let empty = last.is_none_or(|i| chars[i] == '[');
+    let entry = serde_json::to_string(spec).map_err(|e| refuse(&e.to_string()))?;
+    let before: String = chars[..last.map_or(close, |i| i + 1)].iter().collect();
+    let after: String = chars[close..].iter().collect();
+    let edited = format!(
+        "{before}{}\n    {entry}\n  {after}",
+        if empty { "" } else { "," }
+    );
+    match crate::meta::parse_meta(&edited, json_path) {
+        Ok(back) if back == *meta => Ok(edited),
+        _ => Err(refuse(
+            "the edited text does not read back as the set with the test added",
+        )),
+    }
+}
+
 /// Imports a lab file as a test of the experiment set in `out_dir`.
 ///
 /// Units are converted to mm, s and kPa; shear is computed as friction × normal when only
@@ -639,8 +721,13 @@ pub fn import(
     let json_path = out_dir.join(EXPERIMENT_JSON);
     let csv_path: PathBuf = out_dir.join(&test.spec.file);
     let mut meta = set_meta_for(lab_file, spec, out_dir, &test)?;
+    let existing = meta.tests.len();
     meta.tests.push(test.spec.clone());
-    let json_text = meta_json_text(&meta)?;
+    let json_text = if existing == 0 {
+        meta_json_text(&meta)?
+    } else {
+        with_test_appended(&json_path, &meta, &test.spec)?
+    };
     std::fs::create_dir_all(out_dir).map_err(|e| DataError::io(out_dir, e))?;
     prepare_parent(out_dir, &csv_path)?;
     let csv_tmp = stage_file(&csv_path, test_csv_text(&test).as_bytes())?;

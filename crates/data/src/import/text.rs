@@ -48,7 +48,8 @@ fn decode(bytes: Vec<u8>) -> String {
     }
 }
 
-/// Reads the lab file as text (UTF-8, else Latin-1), refusing what is not a regular file.
+/// Reads the lab file as text (UTF-8, else Latin-1), refusing what is not a regular file, a
+/// file beyond [`crate::fsio::MAX_DATA_FILE_BYTES`] and UTF-16 text (named as such).
 pub(super) fn read_lab_text(lf: &Path) -> Result<String, DataError> {
     let kind = PathKind::of(lf);
     if kind != PathKind::File {
@@ -59,7 +60,15 @@ pub(super) fn read_lab_text(lf: &Path) -> Result<String, DataError> {
             format!("the lab file {} (expected a text file)", kind.describe()),
         )]));
     }
-    let bytes = std::fs::read(lf).map_err(|e| DataError::io(lf, e))?;
+    let bytes = crate::fsio::read_user_file(lf, "the lab file", crate::fsio::MAX_DATA_FILE_BYTES)?;
+    if let Some(encoding) = crate::fsio::utf16_encoding(&bytes) {
+        return Err(DataError::Problems(vec![InputProblem::new(
+            lf,
+            Some(1),
+            None,
+            format!("the lab file is {encoding} text, not UTF-8 or Latin-1 (expected a text file of one byte per character: export it as UTF-8, or convert it with `iconv -f UTF-16 -t UTF-8`)"),
+        )]));
+    }
     let text = decode(bytes);
     Ok(match text.strip_prefix('\u{feff}') {
         Some(t) => t.to_string(),

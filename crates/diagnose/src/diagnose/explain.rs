@@ -67,6 +67,20 @@ pub(super) fn make_verdict(
     selection: &Selection,
     evidence: &ResidualEvidence,
 ) -> Verdict {
+    let held_rows: usize = cx
+        .folds
+        .iter()
+        .map(|f| f.held_rows.iter().flatten().filter(|&&h| h).count())
+        .sum();
+    if held_rows == 0 {
+        return nothing_held_out(cx);
+    }
+    let first = selection.stages.first();
+    let base_chi2 = first.map_or(0.0, |s| s.reference_chi2);
+    let flat = constant_chi2(&cx.tests);
+    if flat <= cx.opts.thresholds.gap_chi2 && base_chi2 > flat {
+        return no_response(base_chi2, flat);
+    }
     let current = &selection.current;
     let effects: Vec<NamedEffect> = selection
         .named
@@ -88,8 +102,6 @@ pub(super) fn make_verdict(
             }
         })
         .collect();
-    let first = selection.stages.first();
-    let base_chi2 = first.map_or(0.0, |s| s.reference_chi2);
     let final_chi2 = cx
         .compare(&cx.pieces, &current.held, &current.held)
         .reference_chi2;
@@ -138,6 +150,70 @@ pub(super) fn make_verdict(
         explanation,
         final_chi2,
         evidence_supports,
+    }
+}
+
+/// The misfit (× the noise variance, each test's own) of a constant per test: the mean of its
+/// measured column. At the noise, the measured column does not follow the imposed one at all.
+fn constant_chi2(tests: &[FitTest]) -> f64 {
+    let (mut ssr, mut rows, mut means) = (0.0, 0.0, 0.0);
+    for t in tests {
+        let n = t.measured.len();
+        let w: f64 = (0..n).map(|i| t.weight_of(i)).sum();
+        if n == 0 || !(w > 0.0 && t.noise_sd > 0.0) {
+            continue;
+        }
+        let mean = (0..n).map(|i| t.weight_of(i) * t.measured[i]).sum::<f64>() / w;
+        ssr += (0..n)
+            .map(|i| t.weight_of(i) * ((t.measured[i] - mean) / t.noise_sd).powi(2))
+            .sum::<f64>();
+        rows += w;
+        means += 1.0;
+    }
+    if rows > means {
+        ssr / (rows - means)
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The verdict when the measured column is a constant plus noise in every test, which the
+/// base model describes worse: there is no friction response to explain, and an effect named
+/// would be fitted to noise (constant shear through a reversal is "explained" by a direction
+/// effect, say). No effect is named or ruled out.
+fn no_response(base_chi2: f64, flat: f64) -> Verdict {
+    Verdict {
+        effect: Effect::CannotJudge,
+        held_out_shrink: 0.0,
+        effects: Vec::new(),
+        explanation: format!(
+            "cannot judge: the measured column does not follow the imposed one: a constant per test describes it at {flat:.2}× the noise variance, the base model predicts the held-out pieces at {base_chi2:.2}×, so there is no friction response to explain and any effect named would be fitted to noise (is it the right column, in the right unit?)"
+        ),
+        extra_parameters: Default::default(),
+        final_chi2: f64::NAN,
+        evidence_supports: None,
+    }
+}
+
+/// The verdict when no row could be held out: no effect is named and none is ruled out, since
+/// every judgement of the diagnosis is a prediction of held-out pieces; the misfit on held-out
+/// data is not determined (NaN, `null` in diagnosis.json).
+fn nothing_held_out(cx: &Context) -> Verdict {
+    let pieces = cx.pieces.len();
+    Verdict {
+        effect: Effect::CannotJudge,
+        held_out_shrink: 0.0,
+        effects: Vec::new(),
+        explanation: format!(
+            "cannot judge: nothing held out: the set's {} test{} give{} {pieces} piece{} and no kind of piece occurs twice, so none can be predicted after a refit without it; the base model's misfit on all rows says whether it describes the data, not which effect it lacks (a second test of the same kind, or velocity steps, holds or reversals, give pieces to hold out)",
+            cx.tests.len(),
+            if cx.tests.len() == 1 { "" } else { "s" },
+            if cx.tests.len() == 1 { "s" } else { "" },
+            if pieces == 1 { "" } else { "s" },
+        ),
+        extra_parameters: Default::default(),
+        final_chi2: f64::NAN,
+        evidence_supports: None,
     }
 }
 
