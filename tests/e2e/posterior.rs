@@ -429,6 +429,7 @@ fn a_fit_without_posterior_writes_nothing_of_it() {
             "fit.json",
             "fit.txt",
             "monotonic.png",
+            "monotonic.svg",
             "report.html"
         ]
     );
