@@ -79,7 +79,7 @@ fn finish_svg(svg: &str) -> String {
     let dash = format!("opacity=\"{DASH_MARK}\"");
     let family = format!("font-family=\"{SVG_FAMILY}\"");
     let mut out = String::with_capacity(svg.len() + svg.len() / 8);
-    for line in svg.lines() {
+    for line in xml_text(svg).lines() {
         let stroked = line.starts_with("<line ")
             || line.starts_with("<polyline ")
             || line.starts_with("<circle ")
@@ -98,6 +98,21 @@ fn finish_svg(svg: &str) -> String {
         out.push('\n');
     }
     out
+}
+
+/// `text` with the characters XML does not allow in a document shown as the Unicode pictures
+/// of control characters (a test named with an escape character reads `␛`, as the terminal
+/// output shows it escaped), and the two non-characters U+FFFE and U+FFFF as U+FFFD.
+fn xml_text(text: &str) -> String {
+    text.chars()
+        .map(|c| match c {
+            '\t' | '\n' | '\r' => c,
+            '\u{0}'..='\u{1f}' => char::from_u32(0x2400 + c as u32).unwrap_or('\u{fffd}'),
+            '\u{7f}' => '\u{2421}',
+            '\u{fffe}' | '\u{ffff}' => '\u{fffd}',
+            c => c,
+        })
+        .collect()
 }
 
 /// The pixels of an SVG document, as 8-bit RGB over white.
@@ -198,6 +213,14 @@ mod tests {
         );
         assert!(!done.contains("<text transform"));
         let (w, h, rgb) = rasterise(&done).unwrap();
+        // Characters XML does not allow (a name with an escape character) are shown as the
+        // pictures of those characters, and the document still reads.
+        let odd = svg
+            .replace(">Ab<", ">A\u{1b}b\u{7}<")
+            .replace("Ab\n", "A\u{1b}b\u{7}\n");
+        let odd = finish_svg(&odd);
+        assert!(odd.contains("A\u{241b}b\u{2407}"), "{odd}");
+        assert!(rasterise(&odd).is_ok());
         assert_eq!((w, h, rgb.len()), (40, 20, 40 * 20 * 3));
         // The dashes leave white gaps along the line (row 10, centred by the half-pixel move).
         let row: Vec<bool> = (0..40).map(|x| rgb[(10 * 40 + x) * 3] < 128).collect();
