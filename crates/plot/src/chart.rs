@@ -285,11 +285,12 @@ pub(crate) struct Ticks {
 
 impl Ticks {
     /// About `target` ticks: plotters' steps (1, 2 or 5 times a power of ten) can give half
-    /// as many as asked for, so the count nearest `target` of those up to `target` + 3 is taken.
+    /// as many as asked for, so the count nearest `target` of those up to `target` + 3 is taken
+    /// (the larger one of two as near).
     pub fn new(range: AxisRange, target: usize, integer: bool) -> Self {
         let values = (target..=target + 3)
             .map(|max| tick_values(range, max, integer))
-            .min_by_key(|v| (v.len() as i64 - target as i64).abs())
+            .min_by_key(|v| ((v.len() as i64 - target as i64).abs(), -(v.len() as i64)))
             .unwrap_or_default();
         let labels = tick_labels(&values);
         Ticks { values, labels }

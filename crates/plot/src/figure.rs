@@ -269,10 +269,11 @@ fn strokes(
             } else {
                 (marker_radius(m), 0.0)
             };
-            // A dense record gets one marker per square of `spacing` pixels it passes through
-            // (the first of its points there): evenly spread along a smooth curve, and bounded
-            // by the area however noisy and long the record.
+            // A dense record gets a marker at least `spacing` pixels from the one before and
+            // at most one per square of that side: evenly spread along a smooth curve, and
+            // bounded by the area however noisy and long the record.
             let mut taken = std::collections::HashSet::new();
+            let mut last: Option<Pt> = None;
             for (pts, color) in &runs {
                 let mc = if bounds.is_some() {
                     *color
@@ -289,8 +290,10 @@ fn strokes(
                     } else {
                         (markers.len() as i64, 0)
                     };
-                    if taken.insert(cell) {
+                    let far = last.is_none_or(|l: Pt| (q.0 - l.0).hypot(q.1 - l.1) >= spacing);
+                    if far && taken.insert(cell) {
                         markers.push((p, r, mc));
+                        last = Some(q);
                     }
                 }
             }
@@ -751,9 +754,17 @@ fn draw_inset(
         (zx.min, zy.min),
         (zx.min, zy.max),
     ];
-    for piece in clip_polyline(&outline, x, y) {
+    // Each side clipped to the panel; one that the clipping moved onto the panel's edge is
+    // left out (the frame is there).
+    for w in outline.windows(2) {
+        let Some((a, b)) = crate::chart::clip_segment(w[0], w[1], x, y) else {
+            continue;
+        };
+        if (a.1 == b.1) && (a.1 == y.min || a.1 == y.max) {
+            continue;
+        }
         main.draw_series(std::iter::once(PathElement::new(
-            piece,
+            vec![a, b],
             dashed(ZERO_RGB, 1),
         )))
         .map_err(chart_err)?;
