@@ -381,6 +381,13 @@ pub(crate) fn decimate<T: Copy>(pts: &[T], pixel: impl Fn(&T) -> Pt) -> Vec<T> {
     out
 }
 
+/// `pts` without the points that land on the same whole pixel as the point before them
+/// (plotters draws at whole pixels, so the line drawn is the same; the SVG gets shorter).
+pub(crate) fn distinct_pixels<T: Copy>(mut pts: Vec<T>, pixel: impl Fn(&T) -> Pt) -> Vec<T> {
+    pts.dedup_by(|b, a| pixel(a) == pixel(b));
+    pts
+}
+
 /// The part of segment a–b inside the box (Liang–Barsky), if any.
 pub(crate) fn clip_segment(a: Pt, b: Pt, x: AxisRange, y: AxisRange) -> Option<(Pt, Pt)> {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);

@@ -8,9 +8,9 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
 use crate::chart::{
-    anchored, chart_err, clip_polyline, dashed, decimate, draw_legend, frame, no_data,
-    place_legend, plot_rect, plottable, rgb, shrink_to_fit, stroke, whole_numbers, Area, AxisRange,
-    Entry, Extent, Legend, Metrics, Occupancy, Pt, Swatch, Ticks,
+    anchored, chart_err, clip_polyline, dashed, decimate, distinct_pixels, draw_legend, frame,
+    no_data, place_legend, plot_rect, plottable, rgb, shrink_to_fit, stroke, whole_numbers, Area,
+    AxisRange, Entry, Extent, Legend, Metrics, Occupancy, Pt, Swatch, Ticks,
 };
 use crate::colors::{self, INK_RGB, ZERO_RGB};
 use crate::render::{self, Chart};
@@ -299,7 +299,7 @@ fn strokes(
             }
         }
         for (pts, color) in runs {
-            let pts = decimate(&pts, |p| to_px(*p));
+            let pts = distinct_pixels(decimate(&pts, |p| to_px(*p)), |p| to_px(*p));
             for piece in clip_polyline(&pts, x, y) {
                 lines.push(Line {
                     pts: piece,

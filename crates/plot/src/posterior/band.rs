@@ -461,7 +461,8 @@ fn draw(fig: &BandFigure) -> Result<Drawn, Invalid> {
                 }
                 runs.push(run);
                 for r in runs.into_iter().filter(|r| !r.is_empty()) {
-                    let r = decimate(&r, |q| to_px(*q));
+                    let r =
+                        crate::chart::distinct_pixels(decimate(&r, |q| to_px(*q)), |q| to_px(*q));
                     occupancy.mark_polyline(&r.iter().map(|q| to_px(*q)).collect::<Vec<_>>());
                     chart
                         .draw_series(LineSeries::new(r, style))
