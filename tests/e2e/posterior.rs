@@ -68,11 +68,11 @@ fn read_chain(p: &Path) -> (String, Vec<Vec<f64>>) {
 
 /// Width and height of a PNG file (decoded in full, so a truncated file fails).
 fn png_size(p: &Path) -> (u32, u32) {
-    let decoder = png::Decoder::new(std::fs::File::open(p).unwrap());
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(p).unwrap()));
     let mut reader = decoder
         .read_info()
         .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-    let mut buf = vec![0; reader.output_buffer_size()];
+    let mut buf = vec![0; reader.output_buffer_size().expect("a PNG of sane size")];
     let info = reader
         .next_frame(&mut buf)
         .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
@@ -419,7 +419,8 @@ fn a_fit_without_posterior_writes_nothing_of_it() {
         .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
         .collect();
     names.sort();
-    // What a plain fit writes (fit.json, fit.txt, a figure per test, the HTML report) and
+    // What a plain fit writes (fit.json, fit.txt, a figure per test as PNG and SVG, the HTML
+    // report) and
     // nothing of the posterior's.
     assert_eq!(
         names,
@@ -428,6 +429,7 @@ fn a_fit_without_posterior_writes_nothing_of_it() {
             "fit.json",
             "fit.txt",
             "monotonic.png",
+            "monotonic.svg",
             "report.html"
         ]
     );

@@ -520,11 +520,12 @@ fn figures_of_names_a_file_name_cannot_tell_apart_never_overwrite_each_other() {
     unique.sort();
     unique.dedup();
     assert_eq!(unique.len(), wrote.len(), "{stdout}");
-    assert_eq!(
-        names_in(&out.join("figures")).len(),
-        names.len(),
-        "{stdout}"
-    );
+    // A PNG per test, each with its SVG beside it.
+    let figures = names_in(&out.join("figures"));
+    for ext in [".png", ".svg"] {
+        let n = figures.iter().filter(|f| f.ends_with(ext)).count();
+        assert_eq!(n, names.len(), "{ext}: {figures:?}");
+    }
 }
 
 // 5. a set given twice --------------------------------------------------------------------------

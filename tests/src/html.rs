@@ -1,7 +1,7 @@
 //! A strict reader of the HTML pages subfric writes (`report.html`, `fits/index.html`): it
 //! checks that a page is well formed (every element closed in order, void elements not
 //! closed, attributes quoted, entities known, one `html`, `head` and `body`), self-contained
-//! (no script, nothing fetched: every image a PNG data URI, every link a file beside the page
+//! (no script, nothing fetched: every image a PNG or SVG data URI, every link a file beside the page
 //! or an anchor of the page) and made for small screens (a viewport), and returns what it
 //! holds for the tests to compare with the files the job wrote.
 
@@ -144,12 +144,15 @@ pub fn check_page(html: &str) -> Result<PageContent, String> {
                     return Err(format!("id `{v}` twice"));
                 }
                 "src" => {
-                    let data = v.strip_prefix("data:image/png;base64,").ok_or_else(|| {
-                        format!(
-                            "an image that is not a PNG data URI: `{}`",
-                            &v[..v.len().min(40)]
-                        )
-                    })?;
+                    let data = v
+                        .strip_prefix("data:image/png;base64,")
+                        .or_else(|| v.strip_prefix("data:image/svg+xml;base64,"))
+                        .ok_or_else(|| {
+                            format!(
+                                "an image that is not a PNG or SVG data URI: `{}`",
+                                &v[..v.len().min(40)]
+                            )
+                        })?;
                     page.images.push(base64_decode(data)?);
                 }
                 _ => {}
@@ -213,8 +216,8 @@ pub fn pngs_under(dir: &Path) -> Vec<PathBuf> {
     out
 }
 
-/// Checks the page `page` (a file in its output folder) and that it embeds every PNG the job
-/// wrote under `figures_root` and nothing else, and that every link leads to a file beside it
+/// Checks the page `page` (a file in its output folder) and that it embeds every figure the job
+/// wrote under `figures_root` (a PNG's SVG where it has one beside it) and nothing else, and that every link leads to a file beside it
 /// or an anchor of it. Returns the page's content.
 pub fn check_report(page: &Path, figures_root: &Path) -> PageContent {
     let html = std::fs::read_to_string(page).unwrap_or_else(|e| panic!("{}: {e}", page.display()));
@@ -222,8 +225,10 @@ pub fn check_report(page: &Path, figures_root: &Path) -> PageContent {
     let written: Vec<(PathBuf, Vec<u8>)> = pngs_under(figures_root)
         .into_iter()
         .map(|p| {
-            let b = std::fs::read(&p).unwrap();
-            (p, b)
+            let svg = p.with_extension("svg");
+            let shown = if svg.is_file() { svg } else { p };
+            let b = std::fs::read(&shown).unwrap();
+            (shown, b)
         })
         .collect();
     for (p, bytes) in &written {
@@ -236,8 +241,8 @@ pub fn check_report(page: &Path, figures_root: &Path) -> PageContent {
     }
     for i in &content.images {
         assert!(
-            i.starts_with(b"\x89PNG\r\n\x1a\n"),
-            "{}: an embedded image is not a PNG",
+            i.starts_with(b"\x89PNG\r\n\x1a\n") || i.starts_with(b"<svg "),
+            "{}: an embedded image is neither a PNG nor an SVG",
             page.display()
         );
         assert!(

@@ -17,16 +17,18 @@ use subfric_diagnose::{
     diagnose_reporting, prepare_for_diagnosis, DiagnoseOptions, Diagnosis, Step,
 };
 use subfric_fit::PreparedTest;
-use subfric_plot::{render_bars_png, BarFigure};
+use subfric_plot::{write_figure, BarFigure};
 
 /// What a diagnosis folder holds; the per-test and per-event figures go to `figures/`,
 /// claimed as a whole.
-const DIAGNOSIS_FILES: [&str; 6] = [
+const DIAGNOSIS_FILES: [&str; 8] = [
     "diagnosis.json",
     "diagnosis.txt",
     crate::report::REPORT_FILE,
     "residual-by-segment.png",
+    "residual-by-segment.svg",
     "residual-by-test.png",
+    "residual-by-test.svg",
     "figures",
 ];
 
@@ -208,10 +210,10 @@ fn write_diagnosis(
         &out.join("figures"),
     )?);
     let f = out.join("residual-by-segment.png");
-    render_bars_png(&residual_by_segment(name, d), &f)?;
+    write_figure(&residual_by_segment(name, d), &f)?;
     plots.push(f);
     let f = out.join("residual-by-test.png");
-    render_bars_png(&residual_by_test(name, d, &diagnosed.prepared), &f)?;
+    write_figure(&residual_by_test(name, d, &diagnosed.prepared), &f)?;
     plots.push(f);
     Ok((json_file, plots))
 }

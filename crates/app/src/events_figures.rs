@@ -6,7 +6,7 @@
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 use subfric_diagnose::events::{Estimate, EventAnalysis};
-use subfric_plot::{render_png, Figure, Panel, Series, Style};
+use subfric_plot::{write_figure, Figure, Panel, Series, Style};
 
 /// A series of values and one two-point series per interval (no legend entry): the plot crate
 /// draws intervals as short vertical lines. An interval's ends are clipped to twice the
@@ -69,7 +69,7 @@ pub(crate) fn event_figures(name: &str, e: &EventAnalysis, out: &Path) -> Result
         )
         .with_residual(Panel::new("a − b [-]", lower).with_zero_line());
         let file = out.join("velocity-steps-one-by-one.png");
-        render_png(&fig, &file)?;
+        write_figure(&fig, &file)?;
         files.push(file);
     }
     if e.holds.len() >= 2 {
@@ -100,7 +100,7 @@ pub(crate) fn event_figures(name: &str, e: &EventAnalysis, out: &Path) -> Result
             Panel::new("Δμ peak after the hold [-]", series).with_zero_line(),
         );
         let file = out.join("holds-one-by-one.png");
-        render_png(&fig, &file)?;
+        write_figure(&fig, &file)?;
         files.push(file);
     }
     Ok(files)

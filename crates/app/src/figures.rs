@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use subfric_data::load_set;
 use subfric_fit::{prepare_set, FitTest, PreparedTest};
 use subfric_model::{Control, Model};
-use subfric_plot::{render_png, Figure, Panel, Series, Style};
+use subfric_plot::{write_figure, Figure, Panel, Series, Style};
 
 /// Figures drawn.
 pub struct Plotted {
@@ -69,11 +69,12 @@ pub fn plot(
     Ok(Plotted { files, notes })
 }
 
-/// The figure files `plot_set` writes for `tests`, relative to its output folder.
+/// The figure files `plot_set` writes for `tests`, relative to its output folder: a PNG and
+/// an SVG per test.
 pub fn figure_files(tests: &[PreparedTest]) -> Vec<String> {
     stems_of(tests)
         .into_iter()
-        .map(|stem| format!("{stem}.png"))
+        .flat_map(|stem| [format!("{stem}.png"), format!("{stem}.svg")])
         .collect()
 }
 
@@ -83,8 +84,8 @@ fn stems_of(tests: &[PreparedTest]) -> Vec<String> {
     figure_stems(&names)
 }
 
-/// Renders one PNG per test under `out` (which must exist); returns the files written and a
-/// note for every curve that could not be drawn (a model that runs away on a test).
+/// Renders one figure per test under `out` (which must exist), as PNG and SVG; returns the
+/// PNG files written (each with its SVG beside it) and a note for every curve that could not be drawn (a model that runs away on a test).
 pub fn plot_set(
     set_name: &str,
     tests: &[PreparedTest],
@@ -181,7 +182,7 @@ pub fn plot_set(
             fig = fig.with_residual(Panel::new(res_label, residual).with_zero_line());
         }
         let file = out.join(format!("{stem}.png"));
-        render_png(&fig, &file)?;
+        write_figure(&fig, &file)?;
         files.push(file);
     }
     Ok((files, notes))
@@ -389,14 +390,15 @@ pub fn diagnosis_figures(
     }
     use rayon::prelude::*;
     jobs.par_iter()
-        .map(|(fig, file)| Ok(render_png(fig, file).map(|_| file.clone())?))
+        .map(|(fig, file)| Ok(write_figure(fig, file).map(|_| file.clone())?))
         .collect()
 }
 
-/// Creates `out` and removes its PNG files: the folder is claimed with the results, and
+/// Creates `out` and removes its PNG and SVG files: the folder is claimed with the results, and
 /// figures of an earlier diagnosis (other events, other tests) would be read as this one's.
 fn claim_folder(out: &Path) -> Result<()> {
     std::fs::create_dir_all(out)?;
+    crate::io::remove_earlier_files(out, "svg")?;
     crate::io::remove_earlier_files(out, "png")
 }
 

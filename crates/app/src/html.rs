@@ -1,4 +1,5 @@
-//! One self-contained HTML page: the figures embedded as PNG data URIs, the style inline, no
+//! One self-contained HTML page: the figures embedded as data URIs (SVG where the figure has
+//! one, crisp at any zoom; else PNG), the style inline, no
 //! script and nothing fetched from the network, readable on a phone and on a desktop (a
 //! viewport, images no wider than the page, tables that scroll sideways). The reports of
 //! `fit`, `diagnose`, `plan` and `reproduce` are written with it ([`crate::report`]).
@@ -229,8 +230,15 @@ impl Page {
         self
     }
 
-    /// The PNG `file`, embedded as a data URI, with a caption.
+    /// The figure `file` (a PNG), embedded as a data URI with a caption: the SVG beside it
+    /// (same name, `.svg`) when there is one, else the PNG.
     pub fn figure(&mut self, file: &Path, caption: &str) -> Result<&mut Self> {
+        let svg = file.with_extension("svg");
+        let (kind, file) = if svg.is_file() {
+            ("svg+xml", svg.as_path())
+        } else {
+            ("png", file)
+        };
         let bytes = std::fs::read(file).map_err(|e| {
             anyhow!(
                 "{}: cannot read the figure for the report: {e}",
@@ -239,7 +247,7 @@ impl Page {
         })?;
         let _ = writeln!(
             self.body,
-            "<figure><img alt=\"{}\" src=\"data:image/png;base64,{}\"><figcaption>{}</figcaption></figure>",
+            "<figure><img alt=\"{}\" src=\"data:image/{kind};base64,{}\"><figcaption>{}</figcaption></figure>",
             escape(caption),
             base64(&bytes),
             inline(caption)

@@ -24,7 +24,7 @@ use subfric_design::{plan_excluding, Band, Check, Plan, PlanOptions, Proposal};
 use subfric_fit::interval::short_number as num;
 use subfric_fit::{FitOptions, FitTest, Param, Status};
 use subfric_model::Control;
-use subfric_plot::{render_png, Figure, Panel, Series, Style};
+use subfric_plot::{write_figure, Figure, Panel, Series, Style};
 
 /// The folder of a set's results that holds its plan.
 pub const PLAN_DIR: &str = "plan";
@@ -35,6 +35,7 @@ fn plan_files() -> Vec<String> {
         "plan.json",
         "plan.txt",
         "top-proposal.png",
+        "top-proposal.svg",
         "scenarios",
         crate::report::REPORT_FILE,
     ]
@@ -215,19 +216,23 @@ pub fn write_plan(
     }
     if let (Some(band), Some(top)) = (&p.band, p.proposals.first()) {
         let f = dir.join("top-proposal.png");
-        render_png(&band_figure(name, &top.name, band), &f)?;
+        write_figure(&band_figure(name, &top.name, band), &f)?;
         files.push(f);
     }
     Ok(files)
 }
 
-/// Removes the scenarios (`scenarios/*.json`) and the band figure of an earlier plan in `dir`.
+/// Removes the scenarios (`scenarios/*.json`) and the band figure (PNG and SVG) of an earlier
+/// plan in `dir`.
 fn clear_earlier_plan(dir: &Path) -> Result<()> {
     crate::io::remove_earlier_files(&dir.join("scenarios"), "json")?;
-    match std::fs::remove_file(dir.join("top-proposal.png")) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(e.into()),
-        _ => Ok(()),
+    for f in ["top-proposal.png", "top-proposal.svg"] {
+        match std::fs::remove_file(dir.join(f)) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e.into()),
+            _ => {}
+        }
     }
+    Ok(())
 }
 
 /// The top proposal's predicted curve against time, with the envelope of the curves of every

@@ -178,14 +178,14 @@ impl Prepared {
 }
 
 /// The files the posterior adds to a fit's results folder (names inside it): `fit.txt` (the
-/// fit's table and the posterior's), the chain, the corner plot, one band figure per test.
+/// fit's table and the posterior's), the chain, the corner plot, one band figure per test (each
+/// figure a PNG and an SVG).
 pub fn files(tests: &[PreparedTest]) -> Vec<String> {
-    let mut f = vec![
-        "fit.txt".to_string(),
-        CHAIN_FILE.to_string(),
-        CORNER_FILE.to_string(),
-    ];
-    f.extend(band_files(tests));
+    let mut f = vec!["fit.txt".to_string(), CHAIN_FILE.to_string()];
+    for png in std::iter::once(CORNER_FILE.to_string()).chain(band_files(tests)) {
+        f.push(png.replace(".png", ".svg"));
+        f.push(png);
+    }
     f
 }
 

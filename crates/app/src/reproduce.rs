@@ -222,7 +222,11 @@ fn fit_all(
                 PLAN_DIR.to_string(),
             ];
             let names: Vec<&str> = j.meta.tests.iter().map(|t| t.name.as_str()).collect();
-            files.extend(figure_stems(&names).iter().map(|s| format!("{s}.png")));
+            files.extend(
+                figure_stems(&names)
+                    .iter()
+                    .flat_map(|s| [format!("{s}.png"), format!("{s}.svg")]),
+            );
             ResultsDir::claim(
                 &out.join(&j.name),
                 std::slice::from_ref(&j.dir),

@@ -1,10 +1,11 @@
-//! Times the two figure kinds and reports their PNG sizes; the numbers in
-//! the crate docs come from this program.
+//! Times the two figure kinds and reports their PNG and SVG sizes; the numbers in
+//! `docs/plot-rasteriser.md` come from this program.
 //!
 //! `cargo run -p subfric-plot --release --example measure -- [DIR] [RUNS] [WHICH]`
 //! writes `overlay.png` and `bars.png` into DIR (default ./plot-measure)
-//! and prints, per figure, the fastest and the median of RUNS renders
-//! (default 20, after one warm-up render) and the file size. WHICH
+//! and prints, per figure, the fastest and the median of RUNS renders to PNG
+//! (default 20, after one warm-up render), the PNG's size and the size of the
+//! SVG written beside it (`write_figure`, once, untimed). WHICH
 //! (`overlay` or `bars`) renders only one of them, e.g. to count
 //! instructions with `perf stat -e instructions`, which unlike wall time
 //! does not depend on what else the machine is doing.
@@ -15,7 +16,9 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use subfric_plot::{render_bars_png, render_png, Figure, Panel, PlotError, Series, Style};
+use subfric_plot::{
+    render_bars_png, render_png, write_figure, Chart, Figure, Panel, PlotError, Series, Style,
+};
 
 /// The figure `subfric plot` writes for a long cyclic test: a 20 000-point
 /// measured curve coloured by cycle, the published and the fitted model on
@@ -76,10 +79,17 @@ fn time(
     Ok((ms[0], ms[ms.len() / 2]))
 }
 
-fn report(name: &str, path: &Path, (best, median): (f64, f64)) -> std::io::Result<()> {
+fn report(
+    name: &str,
+    fig: &impl Chart,
+    path: &Path,
+    (best, median): (f64, f64),
+) -> Result<(), Box<dyn std::error::Error>> {
     let bytes = std::fs::metadata(path)?.len();
+    let svg = write_figure(fig, path)?.svg;
+    let svg_bytes = std::fs::metadata(&svg)?.len();
     println!(
-        "{name:8} best {best:7.2} ms  median {median:7.2} ms  {bytes:7} bytes  {}",
+        "{name:8} best {best:7.2} ms  median {median:7.2} ms  {bytes:7} bytes PNG  {svg_bytes:7} bytes SVG  {}",
         path.display()
     );
     Ok(())
@@ -95,12 +105,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if which != "bars" {
         let fig = overlay();
         let path = dir.join("overlay.png");
-        report("overlay", &path, time(runs, || render_png(&fig, &path))?)?;
+        report(
+            "overlay",
+            &fig,
+            &path,
+            time(runs, || render_png(&fig, &path))?,
+        )?;
     }
     if which != "overlay" {
         let bars = common::bar_figure();
         let path = dir.join("bars.png");
-        report("bars", &path, time(runs, || render_bars_png(&bars, &path))?)?;
+        report(
+            "bars",
+            &bars,
+            &path,
+            time(runs, || render_bars_png(&bars, &path))?,
+        )?;
     }
     Ok(())
 }

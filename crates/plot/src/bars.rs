@@ -1,17 +1,19 @@
-//! Grouped bar charts.
+//! Grouped bar charts: a plotters chart with one slot per category along x.
 
 use std::path::Path;
 
-use crate::canvas::{Canvas, HAlign, VAlign};
-use crate::chrome::{
-    dash_pattern, draw_axes, draw_grid, draw_legend, draw_no_data, draw_y_label, place_legend,
-    place_title, tick_px, tick_py, AxisDraw, Legend, LegendEntry, Metrics, Swatch,
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, VPos};
+
+use crate::chart::{
+    anchored, chart_err, dashed, draw_legend, font, frame, no_data, place_legend, plot_rect,
+    plottable, rgb, shrink_to_fit, stroke, text_width, typographic_minus, AxisRange, Entry, Extent,
+    Metrics, Occupancy, Swatch, Ticks,
 };
 use crate::colors::{BAR_PALETTE, INK_RGB, ZERO_RGB};
-use crate::fonts::{self, CAP_HEIGHT, DESCENT};
-use crate::geom::{Occupancy, PixelRect, Pt};
-use crate::scale::{plottable, ticks, AxisRange, Extent, Ticks};
-use crate::{check_size, png_io, BarFigure, DrawError, Invalid, PlotError};
+use crate::figure::title;
+use crate::render::{self, Chart};
+use crate::{check_size, BarFigure, DrawError, Invalid, PixelRect, PlotError};
 
 /// Where the parts of a [`BarFigure`] are drawn, in pixels.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,34 +32,6 @@ pub struct BarLayout {
     pub bars: Vec<(usize, usize, PixelRect)>,
 }
 
-struct CategoryLabel {
-    lines: Vec<String>,
-    size: f64,
-    cx: f64,
-}
-
-struct BarPlan {
-    width: u32,
-    height: u32,
-    m: Metrics,
-    plot: PixelRect,
-    y: AxisRange,
-    yticks: Ticks,
-    title: String,
-    title_size: f64,
-    title_center: Pt,
-    y_label: String,
-    y_label_size: f64,
-    categories: Vec<CategoryLabel>,
-    bars: Vec<(usize, usize, PixelRect, [u8; 3])>,
-    value_labels: Vec<(String, Pt, VAlign)>,
-    value_size: f64,
-    missing: Vec<Pt>,
-    reference: Option<i32>,
-    legend: Option<Legend>,
-    has_data: bool,
-}
-
 fn validate(fig: &BarFigure) -> Result<(), Invalid> {
     check_size(fig.width, fig.height)?;
     for (name, values) in &fig.groups {
@@ -72,8 +46,8 @@ fn validate(fig: &BarFigure) -> Result<(), Invalid> {
     Ok(())
 }
 
-/// Number format for bar value labels: three significant digits for the
-/// largest magnitude and the same number of decimals for all labels.
+/// Number format for bar value labels: three significant digits for the largest magnitude and
+/// the same number of decimals for all labels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum ValueFormat {
     Fixed(usize),
@@ -95,12 +69,11 @@ impl ValueFormat {
     }
 
     fn format(self, v: f64) -> String {
-        let s = match self {
+        typographic_minus(match self {
             _ if v == 0.0 => "0".to_string(),
             ValueFormat::Fixed(d) => format!("{v:.d$}"),
             ValueFormat::Scientific => format!("{v:.2e}"),
-        };
-        crate::scale::typographic_minus(s)
+        })
     }
 }
 
@@ -109,552 +82,319 @@ fn format_value(v: f64) -> String {
     ValueFormat::for_values(std::iter::once(&v)).format(v)
 }
 
-/// Splits a label into two lines at the space nearest its middle.
-fn split_two(text: &str) -> Option<(String, String)> {
-    let mid = text.chars().count() / 2;
-    let best = text
-        .char_indices()
-        .filter(|(_, c)| *c == ' ')
-        .map(|(i, _)| i)
-        .min_by_key(|&i| (text[..i].chars().count() as i64 - mid as i64).abs())?;
-    Some((
-        text[..best].trim().to_string(),
-        text[best..].trim().to_string(),
-    ))
-}
-
-/// Largest size in `[min_size, size]` (5 % steps) at which all `lines` fit `width`.
-fn common_size(lines: &[&str], size: f64, min_size: f64, width: f64) -> f64 {
-    let mut s = size;
-    while s > min_size && lines.iter().any(|l| fonts::text_width(l, s) > width) {
-        s = (s * 0.95).max(min_size);
-    }
-    s
-}
-
-/// Splits category labels into at most `max_lines` lines each and finds one
-/// font size for all of them that fits `width` (shortening labels that do
-/// not fit even at the smallest size).
-fn fit_categories(
-    texts: &[String],
-    size: f64,
-    width: f64,
-    max_lines: usize,
-) -> (Vec<Vec<String>>, f64) {
-    let split: Vec<Vec<String>> = texts
+/// Legend entries: one patch per named group, then the reference line.
+fn entries(fig: &BarFigure, m: &Metrics) -> Vec<Entry> {
+    let mut out: Vec<Entry> = fig
+        .groups
         .iter()
-        .map(|t| {
-            let t = t.trim();
-            if max_lines >= 2 && fonts::text_width(t, size) > width {
-                if let Some((a, b)) = split_two(t) {
-                    return vec![a, b];
-                }
-            }
-            vec![t.to_string()]
+        .enumerate()
+        .filter(|(_, (name, _))| !name.trim().is_empty())
+        .map(|(g, (name, _))| Entry {
+            label: name.clone(),
+            swatch: Swatch::Patch {
+                color: BAR_PALETTE[g % BAR_PALETTE.len()],
+            },
         })
         .collect();
-    let all: Vec<&str> = split.iter().flatten().map(String::as_str).collect();
-    let s = common_size(&all, size, size * 0.75, width);
-    let fitted = split
-        .into_iter()
-        .map(|lines| lines.iter().map(|l| fonts::fit_text(l, s, width)).collect())
-        .collect();
-    (fitted, s)
+    if let Some((label, v)) = fig
+        .reference_line
+        .as_ref()
+        .filter(|(l, _)| !l.trim().is_empty())
+    {
+        out.push(Entry {
+            label: if plottable(*v) {
+                format!("{label} ({})", format_value(*v))
+            } else {
+                format!("{label} (no data)")
+            },
+            swatch: Swatch::Line {
+                color: ZERO_RGB,
+                width: m.width(1.5),
+                dashed: true,
+                marker: None,
+            },
+        });
+    }
+    out
 }
 
-fn y_range(fig: &BarFigure, min_hi: f64) -> AxisRange {
+/// The y range: zero, every finite value and the reference line, padded by 5 %, with room at
+/// the top for a legend `legend_share` of the plotting height high.
+fn y_range(fig: &BarFigure, legend_share: f64) -> AxisRange {
     let mut e = Extent::default();
     e.add(0.0);
-    for (_, values) in &fig.groups {
-        for &v in values {
-            e.add(v);
-        }
+    for v in fig.groups.iter().flat_map(|(_, v)| v.iter()) {
+        e.add(*v);
     }
     if let Some((_, r)) = &fig.reference_line {
         e.add(*r);
     }
     let (lo, hi) = e.bounds.unwrap_or((0.0, 0.0));
     let span = hi - lo;
-    if !(span > lo.abs().max(hi.abs()) * 1e-12 && span > 0.0) {
-        return AxisRange {
-            min: 0.0,
-            max: 1.0f64.max(min_hi),
-        };
+    if !(span > 0.0 && span > lo.abs().max(hi.abs()) * 1e-12) {
+        return AxisRange { min: 0.0, max: 1.0 };
     }
     let min = if lo < 0.0 { lo - 0.05 * span } else { 0.0 };
     let max = if hi > 0.0 { hi + 0.05 * span } else { 0.0 };
-    AxisRange {
-        min,
-        max: max.max(min_hi),
-    }
-}
-
-/// Plotting area and y ticks of a bar chart, and the number of lines
-/// (1 or 2) the category labels get.
-struct Frame {
-    plot: PixelRect,
-    yticks: Ticks,
-    label_lines: usize,
-    title_block: f64,
-}
-
-/// Lays out the plotting area: category labels on one line if they fit
-/// their slots, else on two.
-fn frame(fig: &BarFigure, m: &Metrics, y: AxisRange) -> Result<Frame, Invalid> {
-    let (w, h) = (fig.width, fig.height);
-    let title_block = if fig.title.trim().is_empty() {
-        0.0
+    let max = if hi > 0.0 && legend_share > 0.0 {
+        min + (max - min) / (1.0 - legend_share.min(0.6))
     } else {
-        (m.title * 1.5).round()
+        max
     };
-    let top = m.pad + title_block + m.px(8.0);
-    let line_h = (CAP_HEIGHT + DESCENT) * m.tick * 1.25;
-    let ylabel_col = if fig.y_label.trim().is_empty() {
-        0.0
-    } else {
-        (CAP_HEIGHT + DESCENT) * m.label + m.px(10.0)
-    };
-    let n = fig.categories.len().max(1) as f64;
-    let mut lines = 1;
-    loop {
-        let bottom = m.tick_len + m.gap + line_h * lines as f64 + m.pad;
-        let plot_h = (f64::from(h) - top - bottom).floor();
-        if plot_h < 20.0 {
-            return Err(Invalid::Draw(DrawError::TooLow {
-                width: w,
-                height: h,
-            }));
-        }
-        let target = ((plot_h / (60.0 * m.s)).round() as usize).clamp(2, 9);
-        let yticks = ticks(y, target);
-        let tick_w = yticks
-            .labels
-            .iter()
-            .map(|l| fonts::text_width(l, m.tick))
-            .fold(0.0, f64::max);
-        let left = (m.pad + ylabel_col + tick_w + m.gap + m.tick_len)
-            .ceil()
-            .min(f64::from(w) * 0.45);
-        let plot_w = f64::from(w) - left - m.px(30.0);
-        if plot_w < 40.0 {
-            return Err(Invalid::Draw(DrawError::TooNarrow {
-                width: w,
-                height: h,
-            }));
-        }
-        let slot = plot_w / n;
-        let fits = fig
-            .categories
-            .iter()
-            .all(|c| fonts::text_width(c.trim(), m.tick * 0.9) <= slot * 0.9);
-        if fits || lines == 2 {
-            let plot = PixelRect {
-                left: left as i32,
-                top: top as i32,
-                right: left as i32 + plot_w as i32 - 1,
-                bottom: top as i32 + plot_h as i32 - 1,
-            };
-            return Ok(Frame {
-                plot,
-                yticks,
-                label_lines: lines,
-                title_block,
-            });
-        }
-        lines = 2;
-    }
+    AxisRange { min, max }
 }
 
-/// Width of one category's slot along the x axis.
-fn slot_width(plot: PixelRect, categories: usize) -> f64 {
-    f64::from(plot.right - plot.left) / categories.max(1) as f64
+struct Drawn {
+    svg: String,
+    layout: BarLayout,
 }
 
-/// Category labels under the slots, split and sized to fit them.
-fn category_labels(
-    fig: &BarFigure,
-    plot: PixelRect,
-    lines: usize,
-    m: &Metrics,
-) -> Vec<CategoryLabel> {
-    let slot = slot_width(plot, fig.categories.len());
-    let (label_lines, size) = fit_categories(&fig.categories, m.tick, slot * 0.9, lines);
-    label_lines
-        .into_iter()
-        .enumerate()
-        .map(|(j, lines)| CategoryLabel {
-            lines,
-            size,
-            cx: f64::from(plot.left) + slot * (j as f64 + 0.5),
-        })
-        .collect()
-}
-
-/// Bars, their value labels and "n/a" marks, with the occupancy they leave.
-struct Bars {
-    bars: Vec<(usize, usize, PixelRect, [u8; 3])>,
-    value_labels: Vec<(String, Pt, VAlign)>,
-    value_size: f64,
-    missing: Vec<Pt>,
-}
-
-/// A bar: its value, rectangle and horizontal centre.
-struct Bar {
-    v: f64,
-    rect: PixelRect,
-    cx: f64,
-}
-
-/// The value label of a bar, centred above it (below it for a negative
-/// value), if it fits the bar's width and stays inside the plotting area;
-/// also returns the band of pixels it covers.
-fn value_label(
-    text: String,
-    bar: &Bar,
-    plot: PixelRect,
-    size: f64,
-    m: &Metrics,
-) -> Option<((String, Pt, VAlign), PixelRect)> {
-    let Bar { v, rect: bar, cx } = *bar;
-    if fonts::text_width(&text, size) + 2.0 > f64::from(bar.width()) {
-        return None;
-    }
-    let text_h = (CAP_HEIGHT + DESCENT) * size;
-    let (at, va, band) = if v >= 0.0 {
-        let y = f64::from(bar.top) - m.px(3.0);
-        ((cx, y), VAlign::Bottom, (y - text_h, y))
-    } else {
-        let y = f64::from(bar.bottom) + m.px(3.0);
-        ((cx, y), VAlign::Top, (y, y + text_h))
-    };
-    if band.0 <= f64::from(plot.top) || band.1 >= f64::from(plot.bottom) {
-        return None;
-    }
-    let band = PixelRect {
-        top: band.0 as i32,
-        bottom: band.1 as i32,
-        ..bar
-    };
-    Some(((text, at, va), band))
-}
-
-fn place_bars(
-    fig: &BarFigure,
-    plot: PixelRect,
-    y: AxisRange,
-    m: &Metrics,
-    occupancy: &mut Occupancy,
-) -> Bars {
-    let n = fig.categories.len();
-    let slot = slot_width(plot, n);
-    let bar_w = slot * 0.8 / fig.groups.len().max(1) as f64;
-    let y0 = tick_py(y, 0.0_f64.clamp(y.min, y.max), plot);
-    let value_size = m.tick * 0.8;
-    let format = ValueFormat::for_values(fig.groups.iter().flat_map(|(_, v)| v.iter()));
-    let mut out = Bars {
-        bars: Vec::new(),
-        value_labels: Vec::new(),
-        value_size,
-        missing: Vec::new(),
-    };
-    for (gi, (_, values)) in fig.groups.iter().enumerate() {
-        let color = BAR_PALETTE[gi % BAR_PALETTE.len()];
-        for (j, &v) in values.iter().enumerate().take(n) {
-            let x0 = f64::from(plot.left) + slot * j as f64 + 0.1 * slot + bar_w * gi as f64;
-            let cx = x0 + 0.5 * bar_w;
-            if !plottable(v) {
-                out.missing.push((cx, f64::from(y0)));
-                continue;
-            }
-            let (l, r) = (x0.round() as i32, (x0 + bar_w).round() as i32 - 1);
-            let yv = tick_py(y, v, plot).clamp(plot.top + 1, plot.bottom - 1);
-            let rect = PixelRect {
-                left: l.max(plot.left + 1),
-                right: r.min(plot.right - 1).max(l),
-                top: yv.min(y0),
-                bottom: yv.max(y0),
-            };
-            occupancy.mark_rect(rect);
-            out.bars.push((j, gi, rect, color));
-            let bar = Bar { v, rect, cx };
-            if let Some((label, band)) = value_label(format.format(v), &bar, plot, value_size, m) {
-                occupancy.mark_rect(band);
-                out.value_labels.push(label);
-            }
-        }
-    }
-    out
-}
-
-/// Legend entries: one patch per named group, then the reference line.
-fn legend_entries(fig: &BarFigure, m: &Metrics) -> Vec<LegendEntry> {
-    let mut entries: Vec<LegendEntry> = fig
-        .groups
-        .iter()
-        .enumerate()
-        .filter(|(_, (name, _))| !name.trim().is_empty())
-        .map(|(gi, (name, _))| LegendEntry {
-            label: name.clone(),
-            swatch: Swatch::Patch {
-                color: BAR_PALETTE[gi % BAR_PALETTE.len()],
-            },
-        })
-        .collect();
-    if let Some((label, v)) = &fig.reference_line {
-        if !label.trim().is_empty() {
-            entries.push(LegendEntry {
-                label: if plottable(*v) {
-                    format!("{label} ({})", format_value(*v))
-                } else {
-                    format!("{label} (no data)")
-                },
-                swatch: Swatch::Line {
-                    color: ZERO_RGB,
-                    width: m.width(1.5),
-                    dashed: true,
-                    marker: None,
-                },
-            });
-        }
-    }
-    entries
-}
-
-/// One layout of the chart with the top of the y axis at least `min_hi`.
-fn plan_pass(fig: &BarFigure, min_hi: f64) -> Result<BarPlan, Invalid> {
-    let m = Metrics::new(fig.width, fig.height);
-    let y = y_range(fig, min_hi);
-    let frame = frame(fig, &m, y)?;
-    let plot = frame.plot;
-    let categories = category_labels(fig, plot, frame.label_lines, &m);
-    let mut occupancy = Occupancy::new(plot, m.px(6.0).max(3.0) as i32);
-    let bars = place_bars(fig, plot, y, &m, &mut occupancy);
-    let reference = fig
-        .reference_line
-        .as_ref()
-        .filter(|(_, v)| plottable(*v) && y.contains(*v))
-        .map(|(_, v)| tick_py(y, *v, plot));
-    if let Some(py) = reference {
-        occupancy.mark_polyline(&[
-            (f64::from(plot.left), f64::from(py)),
-            (f64::from(plot.right), f64::from(py)),
-        ]);
-    }
-    let legend = place_legend(legend_entries(fig, &m), plot, &occupancy, &m);
-    let (y_label, y_label_size) = fonts::shrink_to_fit(
-        fig.y_label.trim(),
-        m.label,
-        m.label * 0.7,
-        f64::from(plot.height()),
-    );
-    let (title, title_size, title_center) =
-        place_title(&fig.title, plot, fig.width, frame.title_block, &m);
-    Ok(BarPlan {
-        width: fig.width,
-        height: fig.height,
-        m,
-        plot,
-        y,
-        yticks: frame.yticks,
-        title,
-        title_size,
-        title_center,
-        y_label,
-        y_label_size,
-        categories,
-        has_data: !bars.bars.is_empty(),
-        bars: bars.bars,
-        value_labels: bars.value_labels,
-        value_size: bars.value_size,
-        missing: bars.missing,
-        reference,
-        legend,
-    })
-}
-
-/// The y maximum needed so that nothing drawn under the legend's columns
-/// reaches into the legend box (None if no raise is needed or possible).
-fn headroom(fig: &BarFigure, p: &BarPlan) -> Option<f64> {
-    let legend = p.legend.as_ref()?;
-    let lr = legend.rect;
-    let margin = 2.0 * p.value_size;
-    let free = f64::from(p.plot.bottom - lr.bottom) - margin;
-    let plot_h = f64::from(p.plot.bottom - p.plot.top);
-    if free < plot_h * 0.3 {
-        return None;
-    }
-    let n = fig.categories.len().max(1) as f64;
-    let slot = f64::from(p.plot.right - p.plot.left) / n;
-    let mut vmax = f64::NEG_INFINITY;
-    for (_, values) in &fig.groups {
-        for (j, &v) in values.iter().enumerate() {
-            let (l, r) = (
-                f64::from(p.plot.left) + slot * j as f64,
-                f64::from(p.plot.left) + slot * (j as f64 + 1.0),
-            );
-            if plottable(v) && r >= f64::from(lr.left) && l <= f64::from(lr.right) {
-                vmax = vmax.max(v);
-            }
-        }
-    }
-    if let Some((_, v)) = &fig.reference_line {
-        if plottable(*v) {
-            vmax = vmax.max(*v);
-        }
-    }
-    if vmax.is_nan() || vmax <= 0.0 {
-        return None;
-    }
-    let need = p.y.min + (vmax - p.y.min) * plot_h / free;
-    (need > p.y.max * (1.0 + 1e-9) && need.is_finite()).then_some(need)
-}
-
-fn plan(fig: &BarFigure) -> Result<BarPlan, Invalid> {
+fn draw(fig: &BarFigure) -> Result<Drawn, Invalid> {
     validate(fig)?;
-    fonts::ensure_fonts().map_err(Invalid::Draw)?;
-    let mut p = plan_pass(fig, f64::NEG_INFINITY)?;
-    // Raise the top of the axis so that the legend does not cover bars.
-    for _ in 0..3 {
-        match headroom(fig, &p) {
-            Some(hi) => p = plan_pass(fig, hi)?,
-            None => break,
-        }
+    render::ensure_font().map_err(Invalid::Draw)?;
+    let m = Metrics::new(fig.width, fig.height);
+    let (w, h) = (fig.width as i32, fig.height as i32);
+    let n = fig.categories.len().max(1);
+    let title_h = if fig.title.trim().is_empty() {
+        m.pad
+    } else {
+        m.pad + (m.title * 1.3) as i32
+    };
+    let x_area = 2 * m.tick_len + (m.tick / 1.24 * 1.2) as i32 + m.pad;
+    let plot_h = h - title_h - x_area;
+    if plot_h < 20 {
+        return Err(Invalid::Draw(DrawError::TooLow {
+            width: fig.width,
+            height: fig.height,
+        }));
     }
-    Ok(p)
+    // Room for the legend above the bars: its rows and margins as a share of the plotting height.
+    let legend_entries = entries(fig, &m);
+    let legend_h = if legend_entries.is_empty() {
+        0.0
+    } else {
+        (legend_entries.len() as f64 * m.legend * 1.25 + f64::from(m.px(36.0))) / f64::from(plot_h)
+    };
+    let y = y_range(fig, if legend_h < 0.5 { legend_h } else { 0.0 });
+    let yticks = Ticks::new(
+        y,
+        ((f64::from(plot_h) / (60.0 * m.s)).round() as usize).clamp(2, 9),
+        false,
+    );
+    let y_label = shrink_to_fit(&fig.y_label, m.label, m.label * 0.7, plot_h);
+    let ylabel_col = if y_label.0.is_empty() {
+        0
+    } else {
+        (m.label / 1.24 * 1.25) as i32 + m.px(6.0)
+    };
+    let left = (m.pad + ylabel_col + yticks.widest(m.tick) + 2 * m.tick_len)
+        .min((f64::from(w) * 0.45) as i32);
+    let right_margin = m.px(30.0);
+    let plot_w = w - left - right_margin;
+    if plot_w < 40 {
+        return Err(Invalid::Draw(DrawError::TooNarrow {
+            width: fig.width,
+            height: fig.height,
+        }));
+    }
+    // Category labels: one size for all that fits their slots, shortened where even that
+    // does not fit.
+    let slot = plot_w / n as i32;
+    let widest = fig
+        .categories
+        .iter()
+        .map(|c| text_width(c.trim(), m.tick))
+        .max()
+        .unwrap_or(0);
+    let mut cat_size = m.tick;
+    while cat_size > m.tick * 0.7 && f64::from(widest) * cat_size / m.tick > f64::from(slot) * 0.92
+    {
+        cat_size *= 0.95;
+    }
+    let labels: Vec<String> = fig
+        .categories
+        .iter()
+        .map(|c| crate::chart::fit_text(c.trim(), cat_size, (f64::from(slot) * 0.92) as i32))
+        .collect();
+    let format = ValueFormat::for_values(fig.groups.iter().flat_map(|(_, v)| v.iter()));
+    let mut layout = None;
+    let svg = render::svg_of(fig.width, fig.height, |root| {
+        root.fill(&WHITE).map_err(chart_err)?;
+        let area = root
+            .clone()
+            .shrink((0, title_h), (fig.width, (h - title_h) as u32));
+        let mut chart = ChartBuilder::on(&area)
+            .margin_right(right_margin)
+            .margin_left(m.pad)
+            .y_label_area_size(left - m.pad)
+            .x_label_area_size(x_area)
+            .build_cartesian_2d(-0.5..n as f64 - 0.5, y.min..y.max)
+            .map_err(chart_err)?;
+        let xfmt = |v: &f64| {
+            let j = v.round();
+            if (v - j).abs() < 1e-9 && j >= 0.0 {
+                labels.get(j as usize).cloned().unwrap_or_default()
+            } else {
+                String::new()
+            }
+        };
+        let yfmt = |v: &f64| yticks.label(*v);
+        chart
+            .configure_mesh()
+            .disable_x_mesh()
+            .x_labels(n)
+            .y_labels(yticks.values.len().max(1))
+            .x_label_formatter(&xfmt)
+            .y_label_formatter(&yfmt)
+            .bold_line_style(rgb(crate::colors::GRID_RGB))
+            .light_line_style(TRANSPARENT)
+            .axis_style(BLACK)
+            .set_all_tick_mark_size(m.tick_len)
+            .x_label_style(font(cat_size))
+            .y_label_style(font(m.tick))
+            .axis_desc_style(font(y_label.1))
+            .y_desc(y_label.0.clone())
+            .draw()
+            .map_err(chart_err)?;
+        let plot = plot_rect(&chart);
+        let spec = chart.as_coord_spec().clone();
+        let px = |x: f64, v: f64| plotters::coord::CoordTranslate::translate(&spec, &(x, v));
+        let groups = fig.groups.len().max(1) as f64;
+        let bar_w = 0.8 / groups;
+        let y0 = 0.0f64.clamp(y.min, y.max);
+        let mut occupancy = Occupancy::new(plot, m.px(6.0).max(3));
+        let mut bars = Vec::new();
+        let mut texts = Vec::new();
+        let value_size = m.tick * 0.8;
+        for (g, (_, values)) in fig.groups.iter().enumerate() {
+            let color = BAR_PALETTE[g % BAR_PALETTE.len()];
+            for (j, &v) in values.iter().enumerate() {
+                let x0 = j as f64 - 0.4 + bar_w * g as f64;
+                let cx = x0 + 0.5 * bar_w;
+                if !plottable(v) {
+                    texts.push(("n/a".to_string(), px(cx, y0), VPos::Bottom, ZERO_RGB));
+                    continue;
+                }
+                let (a, b) = (px(x0, v.clamp(y.min, y.max)), px(x0 + bar_w, y0));
+                let rect = PixelRect {
+                    left: a.0.min(b.0),
+                    right: a.0.max(b.0) - 1,
+                    top: a.1.min(b.1),
+                    bottom: a.1.max(b.1),
+                };
+                occupancy.mark_rect(rect);
+                bars.push((j, g, rect));
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(x0, v), (x0 + bar_w, y0)],
+                        rgb(color).filled(),
+                    )))
+                    .map_err(chart_err)?;
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(x0, v), (x0 + bar_w, y0)],
+                        BLACK.stroke_width(1),
+                    )))
+                    .map_err(chart_err)?;
+                let label = format.format(v);
+                if text_width(&label, value_size) + 2 <= rect.width() {
+                    let (at, vp) = if v >= 0.0 {
+                        ((px(cx, v).0, rect.top - m.px(3.0)), VPos::Bottom)
+                    } else {
+                        ((px(cx, v).0, rect.bottom + m.px(3.0)), VPos::Top)
+                    };
+                    let th = (value_size / 1.24) as i32;
+                    let inside = if v >= 0.0 {
+                        at.1 - th > plot.top
+                    } else {
+                        at.1 + th < plot.bottom
+                    };
+                    if inside {
+                        texts.push((label, at, vp, INK_RGB));
+                    }
+                }
+            }
+        }
+        if y.min < 0.0 && y.max > 0.0 {
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    vec![(-0.5, 0.0), (n as f64 - 0.5, 0.0)],
+                    stroke(INK_RGB, 1),
+                )))
+                .map_err(chart_err)?;
+        }
+        if let Some((_, v)) = fig
+            .reference_line
+            .as_ref()
+            .filter(|(_, v)| plottable(*v) && y.contains(*v))
+        {
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    vec![(-0.5, *v), (n as f64 - 0.5, *v)],
+                    dashed(ZERO_RGB, m.width(1.5)),
+                )))
+                .map_err(chart_err)?;
+            let (a, b) = (px(-0.5, *v), px(n as f64 - 0.5, *v));
+            occupancy.mark_polyline(&[
+                (f64::from(a.0), f64::from(a.1)),
+                (f64::from(b.0), f64::from(b.1)),
+            ]);
+        }
+        for (text, at, vp, color) in texts {
+            root.draw(&Text::new(
+                text,
+                at,
+                anchored(value_size, color, HPos::Center, vp),
+            ))
+            .map_err(chart_err)?;
+        }
+        if bars.is_empty() {
+            no_data(root, plot, &m)?;
+        }
+        frame(root, plot, INK_RGB)?;
+        let legend = place_legend(legend_entries.clone(), plot, &occupancy, &m);
+        if let Some(l) = &legend {
+            draw_legend(&mut chart, l)?;
+        }
+        title(root, &fig.title, plot, fig.width, &m)?;
+        layout = Some(BarLayout {
+            width: fig.width,
+            height: fig.height,
+            plot,
+            legend: legend.map(|l| l.rect),
+            y_range: (y.min, y.max),
+            bars,
+        });
+        Ok(())
+    })?;
+    let layout = layout.ok_or(Invalid::Draw(DrawError::Chart("nothing drawn".into())))?;
+    Ok(Drawn { svg, layout })
+}
+
+impl Chart for BarFigure {
+    fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    fn svg_document(&self) -> Result<String, Invalid> {
+        draw(self).map(|d| d.svg)
+    }
 }
 
 /// Where the parts of `fig` would be drawn, or `None` if `fig` is invalid
 /// (see [`render_bars_png`] for the checks).
 pub fn bar_layout(fig: &BarFigure) -> Option<BarLayout> {
-    let p = plan(fig).ok()?;
-    Some(BarLayout {
-        width: p.width,
-        height: p.height,
-        plot: p.plot,
-        legend: p.legend.as_ref().map(|l| l.rect),
-        y_range: (p.y.min, p.y.max),
-        bars: p.bars.iter().map(|&(j, g, r, _)| (j, g, r)).collect(),
-    })
+    draw(fig).ok().map(|d| d.layout)
 }
 
-/// Bars, the zero line, the reference line, value labels and "n/a" marks.
-fn draw_bars(c: &mut Canvas, p: &BarPlan) {
-    let m = &p.m;
-    for &(_, _, r, color) in &p.bars {
-        c.fill(r, color);
-        c.outline(r, INK_RGB);
-    }
-    if p.y.min < 0.0 && p.y.max > 0.0 {
-        let y0 = tick_py(p.y, 0.0, p.plot);
-        c.fill(
-            PixelRect {
-                top: y0,
-                bottom: y0,
-                ..p.plot
-            },
-            INK_RGB,
-        );
-    }
-    if let Some(py) = p.reference {
-        c.line(
-            (f64::from(p.plot.left + 2), f64::from(py)),
-            (f64::from(p.plot.right - 2), f64::from(py)),
-            ZERO_RGB,
-            m.width(1.5),
-            Some(dash_pattern(m)),
-        );
-    }
-    for (text, at, va) in &p.value_labels {
-        c.text(text, p.value_size, INK_RGB, *at, HAlign::Center, *va);
-    }
-    for at in &p.missing {
-        let at = (at.0, at.1 - m.px(3.0));
-        c.text(
-            "n/a",
-            p.value_size,
-            ZERO_RGB,
-            at,
-            HAlign::Center,
-            VAlign::Bottom,
-        );
-    }
-}
-
-/// A tick under the middle of each category slot and its label below.
-fn draw_categories(c: &mut Canvas, p: &BarPlan) {
-    let m = &p.m;
-    let tl = m.tick_len as i32;
-    let x_range = AxisRange {
-        min: 0.0,
-        max: p.categories.len().max(1) as f64,
-    };
-    for (j, cat) in p.categories.iter().enumerate() {
-        let x = tick_px(x_range, j as f64 + 0.5, p.plot);
-        c.fill(
-            PixelRect {
-                left: x,
-                right: x,
-                top: p.plot.bottom + 1,
-                bottom: p.plot.bottom + tl,
-            },
-            INK_RGB,
-        );
-        for (k, line) in cat.lines.iter().enumerate() {
-            let y = f64::from(p.plot.bottom + tl)
-                + m.gap
-                + k as f64 * (CAP_HEIGHT + DESCENT) * cat.size * 1.25;
-            c.text(
-                line,
-                cat.size,
-                INK_RGB,
-                (cat.cx, y),
-                HAlign::Center,
-                VAlign::Top,
-            );
-        }
-    }
-}
-
-fn draw(p: &BarPlan) -> Result<Canvas, DrawError> {
-    let m = &p.m;
-    let mut c = Canvas::new(p.width, p.height)?;
-    let axes = AxisDraw {
-        rect: p.plot,
-        x: None,
-        x_labels: false,
-        y: p.y,
-        yticks: &p.yticks,
-    };
-    draw_grid(&mut c, &axes);
-    draw_bars(&mut c, p);
-    draw_axes(&mut c, &axes, m, p.width);
-    draw_categories(&mut c, p);
-    if !p.has_data {
-        draw_no_data(&mut c, p.plot, m);
-    }
-    if let Some(l) = &p.legend {
-        draw_legend(&mut c, l, m);
-    }
-    draw_y_label(&mut c, &p.y_label, p.y_label_size, p.plot, m);
-    c.text(
-        &p.title,
-        p.title_size,
-        INK_RGB,
-        p.title_center,
-        HAlign::Center,
-        VAlign::Center,
-    );
-    Ok(c)
-}
-
-/// Draws a grouped bar chart and writes it to `path` as an RGB PNG.
+/// Draws a grouped bar chart and writes it to `path` as an RGB PNG (see
+/// [`crate::write_figure`] for the PNG and the SVG).
 ///
-/// Bars start at zero; the y range covers all finite values, zero and the
-/// reference line with 5 % padding, raised if needed so that the legend
-/// (upper right if free, otherwise another free corner) does not cover
-/// bars. Errors (each naming `path`): a size outside the accepted bounds, a
-/// group without exactly one value per category, a file that cannot be
-/// written. Non-finite values are shown as "n/a".
+/// Bars start at zero; the y range covers all finite values, zero and the reference line with
+/// 5 % padding, and room at the top for the legend (in the emptier upper corner), so that the
+/// legend does not cover bars. Errors (each naming `path`): a size outside the accepted
+/// bounds, a group without exactly one value per category, a file that cannot be written.
+/// Non-finite values are shown as "n/a".
 ///
 /// ```
 /// use subfric_plot::{bar_layout, read_rgb, render_bars_png, BarFigure};
@@ -678,9 +418,7 @@ fn draw(p: &BarPlan) -> Result<Canvas, DrawError> {
 /// # Ok::<(), subfric_plot::PlotError>(())
 /// ```
 pub fn render_bars_png(fig: &BarFigure, path: &Path) -> Result<(), PlotError> {
-    let p = plan(fig).map_err(|e| e.with_path(path))?;
-    let canvas = draw(&p).map_err(|e| Invalid::Draw(e).with_path(path))?;
-    png_io::write_rgb_png(path, p.width, p.height, &canvas.into_rgb())
+    render::write_png(fig, path)
 }
 
 #[cfg(test)]
@@ -696,13 +434,7 @@ mod tests {
         assert_eq!(format_value(-0.5), "\u{2212}0.500");
         let f = ValueFormat::for_values([9.4, 0.7, f64::NAN].iter());
         assert_eq!(f, ValueFormat::Fixed(2));
-        assert_eq!(f.format(0.7), "0.70");
         assert_eq!(format_value(1.5e-5), "1.50e-5");
-        assert_eq!(
-            split_two("dense sand test"),
-            Some(("dense".into(), "sand test".into()))
-        );
-        assert_eq!(split_two("nospace"), None);
     }
 
     #[test]
@@ -710,38 +442,15 @@ mod tests {
         let f = BarFigure::new("", "", vec!["a".into(), "b".into()])
             .with_group("g", vec![1.0, 2.0])
             .with_reference_line("noise", 3.0);
-        let r = y_range(&f, f64::NEG_INFINITY);
+        let r = y_range(&f, 0.0);
         assert_eq!(r.min, 0.0);
         assert!(r.max > 3.0);
+        assert!(y_range(&f, 0.25).max > r.max * 1.3);
         let empty = BarFigure::new("", "", vec![]);
-        assert_eq!(
-            y_range(&empty, f64::NEG_INFINITY),
-            AxisRange { min: 0.0, max: 1.0 }
-        );
+        assert_eq!(y_range(&empty, 0.2), AxisRange { min: 0.0, max: 1.0 });
         let neg = BarFigure::new("", "", vec!["a".into()]).with_group("g", vec![-2.0]);
-        let r = y_range(&neg, f64::NEG_INFINITY);
+        let r = y_range(&neg, 0.2);
         assert!(r.min < -2.0 && r.max == 0.0);
-    }
-
-    #[test]
-    fn no_room_for_the_bars_is_a_draw_error() {
-        let chart = |w, h| {
-            BarFigure::new("t", "y (kPa)", vec!["a".into(), "b".into()])
-                .with_group("g", vec![1.0, 2.0])
-                .with_size(w, h)
-        };
-        let m = Metrics::new(200, 150);
-        let y = AxisRange { min: 0.0, max: 2.1 };
-        assert!(matches!(
-            frame(&chart(200, 40), &m, y),
-            Err(Invalid::Draw(DrawError::TooLow { height: 40, .. }))
-        ));
-        assert!(matches!(
-            frame(&chart(30, 150), &m, y),
-            Err(Invalid::Draw(DrawError::TooNarrow { width: 30, .. }))
-        ));
-        let smallest = chart(crate::MIN_WIDTH, crate::MIN_HEIGHT);
-        assert_eq!(frame(&smallest, &m, y).map(|f| f.label_lines).ok(), Some(1));
     }
 
     #[test]

@@ -9,16 +9,19 @@
 
 use std::path::Path;
 
-use crate::canvas::{Canvas, HAlign, VAlign};
-use crate::chrome::{
-    dash_pattern, draw_axes, draw_grid, draw_legend, draw_no_data, draw_y_label, place_legend,
-    place_title, x_ticks, AxisDraw, Legend, LegendEntry, Metrics, Swatch,
+use plotters::coord::CoordTranslate;
+use plotters::prelude::*;
+use plotters::style::FontTransform;
+
+use crate::chart::{
+    chart_err, dashed, draw_legend, font, frame, no_data, place_legend, plot_rect, plottable, rgb,
+    shrink_to_fit, stroke, text_width, whole_numbers, AxisRange, Entry, Extent, Metrics, Occupancy,
+    Swatch, Ticks,
 };
 use crate::colors::{style_rgb, INK_RGB};
-use crate::fonts::{self, CAP_HEIGHT, DESCENT};
-use crate::geom::{Mapper, Occupancy, PixelRect, Pt};
-use crate::scale::{plottable, ticks, AxisRange, Extent, Ticks};
-use crate::{check_size, png_io, DrawError, Invalid, PlotError, Style};
+use crate::figure::title;
+use crate::render::{self, Chart};
+use crate::{check_size, DrawError, Invalid, PixelRect, PlotError, Style};
 
 /// One end of a point's interval.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -151,30 +154,8 @@ fn group_rgb(g: usize) -> [u8; 3] {
     }
 }
 
-struct Plan {
-    m: Metrics,
-    rect: PixelRect,
-    x: AxisRange,
-    y: AxisRange,
-    xticks: Option<Ticks>,
-    yticks: Ticks,
-    /// Category labels, their size, and whether upright.
-    categories: Option<(Vec<String>, f64, bool)>,
-    title: (String, f64, (f64, f64)),
-    x_label: (String, f64),
-    y_label: (String, f64),
-    legend: Option<Legend>,
-    /// Pixel offset of each group at a shared x.
-    dodge: Vec<f64>,
-    empty: bool,
-}
-
 fn drawable(p: &IntervalPoint) -> bool {
     plottable(p.x) && plottable(p.y)
-}
-
-fn validate(fig: &IntervalFigure) -> Result<(), Invalid> {
-    check_size(fig.width, fig.height)
 }
 
 fn extents(fig: &IntervalFigure) -> (AxisRange, AxisRange, bool) {
@@ -212,314 +193,279 @@ fn extents(fig: &IntervalFigure) -> (AxisRange, AxisRange, bool) {
     (x, ye.padded(false), any)
 }
 
-fn text_h(size: f64) -> f64 {
-    (CAP_HEIGHT + DESCENT) * size
+fn marker_radius(m: &Metrics) -> u32 {
+    (3.5 * m.s).round().max(2.0) as u32
 }
 
-fn plan(fig: &IntervalFigure) -> Result<Plan, Invalid> {
-    validate(fig)?;
-    fonts::ensure_fonts().map_err(Invalid::Draw)?;
+struct Drawn {
+    svg: String,
+    layout: IntervalLayout,
+}
+
+fn draw(fig: &IntervalFigure) -> Result<Drawn, Invalid> {
+    check_size(fig.width, fig.height)?;
+    render::ensure_font().map_err(Invalid::Draw)?;
     let m = Metrics::new(fig.width, fig.height);
     let (x, y, any) = extents(fig);
-    let (w, h) = (f64::from(fig.width), f64::from(fig.height));
-    let title_block = if fig.title.trim().is_empty() {
-        0.0
+    let (w, h) = (fig.width as i32, fig.height as i32);
+    let title_h = if fig.title.trim().is_empty() {
+        m.pad
     } else {
-        (m.title * 1.5).round()
+        m.pad + (m.title * 1.3) as i32
     };
-    let top = m.pad + title_block + m.px(8.0);
-    let x_label_h = if fig.x_label.trim().is_empty() {
-        0.0
-    } else {
-        m.px(10.0) + text_h(m.label)
-    };
-    let yticks_guess = ticks(y, 6);
-    let tick_w = yticks_guess
-        .labels
-        .iter()
-        .map(|l| fonts::text_width(l, m.tick))
-        .fold(0.0, f64::max);
-    let left = (m.pad + text_h(m.label) + m.px(10.0) + tick_w + m.gap + m.tick_len)
-        .ceil()
-        .min(w * 0.45);
-    let plot_w = w - left - m.px(30.0);
-    if plot_w < 40.0 {
+    let yticks = Ticks::new(y, 7, false);
+    let left = (m.pad
+        + (m.label / 1.24 * 1.25) as i32
+        + m.px(6.0)
+        + yticks.widest(m.tick)
+        + 2 * m.tick_len)
+        .min((f64::from(w) * 0.45) as i32);
+    let right_margin = m.px(30.0);
+    let plot_w = w - left - right_margin;
+    if plot_w < 40 {
         return Err(Invalid::Draw(DrawError::TooNarrow {
             width: fig.width,
             height: fig.height,
         }));
     }
-    // Category labels: side by side when they fit their slots, else upright (cut to a third
-    // of the height).
+    // Category labels: side by side when they fit their slots, else upright (cut to a third of
+    // the height).
     let categories = fig.categories.as_ref().map(|labels| {
-        let slot = plot_w / labels.len().max(1) as f64;
+        let slot = plot_w / labels.len().max(1) as i32;
         let widest = labels
             .iter()
-            .map(|l| fonts::text_width(l, m.tick))
-            .fold(0.0, f64::max);
-        if widest <= slot * 0.9 {
+            .map(|l| text_width(l, m.tick))
+            .max()
+            .unwrap_or(0);
+        if f64::from(widest) <= f64::from(slot) * 0.9 {
             (labels.clone(), m.tick, false)
         } else {
-            let size = (slot * 0.8 / text_h(1.0)).min(m.tick).max(m.tick * 0.5);
+            let size = (f64::from(slot) * 0.8 * 1.24).min(m.tick).max(m.tick * 0.5);
             let cut: Vec<String> = labels
                 .iter()
-                .map(|l| fonts::fit_text(l, size, h / 3.0))
+                .map(|l| crate::chart::fit_text(l, size, h / 3))
                 .collect();
             (cut, size, true)
         }
     });
-    let x_tick_block = match &categories {
+    let tick_block = match &categories {
         Some((labels, size, true)) => labels
             .iter()
-            .map(|l| fonts::text_width(l, *size))
-            .fold(0.0, f64::max),
-        Some((_, size, false)) => text_h(*size),
-        None => text_h(m.tick),
+            .map(|l| text_width(l, *size))
+            .max()
+            .unwrap_or(0),
+        Some((_, size, false)) => (size / 1.24 * 1.2) as i32,
+        None => (m.tick / 1.24 * 1.2) as i32,
     };
-    let bottom = m.tick_len + m.gap + x_tick_block + x_label_h + m.pad;
-    let plot_h = (h - top - bottom).floor();
-    if plot_h < 20.0 {
+    let x_label = shrink_to_fit(&fig.x_label, m.label, m.label * 0.7, w - 2 * m.pad);
+    let x_label_h = if x_label.0.is_empty() {
+        0
+    } else {
+        (m.label / 1.24 * 1.3) as i32
+    };
+    let x_area = 2 * m.tick_len + tick_block + x_label_h + m.pad;
+    let plot_h = h - title_h - x_area;
+    if plot_h < 20 {
         return Err(Invalid::Draw(DrawError::TooLow {
             width: fig.width,
             height: fig.height,
         }));
     }
-    let rect = PixelRect {
-        left: left as i32,
-        top: top as i32,
-        right: left as i32 + plot_w as i32 - 1,
-        bottom: top as i32 + plot_h as i32 - 1,
-    };
-    let yticks = ticks(y, ((plot_h / (60.0 * m.s)).round() as usize).clamp(2, 9));
-    let xticks = fig.categories.is_none().then(|| x_ticks(x, plot_w, &m));
-    let n = fig.groups.len();
-    let step = m.px(8.0);
-    let dodge = (0..n)
-        .map(|g| (g as f64 - 0.5 * (n as f64 - 1.0)) * step)
-        .collect();
-    let mut plan = Plan {
-        m,
-        rect,
-        x,
+    let yticks = Ticks::new(
         y,
-        xticks,
-        yticks,
-        categories,
-        title: place_title(&fig.title, rect, fig.width, title_block, &m),
-        x_label: fonts::shrink_to_fit(fig.x_label.trim(), m.label, m.label * 0.7, w - 2.0 * m.pad),
-        y_label: fonts::shrink_to_fit(
-            fig.y_label.trim(),
-            m.label,
-            m.label * 0.7,
-            f64::from(rect.height()),
+        ((f64::from(plot_h) / (60.0 * m.s)).round() as usize).clamp(2, 9),
+        false,
+    );
+    let integer_x = fig.categories.is_some()
+        || whole_numbers(
+            fig.groups
+                .iter()
+                .flat_map(|g| g.points.iter().map(|p| &p.x)),
+        );
+    let xticks = match &categories {
+        Some((labels, ..)) => Ticks {
+            values: (0..labels.len()).map(|i| i as f64).collect(),
+            labels: labels.clone(),
+        },
+        None => Ticks::fitting(
+            x,
+            plot_w,
+            m.tick,
+            ((f64::from(plot_w) / (110.0 * m.s)).round() as usize).clamp(2, 12),
+            integer_x,
         ),
-        legend: None,
-        dodge,
-        empty: !any,
     };
-    plan.legend = legend(fig, &plan);
-    Ok(plan)
-}
-
-/// A drawn point: its centre, its interval's pixel ends (top, bottom) with whether each is
-/// open, and its horizontal range.
-struct Marks {
-    centre: Pt,
-    top: Option<(f64, bool)>,
-    bottom: Option<(f64, bool)>,
-    across: Option<(f64, f64)>,
-}
-
-fn marks(p: &IntervalPoint, plan: &Plan, dx: f64) -> Marks {
-    let mapper = Mapper {
-        rect: plan.rect,
-        x: plan.x,
-        y: plan.y,
-    };
-    let r = plan.rect;
-    let clamp_y = |v: f64| v.clamp(f64::from(r.top), f64::from(r.bottom));
-    let end = |e: IntervalEnd, edge: i32| match e {
-        IntervalEnd::At(v) if plottable(v) => Some((clamp_y(mapper.py(v)), false)),
-        IntervalEnd::Open => Some((f64::from(edge), true)),
-        _ => None,
-    };
-    let clamp_x = |v: f64| v.clamp(f64::from(r.left), f64::from(r.right));
-    Marks {
-        centre: (mapper.px(p.x) + dx, mapper.py(p.y)),
-        top: end(p.hi, r.top),
-        bottom: end(p.lo, r.bottom),
-        across: p
-            .x_range
-            .filter(|(a, b)| plottable(*a) && plottable(*b))
-            .map(|(a, b)| (clamp_x(mapper.px(a)), clamp_x(mapper.px(b)))),
-    }
-}
-
-fn legend(fig: &IntervalFigure, plan: &Plan) -> Option<Legend> {
-    let m = &plan.m;
-    let mut occupancy = Occupancy::new(plan.rect, (12.0 * m.s).round().max(4.0) as i32);
-    let mut entries = Vec::new();
-    let mut open = false;
-    for (g, group) in fig.groups.iter().enumerate() {
-        for p in group.points.iter().filter(|p| drawable(p)) {
-            let k = marks(p, plan, plan.dodge[g]);
-            occupancy.mark_point(k.centre);
-            for (end, is_open) in [k.top, k.bottom].into_iter().flatten() {
-                occupancy.mark_polyline(&[k.centre, (k.centre.0, end)]);
-                open |= is_open;
-            }
-            if let Some((a, b)) = k.across {
-                occupancy.mark_polyline(&[(a, k.centre.1), (b, k.centre.1)]);
+    let y_label = shrink_to_fit(&fig.y_label, m.label, m.label * 0.7, plot_h);
+    let n = fig.groups.len();
+    let dodge_px: Vec<f64> = (0..n)
+        .map(|g| (g as f64 - 0.5 * (n as f64 - 1.0)) * f64::from(m.px(8.0)))
+        .collect();
+    let mut layout = None;
+    let svg = render::svg_of(fig.width, fig.height, |root| {
+        root.fill(&WHITE).map_err(chart_err)?;
+        let area = root
+            .clone()
+            .shrink((0, title_h), (fig.width, (h - title_h) as u32));
+        let mut chart = ChartBuilder::on(&area)
+            .margin_right(right_margin)
+            .margin_left(m.pad)
+            .y_label_area_size(left - m.pad)
+            .x_label_area_size(x_area)
+            .build_cartesian_2d(x.min..x.max, y.min..y.max)
+            .map_err(chart_err)?;
+        let xfmt = |v: &f64| xticks.label(*v);
+        let yfmt = |v: &f64| yticks.label(*v);
+        let x_style = match &categories {
+            Some((_, size, true)) => font(*size).transform(FontTransform::Rotate270),
+            Some((_, size, false)) => font(*size),
+            None => font(m.tick),
+        };
+        let mut mesh = chart.configure_mesh();
+        mesh.x_labels(xticks.values.len().max(1))
+            .y_labels(yticks.values.len().max(1))
+            .x_label_formatter(&xfmt)
+            .y_label_formatter(&yfmt)
+            .bold_line_style(rgb(crate::colors::GRID_RGB))
+            .light_line_style(TRANSPARENT)
+            .axis_style(BLACK)
+            .set_all_tick_mark_size(m.tick_len)
+            .x_label_style(x_style)
+            .y_label_style(font(m.tick))
+            .axis_desc_style(font(y_label.1))
+            .y_desc(y_label.0.clone());
+        if !x_label.0.is_empty() {
+            mesh.x_desc(x_label.0.clone());
+        }
+        mesh.draw().map_err(chart_err)?;
+        let plot = plot_rect(&chart);
+        let spec = chart.as_coord_spec().clone();
+        let to_px = |q: (f64, f64)| {
+            let c = spec.translate(&q);
+            (f64::from(c.0), f64::from(c.1))
+        };
+        let per_px = x.span() / f64::from(plot.width().max(1));
+        let mut occupancy = Occupancy::new(plot, m.px(12.0).max(4));
+        let mut points = Vec::new();
+        let mut open = false;
+        let width = m.width(1.6);
+        let cap = f64::from(m.px(5.0)) * per_px;
+        for (g, group) in fig.groups.iter().enumerate() {
+            let color = group_rgb(g);
+            let dx = dodge_px[g] * per_px;
+            for (i, p) in group.points.iter().enumerate().filter(|(_, p)| drawable(p)) {
+                let (cx, cy) = (p.x + dx, p.y);
+                if let Some((a, b)) = p.x_range.filter(|(a, b)| plottable(*a) && plottable(*b)) {
+                    let (a, b) = (a.clamp(x.min, x.max), b.clamp(x.min, x.max));
+                    chart
+                        .draw_series(std::iter::once(PathElement::new(
+                            vec![(a, cy), (b, cy)],
+                            stroke(color, m.width(1.0)),
+                        )))
+                        .map_err(chart_err)?;
+                    occupancy.mark_polyline(&[to_px((a, cy)), to_px((b, cy))]);
+                }
+                for (end, edge) in [(p.hi, y.max), (p.lo, y.min)] {
+                    let (to, is_open) = match end {
+                        IntervalEnd::At(v) if plottable(v) => (v.clamp(y.min, y.max), false),
+                        IntervalEnd::Open => (edge, true),
+                        _ => continue,
+                    };
+                    open |= is_open;
+                    let style = if is_open {
+                        dashed(color, width)
+                    } else {
+                        stroke(color, width)
+                    };
+                    let mut parts = vec![PathElement::new(vec![(cx, cy), (cx, to)], style)];
+                    if !is_open {
+                        parts.push(PathElement::new(
+                            vec![(cx - cap, to), (cx + cap, to)],
+                            stroke(color, width),
+                        ));
+                    }
+                    chart.draw_series(parts).map_err(chart_err)?;
+                    occupancy.mark_polyline(&[to_px((cx, cy)), to_px((cx, to))]);
+                }
+                chart
+                    .draw_series(std::iter::once(Circle::new(
+                        (cx, cy),
+                        marker_radius(&m),
+                        rgb(color).filled(),
+                    )))
+                    .map_err(chart_err)?;
+                occupancy.mark_point(to_px((cx, cy)));
+                points.push((g, i, to_px((cx, cy))));
             }
         }
-        if !group.label.trim().is_empty() {
-            entries.push(LegendEntry {
+        if !any {
+            no_data(root, plot, &m)?;
+        }
+        frame(root, plot, INK_RGB)?;
+        let mut entries: Vec<Entry> = fig
+            .groups
+            .iter()
+            .enumerate()
+            .filter(|(_, g)| !g.label.trim().is_empty())
+            .map(|(g, group)| Entry {
                 label: group.label.clone(),
                 swatch: Swatch::Line {
                     color: group_rgb(g),
                     width: m.width(1.5),
                     dashed: false,
-                    marker: Some((marker_radius(m), group_rgb(g))),
+                    marker: Some((marker_radius(&m), group_rgb(g))),
+                },
+            })
+            .collect();
+        if open {
+            entries.push(Entry {
+                label: "interval not bounded by the data".into(),
+                swatch: Swatch::Line {
+                    color: INK_RGB,
+                    width: m.width(1.5),
+                    dashed: true,
+                    marker: None,
                 },
             });
         }
-    }
-    if open {
-        entries.push(LegendEntry {
-            label: "interval not bounded by the data".into(),
-            swatch: Swatch::Line {
-                color: INK_RGB,
-                width: m.width(1.5),
-                dashed: true,
-                marker: None,
-            },
+        let legend = place_legend(entries, plot, &occupancy, &m);
+        if let Some(l) = &legend {
+            draw_legend(&mut chart, l)?;
+        }
+        title(root, &fig.title, plot, fig.width, &m)?;
+        layout = Some(IntervalLayout {
+            plot,
+            legend: legend.map(|l| l.rect),
+            x_range: (x.min, x.max),
+            y_range: (y.min, y.max),
+            points,
+            upright_categories: categories.as_ref().is_some_and(|c| c.2),
         });
-    }
-    place_legend(entries, plan.rect, &occupancy, m)
+        Ok(())
+    })?;
+    let layout = layout.ok_or(Invalid::Draw(DrawError::Chart("nothing drawn".into())))?;
+    Ok(Drawn { svg, layout })
 }
 
-fn marker_radius(m: &Metrics) -> f64 {
-    (3.0 * m.s).round().max(2.0) + 0.5
+impl Chart for IntervalFigure {
+    fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    fn svg_document(&self) -> Result<String, Invalid> {
+        draw(self).map(|d| d.svg)
+    }
 }
 
 /// Where the parts of `fig` would be drawn, or `None` if `fig` is invalid.
 pub fn interval_layout(fig: &IntervalFigure) -> Option<IntervalLayout> {
-    let p = plan(fig).ok()?;
-    let mut points = Vec::new();
-    for (g, group) in fig.groups.iter().enumerate() {
-        for (i, pt) in group.points.iter().enumerate() {
-            if drawable(pt) {
-                points.push((g, i, marks(pt, &p, p.dodge[g]).centre));
-            }
-        }
-    }
-    Some(IntervalLayout {
-        plot: p.rect,
-        legend: p.legend.as_ref().map(|l| l.rect),
-        x_range: (p.x.min, p.x.max),
-        y_range: (p.y.min, p.y.max),
-        points,
-        upright_categories: p.categories.as_ref().is_some_and(|c| c.2),
-    })
+    draw(fig).ok().map(|d| d.layout)
 }
 
-fn draw_categories(c: &mut Canvas, plan: &Plan) {
-    let Some((labels, size, upright)) = &plan.categories else {
-        return;
-    };
-    let r = plan.rect;
-    let tl = plan.m.tick_len as i32;
-    let slot = f64::from(r.right - r.left) / labels.len().max(1) as f64;
-    for (i, label) in labels.iter().enumerate() {
-        let x = f64::from(r.left) + (i as f64 + 0.5) * slot;
-        c.fill(
-            PixelRect {
-                left: x.round() as i32,
-                right: x.round() as i32,
-                top: r.bottom + 1,
-                bottom: r.bottom + tl,
-            },
-            INK_RGB,
-        );
-        let y0 = f64::from(r.bottom + tl) + plan.m.gap;
-        if *upright {
-            let w = fonts::text_width(label, *size);
-            c.text_vertical(label, *size, INK_RGB, (x, y0 + 0.5 * w));
-        } else {
-            c.text(label, *size, INK_RGB, (x, y0), HAlign::Center, VAlign::Top);
-        }
-    }
-}
-
-fn draw(fig: &IntervalFigure, plan: &Plan) -> Result<Canvas, DrawError> {
-    let m = &plan.m;
-    let mut c = Canvas::new(fig.width, fig.height)?;
-    let axes = AxisDraw {
-        rect: plan.rect,
-        x: plan.xticks.as_ref().map(|t| (plan.x, t)),
-        x_labels: true,
-        y: plan.y,
-        yticks: &plan.yticks,
-    };
-    draw_grid(&mut c, &axes);
-    let width = m.width(1.6);
-    let cap = m.px(5.0);
-    let dash = dash_pattern(m);
-    for (g, group) in fig.groups.iter().enumerate() {
-        let color = group_rgb(g);
-        for p in group.points.iter().filter(|p| drawable(p)) {
-            let k = marks(p, plan, plan.dodge[g]);
-            let (cx, cy) = k.centre;
-            if let Some((a, b)) = k.across {
-                c.line((a, cy), (b, cy), color, m.width(1.0), None);
-            }
-            for (end, open) in [k.top, k.bottom].into_iter().flatten() {
-                if open {
-                    c.line((cx, cy), (cx, end), color, width, Some(dash));
-                } else {
-                    c.line((cx, cy), (cx, end), color, width, None);
-                    c.line((cx - cap, end), (cx + cap, end), color, width, None);
-                }
-            }
-            c.dot((cx, cy), marker_radius(m), color);
-        }
-    }
-    if plan.empty {
-        draw_no_data(&mut c, plan.rect, m);
-    }
-    draw_axes(&mut c, &axes, m, fig.width);
-    draw_categories(&mut c, plan);
-    draw_y_label(&mut c, &plan.y_label.0, plan.y_label.1, plan.rect, m);
-    if let Some(l) = &plan.legend {
-        draw_legend(&mut c, l, m);
-    }
-    let (title, size, centre) = &plan.title;
-    c.text(
-        title,
-        *size,
-        INK_RGB,
-        *centre,
-        HAlign::Center,
-        VAlign::Center,
-    );
-    let cx = 0.5 * f64::from(plan.rect.left + plan.rect.right);
-    c.text(
-        &plan.x_label.0,
-        plan.x_label.1,
-        INK_RGB,
-        (cx, f64::from(fig.height) - m.pad),
-        HAlign::Center,
-        VAlign::Bottom,
-    );
-    Ok(c)
-}
-
-/// Draws `fig` and writes it to `path` as an RGB PNG. Errors (each naming `path`): a size out
-/// of bounds, a file that cannot be written. A figure without drawable points says "no data".
+/// Draws `fig` and writes it to `path` as an RGB PNG (see [`crate::write_figure`] for the PNG
+/// and the SVG). Errors (each naming `path`): a size out of bounds, a file that cannot be
+/// written. A figure without drawable points says "no data".
 pub fn render_interval_png(fig: &IntervalFigure, path: &Path) -> Result<(), PlotError> {
-    let p = plan(fig).map_err(|e| e.with_path(path))?;
-    let canvas = draw(fig, &p).map_err(|e| Invalid::Draw(e).with_path(path))?;
-    png_io::write_rgb_png(path, fig.width, fig.height, &canvas.into_rgb())
+    render::write_png(fig, path)
 }
 
 #[cfg(test)]

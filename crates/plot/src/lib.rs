@@ -1,28 +1,31 @@
-//! Headless, paper-style PNG figures for subfric.
+//! Headless, paper-style figures for subfric, as SVG and PNG.
 //!
-//! The crate lays out two kinds of figures itself, draws them with
-//! [tiny-skia](https://docs.rs/tiny-skia) (anti-aliased strokes, dashes,
-//! discs, rectangles) and [ab_glyph](https://docs.rs/ab_glyph) (text), and
-//! writes them as PNG files with the `png` crate:
+//! Every figure is a chart of [plotters](https://docs.rs/plotters) (`ChartBuilder`, mesh,
+//! series, series labels) drawn on its SVG backend, with text measured in the bundled DejaVu
+//! Sans (`assets/`). The SVG document is written as it is, and turned into pixels by
+//! [resvg](https://docs.rs/resvg) with that font only (no system fonts: a fresh machine draws
+//! the same pixels) and written as an RGB PNG with the `png` crate. The kinds:
 //!
-//! * [`Figure`]: curve overlays (measured, published and fitted series) in a
-//!   main panel, with an optional residual panel below it that shares the x
-//!   axis. See [`render_png`].
-//! * [`BarFigure`]: grouped bar charts, e.g. the error of a base model and of
-//!   a model with an extra effect per test, with an optional reference line
-//!   (noise level). See [`render_bars_png`].
+//! * [`Figure`]: curve overlays (measured, published and fitted series) in a main panel, with
+//!   optional history and residual panels below it sharing the x axis and an optional zoom
+//!   inside it. See [`render_png`].
+//! * [`BarFigure`]: grouped bar charts with an optional reference line. See
+//!   [`render_bars_png`].
+//! * [`IntervalFigure`]: points with intervals, an end the data leave open drawn dashed. See
+//!   [`render_interval_png`].
+//! * [`posterior::CornerFigure`] and [`posterior::BandFigure`]: a posterior sample's corner
+//!   plot and predictive band.
 //!
-//! Text is rendered with a bundled DejaVu Sans font (see `assets/`), so no
-//! system fonts are needed. Non-finite values (and values whose magnitude
-//! exceeds [`MAX_ABS_VALUE`]) are skipped; lines are broken at such points.
-//! Axis ranges are computed from all remaining data with 5 % padding, very
-//! long series are decimated per pixel column keeping the extremes, and all
-//! curves are clipped to the plotting area.
+//! [`write_figure`] writes any of them as PNG and SVG side by side; the `render_*_png`
+//! functions write the PNG only. What plotters does not do is here: the emptiest corner for a
+//! legend, decimation of long records (per pixel column, keeping the extremes), markers on the
+//! data drawn over the models, cycle colours, tick labels, panels that share an x axis, and
+//! text shortened to fit. Non-finite values (and values whose magnitude exceeds
+//! [`MAX_ABS_VALUE`]) are skipped; lines are broken at such points. Axis ranges are computed
+//! from all remaining data with 5 % padding.
 //!
-//! [`inspect_png`], [`read_rgb`] and [`figure_layout`] help tests (here and
-//! in other crates) check what was drawn.
-//!
-//! Why it draws with tiny-skia rather than plotters' charts, and what that cost, is recorded in
+//! [`inspect_png`], [`read_rgb`] and [`figure_layout`] help tests (here and in other crates)
+//! check what was drawn. Why the figures are made this way, and what it cost, is recorded in
 //! `docs/plot-rasteriser.md`.
 //!
 //! ```
@@ -55,33 +58,68 @@
 #![warn(missing_docs)]
 
 mod bars;
-mod canvas;
-mod chrome;
+mod chart;
 mod colors;
 mod figure;
-mod fonts;
-mod geom;
-mod inset;
 mod intervals;
 mod png_io;
 pub mod posterior;
-mod scale;
-mod strokes;
+
+mod render;
 
 use std::path::PathBuf;
 
 pub use bars::{bar_layout, render_bars_png, BarLayout};
+pub use chart::MAX_ABS_VALUE;
 pub use colors::{
     cycle_rgb, style_rgb, FITTED_RGB, MEASURED_LINE_RGB, MEASURED_RGB, PUBLISHED_RGB,
 };
 pub use figure::{figure_layout, render_png, series_inside, FigureLayout};
-pub use geom::PixelRect;
 pub use intervals::{
     interval_layout, render_interval_png, IntervalEnd, IntervalFigure, IntervalLayout,
     IntervalPoint, PointGroup,
 };
 pub use png_io::{inspect_png, read_rgb, PngCheck, RgbImage};
-pub use scale::MAX_ABS_VALUE;
+pub use render::{render_svg, write_figure, Chart, Written};
+
+/// A rectangle of pixels; all four edges are inclusive (the frame of a
+/// plotting area is drawn on its edge pixels).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PixelRect {
+    /// Leftmost pixel column.
+    pub left: i32,
+    /// Topmost pixel row.
+    pub top: i32,
+    /// Rightmost pixel column.
+    pub right: i32,
+    /// Bottom pixel row.
+    pub bottom: i32,
+}
+
+impl PixelRect {
+    /// Whether pixel (x, y) lies in the rectangle (edges included).
+    pub fn contains(&self, x: i32, y: i32) -> bool {
+        x >= self.left && x <= self.right && y >= self.top && y <= self.bottom
+    }
+
+    /// Number of pixel columns.
+    pub fn width(&self) -> i32 {
+        self.right - self.left + 1
+    }
+
+    /// Number of pixel rows.
+    pub fn height(&self) -> i32 {
+        self.bottom - self.top + 1
+    }
+
+    /// Whether the two rectangles share at least one pixel.
+    pub fn intersects(&self, other: &PixelRect) -> bool {
+        self.left <= other.right
+            && other.left <= self.right
+            && self.top <= other.bottom
+            && other.top <= self.bottom
+    }
+}
 
 /// Smallest accepted figure width in pixels.
 pub const MIN_WIDTH: u32 = 200;
@@ -394,11 +432,17 @@ pub enum PlotError {
 }
 
 /// Why a valid figure could not be drawn (inside [`PlotError::Draw`]).
-#[derive(thiserror::Error, Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(thiserror::Error, Debug, Clone, PartialEq, Eq)]
 pub enum DrawError {
     /// The bundled font could not be parsed.
     #[error("the bundled font could not be parsed")]
     Font,
+    /// plotters could not draw the chart.
+    #[error("the chart could not be drawn: {0}")]
+    Chart(String),
+    /// The SVG document could not be read back for its pixels.
+    #[error("the SVG could not be rasterised: {0}")]
+    Svg(String),
     /// No pixel buffer of this size could be made.
     #[error("cannot make a {width}x{height} pixel buffer")]
     Canvas {
@@ -429,7 +473,8 @@ pub enum DrawError {
 
 /// Problems found before a path is known; turned into [`PlotError`] later.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) enum Invalid {
+#[doc(hidden)]
+pub enum Invalid {
     Size(u32, u32),
     Length {
         label: String,
@@ -450,7 +495,8 @@ pub(crate) enum Invalid {
 }
 
 impl Invalid {
-    pub(crate) fn with_path(self, path: &std::path::Path) -> PlotError {
+    /// The error naming `path`.
+    pub fn with_path(self, path: &std::path::Path) -> PlotError {
         let path = path.to_path_buf();
         match self {
             Invalid::Size(width, height) => PlotError::InvalidSize {

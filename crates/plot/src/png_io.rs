@@ -1,7 +1,7 @@
 //! PNG encoding and decoding with the `png` crate, and simple image checks.
 
 use std::fs::File;
-use std::io::{BufReader, BufWriter, Write};
+use std::io::{BufReader, Write};
 use std::path::Path;
 
 use crate::PlotError;
@@ -13,43 +13,40 @@ pub(crate) fn write_rgb_png(
     height: u32,
     rgb: &[u8],
 ) -> Result<(), PlotError> {
+    let enc_err = |e: png::EncodingError| PlotError::Encode {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    };
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, width, height);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_compression(png::Compression::Balanced);
+        encoder.set_filter(png::Filter::Adaptive);
+        let mut writer = encoder.write_header().map_err(enc_err)?;
+        writer.write_image_data(rgb).map_err(enc_err)?;
+        writer.finish().map_err(enc_err)?;
+    }
+    write_atomically(path, &bytes)
+}
+
+/// Writes `bytes` in full to a temporary file beside `path`, flushed, then renamed over it: a
+/// full disk or a kill leaves the previous file whole, and a symbolic link at `path` is
+/// replaced, never written through.
+pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), PlotError> {
     let io_err = |source| PlotError::Io {
         path: path.to_path_buf(),
         source,
     };
-    let enc_err = |e: png::EncodingError| match e {
-        png::EncodingError::IoError(source) => PlotError::Io {
-            path: path.to_path_buf(),
-            source,
-        },
-        other => PlotError::Encode {
-            path: path.to_path_buf(),
-            message: other.to_string(),
-        },
-    };
-    // Encoded in full to a temporary file beside `path`, flushed, then renamed over it: a full
-    // disk or a kill leaves the previous figure whole, and a symbolic link at `path` is
-    // replaced, never written through.
     let tmp = temp_beside(path);
     let written = (|| {
-        let file = std::fs::OpenOptions::new()
+        let mut file = std::fs::OpenOptions::new()
             .write(true)
             .create_new(true)
             .open(&tmp)
             .map_err(io_err)?;
-        let mut out = BufWriter::new(file);
-        {
-            let mut encoder = png::Encoder::new(&mut out, width, height);
-            encoder.set_color(png::ColorType::Rgb);
-            encoder.set_depth(png::BitDepth::Eight);
-            encoder.set_compression(png::Compression::Default);
-            encoder.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
-            let mut writer = encoder.write_header().map_err(enc_err)?;
-            writer.write_image_data(rgb).map_err(enc_err)?;
-            writer.finish().map_err(enc_err)?;
-        }
-        out.flush().map_err(io_err)?;
-        let file = out.into_inner().map_err(|e| io_err(e.into_error()))?;
+        file.write_all(bytes).map_err(io_err)?;
         file.sync_all().map_err(io_err)?;
         drop(file);
         std::fs::rename(&tmp, path).map_err(io_err)
@@ -115,7 +112,10 @@ pub fn read_rgb(path: &Path) -> Result<RgbImage, PlotError> {
     let mut decoder = png::Decoder::new(BufReader::new(file));
     decoder.set_transformations(png::Transformations::normalize_to_color8());
     let mut reader = decoder.read_info().map_err(|e| dec_err(e.to_string()))?;
-    let mut buf = vec![0u8; reader.output_buffer_size()];
+    let size = reader
+        .output_buffer_size()
+        .ok_or_else(|| dec_err("the image is too large to decode".into()))?;
+    let mut buf = vec![0u8; size];
     let info = reader
         .next_frame(&mut buf)
         .map_err(|e| dec_err(e.to_string()))?;
@@ -221,7 +221,7 @@ mod tests {
         let grey = dir.path().join("grey16.png");
         {
             let file = File::create(&grey).unwrap();
-            let mut enc = png::Encoder::new(BufWriter::new(file), 2, 1);
+            let mut enc = png::Encoder::new(std::io::BufWriter::new(file), 2, 1);
             enc.set_color(png::ColorType::GrayscaleAlpha);
             enc.set_depth(png::BitDepth::Sixteen);
             let mut w = enc.write_header().unwrap();

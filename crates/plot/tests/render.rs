@@ -610,14 +610,16 @@ fn agreeing_figure() -> Figure {
     )
 }
 
-/// 3x3 blocks of exactly `colour`: the inside of a marker disc.
+/// Pixels of exactly `colour` whose four neighbours are too: the inside of a marker disc (a
+/// line of any width and direction in that colour is drawn beneath the markers, never over
+/// them, so only discs give such crosses of the markers' colour).
 fn blocks_of(img: &RgbImage, colour: [u8; 3], area: PixelRect) -> usize {
     (area.left + 1..area.right)
         .flat_map(|x| (area.top + 1..area.bottom).map(move |y| (x, y)))
         .filter(|&(x, y)| {
-            (-1..=1).all(|dx| {
-                (-1..=1).all(|dy| img.pixel((x + dx) as u32, (y + dy) as u32) == Some(colour))
-            })
+            [(0, 0), (-1, 0), (1, 0), (0, -1), (0, 1)]
+                .iter()
+                .all(|(dx, dy)| img.pixel((x + dx) as u32, (y + dy) as u32) == Some(colour))
         })
         .count()
 }

@@ -7,10 +7,8 @@ use crate::target::is_log;
 use std::path::Path;
 use subfric_fit::FitTest;
 use subfric_model::{Control, Model};
-use subfric_plot::posterior::{
-    render_band_png, render_corner_png, BandFigure, CornerFigure, CornerMarker,
-};
-use subfric_plot::{PlotError, Series, Style};
+use subfric_plot::posterior::{BandFigure, CornerFigure, CornerMarker};
+use subfric_plot::{write_figure, PlotError, Series, Style};
 
 /// Samples of a parameter fitted on a logarithmic scale are drawn on a log₁₀ axis when they
 /// span more than this ratio (a valley over decades is then a band, not a corner).
@@ -78,14 +76,15 @@ pub fn corner_figure(post: &Posterior, title: &str, truth: Option<&[f64]>) -> Co
     fig
 }
 
-/// Writes the corner plot of `post` to `path` (see [`corner_figure`]).
+/// Writes the corner plot of `post` to `path` as PNG, and as SVG beside it (see
+/// [`corner_figure`]).
 pub fn corner_png(
     post: &Posterior,
     title: &str,
     truth: Option<&[f64]>,
     path: &Path,
 ) -> Result<(), PlotError> {
-    render_corner_png(&corner_figure(post, title, truth), path)
+    write_figure(&corner_figure(post, title, truth), path).map(|_| ())
 }
 
 /// The band of `test` over its measured curve: friction τ/σ_n against slip under slip
@@ -148,7 +147,8 @@ pub fn band_figure(
     .with_difference(to_y(&band.median), format!("minus the median {unit}"))
 }
 
-/// Writes the band figure of one test to `path` (see [`band_figure`]).
+/// Writes the band figure of one test to `path` as PNG, and as SVG beside it (see
+/// [`band_figure`]).
 pub fn band_png(
     test: &FitTest,
     band: &TestBand,
@@ -156,5 +156,5 @@ pub fn band_png(
     title: &str,
     path: &Path,
 ) -> Result<(), PlotError> {
-    render_band_png(&band_figure(test, band, fitted, title), path)
+    write_figure(&band_figure(test, band, fitted, title), path).map(|_| ())
 }

@@ -5,7 +5,7 @@
 use super::table::{ParamCell, Row, RowStatus};
 use anyhow::Result;
 use std::path::{Path, PathBuf};
-use subfric_plot::{render_interval_png, IntervalEnd, IntervalFigure, IntervalPoint};
+use subfric_plot::{write_figure, IntervalEnd, IntervalFigure, IntervalPoint};
 
 /// The figure of μ against R_max/D50.
 pub const ROUGHNESS_FIGURE: &str = "mu-vs-roughness.png";
@@ -127,16 +127,20 @@ pub fn write(dir: &Path, rows: &[Row]) -> Result<Vec<PathBuf>> {
     );
     for (fig, name) in [(roughness, ROUGHNESS_FIGURE), (stress, STRESS_FIGURE)] {
         let f = dir.join(name);
-        render_interval_png(&fig, &f)?;
+        write_figure(&fig, &f)?;
         files.push(f);
     }
     let f = dir.join(VERDICT_FIGURE);
     if rows.iter().any(|r| r.verdict.is_some()) {
-        render_interval_png(&verdict_figure(rows), &f)?;
+        write_figure(&verdict_figure(rows), &f)?;
         files.push(f);
-    } else if f.is_file() {
-        std::fs::remove_file(&f)
-            .map_err(|e| anyhow::anyhow!("{}: cannot remove: {e}", f.display()))?;
+    } else {
+        for old in [f.clone(), f.with_extension("svg")] {
+            if old.is_file() {
+                std::fs::remove_file(&old)
+                    .map_err(|e| anyhow::anyhow!("{}: cannot remove: {e}", old.display()))?;
+            }
+        }
     }
     Ok(files)
 }

@@ -3,22 +3,24 @@
 //! panel below with everything drawn relative to a reference curve (the posterior median): a
 //! band a fraction of a line width wide on the full curve is seen there at its own scale.
 //!
-//! The band is drawn as the union of the quadrilaterals between consecutive rows, column of
-//! pixels by column of pixels, so that it follows curves that go back and forth (cycles) or
-//! straight up (a hold at constant slip).
+//! The band is drawn as one polygon per run of rows along which x moves on in one direction,
+//! and as a one-pixel-wide bar where x stands still (a hold at constant slip), so that it
+//! follows curves that go back and forth (cycles) or straight up.
 
 use std::path::Path;
 
-use crate::canvas::{Canvas, HAlign, VAlign};
-use crate::chrome::{
-    dash_pattern, draw_axes, draw_grid, draw_legend, draw_y_label, place_legend, place_title,
-    x_ticks, AxisDraw, Legend, LegendEntry, Metrics, Swatch,
+use plotters::coord::CoordTranslate;
+use plotters::prelude::*;
+
+use crate::chart::{
+    chart_err, dashed, decimate, draw_legend, font, frame, place_legend, plot_rect, plottable, rgb,
+    shrink_to_fit, stroke, whole_numbers, AxisRange, Entry, Extent, Metrics, Occupancy, Pt, Swatch,
+    Ticks,
 };
 use crate::colors::{style_rgb, INK_RGB, ZERO_RGB};
-use crate::fonts::{self, CAP_HEIGHT, DESCENT};
-use crate::geom::{decimate, ClipBox, Mapper, Occupancy, PixelRect, Pt};
-use crate::scale::{plottable, ticks, AxisRange, Extent, Ticks};
-use crate::{check_size, png_io, DrawError, Invalid, PlotError, Series, Style};
+use crate::figure::title;
+use crate::render::{self, Chart};
+use crate::{check_size, DrawError, Invalid, PixelRect, PlotError, Series, Style};
 
 /// A band between two curves, with curves drawn over it.
 #[derive(Debug, Clone, PartialEq)]
@@ -108,29 +110,6 @@ pub struct BandLayout {
 /// Colour of the band: a light red under the red fitted curves.
 const BAND_RGB: [u8; 3] = [246, 190, 184];
 
-/// One panel: its band and curves in its own y units.
-struct Panel {
-    rect: PixelRect,
-    y: AxisRange,
-    yticks: Ticks,
-    y_label: (String, f64),
-    lo: Vec<f64>,
-    hi: Vec<f64>,
-    series: Vec<Series>,
-    zero_line: bool,
-}
-
-struct Plan {
-    m: Metrics,
-    x: AxisRange,
-    xticks: Ticks,
-    title: (String, f64, (f64, f64)),
-    x_label: (String, f64),
-    main: Panel,
-    difference: Option<Panel>,
-    legend: Option<Legend>,
-}
-
 fn validate(fig: &BandFigure) -> Result<(), Invalid> {
     check_size(fig.width, fig.height)?;
     let reference = fig.difference.as_ref().map(|d| &d.0);
@@ -159,16 +138,23 @@ fn validate(fig: &BandFigure) -> Result<(), Invalid> {
     Ok(())
 }
 
-fn series_points(s: &Series) -> impl Iterator<Item = (f64, f64)> + '_ {
-    s.x.iter().zip(&s.y).map(|(a, b)| (*a, *b))
-}
-
-fn line_width(style: Style, m: &Metrics) -> f64 {
+fn line_width(style: Style, m: &Metrics) -> u32 {
     match style {
         Style::Measured => m.width(1.2),
-        Style::Fitted => m.width(2.2),
+        Style::Fitted => m.width(2.4),
         _ => m.width(2.0),
     }
+}
+
+/// One panel: its band and curves in its own y units.
+struct Panel {
+    y: AxisRange,
+    yticks: Ticks,
+    y_label: (String, f64),
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    series: Vec<Series>,
+    zero_line: bool,
 }
 
 /// The difference panel's band and curves: everything minus the reference, row by row.
@@ -192,316 +178,358 @@ fn y_range(x: &[f64], lo: &[f64], hi: &[f64], series: &[Series], zero: bool) -> 
             ye.add(*hi);
         }
     }
-    for (x, y) in series.iter().flat_map(series_points) {
-        if plottable(x) && plottable(y) {
-            ye.add(y);
+    for s in series {
+        for (x, y) in s.x.iter().zip(&s.y) {
+            if plottable(*x) {
+                ye.add(*y);
+            }
         }
     }
     ye.padded(zero)
 }
 
-fn plan(fig: &BandFigure) -> Result<Plan, Invalid> {
+/// The band as shapes in pixels: one polygon per run of rows along which x moves on in one
+/// direction, and a bar over every step where it stands still.
+fn band_shapes(
+    x: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    to_px: &dyn Fn((f64, f64)) -> Pt,
+) -> Vec<Vec<Pt>> {
+    let rows: Vec<Option<(f64, f64, f64)>> = (0..x.len())
+        .map(|i| {
+            (plottable(x[i]) && plottable(lo[i]) && plottable(hi[i])).then(|| {
+                let (px, a) = to_px((x[i], lo[i]));
+                (px, a, to_px((x[i], hi[i])).1)
+            })
+        })
+        .collect();
+    let mut shapes = Vec::new();
+    let mut run: Vec<(f64, f64, f64)> = Vec::new();
+    let mut dir = 0.0f64;
+    // The row that ends the bar last pushed, while x stands still.
+    let mut still: Option<usize> = None;
+    // A run's polygon keeps, per pixel column, the highest and the lowest edge of its rows (a
+    // long record does not give a polygon of millions of points, and covers the same pixels).
+    let flush = |run: &mut Vec<(f64, f64, f64)>, shapes: &mut Vec<Vec<Pt>>| {
+        if run.len() > 1 {
+            let mut cols: Vec<(f64, f64, f64)> = Vec::new();
+            for &(x, a, b) in run.iter() {
+                let (top, bottom) = (a.min(b), a.max(b));
+                match cols.last_mut() {
+                    Some(c) if c.0.floor() == x.floor() => {
+                        c.1 = c.1.min(top);
+                        c.2 = c.2.max(bottom);
+                    }
+                    _ => cols.push((x, top, bottom)),
+                }
+            }
+            let mut poly: Vec<Pt> = cols.iter().map(|c| (c.0, c.1)).collect();
+            poly.extend(cols.iter().rev().map(|c| (c.0, c.2)));
+            shapes.push(poly);
+        }
+        run.clear();
+    };
+    for (i, w) in rows.windows(2).enumerate() {
+        let (Some(a), Some(b)) = (w[0], w[1]) else {
+            flush(&mut run, &mut shapes);
+            continue;
+        };
+        let d = x[i + 1] - x[i];
+        if d == 0.0 {
+            // x stands still: one bar over everything the rows of the stand cover.
+            flush(&mut run, &mut shapes);
+            let top = a.1.min(a.2).min(b.1).min(b.2);
+            let bottom = a.1.max(a.2).max(b.1).max(b.2);
+            let c = a.0.floor();
+            match shapes.last_mut() {
+                Some(bar) if still == Some(i) => {
+                    bar[0].1 = bar[0].1.min(top);
+                    bar[1].1 = bar[0].1;
+                    bar[2].1 = bar[2].1.max(bottom);
+                    bar[3].1 = bar[2].1;
+                }
+                _ => shapes.push(vec![
+                    (c - 1.0, top),
+                    (c + 1.0, top),
+                    (c + 1.0, bottom),
+                    (c - 1.0, bottom),
+                ]),
+            }
+            still = Some(i + 1);
+            continue;
+        }
+        if run.is_empty() || d.signum() != dir {
+            flush(&mut run, &mut shapes);
+            run.push(a);
+            dir = d.signum();
+        }
+        run.push(b);
+    }
+    flush(&mut run, &mut shapes);
+    shapes
+}
+
+struct Drawn {
+    svg: String,
+    layout: BandLayout,
+}
+
+fn draw(fig: &BandFigure) -> Result<Drawn, Invalid> {
     validate(fig)?;
-    fonts::ensure_fonts().map_err(Invalid::Draw)?;
+    render::ensure_font().map_err(Invalid::Draw)?;
     let m = Metrics::new(fig.width, fig.height);
+    let (w, h) = (fig.width as i32, fig.height as i32);
     let mut xe = Extent::default();
     for v in fig
         .x
         .iter()
         .chain(fig.series.iter().flat_map(|s| s.x.iter()))
     {
-        if plottable(*v) {
-            xe.add(*v);
-        }
+        xe.add(*v);
     }
     let x = xe.padded(false);
-    let title_block = if fig.title.trim().is_empty() {
-        0.0
+    let title_h = if fig.title.trim().is_empty() {
+        m.pad
     } else {
-        (m.title * 1.5).round()
+        m.pad + (m.title * 1.3) as i32
     };
-    let text_h = |size: f64| (CAP_HEIGHT + DESCENT) * size;
-    let top = m.pad + title_block + m.px(8.0);
-    let mut bottom = m.tick_len + m.gap + text_h(m.tick) + m.pad;
-    if !fig.x_label.trim().is_empty() {
-        bottom += m.px(10.0) + text_h(m.label);
-    }
+    let x_label = shrink_to_fit(&fig.x_label, m.label, m.label * 0.7, w - 2 * m.pad);
+    let x_area = 2 * m.tick_len
+        + (m.tick / 1.24 * 1.1) as i32
+        + m.pad
+        + if x_label.0.is_empty() {
+            0
+        } else {
+            (m.label / 1.24 * 1.3) as i32
+        };
     let gap = if fig.difference.is_some() {
-        m.px(20.0)
+        m.px(20.0) + m.tick_len + 1
     } else {
-        0.0
+        0
     };
-    let avail = (f64::from(fig.height) - top - bottom - gap).floor();
+    let avail = h - title_h - x_area - gap;
     let main_h = if fig.difference.is_some() {
-        (avail * 2.0 / 3.0).round()
+        (f64::from(avail) * 2.0 / 3.0).round() as i32
     } else {
         avail
     };
     let diff_h = avail - main_h;
-    if main_h < 20.0 || (fig.difference.is_some() && diff_h < 15.0) {
+    if main_h < 20 || (fig.difference.is_some() && diff_h < 15) {
         return Err(Invalid::Draw(DrawError::TooLow {
             width: fig.width,
             height: fig.height,
         }));
     }
     let main_y = y_range(&fig.x, &fig.lo, &fig.hi, &fig.series, false);
-    let main_ticks = ticks(
-        main_y,
-        ((main_h / (60.0 * m.s)).round() as usize).clamp(2, 9),
-    );
-    let diff = fig.difference.as_ref().map(|(reference, label)| {
+    let mut panels = vec![Panel {
+        y: main_y,
+        yticks: Ticks::new(
+            main_y,
+            ((f64::from(main_h) / (60.0 * m.s)).round() as usize).clamp(2, 9),
+            false,
+        ),
+        y_label: shrink_to_fit(&fig.y_label, m.label, m.label * 0.7, main_h),
+        lo: fig.lo.clone(),
+        hi: fig.hi.clone(),
+        series: fig.series.clone(),
+        zero_line: false,
+    }];
+    if let Some((reference, label)) = &fig.difference {
         let (lo, hi, series) = differences(fig, reference);
         let y = y_range(&fig.x, &lo, &hi, &series, true);
-        let t = ticks(y, ((diff_h / (45.0 * m.s)).round() as usize).clamp(2, 5));
-        (lo, hi, series, y, t, label.clone())
-    });
-    let tick_w = main_ticks
-        .labels
+        panels.push(Panel {
+            y,
+            yticks: Ticks::new(
+                y,
+                ((f64::from(diff_h) / (45.0 * m.s)).round() as usize).clamp(2, 5),
+                false,
+            ),
+            y_label: shrink_to_fit(label, m.label, m.label * 0.7, diff_h),
+            lo,
+            hi,
+            series,
+            zero_line: true,
+        });
+    }
+    let tick_w = panels
         .iter()
-        .chain(diff.iter().flat_map(|d| d.4.labels.iter()))
-        .map(|l| fonts::text_width(l, m.tick))
-        .fold(0.0, f64::max);
-    let left = (m.pad + text_h(m.label) + m.px(10.0) + tick_w + m.gap + m.tick_len)
-        .ceil()
-        .min(f64::from(fig.width) * 0.45);
-    let plot_w = f64::from(fig.width) - left - m.px(30.0);
-    if plot_w < 40.0 {
+        .map(|p| p.yticks.widest(m.tick))
+        .max()
+        .unwrap_or(0);
+    let left = (m.pad + (m.label / 1.24 * 1.25) as i32 + m.px(6.0) + tick_w + 2 * m.tick_len)
+        .min((f64::from(w) * 0.45) as i32);
+    let right_margin = m.px(30.0);
+    let plot_w = w - left - right_margin;
+    if plot_w < 40 {
         return Err(Invalid::Draw(DrawError::TooNarrow {
             width: fig.width,
             height: fig.height,
         }));
     }
-    let xticks = x_ticks(x, plot_w, &m);
-    let rect = PixelRect {
-        left: left as i32,
-        top: top as i32,
-        right: left as i32 + plot_w as i32 - 1,
-        bottom: top as i32 + main_h as i32 - 1,
-    };
-    let y_label = |text: &str, r: PixelRect| {
-        fonts::shrink_to_fit(text.trim(), m.label, m.label * 0.7, f64::from(r.height()))
-    };
-    let main = Panel {
-        rect,
-        y: main_y,
-        yticks: main_ticks,
-        y_label: y_label(&fig.y_label, rect),
-        lo: fig.lo.clone(),
-        hi: fig.hi.clone(),
-        series: fig.series.clone(),
-        zero_line: false,
-    };
-    let difference = diff.map(|(lo, hi, series, y, yticks, label)| {
-        let r = PixelRect {
-            top: rect.bottom + 1 + gap as i32,
-            bottom: rect.bottom + gap as i32 + diff_h as i32,
-            ..rect
-        };
-        Panel {
-            rect: r,
-            y,
-            yticks,
-            y_label: y_label(&label, r),
-            lo,
-            hi,
-            series,
-            zero_line: true,
-        }
-    });
-    let legend = main_legend(fig, &main, x, &m);
-    let title = place_title(&fig.title, rect, fig.width, title_block, &m);
-    let max_w = f64::from(fig.width) - 2.0 * m.pad;
-    let x_label = fonts::shrink_to_fit(fig.x_label.trim(), m.label, m.label * 0.7, max_w);
-    Ok(Plan {
-        m,
+    let integer_x = whole_numbers(fig.x.iter());
+    let xticks = Ticks::fitting(
         x,
-        xticks,
-        title,
-        x_label,
-        main,
-        difference,
-        legend,
-    })
+        plot_w,
+        m.tick,
+        ((f64::from(plot_w) / (110.0 * m.s)).round() as usize).clamp(2, 12),
+        integer_x,
+    );
+    let mut layout = None;
+    let svg = render::svg_of(fig.width, fig.height, |root| {
+        root.fill(&WHITE).map_err(chart_err)?;
+        let mut rects = Vec::new();
+        let mut legend_rect = None;
+        let mut top = title_h;
+        for (k, p) in panels.iter().enumerate() {
+            let last = k + 1 == panels.len();
+            let plot_h = if k == 0 { main_h } else { diff_h };
+            let height = plot_h + if last { x_area } else { m.tick_len + 1 };
+            let area = root.clone().shrink((0, top), (fig.width, height as u32));
+            top += height + m.px(20.0);
+            let mut chart = ChartBuilder::on(&area)
+                .margin_right(right_margin)
+                .margin_left(m.pad)
+                .y_label_area_size(left - m.pad)
+                .x_label_area_size(height - plot_h)
+                .build_cartesian_2d(x.min..x.max, p.y.min..p.y.max)
+                .map_err(chart_err)?;
+            let xfmt = |v: &f64| {
+                if last {
+                    xticks.label(*v)
+                } else {
+                    String::new()
+                }
+            };
+            let yfmt = |v: &f64| p.yticks.label(*v);
+            let mut mesh = chart.configure_mesh();
+            mesh.x_labels(xticks.values.len().max(1))
+                .y_labels(p.yticks.values.len().max(1))
+                .x_label_formatter(&xfmt)
+                .y_label_formatter(&yfmt)
+                .bold_line_style(rgb(crate::colors::GRID_RGB))
+                .light_line_style(TRANSPARENT)
+                .axis_style(BLACK)
+                .set_all_tick_mark_size(m.tick_len)
+                .label_style(font(m.tick))
+                .axis_desc_style(font(p.y_label.1))
+                .y_desc(p.y_label.0.clone());
+            if last && !x_label.0.is_empty() {
+                mesh.x_desc(x_label.0.clone());
+            }
+            mesh.draw().map_err(chart_err)?;
+            let rect = plot_rect(&chart);
+            let spec = chart.as_coord_spec().clone();
+            let to_px = |q: (f64, f64)| {
+                let c = spec.translate(&q);
+                (f64::from(c.0), f64::from(c.1))
+            };
+            let mut occupancy = Occupancy::new(rect, m.px(12.0).max(4));
+            for shape in band_shapes(&fig.x, &p.lo, &p.hi, &to_px) {
+                occupancy.mark_polyline(&shape);
+                let pts: Vec<(i32, i32)> = shape
+                    .iter()
+                    .map(|q| (q.0.round() as i32, q.1.round() as i32))
+                    .collect();
+                root.draw(&Polygon::new(pts, rgb(BAND_RGB).filled()))
+                    .map_err(chart_err)?;
+            }
+            if p.zero_line && p.y.contains(0.0) {
+                chart
+                    .draw_series(std::iter::once(PathElement::new(
+                        vec![(x.min, 0.0), (x.max, 0.0)],
+                        dashed(ZERO_RGB, 1),
+                    )))
+                    .map_err(chart_err)?;
+            }
+            for s in &p.series {
+                let color = style_rgb(s.style);
+                let width = line_width(s.style, &m);
+                let style = if s.style == Style::Published {
+                    dashed(color, width)
+                } else {
+                    stroke(color, width)
+                };
+                let mut run: Vec<(f64, f64)> = Vec::new();
+                let mut runs = Vec::new();
+                for (a, b) in s.x.iter().zip(&s.y) {
+                    if plottable(*a) && plottable(*b) {
+                        run.push((*a, *b));
+                    } else if !run.is_empty() {
+                        runs.push(std::mem::take(&mut run));
+                    }
+                }
+                runs.push(run);
+                for r in runs.into_iter().filter(|r| !r.is_empty()) {
+                    let r =
+                        crate::chart::distinct_pixels(decimate(&r, |q| to_px(*q)), |q| to_px(*q));
+                    occupancy.mark_polyline(&r.iter().map(|q| to_px(*q)).collect::<Vec<_>>());
+                    chart
+                        .draw_series(LineSeries::new(r, style))
+                        .map_err(chart_err)?;
+                }
+            }
+            frame(root, rect, INK_RGB)?;
+            if k == 0 {
+                let mut entries = vec![Entry {
+                    label: fig.band_label.clone(),
+                    swatch: Swatch::Patch { color: BAND_RGB },
+                }];
+                entries.extend(
+                    fig.series
+                        .iter()
+                        .filter(|s| !s.label.trim().is_empty())
+                        .map(|s| Entry {
+                            label: s.label.clone(),
+                            swatch: Swatch::Line {
+                                color: style_rgb(s.style),
+                                width: line_width(s.style, &m),
+                                dashed: s.style == Style::Published,
+                                marker: None,
+                            },
+                        }),
+                );
+                let legend = place_legend(entries, rect, &occupancy, &m);
+                if let Some(l) = &legend {
+                    draw_legend(&mut chart, l)?;
+                }
+                legend_rect = legend.map(|l| l.rect);
+            }
+            rects.push(rect);
+        }
+        title(root, &fig.title, rects[0], fig.width, &m)?;
+        layout = Some(BandLayout {
+            plot: rects[0],
+            difference: rects.get(1).copied(),
+            legend: legend_rect,
+            x_range: (x.min, x.max),
+            y_range: (panels[0].y.min, panels[0].y.max),
+            difference_y_range: panels.get(1).map(|p| (p.y.min, p.y.max)),
+        });
+        Ok(())
+    })?;
+    let layout = layout.ok_or(Invalid::Draw(DrawError::Chart("nothing drawn".into())))?;
+    Ok(Drawn { svg, layout })
 }
 
-/// The legend of the main panel, in its emptiest corner.
-fn main_legend(fig: &BandFigure, p: &Panel, x: AxisRange, m: &Metrics) -> Option<Legend> {
-    let mapper = Mapper {
-        rect: p.rect,
-        x,
-        y: p.y,
-    };
-    let mut occupancy = Occupancy::new(p.rect, (12.0 * m.s).round().max(4.0) as i32);
-    for edge in [&p.lo, &p.hi] {
-        let pts: Vec<Pt> = fig
-            .x
-            .iter()
-            .zip(edge)
-            .filter(|(a, b)| plottable(**a) && plottable(**b))
-            .map(|(a, b)| (mapper.px(*a), mapper.py(*b)))
-            .collect();
-        occupancy.mark_polyline(&pts);
+impl Chart for BandFigure {
+    fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
     }
-    let mut entries = vec![LegendEntry {
-        label: fig.band_label.clone(),
-        swatch: Swatch::Patch { color: BAND_RGB },
-    }];
-    for s in &p.series {
-        let pts: Vec<Pt> = series_points(s)
-            .filter(|(a, b)| plottable(*a) && plottable(*b))
-            .map(|(a, b)| (mapper.px(a), mapper.py(b)))
-            .collect();
-        occupancy.mark_polyline(&pts);
-        if !s.label.trim().is_empty() {
-            entries.push(LegendEntry {
-                label: s.label.clone(),
-                swatch: Swatch::Line {
-                    color: style_rgb(s.style),
-                    width: line_width(s.style, m),
-                    dashed: s.style == Style::Published,
-                    marker: None,
-                },
-            });
-        }
+
+    fn svg_document(&self) -> Result<String, Invalid> {
+        draw(self).map(|d| d.svg)
     }
-    place_legend(entries, p.rect, &occupancy, m)
 }
 
 /// Where the parts of `fig` would be drawn, or `None` if `fig` is invalid.
 pub fn band_layout(fig: &BandFigure) -> Option<BandLayout> {
-    let p = plan(fig).ok()?;
-    Some(BandLayout {
-        plot: p.main.rect,
-        difference: p.difference.as_ref().map(|d| d.rect),
-        legend: p.legend.as_ref().map(|l| l.rect),
-        x_range: (p.x.min, p.x.max),
-        y_range: (p.main.y.min, p.main.y.max),
-        difference_y_range: p.difference.as_ref().map(|d| (d.y.min, d.y.max)),
-    })
+    draw(fig).ok().map(|d| d.layout)
 }
 
-/// Fills the band between consecutive rows, one pixel column at a time.
-fn fill_band(c: &mut Canvas, x: &[f64], p: &Panel, mapper: &Mapper) {
-    let r = mapper.rect;
-    let clamp_y = |v: f64| {
-        v.round()
-            .clamp(f64::from(r.top + 1), f64::from(r.bottom - 1)) as i32
-    };
-    let row = |i: usize| -> Option<(f64, f64, f64)> {
-        let (x, lo, hi) = (x[i], p.lo[i], p.hi[i]);
-        (plottable(x) && plottable(lo) && plottable(hi))
-            .then(|| (mapper.px(x), mapper.py(lo), mapper.py(hi)))
-    };
-    for i in 1..x.len() {
-        let (Some((xa, la, ha)), Some((xb, lb, hb))) = (row(i - 1), row(i)) else {
-            continue;
-        };
-        let (c0, c1) = (xa.min(xb).round() as i32, xa.max(xb).round() as i32);
-        for col in c0.max(r.left + 1)..=c1.min(r.right - 1) {
-            let (top, bottom) = if (xb - xa).abs() < 1.0 {
-                (ha.min(hb).min(la).min(lb), ha.max(hb).max(la).max(lb))
-            } else {
-                let t = ((f64::from(col) - xa) / (xb - xa)).clamp(0.0, 1.0);
-                let lo = la + t * (lb - la);
-                let hi = ha + t * (hb - ha);
-                (lo.min(hi), lo.max(hi))
-            };
-            c.fill(
-                PixelRect {
-                    left: col,
-                    right: col,
-                    top: clamp_y(top),
-                    bottom: clamp_y(bottom),
-                },
-                BAND_RGB,
-            );
-        }
-    }
-}
-
-fn draw_series(c: &mut Canvas, s: &Series, mapper: &Mapper, m: &Metrics) {
-    let width = line_width(s.style, m);
-    let clip = ClipBox::inside(mapper.rect, width + 1.0);
-    let dash = (s.style == Style::Published).then(|| dash_pattern(m));
-    let mut run: Vec<Pt> = Vec::new();
-    let flush = |run: &mut Vec<Pt>, c: &mut Canvas| {
-        for piece in clip.clip_polyline(&decimate(run)) {
-            c.polyline(&piece, style_rgb(s.style), width, dash);
-        }
-        run.clear();
-    };
-    for (x, y) in series_points(s) {
-        if plottable(x) && plottable(y) {
-            run.push((mapper.px(x), mapper.py(y)));
-        } else {
-            flush(&mut run, c);
-        }
-    }
-    flush(&mut run, c);
-}
-
-fn draw_panel(c: &mut Canvas, fig: &BandFigure, plan: &Plan, p: &Panel, bottom: bool) {
-    let axes = AxisDraw {
-        rect: p.rect,
-        x: Some((plan.x, &plan.xticks)),
-        x_labels: bottom,
-        y: p.y,
-        yticks: &p.yticks,
-    };
-    draw_grid(c, &axes);
-    let mapper = Mapper {
-        rect: p.rect,
-        x: plan.x,
-        y: p.y,
-    };
-    fill_band(c, &fig.x, p, &mapper);
-    if p.zero_line && p.y.contains(0.0) {
-        let y = mapper.py(0.0).round();
-        let (l, r) = (f64::from(p.rect.left + 1), f64::from(p.rect.right - 1));
-        c.line((l, y), (r, y), ZERO_RGB, 1.0, Some(dash_pattern(&plan.m)));
-    }
-    for s in &p.series {
-        draw_series(c, s, &mapper, &plan.m);
-    }
-    draw_axes(c, &axes, &plan.m, fig.width);
-    draw_y_label(c, &p.y_label.0, p.y_label.1, p.rect, &plan.m);
-}
-
-fn draw(fig: &BandFigure, p: &Plan) -> Result<Canvas, DrawError> {
-    let mut c = Canvas::new(fig.width, fig.height)?;
-    draw_panel(&mut c, fig, p, &p.main, p.difference.is_none());
-    if let Some(d) = &p.difference {
-        draw_panel(&mut c, fig, p, d, true);
-    }
-    if let Some(l) = &p.legend {
-        draw_legend(&mut c, l, &p.m);
-    }
-    let (title, size, centre) = &p.title;
-    c.text(
-        title,
-        *size,
-        INK_RGB,
-        *centre,
-        HAlign::Center,
-        VAlign::Center,
-    );
-    let cx = 0.5 * f64::from(p.main.rect.left + p.main.rect.right);
-    c.text(
-        &p.x_label.0,
-        p.x_label.1,
-        INK_RGB,
-        (cx, f64::from(fig.height) - p.m.pad),
-        HAlign::Center,
-        VAlign::Bottom,
-    );
-    Ok(c)
-}
-
-/// Draws `fig` and writes it to `path` as an RGB PNG. Errors (each naming `path`): a size out
-/// of bounds, edges, reference or curves whose lengths differ from their x, a file that cannot
-/// be written.
+/// Draws `fig` and writes it to `path` as an RGB PNG (see [`crate::write_figure`] for the PNG
+/// and the SVG). Errors (each naming `path`): a size out of bounds, edges, reference or curves
+/// whose lengths differ from their x, a file that cannot be written.
 pub fn render_band_png(fig: &BandFigure, path: &Path) -> Result<(), PlotError> {
-    let p = plan(fig).map_err(|e| e.with_path(path))?;
-    let canvas = draw(fig, &p).map_err(|e| Invalid::Draw(e).with_path(path))?;
-    png_io::write_rgb_png(path, fig.width, fig.height, &canvas.into_rgb())
+    render::write_png(fig, path)
 }

@@ -4,15 +4,16 @@
 
 use std::path::Path;
 
-use crate::canvas::{Canvas, HAlign, VAlign};
-use crate::chrome::{
-    dash_pattern, draw_legend, place_legend, place_title, LegendEntry, Metrics, Swatch,
+use plotters::prelude::*;
+
+use crate::chart::{
+    chart_err, dashed, draw_legend, font, frame, no_data, place_legend, plottable, rgb,
+    shrink_to_fit, stroke, AxisRange, Entry, Metrics, Occupancy, Swatch, Ticks,
 };
-use crate::colors::{style_rgb, GRID_RGB, INK_RGB, ZERO_RGB};
-use crate::fonts::{self, CAP_HEIGHT, DESCENT};
-use crate::geom::{Mapper, Occupancy, PixelRect};
-use crate::scale::{plottable, ticks, AxisRange, Ticks};
-use crate::{check_size, png_io, DrawError, Invalid, PlotError, Style};
+use crate::colors::{style_rgb, INK_RGB, ZERO_RGB};
+use crate::figure::title;
+use crate::render::{self, Chart};
+use crate::{check_size, DrawError, Invalid, PixelRect, PlotError, Style};
 
 /// A point drawn on every panel (e.g. the least-squares optimum, or the true values).
 #[derive(Debug, Clone, PartialEq)]
@@ -105,18 +106,6 @@ const HISTOGRAM_EDGE_RGB: [u8; 3] = [33, 113, 181];
 /// rest into a corner); markers always do.
 const RANGE_QUANTILES: (f64, f64) = (0.001, 0.999);
 
-struct Plan {
-    m: Metrics,
-    n: usize,
-    cells: Vec<Vec<PixelRect>>,
-    ranges: Vec<AxisRange>,
-    ticks: Vec<Ticks>,
-    tick_font: f64,
-    label_font: f64,
-    title: (String, f64, (f64, f64)),
-    legend_area: Option<PixelRect>,
-}
-
 fn validate(fig: &CornerFigure) -> Result<(), Invalid> {
     check_size(fig.width, fig.height)?;
     let n = fig.samples.first().map_or(0, Vec::len);
@@ -176,134 +165,6 @@ fn range_of(col: &[f64], markers: &[f64]) -> AxisRange {
     }
 }
 
-fn plan(fig: &CornerFigure) -> Result<Plan, Invalid> {
-    validate(fig)?;
-    fonts::ensure_fonts().map_err(Invalid::Draw)?;
-    let m = Metrics::new(fig.width, fig.height);
-    let n = fig.samples.len();
-    let ranges: Vec<AxisRange> = (0..n)
-        .map(|k| {
-            let mk: Vec<f64> = fig.markers.iter().map(|mk| mk.values[k]).collect();
-            range_of(&fig.samples[k], &mk)
-        })
-        .collect();
-    let ticks: Vec<Ticks> = ranges.iter().map(|r| ticks(*r, 3)).collect();
-    if n == 0 {
-        // Nothing sampled: the title over an empty image that says so.
-        let whole = PixelRect {
-            left: 0,
-            top: 0,
-            right: fig.width as i32 - 1,
-            bottom: fig.height as i32 - 1,
-        };
-        let title = place_title(&fig.title, whole, fig.width, (m.title * 1.5).round(), &m);
-        return Ok(Plan {
-            m,
-            n,
-            cells: Vec::new(),
-            ranges,
-            ticks,
-            tick_font: m.tick,
-            label_font: m.label,
-            title,
-            legend_area: None,
-        });
-    }
-    let tick_font = m.tick * 0.8;
-    let label_font = m.label * 0.85;
-    let title_block = if fig.title.trim().is_empty() {
-        0.0
-    } else {
-        (m.title * 1.5).round()
-    };
-    let text_h = |size: f64| (CAP_HEIGHT + DESCENT) * size;
-    let tick_w = ticks
-        .iter()
-        .skip(1)
-        .flat_map(|t| t.labels.iter())
-        .map(|l| fonts::text_width(l, tick_font))
-        .fold(0.0, f64::max);
-    let left = (m.pad + text_h(label_font) + m.px(8.0) + tick_w + m.gap + m.tick_len).ceil();
-    let top = m.pad + title_block + m.px(8.0);
-    let bottom = m.tick_len + m.gap + text_h(tick_font) + m.px(8.0) + text_h(label_font) + m.pad;
-    let gap = m.px(8.0);
-    let avail_w = f64::from(fig.width) - left - m.pad - m.px(10.0);
-    let avail_h = f64::from(fig.height) - top - bottom;
-    let cell_w = ((avail_w - gap * (n as f64 - 1.0)) / n.max(1) as f64).floor();
-    let cell_h = ((avail_h - gap * (n as f64 - 1.0)) / n.max(1) as f64).floor();
-    if cell_w < 30.0 {
-        return Err(Invalid::Draw(DrawError::TooNarrow {
-            width: fig.width,
-            height: fig.height,
-        }));
-    }
-    if cell_h < 30.0 {
-        return Err(Invalid::Draw(DrawError::TooLow {
-            width: fig.width,
-            height: fig.height,
-        }));
-    }
-    let cells: Vec<Vec<PixelRect>> = (0..n)
-        .map(|i| {
-            (0..n)
-                .map(|j| {
-                    let l = (left + j as f64 * (cell_w + gap)) as i32;
-                    let t = (top + i as f64 * (cell_h + gap)) as i32;
-                    PixelRect {
-                        left: l,
-                        top: t,
-                        right: l + cell_w as i32 - 1,
-                        bottom: t + cell_h as i32 - 1,
-                    }
-                })
-                .collect()
-        })
-        .collect();
-    // The empty upper triangle holds the legend: from the second column of the first row to
-    // the last column of the row above the last.
-    let legend_area = (n >= 2).then(|| PixelRect {
-        left: cells[0][n / 2].left,
-        top: cells[0][n - 1].top,
-        right: cells[0][n - 1].right,
-        bottom: cells[(n - 1) / 2][n - 1].bottom,
-    });
-    let whole = PixelRect {
-        left: cells[0][0].left,
-        top: cells[0][0].top,
-        right: cells[0][n - 1].right,
-        bottom: cells[n - 1][0].bottom,
-    };
-    let title = place_title(&fig.title, whole, fig.width, title_block, &m);
-    Ok(Plan {
-        m,
-        n,
-        cells,
-        ranges,
-        ticks,
-        tick_font,
-        label_font,
-        title,
-        legend_area,
-    })
-}
-
-/// Where the panels of `fig` would be drawn, or `None` if `fig` is invalid.
-pub fn corner_layout(fig: &CornerFigure) -> Option<CornerLayout> {
-    let p = plan(fig).ok()?;
-    let mut panels = Vec::new();
-    for i in 0..p.n {
-        for j in 0..=i {
-            panels.push((i, j, p.cells[i][j]));
-        }
-    }
-    Some(CornerLayout {
-        width: fig.width,
-        height: fig.height,
-        panels,
-        ranges: p.ranges.iter().map(|r| (r.min, r.max)).collect(),
-    })
-}
-
 /// Bin of `v` among `bins` equal bins of `r`, if inside.
 fn bin(v: f64, r: AxisRange, bins: usize) -> Option<usize> {
     if !plottable(v) || v < r.min || v > r.max {
@@ -318,323 +179,371 @@ fn mix(t: f64, to: [u8; 3]) -> [u8; 3] {
     [c(to[0]), c(to[1]), c(to[2])]
 }
 
-/// Equal-width columns of a rectangle: pixel column range of bin `k` of `bins`.
-fn bin_cols(r: PixelRect, k: usize, bins: usize) -> (i32, i32) {
-    let w = f64::from(r.width());
-    let a = r.left + (w * k as f64 / bins as f64).round() as i32;
-    let b = r.left + (w * (k + 1) as f64 / bins as f64).round() as i32 - 1;
-    (a, b.max(a))
+struct Drawn {
+    svg: String,
+    layout: CornerLayout,
 }
 
-fn bin_rows(r: PixelRect, k: usize, bins: usize) -> (i32, i32) {
-    let h = f64::from(r.height());
-    let b = r.bottom - (h * k as f64 / bins as f64).round() as i32;
-    let a = r.bottom - (h * (k + 1) as f64 / bins as f64).round() as i32 + 1;
-    (a.min(b), b)
-}
-
-fn draw_pair(c: &mut Canvas, fig: &CornerFigure, p: &Plan, i: usize, j: usize) {
-    let r = p.cells[i][j];
+#[allow(clippy::too_many_lines)]
+fn draw(fig: &CornerFigure) -> Result<Drawn, Invalid> {
+    validate(fig)?;
+    render::ensure_font().map_err(Invalid::Draw)?;
+    let m = Metrics::new(fig.width, fig.height);
+    let n = fig.samples.len();
+    let (w, h) = (fig.width as i32, fig.height as i32);
+    let ranges: Vec<AxisRange> = (0..n)
+        .map(|k| {
+            let mk: Vec<f64> = fig.markers.iter().map(|mk| mk.values[k]).collect();
+            range_of(&fig.samples[k], &mk)
+        })
+        .collect();
+    let ticks: Vec<Ticks> = ranges.iter().map(|r| Ticks::new(*r, 4, false)).collect();
+    let tick_font = m.tick * 0.8;
+    let label_font = m.label * 0.85;
+    let title_h = if fig.title.trim().is_empty() {
+        m.pad
+    } else {
+        m.pad + (m.title * 1.3) as i32
+    };
+    let y_area = (label_font / 1.24 * 1.25) as i32
+        + m.px(6.0)
+        + ticks
+            .iter()
+            .skip(1)
+            .map(|t| t.widest(tick_font))
+            .max()
+            .unwrap_or(0)
+        + 2 * m.tick_len;
+    let x_area =
+        2 * m.tick_len + (tick_font / 1.24 * 1.2) as i32 + (label_font / 1.24 * 1.3) as i32;
+    let left = m.pad + y_area;
+    let gap = m.px(10.0);
+    let nn = n.max(1) as i32;
+    let cell_w = (w - left - m.pad - m.px(10.0) - gap * (nn - 1)) / nn;
+    let cell_h = (h - title_h - x_area - m.pad - gap * (nn - 1)) / nn;
+    if n > 0 && cell_w < 30 {
+        return Err(Invalid::Draw(DrawError::TooNarrow {
+            width: fig.width,
+            height: fig.height,
+        }));
+    }
+    if n > 0 && cell_h < 30 {
+        return Err(Invalid::Draw(DrawError::TooLow {
+            width: fig.width,
+            height: fig.height,
+        }));
+    }
+    let cell = |i: usize, j: usize| {
+        let l = left + j as i32 * (cell_w + gap);
+        let t = title_h + i as i32 * (cell_h + gap);
+        PixelRect {
+            left: l,
+            top: t,
+            right: l + cell_w - 1,
+            bottom: t + cell_h - 1,
+        }
+    };
     let bins = fig.bins.max(2);
+    let labels: Vec<(String, f64)> = fig
+        .labels
+        .iter()
+        .map(|l| {
+            shrink_to_fit(
+                l,
+                label_font,
+                label_font * 0.7,
+                cell_w.min(cell_h) + m.px(6.0),
+            )
+        })
+        .collect();
+    let mut panels = Vec::new();
+    let svg = render::svg_of(fig.width, fig.height, |root| {
+        root.fill(&WHITE).map_err(chart_err)?;
+        let whole = PixelRect {
+            left: 0,
+            top: 0,
+            right: w - 1,
+            bottom: h - 1,
+        };
+        if n == 0 {
+            no_data(root, whole, &m)?;
+            return title(root, &fig.title, whole, fig.width, &m);
+        }
+        for i in 0..n {
+            for j in 0..=i {
+                let r = cell(i, j);
+                // Every cell has room for tick labels left of and below it, so that all
+                // plotting areas are the cells; only the outer ones write into it.
+                let area = root.clone().shrink(
+                    (r.left - y_area, r.top),
+                    ((cell_w + y_area) as u32, (cell_h + x_area) as u32),
+                );
+                let (xr, yr) = (
+                    ranges[j],
+                    if i == j {
+                        AxisRange { min: 0.0, max: 1.0 }
+                    } else {
+                        ranges[i]
+                    },
+                );
+                let mut chart = ChartBuilder::on(&area)
+                    .y_label_area_size(y_area)
+                    .x_label_area_size(x_area)
+                    .build_cartesian_2d(xr.min..xr.max, yr.min..yr.max)
+                    .map_err(chart_err)?;
+                let xfmt = |v: &f64| {
+                    if i + 1 == n {
+                        ticks[j].label(*v)
+                    } else {
+                        String::new()
+                    }
+                };
+                let yfmt = |v: &f64| {
+                    if j == 0 && i != j {
+                        ticks[i].label(*v)
+                    } else {
+                        String::new()
+                    }
+                };
+                let mut mesh = chart.configure_mesh();
+                mesh.x_labels(4)
+                    .y_labels(if i == j { 0 } else { 4 })
+                    .x_label_formatter(&xfmt)
+                    .y_label_formatter(&yfmt)
+                    .bold_line_style(rgb(crate::colors::GRID_RGB))
+                    .light_line_style(TRANSPARENT)
+                    .axis_style(BLACK)
+                    .set_all_tick_mark_size(m.tick_len)
+                    .label_style(font(tick_font));
+                if i + 1 == n {
+                    mesh.axis_desc_style(font(labels[j].1))
+                        .x_desc(labels[j].0.clone());
+                }
+                if j == 0 && i > 0 {
+                    mesh.axis_desc_style(font(labels[i].1))
+                        .y_desc(labels[i].0.clone());
+                }
+                mesh.draw().map_err(chart_err)?;
+                if i == j {
+                    diagonal(&mut chart, fig, &ranges, i, bins, &m)?;
+                } else {
+                    pair(&mut chart, fig, &ranges, i, j, bins, &m)?;
+                }
+                frame(root, r, INK_RGB)?;
+                panels.push((i, j, r));
+            }
+        }
+        title(
+            root,
+            &fig.title,
+            PixelRect {
+                left: cell(0, 0).left,
+                top: 0,
+                right: cell(0, n - 1).right,
+                bottom: 0,
+            },
+            fig.width,
+            &m,
+        )?;
+        // The empty upper triangle holds the legend.
+        if n >= 2 {
+            let area = PixelRect {
+                left: cell(0, n / 2).left,
+                top: cell(0, n - 1).top,
+                right: cell(0, n - 1).right,
+                bottom: cell((n - 1) / 2, n - 1).bottom,
+            };
+            let mut entries: Vec<Entry> = fig
+                .markers
+                .iter()
+                .map(|mk| Entry {
+                    label: mk.label.clone(),
+                    swatch: Swatch::Line {
+                        color: style_rgb(mk.style),
+                        width: m.width(2.0),
+                        dashed: false,
+                        marker: Some((marker_radius(&m), style_rgb(mk.style))),
+                    },
+                })
+                .collect();
+            entries.push(Entry {
+                label: "posterior samples (shade: √ density)".into(),
+                swatch: Swatch::Patch {
+                    color: mix(0.7, DENSITY_RGB),
+                },
+            });
+            entries.push(Entry {
+                label: "2.5 %, median, 97.5 %".into(),
+                swatch: Swatch::Line {
+                    color: ZERO_RGB,
+                    width: m.width(1.2),
+                    dashed: true,
+                    marker: None,
+                },
+            });
+            if let Some(l) = place_legend(entries, area, &Occupancy::new(area, 8), &m) {
+                // The legend is drawn by a chart over that corner (series labels are placed
+                // within a chart's plotting area).
+                let corner = root.clone().shrink(
+                    (area.left, area.top),
+                    (area.width() as u32, area.height() as u32),
+                );
+                let mut chart = ChartBuilder::on(&corner)
+                    .build_cartesian_2d(0.0..1.0, 0.0..1.0)
+                    .map_err(chart_err)?;
+                draw_legend(&mut chart, &l)?;
+            }
+        }
+        Ok(())
+    })?;
+    Ok(Drawn {
+        svg,
+        layout: CornerLayout {
+            width: fig.width,
+            height: fig.height,
+            panels,
+            ranges: ranges.iter().map(|r| (r.min, r.max)).collect(),
+        },
+    })
+}
+
+type Cell<'a, 'b> = ChartContext<
+    'a,
+    SVGBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+fn marker_radius(m: &Metrics) -> u32 {
+    (4.0 * m.s).round().max(3.0) as u32
+}
+
+/// A 2-D histogram of parameter j (across) and i (up), with the markers.
+fn pair(
+    chart: &mut Cell<'_, '_>,
+    fig: &CornerFigure,
+    ranges: &[AxisRange],
+    i: usize,
+    j: usize,
+    bins: usize,
+    m: &Metrics,
+) -> Result<(), Invalid> {
+    let (xr, yr) = (ranges[j], ranges[i]);
     let mut counts = vec![0u32; bins * bins];
     for (x, y) in fig.samples[j].iter().zip(&fig.samples[i]) {
-        if let (Some(bx), Some(by)) = (bin(*x, p.ranges[j], bins), bin(*y, p.ranges[i], bins)) {
+        if let (Some(bx), Some(by)) = (bin(*x, xr, bins), bin(*y, yr, bins)) {
             counts[by * bins + bx] += 1;
         }
     }
     let max = f64::from(counts.iter().copied().max().unwrap_or(0).max(1));
-    for by in 0..bins {
-        for bx in 0..bins {
-            let k = counts[by * bins + bx];
-            if k == 0 {
-                continue;
-            }
-            let (left, right) = bin_cols(r, bx, bins);
-            let (top, bottom) = bin_rows(r, by, bins);
-            let t = 0.12 + 0.88 * (f64::from(k) / max).sqrt();
-            c.fill(
-                PixelRect {
-                    left,
-                    top,
-                    right,
-                    bottom,
-                },
-                mix(t, DENSITY_RGB),
-            );
-        }
-    }
-    let mapper = Mapper {
-        rect: r,
-        x: p.ranges[j],
-        y: p.ranges[i],
-    };
-    let radius = (4.0 * p.m.s).max(2.5);
+    let edge = |r: AxisRange, k: usize| r.min + r.span() * k as f64 / bins as f64;
+    let cells = (0..bins * bins).filter(|k| counts[*k] > 0).map(|k| {
+        let (bx, by) = (k % bins, k / bins);
+        let t = 0.12 + 0.88 * (f64::from(counts[k]) / max).sqrt();
+        Rectangle::new(
+            [
+                (edge(xr, bx), edge(yr, by)),
+                (edge(xr, bx + 1), edge(yr, by + 1)),
+            ],
+            rgb(mix(t, DENSITY_RGB)).filled(),
+        )
+    });
+    chart.draw_series(cells).map_err(chart_err)?;
+    let r = marker_radius(m);
     for mk in &fig.markers {
         let (x, y) = (mk.values[j], mk.values[i]);
-        if p.ranges[j].contains(x) && p.ranges[i].contains(y) {
-            let at = (mapper.px(x), mapper.py(y));
-            c.dot(at, radius + 1.5, [255, 255, 255]);
-            c.dot(at, radius, style_rgb(mk.style));
+        if xr.contains(x) && yr.contains(y) {
+            chart
+                .draw_series([
+                    Circle::new((x, y), r + 2, WHITE.filled()),
+                    Circle::new((x, y), r, rgb(style_rgb(mk.style)).filled()),
+                ])
+                .map_err(chart_err)?;
         }
     }
+    Ok(())
 }
 
-fn draw_diagonal(c: &mut Canvas, fig: &CornerFigure, p: &Plan, i: usize) {
-    let r = p.cells[i][i];
-    let bins = fig.bins.max(2);
+/// The 1-D histogram of parameter i, its 2.5 / 50 / 97.5 % and the markers.
+fn diagonal(
+    chart: &mut Cell<'_, '_>,
+    fig: &CornerFigure,
+    ranges: &[AxisRange],
+    i: usize,
+    bins: usize,
+    m: &Metrics,
+) -> Result<(), Invalid> {
+    let xr = ranges[i];
     let mut counts = vec![0u32; bins];
     for v in &fig.samples[i] {
-        if let Some(b) = bin(*v, p.ranges[i], bins) {
+        if let Some(b) = bin(*v, xr, bins) {
             counts[b] += 1;
         }
     }
     let max = f64::from(counts.iter().copied().max().unwrap_or(0).max(1)) * 1.1;
-    let mut edge = Vec::with_capacity(2 * bins);
-    for (k, &n) in counts.iter().enumerate() {
-        let (left, right) = bin_cols(r, k, bins);
-        let top = r.bottom - (f64::from(n) / max * f64::from(r.height() - 1)).round() as i32;
-        if n > 0 {
-            c.fill(
-                PixelRect {
-                    left,
-                    top,
-                    right,
-                    bottom: r.bottom,
-                },
-                HISTOGRAM_FILL_RGB,
-            );
-        }
-        edge.push((f64::from(left), f64::from(top)));
-        edge.push((f64::from(right), f64::from(top)));
-    }
-    c.polyline(&edge, HISTOGRAM_EDGE_RGB, p.m.width(1.5), None);
-    // 2.5 / 50 / 97.5 % of the samples.
+    let edge = |k: usize| xr.min + xr.span() * k as f64 / bins as f64;
+    let bars = (0..bins).filter(|k| counts[*k] > 0).map(|k| {
+        Rectangle::new(
+            [(edge(k), 0.0), (edge(k + 1), f64::from(counts[k]) / max)],
+            rgb(HISTOGRAM_FILL_RGB).filled(),
+        )
+    });
+    chart.draw_series(bars).map_err(chart_err)?;
+    let outline: Vec<(f64, f64)> = (0..bins)
+        .flat_map(|k| {
+            let y = f64::from(counts[k]) / max;
+            [(edge(k), y), (edge(k + 1), y)]
+        })
+        .collect();
+    chart
+        .draw_series(LineSeries::new(
+            outline,
+            stroke(HISTOGRAM_EDGE_RGB, m.width(1.5)),
+        ))
+        .map_err(chart_err)?;
     let mut v: Vec<f64> = fig.samples[i]
         .iter()
         .copied()
         .filter(|x| plottable(*x))
         .collect();
     v.sort_by(f64::total_cmp);
-    let mapper = Mapper {
-        rect: r,
-        x: p.ranges[i],
-        y: AxisRange { min: 0.0, max: 1.0 },
-    };
     if !v.is_empty() {
-        for q in [0.025, 0.5, 0.975] {
-            let x = mapper.px(v[((v.len() - 1) as f64 * q).round() as usize]);
-            c.line(
-                (x, f64::from(r.top)),
-                (x, f64::from(r.bottom)),
-                ZERO_RGB,
-                p.m.width(1.2),
-                Some(dash_pattern(&p.m)),
-            );
-        }
+        let lines = [0.025, 0.5, 0.975].map(|q| {
+            let x = v[((v.len() - 1) as f64 * q).round() as usize];
+            PathElement::new(vec![(x, 0.0), (x, 1.0)], dashed(ZERO_RGB, m.width(1.2)))
+        });
+        chart.draw_series(lines).map_err(chart_err)?;
     }
-    for mk in &fig.markers {
+    for mk in fig.markers.iter().filter(|mk| xr.contains(mk.values[i])) {
         let x = mk.values[i];
-        if p.ranges[i].contains(x) {
-            let px = mapper.px(x);
-            c.line(
-                (px, f64::from(r.top)),
-                (px, f64::from(r.bottom)),
-                style_rgb(mk.style),
-                p.m.width(2.0),
-                None,
-            );
-        }
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(x, 0.0), (x, 1.0)],
+                stroke(style_rgb(mk.style), m.width(2.0)),
+            )))
+            .map_err(chart_err)?;
+    }
+    Ok(())
+}
+
+impl Chart for CornerFigure {
+    fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    fn svg_document(&self) -> Result<String, Invalid> {
+        draw(self).map(|d| d.svg)
     }
 }
 
-/// Tick marks on the bottom (and left) edge of a panel, labelled when asked.
-fn draw_ticks(
-    c: &mut Canvas,
-    p: &Plan,
-    r: PixelRect,
-    x: usize,
-    y: Option<usize>,
-    x_labels: bool,
-    y_labels: bool,
-) {
-    let tl = p.m.tick_len as i32;
-    let xr = p.ranges[x];
-    for (v, label) in p.ticks[x].values.iter().zip(&p.ticks[x].labels) {
-        let px = crate::chrome::tick_px(xr, *v, r);
-        if px > r.left && px < r.right {
-            c.fill(
-                PixelRect {
-                    left: px,
-                    right: px,
-                    top: r.top + 1,
-                    bottom: r.bottom - 1,
-                },
-                GRID_RGB,
-            );
-        }
-        c.fill(
-            PixelRect {
-                left: px,
-                right: px,
-                top: r.bottom + 1,
-                bottom: r.bottom + tl,
-            },
-            INK_RGB,
-        );
-        if x_labels {
-            let at = (f64::from(px), f64::from(r.bottom + tl) + p.m.gap);
-            c.text(label, p.tick_font, INK_RGB, at, HAlign::Center, VAlign::Top);
-        }
-    }
-    let Some(y) = y else { return };
-    let yr = p.ranges[y];
-    for (v, label) in p.ticks[y].values.iter().zip(&p.ticks[y].labels) {
-        let py = crate::chrome::tick_py(yr, *v, r);
-        if py > r.top && py < r.bottom {
-            c.fill(
-                PixelRect {
-                    left: r.left + 1,
-                    right: r.right - 1,
-                    top: py,
-                    bottom: py,
-                },
-                GRID_RGB,
-            );
-        }
-        c.fill(
-            PixelRect {
-                left: r.left - tl,
-                right: r.left - 1,
-                top: py,
-                bottom: py,
-            },
-            INK_RGB,
-        );
-        if y_labels {
-            let at = (f64::from(r.left - tl) - p.m.gap, f64::from(py));
-            c.text(
-                label,
-                p.tick_font,
-                INK_RGB,
-                at,
-                HAlign::Right,
-                VAlign::Center,
-            );
-        }
-    }
+/// Where the panels of `fig` would be drawn, or `None` if `fig` is invalid.
+pub fn corner_layout(fig: &CornerFigure) -> Option<CornerLayout> {
+    draw(fig).ok().map(|d| d.layout)
 }
 
-fn draw(fig: &CornerFigure, p: &Plan) -> Result<Canvas, DrawError> {
-    let mut c = Canvas::new(fig.width, fig.height)?;
-    let n = p.n;
-    if n == 0 {
-        let whole = PixelRect {
-            left: 0,
-            top: 0,
-            right: fig.width as i32 - 1,
-            bottom: fig.height as i32 - 1,
-        };
-        crate::chrome::draw_no_data(&mut c, whole, &p.m);
-    }
-    for i in 0..n {
-        for j in 0..=i {
-            let r = p.cells[i][j];
-            let (y, y_labels) = if i == j {
-                (None, false)
-            } else {
-                (Some(i), j == 0)
-            };
-            draw_ticks(&mut c, p, r, j, y, i == n - 1, y_labels);
-            if i == j {
-                draw_diagonal(&mut c, fig, p, i);
-            } else {
-                draw_pair(&mut c, fig, p, i, j);
-            }
-            c.outline(r, INK_RGB);
-        }
-    }
-    // Parameter names: under the bottom row, and left of the first column (rows with a y axis).
-    for k in 0..n {
-        let r = p.cells[n - 1][k];
-        let (text, size) = fonts::shrink_to_fit(
-            &fig.labels[k],
-            p.label_font,
-            p.label_font * 0.7,
-            f64::from(r.width()) + p.m.px(6.0),
-        );
-        let at = (
-            0.5 * f64::from(r.left + r.right),
-            f64::from(fig.height) - p.m.pad,
-        );
-        c.text(&text, size, INK_RGB, at, HAlign::Center, VAlign::Bottom);
-        if k >= 1 {
-            let r = p.cells[k][0];
-            let (text, size) = fonts::shrink_to_fit(
-                &fig.labels[k],
-                p.label_font,
-                p.label_font * 0.7,
-                f64::from(r.height()),
-            );
-            let cx = p.m.pad + 0.5 * CAP_HEIGHT * size;
-            c.text_vertical(
-                &text,
-                size,
-                INK_RGB,
-                (cx, 0.5 * f64::from(r.top + r.bottom)),
-            );
-        }
-    }
-    let (title, size, centre) = &p.title;
-    c.text(
-        title,
-        *size,
-        INK_RGB,
-        *centre,
-        HAlign::Center,
-        VAlign::Center,
-    );
-    if let Some(area) = p.legend_area {
-        let mut entries: Vec<LegendEntry> = fig
-            .markers
-            .iter()
-            .map(|mk| LegendEntry {
-                label: mk.label.clone(),
-                swatch: Swatch::Line {
-                    color: style_rgb(mk.style),
-                    width: p.m.width(2.0),
-                    dashed: false,
-                    marker: Some(((4.0 * p.m.s).max(2.5), style_rgb(mk.style))),
-                },
-            })
-            .collect();
-        entries.push(LegendEntry {
-            label: "posterior samples (shade: √ density)".into(),
-            swatch: Swatch::Patch {
-                color: mix(0.7, DENSITY_RGB),
-            },
-        });
-        entries.push(LegendEntry {
-            label: "2.5 %, median, 97.5 %".into(),
-            swatch: Swatch::Line {
-                color: ZERO_RGB,
-                width: p.m.width(1.2),
-                dashed: true,
-                marker: None,
-            },
-        });
-        let occupancy = Occupancy::new(area, 8);
-        if let Some(l) = place_legend(entries, area, &occupancy, &p.m) {
-            draw_legend(&mut c, &l, &p.m);
-        }
-    }
-    Ok(c)
-}
-
-/// Draws `fig` and writes it to `path` as an RGB PNG. Errors (each naming `path`): a size out
-/// of bounds, labels, columns or marker values of different lengths, a file that cannot be
-/// written. Non-finite samples are left out.
+/// Draws `fig` and writes it to `path` as an RGB PNG (see [`crate::write_figure`] for the PNG
+/// and the SVG). Errors (each naming `path`): a size out of bounds, labels, columns or marker
+/// values of different lengths, a file that cannot be written. Non-finite samples are left
+/// out.
 pub fn render_corner_png(fig: &CornerFigure, path: &Path) -> Result<(), PlotError> {
-    let p = plan(fig).map_err(|e| e.with_path(path))?;
-    let canvas = draw(fig, &p).map_err(|e| Invalid::Draw(e).with_path(path))?;
-    png_io::write_rgb_png(path, fig.width, fig.height, &canvas.into_rgb())
+    render::write_png(fig, path)
 }
