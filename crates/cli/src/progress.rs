@@ -162,16 +162,11 @@ impl Progress {
             state: Mutex::new(state),
             stop: AtomicBool::new(false),
         });
+        // A counted job's bar appears with its first count (`Progress::count`).
         let bar = bar.then(|| {
-            let (b, template) = match unit {
-                None => (ProgressBar::new_spinner(), "{spinner} {msg}".to_string()),
-                Some(unit) => (
-                    ProgressBar::new(0),
-                    format!("{{spinner}} [{{bar:30}}] {{pos}}/{{len}} {unit} · {{msg}}"),
-                ),
-            };
-            if let Ok(style) = ProgressStyle::with_template(&template) {
-                b.set_style(style.progress_chars("=> "));
+            let b = ProgressBar::new_spinner();
+            if let Ok(style) = ProgressStyle::with_template("{spinner} {msg}") {
+                b.set_style(style);
             }
             b.enable_steady_tick(Duration::from_millis(120));
             b
@@ -271,11 +266,24 @@ impl subfric_app::Progress for Progress {
         }
         let mut line_due = false;
         if let Ok(mut s) = self.shared.state.lock() {
-            s.counted = Some((done, total));
+            // Units end on several threads: a count that arrives late is not a step back.
+            if s.eta && s.counted.is_some_and(|(d, t)| t == total && d > done) {
+                return;
+            }
             if let (Some(b), true) = (&self.bar, s.eta) {
+                if s.counted.is_none() {
+                    let template = format!(
+                        "{{spinner}} [{{bar:30}}] {{pos}}/{{len}} {} · {{msg}}",
+                        s.unit
+                    );
+                    if let Ok(style) = ProgressStyle::with_template(&template) {
+                        b.set_style(style.progress_chars("=> "));
+                    }
+                }
                 b.set_length(total as u64);
                 b.set_position(done as u64);
             }
+            s.counted = Some((done, total));
             let tenths = (10 * done / total.max(1)).min(10);
             if tenths > s.tenths_shown && !s.eta {
                 s.tenths_shown = tenths;
