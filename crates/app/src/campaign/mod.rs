@@ -24,7 +24,7 @@ pub mod slurm;
 pub mod submit;
 mod table;
 
-pub use figures::{ROUGHNESS_FIGURE, STRESS_FIGURE, VERDICT_FIGURE};
+pub use figures::{verdict_page, ROUGHNESS_FIGURE, STRESS_FIGURE, VERDICT_FIGURE, VERDICT_PAGE};
 pub use run::{SetOutcome, SetRun};
 pub use table::{ParamCell, Row, RowStatus};
 
