@@ -421,7 +421,7 @@ fn campaign_submit_prints_the_job_ids_waits_for_them_and_names_what_sbatch_refus
     assert_mentions(
         &stderr,
         &[
-            &format!("progress: Slurm: array job {array}: 0 of 2 tasks ended"),
+            &format!("progress: Slurm: array job {array} (2 tasks), then collect step {collect}"),
             &format!("progress: Slurm: array job {array} ended (2 COMPLETED); collect step {collect}: COMPLETED"),
         ],
     );

@@ -47,6 +47,8 @@ struct State {
     skipped: usize,
     /// Whether the display estimates the time left from the counted units.
     eta: bool,
+    /// When a counted job last printed a line (`--progress always` off a terminal).
+    last_line: Option<Instant>,
 }
 
 impl Default for State {
@@ -60,6 +62,7 @@ impl Default for State {
             unit: "model runs",
             skipped: 0,
             eta: false,
+            last_line: None,
         }
     }
 }
@@ -201,9 +204,21 @@ impl Progress {
             return;
         }
         let stage = stage.to_string();
+        let mut line_due = self.lines;
         if let Ok(mut s) = self.shared.state.lock() {
             if s.stage == stage {
                 return;
+            }
+            // A counted job's log gets a line at most every 5 s (a resumed campaign skips
+            // hundreds of sets at once), and its last one.
+            if self.lines && s.eta {
+                let last = s.counted.is_some_and(|(d, t)| d >= t);
+                line_due = last
+                    || s.last_line
+                        .is_none_or(|t| t.elapsed() >= Duration::from_secs(5));
+                if line_due {
+                    s.last_line = Some(Instant::now());
+                }
             }
             s.stage = stage;
             s.budget = budget;
@@ -214,7 +229,7 @@ impl Progress {
                 s.tenths_shown = 0;
             }
         }
-        if self.lines {
+        if line_due {
             crate::print::err(format!("progress: {}", self.shared.line()));
         }
         if let Some(b) = &self.bar {
