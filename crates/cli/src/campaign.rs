@@ -293,10 +293,7 @@ fn submit(a: &CampaignArgs, e: &Emitted) -> Result<()> {
         "collect step {} ended {}{}: the table may be missing or old (its log: {})",
         s.collect,
         collect.state,
-        collect
-            .exit_code
-            .map(|c| format!(" (exit code {c})"))
-            .unwrap_or_default(),
+        collect.how(),
         visible(
             &submit::collect_log(&e.out, &s.collect)
                 .display()
@@ -313,12 +310,10 @@ fn print_ends(e: &Emitted, s: &Submitted, f: &Followed) {
         if t.state != "COMPLETED" {
             let set = e.plan.sets.get(i).map_or("?", |j| j.id.as_str());
             out(format!(
-                "  task {i} (set {}): {}{} (its log: {})",
+                "  task {i} (set {}): {}{}, its log: {}",
                 visible(set),
                 t.state,
-                t.exit_code
-                    .map(|c| format!(", exit code {c}"))
-                    .unwrap_or_default(),
+                t.how(),
                 visible(&submit::task_log(&e.out, &s.array, i).display().to_string())
             ));
         }
@@ -327,9 +322,6 @@ fn print_ends(e: &Emitted, s: &Submitted, f: &Followed) {
         "collect step {}: {}{}",
         s.collect,
         f.collect.state,
-        f.collect
-            .exit_code
-            .map(|c| format!(" (exit code {c})"))
-            .unwrap_or_default()
+        f.collect.how()
     ));
 }

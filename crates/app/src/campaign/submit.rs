@@ -121,12 +121,23 @@ pub struct JobState {
     pub state: String,
     /// The exit code of its script, once ended, when Slurm tells it.
     pub exit_code: Option<i32>,
+    /// The signal that killed its script (15 for a cancelled job), when one did.
+    pub signal: Option<i32>,
 }
 
 impl JobState {
     /// Whether it has ended.
     pub fn ended(&self) -> bool {
         ended(&self.state)
+    }
+
+    /// How its script ended, when Slurm tells it: ` (exit code 3)`, ` (killed by signal 15)`.
+    pub fn how(&self) -> String {
+        match (self.exit_code, self.signal) {
+            (_, Some(s)) => format!(" (killed by signal {s})"),
+            (Some(c), None) => format!(" (exit code {c})"),
+            (None, None) => String::new(),
+        }
     }
 }
 
@@ -181,10 +192,23 @@ impl Followed {
     }
 }
 
-/// A job's exit code as `squeue -O exit_code` prints it: the wait status (code × 256 + signal).
-fn squeue_exit(field: &str) -> Option<i32> {
-    let status: i32 = field.trim().parse().ok()?;
-    Some(if status >= 256 { status >> 8 } else { status })
+/// A job's exit code and killing signal from the wait status `squeue -O exit_code` prints
+/// (code × 256 + signal).
+fn squeue_exit(field: &str) -> (Option<i32>, Option<i32>) {
+    match field.trim().parse::<i32>() {
+        Ok(status) if status & 0x7f != 0 => (None, Some(status & 0x7f)),
+        Ok(status) => (Some(status >> 8), None),
+        Err(_) => (None, None),
+    }
+}
+
+/// A job's exit code and killing signal from `sacct`'s `ExitCode` (`code:signal`).
+fn sacct_exit(field: &str) -> (Option<i32>, Option<i32>) {
+    let mut f = field.split(':').map(|v| v.trim().parse::<i32>().ok());
+    match (f.next().flatten(), f.next().flatten()) {
+        (_, Some(signal)) if signal != 0 => (None, Some(signal)),
+        (code, _) => (code, None),
+    }
 }
 
 /// A state as `squeue` or `sacct` write it, without sacct's `CANCELLED by 0`.
@@ -236,13 +260,18 @@ fn squeue(s: &Submitted, out: &Path) -> Result<Listing> {
             continue;
         };
         let state = plain_state(f[3]);
-        let exit_code = ended(&state).then(|| squeue_exit(f[4])).flatten();
+        let (exit_code, signal) = if ended(&state) {
+            squeue_exit(f[4])
+        } else {
+            (None, None)
+        };
         jobs.insert(
             key.clone(),
             JobState {
                 job: key,
                 state,
                 exit_code,
+                signal,
             },
         );
     }
@@ -272,13 +301,14 @@ fn sacct(s: &Submitted, out: &Path) -> BTreeMap<String, JobState> {
         .filter_map(|line| {
             let f: Vec<&str> = line.split('|').collect();
             let (job, state) = (f.first()?.to_string(), plain_state(f.get(1)?));
-            let exit_code = f.get(2)?.split(':').next()?.parse().ok();
+            let (exit_code, signal) = sacct_exit(f.get(2)?);
             Some((
                 job.clone(),
                 JobState {
                     job,
                     state,
                     exit_code,
+                    signal,
                 },
             ))
         })
@@ -323,6 +353,7 @@ fn look(s: &Submitted, out: &Path, seen: &mut BTreeMap<String, JobState>) -> Res
                 job: k.clone(),
                 state: "ENDED".into(),
                 exit_code: None,
+                signal: None,
             },
             // Never listed: an array's tasks are listed one per line from the start, so a job
             // missing from the start is one the queue forgot (or never had).
@@ -444,9 +475,11 @@ mod tests {
         assert_eq!(parsable_id(b"4711;cluster\n").as_deref(), Some("4711"));
         assert_eq!(parsable_id(b"Submitted batch job 4711\n"), None);
         assert_eq!(parsable_id(b""), None);
-        assert_eq!(squeue_exit("768"), Some(3));
-        assert_eq!(squeue_exit("0"), Some(0));
-        assert_eq!(squeue_exit("9"), Some(9));
+        assert_eq!(squeue_exit("768"), (Some(3), None));
+        assert_eq!(squeue_exit("0"), (Some(0), None));
+        assert_eq!(squeue_exit("15"), (None, Some(15)));
+        assert_eq!(sacct_exit("3:0"), (Some(3), None));
+        assert_eq!(sacct_exit("0:15"), (None, Some(15)));
         assert_eq!(plain_state("CANCELLED by 0"), "CANCELLED");
         assert!(ended("CANCELLED") && ended("COMPLETED") && !ended("RUNNING"));
     }
@@ -457,6 +490,7 @@ mod tests {
             job: "1_0".into(),
             state: state.into(),
             exit_code: None,
+            signal: None,
         };
         let f = Followed {
             tasks: vec![j("COMPLETED"), j("CANCELLED"), j("RUNNING"), j("PENDING")],
