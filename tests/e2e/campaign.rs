@@ -429,3 +429,26 @@ fn a_manifest_names_sets_and_their_options_and_its_problems_are_located() {
     let e = subfric!().err(args!["campaign", &empty, "--out", &tmp.path().join("o3")]);
     assert_mentions(&e, &["no sets"]);
 }
+
+#[test]
+fn submit_without_sbatch_says_so_and_wait_needs_submit() {
+    let tmp = tempfile::tempdir().unwrap();
+    let lab = lab(tmp.path());
+    let out = tmp.path().join("out");
+    // No Slurm on PATH: the scripts are written, and the error says what is missing where.
+    let e = subfric!()
+        .env("PATH", "/nonexistent")
+        .err(args!["campaign", &lab, "--out", &out, "--submit"]);
+    assert_mentions(
+        &e,
+        &[
+            "campaign.sbatch: cannot submit it: `sbatch` is not on PATH",
+            "--emit-slurm",
+        ],
+    );
+    assert!(out.join("campaign.sbatch").is_file() && out.join("collect.sbatch").is_file());
+    let e = subfric!().usage_err(args!["campaign", &lab, "--wait"]);
+    assert_mentions(&e, &["--submit"]);
+    let e = subfric!().usage_err(args!["campaign", &lab, "--slurm-cpus", "4"]);
+    assert_mentions(&e, &["--emit-slurm", "--submit"]);
+}

@@ -7,13 +7,15 @@ use anyhow::{anyhow, Result};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use subfric_app::campaign::slurm::{check_directive, SlurmOptions};
+use subfric_app::campaign::submit::{self, Followed, Submitted};
 use subfric_app::campaign::{
-    self, CampaignRequest, CampaignSource, Collected, SetOptions, SetOutcome, SetRun,
+    self, CampaignRequest, CampaignSource, Collected, Emitted, Row, SetOptions, SetOutcome, SetRun,
 };
 use subfric_app::visible;
 
 /// `subfric campaign`.
 #[derive(Args, Debug)]
+#[command(group = clap::ArgGroup::new("slurm").args(["emit_slurm", "submit"]).multiple(true))]
 pub struct CampaignArgs {
     /// A folder of sets (its sub-folders holding experiment.json), or a manifest (.json or
     /// .toml) listing set folders and their options (docs/campaign.md).
@@ -46,6 +48,15 @@ pub struct CampaignArgs {
     /// campaign folder; run nothing.
     #[arg(long, conflicts_with_all = ["index", "collect"])]
     pub emit_slurm: bool,
+    /// Write the Slurm scripts (as --emit-slurm) and submit them with sbatch: the array, then
+    /// the collect step once every task has ended; prints the job ids.
+    #[arg(long, conflicts_with_all = ["index", "collect"])]
+    pub submit: bool,
+    /// With --submit: follow the jobs (squeue) until the collect step has ended, with a bar of
+    /// the tasks ended; the exit code is then the campaign's (0, or 3 when sets have no
+    /// results).
+    #[arg(long, requires = "submit")]
+    pub wait: bool,
     /// Run only set N of the campaign's plan, as Slurm's array task N does [default: every
     /// set]
     #[arg(long, value_name = "N", conflicts_with = "collect")]
@@ -54,11 +65,11 @@ pub struct CampaignArgs {
     #[arg(long)]
     pub collect: bool,
     /// CPUs of each Slurm task.
-    #[arg(long, default_value_t = 2, requires = "emit_slurm", value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, default_value_t = 2, requires = "slurm", value_parser = clap::value_parser!(u64).range(1..))]
     pub slurm_cpus: u64,
     /// A further #SBATCH option of both scripts, e.g. --slurm-option=--time=01:00:00
     /// (repeatable) [default: none].
-    #[arg(long, requires = "emit_slurm", allow_hyphen_values = true, value_parser = check_directive)]
+    #[arg(long, requires = "slurm", allow_hyphen_values = true, value_parser = check_directive)]
     pub slurm_option: Vec<String>,
     /// Progress display on stderr.
     #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
@@ -116,14 +127,22 @@ fn print_collected(c: &Collected) -> Result<()> {
     for f in &c.files {
         out(format!("wrote {}", visible(&f.display().to_string())));
     }
-    let incomplete = c.incomplete();
+    incomplete_error(&c.rows)
+}
+
+/// Exit code 3 with the sets without results and why, when there are some.
+fn incomplete_error(rows: &[Row]) -> Result<()> {
+    let incomplete: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.status != campaign::RowStatus::Ok)
+        .collect();
     if incomplete.is_empty() {
         return Ok(());
     }
     let mut text = format!(
         "{} of {} sets have no results (the table and the others' results are written):",
         incomplete.len(),
-        c.rows.len()
+        rows.len()
     );
     for r in incomplete {
         text.push_str(&format!(
@@ -142,14 +161,15 @@ fn print_collected(c: &Collected) -> Result<()> {
 /// `subfric campaign`.
 pub fn run(a: CampaignArgs) -> Result<()> {
     let req = request(&a)?;
-    if a.emit_slurm {
-        return emit(&a, &req);
+    if a.emit_slurm || a.submit {
+        let e = emit(&a, &req)?;
+        return if a.submit { submit(&a, &e) } else { Ok(()) };
     }
     if a.collect {
         return print_collected(&campaign::collect(&req)?);
     }
-    let progress = Progress::new(a.progress);
     if let Some(index) = a.index {
+        let progress = Progress::new(a.progress);
         let r = campaign::run_index(Some(&req), &req.out_dir(), index, req.force, &progress)?;
         progress.finish();
         out(set_line(&r));
@@ -163,7 +183,13 @@ pub fn run(a: CampaignArgs) -> Result<()> {
         };
     }
     let t0 = std::time::Instant::now();
-    let on_set = |r: &SetRun| progress.println(&set_line(r));
+    let progress = Progress::counted(a.progress, "sets");
+    // A skipped set is in the summary line, not a line of its own: a campaign resumed after
+    // hundreds of sets says so once.
+    let on_set = |r: &SetRun| match r.outcome {
+        SetOutcome::Skipped => progress.skipped(),
+        _ => progress.println(&set_line(r)),
+    };
     let f = campaign::run(&req, a.jobs.map(|j| j as usize), &on_set, &progress)?;
     progress.finish();
     let count = |p: fn(&SetOutcome) -> bool| f.runs.iter().filter(|r| p(&r.outcome)).count();
@@ -185,7 +211,7 @@ fn absolute(p: &Path) -> Result<PathBuf> {
 
 /// `--emit-slurm`: the scripts run this program with the same source and options, every path
 /// absolute.
-fn emit(a: &CampaignArgs, req: &CampaignRequest) -> Result<()> {
+fn emit(a: &CampaignArgs, req: &CampaignRequest) -> Result<Emitted> {
     let out_dir = absolute(&req.out_dir())?;
     let mut arguments = vec![
         "campaign".to_string(),
@@ -225,12 +251,77 @@ fn emit(a: &CampaignArgs, req: &CampaignRequest) -> Result<()> {
         out(format!("wrote {}", visible(&f.display().to_string())));
     }
     let dir = visible(&e.out.display().to_string());
+    if !a.submit {
+        out(format!(
+            "{} sets, array tasks 0-{}. Submit from {dir}:\n  jid=$(sbatch --parsable {}) && sbatch --dependency=afterany:$jid {}",
+            e.plan.sets.len(),
+            e.plan.sets.len().saturating_sub(1),
+            campaign::slurm::ARRAY_SCRIPT,
+            campaign::slurm::COLLECT_SCRIPT
+        ));
+    }
+    Ok(e)
+}
+
+/// `--submit`: the array and the collect step handed to sbatch, their ids printed; with
+/// `--wait`, followed to the end.
+fn submit(a: &CampaignArgs, e: &Emitted) -> Result<()> {
+    let s = submit::submit(&e.out, e.plan.sets.len())?;
+    let logs = visible(&e.out.join(campaign::slurm::LOG_DIR).display().to_string());
     out(format!(
-        "{} sets, array tasks 0-{}. Submit from {dir}:\n  jid=$(sbatch --parsable {}) && sbatch --dependency=afterany:$jid {}",
-        e.plan.sets.len(),
-        e.plan.sets.len().saturating_sub(1),
-        campaign::slurm::ARRAY_SCRIPT,
-        campaign::slurm::COLLECT_SCRIPT
+        "submitted array job {} ({} tasks, one per set: task N is set N of campaign.json) and collect step {} (runs once every task has ended)\n  follow: squeue -j {},{} · logs: {logs} · cancel: scancel {} {}",
+        s.array, s.tasks, s.collect, s.array, s.collect, s.array, s.collect
     ));
-    Ok(())
+    if !a.wait {
+        return Ok(());
+    }
+    let progress = Progress::counted(a.progress, "tasks");
+    let f = submit::follow(&s, &e.out, std::time::Duration::from_secs(5), &progress);
+    progress.finish();
+    let f = f?;
+    print_ends(e, &s, &f);
+    let collect = &f.collect;
+    if collect.state == "COMPLETED" || collect.exit_code == Some(3) {
+        let rows = campaign::rows(&e.out)?;
+        out(format!(
+            "table: {}",
+            visible(&e.out.join(campaign::TABLE_CSV).display().to_string())
+        ));
+        return incomplete_error(&rows);
+    }
+    Err(anyhow!(
+        "collect step {} ended {}{}: the table may be missing or old (its log: {})",
+        s.collect,
+        collect.state,
+        collect.how(),
+        visible(
+            &submit::collect_log(&e.out, &s.collect)
+                .display()
+                .to_string()
+        )
+    ))
+}
+
+/// How the jobs ended: the array's tasks counted by state, each task that did not complete
+/// with its set and log, and the collect step.
+fn print_ends(e: &Emitted, s: &Submitted, f: &Followed) {
+    out(format!("array job {}: {}", s.array, f.task_summary()));
+    for (i, t) in f.tasks.iter().enumerate() {
+        if t.state != "COMPLETED" {
+            let set = e.plan.sets.get(i).map_or("?", |j| j.id.as_str());
+            out(format!(
+                "  task {i} (set {}): {}{}, its log: {}",
+                visible(set),
+                t.state,
+                t.how(),
+                visible(&submit::task_log(&e.out, &s.array, i).display().to_string())
+            ));
+        }
+    }
+    out(format!(
+        "collect step {}: {}{}",
+        s.collect,
+        f.collect.state,
+        f.collect.how()
+    ));
 }

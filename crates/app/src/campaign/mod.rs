@@ -6,7 +6,7 @@
 //! The campaign table (`campaign.csv`, `campaign.md`) and the summary figures are then made
 //! from the per-set folders alone ([`collect`]), so the same results give the same bytes
 //! whoever wrote them: a local run ([`run`]), Slurm array tasks ([`run_index`] after
-//! [`emit_slurm`]), or Dask workers (the Python package: [`prepare`], [`run_index`],
+//! [`emit_slurm`], submitted and followed by [`submit`]), or Dask workers (the Python package: [`prepare`], [`run_index`],
 //! [`collect`]).
 //!
 //! ```text
@@ -21,9 +21,10 @@ pub mod manifest;
 pub mod record;
 mod run;
 pub mod slurm;
+pub mod submit;
 mod table;
 
-pub use figures::{ROUGHNESS_FIGURE, STRESS_FIGURE, VERDICT_FIGURE};
+pub use figures::{verdict_page, ROUGHNESS_FIGURE, STRESS_FIGURE, VERDICT_FIGURE, VERDICT_PAGE};
 pub use run::{SetOutcome, SetRun};
 pub use table::{ParamCell, Row, RowStatus};
 
@@ -521,6 +522,14 @@ fn write_table(out: &Path, plan: &Plan) -> Result<Collected> {
         rows,
         files,
     })
+}
+
+/// The table's rows as the per-set results folders of the campaign folder `out` give them now,
+/// by the plan there; nothing is written (what `--collect` would write, e.g. while Slurm
+/// tasks still run or once they have ended).
+pub fn rows(out: &Path) -> Result<Vec<Row>> {
+    let plan = Plan::read(out)?;
+    Ok(plan.sets.iter().map(|j| table::row(out, j)).collect())
 }
 
 /// Assembles the table and the figures from the per-set results folders of the campaign

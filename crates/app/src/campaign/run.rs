@@ -276,6 +276,7 @@ pub fn run_sets(
     let seen = SeenNotes::default();
     let runs: Mutex<Vec<Option<SetRun>>> = Mutex::new(vec![None; jobs.len()]);
     let total = jobs.len();
+    progress.count(0, total);
     progress.stage(&format!("campaign: 0 of {total} sets done"), None);
     std::thread::scope(|scope| {
         for _ in 0..parallel.clamp(1, total.max(1)) {
@@ -288,6 +289,7 @@ pub fn run_sets(
                     pool.install(|| run_set_noting(out, index, job, force, progress, Some(&seen)));
                 on_set(&run);
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+                progress.count(n, total);
                 progress.stage(&format!("campaign: {n} of {total} sets done"), None);
                 if let Ok(mut r) = runs.lock() {
                     r[k] = Some(run);
