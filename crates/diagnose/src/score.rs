@@ -86,18 +86,13 @@ pub struct PieceScore {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Comparison {
     /// Likelihood-ratio score D (deviance units; positive: the candidate predicts better):
-    /// `shape_score + level_score + reading_score`.
+    /// `shape_score + level_score`.
     pub score: f64,
     /// The part of D from the shapes of the pieces (each piece's own level removed).
     pub shape_score: f64,
     /// The part of D from the levels of the pieces, counted per correlation length of the
     /// sequence of levels along each test.
     pub level_score: f64,
-    /// The part of D from what a lab reads off the held-out first loadings (peak, residual,
-    /// residual slope) against the scatter between specimens ([`crate::readings`]).
-    pub reading_score: f64,
-    /// Readings that counted in `reading_score`.
-    pub readings: usize,
     /// Fraction of the reference's held-out excess over the noise that the candidate removes.
     pub excess_shrink: f64,
     /// Fraction of the reference's held-out misfit that the candidate removes.
@@ -223,8 +218,6 @@ pub fn compare(
         score,
         shape_score,
         level_score,
-        reading_score: 0.0,
-        readings: 0,
         excess_shrink: if gap > 0.0 {
             ((b_all - c_all) / gap).min(1.0)
         } else {
@@ -245,23 +238,6 @@ pub fn compare(
         rows,
         n_eff,
         pieces: out,
-    }
-}
-
-impl Comparison {
-    /// The comparison with the evidence of the first loadings' readings added
-    /// ([`crate::readings::Readings::score`]: D and the readings it counts), each reading one
-    /// more independent observation.
-    pub fn with_readings(mut self, (d, n): (f64, usize)) -> Comparison {
-        if n == 0 {
-            return self;
-        }
-        self.reading_score = d;
-        self.readings = n;
-        self.score += d;
-        self.n_eff += n as f64;
-        self.typical_shrink = 1.0 - (-self.score / self.n_eff).exp();
-        self
     }
 }
 

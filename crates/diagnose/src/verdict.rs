@@ -82,7 +82,7 @@ pub fn passes(c: &Comparison, th: &Thresholds) -> bool {
 /// use subfric_diagnose::score::Comparison;
 /// use subfric_diagnose::verdict::{decide, Decision, Thresholds};
 /// use subfric_diagnose::Effect;
-/// let good = Comparison { score: 400.0, shape_score: 300.0, level_score: 100.0, reading_score: 0.0, readings: 0, excess_shrink: 0.95, relative_shrink: 0.9, typical_shrink: 0.6,
+/// let good = Comparison { score: 400.0, shape_score: 300.0, level_score: 100.0, excess_shrink: 0.95, relative_shrink: 0.9, typical_shrink: 0.6,
 ///     reference_chi2: 12.0, candidate_chi2: 1.5, rows: 2000, n_eff: 1500.0, pieces: vec![] };
 /// let d = decide(12.0, &[(Effect::from_name("rate").unwrap(), good.clone())], None, &Thresholds::default());
 /// assert_eq!(d, Decision::Named(0));
@@ -135,7 +135,7 @@ pub fn decide(
 /// use subfric_diagnose::score::Comparison;
 /// use subfric_diagnose::verdict::{decide_further, Decision, Thresholds};
 /// use subfric_diagnose::Effect;
-/// let c = |score: f64, excess: f64| Comparison { score, shape_score: score, level_score: 0.0, reading_score: 0.0, readings: 0,
+/// let c = |score: f64, excess: f64| Comparison { score, shape_score: score, level_score: 0.0,
 ///     excess_shrink: excess, relative_shrink: excess, typical_shrink: 0.3, reference_chi2: 3.0,
 ///     candidate_chi2: 1.2, rows: 1000, n_eff: 900.0, pieces: vec![] };
 /// let th = Thresholds::default();
@@ -213,7 +213,7 @@ pub fn decide_further(
 /// ```
 /// use subfric_diagnose::score::Comparison;
 /// use subfric_diagnose::verdict::{named_count, Thresholds};
-/// let c = |excess: f64| Comparison { score: 100.0, shape_score: 100.0, level_score: 0.0, reading_score: 0.0, readings: 0,
+/// let c = |excess: f64| Comparison { score: 100.0, shape_score: 100.0, level_score: 0.0,
 ///     excess_shrink: excess, relative_shrink: excess, typical_shrink: 0.1, reference_chi2: 5.0,
 ///     candidate_chi2: 1.0, rows: 1000, n_eff: 900.0, pieces: vec![] };
 /// let th = Thresholds::default();
@@ -252,8 +252,6 @@ mod tests {
             score,
             shape_score: score,
             level_score: 0.0,
-            reading_score: 0.0,
-            readings: 0,
             excess_shrink: excess,
             relative_shrink: excess,
             typical_shrink: typical,

@@ -140,12 +140,6 @@ pub fn read_levels(tests: &[PreparedTest]) -> LevelReadings {
     levels_of(read)
 }
 
-/// The levels of one slip-controlled loading from its first row (a test, or a piece of one
-/// that starts where the test starts), read as [`read_levels`] reads a first loading.
-pub fn loading_levels(t: &FitTest) -> Option<TestLevels> {
-    test_levels(t, None)
-}
-
 /// The trends across readings of one test each.
 fn levels_of(read: Vec<TestLevels>) -> LevelReadings {
     // One rate: the tests within SAME_RATE of the median rate of those read.

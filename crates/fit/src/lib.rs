@@ -41,7 +41,7 @@ pub use calibrate::{
 pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
 pub use estimate::Estimate;
 pub use interval::Interval;
-pub use levels::{loading_levels, read_levels, LevelReadings, StressTrend, TestLevels};
+pub use levels::{read_levels, LevelReadings, StressTrend, TestLevels};
 pub use lm::Termination;
 pub use prepare::{
     control_of, prepare_set, prepare_set_with, prepare_test, reference_model, thin_prepared,

@@ -38,8 +38,6 @@ pub(super) struct Context<'a> {
     pub(super) features: DataFeatures,
     pub(super) base_free: Vec<Param>,
     pub(super) pieces: Vec<Piece>,
-    /// What a lab reads off each first-loading piece (evidence for whole-test effects).
-    pub(super) readings: crate::readings::Readings,
     pub(super) folds: Vec<Fold>,
     /// Rows of the record each fitted row stands for.
     pub(super) weights: Weights,
@@ -83,10 +81,8 @@ impl<'a> Context<'a> {
             .iter()
             .map(|t| (0..t.len()).map(|i| t.weight_of(i)).collect())
             .collect();
-        let readings = crate::readings::Readings::new(&tests, &all_pieces);
         let cx = Context {
             weights,
-            readings,
             reweight: false,
             base_residuals: Vec::new(),
             tests,
@@ -253,20 +249,15 @@ impl<'a> Context<'a> {
         )
     }
 
-    /// Compares `candidate` with `reference` on `pieces` ([`crate::score::compare`]), with the
-    /// evidence of the first loadings' readings among them.
+    /// Compares `candidate` with `reference` on `pieces` ([`crate::score::compare`]) with the
+    /// rows' weights of this set.
     pub(super) fn compare(
         &self,
         pieces: &[Piece],
         reference: &HeldOut,
         candidate: &HeldOut,
     ) -> Comparison {
-        compare(pieces, &self.weights, reference, candidate).with_readings(self.readings.score(
-            &self.tests,
-            pieces,
-            reference,
-            candidate,
-        ))
+        compare(pieces, &self.weights, reference, candidate)
     }
 
     /// In-sample comparison of a model's residuals with the base's, piece by piece.

@@ -60,8 +60,6 @@ fn comparison(score: f64, n_eff: f64, pieces: Vec<PieceScore>) -> Comparison {
         score,
         shape_score: score,
         level_score: 0.0,
-        reading_score: 0.0,
-        readings: 0,
         excess_shrink: 0.5,
         relative_shrink: 0.5,
         typical_shrink: 0.1,
