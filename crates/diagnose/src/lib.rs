@@ -9,6 +9,7 @@
 //! generator, `subfric-harness`, scored in `subfric-app`.)
 
 pub mod candidates;
+pub mod confidence;
 pub mod diagnose;
 pub mod events;
 pub mod evidence;
@@ -16,7 +17,6 @@ pub mod features;
 pub mod fits;
 pub mod folds;
 pub mod localise;
-pub mod readings;
 pub mod score;
 pub mod verdict;
 

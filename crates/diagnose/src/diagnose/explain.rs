@@ -4,6 +4,7 @@ use super::context::{parameters_of, Context, Current};
 use super::report::{NamedEffect, SelectionStage, Verdict};
 use super::selection::Selection;
 use crate::candidates::Effect;
+use crate::confidence;
 use crate::evidence::ResidualEvidence;
 use crate::fits::{cross_validate, Spec};
 use crate::folds::{extra_folds, Fold, Piece, PieceKind};
@@ -139,7 +140,7 @@ pub(super) fn make_verdict(
             .take(2)
             .any(|f| f.family == Some(e.effect) && f.share > SUPPORTING_SHARE)
     });
-    Verdict {
+    let mut verdict = Verdict {
         effect,
         held_out_shrink: effects.first().map_or(0.0, |e| e.held_out_shrink),
         extra_parameters: effects
@@ -150,7 +151,26 @@ pub(super) fn make_verdict(
         explanation,
         final_chi2,
         evidence_supports,
-    }
+        confidence: None,
+        alternatives: Vec::new(),
+        weighed: Vec::new(),
+        without_first_loadings: None,
+    };
+    verdict.without_first_loadings = cx
+        .pieces
+        .iter()
+        .any(|p| p.kind != PieceKind::InitialLoading)
+        .then(|| confidence::without_first_loadings(&selection.stages, &cx.opts.thresholds));
+    let options = confidence::options_of(&selection.stages, &cx.opts.thresholds);
+    let certainty = confidence::certainty(
+        confidence::weigh(options, confidence::TEMPERATURE),
+        &verdict.named(),
+        verdict.without_first_loadings.as_deref(),
+    );
+    verdict.confidence = Some(certainty.confidence);
+    verdict.alternatives = certainty.alternatives;
+    verdict.weighed = certainty.stages;
+    verdict
 }
 
 /// The misfit (× the noise variance, each test's own) of a constant per test: the mean of its
@@ -192,6 +212,10 @@ fn no_response(base_chi2: f64, flat: f64) -> Verdict {
         extra_parameters: Default::default(),
         final_chi2: f64::NAN,
         evidence_supports: None,
+        confidence: None,
+        alternatives: Vec::new(),
+        weighed: Vec::new(),
+        without_first_loadings: None,
     }
 }
 
@@ -214,6 +238,10 @@ fn nothing_held_out(cx: &Context) -> Verdict {
         extra_parameters: Default::default(),
         final_chi2: f64::NAN,
         evidence_supports: None,
+        confidence: None,
+        alternatives: Vec::new(),
+        weighed: Vec::new(),
+        without_first_loadings: None,
     }
 }
 

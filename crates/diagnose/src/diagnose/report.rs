@@ -56,6 +56,8 @@ pub struct CandidateScore {
     /// ([`crate::Effect::own_kinds`]), on which an effect is credited when the other pieces do
     /// not improve.
     pub own_kinds: Vec<OwnKindScore>,
+    /// Held-out evidence D with the first loadings left out (0 where every piece is one).
+    pub without_first_loadings: f64,
 }
 
 /// A candidate against the reference on the held-out pieces of one kind its family acts on.
@@ -176,6 +178,43 @@ pub struct Verdict {
     pub final_chi2: f64,
     /// Whether the residual evidence supports the first family named.
     pub evidence_supports: Option<bool>,
+    /// The probability that the named effects are exactly right ([`crate::confidence`]); `None`
+    /// when nothing was judged.
+    pub confidence: Option<f64>,
+    /// Other verdicts the data allow, likeliest first, with their probabilities and the test
+    /// that would tell each from this one.
+    pub alternatives: Vec<crate::confidence::Alternative>,
+    /// What each stage of the selection weighed (evidence, misfit and probability of each
+    /// option), from which `confidence` and `alternatives` follow.
+    pub weighed: Vec<crate::confidence::StageWeighing>,
+    /// The verdict the held-out evidence points to with the first loadings left out (each
+    /// stage's best candidate by its evidence on the other pieces, named at D ≥ `min_score`);
+    /// `None` when nothing was judged or no piece but first loadings was held out.
+    pub without_first_loadings: Option<Vec<Effect>>,
+}
+
+impl Verdict {
+    /// The effects the verdict names: empty for none, `[unexplained]` for a gap no candidate
+    /// explains (and for cannot-judge, which names nothing either).
+    pub fn named(&self) -> Vec<Effect> {
+        match self.effect {
+            Effect::None | Effect::CannotJudge => Vec::new(),
+            Effect::Unexplained if self.effects.is_empty() => vec![Effect::Unexplained],
+            _ => self.effects.iter().map(|e| e.effect).collect(),
+        }
+    }
+
+    /// "confident (…)" or "uncertain between …" (see [`crate::confidence::Certainty::sentence`]);
+    /// `None` when nothing was judged.
+    pub fn certainty_sentence(&self) -> Option<String> {
+        let confidence = self.confidence?;
+        let c = crate::confidence::Certainty {
+            confidence,
+            alternatives: self.alternatives.clone(),
+            stages: Vec::new(),
+        };
+        Some(c.sentence(&crate::confidence::label(&self.named())))
+    }
 }
 
 /// The base model's fit.

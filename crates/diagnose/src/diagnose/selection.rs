@@ -252,6 +252,15 @@ fn candidate_score(
     held: &HeldOut,
 ) -> CandidateScore {
     let c = cx.compare(&cx.pieces, reference, held);
+    // The same comparison with the first loadings left out: where a rig artifact of the first
+    // loadings (seating, a compliant start) drives the evidence, the verdict would change.
+    let later: Vec<Piece> = cx
+        .pieces
+        .iter()
+        .filter(|p| p.kind != PieceKind::InitialLoading)
+        .cloned()
+        .collect();
+    let without_first_loadings = cx.compare(&later, reference, held).score;
     let own_kinds = own_pieces(cx, effect, spec)
         .into_iter()
         .map(|(kind, own)| OwnKindScore {
@@ -268,6 +277,7 @@ fn candidate_score(
         by_kind: kind_shrinks(&c),
         held_out: c,
         own_kinds,
+        without_first_loadings,
     }
 }
 

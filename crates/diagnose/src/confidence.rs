@@ -1,0 +1,687 @@
+//! How sure a verdict is, and what else the data allow.
+//!
+//! Each stage of the forward selection weighs its options: stop here (the verdict so far, or
+//! "none" / "unexplained" at the first stage), or add one family, or (first stage) a drift of
+//! the measurement. Each option carries its held-out evidence D over stopping (deviance in
+//! noise units). Read as a likelihood ratio, exp(D/2) would be right only if the model with the
+//! option were the truth and the noise white; neither holds where the model misses, so the
+//! evidence is tempered as a quasi-likelihood is: divided by the dispersion φ of the best model
+//! the stage weighs (its held-out misfit × the noise variance, at least 1) and by a temperature
+//! T calibrated on sets made by generators the project does not own (docs/diagnosis.md gives
+//! the calibration). The probability of an option is then
+//!
+//! p(o) = exp(D_o / 2Tφ) / Σ_o' exp(D_o' / 2Tφ),
+//!
+//! the verdict's confidence is the product over the stages of the option each took, and every
+//! option not taken is an alternative verdict with the product of the options before it and its
+//! own probability. A verdict stated with a confidence below [`CONFIDENT`] is "uncertain
+//! between" it and its likeliest alternatives, with the test that would tell them apart.
+
+use crate::candidates::Effect;
+use crate::diagnose::SelectionStage;
+use crate::verdict::{Decision, Thresholds};
+use serde::Serialize;
+use subfric_model::terms::{self, Shows};
+
+/// Confidence at and above which a verdict is stated as "confident".
+pub const CONFIDENT: f64 = 0.9;
+
+/// The temperature T (see the module documentation), calibrated on the rig-artifact campaigns
+/// of `../shared/generators/` (seeds 1001-1005, developed on; docs/diagnosis.md).
+pub const TEMPERATURE: f64 = 1.0;
+
+/// What the calibration of the confidence reads off a verdict (see [`calibrated`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct VerdictFeatures {
+    /// The verdict is "none".
+    pub none: bool,
+    /// The verdict is "unexplained".
+    pub unexplained: bool,
+    /// It names two effects or more.
+    pub several: bool,
+    /// Log-odds of the verdict's path among the options the stages weighed, tempered by
+    /// [`TEMPERATURE`] (clipped to ±[`MAX_MARGIN`]).
+    pub margin: f64,
+    /// ln of the last stage's dispersion: how far from the noise the best model still is.
+    pub remaining: f64,
+    /// ln(1 + D/φ) of the option with most evidence the last stage did not take (0 when it
+    /// had none with positive evidence): evidence left unexplained.
+    pub rejected: f64,
+    /// The evidence points elsewhere with the first loadings left out.
+    pub first_loadings_disagree: bool,
+}
+
+/// Clip of the margin's log-odds.
+pub const MAX_MARGIN: f64 = 8.0;
+
+impl VerdictFeatures {
+    /// The features of the verdict naming `verdict` after `stages`; `without_first_loadings`:
+    /// what the evidence points to with the first loadings left out.
+    pub fn of(
+        stages: &[StageWeighing],
+        verdict: &[Effect],
+        without_first_loadings: Option<&[Effect]>,
+    ) -> VerdictFeatures {
+        let path: f64 = stages
+            .iter()
+            .map(|st| {
+                st.options
+                    .iter()
+                    .find(|o| o.chosen)
+                    .map_or(1.0, |o| o.probability)
+            })
+            .product();
+        let margin = ((path.max(1e-300)).ln() - (1.0 - path).max(1e-300).ln())
+            .clamp(-MAX_MARGIN, MAX_MARGIN);
+        let last = stages.last();
+        let remaining = last.map_or(0.0, |st| st.dispersion.max(1.0).ln());
+        let rejected = last.map_or(0.0, |st| {
+            let best = st
+                .options
+                .iter()
+                .filter(|o| !o.chosen && o.evidence.is_finite())
+                .map(|o| o.evidence)
+                .fold(0.0_f64, f64::max);
+            (1.0 + best / st.dispersion.max(1.0)).ln()
+        });
+        VerdictFeatures {
+            none: verdict.is_empty(),
+            unexplained: verdict == [Effect::Unexplained],
+            several: verdict.len() >= 2,
+            margin,
+            remaining,
+            rejected,
+            first_loadings_disagree: without_first_loadings.is_some_and(|w| !same(w, verdict)),
+        }
+    }
+
+    /// The features as the calibration's regressors, in [`CALIBRATION`]'s order (1 first).
+    pub fn regressors(&self) -> [f64; 8] {
+        let b = |x: bool| if x { 1.0 } else { 0.0 };
+        [
+            1.0,
+            b(self.none),
+            b(self.unexplained),
+            b(self.several),
+            self.margin,
+            self.remaining,
+            self.rejected,
+            b(self.first_loadings_disagree),
+        ]
+    }
+}
+
+/// Coefficients of the logistic regression of "the verdict is exactly right" on
+/// [`VerdictFeatures::regressors`], fitted (maximum likelihood, a ridge of 1 on all but the
+/// intercept) to the verdicts on the rig-artifact campaigns of `../shared/generators/`, seeds
+/// 1001-1005 (100 sets the diagnosis was developed on; the fresh seeds it is judged on are in
+/// docs/diagnosis.md).
+///
+/// The fit weighs the verdict's kind and how far from the noise the model still is; the margin of
+/// the evidence among the stage's options carries almost nothing once those are known (its
+/// coefficient is 0.02), and the first-loadings check is left at what the fit gave. Left out a
+/// seed at a time, the verdicts it states at ≥ 0.9 were right 18 times of 19.
+pub const CALIBRATION: [f64; 8] = [
+    2.5692, 1.0171, -2.0193, -0.3159, 0.0201, -1.0713, -0.2683, 0.3473,
+];
+
+/// The probability that a verdict with features `f` is exactly right.
+pub fn calibrated(f: &VerdictFeatures) -> f64 {
+    let z: f64 = f
+        .regressors()
+        .iter()
+        .zip(CALIBRATION)
+        .map(|(x, c)| x * c)
+        .sum();
+    1.0 / (1.0 + (-z).exp())
+}
+
+/// Alternatives below this probability are not reported.
+const MIN_ALTERNATIVE: f64 = 0.01;
+
+/// Alternatives reported at most.
+const MAX_ALTERNATIVES: usize = 3;
+
+/// One option a stage weighed.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct WeighedOption {
+    /// The verdict this option gives when the selection stops after it: the effects named
+    /// (empty: none; `[unexplained]`: a gap no candidate explains).
+    pub effects: Vec<Effect>,
+    /// Held-out evidence D over stopping at this stage (0 for stopping).
+    pub evidence: f64,
+    /// Held-out misfit of the model with this option (× the noise variance).
+    pub chi2: f64,
+    /// The stage took it.
+    pub chosen: bool,
+    /// Its probability among the stage's options.
+    pub probability: f64,
+}
+
+/// The options of one stage and how their evidence was tempered.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StageWeighing {
+    /// The options, the one taken marked.
+    pub options: Vec<WeighedOption>,
+    /// Dispersion φ: the held-out misfit of the best model weighed here, at least 1.
+    pub dispersion: f64,
+}
+
+/// Another verdict the data allow.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Alternative {
+    /// The effects it names (empty: none; `[unexplained]`).
+    pub effects: Vec<Effect>,
+    /// The effects in words ("rate + log-healing", "none").
+    pub label: String,
+    /// Its probability.
+    pub probability: f64,
+    /// The test that would tell it from the verdict.
+    pub tell_apart: String,
+}
+
+/// How sure the verdict is.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Certainty {
+    /// The probability that the named effects are exactly right.
+    pub confidence: f64,
+    /// The other verdicts, likeliest first.
+    pub alternatives: Vec<Alternative>,
+    /// What each stage weighed.
+    pub stages: Vec<StageWeighing>,
+}
+
+impl Certainty {
+    /// "confident" at or above [`CONFIDENT`], else "uncertain between" the verdict (`label`)
+    /// and its alternatives, with what would tell the first two apart.
+    pub fn sentence(&self, label: &str) -> String {
+        if self.confidence >= CONFIDENT || self.alternatives.is_empty() {
+            return format!(
+                "confident ({:.0} % that exactly these effects are at work)",
+                100.0 * self.confidence
+            );
+        }
+        let others: Vec<String> = self
+            .alternatives
+            .iter()
+            .map(|a| format!("{} ({:.0} %)", a.label, 100.0 * a.probability))
+            .collect();
+        format!(
+            "uncertain between {label} ({:.0} %) and {}: {}",
+            100.0 * self.confidence,
+            others.join(", "),
+            self.alternatives[0].tell_apart
+        )
+    }
+}
+
+/// The effects of a verdict in words.
+pub fn label(effects: &[Effect]) -> String {
+    if effects.is_empty() {
+        "none".into()
+    } else {
+        effects
+            .iter()
+            .map(|e| e.name())
+            .collect::<Vec<_>>()
+            .join(" + ")
+    }
+}
+
+/// The options of each stage of `stages` (see the module documentation); `th` gives the misfit
+/// at which the base describes the data (a first stage that stops there says "none").
+pub fn options_of(stages: &[SelectionStage], th: &Thresholds) -> Vec<Vec<WeighedOption>> {
+    let mut prefix: Vec<Effect> = Vec::new();
+    let mut out = Vec::new();
+    for (k, st) in stages.iter().enumerate() {
+        let stop = if k > 0 {
+            prefix.clone()
+        } else {
+            match st.decision {
+                Decision::NoGap => Vec::new(),
+                Decision::Unexplained | Decision::Drift => vec![Effect::Unexplained],
+                Decision::Named(_) | Decision::Tentative(_) => {
+                    if st.reference_chi2 <= th.gap_chi2 {
+                        Vec::new()
+                    } else {
+                        vec![Effect::Unexplained]
+                    }
+                }
+            }
+        };
+        let stops = !matches!(st.decision, Decision::Named(_) | Decision::Tentative(_));
+        let mut options = vec![WeighedOption {
+            effects: stop,
+            evidence: 0.0,
+            chi2: st.reference_chi2,
+            chosen: stops,
+            probability: 0.0,
+        }];
+        if let Some(d) = &st.drift {
+            options.push(WeighedOption {
+                effects: vec![Effect::Unexplained],
+                evidence: d.held_out.score,
+                chi2: d.held_out.candidate_chi2,
+                chosen: st.decision == Decision::Drift,
+                probability: 0.0,
+            });
+        }
+        let mut taken = None;
+        for (i, c) in st.candidates.iter().enumerate() {
+            let chosen =
+                matches!(st.decision, Decision::Named(j) | Decision::Tentative(j) if j == i);
+            // An effect is credited on the pieces of its own kinds when the others do not
+            // improve (the later stages' rule): its evidence is the better of the two.
+            let own = c.best_own_kind(th).map_or(f64::NEG_INFINITY, |o| o.score);
+            let mut effects = prefix.clone();
+            effects.push(c.effect);
+            if chosen {
+                taken = Some(c.effect);
+            }
+            options.push(WeighedOption {
+                effects,
+                evidence: c.held_out.score.max(own),
+                chi2: c.held_out.candidate_chi2,
+                chosen,
+                probability: 0.0,
+            });
+        }
+        out.push(merged(options));
+        match taken {
+            Some(e) => prefix.push(e),
+            None => break,
+        }
+    }
+    out
+}
+
+/// The verdict the held-out evidence points to with the first loadings left out: at each
+/// stage the candidate with most evidence on the other pieces is taken when its evidence
+/// reaches `th.min_score`, else the stage stops (as [`options_of`] labels a stop); the walk
+/// follows the selection's own stages while it agrees with them and ends where it departs
+/// (the stages after were not fitted for another path).
+pub fn without_first_loadings(stages: &[SelectionStage], th: &Thresholds) -> Vec<Effect> {
+    let options = options_of(stages, th);
+    let mut verdict = Vec::new();
+    for (st, opts) in stages.iter().zip(&options) {
+        let stop = opts[0].effects.clone();
+        let best = st
+            .candidates
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.without_first_loadings >= th.min_score)
+            .max_by(|a, b| {
+                a.1.without_first_loadings
+                    .total_cmp(&b.1.without_first_loadings)
+            });
+        let taken = match st.decision {
+            Decision::Named(i) | Decision::Tentative(i) => Some(i),
+            _ => None,
+        };
+        match best {
+            None => return stop,
+            Some((i, c)) => {
+                let mut with = verdict.clone();
+                with.push(c.effect);
+                if taken != Some(i) {
+                    return with;
+                }
+                verdict = with;
+            }
+        }
+    }
+    verdict
+}
+
+/// Options that give the same verdict are one option: the one with most evidence (chosen when
+/// either was).
+fn merged(options: Vec<WeighedOption>) -> Vec<WeighedOption> {
+    let mut out: Vec<WeighedOption> = Vec::new();
+    for o in options {
+        match out.iter_mut().find(|p| same(&p.effects, &o.effects)) {
+            Some(p) => {
+                let chosen = p.chosen || o.chosen;
+                if o.evidence > p.evidence {
+                    *p = o;
+                }
+                p.chosen = chosen;
+            }
+            None => out.push(o),
+        }
+    }
+    out
+}
+
+/// The same effects in any order.
+fn same(a: &[Effect], b: &[Effect]) -> bool {
+    let (mut a, mut b) = (a.to_vec(), b.to_vec());
+    a.sort();
+    b.sort();
+    a == b
+}
+
+/// Each stage's options with their probabilities, at temperature `temperature`.
+pub fn weigh(stages: Vec<Vec<WeighedOption>>, temperature: f64) -> Vec<StageWeighing> {
+    stages
+        .into_iter()
+        .map(|mut options| {
+            let dispersion = options
+                .iter()
+                .filter(|o| o.evidence.is_finite())
+                .map(|o| o.chi2)
+                .filter(|c| c.is_finite())
+                .fold(f64::INFINITY, f64::min)
+                .max(1.0);
+            let dispersion = if dispersion.is_finite() {
+                dispersion
+            } else {
+                1.0
+            };
+            let scale = 2.0 * temperature * dispersion;
+            let top = options
+                .iter()
+                .map(|o| o.evidence)
+                .filter(|d| d.is_finite())
+                .fold(0.0_f64, f64::max);
+            let w: Vec<f64> = options
+                .iter()
+                .map(|o| {
+                    if o.evidence.is_finite() {
+                        ((o.evidence - top) / scale).exp()
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            let total: f64 = w.iter().sum();
+            for (o, w) in options.iter_mut().zip(&w) {
+                o.probability = if total > 0.0 { w / total } else { 0.0 };
+            }
+            StageWeighing {
+                options,
+                dispersion,
+            }
+        })
+        .collect()
+}
+
+/// The certainty of the verdict naming `verdict` (empty: none; `[unexplained]`) after the
+/// stages weighed `stages`, `without_first_loadings` what the evidence points to with the
+/// first loadings left out: the confidence [`calibrated`] on the verdict's features, the rest
+/// shared among the alternatives as the evidence weighs them ([`path_certainty`]).
+pub fn certainty(
+    stages: Vec<StageWeighing>,
+    verdict: &[Effect],
+    without_first_loadings: Option<&[Effect]>,
+) -> Certainty {
+    let features = VerdictFeatures::of(&stages, verdict, without_first_loadings);
+    let confidence = calibrated(&features);
+    let mut c = path_certainty(stages, verdict);
+    // Every alternative shares the rest as the evidence weighs it; only the likeliest few are
+    // reported (their probabilities are not blown up to fill the rest).
+    let total: f64 = c.alternatives.iter().map(|a| a.probability).sum();
+    for a in &mut c.alternatives {
+        a.probability *= (1.0 - confidence) / total.max(1e-300);
+    }
+    c.alternatives.retain(|a| a.probability >= MIN_ALTERNATIVE);
+    c.alternatives.truncate(MAX_ALTERNATIVES);
+    c.confidence = confidence;
+    c
+}
+
+/// The certainty as the evidence alone weighs it: the product of the probabilities of the
+/// options the verdict's stages took, and every option not taken an alternative (all of them,
+/// likeliest first).
+pub fn path_certainty(stages: Vec<StageWeighing>, verdict: &[Effect]) -> Certainty {
+    let mut confidence = 1.0;
+    let mut alternatives: Vec<Alternative> = Vec::new();
+    for st in &stages {
+        for o in st.options.iter().filter(|o| !o.chosen) {
+            let p = confidence * o.probability;
+            if same(&o.effects, verdict) {
+                continue;
+            }
+            match alternatives
+                .iter_mut()
+                .find(|a| same(&a.effects, &o.effects))
+            {
+                Some(a) => a.probability += p,
+                None => alternatives.push(Alternative {
+                    effects: o.effects.clone(),
+                    label: label(&o.effects),
+                    probability: p,
+                    tell_apart: tell_apart(verdict, &o.effects),
+                }),
+            }
+        }
+        let taken = st
+            .options
+            .iter()
+            .find(|o| o.chosen)
+            .map_or(1.0, |o| o.probability);
+        confidence *= taken;
+    }
+    alternatives.sort_by(|a, b| b.probability.total_cmp(&a.probability));
+    Certainty {
+        confidence,
+        alternatives,
+        stages,
+    }
+}
+
+/// The test whose pieces show what `shows` names.
+fn test_showing(s: Shows) -> &'static str {
+    match s {
+        Shows::VelocitySteps => "a velocity step of 10× up and back down, without a hold",
+        Shows::Holds => "holds of 10, 100 and 1000 s between slides",
+        Shows::Reversals => "a two-way test (the sliding reversed)",
+        Shows::AfterFirstLoading => "a long slide at one rate, well past the peak",
+        Shows::AwayFromReferenceStress => "tests at three or more normal stresses",
+    }
+}
+
+/// Where an effect shows (nothing for none and unexplained).
+fn shows(e: Effect) -> &'static [Shows] {
+    match e {
+        Effect::Term(i) => terms::family(i).shows(),
+        _ => &[],
+    }
+}
+
+/// What would tell verdict `a` from verdict `b`: a test that shows an effect one of them names
+/// and the other does not, where the other's effects do not show.
+pub fn tell_apart(a: &[Effect], b: &[Effect]) -> String {
+    let only = |x: &[Effect], y: &[Effect]| -> Vec<Effect> {
+        x.iter()
+            .copied()
+            .filter(|e| !y.contains(e) && *e != Effect::Unexplained)
+            .collect()
+    };
+    let (only_a, only_b) = (only(a, b), only(b, a));
+    let kinds = |es: &[Effect]| -> Vec<Shows> {
+        let mut v: Vec<Shows> = es.iter().flat_map(|&e| shows(e).iter().copied()).collect();
+        v.dedup();
+        v
+    };
+    let (ka, kb) = (kinds(&only_a), kinds(&only_b));
+    let telling: Vec<Shows> = ka
+        .iter()
+        .filter(|k| !kb.contains(k))
+        .chain(kb.iter().filter(|k| !ka.contains(k)))
+        .copied()
+        .collect();
+    let unexplained = a.contains(&Effect::Unexplained) != b.contains(&Effect::Unexplained);
+    let mut tests: Vec<&str> = telling.into_iter().map(test_showing).collect();
+    tests.dedup();
+    if tests.is_empty() && !ka.is_empty() && ka == kb {
+        return format!(
+            "{} and {} show in the same pieces here: the same test at a sliding rate 10× apart (slip and time then grow at different paces) would tell them apart",
+            label(&only_a),
+            label(&only_b)
+        );
+    }
+    if tests.is_empty() {
+        return "a repeat of the tests on a fresh specimen would tell them apart (the evidence of these tests does not)".into();
+    }
+    let mut s = format!("{} would tell them apart", tests.join(", or "));
+    if unexplained {
+        s.push_str(", with a repeat on a fresh specimen (a gap of the rig repeats, one of the material need not)");
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn family(name: &str) -> Effect {
+        Effect::from_name(name).unwrap()
+    }
+
+    fn option(effects: Vec<Effect>, evidence: f64, chi2: f64, chosen: bool) -> WeighedOption {
+        WeighedOption {
+            effects,
+            evidence,
+            chi2,
+            chosen,
+            probability: 0.0,
+        }
+    }
+
+    #[test]
+    fn decisive_evidence_is_confident_and_close_evidence_is_not() {
+        let rate = family("rate");
+        let healing = family("log-healing");
+        let decisive = weigh(
+            vec![vec![
+                option(vec![Effect::Unexplained], 0.0, 40.0, false),
+                option(vec![rate], 2000.0, 1.1, true),
+                option(vec![healing], 300.0, 20.0, false),
+            ]],
+            1.0,
+        );
+        let c = path_certainty(decisive, &[rate]);
+        assert!(c.confidence > 0.99, "{c:?}");
+        // Two explanations with nearly the same evidence: neither is sure.
+        let close = weigh(
+            vec![vec![
+                option(vec![Effect::Unexplained], 0.0, 40.0, false),
+                option(vec![rate], 2000.0, 1.1, true),
+                option(vec![healing], 1999.0, 1.1, false),
+            ]],
+            1.0,
+        );
+        let c = path_certainty(close, &[rate]);
+        assert!((0.4..0.7).contains(&c.confidence), "{c:?}");
+        assert_eq!(c.alternatives[0].effects, vec![healing]);
+        let s = c.sentence("rate");
+        assert!(s.starts_with("uncertain between rate"), "{s}");
+        assert!(s.contains("velocity step"), "{s}");
+    }
+
+    #[test]
+    fn evidence_is_tempered_by_the_misfit_that_remains() {
+        let rate = family("rate");
+        let stage = |chi2: f64| {
+            vec![vec![
+                option(vec![Effect::Unexplained], 0.0, 50.0, false),
+                option(vec![rate], 20.0, chi2, true),
+            ]]
+        };
+        let near_noise = path_certainty(weigh(stage(1.0), 1.0), &[rate]).confidence;
+        let far = path_certainty(weigh(stage(10.0), 1.0), &[rate]).confidence;
+        assert!(near_noise > 0.99 && far < 0.8, "{near_noise} {far}");
+    }
+
+    #[test]
+    fn confidence_multiplies_over_stages_and_alternatives_carry_the_prefix() {
+        let rate = family("rate");
+        let slip = family("slip-hardening");
+        let stages = weigh(
+            vec![
+                vec![
+                    option(vec![Effect::Unexplained], 0.0, 30.0, false),
+                    option(vec![rate], 500.0, 3.0, true),
+                ],
+                vec![
+                    option(vec![rate], 0.0, 3.0, false),
+                    option(vec![rate, slip], 6.0, 1.0, true),
+                ],
+            ],
+            1.0,
+        );
+        let c = path_certainty(stages, &[rate, slip]);
+        let second = 1.0 / (1.0 + (-3.0_f64).exp());
+        assert!((c.confidence - second).abs() < 1e-6, "{c:?}");
+        assert_eq!(c.alternatives[0].effects, vec![rate]);
+        assert!((c.alternatives[0].probability - (1.0 - second)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_calibrated_confidence_and_its_alternatives_share_one() {
+        let rate = family("rate");
+        let healing = family("log-healing");
+        let stages = || {
+            weigh(
+                vec![vec![
+                    option(vec![Effect::Unexplained], 0.0, 40.0, false),
+                    option(vec![rate], 60.0, 1.5, true),
+                    option(vec![healing], 55.0, 1.6, false),
+                ]],
+                TEMPERATURE,
+            )
+        };
+        let c = certainty(stages(), &[rate], Some(&[rate]));
+        let f = VerdictFeatures::of(&c.stages, &[rate], Some(&[rate]));
+        assert!((c.confidence - calibrated(&f)).abs() < 1e-12);
+        assert!(c.confidence > 0.0 && c.confidence < 1.0);
+        // Two options not taken, one of them with no weight left: the other takes the rest.
+        let total = c.confidence + c.alternatives.iter().map(|a| a.probability).sum::<f64>();
+        assert!((total - 1.0).abs() < 1e-6, "{c:?}");
+        assert_eq!(c.alternatives[0].effects, vec![healing]);
+        // The features read what they say.
+        assert!(!f.none && !f.unexplained && !f.several && !f.first_loadings_disagree);
+        assert!((f.remaining - 1.5_f64.ln()).abs() < 1e-12);
+        let elsewhere = VerdictFeatures::of(&c.stages, &[rate], Some(&[healing]));
+        assert!(elsewhere.first_loadings_disagree);
+        let none = VerdictFeatures::of(&c.stages, &[], None);
+        assert!(none.none && !none.unexplained);
+    }
+
+    #[test]
+    fn many_alternatives_alike_share_the_rest_without_being_blown_up() {
+        // Five options of equal evidence: the four not taken share what the verdict leaves
+        // alike, and the three reported keep their share (not the whole rest between them).
+        let names = [
+            "rate",
+            "log-healing",
+            "pressure",
+            "slip-hardening",
+            "direction",
+        ];
+        let options: Vec<WeighedOption> = names
+            .iter()
+            .enumerate()
+            .map(|(i, n)| option(vec![family(n)], 50.0, 2.0, i == 0))
+            .collect();
+        let c = certainty(weigh(vec![options], TEMPERATURE), &[family("rate")], None);
+        assert_eq!(c.alternatives.len(), MAX_ALTERNATIVES);
+        for a in &c.alternatives {
+            let share = (1.0 - c.confidence) / 4.0;
+            assert!((a.probability - share).abs() < 1e-9, "{a:?} {c:?}");
+        }
+    }
+
+    #[test]
+    fn the_test_that_tells_them_apart_is_one_that_only_one_of_them_shows_in() {
+        let rate = family("rate");
+        let healing = family("log-healing");
+        let pressure = family("pressure");
+        assert!(tell_apart(&[rate], &[healing]).contains("velocity step"));
+        assert!(tell_apart(&[pressure], &[]).contains("normal stresses"));
+        let slip = family("slip-hardening");
+        let trend = family("time-trend");
+        assert!(tell_apart(&[slip], &[trend]).contains("sliding rate 10× apart"));
+        assert!(tell_apart(&[Effect::Unexplained], &[rate]).contains("fresh specimen"));
+    }
+}
