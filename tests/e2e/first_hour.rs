@@ -180,8 +180,13 @@ fn diagnose_counts_its_progress_and_plan_then_plans_on_the_model_it_chose() {
         lines[1].starts_with("verdict: missing effect: rate"),
         "{stdout}"
     );
+    // How sure the verdict is, with a probability, before the next step.
     assert!(
-        lines[2].starts_with("next: `subfric plan pair-01`"),
+        lines[2].starts_with("how sure: ") && lines[2].contains(" %"),
+        "{stdout}"
+    );
+    assert!(
+        lines[3].starts_with("next: `subfric plan pair-01`"),
         "{stdout}"
     );
     let diagnosis = tmp.path().join("fits/pair-01/diagnosis");

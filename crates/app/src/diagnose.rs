@@ -114,6 +114,8 @@ pub fn diagnosis_json(set_name: &str, d: &Diagnosis) -> Value {
             "held_out_shrink": d.verdict.held_out_shrink,
             "explanation": d.verdict.explanation,
             "extra_parameters": d.verdict.extra_parameters,
+            "confidence": d.verdict.confidence,
+            "alternatives": d.verdict.alternatives,
         },
         "diagnosis": d,
     })

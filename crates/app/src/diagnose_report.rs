@@ -48,9 +48,10 @@ pub fn final_adequacy(d: &Diagnosis) -> Adequacy {
     Adequacy::of_groups(d.verdict.final_chi2, &d.remaining_by_segment)
 }
 
-/// The verdict in plain words and the next step, one line each ("verdict: …", "next: …"):
-/// whether the base model describes the data, which effect it lacks, whether the model with
-/// it describes the held-out data, and what to run next on the set in `dir`.
+/// The verdict in plain words and the next step, one line each ("verdict: …", "how sure: …",
+/// "next: …"): whether the base model describes the data, which effect it lacks, whether the
+/// model with it describes the held-out data, how sure that is (or what else the data allow),
+/// and what to run next on the set in `dir`.
 pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
     let base = base_adequacy(d);
     let mut v = vec![format!("verdict: {}", base.sentence("the base model"))];
@@ -69,6 +70,10 @@ pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
                 crate::adequacy::diagnosed_effects()
             )),
         }
+        if let Some(sure) = d.verdict.certainty_sentence() {
+            v.push(format!("how sure: {sure}"));
+        }
+        v.extend(first_loadings_line(d).filter(|l| l.contains("instead")));
         v.push(format!(
             "next: `subfric plan {set}` proposes the next test for the base model{}",
             if base.describes() {
@@ -88,10 +93,35 @@ pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
             "the data held out from its fit"
         )
     ));
+    if let Some(sure) = d.verdict.certainty_sentence() {
+        v.push(format!("how sure: {sure}"));
+    }
+    v.extend(first_loadings_line(d).filter(|l| l.contains("instead")));
     v.push(format!(
         "next: `subfric plan {set}` proposes the next test for the model with {label} (it reads this diagnosis)"
     ));
     v
+}
+
+/// Whether the verdict holds with the first loadings left out (where a seating toe or a
+/// compliant start lives), in words; `None` when that was not checked.
+fn first_loadings_line(d: &Diagnosis) -> Option<String> {
+    let without = d.verdict.without_first_loadings.as_ref()?;
+    let named = d.verdict.named();
+    let same = {
+        let (mut a, mut b) = (without.clone(), named.clone());
+        a.sort();
+        b.sort();
+        a == b
+    };
+    Some(if same {
+        "first loadings left out: the held-out evidence of the other pieces points to the same verdict".to_string()
+    } else {
+        format!(
+            "first loadings left out: the held-out evidence of the other pieces points to {} instead: the first loadings (seating, the elastic rise) weigh in this verdict",
+            subfric_diagnose::confidence::label(without)
+        )
+    })
 }
 
 /// The named effects joined with " + " (empty when none).
@@ -387,6 +417,21 @@ fn verdict(s: &mut String, d: &Diagnosis) {
         named_effect(s, e);
     }
     let _ = writeln!(s, "   {}", d.verdict.explanation);
+    if let Some(sure) = d.verdict.certainty_sentence() {
+        let _ = writeln!(s, "   how sure: {sure}");
+        if let Some(line) = first_loadings_line(d) {
+            let _ = writeln!(s, "   {line}");
+        }
+        for a in &d.verdict.alternatives {
+            let _ = writeln!(
+                s,
+                "   or {} ({:.0} %): {}",
+                a.label,
+                100.0 * a.probability,
+                a.tell_apart
+            );
+        }
+    }
     if let Some(sup) = d.verdict.evidence_supports {
         let _ = writeln!(
             s,

@@ -450,11 +450,13 @@ pub fn case_line(c: &Case) -> String {
         }
     };
     format!(
-        "{:<22} truth {:<56} verdict {:<30} {} shrink {:>4.0}%  ({:.1} s){}",
+        "{:<22} truth {:<56} verdict {:<30} {} {} shrink {:>4.0}%  ({:.1} s){}",
         crate::visible(&c.name),
         truncate(&crate::visible(&c.truth_label), 56),
         names(&c.verdict),
         if c.right() { "right" } else { "WRONG" },
+        c.confidence
+            .map_or("  -  ".to_string(), |p| format!("{:>3.0} %", 100.0 * p)),
         100.0 * c.shrink,
         c.elapsed_s,
         if c.profile.is_empty() {

@@ -24,6 +24,12 @@ pub struct Case {
     pub profile: String,
     /// Diagnosis time [s].
     pub elapsed_s: f64,
+    /// The verdict's confidence (`None`: nothing judged).
+    pub confidence: Option<f64>,
+    /// What the selection weighed, stage by stage (to recalibrate the confidence offline).
+    pub weighed: Vec<subfric_diagnose::confidence::StageWeighing>,
+    /// The verdict the evidence points to with the first loadings left out.
+    pub without_first_loadings: Option<Vec<Effect>>,
 }
 
 impl Case {
@@ -43,6 +49,9 @@ impl Case {
             shrink: d.verdict.held_out_shrink,
             profile: String::new(),
             elapsed_s: d.elapsed_s,
+            confidence: d.verdict.confidence,
+            weighed: d.verdict.weighed.clone(),
+            without_first_loadings: d.verdict.without_first_loadings.clone(),
         }
     }
 
@@ -100,6 +109,75 @@ pub struct Scores {
     pub unexplained_right: (usize, usize),
     /// Median and largest diagnosis time [s].
     pub time_median_max_s: (f64, f64),
+    /// Verdicts stated as confident (confidence at least
+    /// [`subfric_diagnose::confidence::CONFIDENT`]): (right, stated).
+    pub confident_right: (usize, usize),
+    /// Reliability of the confidence: per bin of confidence (from, to, sets, right, mean
+    /// confidence).
+    pub calibration: Vec<CalibrationBin>,
+    /// Brier score of the confidence as a forecast of "fully right" (0 perfect; 0.25 for a
+    /// constant 50 %); `None` when no verdict carried a confidence.
+    pub brier: Option<f64>,
+}
+
+/// Sets whose verdict was stated with a confidence in [from, to).
+#[derive(Clone, Debug, Serialize)]
+pub struct CalibrationBin {
+    /// Lower end.
+    pub from: f64,
+    /// Upper end (the last bin includes 1).
+    pub to: f64,
+    /// Sets.
+    pub sets: usize,
+    /// Of those, fully right.
+    pub right: usize,
+    /// Mean confidence stated.
+    pub mean_confidence: f64,
+}
+
+/// The bins of the reliability table.
+const CALIBRATION_EDGES: [f64; 5] = [0.0, 0.5, 0.7, 0.9, 1.0];
+
+fn calibration(cases: &[Case]) -> (Vec<CalibrationBin>, Option<f64>, (usize, usize)) {
+    let judged: Vec<(f64, bool)> = cases
+        .iter()
+        .filter_map(|c| c.confidence.map(|p| (p, c.right())))
+        .collect();
+    let bins = CALIBRATION_EDGES
+        .windows(2)
+        .enumerate()
+        .map(|(i, w)| {
+            let last = i + 2 == CALIBRATION_EDGES.len();
+            let inside: Vec<&(f64, bool)> = judged
+                .iter()
+                .filter(|(p, _)| *p >= w[0] && (*p < w[1] || (last && *p <= w[1])))
+                .collect();
+            CalibrationBin {
+                from: w[0],
+                to: w[1],
+                sets: inside.len(),
+                right: inside.iter().filter(|(_, r)| *r).count(),
+                mean_confidence: inside.iter().map(|(p, _)| p).sum::<f64>()
+                    / inside.len().max(1) as f64,
+            }
+        })
+        .collect();
+    let brier = (!judged.is_empty()).then(|| {
+        judged
+            .iter()
+            .map(|(p, r)| (p - if *r { 1.0 } else { 0.0 }).powi(2))
+            .sum::<f64>()
+            / judged.len() as f64
+    });
+    let confident: Vec<&(f64, bool)> = judged
+        .iter()
+        .filter(|(p, _)| *p >= subfric_diagnose::confidence::CONFIDENT)
+        .collect();
+    let confident_right = (
+        confident.iter().filter(|(_, r)| *r).count(),
+        confident.len(),
+    );
+    (bins, brier, confident_right)
 }
 
 fn median(v: &mut [f64]) -> Option<f64> {
@@ -162,6 +240,7 @@ pub fn score(cases: &[Case]) -> Scores {
         .collect();
     let mut times: Vec<f64> = cases.iter().map(|c| c.elapsed_s).collect();
     let tmax = times.iter().cloned().fold(0.0, f64::max);
+    let (calibration, brier, confident_right) = calibration(cases);
     Scores {
         labels: labels.iter().map(|e| e.name().to_string()).collect(),
         confusion,
@@ -190,6 +269,9 @@ pub fn score(cases: &[Case]) -> Scores {
                 .count(),
         ),
         time_median_max_s: (median(&mut times).unwrap_or(0.0), tmax),
+        confident_right,
+        calibration,
+        brier,
     }
 }
 
@@ -270,6 +352,31 @@ impl std::fmt::Display for Scores {
             "gaps no candidate explains: {} of {} called unexplained",
             self.unexplained_right.1, self.unexplained_right.0
         )?;
+        if let Some(brier) = self.brier {
+            writeln!(
+                f,
+                "verdicts stated as confident (confidence at least {:.0} %): {} right of {}; confident and wrong: {}",
+                100.0 * subfric_diagnose::confidence::CONFIDENT,
+                self.confident_right.0,
+                self.confident_right.1,
+                self.confident_right.1 - self.confident_right.0
+            )?;
+            writeln!(
+                f,
+                "confidence against the share right (Brier score {brier:.3}):"
+            )?;
+            for b in self.calibration.iter().filter(|b| b.sets > 0) {
+                writeln!(
+                    f,
+                    "  {:>3.0}-{:<3.0}%  {:>3} sets, mean confidence {:>3.0} %, right {:>3.0} %",
+                    100.0 * b.from,
+                    100.0 * b.to,
+                    b.sets,
+                    100.0 * b.mean_confidence,
+                    100.0 * b.right as f64 / b.sets as f64
+                )?;
+            }
+        }
         write!(
             f,
             "diagnosis time: median {:.1} s, max {:.1} s",
@@ -291,6 +398,9 @@ mod tests {
             shrink: 0.5,
             profile: profile.into(),
             elapsed_s: 1.0,
+            confidence: None,
+            weighed: Vec::new(),
+            without_first_loadings: None,
         }
     }
 
