@@ -7,15 +7,18 @@
 //! option were the truth and the noise white; neither holds where the model misses, so the
 //! evidence is tempered as a quasi-likelihood is: divided by the dispersion φ of the best model
 //! the stage weighs (its held-out misfit × the noise variance, at least 1) and by a temperature
-//! T calibrated on sets made by generators the project does not own (docs/diagnosis.md gives
-//! the calibration). The probability of an option is then
+//! T ([`TEMPERATURE`]). The probability of an option is then
 //!
 //! p(o) = exp(D_o / 2Tφ) / Σ_o' exp(D_o' / 2Tφ),
 //!
-//! the verdict's confidence is the product over the stages of the option each took, and every
-//! option not taken is an alternative verdict with the product of the options before it and its
-//! own probability. A verdict stated with a confidence below [`CONFIDENT`] is "uncertain
-//! between" it and its likeliest alternatives, with the test that would tell them apart.
+//! the evidence's own weight of the verdict is the product over the stages of the option each
+//! took, and every option not taken is an alternative verdict with the product of the options
+//! before it and its own probability ([`path_certainty`]). The confidence stated is calibrated
+//! apart ([`calibrated`]: a logistic regression on the verdict's features, fitted to verdicts on
+//! sets whose truth is known) and the rest is shared among the alternatives as the evidence
+//! weighs them ([`certainty`]). A verdict stated with a confidence below [`CONFIDENT`] is
+//! "uncertain between" it and its likeliest alternatives, with the test that would tell them
+//! apart.
 
 use crate::candidates::Effect;
 use crate::diagnose::SelectionStage;
@@ -26,8 +29,12 @@ use subfric_model::terms::{self, Shows};
 /// Confidence at and above which a verdict is stated as "confident".
 pub const CONFIDENT: f64 = 0.9;
 
-/// The temperature T (see the module documentation), calibrated on the rig-artifact campaigns
-/// of `../shared/generators/` (seeds 1001-1005, developed on; docs/diagnosis.md).
+/// The temperature T (see the module documentation): 1, the plain quasi-likelihood. Tried from
+/// 0.25 to 50 on the rig-artifact campaigns of `../shared/generators/` (seeds 1001-1005), no
+/// temperature made the tempered evidence alone a calibrated confidence (its mean stayed near
+/// 0.3 where two thirds of the verdicts were right: the selection's materiality tests carry what
+/// D does not), so it shares the rest among the alternatives and is one regressor of
+/// [`CALIBRATION`].
 pub const TEMPERATURE: f64 = 1.0;
 
 /// What the calibration of the confidence reads off a verdict (see [`calibrated`]).
@@ -115,7 +122,8 @@ impl VerdictFeatures {
 /// [`VerdictFeatures::regressors`], fitted (maximum likelihood, a ridge of 1 on all but the
 /// intercept) to the verdicts on the rig-artifact campaigns of `../shared/generators/`, seeds
 /// 1001-1005 (100 sets the diagnosis was developed on; the fresh seeds it is judged on are in
-/// docs/diagnosis.md).
+/// docs/diagnosis.md). `scripts/calibrate_confidence.py` refits them from the files
+/// `selfcheck --json` writes.
 ///
 /// The fit weighs the verdict's kind and how far from the noise the model still is; the margin of
 /// the evidence among the stage's options carries almost nothing once those are known (its
