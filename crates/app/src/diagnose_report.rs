@@ -107,21 +107,16 @@ pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
 /// compliant start lives), in words; `None` when that was not checked.
 fn first_loadings_line(d: &Diagnosis) -> Option<String> {
     let without = d.verdict.without_first_loadings.as_ref()?;
-    let named = d.verdict.named();
-    let same = {
-        let (mut a, mut b) = (without.clone(), named.clone());
-        a.sort();
-        b.sort();
-        a == b
-    };
-    Some(if same {
-        "first loadings left out: the held-out evidence of the other pieces points to the same verdict".to_string()
-    } else {
-        format!(
+    Some(
+        if subfric_diagnose::confidence::same(without, &d.verdict.named()) {
+            "first loadings left out: the held-out evidence of the other pieces points to the same verdict".to_string()
+        } else {
+            format!(
             "first loadings left out: the held-out evidence of the other pieces points to {} instead: the first loadings (seating, the elastic rise) weigh in this verdict",
             subfric_diagnose::confidence::label(without)
         )
-    })
+        },
+    )
 }
 
 /// The named effects joined with " + " (empty when none).

@@ -35,12 +35,7 @@ pub struct Case {
 impl Case {
     /// Scores a diagnosis against the truth (`truth`: families; a drift is `Unexplained`).
     pub fn new(name: &str, truth: Vec<Effect>, label: String, d: &Diagnosis) -> Case {
-        let named: Vec<Effect> = d.verdict.effects.iter().map(|e| e.effect).collect();
-        let verdict = match d.verdict.effect {
-            Effect::None => Vec::new(),
-            Effect::Unexplained if named.is_empty() => vec![Effect::Unexplained],
-            _ => named,
-        };
+        let verdict = d.verdict.named();
         Case {
             name: name.into(),
             truth,

@@ -361,7 +361,7 @@ fn merged(options: Vec<WeighedOption>) -> Vec<WeighedOption> {
 }
 
 /// The same effects in any order.
-fn same(a: &[Effect], b: &[Effect]) -> bool {
+pub fn same(a: &[Effect], b: &[Effect]) -> bool {
     let (mut a, mut b) = (a.to_vec(), b.to_vec());
     a.sort();
     b.sort();
