@@ -6,16 +6,7 @@ use std::collections::HashMap;
 /// Maps a JSON path (`""` for the root, `tests[0].control`, ...) to the 1-based line and column
 /// where its value starts. Never panics; on malformed input it returns what it found so far.
 pub(crate) fn value_positions(text: &str) -> HashMap<String, (usize, usize)> {
-    let mut s = Scanner {
-        chars: text.chars().collect(),
-        pos: 0,
-        line: 1,
-        col: 1,
-        out: HashMap::new(),
-        duplicates: Vec::new(),
-        end_of: None,
-    };
-    s.skip_ws();
+    let mut s = Scanner::new(text);
     s.value(String::new(), 0);
     s.out
 }
@@ -23,16 +14,7 @@ pub(crate) fn value_positions(text: &str) -> HashMap<String, (usize, usize)> {
 /// Where the value at `field` ends in `text`: the index (in chars) just past its last char.
 /// `None` when the text is not JSON or has no such field.
 pub(crate) fn value_end(text: &str, field: &str) -> Option<usize> {
-    let mut s = Scanner {
-        chars: text.chars().collect(),
-        pos: 0,
-        line: 1,
-        col: 1,
-        out: HashMap::new(),
-        duplicates: Vec::new(),
-        end_of: None,
-    };
-    s.skip_ws();
+    let mut s = Scanner::new(text);
     s.end_of = Some((field.to_string(), None));
     s.value(String::new(), 0);
     s.end_of.and_then(|(_, end)| end)
@@ -42,18 +24,26 @@ pub(crate) fn value_end(text: &str, field: &str) -> Option<usize> {
 /// a JSON reader keeps one of the two silently (serde_json the last), so which value was meant
 /// is not known. Paths as in [`value_positions`]; never panics.
 pub(crate) fn duplicate_keys(text: &str) -> Vec<(String, usize, usize)> {
-    let mut s = Scanner {
-        chars: text.chars().collect(),
-        pos: 0,
-        line: 1,
-        col: 1,
-        out: HashMap::new(),
-        duplicates: Vec::new(),
-        end_of: None,
-    };
-    s.skip_ws();
+    let mut s = Scanner::new(text);
     s.value(String::new(), 0);
     s.duplicates
+}
+
+impl Scanner {
+    /// A scanner at the first value of `text` (leading white space skipped).
+    fn new(text: &str) -> Scanner {
+        let mut s = Scanner {
+            chars: text.chars().collect(),
+            pos: 0,
+            line: 1,
+            col: 1,
+            out: HashMap::new(),
+            duplicates: Vec::new(),
+            end_of: None,
+        };
+        s.skip_ws();
+        s
+    }
 }
 
 struct Scanner {
