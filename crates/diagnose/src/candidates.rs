@@ -26,6 +26,16 @@ pub enum Effect {
 }
 
 impl Effect {
+    /// Whether the variable this effect acts through varies in data with features `f`, so
+    /// that it can be named there ([`subfric_model::terms::TermFamily::varies`]); effects that
+    /// are not families always can.
+    pub fn varies_in(self, f: &DataFeatures) -> bool {
+        match self {
+            Effect::Term(i) => terms::family(i).varies(&f.scales()),
+            _ => true,
+        }
+    }
+
     /// The registered family tried by default whose term follows the accumulated slip alone
     /// (slip hardening): where a residual that grows with slip or with the cycles points.
     pub fn of_accumulated_slip() -> Option<Effect> {
@@ -291,6 +301,7 @@ pub fn all_form_names() -> Vec<&'static str> {
         p_ref: 100.0,
         pressure_levels: 2,
         sliding_rates: 2,
+        traction_tests: 0,
         holds: 1,
         reversals: 1,
         slip_span_mm: 1.0,

@@ -31,6 +31,8 @@ pub struct DataFeatures {
     pub pressure_levels: usize,
     /// Distinct sliding rates (a factor 1.5 apart).
     pub sliding_rates: usize,
+    /// Tests under traction control.
+    pub traction_tests: usize,
     /// Holds over all tests.
     pub holds: usize,
     /// Reversals over all tests.
@@ -256,6 +258,10 @@ pub fn data_features(tests: &[PreparedTest]) -> DataFeatures {
         },
         pressure_levels: distinct(normals, 1.05),
         sliding_rates: distinct(rates, 1.5),
+        traction_tests: tests
+            .iter()
+            .filter(|p| p.full.control == Control::Shear)
+            .count(),
         holds,
         reversals,
         slip_span_mm: median(&mut spans).unwrap_or(1.0),
@@ -344,6 +350,7 @@ impl DataFeatures {
             reversals: self.reversals,
             pressure_levels: self.pressure_levels,
             sliding_rates: self.sliding_rates,
+            traction_tests: self.traction_tests,
             healing_per_decade: self.seeds.healing_per_decade,
             steps: subfric_model::terms::StepReading {
                 direct: self.steps.direct,

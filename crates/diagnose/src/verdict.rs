@@ -98,7 +98,44 @@ pub fn decide(
     drift: Option<&Comparison>,
     th: &Thresholds,
 ) -> Decision {
+    decide_among(
+        reference_chi2,
+        candidates,
+        &vec![true; candidates.len()],
+        drift,
+        th,
+    )
+}
+
+/// [`decide`] where only the candidates marked in `namable` may be named or kept tentatively
+/// (those whose variable varies in the data, see [`crate::Effect::varies_in`]); the others
+/// stay in the stage as alternatives, weighed but never chosen.
+///
+/// ```
+/// use subfric_diagnose::score::Comparison;
+/// use subfric_diagnose::verdict::{decide_among, Decision, Thresholds};
+/// use subfric_diagnose::Effect;
+/// let c = |score: f64| Comparison { score, shape_score: score, level_score: 0.0, excess_shrink: 0.9,
+///     relative_shrink: 0.9, typical_shrink: 0.5, reference_chi2: 12.0, candidate_chi2: 1.5,
+///     rows: 2000, n_eff: 1500.0, pieces: vec![] };
+/// let rate = Effect::from_name("rate").unwrap();
+/// let healing = Effect::from_name("log-healing").unwrap();
+/// let both = [(rate, c(400.0)), (healing, c(300.0))];
+/// let th = Thresholds::default();
+/// assert_eq!(decide_among(12.0, &both, &[true, true], None, &th), Decision::Named(0));
+/// // Rate on a record slid at one rate: healing, the one that can be named, is.
+/// assert_eq!(decide_among(12.0, &both, &[false, true], None, &th), Decision::Named(1));
+/// assert_eq!(decide_among(12.0, &both, &[false, false], None, &th), Decision::Unexplained);
+/// ```
+pub fn decide_among(
+    reference_chi2: f64,
+    candidates: &[(Effect, Comparison)],
+    namable: &[bool],
+    drift: Option<&Comparison>,
+    th: &Thresholds,
+) -> Decision {
     let best = (0..candidates.len())
+        .filter(|&i| namable.get(i).copied().unwrap_or(true))
         .max_by(|&a, &b| candidates[a].1.score.total_cmp(&candidates[b].1.score));
     let best_score = best.map_or(f64::NEG_INFINITY, |i| candidates[i].1.score);
     if let Some(d) = drift {
@@ -128,8 +165,9 @@ pub fn decide(
 /// improving, even if not enough alone. An effect that improves only pieces of other
 /// kinds is standing in for something else and is not credited. Among those that qualify, the
 /// one with most evidence on its own kind is named; one with significant evidence on its own
-/// kind that explains too little stays tentative. `corroborated[i]` is false when the events
-/// read one by one speak against the family (velocity steps without a direct effect, say).
+/// kind that explains too little stays tentative. `corroborated[i]` is false when the family
+/// may not be named: the events read one by one speak against it (velocity steps without a
+/// direct effect, say) or the variable it acts through does not vary in the data.
 ///
 /// ```
 /// use subfric_diagnose::score::Comparison;

@@ -9,7 +9,7 @@ use crate::candidates::{Effect, Form, OwnKind};
 use crate::fits::{residuals, with_values, Effort, Spec};
 use crate::folds::{Piece, PieceKind};
 use crate::score::{by_kind, Comparison, HeldOut};
-use crate::verdict::{decide, decide_further, material, named_count, Decision};
+use crate::verdict::{decide_among, decide_further, material, named_count, Decision};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use subfric_model::Model;
@@ -424,6 +424,7 @@ pub(super) fn forward_selection(
                     c.score >= th.min_score
                         && c.excess_shrink > 0.0
                         && crate::events::corroborates(&cx.events, first.candidates[j].effect)
+                        && first.candidates[j].effect.varies_in(&cx.features)
                 })
                 .max_by(|&a, &b| {
                     let score = |k: usize| first.candidates[k].held_out.score;
@@ -699,6 +700,7 @@ fn shown_and_predicted(
                 .flat_map(|k| &k.held_out.pieces)
                 .collect();
             crate::events::shows(&cx.events, c.effect)
+                && c.effect.varies_in(&cx.features)
                 && own.len() >= SHOWN_MIN_PIECES
                 && own.iter().all(|p| p.candidate_ssr < p.reference_ssr)
                 && c.held_out.score > 0.0
@@ -787,9 +789,18 @@ fn selection_stage(
         .map(|c| (c.effect, c.held_out.clone()))
         .collect();
     let th = &cx.opts.thresholds;
+    // One standard for every effect named, the first included: the variable it acts through
+    // varies in the data (a rate law fitted to the holds of a record slid at one rate stands
+    // for healing as well as for rate, and stays an alternative, weighed, never named).
+    let namable: Vec<bool> = candidates
+        .iter()
+        .map(|c| c.effect.varies_in(&cx.features))
+        .collect();
+    // ... and, after the first, the events read one by one do not speak against it.
     let corroborated: Vec<bool> = candidates
         .iter()
-        .map(|c| crate::events::corroborates(&cx.events, c.effect))
+        .zip(&namable)
+        .map(|(c, &namable)| namable && crate::events::corroborates(&cx.events, c.effect))
         .collect();
     let own: Vec<Comparison> = candidates
         .iter()
@@ -800,9 +811,10 @@ fn selection_stage(
         // its excess is not named when the events read one by one speak against it (a record
         // that vibrates: a rate law fitted a typical piece 23 % better, 7 % of the excess, over
         // velocity steps of which none showed a direct effect).
-        let first = match decide(
+        let first = match decide_among(
             reference_chi2,
             &pairs,
+            &namable,
             drift.as_ref().map(|d| &d.held_out),
             th,
         ) {

@@ -143,6 +143,9 @@ pub struct DataScales {
     pub pressure_levels: usize,
     /// Distinct sliding rates.
     pub sliding_rates: usize,
+    /// Tests under traction control (their slip rate is not imposed: it varies as the
+    /// interface creeps or runs away).
+    pub traction_tests: usize,
     /// The friction gained per decade of hold time that the holds read one by one show, when
     /// they were read.
     pub healing_per_decade: Option<f64>,
@@ -276,6 +279,15 @@ pub trait TermFamily: Sync + std::fmt::Debug {
     fn tried_by_default(&self) -> bool;
     /// Whether data of these scales can say anything about the family.
     fn applies(&self, data: &DataScales) -> bool;
+    /// Whether the variable the family acts through varies in data of these scales, so that
+    /// the family can be told from others there and named (two sliding rates or more for
+    /// rate, holds for healing, reversals for direction, two normal stresses for pressure).
+    /// A family that applies but whose variable does not vary (a rate-and-state law on the
+    /// holds of a record slid at one rate) may be fitted and weighed as an alternative, never
+    /// named. By default: wherever it applies.
+    fn varies(&self, data: &DataScales) -> bool {
+        self.applies(data)
+    }
     /// First guesses and bounds of form `form` for data of these scales.
     fn guess(&self, form: usize, data: &DataScales) -> FormGuess;
     /// Whether every form's T depends on the accumulated slip alone, vanishes at s = 0 and is

@@ -401,6 +401,13 @@ impl TermFamily for Rate {
         data.sliding_rates > 1 || data.holds > 0
     }
 
+    fn varies(&self, data: &DataScales) -> bool {
+        // Holds alone at one sliding rate: a rate-and-state state that ages at rest and a
+        // healing law both raise the peak on reloading, and nothing in the record tells them
+        // apart (a velocity step would).
+        data.sliding_rates > 1 || data.traction_tests > 0
+    }
+
     fn adds_term(&self) -> bool {
         false
     }

@@ -209,6 +209,7 @@ mod tests {
             reversals: 0,
             pressure_levels: 1,
             sliding_rates: 1,
+            traction_tests: 0,
             healing_per_decade: None,
             steps: crate::terms::StepReading::default(),
             rate_and_state: None,

@@ -24,6 +24,7 @@ fn every_family_is_consistent() {
             reversals: 1,
             pressure_levels: 2,
             sliding_rates: 2,
+            traction_tests: 0,
             healing_per_decade: None,
             steps: StepReading::default(),
             rate_and_state: None,
