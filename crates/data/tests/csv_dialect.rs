@@ -2,7 +2,9 @@
 //! ends, quoted cells (with the delimiter, a quote or a line break inside), comments, other
 //! delimiters; errors still at the right file, line and column; written cells read back.
 
-use subfric_data::{import, load_set, ColumnRef, Delimiter, ImportSpec, StressUnit, TestData};
+use subfric_data::{
+    import, load_set, write_set, ColumnRef, Delimiter, ImportSpec, StressUnit, TestData,
+};
 
 const JSON_ONE: &str = r#"{"name": "s", "title": "t", "source": "unit test",
   "tests": [{"name": "a", "file": "a.csv", "control": "slip", "normal_stress_kpa": 100}]}"#;
@@ -126,4 +128,28 @@ fn a_header_name_with_the_delimiter_inside_quotes_is_one_column() {
     };
     let set = import(&lab, &spec, &dir.path().join("set")).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(set.tests[0].shear_kpa, vec![0.0, 5.0, 9.0]);
+}
+
+#[test]
+fn written_comments_and_numbers_read_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("src");
+    std::fs::create_dir(&src).unwrap();
+    std::fs::write(src.join("experiment.json"), JSON_ONE).unwrap();
+    std::fs::write(src.join("a.csv"), PLAIN).unwrap();
+    let mut set = load_set(&src).unwrap();
+    // A comment holding a line break (an imported file's name may) stays comments.
+    set.tests[0].comments = vec!["from `a,\"b\"\nc.txt`".into(), String::new()];
+    let out = dir.path().join("out");
+    write_set(&set, &out).unwrap_or_else(|e| panic!("{e}"));
+    let text = std::fs::read_to_string(out.join("a.csv")).unwrap();
+    assert!(
+        text.starts_with(
+            "# from `a,\"b\"\n# c.txt`\n#\ntime_s,slip_mm,shear_kpa,normal_kpa\n0,0,0,100\n"
+        ),
+        "{text}"
+    );
+    let back = load_set(&out).unwrap();
+    assert_eq!(back.tests[0].shear_kpa, set.tests[0].shear_kpa);
+    assert_eq!(back.tests[0].comments, vec!["from `a,\"b\"", "c.txt`", ""]);
 }
