@@ -499,11 +499,16 @@ impl Header {
                 Some(line_no),
                 None,
                 format!(
-                    "row has {} cell{} (expected {}: {})",
+                    "row has {} cell{} (expected {}: {}){}",
                     cells.len(),
                     if cells.len() == 1 { "" } else { "s" },
                     self.cols.len(),
-                    self.names.join(",")
+                    self.names.join(","),
+                    if cells.iter().any(|c| c.contains(['\n', '\r'])) {
+                        "; a quoted cell runs over several lines here: is a closing `\"` missing?"
+                    } else {
+                        ""
+                    }
                 ),
             );
             return None;

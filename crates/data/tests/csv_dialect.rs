@@ -68,6 +68,12 @@ fn a_bad_number_is_named_at_its_file_line_and_column() {
         e.contains("a.csv:3: field `shear_kpa`: `2\\n3` is not a number"),
         "{e}"
     );
+    // An unclosed quote takes the lines after it into its cell: the row says so.
+    let e = load(b"time_s,slip_mm,shear_kpa\n0,0,0\n1,\"0.1,2\n2,0.2,3\n").unwrap_err();
+    assert!(
+        e.contains("a.csv:3: row has 2 cells (expected 3: time_s,slip_mm,shear_kpa); a quoted cell runs over several lines here: is a closing `\"` missing?"),
+        "{e}"
+    );
     // Lone CR line ends count as lines.
     let e = load(b"time_s,slip_mm,shear_kpa\r0,0,0\r\r1,0.1,nan\r").unwrap_err();
     assert!(

@@ -19,7 +19,17 @@ pub(super) fn separator(d: Delimiter) -> Separator {
     }
 }
 
+/// The delimiter of a header (or first data) line: tab, then `;`, then `,`, else whitespace,
+/// looking only outside quotes (`time,"shear; kPa"` is comma-separated).
 pub(super) fn detect(line: &str) -> Delimiter {
+    let mut quoted = false;
+    let line: String = line
+        .chars()
+        .filter(|&c| {
+            quoted ^= c == '"';
+            !quoted && c != '"'
+        })
+        .collect();
     if line.contains('\t') {
         Delimiter::Tab
     } else if line.contains(';') {
@@ -216,6 +226,14 @@ mod tests {
         assert_eq!(kpa.to_string(), "34.278");
         // No factor: the number as read.
         assert_eq!(with_precision(0.1, resolution("0.1"), 1.0), 0.1);
+    }
+
+    #[test]
+    fn the_delimiter_is_found_outside_quotes() {
+        assert_eq!(detect("time,\"shear; kPa\""), Delimiter::Comma);
+        assert_eq!(detect("\"t, s\";u"), Delimiter::Semicolon);
+        assert_eq!(detect("a\t\"b;c\""), Delimiter::Tab);
+        assert_eq!(detect("\"a,b\" c"), Delimiter::Whitespace);
     }
 
     #[test]
