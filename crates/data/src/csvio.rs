@@ -24,19 +24,21 @@ pub(crate) enum Separator {
 
 /// One thing a CSV text holds, in the file's order.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) enum Item {
+pub(crate) enum Item<'a> {
     /// A `#` comment line: its 1-based line and its text as written (the `#` included, the
     /// line end not).
     Comment(usize, String),
     /// A record: the 1-based line it starts on and its cells, trimmed of surrounding spaces and
-    /// unquoted.
-    Record(usize, Vec<String>),
+    /// unquoted (borrowed: the cells' buffers are used again for the next record).
+    Record(usize, &'a [String]),
 }
 
-/// A cell as read: surrounding spaces trimmed, and the quotes of a cell quoted after a space
-/// (` "a, b"`) removed, which the `csv` crate keeps as written since the quote does not open
-/// the field. (In that case a delimiter inside the quotes has already split the cell.)
-fn cell_text(raw: &[u8]) -> String {
+/// A cell as read, written into `out`: surrounding spaces trimmed, and the quotes of a cell
+/// quoted after a space (` "a, b"`) removed, which the `csv` crate keeps as written since the
+/// quote does not open the field. (In that case a delimiter inside the quotes has already split
+/// the cell.)
+fn cell_text(raw: &[u8], out: &mut String) {
+    out.clear();
     let raw = String::from_utf8_lossy(raw);
     let t = raw.trim();
     if raw.starts_with(char::is_whitespace)
@@ -44,9 +46,9 @@ fn cell_text(raw: &[u8]) -> String {
         && t.starts_with('"')
         && t.ends_with('"')
     {
-        t[1..t.len() - 1].replace("\"\"", "\"")
+        out.push_str(&t[1..t.len() - 1].replace("\"\"", "\""));
     } else {
-        t.to_string()
+        out.push_str(t);
     }
 }
 
@@ -133,6 +135,7 @@ pub(crate) fn read(
         .comment(Some(b'#'))
         .from_reader(&bytes[start..]);
     let mut record = csv::ByteRecord::new();
+    let mut cells: Vec<String> = Vec::new();
     // Where the text not yet handed out starts: blank and comment lines before a record are
     // consumed by the reader along with the record, and are found again here.
     let mut from = start;
@@ -157,16 +160,23 @@ pub(crate) fn read(
             continue;
         }
         let line = lines.line_at(record_start);
-        let mut cells: Vec<String> = record.iter().map(cell_text).collect();
-        if sep == Separator::Whitespace {
-            cells.retain(|c| !c.is_empty());
+        let mut n = 0;
+        for raw_cell in &record {
+            if n == cells.len() {
+                cells.push(String::new());
+            }
+            cell_text(raw_cell, &mut cells[n]);
+            // Between runs of spaces the cells are empty: not cells.
+            if !(sep == Separator::Whitespace && cells[n].is_empty()) {
+                n += 1;
+            }
         }
         if raw.iter().find(|c| !c.is_ascii_whitespace()) == Some(&b'#') {
             let first_line = raw.split(|&c| c == b'\n').next().unwrap_or_default();
             let comment = String::from_utf8_lossy(first_line);
             each(Item::Comment(line, comment.trim().to_string()));
         } else {
-            each(Item::Record(line, cells));
+            each(Item::Record(line, &cells[..n]));
         }
     }
 }
@@ -199,7 +209,7 @@ pub(crate) fn cells_of_line(line: &str, sep: Separator) -> Vec<String> {
     let mut cells = Vec::new();
     let _ = read(line, 0, sep, |item| {
         if let (Item::Record(_, c), true) = (item, cells.is_empty()) {
-            cells = c;
+            cells = c.to_vec();
         }
     });
     cells
@@ -247,24 +257,37 @@ where
 mod tests {
     use super::*;
 
-    fn items(text: &str, skip: usize, sep: Separator) -> Vec<Item> {
+    /// What `read` hands out, owned: a comment's line and text, or a record's line and cells.
+    #[derive(Debug, PartialEq)]
+    enum Owned {
+        Comment(usize, String),
+        Record(usize, Vec<String>),
+    }
+
+    fn items(text: &str, skip: usize, sep: Separator) -> Vec<Owned> {
         let mut v = Vec::new();
-        read(text, skip, sep, |i| v.push(i)).unwrap();
+        read(text, skip, sep, |i| {
+            v.push(match i {
+                Item::Comment(l, c) => Owned::Comment(l, c),
+                Item::Record(l, c) => Owned::Record(l, c.to_vec()),
+            })
+        })
+        .unwrap();
         v
     }
 
-    fn rec(line: usize, cells: &[&str]) -> Item {
-        Item::Record(line, cells.iter().map(|c| c.to_string()).collect())
+    fn rec(line: usize, cells: &[&str]) -> Owned {
+        Owned::Record(line, cells.iter().map(|c| c.to_string()).collect())
     }
 
     #[test]
     fn line_ends_comments_and_blank_lines() {
         let comma = Separator::Byte(b',');
         let want = vec![
-            Item::Comment(1, "# c1".into()),
+            Owned::Comment(1, "# c1".into()),
             rec(2, &["a", "b"]),
             rec(4, &["1", "2"]),
-            Item::Comment(5, "# c2".into()),
+            Owned::Comment(5, "# c2".into()),
             rec(6, &["3", "4"]),
         ];
         for text in [
@@ -334,7 +357,7 @@ mod tests {
         // read as a line end, as every line end.
         let mut want: Vec<String> = cells.iter().map(|c| c.to_string()).collect();
         want[4] = "cr\nlf".into();
-        assert_eq!(v, vec![Item::Record(1, want)]);
+        assert_eq!(v, vec![Owned::Record(1, want)]);
         assert_eq!(text_of([["1", "2.5"], ["3", "-4e-7"]]), "1,2.5\n3,-4e-7\n");
     }
 }

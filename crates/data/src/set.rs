@@ -602,9 +602,9 @@ pub(crate) fn parse_test_csv(
     let read = crate::csvio::read(text, 0, Separator::Byte(b','), |item| match item {
         Item::Comment(_, c) => comments.push(comment_text(&c)),
         Item::Record(line_no, cells) => match &header {
-            None => header = Some(Header::parse(line_no, cells, path, &mut pr)),
+            None => header = Some(Header::parse(line_no, cells.to_vec(), path, &mut pr)),
             Some(h) => {
-                if let Some(values) = h.row(line_no, &cells, path, &mut pr) {
+                if let Some(values) = h.row(line_no, cells, path, &mut pr) {
                     if let (Some(ks), Some(kf), None) =
                         (h.idx(Col::Shear), h.idx(Col::Friction), h.idx(Col::Normal))
                     {

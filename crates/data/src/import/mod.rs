@@ -513,7 +513,7 @@ pub fn read_lab_file(
         separator(delim),
         |item| match item {
             Item::Comment(_, c) => comments.push(comment_text(&c)),
-            Item::Record(line, cells) => records.push((line, cells)),
+            Item::Record(line, cells) => records.push((line, cells.to_vec())),
         },
     )
     .map_err(|(line, why)| {
