@@ -330,6 +330,51 @@ fn import_with_a_missing_column_names_file_line_and_column() {
 }
 
 #[test]
+fn import_reads_quoted_cells_with_the_delimiter_given_and_refuses_an_unknown_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    let lab = tmp.path().join("lab.csv");
+    // A spreadsheet's export: BOM, CRLF, `;` between cells, quoted names holding `;` and `,`,
+    // decimal commas.
+    std::fs::write(
+        &lab,
+        "\u{feff}\"time; s\";\"slip, mm\";\"shear, kPa\"\r\n0;0;0\r\n1;0,05;12,5\r\n2;0,1;\"20,25\"\r\n",
+    )
+    .unwrap();
+    let out = tmp.path().join("set");
+    let import = |delimiter: &str| {
+        subfric!().run(args![
+            "import",
+            &lab,
+            "--out",
+            &out,
+            "--delimiter",
+            delimiter,
+            "--time",
+            "time; s",
+            "--slip",
+            "slip, mm",
+            "--shear",
+            "shear, kPa",
+            "--normal-stress",
+            "100"
+        ])
+    };
+    // An unknown delimiter is a usage error naming the flag and the values it takes.
+    let o = import("pipe");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_mentions(&err, &["--delimiter", "pipe", "semicolon", "tab"]);
+    assert!(!out.exists(), "a refused import wrote a set");
+    let o = import(";");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("test.csv")).unwrap();
+    assert!(
+        csv.ends_with("time_s,slip_mm,shear_kpa\n0,0,0\n1,0.05,12.5\n2,0.1,20.25\n"),
+        "{csv}"
+    );
+}
+
+#[test]
 fn unknown_candidate_forms_and_unlisted_with_sets_are_usage_errors() {
     let tmp = tempfile::tempdir().unwrap();
     let set = experiments().join("table1-medium");

@@ -340,9 +340,22 @@ fn md_number(v: f64) -> String {
 
 fn table_files(table: &str, sets: &[&SetResult]) -> (String, String) {
     let mut md = String::new();
-    let mut csv = String::from(
-        "table,set,parameter,unit,value,std_error,lower,upper,lower_open,upper_open,status,published,difference_percent\n",
-    );
+    let mut csv: Vec<[String; 13]> = vec![[
+        "table",
+        "set",
+        "parameter",
+        "unit",
+        "value",
+        "std_error",
+        "lower",
+        "upper",
+        "lower_open",
+        "upper_open",
+        "status",
+        "published",
+        "difference_percent",
+    ]
+    .map(String::from)];
     let _ = writeln!(md, "# {table}: fitted beside published\n");
     let _ = writeln!(md, "How to read:\n\n{}\n", legend_text("- "));
     for s in sets {
@@ -375,7 +388,7 @@ fn table_files(table: &str, sets: &[&SetResult]) -> (String, String) {
                 p.published.map(|v| format!("{v}")).unwrap_or_default(),
                 difference_text(p)
             );
-            csv.push_str(&csv_row(table, &s.name, p));
+            csv.push(csv_row(table, &s.name, p));
         }
         let combos = determined_combinations(r);
         if !combos.is_empty() {
@@ -395,13 +408,14 @@ fn table_files(table: &str, sets: &[&SetResult]) -> (String, String) {
         }
         let _ = writeln!(md);
     }
-    (md, csv)
+    (md, subfric_data::csvio::text_of(csv))
 }
 
 /// One CSV row of a parameter: every number as it is (the fitted value of an undetermined
 /// parameter included, its status says what it is worth), the difference from the published
-/// value only for an estimate.
-fn csv_row(table: &str, set: &str, p: &subfric_fit::ParamReport) -> String {
+/// value only for an estimate. The cells are quoted by the CSV writer where they must be (a set
+/// named with a comma).
+fn csv_row(table: &str, set: &str, p: &subfric_fit::ParamReport) -> [String; 13] {
     let (lo, hi, lo_o, hi_o) = p.interval.map_or((f64::NAN, f64::NAN, false, false), |i| {
         (i.lo, i.hi, i.lo_open, i.hi_open)
     });
@@ -413,25 +427,24 @@ fn csv_row(table: &str, set: &str, p: &subfric_fit::ParamReport) -> String {
         }
     };
     let estimate = !(p.status == Status::Fixed || undetermined(p));
-    format!(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-        table,
-        set,
-        p.name,
-        p.unit,
-        p.value,
+    [
+        table.to_string(),
+        set.to_string(),
+        p.name.to_string(),
+        p.unit.to_string(),
+        p.value.to_string(),
         p.std_error.map(|v| v.to_string()).unwrap_or_default(),
         finite(lo),
         finite(hi),
-        lo_o,
-        hi_o,
-        p.status.describe(),
+        lo_o.to_string(),
+        hi_o.to_string(),
+        p.status.describe().to_string(),
         p.published.map(|v| v.to_string()).unwrap_or_default(),
         p.difference_percent
             .filter(|_| estimate)
             .map(|v| format!("{v:.3}"))
-            .unwrap_or_default()
-    )
+            .unwrap_or_default(),
+    ]
 }
 
 /// `s` with its first letter in upper case.

@@ -31,6 +31,7 @@
 
 pub mod artifacts;
 pub mod condition;
+pub mod csvio;
 mod error;
 pub mod events;
 pub mod fsio;

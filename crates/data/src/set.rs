@@ -3,6 +3,7 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+use crate::csvio::{Item, Separator};
 use crate::error::{DataError, InputProblem, Problems};
 use crate::fsio::set_file_problem;
 use crate::meta::{file_name_problem, parse_meta, ControlColumn, ExperimentMeta, TestSpec};
@@ -358,26 +359,24 @@ impl Col {
     }
 }
 
-fn unquote(s: &str) -> &str {
-    let s = s.trim();
-    s.strip_prefix('"')
-        .and_then(|x| x.strip_suffix('"'))
-        .unwrap_or(s)
-        .trim()
-}
-
-/// Parses one numeric cell; `Err` holds the message.
+/// Parses one numeric cell (as the CSV reader gives it: unquoted); `Err` holds the message,
+/// which shows the cell with its control characters visible (a quoted cell may hold a line
+/// break).
 pub(crate) fn parse_number(cell: &str) -> Result<f64, String> {
-    let c = unquote(cell);
+    let c = cell.trim();
     if c.is_empty() {
         return Err("empty cell (expected a number)".into());
     }
     match c.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
         Ok(_) => Err(format!(
-            "`{c}` is not a finite number (expected a finite decimal number)"
+            "`{}` is not a finite number (expected a finite decimal number)",
+            crate::visible(c)
         )),
-        Err(_) => Err(format!("`{c}` is not a number (expected a decimal number)")),
+        Err(_) => Err(format!(
+            "`{}` is not a number (expected a decimal number)",
+            crate::visible(c)
+        )),
     }
 }
 
@@ -420,9 +419,8 @@ impl Header {
         self.cols.iter().position(|x| *x == Some(c))
     }
 
-    /// Parses the header line, reporting unknown, empty, repeated and missing columns.
-    fn parse(line_no: usize, trimmed: &str, path: &Path, pr: &mut Problems) -> Header {
-        let names: Vec<String> = trimmed.split(',').map(|c| unquote(c).to_string()).collect();
+    /// Parses the header record, reporting unknown, empty, repeated and missing columns.
+    fn parse(line_no: usize, names: Vec<String>, path: &Path, pr: &mut Problems) -> Header {
         let mut cols = Vec::with_capacity(names.len());
         let mut seen: HashMap<Col, (usize, &str)> = HashMap::new();
         let expected = ACCEPTED_COLUMNS.join(", ");
@@ -487,26 +485,30 @@ impl Header {
         h
     }
 
-    /// Parses a data row; `None` when a cell is bad (reported).
+    /// Parses a data record; `None` when a cell is bad (reported).
     fn row(
         &self,
         line_no: usize,
-        trimmed: &str,
+        cells: &[String],
         path: &Path,
         pr: &mut Problems,
     ) -> Option<Vec<f64>> {
-        let cells: Vec<&str> = trimmed.split(',').collect();
         if cells.len() != self.cols.len() {
             pr.add(
                 path,
                 Some(line_no),
                 None,
                 format!(
-                    "row has {} cell{} (expected {}: {})",
+                    "row has {} cell{} (expected {}: {}){}",
                     cells.len(),
                     if cells.len() == 1 { "" } else { "s" },
                     self.cols.len(),
-                    self.names.join(",")
+                    self.names.join(","),
+                    if cells.iter().any(|c| c.contains(['\n', '\r'])) {
+                        "; a quoted cell runs over several lines here: is a closing `\"` missing?"
+                    } else {
+                        ""
+                    }
                 ),
             );
             return None;
@@ -527,9 +529,11 @@ impl Header {
         }
         if ok {
             if let (Some(ks), Some(kf)) = (self.idx(Col::Shear), self.idx(Col::Friction)) {
-                let normal = self.idx(Col::Normal).map(|k| (values[k], cells[k]));
+                let normal = self
+                    .idx(Col::Normal)
+                    .map(|k| (values[k], cells[k].as_str()));
                 if let Some(msg) =
-                    friction_disagrees((values[kf], cells[kf]), (values[ks], cells[ks]), normal)
+                    friction_disagrees((values[kf], &cells[kf]), (values[ks], &cells[ks]), normal)
                 {
                     pr.add(path, Some(line_no), Some("friction"), msg);
                 }
@@ -541,7 +545,7 @@ impl Header {
 
 /// Half a unit in the last written digit of a number cell: how far rounding may have moved it.
 fn rounding_half_unit(cell: &str) -> f64 {
-    let c = unquote(cell);
+    let c = cell.trim();
     let (mantissa, exponent) = match c.find(['e', 'E']) {
         Some(i) => (&c[..i], c[i + 1..].parse::<i32>().unwrap_or(0)),
         None => (c, 0),
@@ -595,31 +599,32 @@ pub(crate) fn parse_test_csv(
     // Rows giving both friction and shear without a normal column: checked against the spec.
     let mut pairs: Vec<(usize, String, String)> = Vec::new();
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    // Lines end in \n, \r\n or a lone \r (old Mac exports).
-    for (idx, line) in crate::text::lines(text).enumerate() {
-        let line_no = idx + 1;
-        let trimmed = line.trim();
-        if trimmed.is_empty() {
-            continue;
-        }
-        if trimmed.starts_with('#') {
-            comments.push(comment_text(trimmed));
-            continue;
-        }
-        match &header {
-            None => header = Some(Header::parse(line_no, trimmed, path, &mut pr)),
+    let read = crate::csvio::read(text, 0, Separator::Byte(b','), |item| match item {
+        Item::Comment(_, c) => comments.push(comment_text(&c)),
+        Item::Record(line_no, cells) => match &header {
+            None => header = Some(Header::parse(line_no, cells.to_vec(), path, &mut pr)),
             Some(h) => {
-                if let Some(values) = h.row(line_no, trimmed, path, &mut pr) {
+                if let Some(values) = h.row(line_no, cells, path, &mut pr) {
                     if let (Some(ks), Some(kf), None) =
                         (h.idx(Col::Shear), h.idx(Col::Friction), h.idx(Col::Normal))
                     {
-                        let cells: Vec<&str> = trimmed.split(',').collect();
-                        pairs.push((line_no, cells[kf].to_string(), cells[ks].to_string()));
+                        pairs.push((line_no, cells[kf].clone(), cells[ks].clone()));
                     }
                     rows.push((line_no, values));
                 }
             }
-        }
+        },
+    });
+    if let Err((line, why)) = read {
+        pr.add(
+            path,
+            Some(line),
+            None,
+            format!(
+                "the CSV cannot be read from this line on: {why} (expected comma-separated text)"
+            ),
+        );
+        return Err(pr.into_vec());
     }
     let Some(header) = header else {
         pr.add(

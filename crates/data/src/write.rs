@@ -11,39 +11,39 @@ use crate::meta::{file_name_problem, ExperimentMeta};
 use crate::set::{validate_data, ExperimentSet, TestData, EXPERIMENT_JSON};
 
 /// Writes the CSV text of a test: comments, header `time_s,slip_mm,shear_kpa` (plus
-/// `normal_kpa` when the normal stress varies), one row per line.
+/// `normal_kpa` when the normal stress varies), one row per line (through the `csv` crate's
+/// writer, [`crate::csvio::writer`]). A comment holding line breaks is written as one comment
+/// line per line, so that no part of it is read as data.
 pub fn test_csv_text(test: &TestData) -> String {
     let mut s = String::new();
     for c in &test.comments {
-        if c.is_empty() {
-            s.push_str("#\n");
-        } else {
-            let _ = writeln!(s, "# {c}");
+        for line in crate::text::lines(c).chain(c.is_empty().then_some("")) {
+            if line.is_empty() {
+                s.push_str("#\n");
+            } else {
+                let _ = writeln!(s, "# {line}");
+            }
         }
     }
     let with_normal = test.normal_varies();
-    s.push_str("time_s,slip_mm,shear_kpa");
+    let mut header = vec!["time_s", "slip_mm", "shear_kpa"];
     if with_normal {
-        s.push_str(",normal_kpa");
+        header.push("normal_kpa");
     }
-    s.push('\n');
-    for i in 0..test.len() {
-        let _ = write!(
-            s,
-            "{},{},{}",
-            test.time_s[i],
-            test.slip_mm.get(i).copied().unwrap_or(f64::NAN),
-            test.shear_kpa.get(i).copied().unwrap_or(f64::NAN)
-        );
+    let value = |v: &[f64], i: usize| v.get(i).copied().unwrap_or(f64::NAN).to_string();
+    let rows = (0..test.len()).map(|i| {
+        let mut row = vec![
+            test.time_s[i].to_string(),
+            value(&test.slip_mm, i),
+            value(&test.shear_kpa, i),
+        ];
         if with_normal {
-            let _ = write!(
-                s,
-                ",{}",
-                test.normal_kpa.get(i).copied().unwrap_or(f64::NAN)
-            );
+            row.push(value(&test.normal_kpa, i));
         }
-        s.push('\n');
-    }
+        row
+    });
+    let header = header.into_iter().map(String::from).collect::<Vec<_>>();
+    s.push_str(&crate::csvio::text_of(std::iter::once(header).chain(rows)));
     s
 }
 

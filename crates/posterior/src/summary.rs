@@ -113,19 +113,24 @@ impl Posterior {
         self.space.model_at(&self.chain.coords[i])
     }
 
-    /// Writes the thinned chain as CSV: a header line `step,walker,<parameter keys>`, then
+    /// Writes the thinned chain as CSV (through the `csv` crate's writer,
+    /// [`subfric_data::csvio::writer`]): a header line `step,walker,<parameter keys>`, then
     /// one line per sample, values in natural units with full precision.
     pub fn write_chain_csv<W: Write>(&self, out: &mut W) -> io::Result<()> {
-        let keys: Vec<&str> = self.parameters.iter().map(|p| p.key()).collect();
-        writeln!(out, "step,walker,{}", keys.join(","))?;
+        let mut w = subfric_data::csvio::writer(out);
+        let head = ["step", "walker"]
+            .into_iter()
+            .chain(self.parameters.iter().map(|p| p.key()));
+        w.write_record(head)?;
         for i in 0..self.chain.len() {
-            write!(out, "{},{}", self.chain.step[i], self.chain.walker[i])?;
-            for v in &self.chain.values[i] {
-                write!(out, ",{v:e}")?;
-            }
-            writeln!(out)?;
+            let ids = [
+                self.chain.step[i].to_string(),
+                self.chain.walker[i].to_string(),
+            ];
+            let values = self.chain.values[i].iter().map(|v| format!("{v:e}"));
+            w.write_record(ids.into_iter().chain(values))?;
         }
-        Ok(())
+        w.flush()
     }
 
     /// A plain-text table of the summary and the convergence (for `fit.txt`-like reports).

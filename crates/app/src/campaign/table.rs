@@ -264,15 +264,6 @@ fn num(v: Option<f64>) -> String {
         .unwrap_or_default()
 }
 
-/// A CSV cell: quoted when it holds a comma, a quote or a line break.
-fn cell(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
-}
-
 fn stresses(v: &[f64]) -> String {
     v.iter()
         .map(|x| format!("{x}"))
@@ -281,7 +272,9 @@ fn stresses(v: &[f64]) -> String {
 }
 
 /// `campaign.csv`: one row per set; a parameter `p` has the columns `p`, `p_lo`, `p_hi` (empty
-/// where the data set no bound, or without an interval) and `p_status`.
+/// where the data set no bound, or without an interval) and `p_status`. Written by the CSV
+/// writer ([`subfric_data::csvio::text_of`]): a cell is quoted when it holds a comma, a quote or
+/// a line break.
 pub fn csv(rows: &[Row], diagnosed: bool) -> String {
     let params = parameter_names(rows);
     let mut head: Vec<String> = [
@@ -313,16 +306,16 @@ pub fn csv(rows: &[Row], diagnosed: bool) -> String {
         head.extend(["verdict".into(), "held_out_shrink".into()]);
     }
     head.push("error".into());
-    let mut s = head.join(",") + "\n";
+    let mut records = vec![head];
     for r in rows {
         let mut cells = vec![
-            cell(&r.set),
-            cell(r.name.as_deref().unwrap_or_default()),
-            cell(&r.folder),
+            r.set.clone(),
+            r.name.clone().unwrap_or_default(),
+            r.folder.clone(),
             r.status.text().to_string(),
-            cell(r.soil.as_deref().unwrap_or_default()),
+            r.soil.clone().unwrap_or_default(),
             num(r.d50_mm),
-            cell(r.surface.as_deref().unwrap_or_default()),
+            r.surface.clone().unwrap_or_default(),
             num(r.roughness_rmax_um),
             num(r.roughness_ra_um),
             num(r.rmax_over_d50),
@@ -336,20 +329,19 @@ pub fn csv(rows: &[Row], diagnosed: bool) -> String {
                     num(Some(c.value)),
                     num(c.lo.filter(|_| !c.lo_open)),
                     num(c.hi.filter(|_| !c.hi_open)),
-                    cell(&c.status),
+                    c.status.clone(),
                 ]),
                 None => cells.extend([String::new(), String::new(), String::new(), String::new()]),
             }
         }
         if diagnosed {
-            cells.push(cell(r.verdict.as_deref().unwrap_or_default()));
+            cells.push(r.verdict.clone().unwrap_or_default());
             cells.push(num(r.held_out_shrink));
         }
-        cells.push(cell(r.error.as_deref().unwrap_or_default()));
-        s.push_str(&cells.join(","));
-        s.push('\n');
+        cells.push(r.error.clone().unwrap_or_default());
+        records.push(cells);
     }
-    s
+    subfric_data::csvio::text_of(records)
 }
 
 /// A Markdown cell: one line, `|` escaped.
@@ -502,6 +494,11 @@ mod tests {
 
     #[test]
     fn csv_cells_with_commas_quotes_and_lines_are_quoted() {
+        // The cells as the table's CSV writer writes them.
+        let cell = |s: &str| {
+            let line = subfric_data::csvio::text_of([[s, "next"]]);
+            line.strip_suffix(",next\n").unwrap_or(&line).to_string()
+        };
         assert_eq!(cell("plain"), "plain");
         assert_eq!(cell("a,b"), "\"a,b\"");
         assert_eq!(cell("say \"x\"\nnext"), "\"say \"\"x\"\"\nnext\"");

@@ -9,15 +9,17 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Map;
 
+use crate::csvio::Item;
 use crate::error::{DataError, InputProblem, Problems};
 use crate::fsio::{commit_file, stage_file, PathKind};
 use crate::meta::{ControlColumn, ExperimentMeta, Interface, TestSpec};
+use crate::set::comment_text;
 use crate::set::{
     load_set, meta_json_text, prepare_parent, test_csv_text, validate_data, ExperimentSet,
     TestData, EXPERIMENT_JSON, MAX_MAGNITUDE,
 };
 use text::{
-    content_lines, detect, read_lab_text, resolution, skip_hint, split_cells, with_precision,
+    content_lines, detect, read_lab_text, resolution, separator, skip_hint, with_precision,
 };
 
 /// How to read a lab file.
@@ -424,17 +426,17 @@ fn read_rows(
     lf: &Path,
     spec: &ImportSpec,
     cols: &Columns,
-    data_lines: &[(usize, &str)],
+    data_records: &[(usize, Vec<String>)],
     delim: Delimiter,
     pr: &mut Problems,
 ) -> LabRows {
     let mut rows = LabRows::default();
     let decimal_comma = delim != Delimiter::Comma;
     let stress = |u: StressUnit| u.kpa_per_unit(spec.area_mm2).unwrap_or(f64::NAN);
-    for &(line_no, line) in data_lines {
-        let cells = split_cells(line, delim);
+    for (line_no, cells) in data_records {
+        let (line_no, cells) = (*line_no, cells.as_slice());
         let get = |col: &Col, factor: f64, pr: &mut Problems| {
-            cell_reading(lf, line_no, &cells, col, decimal_comma, pr)
+            cell_reading(lf, line_no, cells, col, decimal_comma, pr)
                 .map(|(x, q)| with_precision(x, q, factor))
         };
         let tv = get(&cols.time, spec.time_unit.to_s(), pr);
@@ -445,7 +447,7 @@ fn read_rows(
         };
         let qv = match (&cols.shear, &cols.friction) {
             (Some((c, u)), _) => get(c, stress(*u), pr),
-            (None, Some(c)) => cell_reading(lf, line_no, &cells, c, decimal_comma, pr)
+            (None, Some(c)) => cell_reading(lf, line_no, cells, c, decimal_comma, pr)
                 .zip(nv)
                 .map(|((f, q), n)| with_precision(f, q, n)),
             (None, None) => Some(f64::NAN),
@@ -487,23 +489,48 @@ pub fn read_lab_file(
     let lf = lab_file;
     spec_problems(lf, spec).into_result(())?;
     let text = read_lab_text(lf)?;
-    let (lines, mut comments) = content_lines(&text, spec.skip_lines);
-    let Some(&(first_line, first)) = lines.first() else {
-        return Err(DataError::Problems(vec![InputProblem::new(
+    let no_data = || {
+        DataError::Problems(vec![InputProblem::new(
             lf,
             None,
             None,
             "no data in the file (expected a header line and rows of numbers)",
-        )]));
+        )])
+    };
+    let first = content_lines(&text, spec.skip_lines).next();
+    let Some((_, first)) = first else {
+        return Err(no_data());
     };
     let delim = match spec.delimiter {
         Delimiter::Auto => detect(first),
         d => d,
     };
-    let (names, data_lines): (Vec<String>, &[(usize, &str)]) = if spec.has_header {
-        (split_cells(first, delim), &lines[1..])
+    let mut comments = Vec::new();
+    let mut records: Vec<(usize, Vec<String>)> = Vec::new();
+    crate::csvio::read(
+        &text,
+        spec.skip_lines,
+        separator(delim),
+        |item| match item {
+            Item::Comment(_, c) => comments.push(comment_text(&c)),
+            Item::Record(line, cells) => records.push((line, cells.to_vec())),
+        },
+    )
+    .map_err(|(line, why)| {
+        DataError::Problems(vec![InputProblem::new(
+            lf,
+            Some(line),
+            None,
+            format!("the file cannot be read from this line on: {why} (expected delimited text)"),
+        )])
+    })?;
+    let Some(first_line) = records.first().map(|r| r.0) else {
+        return Err(no_data());
+    };
+    let (names, data_records): (Vec<String>, &[(usize, Vec<String>)]) = if spec.has_header {
+        (records[0].1.clone(), &records[1..])
     } else {
-        (Vec::new(), &lines[..])
+        (Vec::new(), &records[..])
     };
     let hinted = |e: DataError| match (
         e,
@@ -517,8 +544,8 @@ pub fn read_lab_file(
     };
     let cols = resolve_columns(lf, spec, first_line, &names).map_err(hinted)?;
     let mut pr = Problems::default();
-    let rows = read_rows(lf, spec, &cols, data_lines, delim, &mut pr);
-    if data_lines.is_empty() {
+    let rows = read_rows(lf, spec, &cols, data_records, delim, &mut pr);
+    if data_records.is_empty() {
         pr.add(
             lf,
             Some(first_line),

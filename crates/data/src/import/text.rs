@@ -4,31 +4,32 @@
 use std::path::Path;
 
 use super::units::Delimiter;
+use crate::csvio::{cells_of_line, Separator};
 use crate::error::{DataError, InputProblem};
 use crate::fsio::PathKind;
-use crate::set::comment_text;
 
-pub(super) fn split_cells(line: &str, d: Delimiter) -> Vec<String> {
-    let cells: Vec<&str> = match d {
-        Delimiter::Comma => line.split(',').collect(),
-        Delimiter::Tab => line.split('\t').collect(),
-        Delimiter::Semicolon => line.split(';').collect(),
-        Delimiter::Whitespace | Delimiter::Auto => line.split_whitespace().collect(),
-    };
-    cells
-        .into_iter()
-        .map(|c| {
-            let c = c.trim();
-            c.strip_prefix('"')
-                .and_then(|x| x.strip_suffix('"'))
-                .unwrap_or(c)
-                .trim()
-                .to_string()
-        })
-        .collect()
+/// How the `csv` reader separates the cells for delimiter `d` (`Auto` as whitespace: resolve it
+/// with [`detect`] first).
+pub(super) fn separator(d: Delimiter) -> Separator {
+    match d {
+        Delimiter::Comma => Separator::Byte(b','),
+        Delimiter::Tab => Separator::Byte(b'\t'),
+        Delimiter::Semicolon => Separator::Byte(b';'),
+        Delimiter::Whitespace | Delimiter::Auto => Separator::Whitespace,
+    }
 }
 
+/// The delimiter of a header (or first data) line: tab, then `;`, then `,`, else whitespace,
+/// looking only outside quotes (`time,"shear; kPa"` is comma-separated).
 pub(super) fn detect(line: &str) -> Delimiter {
+    let mut quoted = false;
+    let line: String = line
+        .chars()
+        .filter(|&c| {
+            quoted ^= c == '"';
+            !quoted && c != '"'
+        })
+        .collect();
     if line.contains('\t') {
         Delimiter::Tab
     } else if line.contains(';') {
@@ -76,24 +77,19 @@ pub(super) fn read_lab_text(lf: &Path) -> Result<String, DataError> {
     })
 }
 
-/// The non-empty, non-comment lines after `skip` lines, with their 1-based numbers, and the
-/// comment texts.
-pub(super) fn content_lines(text: &str, skip: usize) -> (Vec<(usize, &str)>, Vec<String>) {
-    let mut comments = Vec::new();
-    let mut lines = Vec::new();
+/// The non-empty, non-comment lines after `skip` lines, with their 1-based numbers: the lines
+/// as written, for finding the delimiter ([`detect`]) and where the numbers start
+/// ([`skip_hint`]), both of which look at each line alone.
+pub(super) fn content_lines(text: &str, skip: usize) -> impl Iterator<Item = (usize, &str)> {
     // Lines end in \n, \r\n or a lone \r (old Mac exports, some loggers).
-    for (i, line) in crate::text::lines(text).enumerate().skip(skip) {
-        let trimmed = line.trim();
-        if trimmed.is_empty() {
-            continue;
-        }
-        if trimmed.starts_with('#') {
-            comments.push(comment_text(trimmed));
-            continue;
-        }
-        lines.push((i + 1, line));
-    }
-    (lines, comments)
+    crate::text::lines(text)
+        .enumerate()
+        .skip(skip)
+        .map(|(i, line)| (i + 1, line))
+        .filter(|(_, line)| {
+            let t = line.trim();
+            !t.is_empty() && !t.starts_with('#')
+        })
 }
 
 /// The resolution of a number as written: the value of one unit in its last digit
@@ -146,7 +142,7 @@ fn numeric_row(line: &str, delimiter: Delimiter) -> bool {
         Delimiter::Auto => detect(line),
         d => d,
     };
-    let cells = split_cells(line, d);
+    let cells = cells_of_line(line, separator(d));
     cells.len() >= 2
         && cells.iter().all(|c| {
             let c = if d != Delimiter::Comma && c.contains(',') && !c.contains('.') {
@@ -169,7 +165,7 @@ pub(super) fn skip_hint(
     has_header: bool,
     delimiter: Delimiter,
 ) -> Option<String> {
-    let (lines, _) = content_lines(text, skip);
+    let lines: Vec<(usize, &str)> = content_lines(text, skip).collect();
     let numeric: Vec<bool> = lines
         .iter()
         .map(|(_, l)| numeric_row(l, delimiter))
@@ -230,6 +226,14 @@ mod tests {
         assert_eq!(kpa.to_string(), "34.278");
         // No factor: the number as read.
         assert_eq!(with_precision(0.1, resolution("0.1"), 1.0), 0.1);
+    }
+
+    #[test]
+    fn the_delimiter_is_found_outside_quotes() {
+        assert_eq!(detect("time,\"shear; kPa\""), Delimiter::Comma);
+        assert_eq!(detect("\"t, s\";u"), Delimiter::Semicolon);
+        assert_eq!(detect("a\t\"b;c\""), Delimiter::Tab);
+        assert_eq!(detect("\"a,b\" c"), Delimiter::Whitespace);
     }
 
     #[test]
