@@ -296,7 +296,7 @@ fn every_form(s: &mut String, d: &Diagnosis) {
             if f.converged {
                 String::new()
             } else {
-                format!("  (stopped: {})", f.termination)
+                format!("  (stopped: {}; not judged)", f.termination)
             },
             if f.chosen {
                 "  ← best of its family"

@@ -174,6 +174,35 @@ impl<'a> Context<'a> {
         self.fit_spec_with(template, spec, starts, effort, self.reweight)
     }
 
+    /// [`Context::fit_spec`] for a form that is to be ranked: a fit stopped by its iteration
+    /// limit is continued once from where it stopped, with the same effort, and the better of
+    /// the two kept. Whether it then converged is in its result: a form still unconverged is
+    /// not ranked ([`super::selection`]).
+    pub(super) fn fit_spec_to_convergence(
+        &self,
+        template: &Model,
+        spec: &Spec,
+        starts: &[Model],
+        effort: Effort,
+    ) -> SpecFit {
+        let first = self.fit_spec(template, spec, starts, effort);
+        if first.result.converged || !first.result.ssr.is_finite() {
+            return first;
+        }
+        let resumed = Effort {
+            informed: false,
+            global_evaluations: 0,
+            local_runs: 1,
+            ..effort
+        };
+        let again = self.fit_spec(template, spec, &[first.result.model], resumed);
+        if again.result.ssr <= first.result.ssr || again.result.converged {
+            again
+        } else {
+            first
+        }
+    }
+
     /// [`Context::fit_spec`], reweighting only when `reweight`.
     pub(super) fn fit_spec_with(
         &self,

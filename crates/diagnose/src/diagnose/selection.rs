@@ -50,12 +50,13 @@ fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, Spe
 }
 
 /// The best form of each family among forms `among` (largest penalised in-sample score; of
-/// equal scores the one listed first), marked `chosen`.
+/// equal scores the one listed first), marked `chosen`. A form whose fit failed or did not
+/// converge is not judged, however high its score: a family with no other form has none.
 fn choose_forms(reports: &mut [FormReport], among: &[usize]) -> Vec<usize> {
     let mut best: BTreeMap<Effect, usize> = BTreeMap::new();
     for &i in among {
         let r = &reports[i];
-        if !r.ssr.is_finite() {
+        if !r.ssr.is_finite() || !r.converged {
             continue;
         }
         match best.get(&r.effect) {
@@ -153,7 +154,7 @@ fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
         .into_par_iter()
         .map(|(i, screened)| {
             let spec = current.spec.plus(&lib[i]);
-            let fitted = cx.fit_spec(
+            let fitted = cx.fit_spec_to_convergence(
                 &current.model,
                 &spec,
                 &[screened.result.model],
@@ -164,7 +165,9 @@ fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
         })
         .collect();
     let mut best: BTreeMap<Effect, (usize, f64, SpecFit)> = BTreeMap::new();
-    for (i, score, fitted) in polished {
+    // A form whose fit did not converge, even continued, is not judged: its score says where
+    // the fit stopped, not what the form can do.
+    for (i, score, fitted) in polished.into_iter().filter(|p| p.2.result.converged) {
         let e = lib[i].effect;
         if best.get(&e).is_none_or(|b| score > b.1) {
             best.insert(e, (i, score, fitted));
@@ -317,7 +320,7 @@ pub(super) fn screen_and_polish(
             let mut on_base = subfric_fit::with_base_of(&screened, base);
             on_base.params.alpha_t = base.params.alpha_t;
             on_base.params.alpha_n = base.params.alpha_n;
-            cx.fit_spec(base, &spec, &[screened, on_base], cx.opts.polish)
+            cx.fit_spec_to_convergence(base, &spec, &[screened, on_base], cx.opts.polish)
         })
         .collect();
     for (fit, &i) in polished.iter().zip(&to_polish) {

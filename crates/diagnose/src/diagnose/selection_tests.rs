@@ -41,6 +41,24 @@ fn the_best_scoring_form_of_each_family_is_chosen_and_failed_fits_never() {
 }
 
 #[test]
+fn a_form_whose_fit_did_not_converge_is_never_chosen_however_high_its_score() {
+    let rate = Effect::from_name("rate").unwrap();
+    let unconverged = |mut r: FormReport| {
+        r.converged = false;
+        r.termination = subfric_fit::Termination::MaxIterations;
+        r
+    };
+    let mut r = vec![
+        report(rate, "a", 10.0, 5.0),
+        unconverged(report(rate, "b", 90.0, 1.0)),
+        unconverged(report(healing(), "c", 50.0, 2.0)),
+    ];
+    // Rate: "a", not the unconverged "b"; healing: no form judged, so no family.
+    assert_eq!(choose_forms(&mut r, &[0, 1, 2]), vec![0]);
+    assert!(!r[1].chosen && !r[2].chosen);
+}
+
+#[test]
 fn the_forms_polished_are_the_two_best_screened_of_each_family_best_first() {
     let rate = Effect::from_name("rate").unwrap();
     let r = vec![
