@@ -203,6 +203,14 @@ fn header(s: &mut String, name: &str, d: &Diagnosis) {
         "base model: misfit {}× the noise variance on all rows (μ_s {:.3}, μ_k {:.3}, κ {:.4}, ξ {:.3e}, ũ {:.3}, α_t {:.4})",
         misfit_number(d.base.reduced_chi2), p.mu_s, p.mu_k, p.kappa, p.xi, p.u_tilde, p.alpha_t
     );
+    if !d.base.at_bounds.is_empty() {
+        let hits: Vec<String> = d.base.at_bounds.iter().map(|b| b.sentence()).collect();
+        let _ = writeln!(
+            s,
+            "   AT A BOUND: {} — the fit was stopped by its box, not by the data; its other parameters may make up for it, and every candidate below is judged against this base",
+            hits.join(", ")
+        );
+    }
     read_off(s, "base model", &d.base.read_off);
     if d.final_model != d.base.model {
         read_off(s, "final model", &d.final_read_off);

@@ -164,6 +164,13 @@ pub fn diagnosis_page(
         ],
     );
     page.h2("where", "Where the base model misses");
+    if !d.base.at_bounds.is_empty() {
+        let hits: Vec<String> = d.base.at_bounds.iter().map(|b| b.sentence()).collect();
+        page.p(&format!(
+            "The base fit ended at a bound: {}. The box stopped it, not the data; its other parameters may make up for it, and every candidate is judged against this base.",
+            hits.join(", ")
+        ));
+    }
     let mut groups = d.localisation.by_test_segment.clone();
     groups.sort_by(|a, b| b.share_of_gap.total_cmp(&a.share_of_gap));
     page.table(

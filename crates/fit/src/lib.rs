@@ -50,5 +50,5 @@ pub use prepare::{
 pub use problem::{model_runs, Problem};
 pub use read_off::{read_off, ReadOff};
 pub use residuals::Residuals;
-pub use space::{Coord, Param, Space};
+pub use space::{AtBound, Coord, Param, Space};
 pub use stiffness::{resolved_stiffness, stiffness_by_trial, Stiffness};

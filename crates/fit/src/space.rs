@@ -317,6 +317,42 @@ impl Coord {
     }
 }
 
+/// Share of a coordinate's box within which a fitted value counts as at its bound.
+pub const AT_BOUND_SHARE: f64 = 1e-3;
+
+/// A fitted coordinate at a bound of its box ([`Space::at_bounds`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct AtBound {
+    /// The coordinate's name (a parameter's key, or a combined chart's axis).
+    pub coordinate: String,
+    /// Its fitted value (natural units).
+    pub value: f64,
+    /// The bound it sits at (natural units).
+    pub bound: f64,
+    /// The upper bound (else the lower).
+    pub upper: bool,
+}
+
+impl AtBound {
+    /// "mu_s 2.9990 at its upper bound 3.0000".
+    pub fn sentence(&self) -> String {
+        let number = |v: f64| {
+            if v != 0.0 && !(0.01..1e4).contains(&v.abs()) {
+                format!("{v:.3e}")
+            } else {
+                format!("{v:.4}")
+            }
+        };
+        format!(
+            "{} {} at its {} bound {}",
+            self.coordinate,
+            number(self.value),
+            if self.upper { "upper" } else { "lower" },
+            number(self.bound)
+        )
+    }
+}
+
 /// Free parameters, the optimiser's coordinates with their boxes, and the model supplying the
 /// fixed parameters.
 #[derive(Clone, Debug)]
@@ -559,6 +595,33 @@ impl Space {
         x
     }
 
+    /// The coordinates of `m` that sit at a bound of the box (within [`AT_BOUND_SHARE`] of its
+    /// width): a fit that ends there has been stopped by the box, not by the data, and its
+    /// other parameters may make up for it.
+    pub fn at_bounds(&self, m: &Model) -> Vec<AtBound> {
+        let x = self.point_of(m);
+        (0..self.dim())
+            .filter_map(|k| {
+                let tolerance = AT_BOUND_SHARE * (self.hi[k] - self.lo[k]);
+                let upper = if x[k] >= self.hi[k] - tolerance {
+                    true
+                } else if x[k] <= self.lo[k] + tolerance {
+                    false
+                } else {
+                    return None;
+                };
+                let mut at = x.clone();
+                at[k] = if upper { self.hi[k] } else { self.lo[k] };
+                Some(AtBound {
+                    coordinate: self.coords[k].name(),
+                    value: self.coord_value(k, &x),
+                    bound: self.coord_value(k, &at),
+                    upper,
+                })
+            })
+            .collect()
+    }
+
     /// Natural values of the free parameters at `x`, in the order of `free`.
     pub fn natural(&self, x: &[f64]) -> Vec<f64> {
         let m = self.model_at(x);
@@ -645,5 +708,37 @@ fn neutral(p: Param) -> f64 {
     match p.scale() {
         Scale::Linear => 0.0f64.clamp(a, b),
         _ => (a * b).sqrt(),
+    }
+}
+
+#[cfg(test)]
+mod at_bound_tests {
+    use super::*;
+    use subfric_model::Params;
+
+    #[test]
+    fn a_parameter_at_its_bound_is_flagged_and_one_inside_the_box_is_not() {
+        let mut m = Model::base(Params::sample()).unwrap();
+        let space = Space::new(m, &[Param::MuS, Param::UTilde], &[]);
+        assert!(space.at_bounds(&m).is_empty(), "{:?}", space.at_bounds(&m));
+        // mu_s at its default upper bound (3), u_tilde at its lower one (0.1).
+        m.params.mu_s = 3.0;
+        m.params.u_tilde = 0.1;
+        let hits = space.at_bounds(&m);
+        assert_eq!(hits.len(), 2, "{hits:?}");
+        let mu_s = hits.iter().find(|h| h.coordinate == "mu_s").unwrap();
+        assert!(mu_s.upper && (mu_s.bound - 3.0).abs() < 1e-9);
+        let u = hits.iter().find(|h| h.coordinate == "u_tilde").unwrap();
+        assert!(!u.upper && (u.bound - 0.1).abs() < 1e-12);
+        assert!(
+            mu_s.sentence().contains("upper bound 3.0000"),
+            "{}",
+            mu_s.sentence()
+        );
+        assert!(
+            u.sentence().contains("lower bound 0.1000"),
+            "{}",
+            u.sentence()
+        );
     }
 }

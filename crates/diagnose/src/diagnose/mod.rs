@@ -358,6 +358,9 @@ fn base_report(cx: &Context, fulls: &[FitTest], base: &Current) -> BaseFit {
         reduced_chi2: all_ssr / (rows as f64 - cx.base_free.len() as f64).max(1.0),
         tests: misfits(fulls, &base.model),
         read_off: subfric_fit::read_off(fulls, &base.model),
+        at_bounds: cx
+            .space(&base.model, &crate::fits::Spec::base())
+            .at_bounds(&base.model),
     }
 }
 

@@ -237,6 +237,9 @@ pub struct BaseFit {
     /// μ_s and μ_k beside the peak and residual stress ratios the record shows, and whether
     /// the base model keeps them.
     pub read_off: Vec<subfric_fit::ReadOff>,
+    /// Coordinates of the base fit that ended at a bound of their box: the candidates are
+    /// judged against a base the box stopped, which the report says.
+    pub at_bounds: Vec<subfric_fit::AtBound>,
 }
 
 /// How each test starts.
