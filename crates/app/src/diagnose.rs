@@ -110,6 +110,8 @@ pub fn diagnosis_json(set_name: &str, d: &Diagnosis) -> Value {
     serde_json::json!({
         "set": set_name,
         "verdict": {
+            // Every effect named, in the order taken (empty: none); `effect` is the first.
+            "effects": d.verdict.named().iter().map(|e| e.name()).collect::<Vec<_>>(),
             "effect": d.verdict.effect.name(),
             "held_out_shrink": d.verdict.held_out_shrink,
             "explanation": d.verdict.explanation,

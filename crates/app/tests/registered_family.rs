@@ -105,6 +105,13 @@ fn a_time_trend_is_named_when_asked_for_and_not_tried_otherwise() {
     assert_eq!(named(&d), vec![trend], "{:#?}", d.verdict);
     let json = serde_json::to_value(&d).unwrap();
     assert_eq!(json["verdict"]["effect"], "time-trend");
+    // diagnosis.json's top-level verdict lists every effect named.
+    let file = subfric_app::diagnose::diagnosis_json("trend", &d);
+    assert_eq!(
+        file["verdict"]["effects"],
+        serde_json::json!(["time-trend"])
+    );
+    assert_eq!(file["verdict"]["effect"], "time-trend");
     // The fitted rate is the one added, within a fifth.
     let fitted = subfric_fit::Param::from_key("time_trend.c")
         .and_then(|q| q.get(&d.final_model))
