@@ -10,6 +10,17 @@ fn set(name: &str, class: &[Form], seed: u64) -> Generated {
     generate_seeded(name, class, Profile::Clean, &Options::rows(0.6), seed).expect("generates")
 }
 
+/// `g` without its velocity-step test: every test left slides at the campaign's one rate.
+fn without_velocity_steps(g: &mut Generated) {
+    g.set
+        .tests
+        .retain(|t| !t.spec.name.starts_with("vel-steps"));
+    g.set
+        .meta
+        .tests
+        .retain(|t| !t.name.starts_with("vel-steps"));
+}
+
 #[test]
 fn rate_and_state_slid_at_one_rate_is_never_named_rate_and_rate_stays_an_alternative() {
     // A rate-and-state interface (ageing law) recorded without its velocity steps: every test
@@ -20,13 +31,7 @@ fn rate_and_state_slid_at_one_rate_is_never_named_rate_and_rate_stays_an_alterna
     // Seed 2: before the standard, rate was named here at confidence 0.94.
     let mut g = set("rsf-one-rate", &[Form::RsfAgeing], 2);
     let with_steps = g.set.tests.len();
-    g.set
-        .tests
-        .retain(|t| !t.spec.name.starts_with("vel-steps"));
-    g.set
-        .meta
-        .tests
-        .retain(|t| !t.name.starts_with("vel-steps"));
+    without_velocity_steps(&mut g);
     assert_eq!(
         g.set.tests.len(),
         with_steps - 1,
@@ -72,13 +77,7 @@ fn log_healing_slid_at_one_rate_is_not_taken_for_a_rate_and_state_law() {
     // not named; it stays an alternative, with the test that would tell it apart.
     let rate = Effect::from_name("rate").unwrap();
     let mut g = set("healing-one-rate", &[Form::HealLog], 3);
-    g.set
-        .tests
-        .retain(|t| !t.spec.name.starts_with("vel-steps"));
-    g.set
-        .meta
-        .tests
-        .retain(|t| !t.name.starts_with("vel-steps"));
+    without_velocity_steps(&mut g);
     let d =
         diagnose(&prepare_for_diagnosis(&g.set), &DiagnoseOptions::default()).expect("diagnoses");
     assert_eq!(d.data.sliding_rates, 1);

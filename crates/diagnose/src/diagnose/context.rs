@@ -175,9 +175,9 @@ impl<'a> Context<'a> {
     }
 
     /// [`Context::fit_spec`] for a form that is to be ranked: a fit stopped by its iteration
-    /// limit is continued once from where it stopped, with the same effort, and the better of
-    /// the two kept. Whether it then converged is in its result: a form still unconverged is
-    /// not ranked ([`super::selection`]).
+    /// limit is continued once from where it stopped, with as many iterations again (a fit
+    /// never ends worse than its start). Whether it then converged is in its result: a form
+    /// still unconverged is not ranked ([`super::selection`]).
     pub(super) fn fit_spec_to_convergence(
         &self,
         template: &Model,
@@ -189,18 +189,12 @@ impl<'a> Context<'a> {
         if first.result.converged || !first.result.ssr.is_finite() {
             return first;
         }
-        let resumed = Effort {
-            informed: false,
-            global_evaluations: 0,
-            local_runs: 1,
-            ..effort
-        };
-        let again = self.fit_spec(template, spec, &[first.result.model], resumed);
-        if again.result.ssr <= first.result.ssr || again.result.converged {
-            again
-        } else {
-            first
-        }
+        self.fit_spec(
+            template,
+            spec,
+            &[first.result.model],
+            Effort::refit(effort.iterations),
+        )
     }
 
     /// [`Context::fit_spec`], reweighting only when `reweight`.
