@@ -438,18 +438,20 @@ impl Sampled {
         write_atomic(&chain, &csv).map_err(|e| anyhow!("cannot write {e}"))?;
         written.push(chain);
         let corner = dir.join(CORNER_FILE);
-        figures::corner_png(
-            &self.posterior,
-            &format!(
-                "{}: posterior{}",
-                crate::visible(&outcome.name),
-                if self.posterior.convergence.converged() {
-                    String::new()
-                } else {
-                    " (NOT converged)".to_string()
-                }
+        subfric_plot::write_figure(
+            &figures::corner_figure(
+                &self.posterior,
+                &format!(
+                    "{}: posterior{}",
+                    crate::visible(&outcome.name),
+                    if self.posterior.convergence.converged() {
+                        String::new()
+                    } else {
+                        " (NOT converged)".to_string()
+                    }
+                ),
+                None,
             ),
-            None,
             &corner,
         )?;
         written.push(corner);
@@ -460,11 +462,13 @@ impl Sampled {
             .zip(band_files(&outcome.tests))
         {
             let path = dir.join(file);
-            figures::band_png(
-                &t.full,
-                band,
-                Some(&outcome.report.model),
-                &format!("{}: {}", crate::visible(&outcome.name), t.full.name),
+            subfric_plot::write_figure(
+                &figures::band_figure(
+                    &t.full,
+                    band,
+                    Some(&outcome.report.model),
+                    &format!("{}: {}", crate::visible(&outcome.name), t.full.name),
+                ),
                 &path,
             )?;
             written.push(path);

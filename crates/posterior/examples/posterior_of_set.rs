@@ -14,6 +14,7 @@ use subfric_fit::{
     calibrate, prepare_set, reference_model, typical_rate, FitOptions, Param, Space, Status,
 };
 use subfric_model::{Model, Params};
+use subfric_plot::write_figure;
 use subfric_posterior::{figures, sample, BandOptions, PosteriorOptions, Priors, ResidualModel};
 
 fn main() {
@@ -123,10 +124,8 @@ fn main() {
     if let Some(out) = out {
         std::fs::create_dir_all(&out).expect("output folder");
         let name = &set.meta.name;
-        figures::corner_png(
-            &post,
-            &format!("{name}: posterior"),
-            None,
+        write_figure(
+            &figures::corner_figure(&post, &format!("{name}: posterior"), None),
             &out.join("corner.png"),
         )
         .expect("corner plot");
@@ -134,11 +133,8 @@ fn main() {
         let bands = post.predictive_bands(&full, &BandOptions::default());
         for (t, b) in full.iter().zip(&bands) {
             let path = out.join(format!("{}-band.png", t.name));
-            figures::band_png(
-                t,
-                b,
-                Some(&fit.model),
-                &format!("{name}: {}", t.name),
+            write_figure(
+                &figures::band_figure(t, b, Some(&fit.model), &format!("{name}: {}", t.name)),
                 &path,
             )
             .expect("band figure");

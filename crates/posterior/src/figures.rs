@@ -4,11 +4,10 @@
 use crate::predictive::TestBand;
 use crate::summary::Posterior;
 use crate::target::is_log;
-use std::path::Path;
 use subfric_fit::FitTest;
 use subfric_model::{Control, Model};
 use subfric_plot::posterior::{BandFigure, CornerFigure, CornerMarker};
-use subfric_plot::{write_figure, PlotError, Series, Style};
+use subfric_plot::{Series, Style};
 
 /// Samples of a parameter fitted on a logarithmic scale are drawn on a log₁₀ axis when they
 /// span more than this ratio (a valley over decades is then a band, not a corner).
@@ -76,17 +75,6 @@ pub fn corner_figure(post: &Posterior, title: &str, truth: Option<&[f64]>) -> Co
     fig
 }
 
-/// Writes the corner plot of `post` to `path` as PNG, and as SVG beside it (see
-/// [`corner_figure`]).
-pub fn corner_png(
-    post: &Posterior,
-    title: &str,
-    truth: Option<&[f64]>,
-    path: &Path,
-) -> Result<(), PlotError> {
-    write_figure(&corner_figure(post, title, truth), path).map(|_| ())
-}
-
 /// The band of `test` over its measured curve: friction τ/σ_n against slip under slip
 /// control, slip against time under traction control; the posterior median, and the
 /// least-squares fit when given; below, the same minus the posterior median (where a band
@@ -145,16 +133,4 @@ pub fn band_figure(
         Style::Fitted,
     ))
     .with_difference(to_y(&band.median), format!("minus the median {unit}"))
-}
-
-/// Writes the band figure of one test to `path` as PNG, and as SVG beside it (see
-/// [`band_figure`]).
-pub fn band_png(
-    test: &FitTest,
-    band: &TestBand,
-    fitted: Option<&Model>,
-    title: &str,
-    path: &Path,
-) -> Result<(), PlotError> {
-    write_figure(&band_figure(test, band, fitted, title), path).map(|_| ())
 }

@@ -295,16 +295,22 @@ fn the_chain_csv_has_a_header_and_one_line_per_thinned_sample() {
     // The figures render.
     let dir = tempfile::tempdir().unwrap();
     let corner = dir.path().join("corner.png");
-    figures::corner_png(
-        &post,
-        "test",
-        Some(&[f.truth.params.mu_s, f.truth.params.u_tilde]),
+    subfric_plot::write_figure(
+        &figures::corner_figure(
+            &post,
+            "test",
+            Some(&[f.truth.params.mu_s, f.truth.params.u_tilde]),
+        ),
         &corner,
     )
     .unwrap();
     let band = &post.predictive_bands(&f.tests, &BandOptions::default())[0];
     let overlay = dir.path().join("band.png");
-    figures::band_png(&f.tests[0], band, Some(&f.fit.model), "test", &overlay).unwrap();
+    subfric_plot::write_figure(
+        &figures::band_figure(&f.tests[0], band, Some(&f.fit.model), "test"),
+        &overlay,
+    )
+    .unwrap();
     for p in [corner, overlay] {
         let check = subfric_plot::inspect_png(&p).unwrap();
         assert!(check.inked_fraction > 0.02, "{}: {check:?}", p.display());
