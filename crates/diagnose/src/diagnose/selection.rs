@@ -505,15 +505,10 @@ impl Path {
         self.selected.push(Selected {
             form,
             // A further effect is judged on all pieces when it passes there, else on the
-            // pieces of its own kind — as long as it does not raise the misfit of the whole
-            // held-out record (the standard of `decide_further`: pressure credited on the
-            // tests away from the reference stress while the holds get twice as bad is not
-            // named at the end either).
+            // pieces of its own kind (see `decide_further`).
             own: {
                 let c = &stage.candidates[i];
-                if crate::verdict::passes(&c.held_out, &cx.opts.thresholds)
-                    || c.held_out.excess_shrink < 0.0
-                {
+                if crate::verdict::passes(&c.held_out, &cx.opts.thresholds) {
                     c.held_out.clone()
                 } else {
                     c.best_own_kind(&cx.opts.thresholds)
