@@ -25,7 +25,7 @@ pub struct StepSignature {
 pub struct DataFeatures {
     /// Typical slip rate [mm/s].
     pub v_ref: f64,
-    /// Reference normal stress: the one most tests were run at ([`reference_stress`]) [kPa].
+    /// Reference normal stress: the geometric mean of the tests' [kPa].
     pub p_ref: f64,
     /// Distinct normal-stress levels (within 5 %).
     pub pressure_levels: usize,
@@ -137,55 +137,6 @@ fn distinct(mut v: Vec<f64>, ratio: f64) -> usize {
     count
 }
 
-/// The set's reference normal stress: the stress most tests were run at (within 5 %), of
-/// equal counts the one nearest the geometric mean of the tests' stresses. An effect of the
-/// normal stress is then judged on the tests away from where most of the data lie, each
-/// predicted from the others (a series of a slide-hold-slide and a cyclic test at 100 kPa with
-/// one monotonic test at 50 and one at 400 kPa: at the geometric mean, 119 kPa, every test
-/// would be away from it, the two at 100 kPa that decide the fit included).
-pub fn reference_stress(normals: &[f64]) -> f64 {
-    let mut levels: Vec<f64> = normals
-        .iter()
-        .copied()
-        .filter(|p| p.is_finite() && *p > 0.0)
-        .collect();
-    if levels.is_empty() {
-        return f64::NAN;
-    }
-    let centre = levels.iter().map(|p| p.ln()).sum::<f64>() / levels.len() as f64;
-    levels.sort_by(f64::total_cmp);
-    // Groups of stresses within 5 % of their group's first: (count, group's geometric mean).
-    let mut groups: Vec<(usize, f64)> = Vec::new();
-    let mut first = f64::NEG_INFINITY;
-    let mut sum_ln = 0.0;
-    for &p in &levels {
-        if p > first * 1.05 {
-            if let Some(g) = groups.last_mut() {
-                g.1 = (sum_ln / g.0 as f64).exp();
-            }
-            groups.push((0, 0.0));
-            first = p;
-            sum_ln = 0.0;
-        }
-        let g = groups.last_mut().expect("a group was opened");
-        g.0 += 1;
-        sum_ln += p.ln();
-    }
-    if let Some(g) = groups.last_mut() {
-        g.1 = (sum_ln / g.0 as f64).exp();
-    }
-    groups
-        .iter()
-        .min_by(|a, b| {
-            b.0.cmp(&a.0).then(
-                (a.1.ln() - centre)
-                    .abs()
-                    .total_cmp(&(b.1.ln() - centre).abs()),
-            )
-        })
-        .map_or(f64::NAN, |g| g.1)
-}
-
 /// Median of friction over rows `a..b` of a test (slip control: shear / normal).
 fn friction_median(t: &FitTest, a: usize, b: usize) -> Option<f64> {
     let mut v: Vec<f64> = (a..b.min(t.len()))
@@ -273,7 +224,7 @@ fn step_signature(tests: &[PreparedTest]) -> StepSignature {
 pub fn data_features(tests: &[PreparedTest]) -> DataFeatures {
     let fits: Vec<FitTest> = tests.iter().map(|p| p.fit.clone()).collect();
     let normals: Vec<f64> = fits.iter().map(mean_normal).collect();
-    let p_ref = reference_stress(&normals);
+    let p_ref = (normals.iter().map(|p| p.ln()).sum::<f64>() / normals.len().max(1) as f64).exp();
     let mut rates = Vec::new();
     let mut spans = Vec::new();
     let (mut holds, mut reversals) = (0, 0);
@@ -413,25 +364,5 @@ impl DataFeatures {
             },
             slip_slope_per_mm: self.seeds.slip_slope_per_mm,
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::reference_stress;
-
-    #[test]
-    fn the_reference_stress_is_where_most_tests_were_run() {
-        // Two tests at 100 kPa (within 5 %), one at 50 and one at 400: 100, not the
-        // geometric mean (119).
-        let p = reference_stress(&[50.0, 100.0, 400.0, 102.0]);
-        assert!((p - (100.0f64 * 102.0).sqrt()).abs() < 1e-9, "{p}");
-        // One test per stress: the stress nearest the geometric mean (171 kPa) in log.
-        let near = |p: f64, want: f64| assert!((p - want).abs() < 1e-9 * want, "{p} for {want}");
-        near(reference_stress(&[50.0, 100.0, 400.0]), 100.0);
-        near(reference_stress(&[400.0, 25.0, 100.0, 50.0, 400.0]), 400.0);
-        // One stress: itself; none readable: not a number (the caller's default).
-        near(reference_stress(&[80.0, 80.0]), 80.0);
-        assert!(reference_stress(&[f64::NAN, -1.0]).is_nan());
     }
 }
