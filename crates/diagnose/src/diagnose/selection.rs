@@ -165,11 +165,18 @@ fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
         })
         .collect();
     let mut best: BTreeMap<Effect, (usize, f64, SpecFit)> = BTreeMap::new();
-    // A form whose fit did not converge, even continued, is not judged: its score says where
-    // the fit stopped, not what the form can do.
-    for (i, score, fitted) in polished.into_iter().filter(|p| p.2.result.converged) {
+    // A converged form comes before any form whose fit did not converge, even continued (its
+    // score says where the fit stopped, not what the form can do); an unconverged form is
+    // taken only where its family has no other (a rate-and-state law behind slip hardening,
+    // slow to converge on steps of few rows, would otherwise leave its family untried; its
+    // report says it did not converge).
+    for (i, score, fitted) in polished {
         let e = lib[i].effect;
-        if best.get(&e).is_none_or(|b| score > b.1) {
+        let rank = |converged: bool, score: f64| (converged, score);
+        if best
+            .get(&e)
+            .is_none_or(|b| rank(fitted.result.converged, score) > rank(b.2.result.converged, b.1))
+        {
             best.insert(e, (i, score, fitted));
         }
     }
