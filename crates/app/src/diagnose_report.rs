@@ -297,11 +297,13 @@ fn every_form(s: &mut String, d: &Diagnosis) {
             f.in_sample_score,
             if f.converged {
                 "converged"
+            } else if f.settled {
+                "settled"
             } else {
                 "NOT conv."
             },
             parameter_list(&f.parameters),
-            if f.converged {
+            if f.converged || f.settled {
                 String::new()
             } else {
                 format!("  (stopped: {}; not judged)", f.termination)

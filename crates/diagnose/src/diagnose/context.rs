@@ -18,6 +18,15 @@ use subfric_model::Model;
 
 /// Rounds of reweighting when model error dominates.
 pub(super) const REWEIGHTING_ROUNDS: usize = 1;
+/// Continuations of a fit stopped by its iteration limit in
+/// [`Context::fit_spec_to_convergence`].
+const CONTINUATIONS: usize = 3;
+
+/// A continuation that lowers the SSR (noise-variance units) by less than this has settled:
+/// less than one noise variance over all rows is below what the data resolve (the expected
+/// χ² of a single degree of freedom), so the fit's score no longer depends on where its
+/// iteration limit stopped it.
+const SETTLED_SSR: f64 = 1.0;
 
 /// The fitted tests and everything derived once from them.
 pub(super) struct Context<'a> {
@@ -55,6 +64,16 @@ pub(super) struct Context<'a> {
 pub(super) struct SpecFit {
     pub(super) result: FitResult,
     pub(super) fit_tests: Vec<FitTest>,
+    /// Stopped by its iteration limit, but continued from there its SSR fell by less than
+    /// [`SETTLED_SSR`]: judged like a converged fit (see [`Context::fit_spec_to_convergence`]).
+    pub(super) settled: bool,
+}
+
+impl SpecFit {
+    /// Converged, or settled: its score says what the form can do, not where it stopped.
+    pub(super) fn judged(&self) -> bool {
+        self.result.ssr.is_finite() && (self.result.converged || self.settled)
+    }
 }
 
 impl<'a> Context<'a> {
@@ -175,9 +194,11 @@ impl<'a> Context<'a> {
     }
 
     /// [`Context::fit_spec`] for a form that is to be ranked: a fit stopped by its iteration
-    /// limit is continued once from where it stopped, with as many iterations again (a fit
-    /// never ends worse than its start). Whether it then converged is in its result: a form
-    /// still unconverged is not ranked ([`super::selection`]).
+    /// limit is continued from where it stopped, on the same weights and with as many
+    /// iterations again, up to [`CONTINUATIONS`] times, until it converges or settles (a
+    /// continuation lowers its SSR by less than [`SETTLED_SSR`]: a valley floor the fit crawls
+    /// along, where its score no longer depends on the stop). A form neither converged nor
+    /// settled is not ranked ([`super::selection`]): its score says where the fit stopped.
     pub(super) fn fit_spec_to_convergence(
         &self,
         template: &Model,
@@ -185,16 +206,28 @@ impl<'a> Context<'a> {
         starts: &[Model],
         effort: Effort,
     ) -> SpecFit {
-        let first = self.fit_spec(template, spec, starts, effort);
-        if first.result.converged || !first.result.ssr.is_finite() {
-            return first;
+        let mut fitted = self.fit_spec(template, spec, starts, effort);
+        let space = self.space(template, spec);
+        for _ in 0..CONTINUATIONS {
+            if fitted.result.converged || fitted.settled || !fitted.result.ssr.is_finite() {
+                break;
+            }
+            // Continued on the objective it stopped on (the same weights): its SSR can then
+            // only fall, and how far it falls says whether the stop mattered.
+            let before = fitted.result.ssr;
+            let result = fit(
+                &fitted.fit_tests,
+                &space,
+                &[fitted.result.model],
+                Effort::refit(effort.iterations),
+            );
+            if !result.ssr.is_finite() || result.ssr > before {
+                break;
+            }
+            fitted.settled = !result.converged && before - result.ssr < SETTLED_SSR;
+            fitted.result = result;
         }
-        self.fit_spec(
-            template,
-            spec,
-            &[first.result.model],
-            Effort::refit(effort.iterations),
-        )
+        fitted
     }
 
     /// [`Context::fit_spec`], reweighting only when `reweight`.
@@ -229,7 +262,11 @@ impl<'a> Context<'a> {
                 result = fit(&fit_tests, &space, &[result.model], refit);
             }
         }
-        SpecFit { result, fit_tests }
+        SpecFit {
+            result,
+            fit_tests,
+            settled: false,
+        }
     }
 
     /// Fits `spec` on the screening tests (no reweighting), from `starts` each also crossed
@@ -250,6 +287,7 @@ impl<'a> Context<'a> {
         SpecFit {
             result,
             fit_tests: self.screening.clone(),
+            settled: false,
         }
     }
 

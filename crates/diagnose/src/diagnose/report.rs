@@ -27,6 +27,9 @@ pub struct FormReport {
     pub in_sample_score: f64,
     /// The fit converged (a form that did not is reported, and only chosen if it still wins).
     pub converged: bool,
+    /// Stopped by its iteration limit, but continued from there its SSR fell by less than one
+    /// noise variance: judged like a converged form.
+    pub settled: bool,
     /// How the best local run stopped (why not, when it did not converge).
     pub termination: subfric_fit::Termination,
     /// The best form of its family (the one compared on held-out data).

@@ -39,6 +39,7 @@ fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, Spe
                     ssr: r.ssr,
                     in_sample_score: penalised(&c, f.params.len()),
                     converged: r.converged && r.ssr.is_finite(),
+                    settled: false,
                     termination: r.termination.clone(),
                     chosen: false,
                     model: r.model,
@@ -50,13 +51,14 @@ fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, Spe
 }
 
 /// The best form of each family among forms `among` (largest penalised in-sample score; of
-/// equal scores the one listed first), marked `chosen`. A form whose fit failed or did not
-/// converge is not judged, however high its score: a family with no other form has none.
+/// equal scores the one listed first), marked `chosen`. A form whose fit failed, or neither
+/// converged nor settled, is not judged, however high its score: a family with no other form
+/// has none.
 fn choose_forms(reports: &mut [FormReport], among: &[usize]) -> Vec<usize> {
     let mut best: BTreeMap<Effect, usize> = BTreeMap::new();
     for &i in among {
         let r = &reports[i];
-        if !r.ssr.is_finite() || !r.converged {
+        if !r.ssr.is_finite() || !(r.converged || r.settled) {
             continue;
         }
         match best.get(&r.effect) {
@@ -165,17 +167,17 @@ fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
         })
         .collect();
     let mut best: BTreeMap<Effect, (usize, f64, SpecFit)> = BTreeMap::new();
-    // A converged form comes before any form whose fit did not converge, even continued (its
-    // score says where the fit stopped, not what the form can do); an unconverged form is
-    // taken only where its family has no other (a rate-and-state law behind slip hardening,
-    // slow to converge on steps of few rows, would otherwise leave its family untried; its
-    // report says it did not converge).
+    // A judged form (converged, or settled) comes before any form whose fit neither converged
+    // nor settled, even continued (its score says where the fit stopped, not what the form can
+    // do); such a form is taken only where its family has no other (a rate-and-state law
+    // behind slip hardening, slow to converge on steps of few rows, would otherwise leave its
+    // family untried; its report says it did not converge).
     for (i, score, fitted) in polished {
         let e = lib[i].effect;
-        let rank = |converged: bool, score: f64| (converged, score);
+        let rank = |judged: bool, score: f64| (judged, score);
         if best
             .get(&e)
-            .is_none_or(|b| rank(fitted.result.converged, score) > rank(b.2.result.converged, b.1))
+            .is_none_or(|b| rank(fitted.judged(), score) > rank(b.2.judged(), b.1))
         {
             best.insert(e, (i, score, fitted));
         }
@@ -338,6 +340,7 @@ pub(super) fn screen_and_polish(
         report.ssr = r.ssr;
         report.in_sample_score = penalised(&c, lib[i].params.len());
         report.converged = r.converged && r.ssr.is_finite();
+        report.settled = fit.settled;
         report.termination = r.termination.clone();
         report.model = r.model;
     }

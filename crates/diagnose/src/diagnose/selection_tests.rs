@@ -16,6 +16,7 @@ fn report(effect: Effect, form: &'static str, score: f64, ssr: f64) -> FormRepor
         ssr,
         in_sample_score: score,
         converged: true,
+        settled: false,
         termination: subfric_fit::Termination::CostConverged,
         chosen: false,
         model: Model::base(Params::sample()).unwrap(),
@@ -56,6 +57,23 @@ fn a_form_whose_fit_did_not_converge_is_never_chosen_however_high_its_score() {
     // Rate: "a", not the unconverged "b"; healing: no form judged, so no family.
     assert_eq!(choose_forms(&mut r, &[0, 1, 2]), vec![0]);
     assert!(!r[1].chosen && !r[2].chosen);
+}
+
+#[test]
+fn a_form_stopped_by_its_limit_but_settled_is_judged_by_its_score() {
+    let rate = Effect::from_name("rate").unwrap();
+    let settled = |mut r: FormReport| {
+        r.converged = false;
+        r.settled = true;
+        r.termination = subfric_fit::Termination::MaxIterations;
+        r
+    };
+    let mut r = vec![
+        report(rate, "a", 10.0, 5.0),
+        settled(report(rate, "b", 90.0, 1.0)),
+    ];
+    // Its continuation no longer lowered the misfit: "b" is judged, and its score wins.
+    assert_eq!(choose_forms(&mut r, &[0, 1]), vec![1]);
 }
 
 #[test]
