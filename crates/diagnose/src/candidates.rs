@@ -115,6 +115,16 @@ impl Effect {
         shows.iter().map(|&s| OwnKind::from(s)).collect()
     }
 
+    /// The kinds of held-out piece where the events that show this family outright were read
+    /// ([`subfric_model::terms::TermFamily::shown_in`]).
+    pub fn shown_kinds(self) -> Vec<OwnKind> {
+        let shows: &[Shows] = match self {
+            Effect::Term(i) => terms::family(i).shown_in(),
+            Effect::None | Effect::Unexplained | Effect::CannotJudge => &[],
+        };
+        shows.iter().map(|&s| OwnKind::from(s)).collect()
+    }
+
     /// One-line physical description.
     pub fn describe(self) -> &'static str {
         match self {
@@ -173,6 +183,7 @@ impl From<Shows> for OwnKind {
             Shows::Reversals => OwnKind::Piece(PieceKind::Reversal),
             Shows::AfterFirstLoading => OwnKind::AfterFirstLoading,
             Shows::AwayFromReferenceStress => OwnKind::AwayFromReferenceStress,
+            Shows::FirstLoadings => OwnKind::Piece(PieceKind::InitialLoading),
         }
     }
 }

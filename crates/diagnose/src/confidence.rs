@@ -483,7 +483,9 @@ fn test_showing(s: Shows) -> &'static str {
         Shows::VelocitySteps => "a velocity step of 10× up and back down, without a hold",
         Shows::Holds => "holds of 10, 100 and 1000 s between slides",
         Shows::Reversals => "a two-way test (the sliding reversed)",
-        Shows::AfterFirstLoading => "a long slide at one rate, well past the peak",
+        Shows::AfterFirstLoading | Shows::FirstLoadings => {
+            "a long slide at one rate, well past the peak"
+        }
         Shows::AwayFromReferenceStress => "tests at three or more normal stresses",
     }
 }

@@ -243,7 +243,8 @@ pub fn decide_further(
 
 /// How many of the effects selected in turn to name: `joint[k]` compares the base with the
 /// model holding the first k + 1 selected effects, `own[k]` the k-th effect with the model
-/// before it (on the pieces of its own kind when it was credited there). The smallest prefix
+/// before it (on the pieces of its own kind when it was credited there), `credited_on_events[k]`
+/// whether the k-th effect was named on what the events show outright. The smallest prefix
 /// that jointly explains the base's gap, or whose last effect passes on its own, is named,
 /// then every later effect that explains enough of what is left on its own; 0 when no prefix
 /// does.
@@ -256,22 +257,33 @@ pub fn decide_further(
 ///     candidate_chi2: 1.0, rows: 1000, n_eff: 900.0, pieces: vec![] };
 /// let th = Thresholds::default();
 /// // Two effects of similar size: neither alone, both together.
-/// assert_eq!(named_count(&[c(0.5), c(0.95)], &[c(0.5), c(0.9)], &th), 2);
+/// assert_eq!(named_count(&[c(0.5), c(0.95)], &[c(0.5), c(0.9)], &[], &th), 2);
 /// // The first explains it all; the second adds too little of what is left.
-/// assert_eq!(named_count(&[c(0.9), c(0.92)], &[c(0.9), c(0.3)], &th), 1);
+/// assert_eq!(named_count(&[c(0.9), c(0.92)], &[c(0.9), c(0.3)], &[], &th), 1);
 /// // Nothing together.
-/// assert_eq!(named_count(&[c(0.3), c(0.5)], &[c(0.3), c(0.3)], &th), 0);
+/// assert_eq!(named_count(&[c(0.3), c(0.5)], &[c(0.3), c(0.3)], &[], &th), 0);
+/// // An effect credited on what the events show outright counts on its own.
+/// assert_eq!(named_count(&[c(0.3)], &[c(0.3)], &[true], &th), 1);
 /// ```
-pub fn named_count(joint: &[Comparison], own: &[Comparison], th: &Thresholds) -> usize {
+pub fn named_count(
+    joint: &[Comparison],
+    own: &[Comparison],
+    credited_on_events: &[bool],
+    th: &Thresholds,
+) -> usize {
     // A prefix counts when it explains the gap together, or when its last effect passes on
-    // its own (for an effect credited on its own kind of piece, `own` is that comparison).
-    let Some(first) = (0..joint.len())
-        .position(|k| material(&joint[k], th) || own.get(k).is_some_and(|c| passes(c, th)))
+    // its own (for an effect credited on its own kind of piece, `own` is that comparison; an
+    // effect the events show outright, its pieces agreeing, is credited on them).
+    let on_its_own = |k: usize| {
+        own.get(k).is_some_and(|c| passes(c, th))
+            || credited_on_events.get(k).copied().unwrap_or(false)
+    };
+    let Some(first) = (0..joint.len()).position(|k| material(&joint[k], th) || on_its_own(k))
     else {
         return 0;
     };
     let mut n = first + 1;
-    while n < own.len() && passes(&own[n], th) {
+    while n < own.len() && on_its_own(n) {
         n += 1;
     }
     n

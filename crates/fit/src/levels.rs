@@ -68,6 +68,8 @@ pub struct TestLevels {
     /// Slope of the stress ratio with slip once the peak has decayed [1/mm]: slip hardening
     /// (> 0) or softening (< 0) beyond what the model's decay from μ_s to μ_k gives.
     pub slope_per_mm: Option<Estimate>,
+    /// The slip past the peak over which the slope was read [mm].
+    pub slope_span_mm: Option<f64>,
 }
 
 /// How a stress ratio (the peak or the residual) changes with the normal stress.
@@ -106,6 +108,11 @@ pub struct LevelReadings {
     pub residual: Option<StressTrend>,
     /// The residual's slope with slip over the tests that show one, pooled [1/mm].
     pub slip_slope_per_mm: Option<Estimate>,
+    /// The relative change of the stress ratio with slip past the peak over the slip each test
+    /// slid there (slope × slip / residual), pooled over the tests that read a slope and a
+    /// residual: how far slip hardening or softening moves friction within a test, a share
+    /// to compare with what two specimens of one sand differ by.
+    pub slip_change_relative: Option<Estimate>,
 }
 
 impl LevelReadings {
@@ -133,6 +140,7 @@ pub fn read_levels(tests: &[PreparedTest]) -> LevelReadings {
                 l.peak = None;
                 l.slip_to_peak_mm = None;
                 l.slope_per_mm = None;
+                l.slope_span_mm = None;
             }
             Some(l)
         })
@@ -156,10 +164,23 @@ fn levels_of(read: Vec<TestLevels>) -> LevelReadings {
             .collect()
     };
     let slopes: Vec<Estimate> = read.iter().filter_map(|t| t.slope_per_mm).collect();
+    let changes: Vec<Estimate> = read
+        .iter()
+        .filter_map(|t| {
+            let (g, span, r) = (t.slope_per_mm?, t.slope_span_mm?, t.residual?);
+            let scale = span / r.value;
+            (scale.is_finite() && scale > 0.0).then_some(Estimate {
+                value: g.value * scale,
+                lo: g.lo * scale,
+                hi: g.hi * scale,
+            })
+        })
+        .collect();
     LevelReadings {
         peak: trend(&points(|t| t.peak)),
         residual: trend(&points(|t| t.residual)),
         slip_slope_per_mm: pooled(&slopes),
+        slip_change_relative: pooled(&changes),
         tests: read,
     }
 }
@@ -261,6 +282,7 @@ fn test_levels(t: &FitTest, step: Option<usize>) -> Option<TestLevels> {
         slip_to_peak_mm: peak.map(|_| u[ip]),
         peak,
         residual,
+        slope_span_mm: slope_per_mm.map(|_| after_peak),
         slope_per_mm,
     })
 }
@@ -797,5 +819,30 @@ mod tests {
         let r = read(&tests);
         let s = r.slip_slope_per_mm.unwrap();
         assert!(s.excludes_zero() && (s.value - 0.01).abs() < 0.002, "{s:?}");
+    }
+
+    #[test]
+    fn the_change_with_slip_is_read_as_a_share_of_the_residual_over_the_slide() {
+        // Softening by 0.01 per mm past a peak at 0.5 mm, to a residual of 0.5 near the end
+        // of an 8 mm loading: about −0.01 × 7.5 / 0.5 = −15 % over the slide, clear of zero;
+        // the same curve without a slope reads a change within ±2 %.
+        let read_change = |slope: f64| {
+            let tests: Vec<FitTest> = (0..3)
+                .map(|k| {
+                    loading(
+                        &format!("t{k}"),
+                        100.0 * (k + 1) as f64,
+                        (0.7, 0.5, 0.5, 0.3, slope),
+                        0.003,
+                        k,
+                    )
+                })
+                .collect();
+            read(&tests).slip_change_relative.unwrap()
+        };
+        let soft = read_change(-0.01);
+        assert!(soft.hi < -0.1 && soft.lo > -0.2, "{soft:?}");
+        let flat = read_change(0.0);
+        assert!(flat.lo > -0.02 && flat.hi < 0.02, "{flat:?}");
     }
 }

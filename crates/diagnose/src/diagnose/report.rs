@@ -59,6 +59,11 @@ pub struct CandidateScore {
     /// ([`crate::Effect::own_kinds`]), on which an effect is credited when the other pieces do
     /// not improve.
     pub own_kinds: Vec<OwnKindScore>,
+    /// The comparison on the held-out pieces of each kind where the events that show the
+    /// family outright were read ([`crate::Effect::shown_kinds`]; the same kinds as
+    /// `own_kinds` unless the family reads its effect elsewhere: slip hardening on the tests'
+    /// first loadings).
+    pub shown_in: Vec<OwnKindScore>,
     /// Held-out evidence D with the first loadings left out (0 where every piece is one).
     pub without_first_loadings: f64,
 }

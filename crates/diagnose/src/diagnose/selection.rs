@@ -211,6 +211,17 @@ fn kind_shrinks(c: &Comparison) -> Vec<KindShrink> {
 /// only take up what the named effect's form leaves (a trend within the velocity steps
 /// standing in as slip hardening after a rate effect).
 fn own_pieces(cx: &Context, effect: Effect, spec: &Spec) -> Vec<(OwnKind, Vec<Piece>)> {
+    pieces_of_kinds(cx, effect, effect.own_kinds(), spec)
+}
+
+/// The held-out pieces of each of `kinds`, leaving out the kinds the effects of `spec` other
+/// than `effect` act on ([`own_pieces`]).
+fn pieces_of_kinds(
+    cx: &Context,
+    effect: Effect,
+    kinds: Vec<OwnKind>,
+    spec: &Spec,
+) -> Vec<(OwnKind, Vec<Piece>)> {
     let claimed: Vec<PieceKind> = spec
         .forms
         .iter()
@@ -221,8 +232,7 @@ fn own_pieces(cx: &Context, effect: Effect, spec: &Spec) -> Vec<(OwnKind, Vec<Pi
             _ => None,
         })
         .collect();
-    effect
-        .own_kinds()
+    kinds
         .into_iter()
         .filter_map(|kind| {
             let own: Vec<Piece> = cx
@@ -273,13 +283,17 @@ fn candidate_score(
         .cloned()
         .collect();
     let without_first_loadings = cx.compare(&later, reference, held).score;
-    let own_kinds = own_pieces(cx, effect, spec)
-        .into_iter()
-        .map(|(kind, own)| OwnKindScore {
-            kind,
-            held_out: cx.compare(&own, reference, held),
-        })
-        .collect();
+    let score_kinds = |kinds: Vec<(OwnKind, Vec<Piece>)>| -> Vec<OwnKindScore> {
+        kinds
+            .into_iter()
+            .map(|(kind, own)| OwnKindScore {
+                kind,
+                held_out: cx.compare(&own, reference, held),
+            })
+            .collect()
+    };
+    let own_kinds = score_kinds(own_pieces(cx, effect, spec));
+    let shown_in = score_kinds(pieces_of_kinds(cx, effect, effect.shown_kinds(), spec));
     CandidateScore {
         effect,
         spec: spec.describe(),
@@ -289,6 +303,7 @@ fn candidate_score(
         by_kind: kind_shrinks(&c),
         held_out: c,
         own_kinds,
+        shown_in,
         without_first_loadings,
     }
 }
@@ -393,6 +408,9 @@ fn penalised(c: &Comparison, extra_parameters: usize) -> f64 {
 pub(super) struct Selected {
     pub(super) form: Form,
     pub(super) own: Comparison,
+    /// Named on what the events read one by one show outright, its held-out pieces where
+    /// they were read agreeing ([`credited_on_events`]).
+    pub(super) credited_on_events: bool,
     pub(super) at: Current,
     /// Taken on its own evidence but explaining too little alone (see [`Decision::Tentative`]).
     pub(super) tentative: bool,
@@ -512,8 +530,11 @@ impl Path {
             .clone();
         self.joint
             .push(cx.compare(&cx.pieces, &base.held, &next.held));
+        let credited = matches!(stage.decision, Decision::Named(_))
+            && credited_on_events(cx, &stage.candidates[i], stage.drift.as_ref());
         self.selected.push(Selected {
             form,
+            credited_on_events: credited,
             // A further effect is judged on all pieces when it passes there, else on the
             // pieces of its own kind (see `decide_further`).
             own: {
@@ -556,7 +577,8 @@ impl Path {
     /// How many of the effects taken to name (see [`named_count`]).
     fn named_count(&self, th: &crate::verdict::Thresholds) -> usize {
         let own: Vec<Comparison> = self.selected.iter().map(|s| s.own.clone()).collect();
-        named_count(&self.joint, &own, th)
+        let credited: Vec<bool> = self.selected.iter().map(|s| s.credited_on_events).collect();
+        named_count(&self.joint, &own, &credited, th)
     }
 
     /// Held-out evidence of the named effects together over the base.
@@ -694,39 +716,53 @@ fn drift_candidate(cx: &Context, current: &Current) -> CandidateScore {
 /// (every one of them): one piece improved by chance says nothing.
 const SHOWN_MIN_PIECES: usize = 2;
 
+/// Whether most of `pieces` — two thirds of them, and [`SHOWN_MIN_PIECES`] at least — are
+/// predicted better by the candidate: one test at the reference stress, which a pressure
+/// effect leaves as it was, or one reversal a hair worse must not outvote the readings.
+fn most_predicted_better(pieces: &[&crate::score::PieceScore]) -> bool {
+    let better = pieces
+        .iter()
+        .filter(|p| p.candidate_ssr < p.reference_ssr)
+        .count();
+    better >= SHOWN_MIN_PIECES && 3 * better >= 2 * pieces.len()
+}
+
 /// The candidate, among those whose family the events read one by one show outright
-/// ([`crate::events::shows`]), with the most held-out evidence that predicts every held-out
-/// piece of its own kind better ([`SHOWN_MIN_PIECES`] at least), explains enough of the gap
-/// ([`material`]), gains over all pieces and beats the drift of the measurement.
+/// ([`crate::events::shows`]), with the most held-out evidence that predicts most held-out
+/// pieces where those events were read better ([`most_predicted_better`]), explains
+/// enough of the gap ([`material`]) — of the whole, or of those pieces: the events carry the
+/// significance, and the effect need not explain what lives elsewhere (a seating left in the
+/// first loadings, a shape the base lacks) — gains over all pieces and beats the drift of the
+/// measurement.
 fn shown_and_predicted(
     cx: &Context,
     candidates: &[CandidateScore],
     drift: Option<&CandidateScore>,
 ) -> Option<usize> {
-    let th = &cx.opts.thresholds;
     (0..candidates.len())
-        .filter(|&i| {
-            let c = &candidates[i];
-            let own: Vec<&crate::score::PieceScore> = c
-                .own_kinds
-                .iter()
-                .flat_map(|k| &k.held_out.pieces)
-                .collect();
-            crate::events::shows(&cx.events, c.effect)
-                && c.effect.varies_in(&cx.features)
-                && own.len() >= SHOWN_MIN_PIECES
-                && own.iter().all(|p| p.candidate_ssr < p.reference_ssr)
-                && c.held_out.score > 0.0
-                && c.held_out.excess_shrink > 0.0
-                && material(&c.held_out, th)
-                && drift.is_none_or(|d| d.held_out.score < c.held_out.score)
-        })
+        .filter(|&i| credited_on_events(cx, &candidates[i], drift))
         .max_by(|&a, &b| {
             candidates[a]
                 .held_out
                 .score
                 .total_cmp(&candidates[b].held_out.score)
         })
+}
+
+/// Whether candidate `c` is credited on what the events read one by one show outright (see
+/// [`shown_and_predicted`]).
+fn credited_on_events(cx: &Context, c: &CandidateScore, drift: Option<&CandidateScore>) -> bool {
+    let th = &cx.opts.thresholds;
+    let own: Vec<&crate::score::PieceScore> =
+        c.shown_in.iter().flat_map(|k| &k.held_out.pieces).collect();
+    crate::events::shows(&cx.events, c.effect)
+        && c.effect.varies_in(&cx.features)
+        && own.len() >= SHOWN_MIN_PIECES
+        && most_predicted_better(&own)
+        && c.held_out.score > 0.0
+        && c.held_out.excess_shrink > 0.0
+        && (material(&c.held_out, th) || c.shown_in.iter().all(|k| material(&k.held_out, th)))
+        && drift.is_none_or(|d| d.held_out.score < c.held_out.score)
 }
 
 /// One stage of the forward selection: every remaining family added to the current

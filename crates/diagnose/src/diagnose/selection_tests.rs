@@ -164,3 +164,34 @@ fn a_later_stage_polishes_the_best_screened_form_and_those_the_screening_cannot_
     // The margin grows with the effective rows: on 10 rows, 2 ln 10 = 4.6.
     assert_eq!(polished_among(&[(0.0, 10.0), (-8.7, 10.0)]), 1);
 }
+
+#[test]
+fn an_effect_the_events_show_needs_most_of_their_pieces_predicted_better_not_every_one() {
+    let piece = |test: usize, reference_ssr: f64, candidate_ssr: f64| crate::score::PieceScore {
+        kind: crate::folds::PieceKind::InitialLoading,
+        test,
+        rows: 300,
+        n_eff: 4.0,
+        reference_ssr,
+        candidate_ssr,
+    };
+    // Four tests of five predicted better; the one at the reference stress a little worse.
+    let four_of_five: Vec<_> = (0..5)
+        .map(|t| {
+            if t == 4 {
+                piece(t, 216.8, 223.7)
+            } else {
+                piece(t, 100.0, 60.0)
+            }
+        })
+        .collect();
+    assert!(most_predicted_better(&four_of_five.iter().collect::<Vec<_>>()));
+    // Three of five is not two thirds.
+    let three_of_five: Vec<_> = (0..5)
+        .map(|t| piece(t, 100.0, if t < 3 { 60.0 } else { 120.0 }))
+        .collect();
+    assert!(!most_predicted_better(&three_of_five.iter().collect::<Vec<_>>()));
+    // One piece, however much better, says nothing.
+    let one = [piece(0, 100.0, 1.0)];
+    assert!(!most_predicted_better(&one.iter().collect::<Vec<_>>()));
+}

@@ -259,6 +259,7 @@ impl EventAnalysis {
                 .residual
                 .as_ref()
                 .map(|t| reading(&t.relative_per_efold)),
+            slip_change_relative: self.levels.slip_change_relative.as_ref().map(reading),
         }
     }
 }

@@ -122,6 +122,9 @@ pub enum Shows {
     AfterFirstLoading,
     /// Tests away from the set's reference normal stress.
     AwayFromReferenceStress,
+    /// The first loadings of the tests, through their peak and the slide past it, where the
+    /// tests' levels are read.
+    FirstLoadings,
 }
 
 /// The scales of a data set that a family reads its first guesses and bounds from.
@@ -218,6 +221,10 @@ pub struct EventReadings {
     pub peak_change_per_efold: Option<Reading>,
     /// The same of the residual stress ratio.
     pub residual_change_per_efold: Option<Reading>,
+    /// The relative change of the stress ratio with slip past the peak, over the slip each
+    /// test's first loading slid there (slope × slip / residual), pooled over the tests with
+    /// its interval; `None` where no test slid far enough past its peak to read it.
+    pub slip_change_relative: Option<Reading>,
 }
 
 /// A value read off a record with its interval.
@@ -404,6 +411,12 @@ pub trait TermFamily: Sync + std::fmt::Debug {
     /// enough, whatever its held-out evidence D. False where they do not.
     fn shown(&self, _events: &EventReadings) -> bool {
         false
+    }
+    /// Where the events that show the family outright ([`TermFamily::shown`]) were read: the
+    /// held-out pieces a candidate shown that way must each predict better. By default where
+    /// its effect shows ([`TermFamily::shows`]).
+    fn shown_in(&self) -> &'static [Shows] {
+        self.shows()
     }
     /// Forms the events read one by one single out: the diagnosis refits them in later stages
     /// whatever their rank on the base (on which a form may rank low for want of another

@@ -359,6 +359,11 @@ impl TermFamily for Pressure {
         .any(|r| r.excludes_zero())
     }
 
+    fn shown_in(&self) -> &'static [Shows] {
+        // The peak and residual stress ratios are read on the tests' first loadings.
+        &[Shows::FirstLoadings]
+    }
+
     fn contradicted(&self, events: &super::EventReadings) -> bool {
         // Both the peak and the residual read over two stresses or more, and neither can
         // change by as much as NEUTRAL_PER_EFOLD: every form scales μ, μ_s or μ_k, so a

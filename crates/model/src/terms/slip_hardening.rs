@@ -45,6 +45,12 @@ const PARAMS: [TermParam; 2] = [
 /// Largest |h| [1/mm] a first guess read off the tests takes.
 const READ_SLOPE: f64 = 0.5;
 
+/// A change of friction with slip past the peak, over the slide of a test and as a share of
+/// its residual, that shows slip hardening or softening outright when the tests' reading of it
+/// lies beyond ±this with its interval: 2 %, twice what two specimens of one sand tested alike
+/// differ by (a drift of the load cell over a test moves the level by about that much too).
+const SHOWN_CHANGE: f64 = 0.02;
+
 const EXPONENTIAL: usize = 0;
 const CAPPED: usize = 1;
 
@@ -104,6 +110,20 @@ impl TermFamily for SlipHardening {
         true
     }
 
+    fn shown(&self, events: &super::EventReadings) -> bool {
+        // The tests' stress ratio keeps changing with slip once the peak's excess has decayed
+        // (the model's own decay from μ_s to μ_k is taken out of the reading), by more than a
+        // second specimen could differ, its interval clear of that band.
+        events
+            .slip_change_relative
+            .is_some_and(|r| r.lo > SHOWN_CHANGE || r.hi < -SHOWN_CHANGE)
+    }
+
+    fn shown_in(&self) -> &'static [Shows] {
+        // Where the slope is read: each test's first loading, past its peak.
+        &[Shows::FirstLoadings]
+    }
+
     fn guess(&self, _form: usize, data: &DataScales) -> FormGuess {
         // A change of friction of a few hundredths over the slip of a test, saturating within
         // it or well beyond it, hardening or softening.
@@ -155,6 +175,30 @@ impl TermFamily for SlipHardening {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_change_with_slip_beyond_what_specimens_differ_by_shows_it_outright() {
+        let with = |lo: f64, hi: f64| super::super::EventReadings {
+            slip_change_relative: Some(super::super::Reading {
+                value: 0.5 * (lo + hi),
+                lo,
+                hi,
+            }),
+            ..Default::default()
+        };
+        let f = SlipHardening;
+        // Softening by 11 % over the slide, hardening by 5 %: shown.
+        assert!(f.shown(&with(-0.112, -0.107)));
+        assert!(f.shown(&with(0.03, 0.07)));
+        // Clear of zero but within what a second specimen (or a load cell's drift over a
+        // test) could show: not shown; nor an interval that reaches into the band.
+        assert!(!f.shown(&with(0.015, 0.018)));
+        assert!(!f.shown(&with(-0.08, -0.01)));
+        // Nothing read: nothing shown.
+        assert!(!f.shown(&super::super::EventReadings::default()));
+        // The reading lives on the first loadings.
+        assert_eq!(f.shown_in(), &[Shows::FirstLoadings]);
+    }
 
     #[test]
     fn every_form_starts_with_slope_h_and_saturates() {
