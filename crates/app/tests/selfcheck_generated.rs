@@ -560,3 +560,43 @@ fn slip_hardening_the_tests_readings_show_is_named_on_the_first_loadings_where_t
         &DiagnoseOptions::default(),
     ));
 }
+
+#[test]
+fn the_rate_and_state_forms_the_velocity_steps_single_out_are_polished_whatever_their_screened_rank(
+) {
+    // Twenty screening iterations leave a rate-and-state form unconverged and ranked by where
+    // it stopped, behind the two variants of a direct effect, which converge at once; only the
+    // two best forms of a family were polished, so where the steps agree on rate and state its
+    // forms were never fitted to convergence on the base ("not judged") and the family went on
+    // as a direct effect. The steps single them out: each is polished, and judged.
+    let g = set("rsf-logger", &[Form::RsfAgeing], Profile::Logger);
+    let d = subfric_diagnose::diagnose(
+        &subfric_diagnose::prepare_for_diagnosis(&g.set),
+        &DiagnoseOptions::default(),
+    )
+    .expect("the diagnosis runs");
+    let consistent = d.events.rate.as_ref().is_some_and(|r| r.consistent);
+    assert!(
+        consistent,
+        "the steps of a rate-and-state set must agree for this test to mean anything"
+    );
+    let state_forms: Vec<_> = d
+        .forms
+        .iter()
+        .filter(|f| f.form.starts_with("rate and state"))
+        .collect();
+    assert_eq!(
+        state_forms.len(),
+        4,
+        "{:?}",
+        d.forms.iter().map(|f| &f.form).collect::<Vec<_>>()
+    );
+    for f in state_forms {
+        assert!(
+            f.converged || f.settled,
+            "{} was not polished: {:?}",
+            f.form,
+            f.termination
+        );
+    }
+}

@@ -328,18 +328,29 @@ fn shortlist(
     // when the velocity steps agree on rate and state (on a base that lacks another effect they
     // may rank low, and the steps say they are the ones to try), healing erased by slip when
     // the holds show peaks, ...
+    keep.extend(singled_out(lib, events));
+    keep.sort_unstable();
+    keep.dedup();
+    keep.into_iter().map(|i| lib[i].clone()).collect()
+}
+
+/// The forms of `lib` (indices) that the events read one by one single out
+/// ([`subfric_model::terms::TermFamily::singled_out`]).
+pub(super) fn singled_out(
+    lib: &[crate::Form],
+    events: &crate::events::EventAnalysis,
+) -> Vec<usize> {
     let readings = events.readings();
+    let mut out = Vec::new();
     for (family, fam) in subfric_model::terms::FAMILIES.iter().enumerate() {
         for form in fam.singled_out(&readings) {
             let name = fam.forms()[form].describe;
-            keep.extend((0..lib.len()).filter(|&i| {
+            out.extend((0..lib.len()).filter(|&i| {
                 lib[i].effect == crate::Effect::Term(family as u8) && lib[i].name == name
             }));
         }
     }
-    keep.sort_unstable();
-    keep.dedup();
-    keep.into_iter().map(|i| lib[i].clone()).collect()
+    out
 }
 
 /// Forms per family kept for the later selection stages.

@@ -327,10 +327,20 @@ pub(super) fn screen_and_polish(
 ) -> (Vec<FormReport>, Vec<Family>) {
     let (mut forms, fits): (Vec<FormReport>, Vec<SpecFit>) =
         fit_forms(cx, base, lib).into_iter().unzip();
-    let to_polish: Vec<usize> = ranked_by_family(&forms, POLISHED_PER_FAMILY)
+    let mut to_polish: Vec<usize> = ranked_by_family(&forms, POLISHED_PER_FAMILY)
         .into_iter()
         .flatten()
         .collect();
+    // And the forms the events read one by one single out (every rate-and-state form when the
+    // velocity steps agree on rate and state): a few screening iterations leave such a form
+    // unconverged and ranked by where it stopped, behind two variants of a direct effect that
+    // converge at once, and it would never be polished on the base.
+    let singled_out = super::singled_out(lib, &cx.events);
+    for &i in &singled_out {
+        if forms[i].ssr.is_finite() && !to_polish.contains(&i) {
+            to_polish.push(i);
+        }
+    }
     cx.trace("every form screened");
     cx.step(3, 0, 0);
     let polished: Vec<SpecFit> = to_polish
@@ -344,7 +354,20 @@ pub(super) fn screen_and_polish(
             let mut on_base = subfric_fit::with_base_of(&screened, base);
             on_base.params.alpha_t = base.params.alpha_t;
             on_base.params.alpha_n = base.params.alpha_n;
-            cx.fit_spec_to_convergence(base, &spec, &[screened, on_base], cx.opts.polish)
+            let mut starts = vec![screened, on_base];
+            // A form the events single out also starts from its own first guesses on the
+            // base, among them what the events read (a, b and D_c of the velocity steps
+            // fitted one by one): twenty screening iterations may have left it in another
+            // valley.
+            if singled_out.contains(&i) {
+                starts.extend(
+                    lib[i]
+                        .starts
+                        .iter()
+                        .map(|v| with_values(base, &spec, std::slice::from_ref(v))),
+                );
+            }
+            cx.fit_spec_to_convergence(base, &spec, &starts, cx.opts.polish)
         })
         .collect();
     for (fit, &i) in polished.iter().zip(&to_polish) {

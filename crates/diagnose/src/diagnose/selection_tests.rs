@@ -185,12 +185,16 @@ fn an_effect_the_events_show_needs_most_of_their_pieces_predicted_better_not_eve
             }
         })
         .collect();
-    assert!(most_predicted_better(&four_of_five.iter().collect::<Vec<_>>()));
+    assert!(most_predicted_better(
+        &four_of_five.iter().collect::<Vec<_>>()
+    ));
     // Three of five is not two thirds.
     let three_of_five: Vec<_> = (0..5)
         .map(|t| piece(t, 100.0, if t < 3 { 60.0 } else { 120.0 }))
         .collect();
-    assert!(!most_predicted_better(&three_of_five.iter().collect::<Vec<_>>()));
+    assert!(!most_predicted_better(
+        &three_of_five.iter().collect::<Vec<_>>()
+    ));
     // One piece, however much better, says nothing.
     let one = [piece(0, 100.0, 1.0)];
     assert!(!most_predicted_better(&one.iter().collect::<Vec<_>>()));
