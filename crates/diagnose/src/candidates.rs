@@ -108,18 +108,20 @@ impl Effect {
     /// show to be credited when the other pieces do not improve (see
     /// [`crate::verdict::decide_further`]).
     pub fn own_kinds(self) -> Vec<OwnKind> {
-        let shows: &[Shows] = match self {
-            Effect::Term(i) => terms::family(i).shows(),
-            Effect::None | Effect::Unexplained | Effect::CannotJudge => &[],
-        };
-        shows.iter().map(|&s| OwnKind::from(s)).collect()
+        self.kinds(|f| f.shows())
     }
 
     /// The kinds of held-out piece where the events that show this family outright were read
     /// ([`subfric_model::terms::TermFamily::shown_in`]).
     pub fn shown_kinds(self) -> Vec<OwnKind> {
+        self.kinds(|f| f.shown_in())
+    }
+
+    /// The kinds of held-out piece that `pick` says of the family (none for the effects that
+    /// are no family).
+    fn kinds(self, pick: fn(&dyn terms::TermFamily) -> &'static [Shows]) -> Vec<OwnKind> {
         let shows: &[Shows] = match self {
-            Effect::Term(i) => terms::family(i).shown_in(),
+            Effect::Term(i) => pick(terms::family(i)),
             Effect::None | Effect::Unexplained | Effect::CannotJudge => &[],
         };
         shows.iter().map(|&s| OwnKind::from(s)).collect()

@@ -38,6 +38,14 @@ pub struct FormReport {
     pub model: Model,
 }
 
+impl FormReport {
+    /// Its fit is finite and converged, or settled: its score says what the form can do, not
+    /// where an iteration limit stopped it (the same test as `SpecFit::judged` on a fit).
+    pub fn judged(&self) -> bool {
+        self.ssr.is_finite() && (self.converged || self.settled)
+    }
+}
+
 /// A candidate (the best form of a family, or the drift) against a reference model.
 #[derive(Clone, Debug, Serialize)]
 pub struct CandidateScore {

@@ -58,7 +58,7 @@ fn choose_forms(reports: &mut [FormReport], among: &[usize]) -> Vec<usize> {
     let mut best: BTreeMap<Effect, usize> = BTreeMap::new();
     for &i in among {
         let r = &reports[i];
-        if !r.ssr.is_finite() || !(r.converged || r.settled) {
+        if !r.judged() {
             continue;
         }
         match best.get(&r.effect) {
