@@ -210,6 +210,18 @@ fn load_set<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>>
             }),
         )?;
         d.set_item("friction_given", t.friction_given)?;
+        // The units the CSV's columns were written in, as the set declares them; the arrays
+        // below are in kPa, mm and s whatever they were.
+        match &t.spec.units {
+            Some(u) => {
+                let units = PyDict::new(py);
+                units.set_item("stress", u.stress.clone())?;
+                units.set_item("displacement", u.displacement.clone())?;
+                units.set_item("time", u.time.clone())?;
+                d.set_item("units", units)?;
+            }
+            None => d.set_item("units", py.None())?,
+        }
         d.set_item("comments", t.comments)?;
         d.set_item("time_s", array(py, t.time_s))?;
         d.set_item("slip_mm", array(py, t.slip_mm))?;

@@ -72,6 +72,10 @@ class Test:
         self.initial = d["initial"]
         #: True when the CSV gave `friction` instead of `shear_kpa`
         self.friction_given = d["friction_given"]
+        #: the units the CSV's columns were written in (`units` of experiment.json: a dict of
+        #: stress, displacement and time, None where not given), or None for kPa, mm and s;
+        #: the arrays are in kPa, mm and s either way
+        self.units = d["units"]
         #: the CSV's comment lines (provenance)
         self.comments = d["comments"]
         self.time_s = d["time_s"]

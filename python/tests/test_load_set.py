@@ -94,3 +94,17 @@ def test_implausible_data_warn_naming_the_file_and_column(cli, copy_set):
     err = cli.run("check", d).stderr
     for t in texts:
         assert t in err
+
+
+def test_a_logger_in_mpa_and_minutes_is_read_in_kpa_and_seconds(tmp_path):
+    (tmp_path / "experiment.json").write_text(json.dumps({
+        "name": "logger", "title": "t", "source": "made in the test",
+        "units": {"stress": "MPa", "time": "min"},
+        "tests": [{"name": "a", "file": "a.csv", "control": "slip", "normal_stress_kpa": 100}],
+    }))
+    (tmp_path / "a.csv").write_text("time_s,slip_mm,shear_kpa\n0,0,0\n1,0.5,0.0425\n2,1.0,0.04025\n")
+    t = subfric.load_set(tmp_path)[0]
+    np.testing.assert_allclose(t.time_s, [0.0, 60.0, 120.0])
+    np.testing.assert_allclose(t.shear_kpa, [0.0, 42.5, 40.25])
+    assert t.units == {"stress": "MPa", "displacement": None, "time": "min"}
+    assert subfric.load_set(EXPERIMENTS / BUNDLED[0])[0].units is None

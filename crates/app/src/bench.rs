@@ -303,6 +303,7 @@ fn many_tests_set(dir: &Path, n: usize) -> Result<Model> {
             interface: Default::default(),
             tests: specs,
             reference_parameters: Some(serde_json::to_value(truth.params)?),
+            units: None,
             extra: Default::default(),
         },
         tests,

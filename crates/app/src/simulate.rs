@@ -202,6 +202,7 @@ pub fn simulate_scenario(
         interface: Interface::default(),
         tests: vec![spec],
         reference_parameters: Some(serde_json::to_value(model.params)?),
+        units: None,
         extra: Default::default(),
     };
     let set = ExperimentSet {

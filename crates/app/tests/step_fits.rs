@@ -84,6 +84,7 @@ fn ladder(law: StateLaw, a: f64, b: f64, dc: f64, noise_kpa: f64, seed: u64) -> 
             interface: Interface::default(),
             tests: vec![test.spec.clone()],
             reference_parameters: None,
+            units: None,
             extra: Default::default(),
         },
         tests: vec![test],

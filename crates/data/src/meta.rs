@@ -109,9 +109,101 @@ pub struct TestSpec {
     /// `None`: decided from the data.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial: Option<InitialSpec>,
+    /// Units of this test's CSV columns when they are not the format's own (kPa, mm, s); the
+    /// set's `units` when the test gives none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub units: Option<ColumnUnits>,
     /// Any other fields, kept as they are.
     #[serde(flatten)]
     pub extra: Map<String, Value>,
+}
+
+/// The units a logger wrote a test's CSV columns in (the optional `units` block of
+/// `experiment.json`, for the whole set or per test): stresses (`shear_kpa`, `normal_kpa`),
+/// displacements (`slip_mm`) and time (`time_s`). Each is converted to the format's own unit
+/// (kPa, mm, s) as the CSV is read; a unit not given is the format's own. The fields of
+/// `experiment.json` itself keep the units their names carry (`normal_stress_kpa` is kPa).
+///
+/// ```
+/// use subfric_data::meta::ColumnUnits;
+/// let u: ColumnUnits = serde_json::from_str(r#"{"stress": "MPa", "time": "min"}"#).unwrap();
+/// let s = u.scale().unwrap();
+/// assert_eq!((s.stress, s.displacement, s.time), (1000.0, 1.0, 60.0));
+/// let bad: ColumnUnits = serde_json::from_str(r#"{"stress": "N"}"#).unwrap();
+/// assert!(bad.scale().is_err()); // a force is not a stress
+/// ```
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColumnUnits {
+    /// Unit of the stress columns: kPa, MPa, Pa or psi.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stress: Option<String>,
+    /// Unit of the slip column: mm, um (µm), m or in.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub displacement: Option<String>,
+    /// Unit of the time column: s, ms, min or h.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<String>,
+}
+
+/// Factors that take a test's CSV columns to kPa, mm and s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ColumnScale {
+    /// kPa per unit of the stress columns.
+    pub stress: f64,
+    /// mm per unit of the slip column.
+    pub displacement: f64,
+    /// s per unit of the time column.
+    pub time: f64,
+}
+
+impl ColumnScale {
+    /// The format's own units: every factor 1.
+    pub const OWN: ColumnScale = ColumnScale {
+        stress: 1.0,
+        displacement: 1.0,
+        time: 1.0,
+    };
+
+    /// True when every factor is 1.
+    pub fn is_own(&self) -> bool {
+        *self == ColumnScale::OWN
+    }
+}
+
+/// The stress units a `units` block accepts (a force would need the contact area).
+pub(crate) const STRESS_UNITS: &str = "kPa, MPa, Pa or psi";
+
+impl ColumnUnits {
+    /// The factors to kPa, mm and s, or (field, message) for the first unit that is unknown.
+    pub fn scale(&self) -> Result<ColumnScale, (&'static str, String)> {
+        use crate::import::{LengthUnit, StressUnit, TimeUnit};
+        let mut out = ColumnScale::OWN;
+        if let Some(u) = &self.stress {
+            let unit: StressUnit = u.parse().map_err(|_| {
+                (
+                    "stress",
+                    format!("unknown stress unit `{u}` (expected {STRESS_UNITS})"),
+                )
+            })?;
+            if unit.is_force() {
+                return Err((
+                    "stress",
+                    format!("`{u}` is a force, not a stress (expected {STRESS_UNITS}; `subfric import --area` divides a force column by the contact area)"),
+                ));
+            }
+            out.stress = unit.to_kpa();
+        }
+        if let Some(u) = &self.displacement {
+            let unit: LengthUnit = u.parse().map_err(|e: String| ("displacement", e))?;
+            out.displacement = unit.to_mm();
+        }
+        if let Some(u) = &self.time {
+            let unit: TimeUnit = u.parse().map_err(|e: String| ("time", e))?;
+            out.time = unit.to_s();
+        }
+        Ok(out)
+    }
 }
 
 /// The optional `initial` field of a test.
@@ -134,8 +226,17 @@ impl TestSpec {
             control,
             normal_stress_kpa,
             initial: None,
+            units: None,
             extra: Map::new(),
         }
+    }
+
+    /// Factors from this test's CSV columns to kPa, mm and s (1 where no unit is given), or
+    /// (field, message) for a unit that is unknown.
+    pub fn column_scale(&self) -> Result<ColumnScale, (&'static str, String)> {
+        self.units
+            .as_ref()
+            .map_or(Ok(ColumnScale::OWN), ColumnUnits::scale)
     }
 }
 
@@ -173,6 +274,10 @@ pub struct ExperimentMeta {
     /// Published parameter values to compare a fit against.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference_parameters: Option<Value>,
+    /// Units of the tests' CSV columns when they are not the format's own (a test's own
+    /// `units` takes precedence); [`parse_meta`] hands them to each test that gives none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub units: Option<ColumnUnits>,
     /// Any other fields, kept as they are.
     #[serde(flatten)]
     pub extra: Map<String, Value>,
@@ -248,12 +353,19 @@ pub fn parse_meta(text: &str, path: &Path) -> Result<ExperimentMeta, DataError> 
     if !problems.is_empty() {
         return Err(DataError::Problems(problems.into_vec()));
     }
-    serde_json::from_str::<ExperimentMeta>(text).map_err(|e| DataError::Json {
+    let mut meta = serde_json::from_str::<ExperimentMeta>(text).map_err(|e| DataError::Json {
         path: path.to_path_buf(),
         line: e.line(),
         column: e.column(),
         message: e.to_string(),
-    })
+    })?;
+    // The set's units hold for every test that states none of its own.
+    if let Some(units) = &meta.units {
+        for t in meta.tests.iter_mut().filter(|t| t.units.is_none()) {
+            t.units = Some(units.clone());
+        }
+    }
+    Ok(meta)
 }
 
 struct Ctx<'a> {
@@ -340,6 +452,7 @@ fn check_shape(v: &Value, path: &Path, pos: &HashMap<String, (usize, usize)>, pr
     };
     cx.check_header(root, pr);
     cx.check_interface(root, pr);
+    cx.check_units(root, "", pr);
     let Some(tests) = cx.tests_array(root, pr) else {
         return;
     };
@@ -364,6 +477,7 @@ fn check_shape(v: &Value, path: &Path, pos: &HashMap<String, (usize, usize)>, pr
         cx.check_control(t, &prefix, pr);
         cx.check_initial(t, &prefix, pr);
         cx.check_normal_stress(t, &prefix, pr);
+        cx.check_units(t, &prefix, pr);
     }
 }
 
@@ -388,6 +502,68 @@ impl Ctx<'_> {
     }
 
     /// The optional `interface` object.
+    /// The optional `units` block (of the set, or of a test under `prefix`): an object of
+    /// strings `stress`, `displacement` and `time`, each a unit the reader knows.
+    fn check_units(&self, obj: &Map<String, Value>, prefix: &str, pr: &mut Problems) {
+        let field = join(prefix, "units");
+        let expected = format!(
+            "expected an object such as {{\"stress\": \"MPa\", \"displacement\": \"mm\", \"time\": \"s\"}}: stress {STRESS_UNITS}; displacement mm, um, m or in; time s, ms, min or h"
+        );
+        let units = match obj.get("units") {
+            None | Some(Value::Null) => return,
+            Some(Value::Object(u)) => u,
+            Some(v) => {
+                self.problem(pr, &field, format!("found {} ({expected})", kind_of(v)));
+                return;
+            }
+        };
+        let mut parsed = ColumnUnits::default();
+        for (key, value) in units {
+            let at = format!("{field}.{key}");
+            let slot = match key.as_str() {
+                "stress" => &mut parsed.stress,
+                "displacement" => &mut parsed.displacement,
+                "time" => &mut parsed.time,
+                _ => {
+                    self.problem(pr, &at, format!("unknown unit field `{key}` ({expected})"));
+                    continue;
+                }
+            };
+            match value {
+                Value::String(u) => *slot = Some(u.clone()),
+                v => self.problem(pr, &at, format!("found {} ({expected})", kind_of(v))),
+            }
+        }
+        // Each unit on its own, so that every unknown one is named.
+        for (key, one) in [
+            (
+                "stress",
+                ColumnUnits {
+                    stress: parsed.stress.clone(),
+                    ..Default::default()
+                },
+            ),
+            (
+                "displacement",
+                ColumnUnits {
+                    displacement: parsed.displacement.clone(),
+                    ..Default::default()
+                },
+            ),
+            (
+                "time",
+                ColumnUnits {
+                    time: parsed.time.clone(),
+                    ..Default::default()
+                },
+            ),
+        ] {
+            if let Err((_, msg)) = one.scale() {
+                self.problem(pr, &format!("{field}.{key}"), msg);
+            }
+        }
+    }
+
     fn check_interface(&self, root: &Map<String, Value>, pr: &mut Problems) {
         match root.get("interface") {
             None | Some(Value::Null) => {}

@@ -593,6 +593,18 @@ pub(crate) fn parse_test_csv(
     spec: &TestSpec,
 ) -> Result<TestData, Vec<InputProblem>> {
     let mut pr = Problems::default();
+    let scale = match spec.column_scale() {
+        Ok(s) => s,
+        Err((field, msg)) => {
+            pr.add(
+                path,
+                None,
+                Some(&format!("units.{field}")),
+                format!("test `{}`: {msg}", spec.name),
+            );
+            return Err(pr.into_vec());
+        }
+    };
     let mut comments = Vec::new();
     let mut header: Option<Header> = None;
     let mut rows: Vec<(usize, Vec<f64>)> = Vec::new();
@@ -639,12 +651,12 @@ pub(crate) fn parse_test_csv(
         let (fv, sv) = (parse_number(f), parse_number(s));
         if let (Ok(fv), Ok(sv)) = (fv, sv) {
             let normal = (spec.normal_stress_kpa, 0.0);
-            if let Some(msg) = pair_problem((fv, f), (sv, s), normal) {
+            if let Some(msg) = pair_problem((fv, f), (sv * scale.stress, s), normal) {
                 pr.add(path, Some(*line), Some("friction"), msg);
             }
         }
     }
-    assemble_test(header, rows, comments, path, spec, pr)
+    assemble_test(header, rows, comments, path, spec, scale, pr)
 }
 
 /// Builds the test from parsed rows and validates its numbers.
@@ -654,6 +666,7 @@ fn assemble_test(
     comments: Vec<String>,
     path: &Path,
     spec: &TestSpec,
+    scale: crate::meta::ColumnScale,
     mut pr: Problems,
 ) -> Result<TestData, Vec<InputProblem>> {
     let (Some(it), Some(is)) = (header.idx(Col::Time), header.idx(Col::Slip)) else {
@@ -688,14 +701,16 @@ fn assemble_test(
         line_of_row: Vec::with_capacity(n),
         comments,
     };
+    // Columns in the units the set declares are taken to kPa, mm and s here; experiment.json's
+    // own normal_stress_kpa is kPa already.
     for (line, v) in &rows {
-        let normal = normal_idx.map_or(spec.normal_stress_kpa, |k| v[k]);
+        let normal = normal_idx.map_or(spec.normal_stress_kpa, |k| v[k] * scale.stress);
         let shear = match shear_idx {
-            Some(k) => v[k],
+            Some(k) => v[k] * scale.stress,
             None => friction_idx.map_or(f64::NAN, |k| v[k] * normal),
         };
-        td.time_s.push(v[it]);
-        td.slip_mm.push(v[is]);
+        td.time_s.push(v[it] * scale.time);
+        td.slip_mm.push(v[is] * scale.displacement);
         td.shear_kpa.push(shear);
         td.normal_kpa.push(normal);
         td.line_of_row.push(*line);

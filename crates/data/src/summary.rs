@@ -78,6 +78,9 @@ pub struct TestSummary {
     /// Noise of the measured column (shear kPa under slip control, slip mm under traction
     /// control): what the residuals of a fit are compared with.
     pub measured_noise: NoiseEstimate,
+    /// The units the CSV's columns were written in, where the set declares them (`units` of
+    /// experiment.json), as read and converted: e.g. "stress MPa → kPa ×1000".
+    pub units_read: Vec<String>,
 }
 
 /// Summary of an experiment set.
@@ -174,6 +177,7 @@ pub fn summarize_test(test: &TestData, opts: &SegmentOptions) -> TestSummary {
         shear_range_kpa: range(&test.shear_kpa),
         normal_range_kpa: range(&test.normal_kpa),
         friction_given: test.friction_given,
+        units_read: units_read(&test.spec),
         imposed_noise_sd: seg.conditioned.noise_sd,
         imposed_conditioned: seg.conditioned.changed,
         sliding_rates: distinct_rates(rates),
@@ -353,7 +357,36 @@ fn write_table(f: &mut fmt::Formatter<'_>, rows: &[[String; 15]]) -> fmt::Result
 
 /// The lines under the table about one test: why its start was decided so, its holds and
 /// its velocity steps.
+/// The declared units of a test's columns and the factor each was converted by.
+fn units_read(spec: &crate::TestSpec) -> Vec<String> {
+    let Some(u) = &spec.units else {
+        return Vec::new();
+    };
+    let Ok(scale) = u.scale() else {
+        return Vec::new();
+    };
+    [
+        ("stress", &u.stress, "kPa", scale.stress),
+        ("displacement", &u.displacement, "mm", scale.displacement),
+        ("time", &u.time, "s", scale.time),
+    ]
+    .into_iter()
+    .filter_map(|(what, unit, own, factor)| {
+        unit.as_ref()
+            .map(|unit| format!("{what} {unit} → {own} ×{}", num(factor)))
+    })
+    .collect()
+}
+
 fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result {
+    if !t.units_read.is_empty() {
+        writeln!(
+            f,
+            "  {}: columns read in the set's units: {}",
+            visible(&t.name),
+            t.units_read.join(", ")
+        )?;
+    }
     if !t.start.from_spec && t.start.kind != StartKind::Rest {
         writeln!(f, "  {}: {}", visible(&t.name), t.start.reason)?;
     }

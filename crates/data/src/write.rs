@@ -146,7 +146,14 @@ pub fn write_set(set: &ExperimentSet, dir: &Path) -> Result<(), DataError> {
         }
     }
     if result.is_ok() {
-        result = meta_json_text(&set.meta).and_then(|text| stage(json.clone(), text));
+        // The CSVs are written in kPa, mm and s whatever units the set was read in: a `units`
+        // block kept in experiment.json would convert them a second time on the next load.
+        let mut meta = set.meta.clone();
+        meta.units = None;
+        for t in &mut meta.tests {
+            t.units = None;
+        }
+        result = meta_json_text(&meta).and_then(|text| stage(json.clone(), text));
     }
     if let Err(e) = result {
         for (tmp, _) in &staged {

@@ -88,6 +88,7 @@ fn long_record() -> ExperimentSet {
             interface: Interface::default(),
             tests: vec![spec.clone()],
             reference_parameters: None,
+            units: None,
             extra: Default::default(),
         },
         tests: vec![TestData {

@@ -278,6 +278,7 @@ pub fn generate_campaign(seed: u64, index: usize, ranges: &CampaignRanges) -> Ca
             interface: Interface::default(),
             tests: specs,
             reference_parameters: None,
+            units: None,
             extra: Default::default(),
         },
         tests,

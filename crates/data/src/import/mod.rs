@@ -565,6 +565,7 @@ pub fn read_lab_file(
             control: spec.control,
             normal_stress_kpa: spec_normal(spec, &cols, &rows.normal_kpa),
             initial: None,
+            units: None,
             extra: Map::new(),
         },
         path: lab_file.to_path_buf(),
@@ -679,6 +680,7 @@ fn set_meta_for(
         },
         tests: Vec::new(),
         reference_parameters: None,
+        units: None,
         extra: Map::new(),
     })
 }

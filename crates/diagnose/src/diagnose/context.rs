@@ -518,6 +518,7 @@ mod tests {
                 interface: Interface::default(),
                 tests: vec![spec.clone()],
                 reference_parameters: None,
+                units: None,
                 extra: Default::default(),
             },
             tests: vec![TestData {
