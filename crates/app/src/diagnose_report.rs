@@ -288,6 +288,10 @@ fn every_form(s: &mut String, d: &Diagnosis) {
         "   {:<15} {:<44} {:>10}  {:<10} parameters",
         "family", "form", "score", "fit"
     );
+    let _ = writeln!(
+        s,
+        "   (fit: screened = ranked by a short fit on a share of the rows, behind the polished forms of its family; converged or settled = polished on all rows; off = polished, and the fit wants none of the effect on the base; NOT conv. = polished, stopped by its limit, not judged)"
+    );
     for f in &d.forms {
         let _ = writeln!(
             s,
@@ -295,7 +299,11 @@ fn every_form(s: &mut String, d: &Diagnosis) {
             f.effect.name(),
             f.form,
             f.in_sample_score,
-            if f.converged {
+            if !f.polished {
+                "screened"
+            } else if f.switched_off {
+                "off"
+            } else if f.converged {
                 "converged"
             } else if f.settled {
                 "settled"
@@ -303,7 +311,10 @@ fn every_form(s: &mut String, d: &Diagnosis) {
                 "NOT conv."
             },
             parameter_list(&f.parameters),
-            if f.converged || f.settled {
+            if !f.polished {
+                // Only ranked: the polished forms of its family came out ahead of it.
+                String::new()
+            } else if f.converged || f.settled {
                 String::new()
             } else {
                 format!("  (stopped: {}; not judged)", f.termination)
@@ -353,7 +364,14 @@ fn held_out_selection(s: &mut String, d: &Diagnosis) {
             let _ = writeln!(
                 s,
                 "     {:<CANDIDATE_WIDTH$} {:>10.1} {:>8.0}% {:>8.0}% {:>8.0}%",
-                truncate(&c.spec, CANDIDATE_WIDTH),
+                truncate(
+                    &if k == 0 {
+                        c.spec.clone()
+                    } else {
+                        added_label(&c.spec, &st.reference)
+                    },
+                    CANDIDATE_WIDTH
+                ),
                 c.held_out.score,
                 100.0 * c.held_out.excess_shrink.max(-9.99),
                 100.0 * c.held_out.relative_shrink.max(-9.99),
@@ -479,5 +497,38 @@ pub(crate) fn truncate(s: &str, n: usize) -> String {
         s.to_string()
     } else {
         format!("{}…", s.chars().take(n - 1).collect::<String>())
+    }
+}
+
+/// A candidate of a later selection stage named by what it adds: its spec is the stage's
+/// reference followed by " + " and the added form, and the reference alone, cut to the
+/// column's width, would make every row of the stage read the same.
+fn added_label(spec: &str, reference: &str) -> String {
+    match spec
+        .strip_prefix(reference)
+        .and_then(|rest| rest.strip_prefix(" + "))
+    {
+        Some(added) => format!("+ {added}"),
+        None => spec.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::added_label;
+
+    #[test]
+    fn a_later_stages_candidate_is_labelled_by_the_form_it_adds() {
+        let reference = "pressure (power law on mu_s and mu_k, each its own beta)";
+        let spec = format!("{reference} + log-healing (log time at rest)");
+        assert_eq!(
+            added_label(&spec, reference),
+            "+ log-healing (log time at rest)"
+        );
+        // A spec that does not extend the reference keeps its own name.
+        assert_eq!(
+            added_label("rate (direct effect)", reference),
+            "rate (direct effect)"
+        );
     }
 }

@@ -308,6 +308,12 @@ fn term_forms(family: u8, f: &DataFeatures) -> Vec<Form> {
 /// assert!(names.contains(&"rate and state, slip law"));
 /// ```
 pub fn all_form_names() -> Vec<&'static str> {
+    every_form().iter().map(|f| f.name).collect()
+}
+
+/// Every form of the library, whatever the data show: every family applies, every family
+/// registered is asked for.
+pub(crate) fn every_form() -> Vec<Form> {
     let every_family = DataFeatures {
         seeds: Default::default(),
         v_ref: 0.01,
@@ -328,9 +334,6 @@ pub fn all_form_names() -> Vec<&'static str> {
         },
     };
     library_with(&every_family, &registered_family_names_owned())
-        .iter()
-        .map(|f| f.name)
-        .collect()
 }
 
 fn registered_family_names_owned() -> Vec<String> {

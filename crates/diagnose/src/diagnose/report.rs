@@ -32,6 +32,13 @@ pub struct FormReport {
     pub settled: bool,
     /// How the best local run stopped (why not, when it did not converge).
     pub termination: subfric_fit::Termination,
+    /// Polished on the base (to convergence, on all rows); a form that was not stays at its
+    /// screening fit (a few iterations on a share of the rows), ranked behind its family's
+    /// polished forms and never compared on held-out data.
+    pub polished: bool,
+    /// Polished, and every parameter of the form ended at the value that switches the effect
+    /// off: on the base the fit wants none of it (an amplitude held at its bound of zero).
+    pub switched_off: bool,
     /// The best form of its family (the one compared on held-out data).
     pub chosen: bool,
     /// The fitted model.

@@ -41,6 +41,8 @@ fn fit_forms(cx: &Context, base: &Model, forms: &[Form]) -> Vec<(FormReport, Spe
                     converged: r.converged && r.ssr.is_finite(),
                     settled: false,
                     termination: r.termination.clone(),
+                    polished: false,
+                    switched_off: false,
                     chosen: false,
                     model: r.model,
                 },
@@ -379,6 +381,8 @@ pub(super) fn screen_and_polish(
         report.in_sample_score = penalised(&c, lib[i].params.len());
         report.converged = r.converged && r.ssr.is_finite();
         report.settled = fit.settled;
+        report.polished = true;
+        report.switched_off = at_neutral(&lib[i], &r.model);
         report.termination = r.termination.clone();
         report.model = r.model;
     }
@@ -396,6 +400,17 @@ pub(super) fn screen_and_polish(
         .collect();
     cx.trace("best forms polished");
     (forms, families)
+}
+
+/// Whether every parameter of `form` in `model` sits at the value that switches the effect
+/// off (to a millionth): a polish that ends there found the data want none of the effect on
+/// its reference — an amplitude held at its bound of zero leaves the other parameters where
+/// they started.
+pub(super) fn at_neutral(form: &Form, model: &Model) -> bool {
+    form.params.iter().zip(&form.neutral).all(|(p, &n)| {
+        p.get(model)
+            .is_some_and(|v| (v - n).abs() <= 1e-6 * n.abs().max(1e-12))
+    })
 }
 
 /// How many of a family's forms, ranked by screened (score, effective rows) best first, a later

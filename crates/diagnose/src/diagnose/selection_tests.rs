@@ -17,6 +17,8 @@ fn report(effect: Effect, form: &'static str, score: f64, ssr: f64) -> FormRepor
         in_sample_score: score,
         converged: true,
         settled: false,
+        polished: true,
+        switched_off: false,
         termination: subfric_fit::Termination::CostConverged,
         chosen: false,
         model: Model::base(Params::sample()).unwrap(),
@@ -198,4 +200,22 @@ fn an_effect_the_events_show_needs_most_of_their_pieces_predicted_better_not_eve
     // One piece, however much better, says nothing.
     let one = [piece(0, 100.0, 1.0)];
     assert!(!most_predicted_better(&one.iter().collect::<Vec<_>>()));
+}
+
+#[test]
+fn a_form_whose_parameters_all_sit_at_their_neutral_values_is_switched_off() {
+    let lib = crate::candidates::every_form();
+    let healing = lib
+        .iter()
+        .find(|f| f.effect == healing() && f.neutral.len() >= 2)
+        .expect("a healing form with two parameters or more");
+    let base = Model::base(Params::sample()).unwrap();
+    let spec = Spec::with(healing);
+    let off = with_values(&base, &spec, std::slice::from_ref(&healing.neutral));
+    assert!(at_neutral(healing, &off));
+    // The amplitude off its neutral value: switched on.
+    let mut on_values = healing.neutral.clone();
+    on_values[0] += 0.01;
+    let on = with_values(&base, &spec, &[on_values]);
+    assert!(!at_neutral(healing, &on));
 }
