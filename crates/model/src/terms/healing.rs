@@ -398,6 +398,18 @@ impl TermFamily for TimeHealing {
         events.healing_per_decade.is_some_and(|h| h.hi < 0.0)
     }
 
+    fn shown(&self, events: &EventReadings) -> bool {
+        // The holds' peaks on reloading gain with the log of the hold time, the rate read over
+        // them clear of zero, on two holds or more with a peak of their own. Each hold is one
+        // reading of the law (a smooth misfit, a few independent rows: three holds cannot reach
+        // the held-out evidence one long test can), so the readings carry the significance.
+        // The base's own exponential recovery ξ gains with the hold time as well: the credit
+        // still asks that most held-out holds be predicted better than the base predicts them
+        // and that enough of their misfit be explained, which a base that recovers as the
+        // holds show leaves no room for.
+        events.holds_with_peak >= 2 && events.healing_per_decade.is_some_and(|h| h.lo > 0.0)
+    }
+
     fn singled_out(&self, events: &EventReadings) -> Vec<usize> {
         // Two or more holds with a peak clear of zero point to a gain erased by slip — unless
         // the steps agree on rate and state, whose ageing law heals at rest itself.
@@ -441,6 +453,28 @@ mod tests {
         let mut out = [0.0; MAX_TERM_PARAMS];
         (out[B], out[T_C], out[N], out[D_H]) = (b, t_c, n, d_h);
         out
+    }
+
+    #[test]
+    fn peaks_that_gain_with_the_log_of_the_hold_time_show_healing_outright() {
+        let with = |holds_with_peak: usize, lo: f64, hi: f64| super::super::EventReadings {
+            healing_per_decade: Some(super::super::Reading {
+                value: 0.5 * (lo + hi),
+                lo,
+                hi,
+            }),
+            holds_with_peak,
+            ..Default::default()
+        };
+        let f = TimeHealing;
+        // 0.029 [0.014, 0.044] per decade over three holds with peaks: shown.
+        assert!(f.shown(&with(3, 0.014, 0.044)));
+        // A rate whose interval reaches zero, or one hold with a peak of its own: not shown.
+        assert!(!f.shown(&with(3, -0.002, 0.03)));
+        assert!(!f.shown(&with(1, 0.014, 0.044)));
+        assert!(!f.shown(&super::super::EventReadings::default()));
+        // The readings live on the holds.
+        assert_eq!(f.shown_in(), &[Shows::Holds]);
     }
 
     #[test]
