@@ -70,9 +70,8 @@ pub struct Bedding {
     pub half_closed_at: f64,
     /// Travel from the first row to the peak of the first loading, as recorded [mm].
     pub travel_to_peak_mm: f64,
-    /// Misfit of the first loading's shape (mean square residual / noise variance, the
-    /// prediction taken to the record's peak) with the travel as recorded, under the base
-    /// model fitted to it.
+    /// Misfit of the first loading (mean square residual / noise variance) with the travel
+    /// as recorded, under the base model fitted to it.
     pub misfit_without: f64,
     /// The same with the closure taken out, under the base refitted with it.
     pub misfit_with: f64,
@@ -84,7 +83,7 @@ impl Bedding {
     /// What the closure is and what it did, in one sentence for the reports.
     pub fn describe(&self) -> String {
         format!(
-            "bedding: the first loading's travel held {:.4} mm of closure by its peak (half of it closed by {:.0} % of the peak shear; {:.0} % of the {:.4} mm travel to the peak), taken out as the rig's, not the interface's: the misfit of the first loading's shape (at its own peak) falls from {:.3}× to {:.3}× the noise variance",
+            "bedding: the first loading's travel held {:.4} mm of closure by its peak (half of it closed by {:.0} % of the peak shear; {:.0} % of the {:.4} mm travel to the peak), taken out as the rig's, not the interface's: the first loading's misfit falls from {:.3}× to {:.3}× the noise variance",
             self.closure_mm,
             100.0 * self.half_closed_at,
             100.0 * self.closure_mm / self.travel_to_peak_mm.max(f64::MIN_POSITIVE),
@@ -129,8 +128,6 @@ struct FirstLoading {
     end: usize,
     sign: f64,
     peak_row: usize,
-    /// The record's level near its peak on the loading ([`near_peak_level`]).
-    peak: f64,
     share: Vec<f64>,
 }
 
@@ -171,12 +168,10 @@ fn first_loading(t: &FitTest) -> Option<FirstLoading> {
             running / peak
         })
         .collect();
-    let level = near_peak_level(&t.measured[..end], sign);
     Some(FirstLoading {
         end,
         sign,
         peak_row,
-        peak: level,
         share,
     })
 }
@@ -200,88 +195,17 @@ fn corrected(
 
 /// Sum of squared noise-normalised residuals of `model` on rows `..end` of `t` (∞ when it
 /// cannot be simulated); `scratch` receives the prediction.
-///
-/// The prediction is taken to the record's peak first (`fl.peak`): whether a closure explains
-/// the rise is a question of its shape along the travel. A model that misses the level of a
-/// test — an effect it lacks moves one test's peak against another's, as a pressure dependence
-/// does between tests at different stresses — would otherwise leave a misfit no closure can
-/// halve, and the rig's seating would stay in the travel of exactly the tests that tell the
-/// effect.
-fn ssr_until(
-    t: &FitTest,
-    model: &Model,
-    fl: &FirstLoading,
-    end: usize,
-    scratch: &mut Vec<f64>,
-) -> f64 {
+fn ssr_until(t: &FitTest, model: &Model, end: usize, scratch: &mut Vec<f64>) -> f64 {
     if simulate_predicted_into(model, &t.protocol_until(end), scratch).is_err() {
         return f64::INFINITY;
     }
-    let end = end.min(scratch.len());
-    let level = at_the_records_peak(&scratch[..end], fl, t.noise_sd);
-    if level.is_nan() {
-        return f64::INFINITY;
-    }
     let k = t.weight / (t.noise_sd * t.noise_sd);
-    (0..end)
+    (0..end.min(scratch.len()))
         .map(|i| {
-            let r = level * scratch[i] - t.measured[i];
+            let r = scratch[i] - t.measured[i];
             k * t.weight_of(i) * r * r
         })
         .sum()
-}
-
-/// The factor that takes `model`'s peak over the first loading of `t` (rows `..end`) to the
-/// record's (NaN when the model cannot be simulated there).
-fn level_of(t: &FitTest, model: &Model, fl: &FirstLoading, end: usize) -> f64 {
-    let mut predicted = Vec::new();
-    if simulate_predicted_into(model, &t.protocol_until(end), &mut predicted).is_err() {
-        return f64::NAN;
-    }
-    let end = end.min(predicted.len());
-    at_the_records_peak(&predicted[..end], fl, t.noise_sd)
-}
-
-/// Share of its peak above which a loading's rows count towards its level near the peak.
-const NEAR_PEAK: f64 = 0.95;
-
-/// The mean shear (in the loading's direction `sign`) over the rows within [`NEAR_PEAK`] of
-/// the highest: the level of a peak, the same for a record and a prediction of the same shape
-/// — neither the highest noisy row (biased up by the noise) nor a smoothed peak (biased down
-/// where the peak is sharp over a few rows).
-fn near_peak_level(v: &[f64], sign: f64) -> f64 {
-    let top = v.iter().map(|x| sign * x).fold(f64::NEG_INFINITY, f64::max);
-    let (sum, n) = v
-        .iter()
-        .map(|x| sign * x)
-        .filter(|&x| x >= NEAR_PEAK * top)
-        .fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
-    if n == 0 {
-        f64::NAN
-    } else {
-        sum / n as f64
-    }
-}
-
-/// Rows' noise SDs within which the levels of a record's and a prediction's peak count as
-/// the same: the record's level near its peak is read on noisy rows (those a noise excursion
-/// lifts above the cut count, those it lowers do not), and a level within that reading's own
-/// error is no mismatch a closure should be read against.
-const SAME_LEVEL_NOISE: f64 = 2.0;
-
-/// The factor that takes a predicted rise's level near its peak to the record's (1 when the
-/// two are the same within the noise, or the prediction has no peak in the loading's
-/// direction).
-fn at_the_records_peak(predicted: &[f64], fl: &FirstLoading, noise_sd: f64) -> f64 {
-    let top = near_peak_level(predicted, fl.sign);
-    if (top - fl.peak).abs() <= SAME_LEVEL_NOISE * noise_sd {
-        return 1.0;
-    }
-    if top > 0.0 && top.is_finite() && fl.peak > 0.0 {
-        fl.peak / top
-    } else {
-        1.0
-    }
 }
 
 /// Pool-adjacent-violators: the non-decreasing sequence closest to `y` in weighted least
@@ -321,7 +245,6 @@ fn closure_curve(
     kept: &[usize],
     fl: &FirstLoading,
     model: &Model,
-    level: f64,
     c_max: f64,
 ) -> Vec<(f64, f64)> {
     // Rows of `t` on the rise: up to the first that reaches SATURATION of the peak.
@@ -362,11 +285,6 @@ fn closure_curve(
     let mut tau = Vec::new();
     if simulate_predicted_into(model, &proto, &mut tau).is_err() {
         return Vec::new();
-    }
-    // The model's rise at the record's level (`level`, see `ssr_until`): the closure is read
-    // from the shape of the rise, not from a peak an effect the model lacks has moved.
-    for v in tau.iter_mut() {
-        *v *= level;
     }
     // The rise as a non-decreasing shear against travel, to its peak.
     let top = tau
@@ -499,31 +417,18 @@ pub fn fit_bedding(
     let mut scratch = Vec::new();
     let without: Vec<f64> = found
         .iter()
-        .map(|c| {
-            ssr_until(
-                &tests[c.index].fit,
-                base,
-                &c.loading,
-                c.fit_end,
-                &mut scratch,
-            )
-        })
+        .map(|c| ssr_until(&tests[c.index].fit, base, c.fit_end, &mut scratch))
         .collect();
     let curves_against = |model: &Model| -> Vec<Vec<(f64, f64)>> {
         found
             .iter()
             .map(|c| {
                 let p = &tests[c.index];
-                let level = level_of(&p.fit, model, &c.loading, c.fit_end);
-                if level.is_nan() {
-                    return Vec::new();
-                }
                 closure_curve(
                     &p.fit,
                     &p.kept,
                     &c.loading,
                     model,
-                    level,
                     MAX_SHARE_OF_TRAVEL * c.travel_to_peak,
                 )
             })
@@ -559,7 +464,7 @@ pub fn fit_bedding(
     let mut out = tests.to_vec();
     for ((c, curve), &before) in found.iter().zip(&curves).zip(&without) {
         let t = &trial[c.index].fit;
-        let after = ssr_until(t, &refitted, &c.loading, c.fit_end, &mut scratch);
+        let after = ssr_until(t, &refitted, c.fit_end, &mut scratch);
         let closure_mm = curve.last().map_or(0.0, |p| p.1);
         if closure_mm > 0.0 && after.is_finite() && after <= TRIAL_SHARE * before {
             out[c.index] = reprepared(&tests[c.index], &c.loading, curve);
@@ -795,33 +700,6 @@ mod tests {
         let last = p.full.len() - 1;
         let shift = p.full.imposed[last] - out[0].full.imposed[last];
         assert!((shift - toe).abs() < 0.15 * toe, "shift {shift}");
-    }
-
-    #[test]
-    fn a_toe_is_seated_when_the_model_misses_the_level_of_the_test() {
-        // Issue 38: a base without a pressure effect misses the peak of a test at another
-        // stress by several per cent; the level misfit left no closure able to halve the first
-        // loading's misfit, and the seating stayed in the travel of the very tests that tell
-        // the pressure effect. Read at the record's own peak, the closure is found as on a
-        // model at the right level — and a loading without a toe still keeps its travel.
-        let mut params = Params::sample();
-        params.mu_s *= 1.1;
-        params.mu_k *= 1.1;
-        let model = Model::base(params).unwrap();
-        let refit = |_: &[FitTest], m: &Model| *m;
-        let toe = 0.08;
-        let p = seated(toe, 400);
-        let (out, kept) = fit_bedding(std::slice::from_ref(&p), &model, &refit);
-        assert_eq!(kept.len(), 1, "{kept:?}");
-        let b = &kept[0];
-        assert!(b.misfit_with < 0.2 * b.misfit_without, "{b:?}");
-        let last = p.full.len() - 1;
-        let shift = p.full.imposed[last] - out[0].full.imposed[last];
-        assert!((shift - toe).abs() < 0.15 * toe, "shift {shift}");
-        let bare = seated(0.0, 400);
-        let (out, kept) = fit_bedding(std::slice::from_ref(&bare), &model, &refit);
-        assert!(kept.is_empty(), "{kept:?}");
-        assert_eq!(out[0].full.imposed, bare.full.imposed);
     }
 
     #[test]
