@@ -311,10 +311,8 @@ fn every_form(s: &mut String, d: &Diagnosis) {
                 "NOT conv."
             },
             parameter_list(&f.parameters),
-            if !f.polished {
-                // Only ranked: the polished forms of its family came out ahead of it.
-                String::new()
-            } else if f.converged || f.settled {
+            // A form only screened was ranked, not judged: nothing to say why it stopped.
+            if !f.polished || f.converged || f.settled {
                 String::new()
             } else {
                 format!("  (stopped: {}; not judged)", f.termination)

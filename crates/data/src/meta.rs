@@ -164,45 +164,55 @@ impl ColumnScale {
         displacement: 1.0,
         time: 1.0,
     };
-
-    /// True when every factor is 1.
-    pub fn is_own(&self) -> bool {
-        *self == ColumnScale::OWN
-    }
 }
 
 /// The stress units a `units` block accepts (a force would need the contact area).
 pub(crate) const STRESS_UNITS: &str = "kPa, MPa, Pa or psi";
 
+/// kPa per unit of a stress unit `u` (a force is refused: it would need the contact area).
+fn stress_factor(u: &str) -> Result<f64, String> {
+    let unit: crate::import::StressUnit = u
+        .parse()
+        .map_err(|_| format!("unknown stress unit `{u}` (expected {STRESS_UNITS})"))?;
+    if unit.is_force() {
+        return Err(format!("`{u}` is a force, not a stress (expected {STRESS_UNITS}; `subfric import --area` divides a force column by the contact area)"));
+    }
+    Ok(unit.to_kpa())
+}
+
+/// mm per unit of a length unit `u`.
+fn length_factor(u: &str) -> Result<f64, String> {
+    u.parse::<crate::import::LengthUnit>().map(|l| l.to_mm())
+}
+
+/// s per unit of a time unit `u`.
+fn time_factor(u: &str) -> Result<f64, String> {
+    u.parse::<crate::import::TimeUnit>().map(|t| t.to_s())
+}
+
+/// Reads a unit: the factor to the format's own unit, or why it is not one.
+type UnitReader = fn(&str) -> Result<f64, String>;
+
+/// Each field of a `units` block with the function that reads its unit.
+const UNIT_FIELDS: [(&str, UnitReader); 3] = [
+    ("stress", stress_factor),
+    ("displacement", length_factor),
+    ("time", time_factor),
+];
+
 impl ColumnUnits {
     /// The factors to kPa, mm and s, or (field, message) for the first unit that is unknown.
     pub fn scale(&self) -> Result<ColumnScale, (&'static str, String)> {
-        use crate::import::{LengthUnit, StressUnit, TimeUnit};
-        let mut out = ColumnScale::OWN;
-        if let Some(u) = &self.stress {
-            let unit: StressUnit = u.parse().map_err(|_| {
-                (
-                    "stress",
-                    format!("unknown stress unit `{u}` (expected {STRESS_UNITS})"),
-                )
-            })?;
-            if unit.is_force() {
-                return Err((
-                    "stress",
-                    format!("`{u}` is a force, not a stress (expected {STRESS_UNITS}; `subfric import --area` divides a force column by the contact area)"),
-                ));
-            }
-            out.stress = unit.to_kpa();
-        }
-        if let Some(u) = &self.displacement {
-            let unit: LengthUnit = u.parse().map_err(|e: String| ("displacement", e))?;
-            out.displacement = unit.to_mm();
-        }
-        if let Some(u) = &self.time {
-            let unit: TimeUnit = u.parse().map_err(|e: String| ("time", e))?;
-            out.time = unit.to_s();
-        }
-        Ok(out)
+        let factor = |field: &'static str, unit: &Option<String>, read: UnitReader| {
+            unit.as_deref()
+                .map_or(Ok(1.0), read)
+                .map_err(|e| (field, e))
+        };
+        Ok(ColumnScale {
+            stress: factor("stress", &self.stress, stress_factor)?,
+            displacement: factor("displacement", &self.displacement, length_factor)?,
+            time: factor("time", &self.time, time_factor)?,
+        })
     }
 }
 
@@ -501,7 +511,6 @@ impl Ctx<'_> {
         self.string(root, "", "provenance", false, pr);
     }
 
-    /// The optional `interface` object.
     /// The optional `units` block (of the set, or of a test under `prefix`): an object of
     /// strings `stress`, `displacement` and `time`, each a unit the reader knows.
     fn check_units(&self, obj: &Map<String, Value>, prefix: &str, pr: &mut Problems) {
@@ -517,53 +526,24 @@ impl Ctx<'_> {
                 return;
             }
         };
-        let mut parsed = ColumnUnits::default();
         for (key, value) in units {
             let at = format!("{field}.{key}");
-            let slot = match key.as_str() {
-                "stress" => &mut parsed.stress,
-                "displacement" => &mut parsed.displacement,
-                "time" => &mut parsed.time,
-                _ => {
-                    self.problem(pr, &at, format!("unknown unit field `{key}` ({expected})"));
-                    continue;
-                }
+            let Some((_, read)) = UNIT_FIELDS.iter().find(|(name, _)| name == key) else {
+                self.problem(pr, &at, format!("unknown unit field `{key}` ({expected})"));
+                continue;
             };
             match value {
-                Value::String(u) => *slot = Some(u.clone()),
+                Value::String(u) => {
+                    if let Err(msg) = read(u) {
+                        self.problem(pr, &at, msg);
+                    }
+                }
                 v => self.problem(pr, &at, format!("found {} ({expected})", kind_of(v))),
-            }
-        }
-        // Each unit on its own, so that every unknown one is named.
-        for (key, one) in [
-            (
-                "stress",
-                ColumnUnits {
-                    stress: parsed.stress.clone(),
-                    ..Default::default()
-                },
-            ),
-            (
-                "displacement",
-                ColumnUnits {
-                    displacement: parsed.displacement.clone(),
-                    ..Default::default()
-                },
-            ),
-            (
-                "time",
-                ColumnUnits {
-                    time: parsed.time.clone(),
-                    ..Default::default()
-                },
-            ),
-        ] {
-            if let Err((_, msg)) = one.scale() {
-                self.problem(pr, &format!("{field}.{key}"), msg);
             }
         }
     }
 
+    /// The optional `interface` object.
     fn check_interface(&self, root: &Map<String, Value>, pr: &mut Problems) {
         match root.get("interface") {
             None | Some(Value::Null) => {}
