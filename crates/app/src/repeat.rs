@@ -188,6 +188,7 @@ fn test_data(t: &FitTest) -> TestData {
         friction_given: false,
         line_of_row: (0..t.len()).collect(),
         comments: Vec::new(),
+        reading_notes: Vec::new(),
     }
 }
 

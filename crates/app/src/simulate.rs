@@ -193,6 +193,7 @@ pub fn simulate_scenario(
         friction_given: false,
         line_of_row: (2..n + 2).collect(),
         comments: vec![format!("scenario {} simulated by subfric", path.display())],
+        reading_notes: Vec::new(),
     };
     let meta = ExperimentMeta {
         name: sc.name.clone(),

@@ -46,6 +46,7 @@ pub use crate::events::REVERSAL_SDS;
 ///     friction_given: false,
 ///     line_of_row: (2..n + 2).collect(),
 ///     comments: vec![],
+///     reading_notes: vec![],
 /// };
 /// let c = condition_imposed(&t);
 /// assert!(c.changed);

@@ -35,6 +35,7 @@ pub mod csvio;
 mod error;
 pub mod events;
 pub mod fsio;
+mod gaps;
 pub mod import;
 mod jsonpos;
 pub mod line;

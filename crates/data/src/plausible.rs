@@ -94,9 +94,10 @@ fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
 }
 
-/// The plausibility warnings of one test.
+/// The plausibility warnings of one test, after what the reader made of its file (gaps left
+/// out, a coarse clock spread: [`TestData::reading_notes`]).
 pub fn test_warnings(t: &TestData) -> Vec<Warning> {
-    let mut out = Vec::new();
+    let mut out = t.reading_notes.clone();
     let shear_field = if t.friction_given {
         "friction"
     } else {

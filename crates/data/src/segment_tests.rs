@@ -19,6 +19,7 @@ pub(crate) fn data(control: ControlColumn, t: Vec<f64>, imposed: Vec<f64>) -> Te
         friction_given: false,
         line_of_row: (2..n + 2).collect(),
         comments: vec![],
+        reading_notes: Vec::new(),
     }
 }
 

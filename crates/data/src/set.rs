@@ -43,6 +43,10 @@ pub struct TestData {
     pub line_of_row: Vec<usize>,
     /// The `#` comment lines (provenance text), without the `#` and one following space.
     pub comments: Vec<String>,
+    /// What the reader made of the file as written, one note each (rows without a value
+    /// left out as gaps, repeated time stamps spread over their clock tick): shown with the
+    /// plausibility warnings.
+    pub reading_notes: Vec<crate::Warning>,
 }
 
 impl TestData {
@@ -59,6 +63,7 @@ impl TestData {
             friction_given: self.friction_given,
             line_of_row: self.line_of_row[first..].to_vec(),
             comments: self.comments.clone(),
+            reading_notes: self.reading_notes.clone(),
         }
     }
 
@@ -485,14 +490,9 @@ impl Header {
         h
     }
 
-    /// Parses a data record; `None` when a cell is bad (reported).
-    fn row(
-        &self,
-        line_no: usize,
-        cells: &[String],
-        path: &Path,
-        pr: &mut Problems,
-    ) -> Option<Vec<f64>> {
+    /// Parses a data record: its values, a gap (every cell that is not a number is a missing
+    /// sample: the columns it misses), or refused (a bad cell, reported).
+    fn row(&self, line_no: usize, cells: &[String], path: &Path, pr: &mut Problems) -> RowRead {
         if cells.len() != self.cols.len() {
             pr.add(
                 path,
@@ -511,12 +511,17 @@ impl Header {
                     }
                 ),
             );
-            return None;
+            return RowRead::Refused;
         }
         let mut values = vec![f64::NAN; self.cols.len()];
         let mut ok = true;
+        let mut missing = Vec::new();
         for (k, cell) in cells.iter().enumerate() {
             if self.cols[k].is_none() {
+                continue;
+            }
+            if crate::gaps::is_missing(cell) {
+                missing.push(self.names[k].clone());
                 continue;
             }
             match parse_number(cell) {
@@ -527,7 +532,13 @@ impl Header {
                 }
             }
         }
-        if ok {
+        if !ok {
+            return RowRead::Refused;
+        }
+        if !missing.is_empty() {
+            return RowRead::Gap(missing);
+        }
+        {
             if let (Some(ks), Some(kf)) = (self.idx(Col::Shear), self.idx(Col::Friction)) {
                 let normal = self
                     .idx(Col::Normal)
@@ -539,8 +550,18 @@ impl Header {
                 }
             }
         }
-        ok.then_some(values)
+        RowRead::Values(values)
     }
+}
+
+/// A data record as [`Header::row`] reads it.
+enum RowRead {
+    /// Every known column's value.
+    Values(Vec<f64>),
+    /// A row without a value in these columns (see [`crate::gaps`]): left out.
+    Gap(Vec<String>),
+    /// A bad cell, reported.
+    Refused,
 }
 
 /// Half a unit in the last written digit of a number cell: how far rounding may have moved it.
@@ -610,13 +631,15 @@ pub(crate) fn parse_test_csv(
     let mut rows: Vec<(usize, Vec<f64>)> = Vec::new();
     // Rows giving both friction and shear without a normal column: checked against the spec.
     let mut pairs: Vec<(usize, String, String)> = Vec::new();
+    // Rows without a value: their lines and the columns they miss.
+    let mut gaps: Vec<(usize, Vec<String>)> = Vec::new();
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let read = crate::csvio::read(text, 0, Separator::Byte(b','), |item| match item {
         Item::Comment(_, c) => comments.push(comment_text(&c)),
         Item::Record(line_no, cells) => match &header {
             None => header = Some(Header::parse(line_no, cells.to_vec(), path, &mut pr)),
-            Some(h) => {
-                if let Some(values) = h.row(line_no, cells, path, &mut pr) {
+            Some(h) => match h.row(line_no, cells, path, &mut pr) {
+                RowRead::Values(values) => {
                     if let (Some(ks), Some(kf), None) =
                         (h.idx(Col::Shear), h.idx(Col::Friction), h.idx(Col::Normal))
                     {
@@ -624,7 +647,9 @@ pub(crate) fn parse_test_csv(
                     }
                     rows.push((line_no, values));
                 }
-            }
+                RowRead::Gap(columns) => gaps.push((line_no, columns)),
+                RowRead::Refused => {}
+            },
         },
     });
     if let Err((line, why)) = read {
@@ -656,14 +681,15 @@ pub(crate) fn parse_test_csv(
             }
         }
     }
-    assemble_test(header, rows, comments, path, spec, scale, pr)
+    let notes: Vec<crate::Warning> = crate::gaps::gap_note(path, &gaps).into_iter().collect();
+    assemble_test(header, rows, (comments, notes), path, spec, scale, pr)
 }
 
 /// Builds the test from parsed rows and validates its numbers.
 fn assemble_test(
     header: Header,
     rows: Vec<(usize, Vec<f64>)>,
-    comments: Vec<String>,
+    (comments, reading_notes): (Vec<String>, Vec<crate::Warning>),
     path: &Path,
     spec: &TestSpec,
     scale: crate::meta::ColumnScale,
@@ -684,7 +710,11 @@ fn assemble_test(
                 path,
                 Some(header.line),
                 None,
-                "the test has a header but no data rows (expected at least one row of numbers)",
+                if reading_notes.is_empty() {
+                    "the test has a header but no data rows (expected at least one row of numbers)"
+                } else {
+                    "the test has a header but every row misses a value (expected at least one row with a number in every column)"
+                },
             );
         }
         return Err(pr.into_vec());
@@ -700,6 +730,7 @@ fn assemble_test(
         friction_given: shear_idx.is_none(),
         line_of_row: Vec::with_capacity(n),
         comments,
+        reading_notes,
     };
     // Columns in the units the set declares are taken to kPa, mm and s here; experiment.json's
     // own normal_stress_kpa is kPa already.
@@ -714,6 +745,9 @@ fn assemble_test(
         td.shear_kpa.push(shear);
         td.normal_kpa.push(normal);
         td.line_of_row.push(*line);
+    }
+    if let Some(note) = crate::gaps::spread_repeated_stamps(&mut td.time_s, &td.line_of_row, path) {
+        td.reading_notes.push(note);
     }
     pr.extend(validate_data(&td, normal_idx.is_some()));
     pr.into_result(td).map_err(|e| match e {

@@ -75,9 +75,9 @@ fn a_bad_number_is_named_at_its_file_line_and_column() {
         "{e}"
     );
     // Lone CR line ends count as lines.
-    let e = load(b"time_s,slip_mm,shear_kpa\r0,0,0\r\r1,0.1,nan\r").unwrap_err();
+    let e = load(b"time_s,slip_mm,shear_kpa\r0,0,0\r\r1,0.1,inf\r").unwrap_err();
     assert!(
-        e.contains("a.csv:4: field `shear_kpa`: `nan` is not a finite number"),
+        e.contains("a.csv:4: field `shear_kpa`: `inf` is not a finite number"),
         "{e}"
     );
 }

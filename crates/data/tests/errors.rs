@@ -109,8 +109,11 @@ fn wrong_number_of_cells() {
 
 #[test]
 fn non_numeric_and_non_finite_cells() {
-    let (_d, p) =
-        set_with_csv("time_s,slip_mm,shear_kpa\n0,0,0\n1,abc,1\n2,0.2,NaN\n3,inf,1\n4,0.4,\n");
+    // NaN and an empty cell are a logger's missing samples (gaps, see `missing_samples_...`);
+    // text and an overflow beside them are refused, each at its line.
+    let (_d, p) = set_with_csv(
+        "time_s,slip_mm,shear_kpa\n0,0,0\n1,abc,1\n2,0.2,NaN\n3,inf,1\n4,0.4,\n5,x,\n",
+    );
     assert_problem(
         &p,
         Some(3),
@@ -119,18 +122,79 @@ fn non_numeric_and_non_finite_cells() {
     );
     assert_problem(
         &p,
-        Some(4),
-        Some("shear_kpa"),
-        &["`NaN` is not a finite number"],
-    );
-    assert_problem(
-        &p,
         Some(5),
         Some("slip_mm"),
         &["`inf` is not a finite number"],
     );
-    assert_problem(&p, Some(6), Some("shear_kpa"), &["empty cell"]);
-    assert_eq!(p.len(), 4, "all problems collected");
+    assert_problem(&p, Some(7), Some("slip_mm"), &["`x` is not a number"]);
+    assert_eq!(p.len(), 3, "all problems collected, no gap among them");
+}
+
+#[test]
+fn missing_samples_are_gaps_left_out_and_said() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("experiment.json"),
+        r#"{"name": "g", "title": "G", "source": "test",
+            "tests": [{"name": "a", "file": "a.csv", "control": "slip", "normal_stress_kpa": 100}]}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("a.csv"),
+        "time_s,slip_mm,shear_kpa\n0,0,0\n1,0.1,NaN\n2,0.2,\n3,0.3,30\n4,NA,40\n5,0.5,50\n",
+    )
+    .unwrap();
+    let set = subfric_data::load_set(dir.path()).unwrap();
+    let t = &set.tests[0];
+    // The rows of lines 3, 4 and 6 are left out; the others keep their values and lines.
+    assert_eq!(t.time_s, vec![0.0, 3.0, 5.0]);
+    assert_eq!(t.shear_kpa, vec![0.0, 30.0, 50.0]);
+    assert_eq!(t.line_of_row, vec![2, 5, 7]);
+    let warnings = subfric_data::plausibility(&set);
+    let gap = warnings
+        .iter()
+        .find(|w| w.message.contains("read as gaps"))
+        .expect("the gaps are said");
+    assert!(gap.message.starts_with("3 rows"), "{}", gap.message);
+    assert!(gap.message.contains("lines 3–4 and 6"), "{}", gap.message);
+    assert_eq!(gap.field, "shear_kpa, slip_mm");
+    // A file whose every row misses a value is refused, saying so.
+    std::fs::write(
+        dir.path().join("a.csv"),
+        "time_s,slip_mm,shear_kpa\n0,0,\n1,0.1,NaN\n",
+    )
+    .unwrap();
+    let e = subfric_data::load_set(dir.path()).unwrap_err().to_string();
+    assert!(
+        e.contains("a.csv:1: the test has a header but every row misses a value"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_coarse_clock_is_spread_over_its_ticks_and_said() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("experiment.json"),
+        r#"{"name": "c", "title": "C", "source": "test",
+            "tests": [{"name": "a", "file": "a.csv", "control": "slip", "normal_stress_kpa": 100}]}"#,
+    )
+    .unwrap();
+    // A one-second clock at 2 Hz.
+    std::fs::write(
+        dir.path().join("a.csv"),
+        "time_s,slip_mm,shear_kpa\n0,0,0\n0,0.05,5\n1,0.1,10\n1,0.15,15\n2,0.2,20\n2,0.25,25\n",
+    )
+    .unwrap();
+    let set = subfric_data::load_set(dir.path()).unwrap();
+    assert_eq!(set.tests[0].time_s, vec![0.0, 0.5, 1.0, 1.5, 2.0, 2.5]);
+    let warnings = subfric_data::plausibility(&set);
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.field == "time_s" && w.message.contains("repeats its stamp on 3 rows")),
+        "{warnings:?}"
+    );
 }
 
 #[test]

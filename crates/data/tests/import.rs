@@ -185,11 +185,16 @@ fn lab_file_problems_name_the_lab_file_line_and_column() {
     );
     assert!(!dir.path().join("out").exists(), "nothing written on error");
     // time problems are checked like load_set does, with the lab file's lines
-    std::fs::write(&lab, "t,u,tau\n0,0,0\n1,0.1,1\n1,0.2,2\n").unwrap();
+    std::fs::write(&lab, "t,u,tau\n0,0,0\n1,0.1,1\n1,0.2,2\n0.5,0.3,3\n").unwrap();
     let e = import(&lab, &spec, &dir.path().join("out")).unwrap_err();
     assert!(
         e.to_string()
             .contains("bad.txt:4: field `time_s`: time 1 is not after time 1 on line 3"),
+        "{e}"
+    );
+    assert!(
+        e.to_string()
+            .contains("bad.txt:5: field `time_s`: time 0.5 is not after time 1 on line 4"),
         "{e}"
     );
     // unknown column and missing normal stress
@@ -275,4 +280,42 @@ fn write_set_refuses_invalid_data() {
         other => panic!("{other:?}"),
     }
     assert!(!dir.path().join("w").exists());
+}
+
+#[test]
+fn a_logger_export_with_missing_samples_and_a_coarse_clock_imports_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let lab = dir.path().join("logger.csv");
+    // A one-second clock at 2 Hz, a sample lost (empty) and one written NaN.
+    std::fs::write(
+        &lab,
+        "t,u,tau\n0,0,0\n0,0.05,\n1,0.1,10\n1,0.15,15\n2,NaN,20\n2,0.25,25\n3,0.3,30\n",
+    )
+    .unwrap();
+    let spec = ImportSpec {
+        delimiter: Delimiter::Comma,
+        skip_lines: 0,
+        time: "t".parse().unwrap(),
+        time_unit: TimeUnit::S,
+        slip: "u".parse().unwrap(),
+        slip_unit: LengthUnit::Mm,
+        shear: Some(("tau".parse().unwrap(), StressUnit::KPa)),
+        test_name: "logger".into(),
+        set_name: "gaps".into(),
+        ..tab_spec()
+    };
+    let out = dir.path().join("gaps");
+    let set = import(&lab, &spec, &out).unwrap_or_else(|e| panic!("{e}"));
+    let t = &set.tests[0];
+    // Lines 3 and 6 are gaps; the stamps left repeat at 1 s (lines 4, 5), spread over the tick.
+    close(&t.time_s, &[0.0, 1.0, 1.5, 2.0, 3.0]);
+    close(&t.shear_kpa, &[0.0, 10.0, 15.0, 25.0, 30.0]);
+    // What the reader did is kept in the written test as provenance.
+    let said = t.comments.join("\n");
+    assert!(said.contains("2 rows without a value"), "{said}");
+    assert!(said.contains("lines 3 and 6"), "{said}");
+    assert!(
+        said.contains("repeats its stamp on 1 row (line 5)"),
+        "{said}"
+    );
 }

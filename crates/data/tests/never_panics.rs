@@ -123,6 +123,7 @@ proptest! {
             friction_given: false,
             line_of_row: (2..n + 2).collect(),
             comments: vec![],
+            reading_notes: Vec::new(),
         };
         let c = condition_imposed(&d);
         prop_assert_eq!(c.values.len(), n);
@@ -155,6 +156,7 @@ proptest! {
             friction_given: false,
             line_of_row: (2..n + 2).collect(),
             comments: vec![],
+            reading_notes: Vec::new(),
         };
         let s = segment(&d, &SegmentOptions::default());
         // covering segments, monotone conditioned runs

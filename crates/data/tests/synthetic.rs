@@ -26,6 +26,7 @@ fn data(control: ControlColumn, time: Vec<f64>, imposed: Vec<f64>) -> TestData {
         friction_given: false,
         line_of_row: (2..n + 2).collect(),
         comments: vec![],
+        reading_notes: Vec::new(),
     }
 }
 

@@ -627,6 +627,7 @@ mod tests {
             friction_given: false,
             line_of_row: (2..n + 2).collect(),
             comments: vec![],
+            reading_notes: Vec::new(),
         };
         let segmentation = subfric_data::segment(&data, &Default::default());
         let t = FitTest::new("mono", Control::Slip, time, recorded, measured, normal);

@@ -432,6 +432,7 @@ mod tests {
             friction_given: false,
             line_of_row: (2..n + 2).collect(),
             comments: vec![],
+            reading_notes: Vec::new(),
         }
     }
 
@@ -479,6 +480,7 @@ mod tests {
             friction_given: false,
             line_of_row: (2..n + 2).collect(),
             comments: vec![],
+            reading_notes: Vec::new(),
         }
     }
 

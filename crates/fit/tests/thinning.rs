@@ -101,6 +101,7 @@ fn long_record() -> ExperimentSet {
             friction_given: false,
             line_of_row: (2..n + 2).collect(),
             comments: vec![],
+            reading_notes: Vec::new(),
         }],
     }
 }

@@ -266,6 +266,7 @@ pub fn generate_campaign(seed: u64, index: usize, ranges: &CampaignRanges) -> Ca
             friction_given: false,
             line_of_row: (2..n + 2).collect(),
             comments: vec!["generated for the coverage measurement".into()],
+            reading_notes: Vec::new(),
         });
     }
     let set = ExperimentSet {

@@ -376,6 +376,8 @@ struct LabRows {
     shear_kpa: Vec<f64>,
     normal_kpa: Vec<f64>,
     line_of_row: Vec<usize>,
+    /// Rows without a value: their lines and the columns they miss.
+    gaps: Vec<(usize, Vec<String>)>,
 }
 
 /// Reads one cell of a row: its number and the resolution of its digits; a missing or bad
@@ -435,6 +437,24 @@ fn read_rows(
     let stress = |u: StressUnit| u.kpa_per_unit(spec.area_mm2).unwrap_or(f64::NAN);
     for (line_no, cells) in data_records {
         let (line_no, cells) = (*line_no, cells.as_slice());
+        // A row without a value in a column the test reads is a logger's missing sample: a
+        // gap, left out and said (see crate::gaps).
+        let used = [Some(&cols.time), Some(&cols.slip)]
+            .into_iter()
+            .chain([
+                cols.shear.as_ref().map(|c| &c.0),
+                cols.friction.as_ref(),
+                cols.normal.as_ref().map(|c| &c.0),
+            ])
+            .flatten();
+        let missing: Vec<String> = used
+            .filter(|c| cells.get(c.0).is_some_and(|x| crate::gaps::is_missing(x)))
+            .map(|c| c.1.clone())
+            .collect();
+        if !missing.is_empty() {
+            rows.gaps.push((line_no, missing));
+            continue;
+        }
         let get = |col: &Col, factor: f64, pr: &mut Problems| {
             cell_reading(lf, line_no, cells, col, decimal_comma, pr)
                 .map(|(x, q)| with_precision(x, q, factor))
@@ -558,6 +578,17 @@ pub fn read_lab_file(
         .map(|s| s.to_string_lossy().to_string())
         .unwrap_or_default();
     comments.push(format!("imported from lab file `{file_name}`"));
+    let mut time_s = rows.time_s;
+    let reading_notes: Vec<crate::Warning> = crate::gaps::gap_note(lf, &rows.gaps)
+        .into_iter()
+        .chain(crate::gaps::spread_repeated_stamps(
+            &mut time_s,
+            &rows.line_of_row,
+            lf,
+        ))
+        .collect();
+    // The written test keeps what the reader did as provenance (a gap, a spread clock).
+    comments.extend(reading_notes.iter().map(|n| n.message.clone()));
     let td = TestData {
         spec: TestSpec {
             name: spec.test_name.trim().to_string(),
@@ -569,13 +600,14 @@ pub fn read_lab_file(
             extra: Map::new(),
         },
         path: lab_file.to_path_buf(),
-        time_s: rows.time_s,
+        time_s,
         slip_mm: rows.slip_mm,
         shear_kpa: rows.shear_kpa,
         normal_kpa: rows.normal_kpa,
         friction_given: cols.shear.is_none(),
         line_of_row: rows.line_of_row,
         comments,
+        reading_notes,
     };
     if pr.is_empty() {
         pr.extend(validate_data(&td, cols.normal.is_some()));

@@ -531,6 +531,7 @@ mod tests {
                 friction_given: false,
                 line_of_row: (2..n + 2).collect(),
                 comments: vec![],
+                reading_notes: Vec::new(),
             }],
         }
     }

@@ -153,6 +153,7 @@ pub fn test_data(name: &str, normal_kpa: f64, rec: Recorded, comments: Vec<Strin
             .map(|i| i + 2 + usize::from(!comments.is_empty()))
             .collect(),
         comments,
+        reading_notes: Vec::new(),
     }
 }
 
