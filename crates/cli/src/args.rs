@@ -306,6 +306,12 @@ pub struct ImportArgs {
     /// The file has no header line (columns by index).
     #[arg(long)]
     pub no_header: bool,
+    /// Keep one stretch of the record, read on time [s] or slip [mm] after the units are
+    /// converted: `time=120:` trims off an aborted stage before 120 s, `slip=:9.5` the
+    /// end-of-travel drop of a shear box (cut where the slip first passes 9.5 mm). The test's
+    /// comments say which lines went [default: every row].
+    #[arg(long, value_name = "COLUMN=FROM:TO")]
+    pub keep: Option<subfric_data::Keep>,
     /// Test name.
     #[arg(long, default_value = "test")]
     pub test_name: String,

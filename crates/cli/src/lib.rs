@@ -160,6 +160,7 @@ fn import_spec(a: &ImportArgs) -> ImportSpec {
         soil: a.soil.clone(),
         surface: a.surface.clone(),
         source: Some(a.file.display().to_string()),
+        keep: a.keep,
     }
 }
 

@@ -55,7 +55,9 @@ pub use artifacts::{
 pub use condition::{condition_imposed, condition_imposed_with, Conditioned};
 pub use error::{DataError, InputProblem};
 pub use fsio::{write_atomic, PathKind};
-pub use import::{import, ColumnRef, Delimiter, ImportSpec, LengthUnit, StressUnit, TimeUnit};
+pub use import::{
+    import, ColumnRef, Delimiter, ImportSpec, Keep, KeepColumn, LengthUnit, StressUnit, TimeUnit,
+};
 pub use meta::{parse_meta, ControlColumn, ExperimentMeta, InitialSpec, Interface, TestSpec};
 pub use noise::{estimate_noise, NoiseEstimate};
 pub use plausible::{plausibility, Warning};

@@ -37,6 +37,7 @@ fn tab_spec() -> ImportSpec {
         soil: Some("silica sand".into()),
         surface: Some("mild steel".into()),
         source: None,
+        keep: None,
     }
 }
 
@@ -317,5 +318,50 @@ fn a_logger_export_with_missing_samples_and_a_coarse_clock_imports_and_says_so()
     assert!(
         said.contains("repeats its stamp on 1 row (line 5)"),
         "{said}"
+    );
+}
+
+#[test]
+fn an_aborted_stage_and_the_end_of_travel_are_trimmed_off_as_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let lab = dir.path().join("box.csv");
+    // An aborted first stage (t < 10 s), the real stage, and the box's end-of-travel drop
+    // once the slip passes 1.0 mm.
+    std::fs::write(
+        &lab,
+        "t,u,tau\n0,0,0\n5,0.02,8\n10,0,0\n20,0.4,30\n30,0.8,32\n40,1.05,12\n50,0.95,4\n",
+    )
+    .unwrap();
+    let spec = |keep: &str| ImportSpec {
+        delimiter: Delimiter::Comma,
+        skip_lines: 0,
+        time: "t".parse().unwrap(),
+        time_unit: TimeUnit::S,
+        slip: "u".parse().unwrap(),
+        slip_unit: LengthUnit::Mm,
+        shear: Some(("tau".parse().unwrap(), StressUnit::KPa)),
+        test_name: keep.into(),
+        set_name: "box".into(),
+        keep: Some(keep.parse().unwrap()),
+        ..tab_spec()
+    };
+    let out = dir.path().join("box");
+    let set = import(&lab, &spec("time=10:"), &out).unwrap_or_else(|e| panic!("{e}"));
+    close(&set.tests[0].time_s, &[10.0, 20.0, 30.0, 40.0, 50.0]);
+    let said = set.tests[0].comments.join("\n");
+    assert!(
+        said.contains("trimmed as asked (--keep time=10:): 5 of 7 rows kept; lines 2–3 before time_s reached 10 s left out"),
+        "{said}"
+    );
+    let set = import(&lab, &spec("slip=:1"), &out).unwrap_or_else(|e| panic!("{e}"));
+    // Cut where the slip first passes 1 mm: the drop back to 0.95 mm is not kept.
+    close(&set.tests[1].slip_mm, &[0.0, 0.02, 0.0, 0.4, 0.8]);
+    // A stretch the record never reaches is refused, naming the column.
+    let e = import(&lab, &spec("time=100:"), &out)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("field `time_s`: --keep time=100: keeps no row"),
+        "{e}"
     );
 }

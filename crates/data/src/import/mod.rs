@@ -1,8 +1,10 @@
 //! Import of laboratory files (any delimiter, units and column names) into an experiment set.
 
+mod keep;
 mod text;
 mod units;
 
+pub use keep::{Keep, KeepColumn};
 pub use units::{ColumnRef, Delimiter, LengthUnit, StressUnit, TimeUnit};
 
 use std::path::{Path, PathBuf};
@@ -64,6 +66,9 @@ pub struct ImportSpec {
     pub surface: Option<String>,
     /// Source of a new set (default: the lab file's name).
     pub source: Option<String>,
+    /// The stretch of the record to keep (an aborted stage, the end-of-travel drop trimmed
+    /// off); `None` keeps every row.
+    pub keep: Option<Keep>,
 }
 
 impl Default for ImportSpec {
@@ -89,6 +94,7 @@ impl Default for ImportSpec {
             soil: None,
             surface: None,
             source: None,
+            keep: None,
         }
     }
 }
@@ -380,6 +386,21 @@ struct LabRows {
     gaps: Vec<(usize, Vec<String>)>,
 }
 
+impl LabRows {
+    /// Rows `kept` only (the gaps are kept as read: they are said either way).
+    fn within(self, kept: std::ops::Range<usize>) -> LabRows {
+        let cut = |v: Vec<f64>| v[kept.clone()].to_vec();
+        LabRows {
+            line_of_row: self.line_of_row[kept.clone()].to_vec(),
+            time_s: cut(self.time_s),
+            slip_mm: cut(self.slip_mm),
+            shear_kpa: cut(self.shear_kpa),
+            normal_kpa: cut(self.normal_kpa),
+            gaps: self.gaps,
+        }
+    }
+}
+
 /// Reads one cell of a row: its number and the resolution of its digits; a missing or bad
 /// cell is reported and gives `None`.
 fn cell_reading(
@@ -578,6 +599,28 @@ pub fn read_lab_file(
         .map(|s| s.to_string_lossy().to_string())
         .unwrap_or_default();
     comments.push(format!("imported from lab file `{file_name}`"));
+    let rows = match &spec.keep {
+        Some(keep) => {
+            let kept = keep.rows(match keep.column {
+                KeepColumn::Time => &rows.time_s,
+                KeepColumn::Slip => &rows.slip_mm,
+            });
+            if kept.is_empty() && !rows.time_s.is_empty() {
+                pr.add(
+                    lf,
+                    None,
+                    Some(match keep.column {
+                        KeepColumn::Time => "time_s",
+                        KeepColumn::Slip => "slip_mm",
+                    }),
+                    format!("--keep {keep} keeps no row (expected a stretch the record reaches)"),
+                );
+            }
+            comments.push(keep::trim_note(keep, &rows.line_of_row, &kept));
+            rows.within(kept)
+        }
+        None => rows,
+    };
     let mut time_s = rows.time_s;
     let reading_notes: Vec<crate::Warning> = crate::gaps::gap_note(lf, &rows.gaps)
         .into_iter()
@@ -807,5 +850,11 @@ pub fn import(
         let _ = std::fs::remove_file(&csv_path);
         return Err(e);
     }
-    load_set(out_dir)
+    // The set as written, with what the reader made of the lab file (gaps, a spread clock, a
+    // trim) on its new test: the written file holds it as comments, the caller shows it.
+    let mut set = load_set(out_dir)?;
+    if let Some(t) = set.tests.iter_mut().find(|t| t.spec.name == test.spec.name) {
+        t.reading_notes = test.reading_notes;
+    }
+    Ok(set)
 }
