@@ -361,9 +361,24 @@ fn md_num(v: Option<f64>) -> String {
         .unwrap_or_default()
 }
 
-/// A parameter as the Markdown table shows it: value, interval with open ends marked as
-/// `fit.txt` marks them, and the status when not determined.
+/// A parameter as the Markdown table shows it: value and interval, with open ends marked as
+/// `fit.txt` marks them and the status when only weakly determined. A parameter the data do
+/// not determine is never shown as a number (the optimiser's point is one point of a flat
+/// valley): "not determined (≤ b)", "(≥ a)" or "(any value)", as `fit` says it.
 fn md_param(c: &ParamCell) -> String {
+    if c.status.starts_with("not determined") {
+        // fit.json's status names (subfric_fit::Status).
+        return match (c.status.as_str(), c.lo, c.hi) {
+            ("not determined (upper bound only)", _, Some(hi)) => {
+                format!("not determined (≤ {})", short_number(hi))
+            }
+            ("not determined (lower bound only)", Some(lo), _) => {
+                format!("not determined (≥ {})", short_number(lo))
+            }
+            ("not determined", _, _) => "not determined (any value)".into(),
+            (other, _, _) => other.to_string(),
+        };
+    }
     let mut s = short_number(c.value);
     if let (Some(lo), Some(hi)) = (c.lo, c.hi) {
         let _ = write!(
@@ -411,7 +426,8 @@ pub fn markdown(title: &str, rows: &[Row], diagnosed: bool) -> String {
     s.push_str(
         "Each parameter: the fitted value and its 95 % profile interval; `(≤a` or `b≥)` marks an end \
          the data do not bound (the search's wall), and the identifiability follows when the \
-         parameter is not determined. R_max/D50: R_max over D50, both in µm. σ_n: the normal \
+         parameter is only weakly determined. A parameter the data do not determine shows the \
+         bound they set (`not determined (≤ b)`) and no value: any smaller value fits as well. R_max/D50: R_max over D50, both in µm. σ_n: the normal \
          stresses of the tests fitted. Every number here is in `campaign.csv` at full precision.\n\n",
     );
     let mut head = vec![
@@ -517,8 +533,38 @@ mod tests {
             hi: Some(0.3033),
             lo_open: true,
             hi_open: false,
-            status: "upper-bound-only".into(),
+            status: "weakly determined".into(),
         };
-        assert_eq!(md_param(&c), "0.3032 (≤1.683e-4, 0.3033] upper bound only");
+        assert_eq!(md_param(&c), "0.3032 (≤1.683e-4, 0.3033] weakly determined");
+        // Not determined: the bound the data set, never the optimiser's point.
+        let upper = ParamCell {
+            status: "not determined (upper bound only)".into(),
+            ..c.clone()
+        };
+        assert_eq!(md_param(&upper), "not determined (≤ 0.3033)");
+        let lower = ParamCell {
+            lo_open: false,
+            hi_open: true,
+            status: "not determined (lower bound only)".into(),
+            ..c.clone()
+        };
+        assert_eq!(md_param(&lower), "not determined (≥ 1.683e-4)");
+        let any = ParamCell {
+            lo: None,
+            hi: None,
+            status: "not determined".into(),
+            ..c.clone()
+        };
+        assert_eq!(md_param(&any), "not determined (any value)");
+        let noise = ParamCell {
+            lo: None,
+            hi: None,
+            status: "not determined (the noise is not measured)".into(),
+            ..c
+        };
+        assert_eq!(
+            md_param(&noise),
+            "not determined (the noise is not measured)"
+        );
     }
 }
