@@ -325,7 +325,9 @@ def fit(
 
     Returns a dict with the content of the fit.json that ``subfric fit`` writes (``set``,
     ``tests``, ``params``, ``model``, ``report``: parameters with standard errors, intervals and
-    identifiability, combinations, per-test misfits, optimiser) and ``curves``: per test, arrays
+    identifiability — each parameter's ``reads`` is its value as the reports read it,
+    ``"not determined (≤ 0.30)"`` for one the data do not determine — combinations, per-test
+    misfits, optimiser) and ``curves``: per test, arrays
     ``time_s``, ``imposed`` (as the model was driven: the imposed column conditioned),
     ``measured``, ``fitted`` (the model's prediction of the measured column), ``normal_kpa``,
     ``mu`` and ``r``, its ``control``, and how the model was started (``initial``,

@@ -44,25 +44,13 @@ pub fn interval_text(p: &ParamReport) -> String {
 
 /// The data leave this parameter undetermined: bounded on one side at most.
 pub fn undetermined(p: &ParamReport) -> bool {
-    matches!(
-        p.status,
-        Status::NotDetermined
-            | Status::LowerBoundOnly
-            | Status::UpperBoundOnly
-            | Status::NoiseUnknown
-    )
+    p.undetermined()
 }
 
-/// The value cell: the fitted value, or "not determined (≤ b)", "(≥ a)", "(any value)".
+/// The value cell: the fitted value, or "not determined (≤ b)", "(≥ a)", "(any value)" (as
+/// fit.json's `reads` says it).
 pub fn value_text(p: &ParamReport, number: impl Fn(f64) -> String) -> String {
-    let iv = p.interval;
-    match (p.status, iv) {
-        (Status::UpperBoundOnly, Some(i)) => format!("not determined (≤ {})", fmt_num(i.hi)),
-        (Status::LowerBoundOnly, Some(i)) => format!("not determined (≥ {})", fmt_num(i.lo)),
-        (Status::NotDetermined, _) => "not determined (any value)".into(),
-        (s, _) if undetermined(p) => s.describe().to_string(),
-        _ => number(p.value),
-    }
+    p.reads_with(number)
 }
 
 /// The interval cell: the closed interval of an estimate (the bound of an undetermined

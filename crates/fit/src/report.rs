@@ -60,8 +60,11 @@ impl Status {
     }
 }
 
-/// Result for one parameter.
+/// Result for one parameter. Written to JSON with `reads`: the value as every report reads
+/// it ([`ParamReport::reads`]), so a script or the Python package never takes the optimiser's
+/// point of an undetermined parameter for a value.
 #[derive(Clone, Debug, Serialize)]
+#[serde(into = "ParamReportJson")]
 pub struct ParamReport {
     /// Key.
     pub name: String,
@@ -79,6 +82,73 @@ pub struct ParamReport {
     pub published: Option<f64>,
     /// (value − published)/published [%].
     pub difference_percent: Option<f64>,
+}
+
+impl ParamReport {
+    /// The data leave this parameter undetermined: bounded on one side at most.
+    pub fn undetermined(&self) -> bool {
+        matches!(
+            self.status,
+            Status::NotDetermined
+                | Status::LowerBoundOnly
+                | Status::UpperBoundOnly
+                | Status::NoiseUnknown
+        )
+    }
+
+    /// The value as the reports read it, its number written by `number`: the fitted value, or
+    /// "not determined (≤ b)", "(≥ a)", "(any value)" — the bound the data set, never the
+    /// optimiser's point in a flat valley.
+    pub fn reads_with(&self, number: impl Fn(f64) -> String) -> String {
+        use crate::interval::short_number;
+        match (self.status, self.interval) {
+            (Status::UpperBoundOnly, Some(i)) => {
+                format!("not determined (≤ {})", short_number(i.hi))
+            }
+            (Status::LowerBoundOnly, Some(i)) => {
+                format!("not determined (≥ {})", short_number(i.lo))
+            }
+            (Status::NotDetermined, _) => "not determined (any value)".into(),
+            (s, _) if self.undetermined() => s.describe().to_string(),
+            _ => number(self.value),
+        }
+    }
+
+    /// [`ParamReport::reads_with`] with about four significant digits.
+    pub fn reads(&self) -> String {
+        self.reads_with(crate::interval::short_number)
+    }
+}
+
+/// A parameter as fit.json holds it: [`ParamReport`] and how it reads.
+#[derive(Serialize)]
+struct ParamReportJson {
+    name: String,
+    unit: String,
+    value: f64,
+    /// The value as the reports read it ([`ParamReport::reads`]).
+    reads: String,
+    std_error: Option<f64>,
+    interval: Option<Interval>,
+    status: Status,
+    published: Option<f64>,
+    difference_percent: Option<f64>,
+}
+
+impl From<ParamReport> for ParamReportJson {
+    fn from(p: ParamReport) -> Self {
+        ParamReportJson {
+            reads: p.reads(),
+            name: p.name,
+            unit: p.unit,
+            value: p.value,
+            std_error: p.std_error,
+            interval: p.interval,
+            status: p.status,
+            published: p.published,
+            difference_percent: p.difference_percent,
+        }
+    }
 }
 
 /// A combination of parameters the optimiser works with, with its profile interval.
@@ -196,5 +266,48 @@ impl FitReport {
     /// Parameter report by key.
     pub fn param(&self, key: &str) -> Option<&ParamReport> {
         self.parameters.iter().find(|p| p.name == key)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn report(status: Status, interval: Option<Interval>) -> ParamReport {
+        ParamReport {
+            name: "mu_k".into(),
+            unit: String::new(),
+            value: 0.4725,
+            std_error: Some(1e-4),
+            interval,
+            status,
+            published: None,
+            difference_percent: None,
+        }
+    }
+
+    #[test]
+    fn json_reads_an_undetermined_parameter_by_its_bound_never_by_its_point() {
+        let open_below = Interval {
+            lo: 1e-4,
+            hi: 0.5,
+            lo_open: true,
+            hi_open: false,
+        };
+        let json = serde_json::to_value(report(Status::UpperBoundOnly, Some(open_below))).unwrap();
+        assert_eq!(json["reads"], "not determined (≤ 0.5000)");
+        assert_eq!(json["status"], "not determined (upper bound only)");
+        // The point stays for simulating the fitted model.
+        assert_eq!(json["value"], 0.4725);
+        let closed = Interval {
+            lo: 0.47,
+            hi: 0.475,
+            lo_open: false,
+            hi_open: false,
+        };
+        let json = serde_json::to_value(report(Status::Determined, Some(closed))).unwrap();
+        assert_eq!(json["reads"], "0.4725");
+        let json = serde_json::to_value(report(Status::NoiseUnknown, None)).unwrap();
+        assert_eq!(json["reads"], Status::NoiseUnknown.describe());
     }
 }
