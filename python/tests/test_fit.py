@@ -145,6 +145,11 @@ def test_status_words_and_the_verdict_are_the_command_s(cli, tmp_path):
     printed = cli.run("fit", EXPERIMENTS / "table1-smooth", "--out", tmp_path / "o").stdout
     xi_row = next(l for l in printed.splitlines() if l.startswith("xi "))
     assert words["xi"] in xi_row
+    # The value as the table reads it: the bound of an undetermined parameter, never its point.
+    reads = {p["name"]: p["reads"] for p in r["report"]["parameters"]}
+    assert reads["xi"].startswith("not determined (≤ ") and reads["xi"] in xi_row
+    mu_s_row = next(l for l in printed.splitlines() if l.startswith("mu_s "))
+    assert reads["mu_s"] in mu_s_row
     # Does the model describe the data: the same sentence as the command's first line.
     assert r["verdict"]["describes_the_data"] is True
     assert printed.splitlines()[0] == "verdict: " + r["verdict"]["sentence"]
