@@ -227,6 +227,13 @@ fn load_set<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>>
         d.set_item("slip_mm", array(py, t.slip_mm))?;
         d.set_item("shear_kpa", array(py, t.shear_kpa))?;
         d.set_item("normal_kpa", array(py, t.normal_kpa))?;
+        // The further channels the CSV carried (dilation, temperature, forces, area), by name;
+        // NaN where the logger missed a sample.
+        let channels = PyDict::new(py);
+        for c in t.channels {
+            channels.set_item(c.name, array(py, c.values))?;
+        }
+        d.set_item("channels", channels)?;
         tests.append(d)?;
     }
     out.set_item("tests", tests)?;

@@ -83,6 +83,10 @@ class Test:
         self.shear_kpa = d["shear_kpa"]
         #: normal stress per row (the `normal_kpa` column, else the test's normal stress)
         self.normal_kpa = d["normal_kpa"]
+        #: further channels the CSV carried, by column name (``normal_disp_mm``,
+        #: ``temperature_c``, ``shear_force_kn``, ``normal_force_kn``, ``area_mm2``): arrays,
+        #: NaN where the logger missed a sample; carried as read, not used by the model
+        self.channels = d["channels"]
 
     @property
     def imposed(self):

@@ -108,3 +108,23 @@ def test_a_logger_in_mpa_and_minutes_is_read_in_kpa_and_seconds(tmp_path):
     np.testing.assert_allclose(t.shear_kpa, [0.0, 42.5, 40.25])
     assert t.units == {"stress": "MPa", "displacement": None, "time": "min"}
     assert subfric.load_set(EXPERIMENTS / BUNDLED[0])[0].units is None
+
+
+def test_gaps_a_coarse_clock_and_further_channels_as_the_command_reads_them(tmp_path):
+    (tmp_path / "experiment.json").write_text(json.dumps({
+        "name": "logger", "title": "t", "source": "made in the test",
+        "tests": [{"name": "a", "file": "a.csv", "control": "slip", "normal_stress_kpa": 100}],
+    }))
+    # A one-second clock at 2 Hz, a lost shear sample, dilation and a temperature with a gap.
+    (tmp_path / "a.csv").write_text(
+        "time_s,slip_mm,shear_kpa,normal_disp_mm,temperature_c\n"
+        "0,0,0,0,20\n0,0.05,NaN,-0.001,20\n1,0.1,10,-0.002,\n1,0.15,15,-0.003,20.2\n2,0.2,20,-0.004,20.3\n"
+    )
+    with pytest.warns(subfric.SubfricWarning) as caught:
+        t = subfric.load_set(tmp_path)[0]
+    said = " ".join(str(w.message) for w in caught)
+    assert "1 row without a value" in said and "line 3" in said
+    assert "repeats its stamp on 1 row" in said
+    np.testing.assert_allclose(t.time_s, [0.0, 1.0, 1.5, 2.0])
+    np.testing.assert_allclose(t.channels["normal_disp_mm"], [0.0, -0.002, -0.003, -0.004])
+    assert np.isnan(t.channels["temperature_c"][1])

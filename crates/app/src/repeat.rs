@@ -189,6 +189,7 @@ fn test_data(t: &FitTest) -> TestData {
         line_of_row: (0..t.len()).collect(),
         comments: Vec::new(),
         reading_notes: Vec::new(),
+        channels: Vec::new(),
     }
 }
 

@@ -194,6 +194,7 @@ pub fn simulate_scenario(
         line_of_row: (2..n + 2).collect(),
         comments: vec![format!("scenario {} simulated by subfric", path.display())],
         reading_notes: Vec::new(),
+        channels: Vec::new(),
     };
     let meta = ExperimentMeta {
         name: sc.name.clone(),

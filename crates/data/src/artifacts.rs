@@ -321,6 +321,9 @@ pub fn without_gap_rows(test: &TestData, gap: &GapRemainder) -> TestData {
     t.shear_kpa = kept(&test.shear_kpa, &dropped);
     t.normal_kpa = kept(&test.normal_kpa, &dropped);
     t.line_of_row = kept(&test.line_of_row, &dropped);
+    for c in &mut t.channels {
+        c.values = kept(&c.values, &dropped);
+    }
     t
 }
 
@@ -361,6 +364,7 @@ mod tests {
             line_of_row: (2..n + 2).collect(),
             comments: vec![],
             reading_notes: Vec::new(),
+            channels: Vec::new(),
         }
     }
 

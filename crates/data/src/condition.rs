@@ -47,6 +47,7 @@ pub use crate::events::REVERSAL_SDS;
 ///     line_of_row: (2..n + 2).collect(),
 ///     comments: vec![],
 ///     reading_notes: vec![],
+///     channels: vec![],
 /// };
 /// let c = condition_imposed(&t);
 /// assert!(c.changed);

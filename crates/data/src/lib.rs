@@ -65,7 +65,8 @@ pub use segment::{
     segment, RateLevel, Segment, SegmentKind, SegmentOptions, Segmentation, Start, StartKind,
 };
 pub use set::{
-    load_set, load_test, write_set, ExperimentSet, TestData, ACCEPTED_COLUMNS, EXPERIMENT_JSON,
+    load_set, load_test, write_set, Channel, ExperimentSet, TestData, ACCEPTED_COLUMNS,
+    CHANNEL_COLUMNS, EXPERIMENT_JSON,
 };
 pub use summary::{summary, summary_with, HoldSummary, SetSummary, StepSummary, TestSummary};
 pub use text::{visible, MAX_NAME_BYTES};

@@ -252,6 +252,7 @@ fn rate_between(t: &[f64], y: &[f64], a: usize, b: usize) -> f64 {
 ///     time_s: time, slip_mm: slip, shear_kpa: vec![0.0; n], normal_kpa: vec![100.0; n],
 ///     friction_given: false, line_of_row: (2..n + 2).collect(), comments: vec![],
 ///     reading_notes: vec![],
+///     channels: vec![],
 /// };
 /// let seg = segment(&test, &SegmentOptions::default());
 /// assert_eq!(seg.reversals, vec![100, 300]);

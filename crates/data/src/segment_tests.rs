@@ -20,6 +20,7 @@ pub(crate) fn data(control: ControlColumn, t: Vec<f64>, imposed: Vec<f64>) -> Te
         line_of_row: (2..n + 2).collect(),
         comments: vec![],
         reading_notes: Vec::new(),
+        channels: Vec::new(),
     }
 }
 

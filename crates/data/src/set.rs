@@ -20,6 +20,29 @@ pub const MAX_MAGNITUDE: f64 = 1e12;
 pub const ACCEPTED_COLUMNS: [&str; 5] =
     ["time_s", "slip_mm", "shear_kpa", "friction", "normal_kpa"];
 
+/// Further channels an interface lab records, accepted in a test CSV and carried with the
+/// test as read (written back with it, given to Python), not used by the model: the normal
+/// (vertical) displacement — dilation, what constant-normal-stiffness tests are about — a
+/// temperature, and the force and area a stress was computed from. A missing sample in one of
+/// them is kept as a missing value, not a gap of the row.
+pub const CHANNEL_COLUMNS: [&str; 5] = [
+    "normal_disp_mm",
+    "temperature_c",
+    "shear_force_kn",
+    "normal_force_kn",
+    "area_mm2",
+];
+
+/// One further channel of a test ([`CHANNEL_COLUMNS`]): its name and a value per row (NaN
+/// where the logger missed a sample).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Channel {
+    /// Column name, as in [`CHANNEL_COLUMNS`].
+    pub name: String,
+    /// One value per row of the test.
+    pub values: Vec<f64>,
+}
+
 /// The data of one test, validated.
 ///
 /// All column vectors have the same length, one entry per data row.
@@ -47,6 +70,8 @@ pub struct TestData {
     /// left out as gaps, repeated time stamps spread over their clock tick): shown with the
     /// plausibility warnings.
     pub reading_notes: Vec<crate::Warning>,
+    /// Further channels the CSV carried ([`CHANNEL_COLUMNS`]), in the order of its header.
+    pub channels: Vec<Channel>,
 }
 
 impl TestData {
@@ -64,6 +89,14 @@ impl TestData {
             line_of_row: self.line_of_row[first..].to_vec(),
             comments: self.comments.clone(),
             reading_notes: self.reading_notes.clone(),
+            channels: self
+                .channels
+                .iter()
+                .map(|c| Channel {
+                    name: c.name.clone(),
+                    values: c.values[first.min(c.values.len())..].to_vec(),
+                })
+                .collect(),
         }
     }
 
@@ -349,17 +382,23 @@ enum Col {
     Shear,
     Friction,
     Normal,
+    /// A further channel: its index in [`CHANNEL_COLUMNS`].
+    Channel(usize),
 }
 
 impl Col {
     fn from_name(s: &str) -> Option<Col> {
-        match s.to_ascii_lowercase().as_str() {
+        let s = s.to_ascii_lowercase();
+        match s.as_str() {
             "time_s" => Some(Col::Time),
             "slip_mm" => Some(Col::Slip),
             "shear_kpa" => Some(Col::Shear),
             "friction" => Some(Col::Friction),
             "normal_kpa" => Some(Col::Normal),
-            _ => None,
+            _ => CHANNEL_COLUMNS
+                .iter()
+                .position(|c| *c == s)
+                .map(Col::Channel),
         }
     }
 }
@@ -428,7 +467,11 @@ impl Header {
     fn parse(line_no: usize, names: Vec<String>, path: &Path, pr: &mut Problems) -> Header {
         let mut cols = Vec::with_capacity(names.len());
         let mut seen: HashMap<Col, (usize, &str)> = HashMap::new();
-        let expected = ACCEPTED_COLUMNS.join(", ");
+        let expected = format!(
+            "{}, or a further channel: {}",
+            ACCEPTED_COLUMNS.join(", "),
+            CHANNEL_COLUMNS.join(", ")
+        );
         for (k, name) in names.iter().enumerate() {
             let col = Col::from_name(name);
             if name.is_empty() {
@@ -521,7 +564,11 @@ impl Header {
                 continue;
             }
             if crate::gaps::is_missing(cell) {
-                missing.push(self.names[k].clone());
+                // A further channel's missing sample is its own (the row stays); a missing
+                // time, slip or stress makes the row a gap.
+                if !matches!(self.cols[k], Some(Col::Channel(_))) {
+                    missing.push(self.names[k].clone());
+                }
                 continue;
             }
             match parse_number(cell) {
@@ -731,6 +778,28 @@ fn assemble_test(
         line_of_row: Vec::with_capacity(n),
         comments,
         reading_notes,
+        channels: header
+            .cols
+            .iter()
+            .enumerate()
+            .filter_map(|(k, c)| match c {
+                Some(Col::Channel(j)) => Some(Channel {
+                    name: CHANNEL_COLUMNS[*j].to_string(),
+                    // The normal displacement is a displacement: the set's unit applies.
+                    values: rows
+                        .iter()
+                        .map(|(_, v)| {
+                            v[k] * if CHANNEL_COLUMNS[*j] == "normal_disp_mm" {
+                                scale.displacement
+                            } else {
+                                1.0
+                            }
+                        })
+                        .collect(),
+                }),
+                _ => None,
+            })
+            .collect(),
     };
     // Columns in the units the set declares are taken to kPa, mm and s here; experiment.json's
     // own normal_stress_kpa is kPa already.
@@ -777,7 +846,7 @@ pub(crate) fn validate_data(td: &TestData, normal_from_column: bool) -> Vec<Inpu
         td.normal_kpa.len(),
         td.line_of_row.len(),
     ];
-    if lens.iter().any(|&l| l != n) {
+    if lens.iter().any(|&l| l != n) || td.channels.iter().any(|c| c.values.len() != n) {
         pr.add(
             path,
             None,

@@ -30,7 +30,13 @@ pub fn test_csv_text(test: &TestData) -> String {
     if with_normal {
         header.push("normal_kpa");
     }
+    header.extend(test.channels.iter().map(|c| c.name.as_str()));
     let value = |v: &[f64], i: usize| v.get(i).copied().unwrap_or(f64::NAN).to_string();
+    // A channel's missing sample is written as an empty cell, which reads back as missing.
+    let channel_value = |v: &[f64], i: usize| match v.get(i) {
+        Some(x) if x.is_finite() => x.to_string(),
+        _ => String::new(),
+    };
     let rows = (0..test.len()).map(|i| {
         let mut row = vec![
             test.time_s[i].to_string(),
@@ -40,6 +46,7 @@ pub fn test_csv_text(test: &TestData) -> String {
         if with_normal {
             row.push(value(&test.normal_kpa, i));
         }
+        row.extend(test.channels.iter().map(|c| channel_value(&c.values, i)));
         row
     });
     let header = header.into_iter().map(String::from).collect::<Vec<_>>();

@@ -437,3 +437,37 @@ fn lenient_on_harmless_variations() {
     assert_eq!(t.comments, vec!["c1", "c2"]);
     assert!(t.friction_given && t.normal_varies());
 }
+
+#[test]
+fn further_channels_are_carried_as_read_and_written_back() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("experiment.json"), JSON_ONE).unwrap();
+    // Dilation and a temperature beside the stresses; one temperature sample missing keeps its
+    // row (only a missing time, slip or stress makes a gap).
+    std::fs::write(
+        dir.path().join("a.csv"),
+        "time_s,slip_mm,shear_kpa,normal_disp_mm,temperature_c\n0,0,0,0,20.1\n1,0.1,10,-0.002,\n2,0.2,20,-0.005,20.3\n",
+    )
+    .unwrap();
+    let set = load_set(dir.path()).unwrap();
+    let t = &set.tests[0];
+    assert_eq!(t.len(), 3);
+    let names: Vec<&str> = t.channels.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["normal_disp_mm", "temperature_c"]);
+    assert_eq!(t.channels[0].values, vec![0.0, -0.002, -0.005]);
+    assert!(t.channels[1].values[1].is_nan());
+    // Written back and read again: the same channels, the missing sample still missing.
+    let out = dir.path().join("copy");
+    subfric_data::write_set(&set, &out).unwrap();
+    let back = load_set(&out).unwrap();
+    assert_eq!(back.tests[0].channels[0], t.channels[0]);
+    assert!(back.tests[0].channels[1].values[1].is_nan());
+    // A column of neither kind is refused, the message listing the channels.
+    let (_d, p) = set_with_csv("time_s,slip_mm,shear_kpa,dilation\n0,0,0,0\n");
+    assert_problem(
+        &p,
+        Some(1),
+        Some("dilation"),
+        &["unknown column", "normal_disp_mm"],
+    );
+}

@@ -97,6 +97,7 @@ fn generate(stages: &[LabStage], seed: u64, start_offset_mm: f64) -> Built {
         line_of_row: (2..n + 2).collect(),
         comments: vec![],
         reading_notes: Vec::new(),
+        channels: Vec::new(),
     };
     Built {
         test,
@@ -242,6 +243,7 @@ fn a_stiff_curve_printed_to_five_decimals_starts_at_rest() {
         line_of_row: (2..n + 2).collect(),
         comments: vec![],
         reading_notes: Vec::new(),
+        channels: Vec::new(),
     };
     let seg = segment(&test, &SegmentOptions::default());
     assert_eq!(seg.start.kind, StartKind::Rest, "{}", seg.start.reason);

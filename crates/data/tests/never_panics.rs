@@ -124,6 +124,7 @@ proptest! {
             line_of_row: (2..n + 2).collect(),
             comments: vec![],
             reading_notes: Vec::new(),
+            channels: Vec::new(),
         };
         let c = condition_imposed(&d);
         prop_assert_eq!(c.values.len(), n);
@@ -157,6 +158,7 @@ proptest! {
             line_of_row: (2..n + 2).collect(),
             comments: vec![],
             reading_notes: Vec::new(),
+            channels: Vec::new(),
         };
         let s = segment(&d, &SegmentOptions::default());
         // covering segments, monotone conditioned runs

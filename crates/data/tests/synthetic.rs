@@ -27,6 +27,7 @@ fn data(control: ControlColumn, time: Vec<f64>, imposed: Vec<f64>) -> TestData {
         line_of_row: (2..n + 2).collect(),
         comments: vec![],
         reading_notes: Vec::new(),
+        channels: Vec::new(),
     }
 }
 

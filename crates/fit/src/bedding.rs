@@ -628,6 +628,7 @@ mod tests {
             line_of_row: (2..n + 2).collect(),
             comments: vec![],
             reading_notes: Vec::new(),
+            channels: Vec::new(),
         };
         let segmentation = subfric_data::segment(&data, &Default::default());
         let t = FitTest::new("mono", Control::Slip, time, recorded, measured, normal);

@@ -433,6 +433,7 @@ mod tests {
             line_of_row: (2..n + 2).collect(),
             comments: vec![],
             reading_notes: Vec::new(),
+            channels: Vec::new(),
         }
     }
 
@@ -481,6 +482,7 @@ mod tests {
             line_of_row: (2..n + 2).collect(),
             comments: vec![],
             reading_notes: Vec::new(),
+            channels: Vec::new(),
         }
     }
 

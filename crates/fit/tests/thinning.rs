@@ -102,6 +102,7 @@ fn long_record() -> ExperimentSet {
             line_of_row: (2..n + 2).collect(),
             comments: vec![],
             reading_notes: Vec::new(),
+            channels: Vec::new(),
         }],
     }
 }

@@ -267,6 +267,7 @@ pub fn generate_campaign(seed: u64, index: usize, ranges: &CampaignRanges) -> Ca
             line_of_row: (2..n + 2).collect(),
             comments: vec!["generated for the coverage measurement".into()],
             reading_notes: Vec::new(),
+            channels: Vec::new(),
         });
     }
     let set = ExperimentSet {

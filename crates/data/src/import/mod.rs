@@ -651,6 +651,7 @@ pub fn read_lab_file(
         line_of_row: rows.line_of_row,
         comments,
         reading_notes,
+        channels: Vec::new(),
     };
     if pr.is_empty() {
         pr.extend(validate_data(&td, cols.normal.is_some()));

@@ -532,6 +532,7 @@ mod tests {
                 line_of_row: (2..n + 2).collect(),
                 comments: vec![],
                 reading_notes: Vec::new(),
+                channels: Vec::new(),
             }],
         }
     }

@@ -154,6 +154,7 @@ pub fn test_data(name: &str, normal_kpa: f64, rec: Recorded, comments: Vec<Strin
             .collect(),
         comments,
         reading_notes: Vec::new(),
+        channels: Vec::new(),
     }
 }
 
