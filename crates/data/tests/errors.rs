@@ -13,6 +13,20 @@ const JSON_ONE: &str = r#"{
   ]
 }"#;
 
+/// The set of [`JSON_ONE`] with `csv` as its test, loaded (its folder kept alive with it).
+fn loaded(
+    csv: &str,
+) -> (
+    tempfile::TempDir,
+    Result<subfric_data::ExperimentSet, DataError>,
+) {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("experiment.json"), JSON_ONE).unwrap();
+    std::fs::write(dir.path().join("a.csv"), csv).unwrap();
+    let set = load_set(dir.path());
+    (dir, set)
+}
+
 fn set_with_csv(csv: &str) -> (tempfile::TempDir, Vec<InputProblem>) {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("experiment.json"), JSON_ONE).unwrap();
@@ -132,19 +146,9 @@ fn non_numeric_and_non_finite_cells() {
 
 #[test]
 fn missing_samples_are_gaps_left_out_and_said() {
-    let dir = tempfile::tempdir().unwrap();
-    std::fs::write(
-        dir.path().join("experiment.json"),
-        r#"{"name": "g", "title": "G", "source": "test",
-            "tests": [{"name": "a", "file": "a.csv", "control": "slip", "normal_stress_kpa": 100}]}"#,
-    )
-    .unwrap();
-    std::fs::write(
-        dir.path().join("a.csv"),
-        "time_s,slip_mm,shear_kpa\n0,0,0\n1,0.1,NaN\n2,0.2,\n3,0.3,30\n4,NA,40\n5,0.5,50\n",
-    )
-    .unwrap();
-    let set = subfric_data::load_set(dir.path()).unwrap();
+    let (_dir, set) =
+        loaded("time_s,slip_mm,shear_kpa\n0,0,0\n1,0.1,NaN\n2,0.2,\n3,0.3,30\n4,NA,40\n5,0.5,50\n");
+    let set = set.unwrap();
     let t = &set.tests[0];
     // The rows of lines 3, 4 and 6 are left out; the others keep their values and lines.
     assert_eq!(t.time_s, vec![0.0, 3.0, 5.0]);
@@ -159,12 +163,8 @@ fn missing_samples_are_gaps_left_out_and_said() {
     assert!(gap.message.contains("lines 3–4 and 6"), "{}", gap.message);
     assert_eq!(gap.field, "shear_kpa, slip_mm");
     // A file whose every row misses a value is refused, saying so.
-    std::fs::write(
-        dir.path().join("a.csv"),
-        "time_s,slip_mm,shear_kpa\n0,0,\n1,0.1,NaN\n",
-    )
-    .unwrap();
-    let e = subfric_data::load_set(dir.path()).unwrap_err().to_string();
+    let (_d, e) = loaded("time_s,slip_mm,shear_kpa\n0,0,\n1,0.1,NaN\n");
+    let e = e.unwrap_err().to_string();
     assert!(
         e.contains("a.csv:1: the test has a header but every row misses a value"),
         "{e}"
@@ -173,20 +173,11 @@ fn missing_samples_are_gaps_left_out_and_said() {
 
 #[test]
 fn a_coarse_clock_is_spread_over_its_ticks_and_said() {
-    let dir = tempfile::tempdir().unwrap();
-    std::fs::write(
-        dir.path().join("experiment.json"),
-        r#"{"name": "c", "title": "C", "source": "test",
-            "tests": [{"name": "a", "file": "a.csv", "control": "slip", "normal_stress_kpa": 100}]}"#,
-    )
-    .unwrap();
     // A one-second clock at 2 Hz.
-    std::fs::write(
-        dir.path().join("a.csv"),
+    let (_dir, set) = loaded(
         "time_s,slip_mm,shear_kpa\n0,0,0\n0,0.05,5\n1,0.1,10\n1,0.15,15\n2,0.2,20\n2,0.25,25\n",
-    )
-    .unwrap();
-    let set = subfric_data::load_set(dir.path()).unwrap();
+    );
+    let set = set.unwrap();
     assert_eq!(set.tests[0].time_s, vec![0.0, 0.5, 1.0, 1.5, 2.0, 2.5]);
     let warnings = subfric_data::plausibility(&set);
     assert!(
@@ -440,16 +431,12 @@ fn lenient_on_harmless_variations() {
 
 #[test]
 fn further_channels_are_carried_as_read_and_written_back() {
-    let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("experiment.json"), JSON_ONE).unwrap();
     // Dilation and a temperature beside the stresses; one temperature sample missing keeps its
     // row (only a missing time, slip or stress makes a gap).
-    std::fs::write(
-        dir.path().join("a.csv"),
+    let (dir, set) = loaded(
         "time_s,slip_mm,shear_kpa,normal_disp_mm,temperature_c\n0,0,0,0,20.1\n1,0.1,10,-0.002,\n2,0.2,20,-0.005,20.3\n",
-    )
-    .unwrap();
-    let set = load_set(dir.path()).unwrap();
+    );
+    let set = set.unwrap();
     let t = &set.tests[0];
     assert_eq!(t.len(), 3);
     let names: Vec<&str> = t.channels.iter().map(|c| c.name.as_str()).collect();

@@ -283,6 +283,22 @@ fn write_set_refuses_invalid_data() {
     assert!(!dir.path().join("w").exists());
 }
 
+/// A comma file `t,u,tau` in s, mm and kPa, imported as test `name` of set `set`.
+fn comma_spec(name: &str, set: &str) -> ImportSpec {
+    ImportSpec {
+        delimiter: Delimiter::Comma,
+        skip_lines: 0,
+        time: "t".parse().unwrap(),
+        time_unit: TimeUnit::S,
+        slip: "u".parse().unwrap(),
+        slip_unit: LengthUnit::Mm,
+        shear: Some(("tau".parse().unwrap(), StressUnit::KPa)),
+        test_name: name.into(),
+        set_name: set.into(),
+        ..tab_spec()
+    }
+}
+
 #[test]
 fn a_logger_export_with_missing_samples_and_a_coarse_clock_imports_and_says_so() {
     let dir = tempfile::tempdir().unwrap();
@@ -293,18 +309,7 @@ fn a_logger_export_with_missing_samples_and_a_coarse_clock_imports_and_says_so()
         "t,u,tau\n0,0,0\n0,0.05,\n1,0.1,10\n1,0.15,15\n2,NaN,20\n2,0.25,25\n3,0.3,30\n",
     )
     .unwrap();
-    let spec = ImportSpec {
-        delimiter: Delimiter::Comma,
-        skip_lines: 0,
-        time: "t".parse().unwrap(),
-        time_unit: TimeUnit::S,
-        slip: "u".parse().unwrap(),
-        slip_unit: LengthUnit::Mm,
-        shear: Some(("tau".parse().unwrap(), StressUnit::KPa)),
-        test_name: "logger".into(),
-        set_name: "gaps".into(),
-        ..tab_spec()
-    };
+    let spec = comma_spec("logger", "gaps");
     let out = dir.path().join("gaps");
     let set = import(&lab, &spec, &out).unwrap_or_else(|e| panic!("{e}"));
     let t = &set.tests[0];
@@ -333,17 +338,8 @@ fn an_aborted_stage_and_the_end_of_travel_are_trimmed_off_as_asked() {
     )
     .unwrap();
     let spec = |keep: &str| ImportSpec {
-        delimiter: Delimiter::Comma,
-        skip_lines: 0,
-        time: "t".parse().unwrap(),
-        time_unit: TimeUnit::S,
-        slip: "u".parse().unwrap(),
-        slip_unit: LengthUnit::Mm,
-        shear: Some(("tau".parse().unwrap(), StressUnit::KPa)),
-        test_name: keep.into(),
-        set_name: "box".into(),
         keep: Some(keep.parse().unwrap()),
-        ..tab_spec()
+        ..comma_spec(keep, "box")
     };
     let out = dir.path().join("box");
     let set = import(&lab, &spec("time=10:"), &out).unwrap_or_else(|e| panic!("{e}"));

@@ -537,34 +537,34 @@ mod tests {
         };
         assert_eq!(md_param(&c), "0.3032 (≤1.683e-4, 0.3033] weakly determined");
         // Not determined: the bound the data set, never the optimiser's point.
-        let upper = ParamCell {
-            status: "not determined (upper bound only)".into(),
-            ..c.clone()
+        let reads = |status: &str, interval: bool| {
+            md_param(&ParamCell {
+                status: status.into(),
+                lo: c.lo.filter(|_| interval),
+                hi: c.hi.filter(|_| interval),
+                ..c.clone()
+            })
         };
-        assert_eq!(md_param(&upper), "not determined (≤ 0.3033)");
-        let lower = ParamCell {
-            lo_open: false,
-            hi_open: true,
-            status: "not determined (lower bound only)".into(),
-            ..c.clone()
-        };
-        assert_eq!(md_param(&lower), "not determined (≥ 1.683e-4)");
-        let any = ParamCell {
-            lo: None,
-            hi: None,
-            status: "not determined".into(),
-            ..c.clone()
-        };
-        assert_eq!(md_param(&any), "not determined (any value)");
-        let noise = ParamCell {
-            lo: None,
-            hi: None,
-            status: "not determined (the noise is not measured)".into(),
-            ..c
-        };
-        assert_eq!(
-            md_param(&noise),
-            "not determined (the noise is not measured)"
-        );
+        let cases = [
+            (
+                "not determined (upper bound only)",
+                true,
+                "not determined (≤ 0.3033)",
+            ),
+            (
+                "not determined (lower bound only)",
+                true,
+                "not determined (≥ 1.683e-4)",
+            ),
+            ("not determined", false, "not determined (any value)"),
+            (
+                "not determined (the noise is not measured)",
+                false,
+                "not determined (the noise is not measured)",
+            ),
+        ];
+        for (status, interval, expected) in cases {
+            assert_eq!(reads(status, interval), expected, "{status}");
+        }
     }
 }
