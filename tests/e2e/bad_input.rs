@@ -74,11 +74,11 @@ fn csv_errors_name_file_line_and_field() {
             &[":2", "shear_kPa_x", "unknown column", "shear_kpa"],
         ),
         (
-            "NaN cell",
+            "an overflow in a cell",
             7,
             "0.240",
-            "0.240,0.00400,NaN",
-            &[":7", "shear_kpa", "NaN", "finite"],
+            "0.240,0.00400,inf",
+            &[":7", "shear_kpa", "inf", "finite"],
         ),
         (
             "non-increasing time",
@@ -140,6 +140,41 @@ fn csv_errors_name_file_line_and_field() {
         );
         assert!(!out.exists(), "{what}: output written despite the error");
     }
+}
+
+#[test]
+fn a_missing_sample_is_a_gap_every_command_reads_and_says() {
+    // A logger's NaN is no error: the row is left out, and check and fit say which line.
+    let tmp = tempfile::tempdir().unwrap();
+    let set = copy_set("table1-medium", tmp.path());
+    let csv = set.join("monotonic.csv");
+    let before = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(
+        before.lines().nth(6).unwrap().split(',').next(),
+        Some("0.240")
+    );
+    replace_line(&csv, 7, "0.240,0.00400,NaN");
+    let (out, err) = subfric!().ok_both(args!["check", &set]);
+    assert_mentions(&out, &["monotonic"]);
+    assert_mentions(
+        &err,
+        &[
+            "monotonic.csv",
+            "shear_kpa",
+            "1 row without a value",
+            "line 7",
+        ],
+    );
+    let (_, err) = subfric!().ok_both(args![
+        "fit",
+        &set,
+        "--no-profiles",
+        "--out",
+        &tmp.path().join("fit"),
+        "--progress",
+        "never"
+    ]);
+    assert_mentions(&err, &["monotonic.csv", "read as gap", "line 7"]);
 }
 
 #[test]
