@@ -281,6 +281,59 @@ fn bad_fit_options_are_errors_that_say_what_is_expected() {
 }
 
 #[test]
+fn import_keeps_the_stretch_asked_and_refuses_a_keep_it_cannot_read() {
+    let tmp = tempfile::tempdir().unwrap();
+    let lab = tmp.path().join("box.csv");
+    // An aborted first stage before 10 s, then the real one.
+    std::fs::write(
+        &lab,
+        "t,u,tau\n0,0,0\n5,0.02,8\n10,0,0\n20,0.4,30\n30,0.8,32\n",
+    )
+    .unwrap();
+    let import = |set: &str, keep: &str| {
+        args![
+            "import",
+            &lab,
+            "--out",
+            &tmp.path().join(set),
+            "--time",
+            "t",
+            "--slip",
+            "u",
+            "--shear",
+            "tau",
+            "--normal-stress",
+            "100",
+            "--keep",
+            keep
+        ]
+        .iter()
+        .map(|a| a.to_os_string())
+        .collect::<Vec<_>>()
+    };
+    fn as_args(v: &[std::ffi::OsString]) -> Vec<&OsStr> {
+        v.iter().map(|a| a.as_os_str()).collect()
+    }
+    subfric!().ok(&as_args(&import("kept", "time=10:")));
+    let csv = std::fs::read_to_string(tmp.path().join("kept/test.csv")).unwrap();
+    assert_mentions(
+        &csv,
+        &[
+            "trimmed as asked (--keep time=10:): 3 of 5 rows kept",
+            "lines 2–3",
+        ],
+    );
+    // A form the flag cannot read is a usage error saying the form; nothing is written.
+    let err = subfric!().usage_err(&as_args(&import("bad", "force=1:2")));
+    assert_mentions(&err, &["--keep", "unknown column `force`", "time=FROM:TO"]);
+    assert!(!tmp.path().join("bad").exists());
+    // A stretch the record never reaches is an error naming the column; nothing is written.
+    let err = run_err(&as_args(&import("never", "time=100:")));
+    assert_mentions(&err, &["box.csv", "time_s", "keeps no row"]);
+    assert!(!tmp.path().join("never").exists());
+}
+
+#[test]
 fn import_with_a_missing_column_names_file_line_and_column() {
     let tmp = tempfile::tempdir().unwrap();
     let lab = tmp.path().join("lab.tsv");
