@@ -76,6 +76,21 @@ pub(crate) fn gap_note(path: &Path, gaps: &[(usize, Vec<String>)]) -> Option<War
     })
 }
 
+/// What the reader made of a record, one note each: the rows left out as `gaps`, and the
+/// repeated stamps of `time` spread over their tick (`time` changed in place; `lines` the
+/// rows' lines in the file).
+pub(crate) fn reading_notes(
+    path: &Path,
+    gaps: &[(usize, Vec<String>)],
+    time: &mut [f64],
+    lines: &[usize],
+) -> Vec<Warning> {
+    gap_note(path, gaps)
+        .into_iter()
+        .chain(spread_repeated_stamps(time, lines, path))
+        .collect()
+}
+
 /// Spreads rows whose time stamps repeat evenly over their clock tick — a run of k rows stamped
 /// t, followed by the next stamp t', takes t + j (t' − t) / k; a last run takes the tick before
 /// it — and says so. Only where the stamps never go back and every repeated run has a tick to

@@ -728,15 +728,14 @@ pub(crate) fn parse_test_csv(
             }
         }
     }
-    let notes: Vec<crate::Warning> = crate::gaps::gap_note(path, &gaps).into_iter().collect();
-    assemble_test(header, rows, (comments, notes), path, spec, scale, pr)
+    assemble_test(header, rows, (comments, gaps), path, spec, scale, pr)
 }
 
 /// Builds the test from parsed rows and validates its numbers.
 fn assemble_test(
     header: Header,
     rows: Vec<(usize, Vec<f64>)>,
-    (comments, reading_notes): (Vec<String>, Vec<crate::Warning>),
+    (comments, gaps): (Vec<String>, Vec<(usize, Vec<String>)>),
     path: &Path,
     spec: &TestSpec,
     scale: crate::meta::ColumnScale,
@@ -757,7 +756,7 @@ fn assemble_test(
                 path,
                 Some(header.line),
                 None,
-                if reading_notes.is_empty() {
+                if gaps.is_empty() {
                     "the test has a header but no data rows (expected at least one row of numbers)"
                 } else {
                     "the test has a header but every row misses a value (expected at least one row with a number in every column)"
@@ -777,7 +776,7 @@ fn assemble_test(
         friction_given: shear_idx.is_none(),
         line_of_row: Vec::with_capacity(n),
         comments,
-        reading_notes,
+        reading_notes: Vec::new(),
         channels: header
             .cols
             .iter()
@@ -815,9 +814,8 @@ fn assemble_test(
         td.normal_kpa.push(normal);
         td.line_of_row.push(*line);
     }
-    if let Some(note) = crate::gaps::spread_repeated_stamps(&mut td.time_s, &td.line_of_row, path) {
-        td.reading_notes.push(note);
-    }
+    // What the reader made of the file: the gaps left out, a coarse clock spread.
+    td.reading_notes = crate::gaps::reading_notes(path, &gaps, &mut td.time_s, &td.line_of_row);
     pr.extend(validate_data(&td, normal_idx.is_some()));
     pr.into_result(td).map_err(|e| match e {
         DataError::Problems(p) => p,

@@ -15,7 +15,8 @@ pub enum KeepColumn {
 }
 
 impl KeepColumn {
-    fn name(self) -> &'static str {
+    /// The column's name in a test CSV.
+    pub(crate) fn name(self) -> &'static str {
         match self {
             KeepColumn::Time => "time_s",
             KeepColumn::Slip => "slip_mm",

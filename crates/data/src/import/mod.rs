@@ -609,10 +609,7 @@ pub fn read_lab_file(
                 pr.add(
                     lf,
                     None,
-                    Some(match keep.column {
-                        KeepColumn::Time => "time_s",
-                        KeepColumn::Slip => "slip_mm",
-                    }),
+                    Some(keep.column.name()),
                     format!("--keep {keep} keeps no row (expected a stretch the record reaches)"),
                 );
             }
@@ -622,14 +619,7 @@ pub fn read_lab_file(
         None => rows,
     };
     let mut time_s = rows.time_s;
-    let reading_notes: Vec<crate::Warning> = crate::gaps::gap_note(lf, &rows.gaps)
-        .into_iter()
-        .chain(crate::gaps::spread_repeated_stamps(
-            &mut time_s,
-            &rows.line_of_row,
-            lf,
-        ))
-        .collect();
+    let reading_notes = crate::gaps::reading_notes(lf, &rows.gaps, &mut time_s, &rows.line_of_row);
     // The written test keeps what the reader did as provenance (a gap, a spread clock).
     comments.extend(reading_notes.iter().map(|n| n.message.clone()));
     let td = TestData {
