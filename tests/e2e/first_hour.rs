@@ -7,7 +7,9 @@
 
 use std::path::Path;
 use subfric_e2e::html::check_report;
-use subfric_e2e::{args, copy_dir, copy_set, golden, read_json, repo, subfric, text};
+use subfric_e2e::{
+    args, assert_mentions, copy_dir, copy_set, golden, read_json, repo, subfric, text,
+};
 
 /// The golden lab-style set (four tests, a rate effect the base model lacks), copied.
 fn pair_01(tmp: &Path) -> std::path::PathBuf {
@@ -507,4 +509,87 @@ fn simulate_leaves_out_a_seating_toe_and_writes_a_set_that_loads() {
         toes > 0,
         "the rig and lab profiles put a seating toe on tests loaded from rest"
     );
+}
+
+/// A GDS `.ini` export as the apparatus writes it: one `Key="v1,v2,…"` line per channel, the
+/// box's area and the rate as single values, stages as a channel (a 7-row aborted shear
+/// stage before the real one), no time column.
+fn gds_ini(dir: &Path) -> std::path::PathBuf {
+    let (mut stage, mut h, mut v, mut f) = (vec![], vec![], vec![], vec![]);
+    for i in 0..7 {
+        stage.push("1".to_string());
+        h.push(format!("{:.3}", 0.01 * f64::from(i)));
+        v.push(format!("{:.4}", -0.001 * f64::from(i)));
+        f.push(format!("{:.4}", 0.05 * f64::from(i)));
+    }
+    for i in 0..150 {
+        let x = 0.05 * f64::from(i);
+        let q_kn = 0.6 * 0.1 * 3.6 * (1.0 - (-x / 0.4).exp());
+        stage.push("2".to_string());
+        h.push(format!("{x:.3}"));
+        v.push(format!("{:.4}", 0.3 * (1.0 - (-x / 2.0).exp())));
+        f.push(format!("{q_kn:.4}"));
+    }
+    let n = stage.len();
+    let text = format!(
+        "[Test Data]\nSpecimen=\"dense sand, mild steel\"\nArea=\"3600\"\nRate of shear displacement=\"0.5\"\nStage Number=\"{}\"\nHorizontal Displacement=\"{}\"\nVertical Displacement=\"{}\"\nShear Force=\"{}\"\nNormal Stress=\"{}\"\n",
+        stage.join(","),
+        h.join(","),
+        v.join(","),
+        f.join(","),
+        vec!["100.0"; n].join(",")
+    );
+    let p = dir.join("DS-04.ini");
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn a_gds_ini_export_imports_in_one_command_and_says_every_choice() {
+    let tmp = tempfile::tempdir().unwrap();
+    let lab = gds_ini(tmp.path());
+    let set = tmp.path().join("ds");
+    // Without a time and with a rate that states no unit, the unit is asked for.
+    let err = subfric!().err(args!["import", &lab, "--out", &set]);
+    assert_mentions(
+        &err,
+        &["DS-04.ini:4", "Rate of shear displacement", "--rate-unit"],
+    );
+    assert!(!set.exists(), "nothing written on refusal");
+    let o = subfric!().run(args![
+        "import",
+        &lab,
+        "--out",
+        &set,
+        "--rate-unit",
+        "mm/min",
+        "--test-name",
+        "ds04"
+    ]);
+    let err = text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert_mentions(
+        &err,
+        &[
+            "stage 2 is kept, the one with the longest shear travel",
+            "values 1–7",
+            "over the stated rate 0.5 mm/min",
+            "`Shear Force` in kN",
+        ],
+    );
+    let csv = std::fs::read_to_string(set.join("ds04.csv")).unwrap();
+    let header = csv
+        .lines()
+        .find(|l| !l.starts_with('#'))
+        .unwrap_or_default();
+    assert_eq!(
+        header,
+        "time_s,slip_mm,shear_kpa,normal_disp_mm,shear_force_kn"
+    );
+    // The set checks and fits like any other.
+    subfric!().ok(args!["check", &set]);
+    let out = tmp.path().join("fit");
+    let o = subfric!().run(args!["fit", &set, "--no-profiles", "--out", &out]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(out.join("fit.json").exists());
 }

@@ -252,6 +252,15 @@ impl From<DelimiterArg> for Delimiter {
     }
 }
 
+/// `NAME=COLUMN` of `--channel`.
+fn parse_channel(s: &str) -> Result<(String, ColumnRef), String> {
+    let (name, col) = s
+        .split_once('=')
+        .ok_or_else(|| format!("`{s}` is not NAME=COLUMN (expected e.g. normal_disp_mm=\"Vertical (mm)\" or normal_disp_mm=5)"))?;
+    let col: ColumnRef = col.parse()?;
+    Ok((name.trim().to_string(), col))
+}
+
 /// `subfric import`.
 #[derive(Args, Debug)]
 pub struct ImportArgs {
@@ -312,6 +321,25 @@ pub struct ImportArgs {
     /// comments say which lines went [default: every row].
     #[arg(long, value_name = "COLUMN=FROM:TO")]
     pub keep: Option<subfric_data::Keep>,
+    /// How the file is laid out: `gds` maps a GDS export's channels by their names (the
+    /// `.ini` channel file, or the tabular GDSLAB export) and the column options above are
+    /// not used; `delimited` reads the columns named; `auto` tells them apart.
+    #[arg(long, default_value = "auto", value_name = "auto|delimited|gds")]
+    pub format: subfric_data::ImportFormat,
+    /// The stage to keep, by number or name, when the file holds several (a `stage` or
+    /// `Stage Number` column, a GDS file's stages) [default: the stage with the longest shear
+    /// travel, said].
+    #[arg(long)]
+    pub stage: Option<String>,
+    /// A further channel to carry with the test, `NAME=COLUMN` (header name or 1-based
+    /// index), in the unit its name states: normal_disp_mm, temperature_c, shear_force_kn,
+    /// normal_force_kn, area_mm2. Repeatable.
+    #[arg(long = "channel", value_name = "NAME=COLUMN", value_parser = parse_channel)]
+    pub channels: Vec<(String, ColumnRef)>,
+    /// Unit of a GDS file's rate of shear displacement when the file states none (the time
+    /// is then the displacement over the rate), e.g. mm/min.
+    #[arg(long, value_name = "LENGTH/TIME")]
+    pub rate_unit: Option<subfric_data::RateUnit>,
     /// Test name.
     #[arg(long, default_value = "test")]
     pub test_name: String,

@@ -161,6 +161,10 @@ fn import_spec(a: &ImportArgs) -> ImportSpec {
         surface: a.surface.clone(),
         source: Some(a.file.display().to_string()),
         keep: a.keep,
+        format: a.format,
+        stage: a.stage.clone(),
+        channels: a.channels.clone(),
+        rate_unit: a.rate_unit,
     }
 }
 

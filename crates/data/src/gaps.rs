@@ -53,7 +53,8 @@ pub(crate) fn describe_lines(lines: &[usize]) -> String {
 
 /// The note for rows left out as gaps: `gaps` holds each such row's line and the columns it
 /// missed.
-pub(crate) fn gap_note(path: &Path, gaps: &[(usize, Vec<String>)]) -> Option<Warning> {
+/// `place` is what a row's place counts (`line`, or `value` of a file of channel lists).
+pub(crate) fn gap_note(path: &Path, gaps: &[(usize, Vec<String>)], place: &str) -> Option<Warning> {
     if gaps.is_empty() {
         return None;
     }
@@ -69,7 +70,7 @@ pub(crate) fn gap_note(path: &Path, gaps: &[(usize, Vec<String>)]) -> Option<War
         file: path.to_path_buf(),
         field: columns.join(", "),
         message: format!(
-            "{n} row{s} without a value (an empty cell, NaN or NA) read as gap{s}, left out of the record: line{s} {} (a logger's missing sample; a row needs every column to be used)",
+            "{n} row{s} without a value (an empty cell, NaN or NA) read as gap{s}, left out of the record: {place}{s} {} (a logger's missing sample; a row needs every column to be used)",
             describe_lines(&lines),
             s = if n == 1 { "" } else { "s" },
         ),
@@ -78,16 +79,17 @@ pub(crate) fn gap_note(path: &Path, gaps: &[(usize, Vec<String>)]) -> Option<War
 
 /// What the reader made of a record, one note each: the rows left out as `gaps`, and the
 /// repeated stamps of `time` spread over their tick (`time` changed in place; `lines` the
-/// rows' lines in the file).
+/// rows' places in the file, each a `place`: a line, or a value of a file of channel lists).
 pub(crate) fn reading_notes(
     path: &Path,
     gaps: &[(usize, Vec<String>)],
     time: &mut [f64],
     lines: &[usize],
+    place: &str,
 ) -> Vec<Warning> {
-    gap_note(path, gaps)
+    gap_note(path, gaps, place)
         .into_iter()
-        .chain(spread_repeated_stamps(time, lines, path))
+        .chain(spread_repeated_stamps(time, lines, path, place))
         .collect()
 }
 
@@ -95,11 +97,12 @@ pub(crate) fn reading_notes(
 /// t, followed by the next stamp t', takes t + j (t' − t) / k; a last run takes the tick before
 /// it — and says so. Only where the stamps never go back and every repeated run has a tick to
 /// spread over: a clock that goes back, or a single stamp, is left for validation to refuse.
-/// `lines` are the rows' lines in the file.
+/// `lines` are the rows' places in the file, each a `place` (a line, or a value of a list).
 pub(crate) fn spread_repeated_stamps(
     time: &mut [f64],
     lines: &[usize],
     path: &Path,
+    place: &str,
 ) -> Option<Warning> {
     let n = time.len();
     let finite = time.iter().all(|t| t.is_finite());
@@ -153,7 +156,7 @@ pub(crate) fn spread_repeated_stamps(
         file: path.to_path_buf(),
         field: "time_s".into(),
         message: format!(
-            "time_s repeats its stamp on {m} row{s} (line{s} {}): a clock coarser than the sampling (a tick of {} s); the rows within a tick are spread evenly over it (expected time_s strictly increasing; a clock that goes back is refused)",
+            "time_s repeats its stamp on {m} row{s} ({place}{s} {}): a clock coarser than the sampling (a tick of {} s); the rows within a tick are spread evenly over it (expected time_s strictly increasing; a clock that goes back is refused)",
             describe_lines(&repeated_lines),
             crate::text::short_number(smallest_tick),
             s = if m == 1 { "" } else { "s" },
@@ -191,7 +194,7 @@ mod tests {
         // Stamps 0,0,0,0,1,1,1,1,2,2: the last run spreads over the tick before it.
         let mut t = vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 2.0, 2.0];
         let lines: Vec<usize> = (2..12).collect();
-        let w = spread_repeated_stamps(&mut t, &lines, Path::new("a.csv")).expect("spread");
+        let w = spread_repeated_stamps(&mut t, &lines, Path::new("a.csv"), "line").expect("spread");
         assert_eq!(
             t,
             vec![0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5]
@@ -205,12 +208,14 @@ mod tests {
     #[test]
     fn stamps_that_go_back_or_never_tick_are_left_for_validation() {
         let mut back = vec![0.0, 1.0, 1.0, 0.5];
-        assert!(spread_repeated_stamps(&mut back, &[1, 2, 3, 4], Path::new("a")).is_none());
+        assert!(spread_repeated_stamps(&mut back, &[1, 2, 3, 4], Path::new("a"), "line").is_none());
         assert_eq!(back, vec![0.0, 1.0, 1.0, 0.5]);
         let mut one_stamp = vec![1.0, 1.0];
-        assert!(spread_repeated_stamps(&mut one_stamp, &[1, 2], Path::new("a")).is_none());
+        assert!(spread_repeated_stamps(&mut one_stamp, &[1, 2], Path::new("a"), "line").is_none());
         let mut increasing = vec![0.0, 1.0, 2.0];
-        assert!(spread_repeated_stamps(&mut increasing, &[1, 2, 3], Path::new("a")).is_none());
+        assert!(
+            spread_repeated_stamps(&mut increasing, &[1, 2, 3], Path::new("a"), "line").is_none()
+        );
     }
 
     #[test]
@@ -219,7 +224,7 @@ mod tests {
             (4, vec!["shear_kpa".to_string()]),
             (5, vec!["shear_kpa".to_string(), "slip_mm".to_string()]),
         ];
-        let w = gap_note(Path::new("a.csv"), &gaps).expect("a note");
+        let w = gap_note(Path::new("a.csv"), &gaps, "line").expect("a note");
         assert_eq!(w.field, "shear_kpa, slip_mm");
         assert!(
             w.message.starts_with("2 rows without a value"),
@@ -227,6 +232,6 @@ mod tests {
             w.message
         );
         assert!(w.message.contains("lines 4–5"), "{}", w.message);
-        assert!(gap_note(Path::new("a.csv"), &[]).is_none());
+        assert!(gap_note(Path::new("a.csv"), &[], "line").is_none());
     }
 }

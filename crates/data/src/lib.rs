@@ -56,7 +56,8 @@ pub use condition::{condition_imposed, condition_imposed_with, Conditioned};
 pub use error::{DataError, InputProblem};
 pub use fsio::{write_atomic, PathKind};
 pub use import::{
-    import, ColumnRef, Delimiter, ImportSpec, Keep, KeepColumn, LengthUnit, StressUnit, TimeUnit,
+    import, ColumnRef, Delimiter, ImportFormat, ImportSpec, Keep, KeepColumn, LengthUnit, RateUnit,
+    StressUnit, TimeUnit,
 };
 pub use meta::{parse_meta, ControlColumn, ExperimentMeta, InitialSpec, Interface, TestSpec};
 pub use noise::{estimate_noise, NoiseEstimate};

@@ -815,7 +815,8 @@ fn assemble_test(
         td.line_of_row.push(*line);
     }
     // What the reader made of the file: the gaps left out, a coarse clock spread.
-    td.reading_notes = crate::gaps::reading_notes(path, &gaps, &mut td.time_s, &td.line_of_row);
+    td.reading_notes =
+        crate::gaps::reading_notes(path, &gaps, &mut td.time_s, &td.line_of_row, "line");
     pr.extend(validate_data(&td, normal_idx.is_some()));
     pr.into_result(td).map_err(|e| match e {
         DataError::Problems(p) => p,

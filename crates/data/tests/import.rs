@@ -38,6 +38,7 @@ fn tab_spec() -> ImportSpec {
         surface: Some("mild steel".into()),
         source: None,
         keep: None,
+        ..ImportSpec::default()
     }
 }
 

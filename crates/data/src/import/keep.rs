@@ -113,7 +113,13 @@ impl fmt::Display for Keep {
 }
 
 /// The note for rows trimmed off: `lines` of every row read, `kept` the rows kept.
-pub(crate) fn trim_note(keep: &Keep, lines: &[usize], kept: &std::ops::Range<usize>) -> String {
+/// `place` is what a row's place counts (`line`, or `value` of a file of channel lists).
+pub(crate) fn trim_note(
+    keep: &Keep,
+    lines: &[usize],
+    kept: &std::ops::Range<usize>,
+    place: &str,
+) -> String {
     let before = &lines[..kept.start];
     let after = &lines[kept.end..];
     let unit = match keep.column {
@@ -121,8 +127,8 @@ pub(crate) fn trim_note(keep: &Keep, lines: &[usize], kept: &std::ops::Range<usi
         KeepColumn::Slip => "mm",
     };
     let span = |l: &[usize]| match (l.first(), l.last()) {
-        (Some(a), Some(b)) if a == b => Some(format!("line {a}")),
-        (Some(a), Some(b)) => Some(format!("lines {a}–{b}")),
+        (Some(a), Some(b)) if a == b => Some(format!("{place} {a}")),
+        (Some(a), Some(b)) => Some(format!("{place}s {a}–{b}")),
         _ => None,
     };
     let name = keep.column.name();
@@ -185,7 +191,7 @@ mod tests {
     fn the_note_names_the_lines_trimmed_off() {
         let k: Keep = "time=1.5:3.5".parse().unwrap();
         let lines = [2, 3, 4, 5, 6];
-        let note = trim_note(&k, &lines, &(2..4));
+        let note = trim_note(&k, &lines, &(2..4), "line");
         assert_eq!(
             note,
             "trimmed as asked (--keep time=1.5:3.5): 2 of 5 rows kept; lines 2–3 before time_s reached 1.5 s and line 6 from where time_s passed 3.5 s left out"

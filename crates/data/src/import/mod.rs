@@ -1,11 +1,13 @@
 //! Import of laboratory files (any delimiter, units and column names) into an experiment set.
 
+mod gds;
 mod keep;
+mod stage;
 mod text;
 mod units;
 
 pub use keep::{Keep, KeepColumn};
-pub use units::{ColumnRef, Delimiter, LengthUnit, StressUnit, TimeUnit};
+pub use units::{ColumnRef, Delimiter, ImportFormat, LengthUnit, RateUnit, StressUnit, TimeUnit};
 
 use std::path::{Path, PathBuf};
 
@@ -15,10 +17,11 @@ use crate::csvio::Item;
 use crate::error::{DataError, InputProblem, Problems};
 use crate::fsio::{commit_file, stage_file, PathKind};
 use crate::meta::{ControlColumn, ExperimentMeta, Interface, TestSpec};
+use crate::plausible::Warning;
 use crate::set::comment_text;
 use crate::set::{
-    load_set, meta_json_text, prepare_parent, test_csv_text, validate_data, ExperimentSet,
-    TestData, EXPERIMENT_JSON, MAX_MAGNITUDE,
+    load_set, meta_json_text, prepare_parent, test_csv_text, validate_data, Channel, ExperimentSet,
+    TestData, CHANNEL_COLUMNS, EXPERIMENT_JSON, MAX_MAGNITUDE,
 };
 use text::{
     content_lines, detect, read_lab_text, resolution, separator, skip_hint, with_precision,
@@ -69,6 +72,20 @@ pub struct ImportSpec {
     /// The stretch of the record to keep (an aborted stage, the end-of-travel drop trimmed
     /// off); `None` keeps every row.
     pub keep: Option<Keep>,
+    /// How the file is laid out: a delimited table read through the columns above, or a GDS
+    /// export whose channels are mapped by their names; `Auto` tells them apart.
+    pub format: ImportFormat,
+    /// The stage to keep, by its number or name, when the file holds several (a stage
+    /// column, or a GDS file's stages); `None` keeps the one with the longest shear travel and
+    /// says so.
+    pub stage: Option<String>,
+    /// Further channels to carry with the test: a name of [`crate::CHANNEL_COLUMNS`] and the
+    /// column holding it, in that name's unit (a delimited file; a GDS file's are found by
+    /// their names).
+    pub channels: Vec<(String, ColumnRef)>,
+    /// Unit of the rate of shear displacement a GDS file states without one (the time is
+    /// then the displacement over that rate).
+    pub rate_unit: Option<RateUnit>,
 }
 
 impl Default for ImportSpec {
@@ -95,6 +112,10 @@ impl Default for ImportSpec {
             surface: None,
             source: None,
             keep: None,
+            format: ImportFormat::Auto,
+            stage: None,
+            channels: Vec::new(),
+            rate_unit: None,
         }
     }
 }
@@ -269,6 +290,8 @@ struct Columns {
     shear: Option<(Col, StressUnit)>,
     friction: Option<Col>,
     normal: Option<(Col, StressUnit)>,
+    /// Further channels: their names in a test CSV and their columns.
+    channels: Vec<(String, Col)>,
 }
 
 /// Resolves one column reference against the header `names` (empty without a header).
@@ -362,6 +385,30 @@ fn resolve_columns(
         .normal
         .as_ref()
         .map(|(c, u)| (res(c, "normal", &mut pr), *u));
+    let mut channels = Vec::new();
+    for (name, c) in &spec.channels {
+        let name = name.trim();
+        if !CHANNEL_COLUMNS.contains(&name) {
+            pr.add(
+                lf,
+                None,
+                Some(name),
+                format!(
+                    "`{name}` is not a channel a test carries (expected one of: {})",
+                    CHANNEL_COLUMNS.join(", ")
+                ),
+            );
+        } else if channels.iter().any(|(n, _)| n == name) {
+            pr.add(
+                lf,
+                None,
+                Some(name),
+                format!("channel `{name}` given twice (expected one column for it)"),
+            );
+        } else if let Some(col) = res(c, name, &mut pr) {
+            channels.push((name.to_string(), col));
+        }
+    }
     match (time, slip) {
         (Some(time), Some(slip)) if pr.is_empty() => Ok(Columns {
             time,
@@ -369,6 +416,7 @@ fn resolve_columns(
             shear: shear.and_then(|(c, u)| c.map(|c| (c, u))),
             friction: friction.flatten(),
             normal: normal.and_then(|(c, u)| c.map(|c| (c, u))),
+            channels,
         }),
         _ => Err(DataError::Problems(pr.into_vec())),
     }
@@ -384,6 +432,8 @@ struct LabRows {
     line_of_row: Vec<usize>,
     /// Rows without a value: their lines and the columns they miss.
     gaps: Vec<(usize, Vec<String>)>,
+    /// Each further channel's values (NaN where the logger missed a sample).
+    channels: Vec<Vec<f64>>,
 }
 
 impl LabRows {
@@ -397,6 +447,7 @@ impl LabRows {
             shear_kpa: cut(self.shear_kpa),
             normal_kpa: cut(self.normal_kpa),
             gaps: self.gaps,
+            channels: self.channels.into_iter().map(cut).collect(),
         }
     }
 }
@@ -453,7 +504,10 @@ fn read_rows(
     delim: Delimiter,
     pr: &mut Problems,
 ) -> LabRows {
-    let mut rows = LabRows::default();
+    let mut rows = LabRows {
+        channels: vec![Vec::new(); cols.channels.len()],
+        ..LabRows::default()
+    };
     let decimal_comma = delim != Delimiter::Comma;
     let stress = |u: StressUnit| u.kpa_per_unit(spec.area_mm2).unwrap_or(f64::NAN);
     for (line_no, cells) in data_records {
@@ -493,7 +547,22 @@ fn read_rows(
                 .map(|((f, q), n)| with_precision(f, q, n)),
             (None, None) => Some(f64::NAN),
         };
+        // A further channel's missing sample is a missing value, not a gap of the row.
+        let channel_values: Vec<Option<f64>> = cols
+            .channels
+            .iter()
+            .map(|(_, c)| match cells.get(c.0) {
+                Some(x) if crate::gaps::is_missing(x) => Some(f64::NAN),
+                _ => cell_reading(lf, line_no, cells, c, decimal_comma, pr).map(|(x, _)| x),
+            })
+            .collect();
+        if channel_values.iter().any(Option::is_none) {
+            continue;
+        }
         if let (Some(tv), Some(sv), Some(qv), Some(nv)) = (tv, sv, qv, nv) {
+            for (values, v) in rows.channels.iter_mut().zip(&channel_values) {
+                values.push(v.unwrap_or(f64::NAN));
+            }
             rows.time_s.push(tv);
             rows.slip_mm.push(sv);
             rows.shear_kpa.push(qv);
@@ -521,6 +590,21 @@ fn spec_normal(spec: &ImportSpec, cols: &Columns, normal_kpa: &[f64]) -> f64 {
     }
 }
 
+/// A lab file read as a table of cells, whatever its layout: the header's names (empty
+/// without one), the line of the header (or of the first record), the data records with the
+/// place each came from, the file's comments, and the notes of what the format's reader did.
+pub(super) struct LabTable {
+    pub(super) names: Vec<String>,
+    pub(super) first_line: usize,
+    pub(super) records: Vec<(usize, Vec<String>)>,
+    pub(super) delim: Delimiter,
+    pub(super) comments: Vec<String>,
+    pub(super) notes: Vec<Warning>,
+    /// What a record's place counts: a `line` of a text table, or a `value` of a GDS `.ini`
+    /// file's channel lists (one line holds a channel's every value).
+    pub(super) place: &'static str,
+}
+
 /// Reads a lab file into a test (not yet written); problems name the lab file and its lines.
 pub fn read_lab_file(
     lab_file: &Path,
@@ -528,8 +612,30 @@ pub fn read_lab_file(
     target: &Path,
 ) -> Result<TestData, DataError> {
     let lf = lab_file;
-    spec_problems(lf, spec).into_result(())?;
+    if spec.format == ImportFormat::Delimited {
+        spec_problems(lf, spec).into_result(())?;
+    }
     let text = read_lab_text(lf)?;
+    let gds = match spec.format {
+        ImportFormat::Gds => true,
+        ImportFormat::Delimited => false,
+        ImportFormat::Auto => gds::looks_like_gds(lf, &text),
+    };
+    if gds {
+        // The channels are found by their names: the columns the options name are not used.
+        let (table, read_spec) = gds::read(lf, &text, spec)?;
+        spec_problems(lf, &read_spec).into_result(())?;
+        return test_from_table(lf, &read_spec, table, target, None);
+    }
+    if spec.format == ImportFormat::Auto {
+        spec_problems(lf, spec).into_result(())?;
+    }
+    let table = delimited_table(lf, spec, &text)?;
+    test_from_table(lf, spec, table, target, Some(&text))
+}
+
+/// A delimited lab file as a table: the comments kept, the header split off when it has one.
+fn delimited_table(lf: &Path, spec: &ImportSpec, text: &str) -> Result<LabTable, DataError> {
     let no_data = || {
         DataError::Problems(vec![InputProblem::new(
             lf,
@@ -538,7 +644,7 @@ pub fn read_lab_file(
             "no data in the file (expected a header line and rows of numbers)",
         )])
     };
-    let first = content_lines(&text, spec.skip_lines).next();
+    let first = content_lines(text, spec.skip_lines).next();
     let Some((_, first)) = first else {
         return Err(no_data());
     };
@@ -548,15 +654,10 @@ pub fn read_lab_file(
     };
     let mut comments = Vec::new();
     let mut records: Vec<(usize, Vec<String>)> = Vec::new();
-    crate::csvio::read(
-        &text,
-        spec.skip_lines,
-        separator(delim),
-        |item| match item {
-            Item::Comment(_, c) => comments.push(comment_text(&c)),
-            Item::Record(line, cells) => records.push((line, cells.to_vec())),
-        },
-    )
+    crate::csvio::read(text, spec.skip_lines, separator(delim), |item| match item {
+        Item::Comment(_, c) => comments.push(comment_text(&c)),
+        Item::Record(line, cells) => records.push((line, cells.to_vec())),
+    })
     .map_err(|(line, why)| {
         DataError::Problems(vec![InputProblem::new(
             lf,
@@ -568,14 +669,43 @@ pub fn read_lab_file(
     let Some(first_line) = records.first().map(|r| r.0) else {
         return Err(no_data());
     };
-    let (names, data_records): (Vec<String>, &[(usize, Vec<String>)]) = if spec.has_header {
-        (records[0].1.clone(), &records[1..])
+    let names = if spec.has_header {
+        records.remove(0).1
     } else {
-        (Vec::new(), &records[..])
+        Vec::new()
     };
+    Ok(LabTable {
+        names,
+        first_line,
+        records,
+        delim,
+        comments,
+        notes: Vec::new(),
+        place: "line",
+    })
+}
+
+/// The test a table holds, read through the columns `spec` names; `text` is the file's text
+/// when it is a delimited file (for the hint at `--skip` on a header block).
+fn test_from_table(
+    lf: &Path,
+    spec: &ImportSpec,
+    table: LabTable,
+    target: &Path,
+    text: Option<&str>,
+) -> Result<TestData, DataError> {
+    let LabTable {
+        names,
+        first_line,
+        records,
+        delim,
+        mut comments,
+        notes,
+        place,
+    } = table;
     let hinted = |e: DataError| match (
         e,
-        skip_hint(&text, spec.skip_lines, spec.has_header, spec.delimiter),
+        text.and_then(|t| skip_hint(t, spec.skip_lines, spec.has_header, spec.delimiter)),
     ) {
         (DataError::Problems(mut v), Some(hint)) => {
             v.insert(0, InputProblem::new(lf, None, None, hint));
@@ -584,9 +714,11 @@ pub fn read_lab_file(
         (e, _) => e,
     };
     let cols = resolve_columns(lf, spec, first_line, &names).map_err(hinted)?;
+    let (records, stage_note) =
+        stage::choose(lf, spec, &names, first_line, &cols.slip, records, place)?;
     let mut pr = Problems::default();
-    let rows = read_rows(lf, spec, &cols, data_records, delim, &mut pr);
-    if data_records.is_empty() {
+    let rows = read_rows(lf, spec, &cols, &records, delim, &mut pr);
+    if records.is_empty() && stage_note.is_none() {
         pr.add(
             lf,
             Some(first_line),
@@ -594,7 +726,7 @@ pub fn read_lab_file(
             "the file has a header but no data rows (expected rows of numbers)",
         );
     }
-    let file_name = lab_file
+    let file_name = lf
         .file_name()
         .map(|s| s.to_string_lossy().to_string())
         .unwrap_or_default();
@@ -613,15 +745,33 @@ pub fn read_lab_file(
                     format!("--keep {keep} keeps no row (expected a stretch the record reaches)"),
                 );
             }
-            comments.push(keep::trim_note(keep, &rows.line_of_row, &kept));
+            comments.push(keep::trim_note(keep, &rows.line_of_row, &kept, place));
             rows.within(kept)
         }
         None => rows,
     };
     let mut time_s = rows.time_s;
-    let reading_notes = crate::gaps::reading_notes(lf, &rows.gaps, &mut time_s, &rows.line_of_row);
-    // The written test keeps what the reader did as provenance (a gap, a spread clock).
+    let mut reading_notes = notes;
+    reading_notes.extend(stage_note);
+    reading_notes.extend(crate::gaps::reading_notes(
+        lf,
+        &rows.gaps,
+        &mut time_s,
+        &rows.line_of_row,
+        place,
+    ));
+    // The written test keeps what the reader did as provenance (a gap, a spread clock, the
+    // stage kept, the units a GDS file left unsaid).
     comments.extend(reading_notes.iter().map(|n| n.message.clone()));
+    let channels = cols
+        .channels
+        .iter()
+        .zip(rows.channels)
+        .map(|((name, _), values)| Channel {
+            name: name.clone(),
+            values,
+        })
+        .collect();
     let td = TestData {
         spec: TestSpec {
             name: spec.test_name.trim().to_string(),
@@ -632,7 +782,7 @@ pub fn read_lab_file(
             units: None,
             extra: Map::new(),
         },
-        path: lab_file.to_path_buf(),
+        path: lf.to_path_buf(),
         time_s,
         slip_mm: rows.slip_mm,
         shear_kpa: rows.shear_kpa,
@@ -641,14 +791,36 @@ pub fn read_lab_file(
         line_of_row: rows.line_of_row,
         comments,
         reading_notes,
-        channels: Vec::new(),
+        channels,
     };
     if pr.is_empty() {
         pr.extend(validate_data(&td, cols.normal.is_some()));
     }
-    let mut td = pr.into_result(td).map_err(hinted)?;
+    let mut td = pr
+        .into_result(td)
+        .map_err(hinted)
+        .map_err(|e| at_place(e, lf, place))?;
     td.path = target.join(&td.spec.file);
     Ok(td)
+}
+
+/// Problems whose place is a value of a GDS `.ini` file's channel lists rather than a line:
+/// said as such, so that no message points at a line that holds something else.
+fn at_place(e: DataError, lf: &Path, place: &str) -> DataError {
+    match e {
+        DataError::Problems(v) if place != "line" => DataError::Problems(
+            v.into_iter()
+                .map(|mut p| {
+                    if let (true, Some(k)) = (p.file == lf, p.line) {
+                        p.line = None;
+                        p.message = format!("{place} {k} of the channel lists: {}", p.message);
+                    }
+                    p
+                })
+                .collect(),
+        ),
+        e => e,
+    }
 }
 
 /// The description of the set `test` joins: the existing one (refusing a duplicate test name

@@ -252,3 +252,81 @@ impl FromStr for StressUnit {
         }
     }
 }
+
+/// How a lab file is laid out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImportFormat {
+    /// A GDS export when the file is one (an `.ini` channel file, or a table under a
+    /// `Stage Number` header), else a delimited table.
+    Auto,
+    /// A delimited table read through the columns the import names.
+    Delimited,
+    /// A GDS direct- or interface-shear export (the `.ini` channel file or the tabular
+    /// GDSLAB export): channels mapped by their names.
+    Gds,
+}
+
+impl FromStr for ImportFormat {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "auto" => Ok(ImportFormat::Auto),
+            "delimited" | "csv" => Ok(ImportFormat::Delimited),
+            "gds" => Ok(ImportFormat::Gds),
+            other => Err(format!(
+                "unknown file format `{other}` (expected auto, delimited or gds)"
+            )),
+        }
+    }
+}
+
+/// Unit of a rate of displacement: a length per time (`mm/min`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RateUnit {
+    /// The length.
+    pub length: LengthUnit,
+    /// Per this time.
+    pub per: TimeUnit,
+}
+
+impl RateUnit {
+    /// Millimetres per second per unit.
+    pub fn to_mm_per_s(self) -> f64 {
+        self.length.to_mm() / self.per.to_s()
+    }
+}
+
+impl FromStr for RateUnit {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let expected = "expected a length per time such as mm/min, mm/s or um/s";
+        let (l, t) = s
+            .split_once('/')
+            .ok_or_else(|| format!("`{s}` is no rate unit ({expected})"))?;
+        let length = l
+            .parse::<LengthUnit>()
+            .map_err(|e| format!("{e}; {expected}"))?;
+        let per = t
+            .parse::<TimeUnit>()
+            .map_err(|e| format!("{e}; {expected}"))?;
+        Ok(RateUnit { length, per })
+    }
+}
+
+impl fmt::Display for RateUnit {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let l = match self.length {
+            LengthUnit::Mm => "mm",
+            LengthUnit::Um => "µm",
+            LengthUnit::M => "m",
+            LengthUnit::In => "in",
+        };
+        let t = match self.per {
+            TimeUnit::S => "s",
+            TimeUnit::Min => "min",
+            TimeUnit::H => "h",
+            TimeUnit::Ms => "ms",
+        };
+        write!(f, "{l}/{t}")
+    }
+}
