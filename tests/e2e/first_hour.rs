@@ -158,7 +158,75 @@ fn plan_warns_on_a_model_that_misses_and_never_proposes_a_test_the_set_holds() {
         "{rejected}"
     );
     assert_eq!(v["model"]["verdict"]["describes_the_data"], false);
+    // Proposals that narrow nothing come last and are not ranked.
+    let narrows: Vec<bool> = v["plan"]["proposals"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["narrows"].as_bool().unwrap())
+        .collect();
+    assert!(narrows.windows(2).all(|w| w[0] || !w[1]), "{narrows:?}");
+    for line in stdout.lines().filter(|l| l.starts_with("—    ")) {
+        let name = line.split_whitespace().nth(1).unwrap_or_default();
+        let p = v["plan"]["proposals"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["name"] == name);
+        assert_eq!(
+            p.map(|p| p["narrows"].clone()),
+            Some(false.into()),
+            "{line}"
+        );
+    }
     check_report(&out.join("report.html"), &out);
+
+    // With a diagnosis that found no effect to close the gap, the plan says the model must
+    // change first, what the diagnosis found and the tests that would tell its explanations
+    // apart, and names that test as the next step, not a proposal for the base model.
+    let diagnosis = tmp.path().join("diagnosis.json");
+    let name = read_json(&set.join("experiment.json"))["name"].clone();
+    std::fs::write(
+        &diagnosis,
+        serde_json::json!({
+            "set": name,
+            "verdict": {
+                "effect": "unexplained",
+                "effects": ["unexplained"],
+                "confidence": 0.41,
+                "alternatives": [{
+                    "effects": ["log-healing"],
+                    "label": "log-healing",
+                    "probability": 0.35,
+                    "tell_apart": "holds of 10, 100 and 1000 s between slides would tell them apart"
+                }]
+            },
+            "diagnosis": {"verdict": {"effects": []}}
+        })
+        .to_string(),
+    )
+    .unwrap();
+    let out2 = tmp.path().join("plan2");
+    let stdout = subfric!().ok(args![
+        "plan",
+        &set,
+        "--diagnosis",
+        &diagnosis,
+        "--out",
+        &out2,
+        "--check",
+        "0"
+    ]);
+    assert_mentions(
+        &stdout,
+        &[
+            "the model must change first",
+            "found no effect that explains the gap (how sure: 41 %)",
+            "or log-healing (35 %): holds of 10, 100 and 1000 s",
+            "next: the test that tells these explanations apart",
+        ],
+    );
+    assert!(!stdout.contains("next: run "), "{stdout}");
 }
 
 #[test]

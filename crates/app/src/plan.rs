@@ -20,7 +20,9 @@ use crate::repeat::{repeated_test, Protocol};
 use anyhow::{bail, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use subfric_design::{plan_excluding, Band, Check, Plan, PlanOptions, Proposal};
+use subfric_design::{
+    plan_excluding, Band, Check, Plan, PlanOptions, PredictedParam, Proposal, NARROWS_MIN_SHRINK,
+};
 use subfric_fit::interval::short_number as num;
 use subfric_fit::{FitOptions, FitTest, Param, Status};
 use subfric_model::Control;
@@ -214,7 +216,7 @@ pub fn write_plan(
         write_json(&f, &prop.scenario)?;
         files.push(f);
     }
-    if let (Some(band), Some(top)) = (&p.band, p.proposals.first()) {
+    if let (Some(band), Some(top)) = (&p.band, p.top()) {
         let f = dir.join("top-proposal.png");
         write_figure(&band_figure(name, &top.name, band), &f)?;
         files.push(f);
@@ -322,8 +324,30 @@ pub fn plan_text(outcome: &FitOutcome, basis: &Basis, set: &Path, p: &Plan) -> S
             set.display(),
             set.display()
         );
-    } else if let Some(top) = p.proposals.first() {
+    } else if !outcome.adequacy.describes() {
+        // Parameters of a model that misses the data mean nothing: the next test is the one
+        // that tells the diagnosis's leading explanations apart.
+        for l in basis.must_change_lines() {
+            let _ = writeln!(s, "{l}");
+        }
+        let _ = writeln!(
+            s,
+            "next: {}, then `subfric diagnose {}` again; the proposals below only narrow the parameters of {}",
+            if basis.alternatives.is_empty() {
+                "a test that shows the effect the model lacks (see the diagnosis's report)"
+            } else {
+                "the test that tells these explanations apart"
+            },
+            set.display(),
+            basis.model_words()
+        );
+    } else if let Some(top) = p.top() {
         let _ = writeln!(s, "next: run {}: {}", top.name, top.description);
+    } else {
+        let _ = writeln!(
+            s,
+            "next: no proposal narrows the undetermined parameters (see the table): a test of another kind, or a longer one, is needed"
+        );
     }
     let _ = writeln!(s);
     let noise_unit = match p.rig.control {
@@ -335,7 +359,7 @@ pub fn plan_text(outcome: &FitOutcome, basis: &Basis, set: &Path, p: &Plan) -> S
     for (n, why) in &p.rejected {
         let _ = writeln!(s, "not proposed: {n}: {why}");
     }
-    if let Some(top) = p.proposals.first() {
+    if let Some(top) = p.top() {
         let _ = writeln!(s, "top proposal: {}: {}", top.name, top.description);
         if let Some(c) = &top.check {
             write_check(&mut s, top, c, p.rig.noise_sd, noise_unit);
@@ -417,7 +441,13 @@ fn write_proposal_table(s: &mut String, p: &Plan) {
         "score",
         "ξ predicted (planning point)",
     );
+    let ranked = p.ranked().count();
     for (i, prop) in p.proposals.iter().enumerate() {
+        let rank = if prop.narrows {
+            (i + 1).to_string()
+        } else {
+            "—".to_string()
+        };
         let xi = prop.predicted.iter().find(|x| x.name == "xi");
         let left: Vec<&str> = prop
             .predicted
@@ -428,18 +458,14 @@ fn write_proposal_table(s: &mut String, p: &Plan) {
         let _ = writeln!(
             s,
             "{:<4} {:<28} {:>7.2} {:>6} {:>10.0}% {:>7.1}× {:>8.3}  {:<28} {}",
-            i + 1,
+            rank,
             prop.name,
             prop.hours,
             prop.rows,
             100.0 * prop.determines_share,
             prop.shrink,
             prop.score,
-            xi.map(|x| match x.predicted {
-                Some(i) => format!("{i} ±{:.1}%", x.predicted_half_width_percent),
-                None => "unbounded".into(),
-            })
-            .unwrap_or_default(),
+            xi.map(predicted_words).unwrap_or_default(),
             if left.is_empty() {
                 "none".to_string()
             } else {
@@ -451,6 +477,38 @@ fn write_proposal_table(s: &mut String, p: &Plan) {
         s,
         "determines: share of the valley where every undetermined parameter is predicted within ±5 %; shrink: geometric-mean narrowing of their intervals; score: determines per lab hour (test + set-up)"
     );
+    let unranked = p.proposals.len() - ranked;
+    if unranked > 0 {
+        let _ = writeln!(
+            s,
+            "—: not ranked: {unranked} proposal{} narrow{} nothing (determine{} nothing and narrow{} the intervals by less than {NARROWS_MIN_SHRINK}×)",
+            if unranked == 1 { "" } else { "s" },
+            if unranked == 1 { "s" } else { "" },
+            if unranked == 1 { "s" } else { "" },
+            if unranked == 1 { "s" } else { "" },
+        );
+    }
+    if ranked > 0 && p.ranked().all(|q| q.determines_share == 0.0) {
+        let _ = writeln!(
+            s,
+            "no proposal determines the undetermined parameters within ±5 % anywhere the data allow: they are ranked by how far they narrow them per lab hour"
+        );
+    }
+}
+
+/// A predicted interval in words: the interval and its half-width, or that it stays wider
+/// than the value itself (an interval of many orders of magnitude says nothing a number can).
+fn predicted_words(x: &PredictedParam) -> String {
+    match x.predicted {
+        Some(i)
+            if x.predicted_half_width_percent.is_finite()
+                && x.predicted_half_width_percent <= 100.0 =>
+        {
+            format!("{i} ±{:.1}%", x.predicted_half_width_percent)
+        }
+        Some(_) => "not determined (wider than ±100 %)".into(),
+        None => "not bounded".into(),
+    }
 }
 
 /// The check of the top proposal: achieved intervals beside the predicted ones.
@@ -552,23 +610,19 @@ pub fn next_test(outcome: &FitOutcome, dir: &Path) -> Result<Option<NextTest>> {
     let set = outcome.dirs.first().cloned().unwrap_or_default();
     let text = plan_text(outcome, &basis, &set, &p);
     write_plan(dir, outcome, &basis, &p, &text)?;
-    Ok(p.proposals.first().map(|top| {
+    Ok(p.top().map(|top| {
         let xi = top.predicted.iter().find(|x| x.name == "xi");
         NextTest {
             name: top.name.clone(),
             description: top.description.clone(),
             hours: top.hours,
             xi: xi
-                .map(|x| match x.predicted {
-                    Some(i) => format!(
-                        "{i} (±{:.1} %) if ξ = {} 1/s, the middle of the values the data allow",
-                        x.predicted_half_width_percent,
+                .map(|x| {
+                    format!(
+                        "{} if ξ = {} 1/s, the middle of the values the data allow",
+                        predicted_words(x),
                         num(x.value)
-                    ),
-                    None => format!(
-                        "still unbounded at ξ = {} 1/s, the middle of the values the data allow",
-                        num(x.value)
-                    ),
+                    )
                 })
                 .unwrap_or_default(),
             determines_share: top.determines_share,

@@ -26,6 +26,11 @@ pub struct Basis {
     pub extra_free: Vec<Param>,
     /// A note on a diagnosis found but not used, for the user.
     pub note: Option<String>,
+    /// How sure the diagnosis is of its verdict (the probability it is exactly right).
+    pub confidence: Option<f64>,
+    /// The diagnosis's other explanations: (label, probability, the test that would tell
+    /// them apart).
+    pub alternatives: Vec<(String, f64, String)>,
 }
 
 impl Basis {
@@ -61,6 +66,34 @@ impl Basis {
             ),
             _ => "planned on the base model of the paper (no diagnosis of this set)".into(),
         }
+    }
+}
+
+impl Basis {
+    /// What a plan on a model that does not describe the data says first: the model must
+    /// change before its parameters mean anything, what the diagnosis found and how sure it
+    /// is, and the tests that would tell its leading explanations apart.
+    pub fn must_change_lines(&self) -> Vec<String> {
+        let (Some(f), Some(v)) = (&self.diagnosis, &self.verdict) else {
+            return Vec::new();
+        };
+        let sure = self
+            .confidence
+            .map(|c| format!(" (how sure: {:.0} %)", 100.0 * c))
+            .unwrap_or_default();
+        let found = match v.as_str() {
+            "unexplained" => "no effect that explains the gap".to_string(),
+            "cannot-judge" => "that the data cannot tell which effect is missing".to_string(),
+            v => format!("{v}, and the model with it still misses the data"),
+        };
+        let mut lines = vec![format!(
+            "the model must change first: its parameters mean nothing while it misses the data; the diagnosis {} found {found}{sure}",
+            f.display()
+        )];
+        for (label, p, tell) in &self.alternatives {
+            lines.push(format!("  or {label} ({:.0} %): {tell}", 100.0 * p));
+        }
+        lines
     }
 }
 
@@ -128,9 +161,23 @@ fn read_basis(f: &Path, name: &str) -> Result<Basis> {
     let effects = d["verdict"]["effects"]
         .as_array()
         .ok_or_else(|| missing("diagnosis.verdict.effects"))?;
+    let alternatives = json["verdict"]["alternatives"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|a| {
+            Some((
+                a["label"].as_str()?.to_string(),
+                a["probability"].as_f64()?,
+                a["tell_apart"].as_str().unwrap_or_default().to_string(),
+            ))
+        })
+        .collect();
     let mut basis = Basis {
         diagnosis: Some(f.to_path_buf()),
         verdict: Some(verdict),
+        confidence: json["verdict"]["confidence"].as_f64(),
+        alternatives,
         ..Basis::default()
     };
     if effects.is_empty() {

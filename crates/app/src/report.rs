@@ -257,12 +257,15 @@ pub fn plan_page(
         lines.push(format!("warning: {w}"));
     }
     lines.push(basis.line());
+    if !out.adequacy.describes() {
+        lines.extend(basis.must_change_lines());
+    }
     page.verdict(Mark::of(out.adequacy.level), &lines);
     let mut links = vec![
         ("plan.json", "plan.json".to_string()),
         ("plan.txt", "plan.txt".to_string()),
     ];
-    if let Some(top) = p.proposals.first() {
+    if let Some(top) = p.top() {
         page.h2("next", "The next test");
         page.p(&format!(
             "{}, {:.2} h of lab time: {}.",
@@ -293,7 +296,11 @@ pub fn plan_page(
                     .map(|x| x.name.as_str())
                     .collect();
                 vec![
-                    Cell::Num((i + 1).to_string()),
+                    Cell::Num(if q.narrows {
+                        (i + 1).to_string()
+                    } else {
+                        "— (narrows nothing)".to_string()
+                    }),
                     Cell::Text(q.name.clone()),
                     Cell::Num(format!("{:.2}", q.hours)),
                     Cell::Num(format!("{:.0} %", 100.0 * q.determines_share)),

@@ -2,7 +2,7 @@
 //! proposal) at every valley point, carried to predicted 95 % half-widths of the natural
 //! parameters, and the share, shrink and score of each proposal.
 
-use crate::outcome::{PredictedParam, Proposal, ValleyPrediction};
+use crate::outcome::{PredictedParam, Proposal, ValleyPrediction, NARROWS_MIN_SHRINK};
 use crate::rank::{scenario_hours, MIN_HOURS};
 use crate::scenarios::Candidate;
 use crate::valley::Valley;
@@ -144,6 +144,7 @@ impl PredictionContext<'_> {
             determines_share,
             score: determines_share / hours.max(MIN_HOURS),
             shrink_per_hour: shrink.ln() / hours.max(MIN_HOURS),
+            narrows: determines_share > 0.0 || shrink >= NARROWS_MIN_SHRINK,
             predicted: self.predicted_at_plan(at_plan.as_deref()),
             valley: valley_pred,
             failed_points: failed,

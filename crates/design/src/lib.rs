@@ -50,7 +50,7 @@ mod valley;
 pub use check::simulate_proposal;
 pub use outcome::{
     Band, Check, CheckParam, Plan, PlanError, PlanOptions, PredictedParam, Proposal, ProposalKind,
-    Rig, ValleyPoint, ValleyPrediction,
+    Rig, ValleyPoint, ValleyPrediction, NARROWS_MIN_SHRINK,
 };
 pub use rig::rig_of;
 
@@ -129,8 +129,14 @@ pub fn plan_excluding(
         .collect();
     let mut proposals = rank(proposals, valley.planning_index, &mut rejected);
 
-    // 4. Checks of the top proposals, and the band of the top one.
-    for (i, prop) in proposals.iter_mut().take(opts.check).enumerate() {
+    // 4. Checks of the top proposals, and the band of the top one (of those that narrow
+    // anything: the others are not ranked).
+    for (i, prop) in proposals
+        .iter_mut()
+        .filter(|p| p.narrows)
+        .take(opts.check)
+        .enumerate()
+    {
         prop.check = Some(check(
             tests,
             report,
@@ -143,7 +149,8 @@ pub fn plan_excluding(
         )?);
     }
     let band = proposals
-        .first()
+        .iter()
+        .find(|p| p.narrows)
         .and_then(|p| band_of(&p.scenario, &valley.points, &planning_point, &fit));
     Ok(Plan {
         rig,

@@ -150,6 +150,10 @@ pub struct Check {
     pub determines_all: bool,
 }
 
+/// Least geometric-mean narrowing of the undetermined parameters' intervals for a proposal
+/// that determines nothing to count as narrowing them (a tenth off their width).
+pub const NARROWS_MIN_SHRINK: f64 = 1.1;
+
 /// One proposed test.
 #[derive(Clone, Debug, Serialize)]
 pub struct Proposal {
@@ -178,6 +182,11 @@ pub struct Proposal {
     /// ln(shrink) per hour: the ranking among proposals of equal score (e.g. when none
     /// determines everything).
     pub shrink_per_hour: f64,
+    /// Whether the proposal narrows anything: it determines the undetermined parameters
+    /// somewhere in the valley, or narrows their intervals by at least
+    /// [`NARROWS_MIN_SHRINK`]. Proposals that narrow nothing are listed after the ranked
+    /// ones, not ranked: a lab hour spent on them buys nothing the plan can see.
+    pub narrows: bool,
     /// Predicted intervals at the planning point.
     pub predicted: Vec<PredictedParam>,
     /// Predicted half-widths at each valley point where the proposal could be simulated.
@@ -251,7 +260,7 @@ pub struct Plan {
     pub planning_index: usize,
     /// Parameter vectors the current data allow.
     pub valley: Vec<ValleyPoint>,
-    /// Proposals, best score first.
+    /// Proposals, best score first; those that narrow nothing ([`Proposal::narrows`]) last.
     pub proposals: Vec<Proposal>,
     /// Candidates that could not be simulated at the planning point: (name, why).
     pub rejected: Vec<(String, String)>,
@@ -261,6 +270,16 @@ pub struct Plan {
 }
 
 impl Plan {
+    /// The proposals that narrow something, in their rank order.
+    pub fn ranked(&self) -> impl Iterator<Item = &Proposal> {
+        self.proposals.iter().filter(|p| p.narrows)
+    }
+
+    /// The best proposal, when one narrows anything.
+    pub fn top(&self) -> Option<&Proposal> {
+        self.ranked().next()
+    }
+
     /// Predicted 95 % interval of parameter `key` after proposal `index` if the parameter's
     /// true value is `value`: the predicted half-width interpolated over the valley points
     /// (in ln of the value for logarithmic parameters), centred on `value`. `None` when the

@@ -7,7 +7,8 @@ use subfric_fit::FitTest;
 pub(crate) const MIN_HOURS: f64 = 1e-9;
 
 /// Drops (to `rejected`) the proposals that could not be simulated at the planning point and
-/// orders the rest: best score, then shrink per hour, then the shorter.
+/// orders the rest: those that narrow something first, then best score, then shrink per
+/// hour, then the shorter.
 pub(crate) fn rank(
     mut proposals: Vec<Proposal>,
     planning_index: usize,
@@ -24,8 +25,9 @@ pub(crate) fn rank(
     }
     proposals.retain(|p| p.valley.iter().any(|v| v.point == planning_index));
     proposals.sort_by(|a, b| {
-        b.score
-            .total_cmp(&a.score)
+        b.narrows
+            .cmp(&a.narrows)
+            .then(b.score.total_cmp(&a.score))
             .then(b.shrink_per_hour.total_cmp(&a.shrink_per_hour))
             .then(a.hours.total_cmp(&b.hours))
     });
