@@ -475,6 +475,173 @@ fn diagnose(py: Python<'_>, dir: PathBuf, seed: u64) -> PyResult<(String, Vec<St
     run.map_err(error)
 }
 
+/// `subfric check`: the set's summary (as JSON text, the command's text beside it), the rig
+/// artifacts recognised and the plausibility and reading warnings.
+#[pyfunction]
+fn check(py: Python<'_>, dir: PathBuf) -> PyResult<(String, String, Vec<String>)> {
+    let run = py.detach(move || -> anyhow::Result<_> {
+        let c = api::sets::check(&dir)?;
+        let json = serde_json::json!({
+            "summary": &c.summary,
+            "artifacts": &c.artifacts,
+            "warnings": c.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
+        });
+        Ok((
+            serde_json::to_string(&json)?,
+            c.summary.to_string(),
+            c.warnings.iter().map(|w| w.to_string()).collect(),
+        ))
+    });
+    run.map_err(error)
+}
+
+/// `subfric import`: one lab file into a test of the set in `out` (created, or added to);
+/// the options as the command's flags. Returns the warnings (what the reader did: the stage
+/// kept, gaps, units assumed).
+#[pyfunction]
+#[pyo3(signature = (file, out, *, test_name, set_name, format, stage, rate_unit, time, time_unit, slip, slip_unit, shear, shear_unit, friction, normal, normal_unit, normal_stress, area, control, delimiter, skip, channels, keep))]
+#[allow(clippy::too_many_arguments)]
+fn import_file(
+    py: Python<'_>,
+    file: PathBuf,
+    out: PathBuf,
+    test_name: String,
+    set_name: Option<String>,
+    format: &str,
+    stage: Option<String>,
+    rate_unit: Option<String>,
+    time: String,
+    time_unit: &str,
+    slip: String,
+    slip_unit: &str,
+    shear: Option<String>,
+    shear_unit: &str,
+    friction: Option<String>,
+    normal: Option<String>,
+    normal_unit: &str,
+    normal_stress: Option<f64>,
+    area: Option<f64>,
+    control: &str,
+    delimiter: &str,
+    skip: usize,
+    channels: Vec<(String, String)>,
+    keep: Option<String>,
+) -> PyResult<Vec<String>> {
+    use subfric_data::{ColumnRef, ControlColumn, ImportSpec};
+    let parse =
+        |what: &str, r: Result<ColumnRef, String>| r.map_err(|e| fail(format!("{what}: {e}")));
+    let unit = |what: &str, e: String| fail(format!("{what}: {e}"));
+    let shear_col = match (&shear, &friction) {
+        (Some(c), _) => Some((
+            parse("shear", c.parse())?,
+            shear_unit.parse().map_err(|e| unit("shear_unit", e))?,
+        )),
+        (None, Some(_)) => None,
+        (None, None) => Some((
+            ColumnRef::Name("shear_kpa".into()),
+            shear_unit.parse().map_err(|e| unit("shear_unit", e))?,
+        )),
+    };
+    let spec = ImportSpec {
+        delimiter: match delimiter {
+            "auto" => subfric_data::Delimiter::Auto,
+            "comma" | "," => subfric_data::Delimiter::Comma,
+            "semicolon" | ";" => subfric_data::Delimiter::Semicolon,
+            "tab" => subfric_data::Delimiter::Tab,
+            "whitespace" => subfric_data::Delimiter::Whitespace,
+            other => {
+                return Err(fail(format!(
+                    "delimiter: `{other}` (expected auto, comma, semicolon, tab or whitespace)"
+                )))
+            }
+        },
+        skip_lines: skip,
+        has_header: true,
+        time: parse("time", time.parse())?,
+        time_unit: time_unit.parse().map_err(|e| unit("time_unit", e))?,
+        slip: parse("slip", slip.parse())?,
+        slip_unit: slip_unit.parse().map_err(|e| unit("slip_unit", e))?,
+        shear: shear_col,
+        friction: friction.map(|c| parse("friction", c.parse())).transpose()?,
+        normal: match normal {
+            Some(c) => Some((
+                parse("normal", c.parse())?,
+                normal_unit.parse().map_err(|e| unit("normal_unit", e))?,
+            )),
+            None => None,
+        },
+        normal_stress_kpa: normal_stress,
+        area_mm2: area,
+        control: match control {
+            "slip" => ControlColumn::Slip,
+            "shear" | "traction" => ControlColumn::Shear,
+            other => return Err(fail(format!("control: `{other}` (expected slip or shear)"))),
+        },
+        test_name,
+        set_name: set_name.unwrap_or_else(|| {
+            out.file_name()
+                .map(|s| s.to_string_lossy().to_string())
+                .unwrap_or_else(|| "imported".into())
+        }),
+        title: None,
+        soil: None,
+        surface: None,
+        source: Some(file.display().to_string()),
+        keep: keep
+            .map(|k| k.parse().map_err(|e| unit("keep", e)))
+            .transpose()?,
+        format: format.parse().map_err(|e| unit("format", e))?,
+        stage,
+        channels: channels
+            .into_iter()
+            .map(|(n, c)| Ok((n, parse("channels", c.parse())?)))
+            .collect::<PyResult<_>>()?,
+        rate_unit: rate_unit
+            .map(|u| u.parse().map_err(|e| unit("rate_unit", e)))
+            .transpose()?,
+    };
+    let run = py.detach(move || -> anyhow::Result<_> {
+        let c = api::sets::import_test(&file, &spec, &out)?;
+        Ok(c.warnings.iter().map(|w| w.to_string()).collect())
+    });
+    run.map_err(error)
+}
+
+/// `subfric plan`: the plan written to `out` (default `fits/<set>/plan`), returned as the
+/// plan.json text, the plan's text and its warnings.
+#[pyfunction]
+#[pyo3(signature = (dir, *, out, diagnosis, seed, check, setup_hours, force))]
+#[allow(clippy::too_many_arguments)]
+fn plan(
+    py: Python<'_>,
+    dir: PathBuf,
+    out: Option<PathBuf>,
+    diagnosis: Option<PathBuf>,
+    seed: u64,
+    check: usize,
+    setup_hours: f64,
+    force: bool,
+) -> PyResult<(String, String)> {
+    let run = py.detach(move || -> anyhow::Result<_> {
+        let req = api::plan::PlanRequest {
+            set: dir,
+            seed,
+            check,
+            setup_hours,
+            diagnosis,
+        };
+        let to = api::output::Destination { dir: out, force };
+        let p = api::plan::plan_to_folder(&req, &to, &Silent)?;
+        let json_file = p
+            .files
+            .iter()
+            .find(|f| f.file_name().is_some_and(|n| n == "plan.json"))
+            .ok_or_else(|| anyhow::anyhow!("the plan wrote no plan.json"))?;
+        Ok((std::fs::read_to_string(json_file)?, p.text))
+    });
+    run.map_err(error)
+}
+
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SubfricError", m.py().get_type::<SubfricError>())?;
@@ -483,6 +650,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_set, m)?)?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose, m)?)?;
+    m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(import_file, m)?)?;
+    m.add_function(wrap_pyfunction!(plan, m)?)?;
     campaign::register(m)?;
     Ok(())
 }

@@ -41,6 +41,9 @@ __all__ = [
     "load_set",
     "fit",
     "diagnose",
+    "check",
+    "import_file",
+    "plan",
     "campaign",
 ]
 
@@ -398,6 +401,114 @@ def diagnose(set, *, seed=1):
     text, warns = _native.diagnose(os.fspath(set), seed=_count("seed", seed, 0))
     _warn(warns)
     return json.loads(text)
+
+
+def check(set):
+    """Checks a set exactly as ``subfric check``: returns a dict with ``summary`` (per test:
+    rows, control, ranges, noise, rates, holds, steps, reversals, cycles; as the command's
+    table), ``text`` (that table as the command prints it), ``artifacts`` (rig artifacts
+    recognised: ``test``, ``kind``, ``detail``) and ``warnings`` (plausibility and what the
+    reader did: gaps, a spread clock), each also issued as a :class:`SubfricWarning`. A set
+    with an error raises :class:`SubfricError` naming the file, the line and the field.
+    """
+    if not isinstance(set, (str, os.PathLike, ExperimentSet)):
+        raise SubfricError(f"set: {type(set).__name__} {set!r} is not a set folder (expected a path or an ExperimentSet)")
+    text, table, warns = _native.check(os.fspath(set))
+    _warn(warns)
+    result = json.loads(text)
+    result["text"] = table
+    return result
+
+
+def import_file(
+    file,
+    out,
+    *,
+    test_name="test",
+    set_name=None,
+    format="auto",
+    stage=None,
+    rate_unit=None,
+    time="time_s",
+    time_unit="s",
+    slip="slip_mm",
+    slip_unit="mm",
+    shear=None,
+    shear_unit="kPa",
+    friction=None,
+    normal=None,
+    normal_unit="kPa",
+    normal_stress=None,
+    area=None,
+    control="slip",
+    delimiter="auto",
+    skip=0,
+    channels=None,
+    keep=None,
+):
+    """Imports one lab file as a test of the set in ``out`` (created, or added to; nothing in it
+    is overwritten), exactly as ``subfric import``, and returns the set as
+    :class:`ExperimentSet`. Options as the command's flags: columns by header name or 1-based
+    index (``time``, ``slip``, ``shear`` or ``friction``, ``normal`` or ``normal_stress`` in
+    kPa) with their units; ``format`` ``"auto"``, ``"delimited"`` or ``"gds"`` (a GDS export,
+    its channels found by name: the column options are then not used); ``stage`` the stage to
+    keep (by number or name); ``rate_unit`` (``"mm/min"``) for a GDS file that states its rate
+    without one; ``channels`` ``{"normal_disp_mm": "Vertical (mm)"}``; ``keep``
+    ``"time=120:"``. What the reader did (the stage kept, gaps, units assumed) is issued as
+    :class:`SubfricWarning`.
+    """
+    cols = _mapping("channels", channels, lambda name, v: str(v)) if channels else []
+    warns = _native.import_file(
+        os.fspath(file),
+        os.fspath(out),
+        test_name=_text("test_name", test_name),
+        set_name=None if set_name is None else _text("set_name", set_name),
+        format=_text("format", format),
+        stage=None if stage is None else str(stage),
+        rate_unit=None if rate_unit is None else _text("rate_unit", rate_unit),
+        time=str(time),
+        time_unit=_text("time_unit", time_unit),
+        slip=str(slip),
+        slip_unit=_text("slip_unit", slip_unit),
+        shear=None if shear is None else str(shear),
+        shear_unit=_text("shear_unit", shear_unit),
+        friction=None if friction is None else str(friction),
+        normal=None if normal is None else str(normal),
+        normal_unit=_text("normal_unit", normal_unit),
+        normal_stress=None if normal_stress is None else _number("normal_stress", normal_stress),
+        area=None if area is None else _number("area", area),
+        control=_text("control", control),
+        delimiter=_text("delimiter", delimiter),
+        skip=_count("skip", skip, 0),
+        channels=cols,
+        keep=None if keep is None else _text("keep", keep),
+    )
+    _warn(warns)
+    return load_set(out)
+
+
+def plan(set, *, out=None, diagnosis=None, seed=1, check=1, setup_hours=0.5, force=False):
+    """Plans the next test exactly as ``subfric plan`` and writes the plan to ``out`` (default
+    ``fits/<set>/plan``). Returns the content of plan.json (``model``: the verdict on the model
+    planned on; ``plan``: the valley, ``proposals`` best first — each with ``narrows``, whether
+    it narrows anything; those that do not come last, unranked — and ``rejected``) with
+    ``text``, the plan as the command prints it. ``diagnosis``: the diagnosis.json whose model
+    to plan on (default: the set's own diagnosis, when there is one).
+    """
+    if not isinstance(set, (str, os.PathLike, ExperimentSet)):
+        raise SubfricError(f"set: {type(set).__name__} {set!r} is not a set folder (expected a path or an ExperimentSet)")
+    text, words = _native.plan(
+        os.fspath(set),
+        out=None if out is None else os.fspath(out),
+        diagnosis=None if diagnosis is None else os.fspath(diagnosis),
+        seed=_count("seed", seed, 0),
+        check=_count("check", check, 0),
+        setup_hours=_number("setup_hours", setup_hours),
+        force=_flag("force", force),
+    )
+    result = json.loads(text)
+    result["text"] = words
+    return result
 
 
 # Last: the function takes the name of its module in the package's namespace.
