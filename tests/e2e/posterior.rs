@@ -401,6 +401,30 @@ fn the_application_layer_gives_the_posterior_the_program_writes() {
         text == written,
         "the application layer's fit.json with the posterior differs from the program's"
     );
+
+    // A parameter the fit says the data do not determine gets no median in the posterior's
+    // table (its posterior is its prior's within the bound), only its interval; the others
+    // keep theirs.
+    let sampled = fitted.posterior.as_ref().unwrap();
+    let mut report = fitted.outcome.report.clone();
+    let xi = report
+        .parameters
+        .iter_mut()
+        .find(|p| p.name == "xi")
+        .unwrap();
+    xi.status = subfric_fit::Status::UpperBoundOnly;
+    let table = sampled.text(&report);
+    let row = |name: &str| {
+        table
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(name))
+            .unwrap_or_else(|| panic!("no row of {name}:\n{table}"))
+            .to_string()
+    };
+    assert!(row("xi").contains("—†"), "{table}");
+    assert!(!row("mu_s").contains('—'), "{table}");
+    assert_mentions(&table, &["† not determined by the data"]);
+    assert!(!sampled.text(&fitted.outcome.report).contains('†'));
 }
 
 #[test]

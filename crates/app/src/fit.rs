@@ -499,7 +499,11 @@ fn calibrate_setup(
     };
     let read_off = subfric_fit::read_off(&fulls, &report.model);
     for r in read_off.iter().filter(|r| r.departs) {
-        progress.warning(&r.sentence());
+        let reads = report
+            .param(r.param)
+            .filter(|p| p.undetermined())
+            .map(|p| p.reads());
+        progress.warning(&r.sentence_reading(reads.as_deref()));
     }
     Ok(FitOutcome {
         levels: subfric_fit::read_levels(&setup.tests),

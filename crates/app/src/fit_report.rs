@@ -170,12 +170,13 @@ fn write_read_off(s: &mut String, out: &FitOutcome) {
     }
     let _ = writeln!(s, "read off the record (the paper's Section 5, item 2):");
     for r in &out.read_off {
-        let loose = if out.report.param(r.param).is_some_and(undetermined) {
-            " (the parameter itself is not determined: the value is one point of its valley)"
-        } else {
-            ""
-        };
-        let _ = writeln!(s, "  {}{loose}", r.sentence());
+        // A parameter the data do not determine reads as its bound, never as a number.
+        let reads = out
+            .report
+            .param(r.param)
+            .filter(|p| undetermined(p))
+            .map(|p| p.reads());
+        let _ = writeln!(s, "  {}", r.sentence_reading(reads.as_deref()));
     }
     if out.read_off.iter().any(|r| r.departs) {
         let _ = writeln!(

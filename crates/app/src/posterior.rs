@@ -342,14 +342,23 @@ impl Sampled {
             "R-hat",
             "ESS"
         );
+        let mut unquoted = false;
         for (k, (sum, d)) in p.summary.iter().zip(&c.quantities).enumerate() {
             let fit = report.parameters.iter().find(|q| q.name == sum.name);
             let judged = self.judged.contains(&p.parameters[k]);
+            // The median of a parameter the data do not determine is where the prior puts it:
+            // no number to quote (the interval still says what prior and data allow).
+            let median = if fit.is_some_and(|f| f.undetermined()) {
+                unquoted = true;
+                "—†".to_string()
+            } else {
+                fmt_num(sum.median)
+            };
             let _ = writeln!(
                 s,
                 "{:<18} {:>11} {:>26} {:>26}  {:<34} {:>7} {:>6} {:>7}",
                 labelled(&sum.name, &sum.unit),
-                fmt_num(sum.median),
+                median,
                 format!("[{}, {}]", fmt_num(sum.lo), fmt_num(sum.hi)),
                 fit.and_then(|f| f.interval)
                     .map(|i| i.to_string())
@@ -362,6 +371,12 @@ impl Sampled {
                     finite_or_dash(d.ess, 0),
                     if judged { "" } else { "*" }
                 ),
+            );
+        }
+        if unquoted {
+            let _ = writeln!(
+                s,
+                "† not determined by the data (the fit's profile): its posterior is shaped by its prior within the bound the data set, so no median is quoted (posterior.json keeps it); the credible interval says what prior and data allow together"
             );
         }
         let _ = writeln!(

@@ -84,15 +84,28 @@ pub struct ReadOff {
 impl ReadOff {
     /// One line for a report.
     pub fn sentence(&self) -> String {
+        self.sentence_reading(None)
+    }
+
+    /// One line for a report, the fitted value written as `reads` when the data do not
+    /// determine it ("not determined (≤ 0.30)": the optimiser's point in a flat valley is no
+    /// value to set beside the record's).
+    pub fn sentence_reading(&self, reads: Option<&str>) -> String {
         let symbol = if self.param == "mu_s" { "μ_s" } else { "μ_k" };
         let tests = match &self.readings[..] {
             [one] => one.test.clone(),
             many => format!("median of {} tests", many.len()),
         };
-        let head = format!(
-            "{symbol} {:.4} ({:+.1} % from the record's {} stress ratio {:.4}, {tests}; the fitted model's {:.4})",
-            self.fitted, self.gap_percent, self.measured_as, self.measured, self.model
-        );
+        let head = match reads {
+            Some(reads) => format!(
+                "{symbol} {reads} (the record's {} stress ratio {:.4}, {tests}; the fitted model's {:.4})",
+                self.measured_as, self.measured, self.model
+            ),
+            None => format!(
+                "{symbol} {:.4} ({:+.1} % from the record's {} stress ratio {:.4}, {tests}; the fitted model's {:.4})",
+                self.fitted, self.gap_percent, self.measured_as, self.measured, self.model
+            ),
+        };
         if !self.departs {
             return format!(
                 "{head}: the model keeps the measured {}; the gap is its shape ({})",
@@ -236,6 +249,36 @@ mod tests {
         let mut t = FitTest::new(name, Control::Slip, time, slip, shear, normal);
         t.initial = initial;
         t
+    }
+
+    #[test]
+    fn an_undetermined_parameter_reads_as_its_bound_never_as_the_optimiser_s_point() {
+        let r = ReadOff {
+            param: "mu_k",
+            measured_as: "residual",
+            fitted: 1e-9,
+            measured: 0.31,
+            model: 0.30,
+            readings: vec![Reading {
+                test: "a".into(),
+                measured: 0.31,
+                model: 0.30,
+                tolerance: 0.02,
+            }],
+            gap_percent: -100.0,
+            departs: false,
+        };
+        assert!(
+            r.sentence().starts_with("μ_k 0.0000 (-100.0 %"),
+            "{}",
+            r.sentence()
+        );
+        let s = r.sentence_reading(Some("not determined (≤ 0.2)"));
+        assert!(
+            s.starts_with("μ_k not determined (≤ 0.2) (the record's residual stress ratio 0.3100"),
+            "{s}"
+        );
+        assert!(!s.contains("0.0000") && !s.contains("%"), "{s}");
     }
 
     #[test]
