@@ -156,7 +156,7 @@ fn cycle_bounds(s: &Series) -> Option<(u32, u32)> {
 }
 
 /// Legend entry of a series (None for an empty label).
-fn legend_entry(s: &Series, m: &Metrics) -> Option<Entry> {
+pub(crate) fn legend_entry(s: &Series, m: &Metrics) -> Option<Entry> {
     if s.label.trim().is_empty() {
         return None;
     }
@@ -202,8 +202,8 @@ fn sample_marker_radius(m: &Metrics) -> u32 {
 }
 
 /// A line ready to draw (data coordinates, decimated and clipped) and its style.
-struct Line {
-    pts: Vec<(f64, f64)>,
+pub(crate) struct Line {
+    pub(crate) pts: Vec<(f64, f64)>,
     color: [u8; 3],
     width: u32,
     dashed: bool,
@@ -217,7 +217,7 @@ type Run = (Vec<(f64, f64)>, [u8; 3]);
 
 /// Lines and markers of the series of a panel, in drawing order, within `x` and `y`; `to_px`
 /// maps data to image pixels (for decimation, marker spacing and the occupancy grid).
-fn strokes(
+pub(crate) fn strokes(
     series: &[Series],
     x: AxisRange,
     y: AxisRange,
@@ -652,7 +652,7 @@ type Chart2d<'a, 'b> = ChartContext<
 >;
 
 /// Lines, then markers over them.
-fn draw_lines(
+pub(crate) fn draw_lines(
     chart: &mut Chart2d<'_, '_>,
     lines: Vec<Line>,
     markers: Vec<Marker>,

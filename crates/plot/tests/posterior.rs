@@ -204,3 +204,67 @@ fn the_band_is_shaded_between_its_edges_even_where_x_stands_still() {
         "{e}"
     );
 }
+
+#[test]
+fn the_data_are_drawn_over_the_median_and_a_band_thinner_than_a_pixel_still_shows() {
+    let dir = tempfile::tempdir().unwrap();
+    let x: Vec<f64> = (0..=30).map(|i| i as f64 / 30.0).collect();
+    let mid: Vec<f64> = x.iter().map(|v| 0.2 + 0.6 * v).collect();
+    // A band of ±1e-5 on a unit axis: far below a pixel.
+    let lo: Vec<f64> = mid.iter().map(|v| v - 1e-5).collect();
+    let hi: Vec<f64> = mid.iter().map(|v| v + 1e-5).collect();
+    let fig = BandFigure::new("band", "x", "y", x.clone(), lo, hi, "95 % band")
+        .with_series(Series::new(
+            "measured",
+            x.clone(),
+            mid.clone(),
+            Style::Measured,
+        ))
+        .with_series(Series::new("median", x.clone(), mid.clone(), Style::Fitted));
+    let path = dir.path().join("band.png");
+    render_band_png(&fig, &path).unwrap();
+    let img = read_rgb(&path).unwrap();
+    let l = band_layout(&fig).unwrap();
+    let px = |v: f64| {
+        (l.plot.left as f64
+            + (v - l.x_range.0) / (l.x_range.1 - l.x_range.0) * (l.plot.right - l.plot.left) as f64)
+            .round() as u32
+    };
+    let py = |v: f64| {
+        (l.plot.bottom as f64
+            - (v - l.y_range.0) / (l.y_range.1 - l.y_range.0) * (l.plot.bottom - l.plot.top) as f64)
+            .round() as u32
+    };
+    // On a measured point the marker (dark grey), not the red median drawn after the data
+    // in an earlier version.
+    let at = img.pixel(px(x[15]), py(mid[15])).unwrap();
+    assert!(darkness(at) > 500, "{at:?}");
+    // With the data and the median left out, the band's edge shows where the band lies.
+    let bare = BandFigure::new(
+        "band",
+        "x",
+        "y",
+        x.clone(),
+        fig.lo.clone(),
+        fig.hi.clone(),
+        "b",
+    );
+    let path = dir.path().join("bare.png");
+    render_band_png(&bare, &path).unwrap();
+    let img = read_rgb(&path).unwrap();
+    let l = band_layout(&bare).unwrap();
+    let (x0, y0) = (l.x_range, l.y_range);
+    let (col, row) = (
+        (l.plot.left as f64 + (0.5 - x0.0) / (x0.1 - x0.0) * (l.plot.right - l.plot.left) as f64)
+            .round() as u32,
+        (l.plot.bottom as f64 - (0.5 - y0.0) / (y0.1 - y0.0) * (l.plot.bottom - l.plot.top) as f64)
+            .round() as u32,
+    );
+    let near: Vec<[u8; 3]> = (row.saturating_sub(2)..=row + 2)
+        .filter_map(|r| img.pixel(col, r))
+        .collect();
+    assert!(
+        near.iter().any(|c| c[0] > 180 && c[1] < 170 && c[2] < 160),
+        "no band colour within 2 px of the band: {near:?}"
+    );
+}

@@ -13,14 +13,14 @@ use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 
 use crate::chart::{
-    chart_err, dashed, decimate, draw_legend, font, frame, place_legend, plot_rect, plottable, rgb,
+    chart_err, dashed, draw_legend, font, frame, place_legend, plot_rect, plottable, rgb,
     shrink_to_fit, stroke, whole_numbers, AxisRange, Entry, Extent, Metrics, Occupancy, Pt, Swatch,
     Ticks,
 };
-use crate::colors::{style_rgb, INK_RGB, ZERO_RGB};
+use crate::colors::{INK_RGB, ZERO_RGB};
 use crate::figure::title;
 use crate::render::{self, Chart};
-use crate::{check_size, DrawError, Invalid, PixelRect, PlotError, Series, Style};
+use crate::{check_size, DrawError, Invalid, PixelRect, PlotError, Series};
 
 /// A band between two curves, with curves drawn over it.
 #[derive(Debug, Clone, PartialEq)]
@@ -110,6 +110,9 @@ pub struct BandLayout {
 /// Colour of the band: a light red under the red fitted curves.
 const BAND_RGB: [u8; 3] = [246, 190, 184];
 
+/// Colour of the band's edge: a darker shade of the band.
+const BAND_EDGE_RGB: [u8; 3] = [222, 120, 108];
+
 fn validate(fig: &BandFigure) -> Result<(), Invalid> {
     check_size(fig.width, fig.height)?;
     let reference = fig.difference.as_ref().map(|d| &d.0);
@@ -136,14 +139,6 @@ fn validate(fig: &BandFigure) -> Result<(), Invalid> {
         }
     }
     Ok(())
-}
-
-fn line_width(style: Style, m: &Metrics) -> u32 {
-    match style {
-        Style::Measured => m.width(1.2),
-        Style::Fitted => m.width(2.4),
-        _ => m.width(2.0),
-    }
 }
 
 /// One panel: its band and curves in its own y units.
@@ -431,7 +426,14 @@ fn draw(fig: &BandFigure) -> Result<Drawn, Invalid> {
                     .iter()
                     .map(|q| (q.0.round() as i32, q.1.round() as i32))
                     .collect();
-                root.draw(&Polygon::new(pts, rgb(BAND_RGB).filled()))
+                root.draw(&Polygon::new(pts.clone(), rgb(BAND_RGB).filled()))
+                    .map_err(chart_err)?;
+                // An edge a shade darker: a band thinner than a pixel still shows as a line.
+                let mut edge = pts;
+                if let Some(&first) = edge.first() {
+                    edge.push(first);
+                }
+                root.draw(&PathElement::new(edge, stroke(BAND_EDGE_RGB, 1)))
                     .map_err(chart_err)?;
             }
             if p.zero_line && p.y.contains(0.0) {
@@ -442,33 +444,16 @@ fn draw(fig: &BandFigure) -> Result<Drawn, Invalid> {
                     )))
                     .map_err(chart_err)?;
             }
-            for s in &p.series {
-                let color = style_rgb(s.style);
-                let width = line_width(s.style, &m);
-                let style = if s.style == Style::Published {
-                    dashed(color, width)
-                } else {
-                    stroke(color, width)
-                };
-                let mut run: Vec<(f64, f64)> = Vec::new();
-                let mut runs = Vec::new();
-                for (a, b) in s.x.iter().zip(&s.y) {
-                    if plottable(*a) && plottable(*b) {
-                        run.push((*a, *b));
-                    } else if !run.is_empty() {
-                        runs.push(std::mem::take(&mut run));
-                    }
-                }
-                runs.push(run);
-                for r in runs.into_iter().filter(|r| !r.is_empty()) {
-                    let r =
-                        crate::chart::distinct_pixels(decimate(&r, |q| to_px(*q)), |q| to_px(*q));
-                    occupancy.mark_polyline(&r.iter().map(|q| to_px(*q)).collect::<Vec<_>>());
-                    chart
-                        .draw_series(LineSeries::new(r, style))
-                        .map_err(chart_err)?;
-                }
+            // The data as in every figure: a light line under the models, its markers over
+            // them (drawn last), so that neither the median nor the band hides the record.
+            let (lines, markers) = crate::figure::strokes(&p.series, x, p.y, &to_px, &m);
+            for l in &lines {
+                occupancy.mark_polyline(&l.pts.iter().map(|q| to_px(*q)).collect::<Vec<_>>());
             }
+            for (q, _, _) in &markers {
+                occupancy.mark_point(to_px(*q));
+            }
+            crate::figure::draw_lines(&mut chart, lines, markers)?;
             frame(root, rect, INK_RGB)?;
             if k == 0 {
                 let mut entries = vec![Entry {
@@ -478,16 +463,7 @@ fn draw(fig: &BandFigure) -> Result<Drawn, Invalid> {
                 entries.extend(
                     fig.series
                         .iter()
-                        .filter(|s| !s.label.trim().is_empty())
-                        .map(|s| Entry {
-                            label: s.label.clone(),
-                            swatch: Swatch::Line {
-                                color: style_rgb(s.style),
-                                width: line_width(s.style, &m),
-                                dashed: s.style == Style::Published,
-                                marker: None,
-                            },
-                        }),
+                        .filter_map(|s| crate::figure::legend_entry(s, &m)),
                 );
                 let legend = place_legend(entries, rect, &occupancy, &m);
                 if let Some(l) = &legend {
