@@ -67,7 +67,8 @@ pub(crate) fn event_figures(name: &str, e: &EventAnalysis, out: &Path) -> Result
             "velocity step (in the order of diagnosis.json)",
             Panel::new("rate-and-state a, b [-]", main),
         )
-        .with_residual(Panel::new("a − b [-]", lower).with_zero_line());
+        .with_residual(Panel::new("a − b [-]", lower).with_zero_line())
+        .with_whole_x();
         let file = out.join("velocity-steps-one-by-one.png");
         write_figure(&fig, &file)?;
         files.push(file);

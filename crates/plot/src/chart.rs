@@ -204,17 +204,31 @@ impl Extent {
 /// 2 or 5 times a power of ten); on an axis of whole numbers (`integer`) no tick falls between
 /// two of them.
 pub(crate) fn tick_values(range: AxisRange, max: usize, integer: bool) -> Vec<f64> {
-    let max = if integer {
-        max.min(range.span().floor().max(1.0) as usize)
-    } else {
-        max
-    };
-    let coord: RangedCoordf64 = (range.min..range.max).into();
-    let mut v = coord.key_points(max.max(1));
     if integer {
-        v.retain(|x| x.fract() == 0.0);
+        return whole_tick_values(range, max);
     }
-    v
+    let coord: RangedCoordf64 = (range.min..range.max).into();
+    coord.key_points(max.max(1))
+}
+
+/// Whole-number ticks within `range`, at most `max` of them (at least one where the range
+/// holds a whole number): the smallest step of 1, 2 or 5 times a power of ten that keeps
+/// their count within `max`.
+fn whole_tick_values(range: AxisRange, max: usize) -> Vec<f64> {
+    let max = max.max(1);
+    let mut unit = 1.0f64;
+    loop {
+        for m in [1.0, 2.0, 5.0] {
+            let step = m * unit;
+            let first = (range.min / step).ceil() * step;
+            let count = ((range.max - first) / step).floor() + 1.0;
+            if count <= max as f64 || step >= range.span().max(1.0) {
+                let n = count.max(0.0) as usize;
+                return (0..n).map(|k| first + k as f64 * step).collect();
+            }
+        }
+        unit *= 10.0;
+    }
 }
 
 /// Labels of tick values: plain decimals, as many as the step needs, or scientific notation

@@ -402,11 +402,12 @@ fn draw(fig: &Figure) -> Result<Drawn, Invalid> {
     let list: Vec<&Panel> = panels(fig).collect();
     let n = list.len();
     let rows = rows(fig, &m, n)?;
-    let integer_x = whole_numbers(
-        list.iter()
-            .flat_map(|p| p.series.iter())
-            .flat_map(|s| s.x.iter()),
-    );
+    let integer_x = fig.whole_x
+        || whole_numbers(
+            list.iter()
+                .flat_map(|p| p.series.iter())
+                .flat_map(|s| s.x.iter()),
+        );
     // Y ticks per panel, then the column left of the plotting areas that fits them all.
     let yticks: Vec<Ticks> = rows
         .heights
@@ -787,7 +788,7 @@ fn draw_inset(
     let x_area = 2 * sm.tick_len + (sm.tick / 1.24 * 1.2) as i32 + sm.px(4.0);
     let y_area = yticks.widest(sm.tick) + 2 * sm.tick_len + sm.pad / 2;
     let inner_w = w - y_area - sm.px(14.0);
-    let integer_x = whole_numbers(fig.main.series.iter().flat_map(|s| s.x.iter()));
+    let integer_x = fig.whole_x || whole_numbers(fig.main.series.iter().flat_map(|s| s.x.iter()));
     let xticks = Ticks::fitting(zx, inner_w, sm.tick, 4, integer_x);
     let title = crate::chart::fit_text(inset.title.trim(), sm.legend, w - 2 * sm.pad);
     let mut chart = ChartBuilder::on(&area)

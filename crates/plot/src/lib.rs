@@ -231,6 +231,10 @@ pub struct Figure {
     pub width: u32,
     /// Image height in pixels ([`MIN_HEIGHT`]..=[`MAX_SIDE`]).
     pub height: u32,
+    /// The x axis counts things (velocity step 1, 2, 3): ticks at whole numbers only, even
+    /// where a series is drawn beside them (at 1.15, 2.15 …). Otherwise whole-number ticks
+    /// are taken when every x is a whole number.
+    pub whole_x: bool,
 }
 
 impl Figure {
@@ -245,7 +249,14 @@ impl Figure {
             inset: None,
             width: 1000,
             height: 750,
+            whole_x: false,
         }
+    }
+
+    /// The same figure with its x axis counting things: ticks at whole numbers only.
+    pub fn with_whole_x(mut self) -> Self {
+        self.whole_x = true;
+        self
     }
 
     /// The same figure with a history panel (what the test imposed).

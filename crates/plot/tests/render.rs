@@ -6,9 +6,9 @@ mod common;
 use std::path::Path;
 
 use subfric_plot::{
-    bar_layout, figure_layout, inspect_png, read_rgb, render_bars_png, render_png, series_inside,
-    BarFigure, Figure, Panel, PixelRect, PlotError, RgbImage, Series, Style, FITTED_RGB,
-    MEASURED_RGB, PUBLISHED_RGB,
+    bar_layout, figure_layout, inspect_png, read_rgb, render_bars_png, render_png, render_svg,
+    series_inside, BarFigure, Figure, Panel, PixelRect, PlotError, RgbImage, Series, Style,
+    FITTED_RGB, MEASURED_RGB, PUBLISHED_RGB,
 };
 
 /// Strongly red pixels: the fitted colour and its near-opaque blends. No
@@ -696,4 +696,60 @@ fn a_history_panel_sits_between_the_main_and_the_residual_panel() {
         in_history > 100,
         "{in_history} pixels of the imposed history"
     );
+}
+
+/// The tick labels of an SVG document: the text of its `<text>` elements.
+fn svg_texts(svg: &str) -> Vec<String> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| {
+            let body = &t[t.find('>')? + 1..];
+            Some(body[..body.find("</text>")?].trim().to_string())
+        })
+        .collect()
+}
+
+#[test]
+fn an_axis_that_counts_things_has_whole_ticks_even_beside_shifted_series() {
+    // Three velocity steps with their estimates, and a second series drawn 0.15 to the right.
+    let steps = Series::new(
+        "fitted",
+        vec![1.0, 2.0, 3.0],
+        vec![0.1, 0.2, 0.15],
+        Style::Fitted,
+    );
+    let beside = Series::new(
+        "measured",
+        vec![1.15, 2.15, 3.15],
+        vec![0.12, 0.18, 0.16],
+        Style::Measured,
+    );
+    let fig = |whole: bool| {
+        let f = Figure::new(
+            "steps",
+            "velocity step",
+            Panel::new("a", vec![steps.clone(), beside.clone()]),
+        );
+        if whole {
+            f.with_whole_x()
+        } else {
+            f
+        }
+    };
+    let texts = svg_texts(&render_svg(&fig(true), Path::new("steps.svg")).unwrap());
+    for half in ["1.5", "2.5", "0.5"] {
+        assert!(
+            !texts.iter().any(|t| t == half),
+            "a tick at {half}: {texts:?}"
+        );
+    }
+    for whole in ["1", "2", "3"] {
+        assert!(
+            texts.iter().any(|t| t == whole),
+            "no tick at {whole}: {texts:?}"
+        );
+    }
+    // Without it the shifted series makes the axis continuous (the figure as before).
+    let texts = svg_texts(&render_svg(&fig(false), Path::new("steps.svg")).unwrap());
+    assert!(texts.iter().any(|t| t.contains('.')), "{texts:?}");
 }
