@@ -59,7 +59,7 @@ def test_a_dask_cluster_a_local_run_and_the_program_write_the_same_table(lab, tm
     cli.run("campaign", lab, "--out", tmp_path / "cli", "--progress", "never")
     local_dir = tmp_path / "local"
     for other in [tmp_path / "dask", tmp_path / "cli"]:
-        for f in ["campaign.csv", "campaign.md", "figures/mu-vs-roughness.png"]:
+        for f in ["campaign.csv", "campaign.md", "campaign.html", "figures/mu-vs-roughness.png"]:
             assert read(other, f) == read(local_dir, f), f"{other}/{f}"
         for s in SETS:
             assert read(other, f"sets/{s}/fit.json") == read(local_dir, f"sets/{s}/fit.json")

@@ -141,6 +141,22 @@ fn a_campaign_writes_its_table_skips_what_is_current_and_reruns_only_a_changed_s
         let check = subfric_plot::inspect_png(&out.join("figures").join(f)).unwrap();
         assert_eq!((check.width, check.height), (1000, 750), "{f}");
     }
+    // The campaign's page: the same table, each set's fit linked, every figure shown.
+    let page = subfric_e2e::html::check_report(&out.join("campaign.html"), &out.join("figures"));
+    assert_mentions(
+        &page.text,
+        &[
+            "3 sets: 3 ok",
+            "table1-rough",
+            "misfit (× noise variance)",
+            "R_max/D50",
+        ],
+    );
+    assert!(
+        page.links.iter().any(|l| l == "sets/table1-rough/fit.txt"),
+        "{:?}",
+        page.links
+    );
     assert!(!out.join("figures/verdicts.png").exists());
     // A set's fit.json is the one `subfric fit` writes, byte for byte.
     let alone = tmp.path().join("alone");

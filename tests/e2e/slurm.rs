@@ -250,6 +250,7 @@ fn assert_same_results(cluster: &Path, local: &Path, sets: &[&str]) {
     let mut files: Vec<String> = [
         "campaign.csv",
         "campaign.md",
+        "campaign.html",
         "figures/mu-vs-roughness.png",
         "figures/mu-vs-normal-stress.png",
     ]

@@ -63,6 +63,8 @@ pub enum Cell {
     Text(String),
     /// A number as text, aligned right.
     Num(String),
+    /// Links to files beside the page: (label, href relative to the page).
+    Links(Vec<(String, String)>),
 }
 
 impl From<String> for Cell {
@@ -205,6 +207,15 @@ impl Page {
                     }
                     Cell::Num(t) => {
                         let _ = write!(self.body, "<td class=\"num\">{}</td>", escape(&t));
+                    }
+                    Cell::Links(links) => {
+                        let parts: Vec<String> = links
+                            .iter()
+                            .map(|(label, href)| {
+                                format!("<a href=\"{}\">{}</a>", escape(href), escape(label))
+                            })
+                            .collect();
+                        let _ = write!(self.body, "<td>{}</td>", parts.join(" · "));
                     }
                 }
             }

@@ -285,19 +285,33 @@ pub fn write(dir: &Path, rows: &[Row]) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir)
         .map_err(|e| anyhow::anyhow!("{}: cannot create the folder: {e}", dir.display()))?;
     let mut files = Vec::new();
-    let roughness = mu_figure(
-        rows,
-        "normalised roughness",
-        "normalised roughness R_max/D50 [-]",
-        |r| r.rmax_over_d50.map(|x| (x, None)),
-        "R_max and D50 in experiment.json",
-    );
-    let stress = stress_figure(rows);
-    for (fig, name) in [(roughness, ROUGHNESS_FIGURE), (stress, STRESS_FIGURE)] {
-        let f = dir.join(name);
-        write_figure(&fig, &f)?;
+    // μ against roughness only where a set gives its roughness: an empty frame says nothing
+    // (an old one of another table is removed, PNG and SVG).
+    if rows.iter().any(|r| r.rmax_over_d50.is_some()) {
+        let roughness = mu_figure(
+            rows,
+            "normalised roughness",
+            "normalised roughness R_max/D50 [-]",
+            |r| r.rmax_over_d50.map(|x| (x, None)),
+            "R_max and D50 in experiment.json",
+        );
+        let f = dir.join(ROUGHNESS_FIGURE);
+        write_figure(&roughness, &f)?;
         files.push(f);
+    } else {
+        for f in [
+            dir.join(ROUGHNESS_FIGURE),
+            dir.join(ROUGHNESS_FIGURE).with_extension("svg"),
+        ] {
+            if f.is_file() {
+                std::fs::remove_file(&f)
+                    .map_err(|e| anyhow::anyhow!("{}: cannot remove: {e}", f.display()))?;
+            }
+        }
     }
+    let f = dir.join(STRESS_FIGURE);
+    write_figure(&stress_figure(rows), &f)?;
+    files.push(f);
     let mut verdict_files = Vec::new();
     if rows.iter().any(|r| r.verdict.is_some()) {
         for (name, fig) in verdict_figures(rows) {
@@ -338,6 +352,27 @@ mod tests {
                 held_out_shrink: Some((i % 10) as f64 / 10.0),
             })
             .collect()
+    }
+
+    #[test]
+    fn no_roughness_figure_without_a_roughness_and_an_old_one_is_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join(ROUGHNESS_FIGURE), b"old").unwrap();
+        std::fs::write(dir.path().join("mu-vs-roughness.svg"), b"old").unwrap();
+        let files = write(dir.path(), &rows(3)).unwrap();
+        let names: Vec<String> = files
+            .iter()
+            .map(|f| f.file_name().unwrap().to_string_lossy().to_string())
+            .collect();
+        assert!(!names.contains(&ROUGHNESS_FIGURE.to_string()), "{names:?}");
+        assert!(names.contains(&STRESS_FIGURE.to_string()), "{names:?}");
+        assert!(!dir.path().join(ROUGHNESS_FIGURE).exists());
+        assert!(!dir.path().join("mu-vs-roughness.svg").exists());
+        // With one set's roughness given, the figure is drawn.
+        let mut with = rows(3);
+        with[1].rmax_over_d50 = Some(0.05);
+        let files = write(dir.path(), &with).unwrap();
+        assert!(files.iter().any(|f| f.ends_with(ROUGHNESS_FIGURE)));
     }
 
     #[test]

@@ -10,7 +10,7 @@
 //! [`collect`]).
 //!
 //! ```text
-//! <out>/  .subfric-source  campaign.json (the plan)  campaign.csv  campaign.md
+//! <out>/  .subfric-source  campaign.json (the plan)  campaign.csv  campaign.md  campaign.html
 //!         figures/mu-vs-roughness.png  mu-vs-normal-stress.png  verdicts.png
 //!         sets/<set>/  fit.json  fit.txt  campaign-set.json  diagnosis/…
 //!         campaign.sbatch  collect.sbatch  slurm/   (--emit-slurm)
@@ -18,6 +18,7 @@
 
 mod figures;
 pub mod manifest;
+mod page;
 pub mod record;
 mod run;
 pub mod slurm;
@@ -25,6 +26,7 @@ pub mod submit;
 mod table;
 
 pub use figures::{verdict_page, ROUGHNESS_FIGURE, STRESS_FIGURE, VERDICT_FIGURE, VERDICT_PAGE};
+pub use page::PAGE;
 pub use run::{SetOutcome, SetRun};
 pub use table::{ParamCell, Row, RowStatus};
 
@@ -516,7 +518,14 @@ fn write_table(out: &Path, plan: &Plan) -> Result<Collected> {
     let md = out.join(TABLE_MD);
     write_text(&md, &table::markdown(&plan.name, &rows, diagnosed))?;
     let mut files = vec![csv, md];
-    files.extend(figures::write(&out.join(FIGURES_DIR), &rows)?);
+    let figures = figures::write(&out.join(FIGURES_DIR), &rows)?;
+    let html = out.join(PAGE);
+    write_text(
+        &html,
+        &page::page(&plan.name, out, &rows, diagnosed, &figures)?,
+    )?;
+    files.push(html);
+    files.extend(figures);
     Ok(Collected {
         out: out.to_path_buf(),
         rows,

@@ -409,27 +409,30 @@ fn symbol(name: &str) -> &str {
     }
 }
 
-/// `campaign.md`: the table to read, then the sets that failed or are missing, with why.
-pub fn markdown(title: &str, rows: &[Row], diagnosed: bool) -> String {
-    let params = parameter_names(rows);
-    let mut s = format!("# Campaign {}\n\n", md(title));
+/// The sentence under a campaign table's title: how many sets stand where.
+pub(super) fn counts(rows: &[Row]) -> String {
     let count = |st: RowStatus| rows.iter().filter(|r| r.status == st).count();
-    let _ = writeln!(
-        s,
-        "{} sets: {} ok, {} failed, {} not run, {} out of date.\n",
+    format!(
+        "{} sets: {} ok, {} failed, {} not run, {} out of date.",
         rows.len(),
         count(RowStatus::Ok),
         count(RowStatus::Failed),
         count(RowStatus::NotRun),
         count(RowStatus::OutOfDate)
-    );
-    s.push_str(
-        "Each parameter: the fitted value and its 95 % profile interval; `(≤a` or `b≥)` marks an end \
-         the data do not bound (the search's wall), and the identifiability follows when the \
-         parameter is only weakly determined. A parameter the data do not determine shows the \
-         bound they set (`not determined (≤ b)`) and no value: any smaller value fits as well. R_max/D50: R_max over D50, both in µm. σ_n: the normal \
-         stresses of the tests fitted. Every number here is in `campaign.csv` at full precision.\n\n",
-    );
+    )
+}
+
+/// How to read a campaign table (`code` between backticks).
+pub(super) const TABLE_LEGEND: &str = "Each parameter: the fitted value and its 95 % profile interval; `(≤a` or `b≥)` marks an end \
+     the data do not bound (the search's wall), and the identifiability follows when the \
+     parameter is only weakly determined. A parameter the data do not determine shows the \
+     bound they set (`not determined (≤ b)`) and no value: any smaller value fits as well. R_max/D50: R_max over D50, both in µm. σ_n: the normal \
+     stresses of the tests fitted. Misfit: the mean square of the residual over the noise variance \
+     estimated from the data (1 = the model follows the data to within their noise), as every \
+     report of subfric says it. Every number here is in `campaign.csv` at full precision.";
+
+/// The header of a campaign table.
+pub(super) fn header(rows: &[Row], diagnosed: bool) -> Vec<String> {
     let mut head = vec![
         "set".to_string(),
         "soil".into(),
@@ -439,66 +442,94 @@ pub fn markdown(title: &str, rows: &[Row], diagnosed: bool) -> String {
         "R_max/D50".into(),
         "σ_n (kPa)".into(),
     ];
-    for (p, unit) in &params {
+    for (p, unit) in &parameter_names(rows) {
         head.push(if unit.is_empty() {
             symbol(p).to_string()
         } else {
             format!("{} ({unit})", symbol(p))
         });
     }
-    head.push("χ²_red".into());
+    head.push("misfit (× noise variance)".into());
     if diagnosed {
         head.push("verdict".into());
     }
     head.push("status".into());
+    head
+}
+
+/// The cells of one row of a campaign table, texts passed through `text` (Markdown's escape,
+/// or none for a page that escapes them itself).
+pub(super) fn cells(
+    r: &Row,
+    rows: &[Row],
+    diagnosed: bool,
+    text: &dyn Fn(&str) -> String,
+) -> Vec<String> {
+    let mut cells = vec![
+        text(&r.set),
+        text(r.soil.as_deref().unwrap_or_default()),
+        md_num(r.d50_mm),
+        text(r.surface.as_deref().unwrap_or_default()),
+        md_num(r.roughness_rmax_um),
+        md_num(r.rmax_over_d50),
+        r.normal_stresses_kpa
+            .iter()
+            .map(|x| format!("{x}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+    ];
+    for (p, _) in &parameter_names(rows) {
+        cells.push(r.parameter(p).map(md_param).unwrap_or_default());
+    }
+    cells.push(md_num(r.reduced_chi2));
+    if diagnosed {
+        cells.push(match (&r.verdict, r.held_out_shrink) {
+            (Some(v), Some(h)) if h > 0.0 => {
+                format!("{} (held-out misfit −{:.0} %)", text(v), 100.0 * h)
+            }
+            (Some(v), _) => text(v),
+            _ => String::new(),
+        });
+    }
+    cells.push(r.status.text().to_string());
+    cells
+}
+
+/// Why a set has no results, in words.
+pub(super) fn why_incomplete(r: &Row) -> String {
+    match (r.status, &r.error) {
+        (_, Some(e)) => e.clone(),
+        (RowStatus::NotRun, None) => "no results yet (run the campaign, or its array task)".into(),
+        (RowStatus::OutOfDate, None) => {
+            "its inputs or options changed since its results were written (run it again)".into()
+        }
+        _ => String::new(),
+    }
+}
+
+/// `campaign.md`: the table to read, then the sets that failed or are missing, with why.
+pub fn markdown(title: &str, rows: &[Row], diagnosed: bool) -> String {
+    let mut s = format!("# Campaign {}\n\n", md(title));
+    let _ = writeln!(s, "{}\n", counts(rows));
+    s.push_str(TABLE_LEGEND);
+    s.push_str("\n\n");
+    let head = header(rows, diagnosed);
     let _ = writeln!(s, "| {} |", head.join(" | "));
     let _ = writeln!(s, "|{}", "---|".repeat(head.len()));
     for r in rows {
-        let mut cells = vec![
-            md(&r.set),
-            md(r.soil.as_deref().unwrap_or_default()),
-            md_num(r.d50_mm),
-            md(r.surface.as_deref().unwrap_or_default()),
-            md_num(r.roughness_rmax_um),
-            md_num(r.rmax_over_d50),
-            r.normal_stresses_kpa
-                .iter()
-                .map(|x| format!("{x}"))
-                .collect::<Vec<_>>()
-                .join(", "),
-        ];
-        for (p, _) in &params {
-            cells.push(r.parameter(p).map(md_param).unwrap_or_default());
-        }
-        cells.push(md_num(r.reduced_chi2));
-        if diagnosed {
-            cells.push(match (&r.verdict, r.held_out_shrink) {
-                (Some(v), Some(h)) if h > 0.0 => {
-                    format!("{} (held-out misfit −{:.0} %)", md(v), 100.0 * h)
-                }
-                (Some(v), _) => md(v),
-                _ => String::new(),
-            });
-        }
-        cells.push(r.status.text().to_string());
-        let _ = writeln!(s, "| {} |", cells.join(" | "));
+        let _ = writeln!(s, "| {} |", cells(r, rows, diagnosed, &md).join(" | "));
     }
     let problems: Vec<&Row> = rows.iter().filter(|r| r.status != RowStatus::Ok).collect();
     if !problems.is_empty() {
         s.push_str("\n## Sets without results\n\n");
         for r in problems {
-            let why = match (r.status, &r.error) {
-                (_, Some(e)) => md(e),
-                (RowStatus::NotRun, None) => {
-                    "no results yet (run the campaign, or its array task)".into()
-                }
-                (RowStatus::OutOfDate, None) => {
-                    "its inputs or options changed since its results were written (run it again)"
-                        .into()
-                }
-                _ => String::new(),
-            };
-            let _ = writeln!(s, "- `{}` ({}): {why}", md(&r.set), r.status.text());
+            let _ = writeln!(
+                s,
+                "- `{}` ({}): {}",
+                md(&r.set),
+                r.status.text(),
+                md(&why_incomplete(r))
+            );
         }
     }
     s
