@@ -262,6 +262,14 @@ fn diagnose_counts_its_progress_and_plan_then_plans_on_the_model_it_chose() {
     let diagnosis = tmp.path().join("fits/pair-01/diagnosis");
     let page = check_report(&diagnosis.join("report.html"), &diagnosis);
     assert!(page.images.len() >= 8, "{} figures", page.images.len());
+    // Each stage of the selection ends with its decision, as in the terminal's report.
+    let json = read_json(&diagnosis.join("diagnosis.json"));
+    let stages = json["diagnosis"]["selection"]
+        .as_array()
+        .map_or(0, Vec::len);
+    assert!(stages > 0);
+    let html = std::fs::read_to_string(diagnosis.join("report.html")).unwrap();
+    assert_eq!(html.matches("<p>→ ").count(), stages, "{html}");
 
     // plan reads fits/pair-01/diagnosis/diagnosis.json and fits the model with the effect.
     let stdout = run.ok(args!["plan", "pair-01", "--check", "0"]);

@@ -222,6 +222,12 @@ pub fn pngs_under(dir: &Path) -> Vec<PathBuf> {
 pub fn check_report(page: &Path, figures_root: &Path) -> PageContent {
     let html = std::fs::read_to_string(page).unwrap_or_else(|e| panic!("{}: {e}", page.display()));
     let content = check_page(&html).unwrap_or_else(|e| panic!("{}: {e}", page.display()));
+    // A table without rows says nothing a sentence would not: reports say it in words.
+    assert!(
+        !html.contains("<tbody>\n</tbody>"),
+        "{}: an empty table",
+        page.display()
+    );
     let written: Vec<(PathBuf, Vec<u8>)> = pngs_under(figures_root)
         .into_iter()
         .map(|p| {

@@ -404,7 +404,7 @@ fn held_out_selection(s: &mut String, d: &Diagnosis) {
     }
 }
 
-fn decision_text(
+pub(crate) fn decision_text(
     decision: Decision,
     stage: usize,
     candidates: &[subfric_diagnose::diagnose::CandidateScore],

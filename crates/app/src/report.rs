@@ -204,6 +204,12 @@ pub fn diagnosis_page(
             st.reference,
             misfit_number(st.reference_chi2)
         ));
+        let decided = crate::diagnose_report::decision_text(st.decision, k, &st.candidates);
+        if st.candidates.is_empty() && st.drift.is_none() {
+            // No candidate was left to try: the decision in words, not an empty table.
+            page.p(&format!("→ {decided}"));
+            continue;
+        }
         page.table(
             &[
                 "candidate",
@@ -226,6 +232,7 @@ pub fn diagnosis_page(
                 })
                 .collect(),
         );
+        page.p(&format!("→ {decided}"));
     }
     page.h2("figures", "Figures");
     page.p("Per test: measured (dark markers), the base model, and the model with the named effects; then a zoom on every velocity step and hold; then the residual by segment and by test.");
