@@ -175,18 +175,7 @@ fn calibration(cases: &[Case]) -> (Vec<CalibrationBin>, Option<f64>, (usize, usi
     (bins, brier, confident_right)
 }
 
-fn median(v: &mut [f64]) -> Option<f64> {
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(|a, b| a.total_cmp(b));
-    let n = v.len();
-    Some(if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    })
-}
+use subfric_data::stats::median;
 
 /// Scores cases.
 pub fn score(cases: &[Case]) -> Scores {

@@ -45,6 +45,7 @@ pub mod noise;
 pub mod plausible;
 pub mod segment;
 pub mod set;
+pub mod stats;
 pub mod summary;
 pub mod text;
 pub mod write;

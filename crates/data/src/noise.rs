@@ -55,17 +55,9 @@ impl NoiseEstimate {
     }
 }
 
+/// [`crate::stats::median`], 0 when empty (the readers' convention).
 pub(crate) fn median(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    let m = v.len() / 2;
-    if v.len() % 2 == 1 {
-        v[m]
-    } else {
-        0.5 * (v[m - 1] + v[m])
-    }
+    crate::stats::median(v).unwrap_or(0.0)
 }
 
 /// Scaled residuals of each reading from the linear interpolation of its two neighbours (white
@@ -210,51 +202,20 @@ fn polynomial_rms(t: &[f64], x: &[f64], terms: usize) -> f64 {
         .map(|v| (v - tm).abs())
         .fold(0.0, f64::max)
         .max(f64::MIN_POSITIVE);
-    // Normal equations in a scaled, centred time (well conditioned for any time unit).
-    let mut g = [[0.0; 3]; 3];
-    let mut b = [0.0; 3];
-    for (&ti, &xi) in t.iter().zip(x) {
-        let u = (ti - tm) / span;
-        let phi = [1.0, u, u * u];
-        for r in 0..terms {
-            b[r] += phi[r] * xi;
-            for c in 0..terms {
-                g[r][c] += phi[r] * phi[c];
-            }
-        }
+    // Least squares in a scaled, centred time (well conditioned for any time unit), by
+    // nalgebra's SVD; a design the rows cannot resolve (times that do not vary) has no fit.
+    let design =
+        nalgebra::DMatrix::from_fn(t.len(), terms, |i, j| ((t[i] - tm) / span).powi(j as i32));
+    let y = nalgebra::DVector::from_column_slice(x);
+    let svd = design.clone().svd(true, true);
+    let largest = svd.singular_values.max();
+    if !(svd.singular_values.min() > 1e-12 * largest && largest.is_finite()) {
+        return f64::NAN;
     }
-    // Gaussian elimination with partial pivoting.
-    for k in 0..terms {
-        let p = (k..terms)
-            .max_by(|&i, &j| g[i][k].abs().total_cmp(&g[j][k].abs()))
-            .unwrap_or(k);
-        g.swap(k, p);
-        b.swap(k, p);
-        if g[k][k].abs() < 1e-300 {
-            return f64::NAN;
-        }
-        let (pivot_row, pivot_b) = (g[k], b[k]);
-        for i in k + 1..terms {
-            let f = g[i][k] / pivot_row[k];
-            for (gi, gk) in g[i].iter_mut().zip(pivot_row).skip(k) {
-                *gi -= f * gk;
-            }
-            b[i] -= f * pivot_b;
-        }
-    }
-    let mut c = [0.0; 3];
-    for k in (0..terms).rev() {
-        c[k] = (b[k] - (k + 1..terms).map(|j| g[k][j] * c[j]).sum::<f64>()) / g[k][k];
-    }
-    let ss: f64 = t
-        .iter()
-        .zip(x)
-        .map(|(&ti, &xi)| {
-            let u = (ti - tm) / span;
-            let e = xi - (c[0] + c[1] * u + c[2] * u * u);
-            e * e
-        })
-        .sum();
+    let Ok(c) = svd.solve(&y, 0.0) else {
+        return f64::NAN;
+    };
+    let ss = (design * c - y).norm_squared();
     (ss / (n - terms as f64).max(1.0)).sqrt()
 }
 

@@ -76,15 +76,7 @@ pub fn rig_of(tests: &[FitTest], fit: &Model) -> Rig {
     }
 }
 
+/// [`subfric_data::stats::median`], 0 when empty.
 fn median(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
+    subfric_data::stats::median(v).unwrap_or(0.0)
 }

@@ -110,13 +110,8 @@ impl EventSeeds {
     }
 }
 
-fn median(v: &mut [f64]) -> Option<f64> {
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    Some(v[v.len() / 2])
-}
+// The features read values of the record itself: the upper median, as they always have.
+use subfric_data::stats::upper_median as median;
 
 fn mean_normal(t: &FitTest) -> f64 {
     t.normal.iter().sum::<f64>() / t.normal.len().max(1) as f64

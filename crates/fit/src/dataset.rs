@@ -40,16 +40,7 @@ pub struct FitTest {
 /// The median of `v` (sorted in place; the mean of the middle two for an even count; 0 when
 /// empty).
 pub(crate) fn median(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(|a, b| a.total_cmp(b));
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
+    subfric_data::stats::median(v).unwrap_or(0.0)
 }
 
 impl FitTest {

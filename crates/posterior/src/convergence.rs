@@ -364,68 +364,33 @@ fn mean_var(x: &[f64]) -> (f64, f64) {
     (m, v)
 }
 
-/// Normalised autocorrelation ρ_k (k = 0..n) of a series by FFT; `None` when it is constant.
+/// Normalised autocorrelation ρ_k (k = 0..n) of a series by FFT (the `realfft` crate: the
+/// power spectrum of the zero-padded series, transformed back); `None` when it is constant.
 fn autocorrelation(x: &[f64]) -> Option<Vec<f64>> {
     let n = x.len();
     let mean = x.iter().sum::<f64>() / n as f64;
+    // Zero-padded to at least 2n: the circular correlation then holds the linear one.
     let size = (2 * n).next_power_of_two();
-    let mut re = vec![0.0; size];
-    let mut im = vec![0.0; size];
-    for (r, v) in re.iter_mut().zip(x) {
+    let mut planner = realfft::RealFftPlanner::<f64>::new();
+    let forward = planner.plan_fft_forward(size);
+    let inverse = planner.plan_fft_inverse(size);
+    let mut series = forward.make_input_vec();
+    for (r, v) in series.iter_mut().zip(x) {
         *r = v - mean;
     }
-    fft(&mut re, &mut im, false);
-    for (r, i) in re.iter_mut().zip(im.iter_mut()) {
-        *r = *r * *r + *i * *i;
-        *i = 0.0;
+    let mut spectrum = forward.make_output_vec();
+    forward.process(&mut series, &mut spectrum).ok()?;
+    for c in spectrum.iter_mut() {
+        *c = realfft::num_complex::Complex::new(c.norm_sqr(), 0.0);
     }
-    fft(&mut re, &mut im, true);
-    let c0 = re[0];
+    // The inverse is unnormalised: dividing by lag 0 cancels the scale.
+    let mut correlation = inverse.make_output_vec();
+    inverse.process(&mut spectrum, &mut correlation).ok()?;
+    let c0 = correlation[0];
     if !(c0 > 0.0 && c0.is_finite()) {
         return None;
     }
-    Some(re[..n].iter().map(|c| c / c0).collect())
-}
-
-/// In-place iterative radix-2 FFT (length a power of two); the inverse is unnormalised (the
-/// autocorrelation divides by lag 0, so the scale cancels).
-fn fft(re: &mut [f64], im: &mut [f64], inverse: bool) {
-    let n = re.len();
-    let mut j = 0;
-    for i in 1..n {
-        let mut bit = n >> 1;
-        while j & bit != 0 {
-            j ^= bit;
-            bit >>= 1;
-        }
-        j |= bit;
-        if i < j {
-            re.swap(i, j);
-            im.swap(i, j);
-        }
-    }
-    let sign = if inverse { 1.0 } else { -1.0 };
-    let mut len = 2;
-    while len <= n {
-        let angle = sign * 2.0 * std::f64::consts::PI / len as f64;
-        let (wr, wi) = (angle.cos(), angle.sin());
-        for start in (0..n).step_by(len) {
-            let (mut cr, mut ci) = (1.0, 0.0);
-            for k in 0..len / 2 {
-                let (a, b) = (start + k, start + k + len / 2);
-                let tr = re[b] * cr - im[b] * ci;
-                let ti = re[b] * ci + im[b] * cr;
-                re[b] = re[a] - tr;
-                im[b] = im[a] - ti;
-                re[a] += tr;
-                im[a] += ti;
-                let next = cr * wr - ci * wi;
-                ci = cr * wi + ci * wr;
-                cr = next;
-            }
-        }
-        len <<= 1;
-    }
+    Some(correlation[..n].iter().map(|c| c / c0).collect())
 }
 
 #[cfg(test)]

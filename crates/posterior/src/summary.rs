@@ -242,19 +242,9 @@ fn thinning(c: &Convergence) -> usize {
     }
 }
 
-/// The `q` quantile of sorted values (linear interpolation between order statistics).
-pub fn quantile(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    let pos = q.clamp(0.0, 1.0) * (sorted.len() - 1) as f64;
-    let i = pos.floor() as usize;
-    let f = pos - i as f64;
-    match sorted.get(i + 1) {
-        Some(next) => sorted[i] + f * (next - sorted[i]),
-        None => sorted[i],
-    }
-}
+/// The `q` quantile of sorted values (linear interpolation between order statistics): the
+/// one of [`subfric_data::stats`].
+pub use subfric_data::stats::quantile;
 
 fn summarise(p: Param, values: &[f64], prior: &str) -> ParamSummary {
     let mut sorted = values.to_vec();

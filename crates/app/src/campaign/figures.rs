@@ -142,12 +142,7 @@ fn verdicts(rows: &[Row]) -> Vec<&str> {
     v
 }
 
-/// The value at fraction `q` of sorted `v` (linear between neighbours).
-fn quantile(v: &[f64], q: f64) -> f64 {
-    let at = q * (v.len() - 1) as f64;
-    let (i, f) = (at.floor() as usize, at.fract());
-    v[i] + f * (v[(i + 1).min(v.len() - 1)] - v[i])
-}
+use subfric_data::stats::quantile;
 
 /// The overview of a large campaign's verdicts: per verdict, its sets counted, the median
 /// share of the held-out misfit removed and the bar from the first to the third quartile.

@@ -264,12 +264,9 @@ impl EventAnalysis {
     }
 }
 
+/// [`subfric_data::stats::upper_median`] (a value of the events' readings), NaN when empty.
 fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
+    subfric_data::stats::upper_median(&mut v).unwrap_or(f64::NAN)
 }
 
 /// The steps' reading together.
