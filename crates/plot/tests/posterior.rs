@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use subfric_plot::posterior::{
-    band_layout, corner_layout, render_band_png, render_corner_png, BandFigure, CornerFigure,
-    CornerMarker,
+    band_layout, corner_layout, render_band_png, render_corner_png, BandFigure, BandLayout,
+    CornerFigure, CornerMarker,
 };
 use subfric_plot::{read_rgb, PlotError, RgbImage, Series, Style};
 
@@ -21,6 +21,20 @@ impl Lcg {
             .wrapping_add(1442695040888963407);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
+}
+
+/// The pixel column of `v` on the main panel of a band figure.
+fn pixel_x(l: &BandLayout, v: f64) -> u32 {
+    (l.plot.left as f64
+        + (v - l.x_range.0) / (l.x_range.1 - l.x_range.0) * (l.plot.right - l.plot.left) as f64)
+        .round() as u32
+}
+
+/// The pixel row of `v` on the main panel of a band figure.
+fn pixel_y(l: &BandLayout, v: f64) -> u32 {
+    (l.plot.bottom as f64
+        - (v - l.y_range.0) / (l.y_range.1 - l.y_range.0) * (l.plot.bottom - l.plot.top) as f64)
+        .round() as u32
 }
 
 fn darkness(c: [u8; 3]) -> i32 {
@@ -166,16 +180,7 @@ fn the_band_is_shaded_between_its_edges_even_where_x_stands_still() {
     render_band_png(&fig, &path).unwrap();
     let img = read_rgb(&path).unwrap();
     let l = band_layout(&fig).unwrap();
-    let px = |v: f64| {
-        (l.plot.left as f64
-            + (v - l.x_range.0) / (l.x_range.1 - l.x_range.0) * (l.plot.right - l.plot.left) as f64)
-            .round() as u32
-    };
-    let py = |v: f64| {
-        (l.plot.bottom as f64
-            - (v - l.y_range.0) / (l.y_range.1 - l.y_range.0) * (l.plot.bottom - l.plot.top) as f64)
-            .round() as u32
-    };
+    let (px, py) = (|v| pixel_x(&l, v), |v| pixel_y(&l, v));
     let band = [246, 190, 184];
     // Inside the band, just off the median line: band colour; well outside: white.
     assert_eq!(img.pixel(px(0.5), py(0.53)).unwrap(), band);
@@ -225,16 +230,7 @@ fn the_data_are_drawn_over_the_median_and_a_band_thinner_than_a_pixel_still_show
     render_band_png(&fig, &path).unwrap();
     let img = read_rgb(&path).unwrap();
     let l = band_layout(&fig).unwrap();
-    let px = |v: f64| {
-        (l.plot.left as f64
-            + (v - l.x_range.0) / (l.x_range.1 - l.x_range.0) * (l.plot.right - l.plot.left) as f64)
-            .round() as u32
-    };
-    let py = |v: f64| {
-        (l.plot.bottom as f64
-            - (v - l.y_range.0) / (l.y_range.1 - l.y_range.0) * (l.plot.bottom - l.plot.top) as f64)
-            .round() as u32
-    };
+    let (px, py) = (|v| pixel_x(&l, v), |v| pixel_y(&l, v));
     // On a measured point the marker (dark grey), not the red median drawn after the data
     // in an earlier version.
     let at = img.pixel(px(x[15]), py(mid[15])).unwrap();
@@ -253,13 +249,7 @@ fn the_data_are_drawn_over_the_median_and_a_band_thinner_than_a_pixel_still_show
     render_band_png(&bare, &path).unwrap();
     let img = read_rgb(&path).unwrap();
     let l = band_layout(&bare).unwrap();
-    let (x0, y0) = (l.x_range, l.y_range);
-    let (col, row) = (
-        (l.plot.left as f64 + (0.5 - x0.0) / (x0.1 - x0.0) * (l.plot.right - l.plot.left) as f64)
-            .round() as u32,
-        (l.plot.bottom as f64 - (0.5 - y0.0) / (y0.1 - y0.0) * (l.plot.bottom - l.plot.top) as f64)
-            .round() as u32,
-    );
+    let (col, row) = (pixel_x(&l, 0.5), pixel_y(&l, 0.5));
     let near: Vec<[u8; 3]> = (row.saturating_sub(2)..=row + 2)
         .filter_map(|r| img.pixel(col, r))
         .collect();
