@@ -341,3 +341,147 @@ fn a_delimited_file_keeps_named_channels_and_its_stage_column() {
     );
     assert!(e[0].contains("has no stage column"), "{e:?}");
 }
+
+/// An `.ini` file of two sections, each with its own rate and its channels.
+fn two_section_ini(rate1: &str, rate2: &str, bad: bool) -> String {
+    let sec = |name: &str, rate: &str, n: usize, step: f64, bad: bool| {
+        let h: Vec<String> = (0..n)
+            .map(|i| {
+                if bad && i == 1 {
+                    "x".into()
+                } else {
+                    format!("{:.3}", step * i as f64)
+                }
+            })
+            .collect();
+        let q: Vec<String> = (0..n).map(|i| format!("{:.1}", 2.0 * i as f64)).collect();
+        format!(
+            "[{name}]\n{rate}\nHorizontal Displacement (mm)=\"{}\"\nShear Stress (kPa)=\"{}\"\nNormal Stress (kPa)=\"{}\"\n",
+            h.join(","),
+            q.join(","),
+            vec!["100"; n].join(",")
+        )
+    };
+    format!(
+        "{}{}",
+        sec("Stage 1", rate1, 4, 0.01, false),
+        sec("Stage 2", rate2, 12, 0.1, bad)
+    )
+}
+
+#[test]
+fn each_section_s_own_rate_times_its_rows_and_a_contradicting_rate_unit_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let lab = write(
+        dir.path(),
+        "r.ini",
+        &two_section_ini("Rate (mm/min)=\"1.0\"", "Rate (mm/min)=\"0.1\"", false),
+    );
+    let set = import(&lab, &spec("r"), &dir.path().join("a")).unwrap_or_else(|e| panic!("{e}"));
+    let t = &set.tests[0];
+    assert_eq!(t.slip_mm.len(), 12, "stage 2");
+    // 0.1 mm at 0.1 mm/min (stage 2's own rate, not stage 1's 1.0) is 60 s.
+    assert!((t.time_s[1] - 60.0).abs() < 1e-9, "{:?}", &t.time_s[..2]);
+    let wrong = ImportSpec {
+        rate_unit: Some("mm/s".parse().unwrap()),
+        ..spec("r")
+    };
+    let e = problems(import(&lab, &wrong, &dir.path().join("b")).unwrap_err());
+    assert!(
+        e[0].contains("the file states the rate in mm/min, --rate-unit says mm/s"),
+        "{e:?}"
+    );
+    // A bad value of the second section is placed on its own line, at its place in the list.
+    let lab = write(
+        dir.path(),
+        "bad.ini",
+        &two_section_ini("Rate (mm/min)=\"1.0\"", "Rate (mm/min)=\"0.1\"", true),
+    );
+    let e = problems(import(&lab, &spec("r"), &dir.path().join("c")).unwrap_err());
+    assert!(
+        e.iter()
+            .any(|p| p
+                .contains("bad.ini:8: field `Horizontal Displacement (mm)`: value 2 of the list")),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn stages_by_words_a_missing_stage_cell_ties_and_ambiguous_names() {
+    let dir = tempfile::tempdir().unwrap();
+    // Stage labels as words, one stage cell missing inside the shear stage.
+    let labels = "Consolidation,Consolidation,Shear,Shear,,Shear,Shear,Shear";
+    let text = format!(
+        "[Test]\nArea=\"3600\"\nRate (mm/min)=\"0.6\"\nStage=\"{labels}\"\nHorizontal Displacement (mm)=\"0,0,0,0.1,0.2,0.3,0.4,0.5\"\nShear Stress (kPa)=\"0,0,0,10,20,25,27,28\"\nNormal Stress (kPa)=\"{}\"\n",
+        ["50"; 8].join(",")
+    );
+    let lab = write(dir.path(), "words.ini", &text);
+    let set = import(&lab, &spec("w"), &dir.path().join("a")).unwrap_or_else(|e| panic!("{e}"));
+    let t = &set.tests[0];
+    assert_eq!(
+        t.slip_mm.len(),
+        6,
+        "the shear rows, the one without its stage cell kept"
+    );
+    // One clock through the stage: 0.1 mm at 0.6 mm/min is 10 s a row.
+    let want: Vec<f64> = (0..6).map(|i| 10.0 * i as f64).collect();
+    assert_eq!(t.time_s, want);
+    // Two stages of equal travel: the later is kept; `--stage 1` among `Consolidation 1` and
+    // `Shear 1` names two and is refused.
+    let text = "Stage,time_s,slip_mm,shear_kpa\nShear 1,0,0,0\nShear 1,1,1,5\nRepeat 1,2,0,0\nRepeat 1,3,1,5\n";
+    let lab = write(dir.path(), "tie.csv", text);
+    let s = ImportSpec {
+        normal_stress_kpa: Some(50.0),
+        ..spec("t")
+    };
+    let set = import(&lab, &s, &dir.path().join("b")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        set.tests[0].time_s,
+        vec![2.0, 3.0],
+        "the later of two as far"
+    );
+    let one = ImportSpec {
+        stage: Some("1".into()),
+        ..s.clone()
+    };
+    let e = problems(import(&lab, &one, &dir.path().join("c")).unwrap_err());
+    assert!(
+        e[0].contains("--stage 1 names more than one of the file's stages"),
+        "{e:?}"
+    );
+    // A decimal comma in a semicolon file counts in the travel that ranks the stages.
+    let text =
+        "Stage;time_s;slip_mm;shear_kpa\n1;0;0;0\n1;1;0,01;5\n2;2;0;0\n2;3;2,5;5\n2;4;5,0;6\n";
+    let lab = write(dir.path(), "comma.csv", text);
+    let set = import(&lab, &s, &dir.path().join("d")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(set.tests[0].slip_mm, vec![0.0, 2.5, 5.0]);
+}
+
+#[test]
+fn an_area_is_checked_and_a_second_channel_of_a_role_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "\"Stage Number\",\"Time since start of test (s)\",\"Horizontal Displacement (mm)\",\"Shear Stress (kPa)\",\"Corrected Shear Stress (kPa)\",\"Normal Stress (kPa)\"\n1,0,0,0,0,100\n1,10,0.1,20,21,100\n1,20,0.2,30,31,100\n";
+    let lab = write(dir.path(), "two.csv", text);
+    let set = import(&lab, &spec("x"), &dir.path().join("a")).unwrap_or_else(|e| panic!("{e}"));
+    let said: String = set.tests[0]
+        .reading_notes
+        .iter()
+        .map(|w| w.message.clone())
+        .collect();
+    assert!(said.contains("`Corrected Shear Stress (kPa)`"), "{said}");
+    // An area for a file of stresses, or one that is not positive, is refused.
+    for (area, words) in [
+        (
+            3600.0,
+            "--area was given but the file's shear and normal channels are stresses",
+        ),
+        (0.0, "--area 0 mm²"),
+    ] {
+        let s = ImportSpec {
+            area_mm2: Some(area),
+            ..spec("x")
+        };
+        let e = problems(import(&lab, &s, &dir.path().join("b")).unwrap_err());
+        assert!(e.iter().any(|p| p.contains(words)), "{area}: {e:?}");
+    }
+}

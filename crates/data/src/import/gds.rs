@@ -133,8 +133,12 @@ fn area_unit(u: &str) -> Result<f64, String> {
 /// row.
 struct RawChannel {
     name: String,
+    /// The line it is first given on (0: made by the reader).
     line: usize,
     cells: Vec<String>,
+    /// Where each cell stands in an `.ini` file: its line and its place in that line's list
+    /// (empty for a table, whose rows have lines of their own).
+    origin: Vec<(usize, usize)>,
 }
 
 /// A GDS file's content before mapping: channels (columns) with a place per row, and single
@@ -203,17 +207,41 @@ fn split_cells(line: &str, delim: u8) -> Vec<String> {
     out.into_iter().map(|c| c.trim().to_string()).collect()
 }
 
+/// One `[section]` of an `.ini` file: its name, its channels and its single values.
+#[derive(Default)]
+struct Section {
+    name: String,
+    channels: Vec<RawChannel>,
+    single: Vec<(String, String, usize)>,
+}
+
+/// Whether a `Key=` value is a channel: a list of several values that are mostly numbers, or
+/// any list under a stage's or a time's name (stage labels and clock times are words too; a
+/// clock time is then refused at its place, not taken for a single value). A text with a comma
+/// in it (`"sand, dense"`) is not one.
+fn is_channel(key: &str, cells: &[String]) -> bool {
+    let numbers = cells
+        .iter()
+        .filter(|c| crate::set::parse_number(c).is_ok())
+        .count();
+    cells.len() > 1
+        && (2 * numbers >= cells.len() || matches!(role_of(key), Some(Role::Stage | Role::Time(_))))
+}
+
 /// Reads an `.ini` channel file: `[sections]` with data become stages (a stage channel
-/// otherwise says them), `Key="a,b,c"` lines channels, `Key=v` lines single values.
+/// otherwise says them), `Key="a,b,c"` lines channels, `Key=v` lines single values. A single
+/// value given in the sections of the data with different values there (each stage's own rate
+/// or area) becomes a channel, each row taking its section's value.
 fn read_ini(lf: &Path, text: &str) -> Result<RawFile, DataError> {
     let mut pr = Problems::default();
-    // (section, channels) in order; a channel seen again in a later section continues there.
-    let mut sections: Vec<(String, Vec<RawChannel>)> = vec![(String::new(), Vec::new())];
-    let mut single = Vec::new();
+    let mut sections: Vec<Section> = vec![Section::default()];
     let mut first_line = 1;
     for (line, l) in ini_lines(text) {
         if l.starts_with('[') && l.ends_with(']') {
-            sections.push((l[1..l.len() - 1].trim().to_string(), Vec::new()));
+            sections.push(Section {
+                name: l[1..l.len() - 1].trim().to_string(),
+                ..Section::default()
+            });
             continue;
         }
         let Some((key, value)) = l.split_once('=') else {
@@ -235,17 +263,13 @@ fn read_ini(lf: &Path, text: &str) -> Result<RawFile, DataError> {
             .and_then(|v| v.strip_suffix('"'))
             .unwrap_or(value);
         let cells: Vec<String> = value.split(',').map(|c| c.trim().to_string()).collect();
-        // A list of numbers is a channel; a text with a comma in it (`"sand, dense"`) is not.
-        let numbers = cells
-            .iter()
-            .filter(|c| crate::set::parse_number(c).is_ok())
-            .count();
-        if cells.len() > 1 && 2 * numbers >= cells.len() {
-            if sections.iter().all(|s| s.1.is_empty()) {
-                first_line = line;
-            }
-            let sec = sections.last_mut().expect("one section at least");
-            if let Some(prev) = sec.1.iter().find(|c| c.name.eq_ignore_ascii_case(&key)) {
+        let sec = sections.last_mut().expect("one section at least");
+        if is_channel(&key, &cells) {
+            if let Some(prev) = sec
+                .channels
+                .iter()
+                .find(|c| c.name.eq_ignore_ascii_case(&key))
+            {
                 pr.add(
                     lf,
                     Some(line),
@@ -257,37 +281,40 @@ fn read_ini(lf: &Path, text: &str) -> Result<RawFile, DataError> {
                 );
                 continue;
             }
-            sec.1.push(RawChannel {
+            let origin = (1..=cells.len()).map(|k| (line, k)).collect();
+            sec.channels.push(RawChannel {
                 name: key,
                 line,
                 cells,
+                origin,
             });
         } else {
-            single.push((key, value.to_string(), line));
+            sec.single.push((key, value.to_string(), line));
         }
     }
-    let sections: Vec<(String, Vec<RawChannel>)> =
-        sections.into_iter().filter(|s| !s.1.is_empty()).collect();
+    let (data, rest): (Vec<Section>, Vec<Section>) =
+        sections.into_iter().partition(|s| !s.channels.is_empty());
     // Every channel of a section has one value per row of that section.
-    for (_, chans) in &sections {
-        let n = chans[0].cells.len();
-        for c in &chans[1..] {
-            if c.cells.len() != n {
+    for sec in &data {
+        let first = &sec.channels[0];
+        for c in &sec.channels[1..] {
+            if c.cells.len() != first.cells.len() {
                 pr.add(
                     lf,
                     Some(c.line),
                     Some(&c.name),
                     format!(
-                        "{} values (expected {n}, as many as channel `{}` on line {} has)",
+                        "{} values (expected {}, as many as channel `{}` on line {} has)",
                         c.cells.len(),
-                        chans[0].name,
-                        chans[0].line
+                        first.cells.len(),
+                        first.name,
+                        first.line
                     ),
                 );
             }
         }
     }
-    if sections.is_empty() {
+    if data.is_empty() {
         pr.add(
             lf,
             None,
@@ -296,51 +323,99 @@ fn read_ini(lf: &Path, text: &str) -> Result<RawFile, DataError> {
         );
     }
     pr.into_result(())?;
+    if let Some(sec) = data.first() {
+        first_line = sec.channels[0].line;
+    }
+    let file_level: Vec<(String, String, usize)> =
+        rest.into_iter().flat_map(|s| s.single).collect();
+    // Single values of the data's sections: kept single where every section says the same
+    // (or only one says it), else a channel of their sections' values.
+    let mut single = file_level.clone();
+    let mut per_row: Vec<String> = Vec::new();
+    for sec in &data {
+        for (key, value, line) in &sec.single {
+            let same_key = |k: &String| k.eq_ignore_ascii_case(key);
+            let values: Vec<&str> = data
+                .iter()
+                .filter_map(|d| {
+                    d.single
+                        .iter()
+                        .find(|x| same_key(&x.0))
+                        .map(|x| x.1.as_str())
+                })
+                .collect();
+            let differ = values.iter().any(|v| v != &values[0]);
+            if differ {
+                if !per_row.iter().any(same_key) {
+                    per_row.push(key.clone());
+                }
+            } else if !single.iter().any(|x| same_key(&x.0)) {
+                single.push((key.clone(), value.clone(), *line));
+            }
+        }
+    }
     // Channels over the sections: a section lacking a channel others have leaves its rows
     // without a value there (a gap where the test reads it).
     let mut names: Vec<String> = Vec::new();
-    for (_, chans) in &sections {
-        for c in chans {
+    for sec in &data {
+        for c in &sec.channels {
             if !names.iter().any(|n| n.eq_ignore_ascii_case(&c.name)) {
                 names.push(c.name.clone());
             }
         }
     }
-    let stages_by_section = sections.len() > 1;
     let mut channels: Vec<RawChannel> = names
         .iter()
+        .chain(&per_row)
         .map(|n| RawChannel {
             name: n.clone(),
             line: 0,
             cells: Vec::new(),
+            origin: Vec::new(),
         })
         .collect();
     let mut stage_cells = Vec::new();
-    for (k, (label, chans)) in sections.iter().enumerate() {
-        let rows = chans[0].cells.len();
+    for (k, sec) in data.iter().enumerate() {
+        let rows = sec.channels[0].cells.len();
         for ch in &mut channels {
-            match chans.iter().find(|c| c.name.eq_ignore_ascii_case(&ch.name)) {
-                Some(c) => {
-                    if ch.line == 0 {
-                        ch.line = c.line;
-                    }
-                    ch.cells.extend(c.cells.iter().cloned());
+            let same = |n: &String| n.eq_ignore_ascii_case(&ch.name);
+            if let Some(c) = sec.channels.iter().find(|c| same(&c.name)) {
+                if ch.line == 0 {
+                    ch.line = c.line;
                 }
-                None => ch.cells.extend(std::iter::repeat_n(String::new(), rows)),
+                ch.cells.extend(c.cells.iter().cloned());
+                ch.origin.extend(c.origin.iter().copied());
+                continue;
             }
+            // A single value of this section (or the file's) for each of its rows.
+            let given = sec
+                .single
+                .iter()
+                .chain(&file_level)
+                .find(|x| same(&x.0))
+                .filter(|_| per_row.iter().any(same));
+            if let (Some((_, _, line)), 0) = (given, ch.line) {
+                ch.line = *line;
+            }
+            let cell = given.map(|x| x.1.clone()).unwrap_or_default();
+            let at = given.map_or(0, |x| x.2);
+            ch.cells.extend(std::iter::repeat_n(cell, rows));
+            ch.origin.extend(std::iter::repeat_n((at, 1), rows));
         }
-        let label = if label.is_empty() {
+        let label = if sec.name.is_empty() {
             (k + 1).to_string()
         } else {
-            label.clone()
+            sec.name.clone()
         };
         stage_cells.extend(std::iter::repeat_n(label, rows));
     }
-    if stages_by_section {
+    if data.len() > 1 {
+        let n = stage_cells.len();
         channels.push(RawChannel {
             name: "Stage".into(),
             line: 0,
             cells: stage_cells,
+            origin: vec![(0, 0); n],
         });
     }
     let n = channels[0].cells.len();
@@ -370,6 +445,7 @@ fn read_table(lf: &Path, text: &str) -> Result<RawFile, DataError> {
             name: n.clone(),
             line: header + 1,
             cells: Vec::new(),
+            origin: Vec::new(),
         })
         .collect();
     let mut places = Vec::new();
@@ -438,6 +514,10 @@ struct Mapper<'a> {
     pr: Problems,
     /// Units read as GDS's defaults because the names state none.
     defaulted: Vec<String>,
+    /// The channels read into the test.
+    used: Vec<usize>,
+    /// A force was read and turned into a stress over the area.
+    force_read: bool,
 }
 
 impl<'a> Mapper<'a> {
@@ -448,12 +528,23 @@ impl<'a> Mapper<'a> {
             spec,
             pr: Problems::default(),
             defaulted: Vec::new(),
+            used: Vec::new(),
+            force_read: false,
         }
     }
 
-    /// The channel (or, for the area and the rate, the single value) of a role: the first by
-    /// rank; the others of the same role are reported as not read.
-    fn channel_of(&self, role: impl Fn(Role) -> bool) -> Option<usize> {
+    /// The channel of a role, the first by rank, taken as read (the others of the same role
+    /// are named among the channels not carried).
+    fn channel_of(&mut self, role: impl Fn(Role) -> bool) -> Option<usize> {
+        let k = self.find_channel(role);
+        if let Some(k) = k.filter(|k| !self.used.contains(k)) {
+            self.used.push(k);
+        }
+        k
+    }
+
+    /// The channel of a role, the first by rank, without taking it.
+    fn find_channel(&self, role: impl Fn(Role) -> bool) -> Option<usize> {
         let mut found: Vec<(u8, usize)> = self
             .raw
             .channels
@@ -515,12 +606,14 @@ impl<'a> Mapper<'a> {
                 Ok(Some((x, q))) => out.push(Some(with_precision(x, q, factor(i)))),
                 Ok(None) => out.push(None),
                 Err(e) => {
-                    let (line, msg) = match self.raw.place {
-                        "line" => (Some(self.raw.places[i]), e),
-                        place => (
-                            Some(ch.line).filter(|&l| l > 0),
-                            format!("{place} {} of the list: {e}", i + 1),
+                    // A table's row has its line; an `.ini` value its line and its place in
+                    // that line's list.
+                    let (line, msg) = match ch.origin.get(i) {
+                        Some(&(line, k)) => (
+                            Some(line).filter(|&l| l > 0),
+                            format!("value {k} of the list: {e}"),
                         ),
+                        None => (Some(self.raw.places[i]), e),
                     };
                     problems.push((line, msg));
                     out.push(None);
@@ -587,11 +680,40 @@ impl<'a> Mapper<'a> {
         };
         // Area: a channel (area correction), else the file's single value, else --area.
         let area: Option<Vec<Option<f64>>> = if let Some(a) = self.spec.area_mm2 {
+            if !(a > 0.0 && a.is_finite()) {
+                self.pr.add(
+                    self.lf,
+                    None,
+                    Some("area"),
+                    format!(
+                        "--area {a} mm² (expected the contact area in mm², a finite number > 0)"
+                    ),
+                );
+            }
             Some(vec![Some(a); n])
         } else if let Some(k) = self.channel_of(|r| r == Role::Area) {
             let name = names[k].clone();
-            self.unit(&name, line_of(&self, k), 1.0, "mm²", area_unit)
-                .map(|f| self.values(k, |_| f))
+            let values = self
+                .unit(&name, line_of(&self, k), 1.0, "mm²", area_unit)
+                .map(|f| self.values(k, |_| f));
+            // A row's area that is not positive would turn its force into a wrong stress.
+            if let Some(i) = values.as_ref().and_then(|v| {
+                v.iter()
+                    .position(|a| a.is_some_and(|a| !(a > 0.0 && a.is_finite())))
+            }) {
+                let at = self.raw.channels[k].origin.get(i).copied();
+                let (line, place) = match at {
+                    Some((line, j)) => (line, format!("value {j} of the list: ")),
+                    None => (self.raw.places[i], String::new()),
+                };
+                self.pr.add(
+                    self.lf,
+                    Some(line).filter(|&l| l > 0),
+                    Some(&name),
+                    format!("{place}an area that is not positive (expected the contact area, > 0)"),
+                );
+            }
+            values
         } else if let Some((x, key, line)) = self.single_number(Role::Area) {
             self.unit(&key, line, 1.0, "mm²", area_unit)
                 .map(|f| vec![Some(x * f); n])
@@ -606,6 +728,7 @@ impl<'a> Mapper<'a> {
                 return u.map(|u| m.values(k, |_| u.to_kpa()));
             }
             let k = m.channel_of(|r| r == force_role)?;
+            m.force_read = true;
             let name = names[k].clone();
             let u = m.unit(&name, line_of(m, k), StressUnit::KN, "kN", |u| u.parse::<StressUnit>().and_then(|s| if s.is_force() { Ok(s) } else { Err(format!("`{u}` is a stress but the channel is named a force (expected N, kN or lbf)")) }))?;
             match &area {
@@ -642,6 +765,14 @@ impl<'a> Mapper<'a> {
                 missing_role("normal stress or vertical load (or --normal-stress)"),
             );
         }
+        if self.spec.area_mm2.is_some() && !self.force_read && self.pr.is_empty() {
+            self.pr.add(
+                self.lf,
+                None,
+                Some("area"),
+                "--area was given but the file's shear and normal channels are stresses (expected --area only for a file that logs forces; a stress needs no area)",
+            );
+        }
         // Time: logged, else the displacement over the stated rate.
         let mut notes = Vec::new();
         let time = if let Some(k) = self.channel_of(|r| matches!(r, Role::Time(_))) {
@@ -676,12 +807,15 @@ impl<'a> Mapper<'a> {
             }
         }
         if let Some(a) = &area {
-            if self.channel_of(|r| r == Role::Area).is_some() && self.spec.area_mm2.is_none() {
+            if self.spec.area_mm2.is_none() && self.find_channel(|r| r == Role::Area).is_some() {
                 extra.push(("area_mm2", a.clone()));
             }
         }
         if let Some(k) = self.channel_of(|r| r == Role::Temperature) {
             let name = names[k].clone();
+            if stated_unit(&name).is_none() {
+                self.defaulted.push(format!("`{name}` in °C"));
+            }
             let ok = stated_unit(&name).is_none_or(|u| {
                 matches!(
                     u.trim().to_lowercase().replace(['°', ' '], "").as_str(),
@@ -706,39 +840,9 @@ impl<'a> Mapper<'a> {
             shear.expect("reported above"),
             time.expect("reported above"),
         );
-        // The channels not carried, said.
-        let used: Vec<usize> = [
-            slip_k,
-            stage_k,
-            self.channel_of(|r| matches!(r, Role::Time(_))),
-        ]
-        .into_iter()
-        .flatten()
-        .chain(
-            self.raw
-                .channels
-                .iter()
-                .enumerate()
-                .filter(|(_, c)| {
-                    matches!(
-                        role_of(&c.name),
-                        Some(
-                            Role::NormalDisp
-                                | Role::ShearStress
-                                | Role::ShearForce
-                                | Role::NormalStress
-                                | Role::NormalForce
-                                | Role::Area
-                                | Role::Temperature
-                                | Role::Rate
-                        )
-                    )
-                })
-                .map(|(k, _)| k),
-        )
-        .collect();
+        // The channels not carried, said (a second channel of a role read once among them).
         let unused: Vec<String> = (0..names.len())
-            .filter(|k| !used.contains(k))
+            .filter(|k| !self.used.contains(k))
             .map(|k| format!("`{}`", names[k]))
             .collect();
         if !unused.is_empty() {
@@ -832,7 +936,26 @@ impl<'a> Mapper<'a> {
             }
         };
         let unit = match (stated_unit(&name), self.spec.rate_unit) {
-            (_, Some(u)) => u,
+            // The file's own unit stands; --rate-unit is for a file that states none, and one
+            // that contradicts the file is refused rather than chosen between.
+            (Some(stated), Some(given)) => match stated.parse::<super::RateUnit>() {
+                Ok(u) if u == given => u,
+                Ok(u) => {
+                    self.pr.add(
+                        self.lf,
+                        Some(line).filter(|&l| l > 0),
+                        Some(&name),
+                        format!("the file states the rate in {u}, --rate-unit says {given} (expected --rate-unit only for a rate that states no unit, or the same unit)"),
+                    );
+                    return None;
+                }
+                Err(e) => {
+                    self.pr
+                        .add(self.lf, Some(line).filter(|&l| l > 0), Some(&name), e);
+                    return None;
+                }
+            },
+            (None, Some(u)) => u,
             (Some(u), None) => match u.parse::<super::RateUnit>() {
                 Ok(u) => u,
                 Err(e) => {
@@ -853,7 +976,13 @@ impl<'a> Mapper<'a> {
         };
         let per_s = unit.to_mm_per_s();
         let rates: Vec<Option<f64>> = match rate_channel {
-            Some(k) => self.values(k, |_| per_s),
+            // Read as written and converted unrounded: the time divides by it, and rounding
+            // 0.1 mm/min to the digits of mm/s would put 2 % into every time.
+            Some(k) => self
+                .values(k, |_| 1.0)
+                .into_iter()
+                .map(|r| r.map(|r| r * per_s))
+                .collect(),
             None => {
                 let (x, _, _) = self.single_number(Role::Rate)?;
                 vec![Some(x * per_s); n]
@@ -868,11 +997,17 @@ impl<'a> Mapper<'a> {
         let mut t = 0.0;
         let mut prev: Option<f64> = None;
         let mut out = Vec::with_capacity(n);
+        // The stage of the rows so far: a row whose stage cell is missing stays in it.
+        let mut current: Option<String> = None;
         for (i, (s, r)) in slip.iter().zip(&rates).enumerate() {
-            if let Some(st) = &stage {
-                if i > 0 && st[i] != st[i - 1] && !crate::gaps::is_missing(&st[i]) {
-                    t = 0.0;
-                    prev = None;
+            if let Some(cell) = stage.as_ref().map(|st| st[i].as_str()) {
+                if !crate::gaps::is_missing(cell) {
+                    let label = super::stage::label_of(cell);
+                    if current.as_ref().is_some_and(|c| *c != label) {
+                        t = 0.0;
+                        prev = None;
+                    }
+                    current = Some(label);
                 }
             }
             match (s, r) {

@@ -714,8 +714,13 @@ fn test_from_table(
         (e, _) => e,
     };
     let cols = resolve_columns(lf, spec, first_line, &names).map_err(hinted)?;
-    let (records, stage_note) =
-        stage::choose(lf, spec, &names, first_line, &cols.slip, records, place)?;
+    let layout = stage::Layout {
+        names: &names,
+        first_line,
+        place,
+        decimal_comma: delim != Delimiter::Comma,
+    };
+    let (records, stage_note) = stage::choose(lf, spec, &layout, &cols.slip, records)?;
     let mut pr = Problems::default();
     let rows = read_rows(lf, spec, &cols, &records, delim, &mut pr);
     if records.is_empty() && stage_note.is_none() {

@@ -40,7 +40,7 @@ pub(super) fn column(names: &[String]) -> Option<usize> {
 }
 
 /// A stage's label as written (`2.0` reads `2`).
-fn label_of(cell: &str) -> String {
+pub(super) fn label_of(cell: &str) -> String {
     let c = cell.trim();
     match c.parse::<f64>() {
         Ok(x) if x.is_finite() && x.fract() == 0.0 && x.abs() < 1e15 => format!("{}", x as i64),
@@ -69,6 +69,17 @@ fn matches(label: &str, wanted: &str) -> bool {
 /// Data records of a table, each with the place (line or value) it came from.
 type Records = Vec<(usize, Vec<String>)>;
 
+/// How a table is laid out, as the stages are read from it: its header's names, the line of
+/// the header, what a record's place counts (`line`, or `value` of a list), and whether its
+/// numbers may carry a decimal comma.
+#[derive(Clone, Copy)]
+pub(super) struct Layout<'a> {
+    pub(super) names: &'a [String],
+    pub(super) first_line: usize,
+    pub(super) place: &'a str,
+    pub(super) decimal_comma: bool,
+}
+
 /// One stage of the record: its label, its records' indices and its shear travel [mm].
 struct Stage {
     label: String,
@@ -78,16 +89,21 @@ struct Stage {
 
 /// The records of the stage to keep, and the note saying which was kept and why; a record
 /// without stages is returned as it is. `slip` is the slip column (its travel ranks the
-/// stages), `place` what a record's place counts.
+/// stages), `place` what a record's place counts, `decimal_comma` whether its numbers may be
+/// written with a decimal comma (cells not separated by commas).
 pub(super) fn choose(
     lf: &Path,
     spec: &ImportSpec,
-    names: &[String],
-    first_line: usize,
+    layout: &Layout<'_>,
     slip: &Col,
     records: Records,
-    place: &str,
 ) -> Result<(Records, Option<Warning>), DataError> {
+    let Layout {
+        names,
+        first_line,
+        place,
+        decimal_comma,
+    } = *layout;
     let refuse = |msg: String| {
         DataError::Problems(vec![InputProblem::new(
             lf,
@@ -141,7 +157,15 @@ pub(super) fn choose(
             .rows
             .iter()
             .filter_map(|&i| records[i].1.get(slip.0))
-            .filter_map(|c| crate::set::parse_number(c).ok())
+            .filter_map(|c| {
+                // As the rows are read: a decimal comma where the cells are not comma-separated.
+                let c = if decimal_comma && c.contains(',') && !c.contains('.') {
+                    c.replace(',', ".")
+                } else {
+                    c.clone()
+                };
+                crate::set::parse_number(&c).ok()
+            })
             .filter(|x| x.is_finite())
             .collect();
         let (lo, hi) = slips
@@ -167,22 +191,44 @@ pub(super) fn choose(
             .join("; ")
     };
     let (kept, why) = match &spec.stage {
-        Some(wanted) => match stages.iter().position(|s| matches(&s.label, wanted)) {
-            Some(k) => (k, format!("as asked (--stage {wanted})")),
-            None => {
-                return Err(refuse(format!(
-                    "--stage {wanted} is not among the file's stages ({}) (expected one of their labels)",
-                    listing()
-                )))
+        Some(wanted) => {
+            // The label itself first; a label ending in the number only when none is it.
+            let exact: Vec<usize> = (0..stages.len())
+                .filter(|&k| stages[k].label.eq_ignore_ascii_case(&label_of(wanted)))
+                .collect();
+            let found = if exact.is_empty() {
+                (0..stages.len())
+                    .filter(|&k| matches(&stages[k].label, wanted))
+                    .collect()
+            } else {
+                exact
+            };
+            match found[..] {
+                [k] => (k, format!("as asked (--stage {wanted})")),
+                [] => {
+                    return Err(refuse(format!(
+                        "--stage {wanted} is not among the file's stages ({}) (expected one of their labels)",
+                        listing()
+                    )))
+                }
+                _ => {
+                    return Err(refuse(format!(
+                        "--stage {wanted} names more than one of the file's stages ({}) (expected a label that names one)",
+                        listing()
+                    )))
+                }
             }
-        },
+        }
         None if stages.len() == 1 => return Ok((records, None)),
         None => {
             // The longest travel; on a tie the later stage (a repeat follows what it repeats).
-            let k = (0..stages.len())
-                .rev()
-                .max_by(|&a, &b| stages[a].travel_mm.total_cmp(&stages[b].travel_mm))
-                .unwrap_or(0);
+            let k = (0..stages.len()).fold(0, |best, k| {
+                if stages[k].travel_mm >= stages[best].travel_mm {
+                    k
+                } else {
+                    best
+                }
+            });
             (
                 k,
                 "the one with the longest shear travel (--stage keeps another)".to_string(),
