@@ -506,7 +506,7 @@ fn predicted_words(x: &PredictedParam) -> String {
         {
             format!("{i} ±{:.1}%", x.predicted_half_width_percent)
         }
-        Some(_) => "not determined (wider than ±100 %)".into(),
+        Some(_) => "not determined (> ±100 %)".into(),
         None => "not bounded".into(),
     }
 }
