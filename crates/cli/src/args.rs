@@ -333,11 +333,12 @@ pub struct ImportArgs {
     pub stage: Option<String>,
     /// A further channel to carry with the test, `NAME=COLUMN` (header name or 1-based
     /// index), in the unit its name states: normal_disp_mm, temperature_c, shear_force_kn,
-    /// normal_force_kn, area_mm2. Repeatable.
+    /// normal_force_kn, area_mm2. Repeatable [default: none].
     #[arg(long = "channel", value_name = "NAME=COLUMN", value_parser = parse_channel)]
     pub channels: Vec<(String, ColumnRef)>,
     /// Unit of a GDS file's rate of shear displacement when the file states none (the time
-    /// is then the displacement over the rate), e.g. mm/min.
+    /// is then the displacement over the rate), e.g. mm/min [default: none: the file's own, or
+    /// the file is refused when it states none].
     #[arg(long, value_name = "LENGTH/TIME")]
     pub rate_unit: Option<subfric_data::RateUnit>,
     /// Test name.
