@@ -15,7 +15,7 @@ use std::path::Path;
 
 use super::stage::plain_name;
 use super::text::{resolution, with_precision};
-use super::{ColumnRef, ImportSpec, LabTable, LengthUnit, StressUnit, TimeUnit};
+use super::{ColumnRef, Delimiter, ImportSpec, LabTable, LengthUnit, StressUnit, TimeUnit};
 use crate::error::{DataError, Problems};
 use crate::plausible::Warning;
 
@@ -174,14 +174,14 @@ fn ini_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
 /// The header line of a tabular GDSLAB export: its index among the lines, its cells and its
 /// delimiter. A header names a stage number and a displacement (the key-value block above it
 /// names neither in one line).
-fn table_header(text: &str) -> Option<(usize, Vec<String>, u8)> {
+fn table_header(text: &str) -> Option<(usize, Vec<String>, Delimiter)> {
     for (i, line) in crate::text::lines(text).enumerate().take(200) {
         let delim = match super::text::detect(line) {
-            super::Delimiter::Tab => b'\t',
-            super::Delimiter::Semicolon => b';',
-            _ => b',',
+            Delimiter::Tab => Delimiter::Tab,
+            Delimiter::Semicolon => Delimiter::Semicolon,
+            _ => Delimiter::Comma,
         };
-        let cells = split_cells(line, delim);
+        let cells = cells_of(line, delim);
         let stage = super::stage::column(&cells).is_some();
         let disp = cells.iter().any(|c| matches!(role_of(c), Some(Role::Slip)));
         if stage && disp {
@@ -191,20 +191,12 @@ fn table_header(text: &str) -> Option<(usize, Vec<String>, u8)> {
     None
 }
 
-/// Cells of one delimited line, quotes removed.
-fn split_cells(line: &str, delim: u8) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut cur = String::new();
-    let mut quoted = false;
-    for c in line.chars() {
-        match c {
-            '"' => quoted = !quoted,
-            c if !quoted && c as u32 == delim as u32 => out.push(std::mem::take(&mut cur)),
-            c => cur.push(c),
-        }
-    }
-    out.push(cur);
-    out.into_iter().map(|c| c.trim().to_string()).collect()
+/// The cells of one line as the CSV reader reads them (quotes removed), trimmed.
+fn cells_of(line: &str, delim: Delimiter) -> Vec<String> {
+    crate::csvio::cells_of_line(line, super::text::separator(delim))
+        .into_iter()
+        .map(|c| c.trim().to_string())
+        .collect()
 }
 
 /// One `[section]` of an `.ini` file: its name, its channels and its single values.
@@ -454,7 +446,7 @@ fn read_table(lf: &Path, text: &str) -> Result<RawFile, DataError> {
         if l.is_empty() || l.starts_with('#') {
             continue;
         }
-        let cells = split_cells(l, delim);
+        let cells = cells_of(l, delim);
         if i < header {
             if cells.len() >= 2 && !cells[0].is_empty() {
                 single.push((cells[0].clone(), cells[1].clone(), i + 1));
