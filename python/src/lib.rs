@@ -527,7 +527,7 @@ fn import_file(
     channels: Vec<(String, String)>,
     keep: Option<String>,
 ) -> PyResult<Vec<String>> {
-    use subfric_data::{ColumnRef, ControlColumn, ImportSpec};
+    use subfric_data::{ColumnRef, ImportSpec};
     let parse =
         |what: &str, r: Result<ColumnRef, String>| r.map_err(|e| fail(format!("{what}: {e}")));
     let unit = |what: &str, e: String| fail(format!("{what}: {e}"));
@@ -543,18 +543,7 @@ fn import_file(
         )),
     };
     let spec = ImportSpec {
-        delimiter: match delimiter {
-            "auto" => subfric_data::Delimiter::Auto,
-            "comma" | "," => subfric_data::Delimiter::Comma,
-            "semicolon" | ";" => subfric_data::Delimiter::Semicolon,
-            "tab" => subfric_data::Delimiter::Tab,
-            "whitespace" => subfric_data::Delimiter::Whitespace,
-            other => {
-                return Err(fail(format!(
-                    "delimiter: `{other}` (expected auto, comma, semicolon, tab or whitespace)"
-                )))
-            }
-        },
+        delimiter: delimiter.parse().map_err(|e| unit("delimiter", e))?,
         skip_lines: skip,
         has_header: true,
         time: parse("time", time.parse())?,
@@ -572,11 +561,7 @@ fn import_file(
         },
         normal_stress_kpa: normal_stress,
         area_mm2: area,
-        control: match control {
-            "slip" => ControlColumn::Slip,
-            "shear" | "traction" => ControlColumn::Shear,
-            other => return Err(fail(format!("control: `{other}` (expected slip or shear)"))),
-        },
+        control: control.parse().map_err(|e| unit("control", e))?,
         test_name,
         set_name: set_name.unwrap_or_else(|| {
             out.file_name()

@@ -36,6 +36,12 @@ def test_import_file_reads_a_gds_export_as_the_command_does(cli, tmp_path):
     with pytest.raises(subfric.SubfricError, match=r"DS-1.ini:3: field `Rate`.*rate_unit|--rate-unit"):
         subfric.import_file(lab, tmp_path / "refused")
     assert not (tmp_path / "refused").exists()
+    # Delimiter and control read by the words the command takes, and refused with them.
+    with pytest.raises(subfric.SubfricError, match=r"delimiter: unknown delimiter `pipe` \(expected comma"):
+        subfric.import_file(lab, tmp_path / "refused", rate_unit="mm/min", delimiter="pipe")
+    with pytest.raises(subfric.SubfricError, match=r"control: unknown control `torque` \(expected `slip` or `shear`\)"):
+        subfric.import_file(lab, tmp_path / "refused", rate_unit="mm/min", control="torque")
+    assert not (tmp_path / "refused").exists()
     with pytest.warns(subfric.SubfricWarning, match="stage 2 is kept, the one with the longest shear travel"):
         s = subfric.import_file(lab, tmp_path / "py", test_name="ds1", rate_unit="mm/min")
     t = s["ds1"]
