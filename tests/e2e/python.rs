@@ -88,13 +88,11 @@ fn the_python_package_installs_from_the_repository_and_its_tests_pass() {
     let mut install = Command::new(&python);
     install.args(["-m", "pip", "install", "./python[test]"]);
     pip_env(&mut install);
-    // The extension is compiled again by maturin (cargo's lock on target/ is held by the test
-    // run): without debug info and with more codegen units it builds faster, and
-    // a target folder of its own keeps a second run incremental.
-    install
-        .env("CARGO_TARGET_DIR", work.join("cargo-target"))
-        .env("CARGO_PROFILE_RELEASE_DEBUG", "0")
-        .env("CARGO_PROFILE_RELEASE_CODEGEN_UNITS", "16");
+    // maturin compiles the extension with cargo into this run's own target folder, with the
+    // release profile the test run used: the workspace's crates and their dependencies are
+    // already built there (cargo releases its lock on target/ once the test programs are
+    // built), so a clean clone compiles the dependency tree once, not twice.
+    install.env("CARGO_TARGET_DIR", target);
     run("pip install ./python[test] (maturin build)", &mut install);
     // pytest from target/python, so that `import subfric` is the installed package, not the
     // source folder python/subfric (which has no compiled module); no cache in the repository.
