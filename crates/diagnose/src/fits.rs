@@ -15,7 +15,8 @@ use subfric_model::{Extensions, Model};
 pub struct Spec {
     /// The forms switched on, at most one per family.
     pub forms: Vec<Form>,
-    /// A drift of each test's measurement linear in time (the non-physical alternative).
+    /// A drift of the measurement (the non-physical alternative, [`subfric_fit::drift`]): each
+    /// test's zero drift linear in time and a creep of the load cell shared by the set.
     pub drift: bool,
 }
 
@@ -53,7 +54,7 @@ impl Spec {
     /// Short description: the forms' names joined.
     pub fn describe(&self) -> String {
         if self.drift {
-            return "base + measurement drift linear in time".into();
+            return "base + measurement drift (zero drift, load-cell creep)".into();
         }
         if self.forms.is_empty() {
             return "base".into();
@@ -223,34 +224,29 @@ fn ssr_on(tests: &[FitTest], m: &Model) -> f64 {
 /// simulate), with each test's drift fitted on the rows that weigh in `train` removed when
 /// `drift` is set.
 pub fn residuals(tests: &[FitTest], m: &Model, drift: Option<&[FitTest]>) -> HeldOut {
-    tests
+    let mut out: HeldOut = tests
         .iter()
-        .enumerate()
-        .map(|(ti, t)| {
+        .map(|t| {
             let k = t.weight.sqrt() / t.noise_sd;
-            let mut r: Vec<f64> = match t.predict(m) {
+            match t.predict(m) {
                 Ok(p) => (0..t.len())
                     .map(|i| k * t.weight_of(i).sqrt() * (p[i] - t.measured[i]))
                     .collect(),
                 Err(_) => vec![f64::NAN; t.len()],
-            };
-            if let Some(train) = drift {
-                // The drift is learned where the training weighs, and applied everywhere.
-                let tr = &train[ti];
-                let (mut num, mut den) = (0.0, 0.0);
-                for (i, ri) in r.iter().enumerate() {
-                    let x = t.weight_of(i).sqrt() * (t.time[i] - t.time[0]);
-                    if tr.weight_of(i) > 0.0 && ri.is_finite() {
-                        num += ri * x;
-                        den += x * x;
-                    }
-                }
-                let c = if den > 0.0 { num / den } else { 0.0 };
-                t.remove_drift(&mut r, 0..t.len(), c);
             }
-            r
         })
-        .collect()
+        .collect();
+    if let Some(train) = drift {
+        // The drift is learned where the training weighs, and applied everywhere.
+        let mut slices: Vec<&mut [f64]> = out.iter_mut().map(|r| &mut r[..]).collect();
+        subfric_fit::remove_drift(
+            tests,
+            &mut slices,
+            |ti, i| train[ti].weight_of(i) > 0.0,
+            |ti| 0..tests[ti].len(),
+        );
+    }
+    out
 }
 
 /// Held-out residuals of a spec: for each fold, refit `fit_tests` on the rows it keeps (from

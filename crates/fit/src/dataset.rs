@@ -28,7 +28,8 @@ pub struct FitTest {
     pub scale: f64,
     /// Rows whose residuals count; the others get residual 0 (held out). All rows by default.
     pub fit_rows: std::ops::Range<usize>,
-    /// Project a drift linear in time out of the residuals (a measurement-drift alternative).
+    /// Project a drift of the measurement out of the residuals (the measurement-drift
+    /// alternative, [`crate::drift`]); set on every test of a set or on none.
     pub detrend: bool,
     /// How the test starts (rest, loaded, or already sliding).
     pub initial: Initial,
@@ -129,31 +130,6 @@ impl FitTest {
         }
     }
 
-    /// Least-squares slope c of weighted residuals r ≈ c √w (t − t₀) over `rows` (a drift of
-    /// the measurement starting at zero; each row weighs as the rows it stands for).
-    pub fn drift_coefficient(&self, r: &[f64], rows: std::ops::Range<usize>) -> f64 {
-        let (mut num, mut den) = (0.0, 0.0);
-        for i in rows {
-            let x = self.weight_of(i).sqrt() * (self.time[i] - self.time[0]);
-            if r[i].is_finite() {
-                num += r[i] * x;
-                den += x * x;
-            }
-        }
-        if den > 0.0 {
-            num / den
-        } else {
-            0.0
-        }
-    }
-
-    /// Removes the drift `c` (from [`FitTest::drift_coefficient`]) from weighted residuals.
-    pub fn remove_drift(&self, r: &mut [f64], rows: std::ops::Range<usize>, c: f64) {
-        for i in rows {
-            r[i] -= c * self.weight_of(i).sqrt() * (self.time[i] - self.time[0]);
-        }
-    }
-
     /// The rows that count in the residuals, clipped to the test.
     pub fn counted_rows(&self) -> std::ops::Range<usize> {
         let end = self.fit_rows.end.min(self.len());
@@ -230,19 +206,36 @@ pub fn residuals_into(
         slices.push(here);
         rest = after;
     }
-    if tests.len() >= PARALLEL_TESTS && total >= PARALLEL_ROWS {
-        return tests
+    let simulated: Vec<bool> = if tests.len() >= PARALLEL_TESTS && total >= PARALLEL_ROWS {
+        tests
             .par_iter()
-            .zip(slices)
-            .map_init(Vec::new, |scratch, (t, r)| {
-                usize::from(!test_residuals(t, m, r, scratch))
-            })
-            .sum();
+            .zip(slices.par_iter_mut())
+            .map_init(Vec::new, |scratch, (t, r)| test_residuals(t, m, r, scratch))
+            .collect()
+    } else {
+        tests
+            .iter()
+            .zip(slices.iter_mut())
+            .map(|(t, r)| test_residuals(t, m, r, scratch))
+            .collect()
+    };
+    if tests.iter().any(|t| t.detrend) {
+        // One drift for the whole set (the load cell's creep is shared by its tests), learned
+        // on the tests the model could simulate.
+        crate::drift::remove_drift(
+            tests,
+            &mut slices,
+            |ti, i| simulated[ti] && tests[ti].counted_rows().contains(&i),
+            |ti| {
+                if simulated[ti] {
+                    tests[ti].counted_rows()
+                } else {
+                    0..0
+                }
+            },
+        );
     }
-    let mut failed = 0;
-    for (t, r) in tests.iter().zip(slices) {
-        failed += usize::from(!test_residuals(t, m, r, scratch));
-    }
+    let failed = simulated.iter().filter(|ok| !**ok).count();
     failed
 }
 
@@ -264,10 +257,6 @@ fn test_residuals(t: &FitTest, m: &Model, out: &mut [f64], scratch: &mut Vec<f64
                 for i in rows.clone() {
                     out[i] = k * t.row_weight[i].sqrt() * (scratch[i] - t.measured[i]);
                 }
-            }
-            if t.detrend {
-                let c = t.drift_coefficient(out, rows.clone());
-                t.remove_drift(out, rows, c);
             }
             true
         }

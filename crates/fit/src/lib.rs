@@ -12,6 +12,7 @@
 pub mod bedding;
 pub mod calibrate;
 pub mod dataset;
+pub mod drift;
 pub mod estimate;
 pub mod global;
 pub mod guess;
@@ -39,6 +40,7 @@ pub use calibrate::{
     Status,
 };
 pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
+pub use drift::{remove_drift, FittedDrift};
 pub use estimate::Estimate;
 pub use interval::Interval;
 pub use levels::{read_levels, LevelReadings, StressTrend, TestLevels};

@@ -124,7 +124,7 @@ pub(super) fn make_verdict(
         (None, Some(Decision::Drift)) => (
             Effect::Unexplained,
             format!(
-                "the base misfit is {base_chi2:.2}× the noise variance; no physical candidate explains it, but a drift of each measurement linear in time does better than all of them: the gap looks like a drift of the measurement, not friction; {}",
+                "the base misfit is {base_chi2:.2}× the noise variance; no physical candidate explains it, but a drift of the measurement (each test's zero drift linear in time, a creep of the load cell in proportion to its load) does better than all of them: the gap looks like a drift of the measurement, not friction; {}",
                 evidence.summary
             ),
         ),

@@ -1,0 +1,321 @@
+//! A drift of the measurement, projected out of the residuals: the alternative to every
+//! friction effect that says "the gap is the instrument's, not the interface's".
+//!
+//! Two drifts a shear rig's measurement is known to have, both fitted by linear least squares
+//! on the residuals (a variable projection: the model's parameters are fitted with the drift
+//! removed at each evaluation):
+//!
+//! - a **zero drift** linear in time from each test's first row (electronics, a tare that
+//!   wanders), at one rate for the set: one rate for the shear channel, one for the slip
+//!   channel of traction-controlled tests;
+//! - a **creep of the load cell**: a loaded cell's output creeps towards a share of its load
+//!   with a lag, so the measured shear is F + Σⱼ cⱼ F̄_τⱼ, where F̄_τ is the shear history (as
+//!   the model predicts it) low-passed with time constant τ (a step of load F₀ reads F₀ (1 + c (1 − e^(−t/τ))) for one
+//!   term, and the creep recovers when the load is taken off): the creep spectrum as a Prony
+//!   series, as viscoelastic creep is written, on a fixed grid of time constants spanning the
+//!   set's time scale (a tenth of the longest test's duration to three times it).
+//!
+//! One instrument measures every test of a set, so every coefficient is shared by all its
+//! tests: a drift cannot stand in for a difference between tests (a pressure effect, two
+//! specimens), only for a trend with time that every test shows alike. A zero drift of each
+//! test's own would, with the creep's slow terms, be nearly collinear and predict held-out
+//! rows wildly.
+//!
+//! The drift is a linear projection whose regressors (the time, the predicted shear
+//! low-passed) change smoothly with the model's parameters, so the residual stays a smooth
+//! function of them and a least-squares solver can follow it (τ is never switched between
+//! evaluations). Collinear
+//! terms are handled by a pseudo-inverse.
+//!
+//! The creep acts on a measured shear only: under traction control the measured column is the
+//! slip, and only the zero drift applies.
+
+use crate::dataset::FitTest;
+use subfric_model::Control;
+
+/// Time constants of the creep's terms, as multiples of the longest test's duration.
+const CREEP_TIME_CONSTANTS: [f64; 4] = [0.1, 0.316, 1.0, 3.16];
+
+/// Singular values of the drift's normal matrix below this share of the largest are
+/// dropped: adjacent time constants are nearly collinear on a short record.
+const CREEP_RCOND: f64 = 1e-9;
+
+/// The shear history `shear` of `t` low-passed with time constant `tau` (zero before the
+/// first row): what one creep term of the load cell adds, per unit of its coefficient.
+fn creep_regressor(t: &FitTest, shear: &[f64], tau: f64, out: &mut Vec<f64>) {
+    out.clear();
+    let mut y = 0.0;
+    let (mut last_dt, mut a) = (f64::NAN, 0.0);
+    for (i, &f) in shear.iter().enumerate() {
+        if i > 0 {
+            let dt = (t.time[i] - t.time[i - 1]).max(0.0);
+            if dt != last_dt {
+                a = -(-dt / tau).exp_m1();
+                last_dt = dt;
+            }
+        }
+        if f.is_finite() {
+            y += a * (f - y);
+        }
+        out.push(y);
+    }
+}
+
+/// The zero drift's regressor of row `i` in the residuals' units: time from the test's first
+/// row, weighted as the residuals are (k √w).
+#[inline]
+fn zero_drift_term(t: &FitTest, i: usize) -> f64 {
+    t.weight.sqrt() / t.noise_sd * t.weight_of(i).sqrt() * (t.time[i] - t.time[0])
+}
+
+/// A creep term's regressor of a row in the residuals' units (prediction − measurement, times
+/// k √w): a cell that adds c ȳ to its reading leaves −c k √w ȳ in the residual.
+#[inline]
+fn creep_term(k: f64, row_weight: f64, low_passed: f64) -> f64 {
+    -k * row_weight.sqrt() * low_passed
+}
+
+/// A drift fitted to residuals, every coefficient shared by the set's tests.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FittedDrift {
+    /// Zero drift of the measured shear [kPa/s] (slip-controlled tests).
+    pub shear_rate: f64,
+    /// Zero drift of the measured slip [mm/s] (traction-controlled tests).
+    pub slip_rate: f64,
+    /// Time constants of the creep terms [s] (empty when no test measures shear).
+    pub creep_taus: Vec<f64>,
+    /// Coefficient of each creep term: the share of the low-passed shear the cell adds.
+    pub creep: Vec<f64>,
+}
+
+/// The drift's weighted regressors of one test whose weighted residuals are `r`, one per
+/// coefficient: the zero drift of the shear channel, that of the slip channel, then one per
+/// creep time constant (zero where a coefficient does not apply to the test).
+///
+/// The creep is that of the shear the model predicts (the measurement minus the residual),
+/// not of the measured shear: a creep built from the readings would carry their own
+/// differences between tests, and a combination of its terms could then stand in for them.
+fn columns(t: &FitTest, r: &[f64], taus: &[f64]) -> Vec<Vec<f64>> {
+    let n = t.len().min(r.len());
+    let zero: Vec<f64> = (0..n).map(|i| -zero_drift_term(t, i)).collect();
+    let mut cols = match t.control {
+        Control::Slip => vec![zero, vec![0.0; n]],
+        Control::Shear => vec![vec![0.0; n], zero],
+    };
+    let k = t.weight.sqrt() / t.noise_sd;
+    let predicted: Vec<f64> = (0..n)
+        .map(|i| t.measured[i] + r[i] / (k * t.weight_of(i).sqrt()))
+        .collect();
+    let mut y = Vec::new();
+    for &tau in taus {
+        cols.push(if t.control == Control::Slip {
+            creep_regressor(t, &predicted, tau, &mut y);
+            y.iter()
+                .enumerate()
+                .map(|(i, &v)| creep_term(k, t.weight_of(i), v))
+                .collect()
+        } else {
+            vec![0.0; n]
+        });
+    }
+    cols
+}
+
+/// Fits the drift of the measurement to the weighted residuals `r` of `tests` (one slice per
+/// test, in the noise units of [`crate::dataset::residuals_into`]) on the rows `learn` marks,
+/// and removes it from the rows `apply` gives for each test. Rows with a non-finite residual
+/// are not learned on and are left as they are.
+pub fn remove_drift(
+    tests: &[FitTest],
+    r: &mut [&mut [f64]],
+    learn: impl Fn(usize, usize) -> bool,
+    apply: impl Fn(usize) -> std::ops::Range<usize>,
+) -> FittedDrift {
+    let longest = tests
+        .iter()
+        .filter(|t| !t.is_empty())
+        .map(|t| t.time[t.len() - 1] - t.time[0])
+        .fold(0.0f64, f64::max);
+    let taus: Vec<f64> = if longest > 0.0 && tests.iter().any(|t| t.control == Control::Slip) {
+        CREEP_TIME_CONSTANTS.iter().map(|m| m * longest).collect()
+    } else {
+        Vec::new()
+    };
+    let m = 2 + taus.len();
+    let cols: Vec<Vec<Vec<f64>>> = tests
+        .iter()
+        .zip(r.iter())
+        .map(|(t, rt)| columns(t, rt, &taus))
+        .collect();
+    // Normal equations summed over the tests' learned rows.
+    let mut normal = nalgebra::DMatrix::<f64>::zeros(m, m);
+    let mut rhs = nalgebra::DVector::<f64>::zeros(m);
+    for (ti, rt) in r.iter().enumerate() {
+        let c = &cols[ti];
+        for i in 0..c[0].len() {
+            if !(learn(ti, i) && rt[i].is_finite()) {
+                continue;
+            }
+            for j in 0..m {
+                let cj = c[j][i];
+                if cj == 0.0 {
+                    continue;
+                }
+                rhs[j] += cj * rt[i];
+                for l in j..m {
+                    normal[(j, l)] += cj * c[l][i];
+                }
+            }
+        }
+    }
+    for j in 0..m {
+        for l in 0..j {
+            normal[(j, l)] = normal[(l, j)];
+        }
+    }
+    let largest = normal.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let coef: Vec<f64> = if largest > 0.0 {
+        let svd = normal.svd(true, true);
+        let cutoff = CREEP_RCOND * svd.singular_values.max();
+        svd.solve(&rhs, cutoff)
+            .map(|c| c.iter().copied().collect())
+            .unwrap_or_else(|_| vec![0.0; m])
+    } else {
+        vec![0.0; m]
+    };
+    for (ti, rt) in r.iter_mut().enumerate() {
+        let rows = apply(ti);
+        let end = rows.end.min(cols[ti][0].len());
+        for i in rows.start.min(end)..end {
+            if rt[i].is_finite() {
+                rt[i] -= cols[ti]
+                    .iter()
+                    .zip(&coef)
+                    .map(|(c, b)| b * c[i])
+                    .sum::<f64>();
+            }
+        }
+    }
+    FittedDrift {
+        shear_rate: coef[0],
+        slip_rate: coef[1],
+        creep: coef[2..].to_vec(),
+        creep_taus: taus,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A slip-controlled test of `n` rows at 1 s whose measured shear is `shear(t)`, noise 1.
+    fn test(n: usize, shear: impl Fn(f64) -> f64) -> FitTest {
+        let time: Vec<f64> = (0..n).map(|i| i as f64).collect();
+        let measured: Vec<f64> = time.iter().map(|&t| shear(t)).collect();
+        let mut t = FitTest::new(
+            "t",
+            Control::Slip,
+            time.clone(),
+            time.iter().map(|&t| 0.01 * t).collect(),
+            measured,
+            vec![100.0; n],
+        );
+        t.noise_sd = 1.0;
+        t
+    }
+
+    /// The residuals (prediction − measurement) of a model that predicts `truth` exactly.
+    fn residuals(t: &FitTest, truth: impl Fn(f64) -> f64) -> Vec<f64> {
+        (0..t.len())
+            .map(|i| truth(t.time[i]) - t.measured[i])
+            .collect()
+    }
+
+    #[test]
+    fn a_creep_shared_by_two_tests_is_found_and_removed() {
+        // Two tests at 30 and 60 kPa read by a cell creeping 4 % with τ = 150 s (between the
+        // grid's time constants: the terms together stand for it).
+        let creep = |f0: f64| move |t: f64| f0 * (1.0 + 0.04 * (1.0 - (-t / 150.0).exp()));
+        let tests = [test(1001, creep(30.0)), test(601, creep(60.0))];
+        let mut r: Vec<Vec<f64>> = vec![
+            residuals(&tests[0], |_| 30.0),
+            residuals(&tests[1], |_| 60.0),
+        ];
+        let before: f64 = r.iter().flatten().map(|v| v * v).sum();
+        let mut slices: Vec<&mut [f64]> = r.iter_mut().map(|v| &mut v[..]).collect();
+        let d = remove_drift(&tests, &mut slices, |_, _| true, |ti| 0..tests[ti].len());
+        let after: f64 = r.iter().flatten().map(|v| v * v).sum();
+        // The terms are nearly collinear and their coefficients are not read one by one: what
+        // counts is that together they take out a creep of up to 2.4 kPa to a few hundredths.
+        assert_eq!(d.creep_taus.len(), d.creep.len());
+        let worst = r.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(
+            worst < 0.05 && after < 1e-3 * before,
+            "{d:?}: {before} → {after}, worst {worst}"
+        );
+    }
+
+    #[test]
+    fn a_creep_cannot_stand_in_for_a_difference_between_tests() {
+        // Two tests under the same load, one read 5 % high, the other 5 % low, from the first
+        // row on (as two specimens' friction differs): a drift shared by both takes out
+        // nothing of it; a drift of each test's own would take out most of it.
+        let tests = [test(500, |_| 31.5), test(500, |_| 28.5)];
+        let residuals_after = |tests: &[FitTest; 2]| {
+            let mut r = [
+                residuals(&tests[0], |_| 30.0),
+                residuals(&tests[1], |_| 30.0),
+            ];
+            let mut slices: Vec<&mut [f64]> = r.iter_mut().map(|v| &mut v[..]).collect();
+            remove_drift(tests, &mut slices, |_, _| true, |ti| 0..tests[ti].len());
+            r.iter().flatten().map(|v| v * v).sum::<f64>()
+        };
+        let before = 2.0 * 500.0 * 1.5 * 1.5;
+        let after = residuals_after(&tests);
+        assert!(after > 0.99 * before, "{before} → {after}");
+    }
+
+    #[test]
+    fn a_zero_drift_linear_in_time_shared_by_the_tests_is_removed() {
+        // The shear channel drifts at 0.01 kPa/s in both tests, whatever their load.
+        let tests = [
+            test(200, |t| 10.0 + 0.01 * t),
+            test(300, |t| 40.0 + 0.01 * t),
+        ];
+        let mut r = vec![
+            residuals(&tests[0], |_| 10.0),
+            residuals(&tests[1], |_| 40.0),
+        ];
+        let mut slices: Vec<&mut [f64]> = r.iter_mut().map(|v| &mut v[..]).collect();
+        let d = remove_drift(&tests, &mut slices, |_, _| true, |ti| 0..tests[ti].len());
+        assert!((d.shear_rate - 0.01).abs() < 1e-3, "{d:?}");
+        assert!(r.iter().flatten().all(|v| v.abs() < 0.05), "{r:?}");
+    }
+
+    #[test]
+    fn what_is_learned_on_some_rows_is_applied_to_the_others() {
+        // Learned on the first half only, the drift predicts the second half's.
+        let t = test(400, |t| 50.0 * (1.0 + 0.05 * (1.0 - (-t / 40.0).exp())));
+        let tests = [t];
+        let mut r = [residuals(&tests[0], |_| 50.0)];
+        let mut slices: Vec<&mut [f64]> = r.iter_mut().map(|v| &mut v[..]).collect();
+        remove_drift(&tests, &mut slices, |_, i| i < 200, |_| 0..400);
+        let tail: f64 = r[0][200..].iter().map(|v| v.abs()).fold(0.0, f64::max);
+        assert!(tail < 0.3, "the held rows keep {tail} of a 2.5 kPa creep");
+    }
+
+    #[test]
+    fn under_traction_control_only_the_zero_drift_applies() {
+        let mut t = test(100, |t| 0.5 + 0.001 * t);
+        t.control = Control::Shear;
+        let tests = [t];
+        let mut r = [residuals(&tests[0], |_| 0.5)];
+        let mut slices: Vec<&mut [f64]> = r.iter_mut().map(|v| &mut v[..]).collect();
+        let d = remove_drift(&tests, &mut slices, |_, _| true, |_| 0..100);
+        assert!(d.creep.is_empty() && d.creep_taus.is_empty(), "{d:?}");
+        assert!(
+            (d.slip_rate - 0.001).abs() < 1e-6 && d.shear_rate == 0.0,
+            "{d:?}"
+        );
+    }
+}
