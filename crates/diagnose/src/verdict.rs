@@ -138,14 +138,24 @@ pub fn decide_among(
         .filter(|&i| namable.get(i).copied().unwrap_or(true))
         .max_by(|&a, &b| candidates[a].1.score.total_cmp(&candidates[b].1.score));
     let best_score = best.map_or(f64::NEG_INFINITY, |i| candidates[i].1.score);
-    if let Some(d) = drift {
-        if passes(d, th) && d.score > best_score {
-            return Decision::Drift;
-        }
-    }
     // Near the noise overall, an effect confined to a few pieces (healing seen only after the
     // holds) can still be real: it is named when it passes; anything less is no gap.
     let near_noise = reference_chi2 <= th.gap_chi2;
+    if let Some(d) = drift {
+        // The drift of the measurement is the null of every physical candidate: when it has
+        // significant held-out evidence and more than any of them, the instrument explains
+        // the gap at least as well as the interface does, and no effect is taken, not even
+        // tentatively.
+        if d.score >= th.min_score && d.score > best_score {
+            return if passes(d, th) {
+                Decision::Drift
+            } else if near_noise {
+                Decision::NoGap
+            } else {
+                Decision::Unexplained
+            };
+        }
+    }
     match best {
         Some(i) if passes(&candidates[i].1, th) => Decision::Named(i),
         _ if near_noise => Decision::NoGap,
@@ -436,8 +446,20 @@ mod tests {
         );
         let weak_drift = cmp(150.0, 0.6, 0.3, 8.0);
         assert_eq!(
-            decide(8.0, &[(healing(), phys)], Some(&weak_drift), &th),
+            decide(8.0, &[(healing(), phys.clone())], Some(&weak_drift), &th),
             Decision::Named(0)
+        );
+        // A drift with more evidence that explains too little itself still takes the gap
+        // from the physical candidate: the instrument explains it at least as well.
+        let stronger_partial_drift = cmp(250.0, 0.5, 0.3, 8.0);
+        assert_eq!(
+            decide(
+                8.0,
+                &[(healing(), phys)],
+                Some(&stronger_partial_drift),
+                &th
+            ),
+            Decision::Unexplained
         );
     }
 

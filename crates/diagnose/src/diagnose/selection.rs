@@ -916,10 +916,19 @@ fn selection_stage(
         match first {
             // Nothing explains the gap as a whole: an effect that explains the pieces of its
             // own kind, with significant evidence over all pieces, is still named (the rest
-            // of the gap is then reported as unexplained).
+            // of the gap is then reported as unexplained) — unless a drift of the measurement
+            // has more held-out evidence: then the instrument explains the gap at least as
+            // well as the interface does, as on the route of the events read one by one.
             d @ (Decision::Tentative(_) | Decision::Unexplained) => {
                 match decide_further(reference_chi2, &pairs, &own, &corroborated, th) {
-                    Decision::Named(i) if pairs[i].1.score >= th.min_score => Decision::Named(i),
+                    Decision::Named(i)
+                        if pairs[i].1.score >= th.min_score
+                            && drift
+                                .as_ref()
+                                .is_none_or(|d| d.held_out.score < pairs[i].1.score) =>
+                    {
+                        Decision::Named(i)
+                    }
                     _ => d,
                 }
             }
