@@ -118,7 +118,7 @@ pub fn library_equivalents(form: Form) -> &'static [&'static str] {
         Form::DirectionMu => &["backward mu x (1 - d)"],
         Form::DirectionMuK => &["backward mu_k x (1 - d)"],
         Form::DirectionKappa => &["backward kappa x (1 - d)"],
-        Form::Drift | Form::Vibration => &[],
+        Form::Drift | Form::Vibration | Form::Creep => &[],
     }
 }
 
@@ -491,7 +491,7 @@ mod tests {
             .into_iter()
             .filter(|f| library_equivalents(*f).is_empty())
             .collect();
-        assert_eq!(without, [Form::Drift, Form::Vibration]);
+        assert_eq!(without, [Form::Drift, Form::Vibration, Form::Creep]);
     }
 
     #[test]

@@ -202,6 +202,20 @@ fn a_drifting_load_cell_is_unexplained() {
 }
 
 #[test]
+fn a_creeping_load_cell_is_unexplained_not_slip_hardening() {
+    // The cell's reading creeps towards a few per cent of the load with a lag of minutes: on
+    // a monotonic slide at one rate it grows with time as slip hardening grows with slip. The
+    // holds and the velocity steps part them (time passes in a hold without slip), and the
+    // drift of the measurement — its creep shared by every test, as one cell reads them all
+    // — must take the gap from the physical candidates.
+    for profile in [Profile::Logger, Profile::Clean] {
+        let g = set("creep", &[Form::Creep], profile);
+        let c = verdict(&g, &DiagnoseOptions::default());
+        assert_right(&c);
+    }
+}
+
+#[test]
 fn a_family_is_named_through_another_form_when_its_own_is_not_a_candidate() {
     // `selfcheck --unlisted`: healing that grows as a power of the hold time, diagnosed without
     // the library's power-law and general time forms, must still be healing (log time holds

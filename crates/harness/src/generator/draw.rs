@@ -50,11 +50,14 @@ pub enum Form {
     Drift,
     /// A slow vibration of the load cell.
     Vibration,
+    /// A creep of the load cell: its reading creeps towards a share of its load with a
+    /// first-order lag.
+    Creep,
 }
 
 impl Form {
     /// Every form.
-    pub const ALL: [Form; 17] = [
+    pub const ALL: [Form; 18] = [
         Form::RsfAgeing,
         Form::RsfSlip,
         Form::RatePower,
@@ -72,6 +75,7 @@ impl Form {
         Form::DirectionKappa,
         Form::Drift,
         Form::Vibration,
+        Form::Creep,
     ];
 
     /// The family, as `truth.json` names it.
@@ -82,7 +86,7 @@ impl Form {
             Form::SlipExp | Form::SlipHyperbolic | Form::SlipCapped => "slip-hardening",
             Form::HealLog | Form::HealPower => "log-healing",
             Form::DirectionMu | Form::DirectionMuK | Form::DirectionKappa => "direction",
-            Form::Drift | Form::Vibration => "unexplained",
+            Form::Drift | Form::Vibration | Form::Creep => "unexplained",
         }
     }
 
@@ -106,6 +110,7 @@ impl Form {
             Form::DirectionKappa => "direction on kappa",
             Form::Drift => "load-cell drift",
             Form::Vibration => "load-cell vibration",
+            Form::Creep => "load-cell creep",
         }
     }
 }
@@ -414,6 +419,12 @@ pub fn add_effect(fx: &mut Effects, form: Form, s: &Setting, rng: &mut ChaCha8Rn
         Form::Drift => {
             fx.gap = Some(Gap::Drift {
                 kpa_per_s: signed(rng, 0.5, 3.0) / 1000.0,
+            });
+        }
+        Form::Creep => {
+            fx.gap = Some(Gap::Creep {
+                share: uniform(rng, 0.02, 0.06),
+                tau_s: log_uniform(rng, 100.0, 3000.0),
             });
         }
         Form::Vibration => {

@@ -453,12 +453,43 @@ pub enum Gap {
         /// Phase [rad].
         phase: f64,
     },
+    /// The load cell creeps: its reading approaches (1 + share) × the load with a first-order
+    /// lag of `tau_s` (a step of load F₀ reads F₀ (1 + share (1 − e^(−t/τ)))), and recovers as
+    /// the load comes off.
+    Creep {
+        /// Share of the load the creep reaches.
+        share: f64,
+        /// Time constant [s].
+        tau_s: f64,
+    },
 }
 
 impl Gap {
-    /// What it adds to the shear recorded at time `t` of the run.
-    pub fn offset(&self, t: f64) -> f64 {
+    /// What it adds to the shear recorded at each time `t` of a run whose shear is `f`.
+    pub fn offsets(&self, t: &[f64], f: &[f64]) -> Vec<f64> {
         match *self {
+            Gap::Creep { share, tau_s } => {
+                let mut lagged = 0.0;
+                (0..t.len())
+                    .map(|i| {
+                        if i > 0 {
+                            let a = -(-(t[i] - t[i - 1]).max(0.0) / tau_s).exp_m1();
+                            lagged += a * (f[i] - lagged);
+                        }
+                        share * lagged
+                    })
+                    .collect()
+            }
+            _ => t.iter().map(|&ti| self.offset(ti)).collect(),
+        }
+    }
+
+    /// What a gap that depends on time alone adds to the shear recorded at time `t` of the run
+    /// (a creep, which depends on the load's history, adds nothing here: see
+    /// [`Gap::offsets`]).
+    fn offset(&self, t: f64) -> f64 {
+        match *self {
+            Gap::Creep { .. } => 0.0,
             Gap::Drift { kpa_per_s } => kpa_per_s * t,
             Gap::Vibration {
                 amplitude_kpa,
@@ -473,6 +504,7 @@ impl Gap {
         match self {
             Gap::Drift { .. } => "drift-linear".into(),
             Gap::Vibration { .. } => "vibration".into(),
+            Gap::Creep { .. } => "load-cell-creep".into(),
         }
     }
 
@@ -480,6 +512,10 @@ impl Gap {
         match *self {
             Gap::Drift { kpa_per_s } => {
                 m.insert("drift_kpa_per_s".into(), json!(kpa_per_s));
+            }
+            Gap::Creep { share, tau_s } => {
+                m.insert("share".into(), json!(share));
+                m.insert("tau_s".into(), json!(tau_s));
             }
             Gap::Vibration {
                 amplitude_kpa,

@@ -84,11 +84,15 @@ pub struct Recorded {
 
 /// The shear a noise-free logger would see: the run's shear plus the gap (at the run's time).
 pub fn clean_shear(run: &Run, gap: Option<&Gap>) -> Vec<f64> {
-    run.t
-        .iter()
-        .zip(&run.f)
-        .map(|(t, f)| f + gap.map_or(0.0, |g| g.offset(*t)))
-        .collect()
+    match gap {
+        Some(g) => run
+            .f
+            .iter()
+            .zip(g.offsets(&run.t, &run.f))
+            .map(|(f, o)| f + o)
+            .collect(),
+        None => run.f.clone(),
+    }
 }
 
 /// Records `run` as a logger would: the gap added, noise, the cut, rounding.
