@@ -476,19 +476,13 @@ fn line_over(u: &[f64], f: &[f64], from: f64) -> Option<Line> {
         return None;
     }
     let line = subfric_data::line::fit_line(x, y)?;
-    let mx = x.iter().sum::<f64>() / n as f64;
-    let sxx: f64 = x.iter().map(|v| (v - mx) * (v - mx)).sum();
     // The level at the stretch's middle, where it is read best.
-    let my = line.intercept + line.slope * mx;
+    let my = line.at(line.x_mean);
     let slope = line.slope;
-    let r: Vec<f64> = x
-        .iter()
-        .zip(y)
-        .map(|(a, b)| b - line.intercept - slope * a)
-        .collect();
+    let r = line.residuals(x, y);
     let (sd, inflation) = spread(&r, 2);
     let se_level = (sd * inflation / (n as f64).sqrt()).max(REPRODUCIBILITY_SHARE * my.abs());
-    let se_slope = sd * inflation / sxx.sqrt();
+    let se_slope = sd * inflation / line.sxx.sqrt();
     Some(Line {
         level: Estimate::symmetric(my, Z95 * se_level),
         slope: Estimate::symmetric(slope, Z95 * se_slope),
@@ -498,43 +492,6 @@ fn line_over(u: &[f64], f: &[f64], from: f64) -> Option<Line> {
 /// Standard error of an estimate's value (its interval is symmetric, ±1.96 SE).
 fn se_of(e: &Estimate) -> f64 {
     e.half_width() / Z95
-}
-
-/// Weighted least squares y = a + b x with weights w; returns (a, b, var a, var b, cov a b)
-/// with the variances inflated by the scatter beyond the readings' own errors when there are
-/// more points than parameters.
-fn weighted_line(x: &[f64], y: &[f64], w: &[f64]) -> Option<(f64, f64, f64, f64, f64)> {
-    let sw: f64 = w.iter().sum();
-    let mx = x.iter().zip(w).map(|(x, w)| x * w).sum::<f64>() / sw;
-    let my = y.iter().zip(w).map(|(y, w)| y * w).sum::<f64>() / sw;
-    let sxx: f64 = x.iter().zip(w).map(|(x, w)| w * (x - mx) * (x - mx)).sum();
-    if !(sxx > 0.0 && sw > 0.0) {
-        return None;
-    }
-    let b = x
-        .iter()
-        .zip(y)
-        .zip(w)
-        .map(|((x, y), w)| w * (x - mx) * (y - my))
-        .sum::<f64>()
-        / sxx;
-    let a = my - b * mx;
-    let n = x.len();
-    let inflation = if n > 2 {
-        let chi2: f64 = x
-            .iter()
-            .zip(y)
-            .zip(w)
-            .map(|((x, y), w)| w * (y - a - b * x).powi(2))
-            .sum();
-        (chi2 / (n - 2) as f64).max(1.0)
-    } else {
-        1.0
-    };
-    let var_b = inflation / sxx;
-    let var_a = inflation * (1.0 / sw + mx * mx / sxx);
-    let cov = -inflation * mx / sxx;
-    Some((a, b, var_a, var_b, cov))
 }
 
 /// The trend of readings `(normal stress, ratio)` with the normal stress, when they span two
@@ -562,7 +519,8 @@ fn trend(points: &[(f64, Estimate)]) -> Option<StressTrend> {
     let x: Vec<f64> = points.iter().map(|(p, _)| p.ln()).collect();
     let y: Vec<f64> = points.iter().map(|(_, e)| e.value).collect();
     let w: Vec<f64> = points.iter().map(|(_, e)| se_of(e).powi(-2)).collect();
-    let (_, b, _, var_b, _) = weighted_line(&x, &y, &w)?;
+    let line = subfric_data::line::fit_weighted_line(&x, &y, &w)?;
+    let (b, var_b) = (line.slope, line.var_slope);
     let per_efold = Estimate::symmetric(b, Z95 * var_b.sqrt());
     let mean = y.iter().zip(&w).map(|(y, w)| y * w).sum::<f64>() / w.iter().sum::<f64>();
     let relative_per_efold = Estimate {
@@ -577,7 +535,13 @@ fn trend(points: &[(f64, Estimate)]) -> Option<StressTrend> {
         .iter()
         .map(|(p, e)| (p * se_of(e)).powi(-2))
         .collect();
-    let (c, tan_phi, var_c, var_t, _) = weighted_line(&sx, &sy, &sw)?;
+    let line = subfric_data::line::fit_weighted_line(&sx, &sy, &sw)?;
+    let (c, tan_phi, var_c, var_t) = (
+        line.intercept,
+        line.slope,
+        line.var_intercept,
+        line.var_slope,
+    );
     let half_t = Z95 * var_t.sqrt();
     let deg = |t: f64| t.atan().to_degrees();
     Some(StressTrend {

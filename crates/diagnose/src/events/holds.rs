@@ -155,26 +155,22 @@ pub(super) fn healing_trend(holds: &[HoldHealing]) -> Option<HealingTrend> {
     if pts.len() < 2 {
         return None;
     }
-    let n = pts.len() as f64;
-    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    if sxx < 0.1 {
+    let (x, y): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
+    let line = subfric_data::line::fit_line(&x, &y)?;
+    // Holds too close in duration (a spread of log10 hold time, Σ(x − x̄)², under 0.1) say
+    // nothing of a trend per decade.
+    if line.sxx < 0.1 {
         return None;
     }
-    let slope = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / sxx;
+    let slope = line.slope;
     let per_decade = if pts.len() >= 3 {
-        let ss: f64 = pts
-            .iter()
-            .map(|p| (p.1 - my - slope * (p.0 - mx)).powi(2))
-            .sum();
         // The residual scatter, but never below the uncertainty of one peak reading.
         let floor = holds
             .iter()
             .map(|h| h.peak_gain.half_width() / 1.96)
             .fold(0.0, f64::max);
-        let sd = (ss / (n - 2.0)).sqrt().max(floor);
-        Estimate::symmetric(slope, student_t95(pts.len() - 2) * sd / sxx.sqrt())
+        let sd = line.residual_sd().max(floor);
+        Estimate::symmetric(slope, student_t95(pts.len() - 2) * sd / line.sxx.sqrt())
     } else {
         Estimate::open(slope)
     };

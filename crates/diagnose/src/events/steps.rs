@@ -12,6 +12,7 @@
 use super::slider::{Slider, StateLaw};
 use super::{Estimate, TestView};
 use serde::Serialize;
+use subfric_data::line::LineFit;
 use subfric_fit::lm::{jacobian, levenberg_marquardt, LmOptions};
 use subfric_fit::Residuals;
 
@@ -266,22 +267,22 @@ impl Residuals for NullProblem<'_> {
     }
 }
 
-/// Least-squares fit of a line y = p + q x; returns (p, q, residual SD, Σ(x − x̄)², x̄).
-fn line(x: &[f64], y: &[f64]) -> (f64, f64, f64, f64, f64) {
-    let n = x.len().max(1) as f64;
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let sxx: f64 = x.iter().map(|v| (v - mx) * (v - mx)).sum();
-    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let q = if sxx > 0.0 { sxy / sxx } else { 0.0 };
-    let p = my - q * mx;
-    let ss: f64 = x.iter().zip(y).map(|(a, b)| (b - p - q * a).powi(2)).sum();
-    let sd = (ss / (n - 2.0).max(1.0)).sqrt();
-    (p, q, sd, sxx, mx)
-}
-
-/// y − (p + q x), row by row.
-fn line_residuals(x: &[f64], y: &[f64], p: f64, q: f64) -> Vec<f64> {
-    x.iter().zip(y).map(|(a, b)| b - p - q * a).collect()
+/// The least-squares line of `y` on `x`; a level (slope 0 through the mean) when x does not
+/// vary.
+fn line(x: &[f64], y: &[f64]) -> LineFit {
+    subfric_data::line::fit_line(x, y).unwrap_or_else(|| {
+        let n = y.len().max(1) as f64;
+        let mean = y.iter().sum::<f64>() / n;
+        LineFit {
+            intercept: mean,
+            slope: 0.0,
+            r2: f64::NAN,
+            x_mean: x.iter().sum::<f64>() / n,
+            sxx: 0.0,
+            residual_ss: y.iter().map(|v| (v - mean).powi(2)).sum(),
+            points: y.len(),
+        }
+    })
 }
 
 /// The change of steady friction measured on the record (the steadystate routine's reading):
@@ -292,7 +293,14 @@ fn measured_change(w: &Window) -> Estimate {
     // Extrapolated in time, as the steadystate routine does (Giacomel et al. 2024).
     let pre_t = &w.time[..=w.step];
     let pre_mu = &w.mu[..=w.step];
-    let (p, q, sd, sxx, mt) = line(pre_t, pre_mu);
+    let pre = line(pre_t, pre_mu);
+    let (p, q, sd, sxx, mt) = (
+        pre.intercept,
+        pre.slope,
+        pre.residual_sd(),
+        pre.sxx,
+        pre.x_mean,
+    );
     let n_post = w.mu.len() - w.step - 1;
     let tail = (n_post / 5).max(3).min(n_post);
     let tail_mu = &w.mu[w.mu.len() - tail..];
@@ -304,7 +312,7 @@ fn measured_change(w: &Window) -> Estimate {
     // (from neighbouring rows) does not see: n correlated rows carry the information of n/τ.
     // The tail is short and sees only a piece of a wander, so its own spread and correlation
     // time understate them; the larger of the two parts' values is used for both.
-    let pre_residuals = line_residuals(pre_t, pre_mu, p, q);
+    let pre_residuals = pre.residuals(pre_t, pre_mu);
     let tail_residuals: Vec<f64> = tail_mu.iter().map(|m| m - mean).collect();
     let tail_sd = {
         let v: f64 = tail_residuals.iter().map(|r| r * r).sum();
@@ -328,8 +336,9 @@ fn measured_change(w: &Window) -> Estimate {
 fn pre_step_trend(w: &Window) -> (f64, f64, f64) {
     let pre_s = &w.travel[..=w.step];
     let pre_mu = &w.mu[..=w.step];
-    let (p, q, sd, sxx, _) = line(pre_s, pre_mu);
-    let tau = subfric_fit::uncertainty::correlation_time(&line_residuals(pre_s, pre_mu, p, q));
+    let pre = line(pre_s, pre_mu);
+    let (p, q, sd, sxx) = (pre.intercept, pre.slope, pre.residual_sd(), pre.sxx);
+    let tau = subfric_fit::uncertainty::correlation_time(&pre.residuals(pre_s, pre_mu));
     let se = sd.max(w.sigma) * (tau / sxx.max(1e-300)).sqrt();
     (p, q, se)
 }
