@@ -591,6 +591,11 @@ fn simulate_leaves_out_a_seating_toe_and_writes_a_set_that_loads() {
 /// box's area and the rate as single values, stages as a channel (a 7-row aborted shear
 /// stage before the real one), no time column.
 fn gds_ini(dir: &Path) -> std::path::PathBuf {
+    gds_ini_at(dir, "DS-04.ini", 100.0)
+}
+
+/// [`gds_ini`] under normal stress `normal_kpa` (the shear force in proportion), as `name`.
+fn gds_ini_at(dir: &Path, name: &str, normal_kpa: f64) -> std::path::PathBuf {
     let (mut stage, mut h, mut v, mut f) = (vec![], vec![], vec![], vec![]);
     for i in 0..7 {
         stage.push("1".to_string());
@@ -600,7 +605,7 @@ fn gds_ini(dir: &Path) -> std::path::PathBuf {
     }
     for i in 0..150 {
         let x = 0.05 * f64::from(i);
-        let q_kn = 0.6 * 0.1 * 3.6 * (1.0 - (-x / 0.4).exp());
+        let q_kn = 0.6 * normal_kpa / 1000.0 * 3.6 * (1.0 - (-x / 0.4).exp());
         stage.push("2".to_string());
         h.push(format!("{x:.3}"));
         v.push(format!("{:.4}", 0.3 * (1.0 - (-x / 2.0).exp())));
@@ -613,9 +618,9 @@ fn gds_ini(dir: &Path) -> std::path::PathBuf {
         h.join(","),
         v.join(","),
         f.join(","),
-        vec!["100.0"; n].join(",")
+        vec![format!("{normal_kpa:.1}"); n].join(",")
     );
-    let p = dir.join("DS-04.ini");
+    let p = dir.join(name);
     std::fs::write(&p, text).unwrap();
     p
 }
@@ -668,4 +673,41 @@ fn a_gds_ini_export_imports_in_one_command_and_says_every_choice() {
     let o = subfric!().run(args!["fit", &set, "--no-profiles", "--out", &out]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(out.join("fit.json").exists());
+    // ... and is diagnosed like any other once a second test, at twice the normal stress, is
+    // imported beside it: two tests give pieces to hold out, so the diagnosis decides, and it
+    // names nothing whose variable the two tests do not vary (one rate, no holds, no
+    // reversals).
+    let second = gds_ini_at(tmp.path(), "DS-05.ini", 200.0);
+    subfric!().ok(args![
+        "import",
+        &second,
+        "--out",
+        &set,
+        "--rate-unit",
+        "mm/min",
+        "--test-name",
+        "ds05"
+    ]);
+    let dout = tmp.path().join("diagnosis");
+    let o = subfric!().run(args!["diagnose", &set, "--out", &dout]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let d: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dout.join("diagnosis.json")).unwrap())
+            .unwrap();
+    let effect = d["verdict"]["effect"].as_str().unwrap_or_default();
+    assert_ne!(effect, "cannot-judge", "{}", d["verdict"]);
+    let effects: Vec<&str> = d["verdict"]["effects"]
+        .as_array()
+        .expect("the verdict lists its effects")
+        .iter()
+        .filter_map(|e| e.as_str())
+        .collect();
+    for absent in ["rate", "log-healing", "direction"] {
+        assert!(
+            !effects.contains(&absent),
+            "{absent} named: {}",
+            d["verdict"]
+        );
+    }
+    assert!(dout.join("report.html").exists());
 }
