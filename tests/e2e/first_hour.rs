@@ -270,6 +270,28 @@ fn diagnose_counts_its_progress_and_plan_then_plans_on_the_model_it_chose() {
     assert!(stages > 0);
     let html = std::fs::read_to_string(diagnosis.join("report.html")).unwrap();
     assert_eq!(html.matches("<p>→ ").count(), stages, "{html}");
+    // The fit's report draws each test against the same axis as the diagnosis's: time where
+    // the test holds, slip elsewhere.
+    let fit = tmp.path().join("fit");
+    run.ok(args!["fit", "pair-01", "--no-profiles", "--out", &fit]);
+    let axis = |svg: &Path| {
+        let text = std::fs::read_to_string(svg).unwrap();
+        ["time t [s]", "slip u [mm]"]
+            .into_iter()
+            .filter(|label| text.contains(label))
+            .collect::<Vec<_>>()
+    };
+    for (test, expected) in [
+        ("slide-hold-slide", "time t [s]"),
+        ("velocity-steps", "slip u [mm]"),
+        ("two-way-cyclic", "slip u [mm]"),
+        ("monotonic-400kPa", "slip u [mm]"),
+    ] {
+        let in_fit = axis(&fit.join(format!("{test}.svg")));
+        let in_diagnosis = axis(&diagnosis.join("figures").join(format!("{test}.svg")));
+        assert_eq!(in_fit, [expected], "{test} in the fit's report");
+        assert_eq!(in_diagnosis, [expected], "{test} in the diagnosis's report");
+    }
 
     // plan reads fits/pair-01/diagnosis/diagnosis.json and fits the model with the effect.
     let stdout = run.ok(args!["plan", "pair-01", "--check", "0"]);

@@ -97,22 +97,12 @@ pub fn plot_set(
     let mut notes = Vec::new();
     for (p, stem) in tests.iter().zip(stems_of(tests)) {
         let t = &p.full;
-        // Slip control: friction against slip. Traction control: slip against time.
         let slip_control = t.control == Control::Slip;
-        let (x, x_label, y_label, res_label) = if slip_control {
-            (
-                t.imposed.clone(),
-                "slip u [mm]",
-                "friction τ/σ_n [-]",
-                "fit − measured [-]",
-            )
+        let (x, x_label) = test_axis(p);
+        let (y_label, res_label) = if slip_control {
+            ("friction τ/σ_n [-]", "fit − measured [-]")
         } else {
-            (
-                t.time.clone(),
-                "time t [s]",
-                "slip u [mm]",
-                "fit − measured [mm]",
-            )
+            ("slip u [mm]", "fit − measured [mm]")
         };
         let to_y = |i: usize, v: f64| if slip_control { v / t.normal[i] } else { v };
         let measured: Vec<f64> = t
@@ -335,8 +325,22 @@ pub fn figure_stems(names: &[&str]) -> Vec<String> {
         .collect()
 }
 
+/// The x axis a whole test is drawn against, the same in every report (the fit's, the
+/// diagnosis's): time under traction control, and where a slip-controlled test holds (a hold
+/// has no slip, and against slip it would be a vertical line); slip otherwise, as the paper
+/// draws its curves (a cyclic test's loops, a velocity step's transient over its slip).
+fn test_axis(p: &PreparedTest) -> (Vec<f64>, &'static str) {
+    let t = &p.full;
+    let holds = p.segmentation.holds.iter().any(|&(s, _)| s > 1);
+    if t.control == Control::Slip && !holds {
+        (t.imposed.clone(), "slip u [mm]")
+    } else {
+        (t.time.clone(), "time t [s]")
+    }
+}
+
 /// The figures of a diagnosis: per test the measured curve, the base model and the model with
-/// the named effects (against time, where velocity steps and holds are visible), and one zoom
+/// the named effects (against the test's axis, [`test_axis`]), and one zoom
 /// per velocity step and per hold, against slip from the event, so that a specialist can read
 /// the transients.
 pub fn diagnosis_figures(
@@ -356,10 +360,11 @@ pub fn diagnosis_figures(
         }
         let curves = FrictionCurves::of(t, base, with_effects);
         let all = 0..t.len();
+        let (x, x_label) = test_axis(p);
         let fig = Figure::new(
             format!("{set_name}: {} ({} kPa)", t.name, mean(&t.normal).round()),
-            "time t [s]",
-            Panel::new("friction τ/σ_n [-]", curves.series(&t.time, all)),
+            x_label,
+            Panel::new("friction τ/σ_n [-]", curves.series(&x, all)),
         );
         jobs.push((fig, out.join(format!("{stem}.png"))));
         let events = events_of(p);
