@@ -627,6 +627,29 @@ fn plan(
     run.map_err(error)
 }
 
+/// `subfric plot`: the overlay figures of a set (measured, published, the model in `params`)
+/// into `out`; returns the PNG files written (an SVG beside each) and the curves that could not
+/// be drawn, and why.
+#[pyfunction]
+#[pyo3(signature = (dir, *, params, out, force))]
+fn plot(
+    py: Python<'_>,
+    dir: PathBuf,
+    params: Option<PathBuf>,
+    out: Option<PathBuf>,
+    force: bool,
+) -> PyResult<(Vec<String>, Vec<String>)> {
+    let run = py.detach(move || -> anyhow::Result<_> {
+        let to = api::output::Destination { dir: out, force };
+        let p = api::figures::plot(&dir, params.as_deref(), &to, &Silent)?;
+        Ok((
+            p.files.iter().map(|f| f.display().to_string()).collect(),
+            p.notes,
+        ))
+    });
+    run.map_err(error)
+}
+
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SubfricError", m.py().get_type::<SubfricError>())?;
@@ -638,6 +661,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(import_file, m)?)?;
     m.add_function(wrap_pyfunction!(plan, m)?)?;
+    m.add_function(wrap_pyfunction!(plot, m)?)?;
     campaign::register(m)?;
     Ok(())
 }

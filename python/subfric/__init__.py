@@ -44,6 +44,7 @@ __all__ = [
     "check",
     "import_file",
     "plan",
+    "plot",
     "campaign",
 ]
 
@@ -509,6 +510,27 @@ def plan(set, *, out=None, diagnosis=None, seed=1, check=1, setup_hours=0.5, for
     result = json.loads(text)
     result["text"] = words
     return result
+
+
+def plot(set, *, params=None, out=None, force=False):
+    """Draws the overlay figures of a set exactly as ``subfric plot``: per test the measured
+    curve, the published one (when the set has reference parameters) and that of the model in
+    ``params`` (a fit.json or params.json; default: the set's own ``fits/<set>/fit.json`` when
+    there is one), as PNG with an SVG beside each, into ``out`` (default ``fits/<set>/plots``).
+    Needs no plotting library. Returns the PNG files written; a curve that cannot be drawn (a
+    model that runs away on a test) is issued as a :class:`SubfricWarning`, not dropped
+    silently.
+    """
+    if not isinstance(set, (str, os.PathLike, ExperimentSet)):
+        raise SubfricError(f"set: {type(set).__name__} {set!r} is not a set folder (expected a path or an ExperimentSet)")
+    files, notes = _native.plot(
+        os.fspath(set),
+        params=None if params is None else os.fspath(params),
+        out=None if out is None else os.fspath(out),
+        force=_flag("force", force),
+    )
+    _warn(notes)
+    return files
 
 
 # Last: the function takes the name of its module in the package's namespace.

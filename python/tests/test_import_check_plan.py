@@ -1,7 +1,8 @@
-"""import_file, check and plan: the same files and words as `subfric import`, `check` and
-`plan`, on lab files each test writes."""
+"""import_file, check, plan and plot: the same files and words as `subfric import`, `check`,
+`plan` and `plot`, on lab files each test writes."""
 
 import math
+import os
 
 import pytest
 
@@ -70,3 +71,20 @@ def test_plan_returns_what_the_command_writes_to_plan_json(cli, tmp_path):
     narrows = [p["narrows"] for p in r["plan"]["proposals"]]
     # Those that narrow nothing come last.
     assert narrows == sorted(narrows, reverse=True)
+
+
+def test_plot_writes_the_figures_the_command_writes(cli, tmp_path):
+    files = subfric.plot(EXPERIMENTS / "table1-medium", out=tmp_path / "py")
+    cli.run("plot", EXPERIMENTS / "table1-medium", "--out", tmp_path / "cli")
+    names = sorted(os.path.basename(f) for f in files)
+    assert names and all(n.endswith(".png") for n in names)
+    assert names == sorted(p.name for p in (tmp_path / "cli").glob("*.png"))
+    for f in files:
+        assert open(f, "rb").read(8) == b"\x89PNG\r\n\x1a\n"
+        assert os.path.exists(f[: -len(".png")] + ".svg")
+    # The same figure, drawn by the same code: the SVGs are identical.
+    for n in names:
+        stem = n[: -len(".png")]
+        assert (tmp_path / "py" / f"{stem}.svg").read_text() == (tmp_path / "cli" / f"{stem}.svg").read_text()
+    with pytest.raises(subfric.SubfricError, match="does not exist"):
+        subfric.plot(tmp_path / "nowhere")
