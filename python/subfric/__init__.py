@@ -241,6 +241,13 @@ def _count(name, v, least):
     return n
 
 
+def _set_dir(set):
+    """The folder of a set given as a path or an :class:`ExperimentSet`."""
+    if not isinstance(set, (str, os.PathLike, ExperimentSet)):
+        raise SubfricError(f"set: {type(set).__name__} {set!r} is not a set folder (expected a path or an ExperimentSet)")
+    return os.fspath(set)
+
+
 def _flag(name, v):
     if not isinstance(v, (bool, np.bool_)):
         raise SubfricError(f"{name}: {type(v).__name__} {v!r} is not True or False (expected a bool)")
@@ -397,9 +404,7 @@ def diagnose(set, *, seed=1):
     ``held_out_shrink``, ``explanation``, ``extra_parameters``) and ``diagnosis`` (everything
     else: the base fit, localisation by test and segment, candidates, selection, evidence).
     """
-    if not isinstance(set, (str, os.PathLike, ExperimentSet)):
-        raise SubfricError(f"set: {type(set).__name__} {set!r} is not a set folder (expected a path or an ExperimentSet)")
-    text, warns = _native.diagnose(os.fspath(set), seed=_count("seed", seed, 0))
+    text, warns = _native.diagnose(_set_dir(set), seed=_count("seed", seed, 0))
     _warn(warns)
     return json.loads(text)
 
@@ -412,9 +417,7 @@ def check(set):
     reader did: gaps, a spread clock), each also issued as a :class:`SubfricWarning`. A set
     with an error raises :class:`SubfricError` naming the file, the line and the field.
     """
-    if not isinstance(set, (str, os.PathLike, ExperimentSet)):
-        raise SubfricError(f"set: {type(set).__name__} {set!r} is not a set folder (expected a path or an ExperimentSet)")
-    text, table, warns = _native.check(os.fspath(set))
+    text, table, warns = _native.check(_set_dir(set))
     _warn(warns)
     result = json.loads(text)
     result["text"] = table
@@ -496,10 +499,8 @@ def plan(set, *, out=None, diagnosis=None, seed=1, check=1, setup_hours=0.5, for
     ``text``, the plan as the command prints it. ``diagnosis``: the diagnosis.json whose model
     to plan on (default: the set's own diagnosis, when there is one).
     """
-    if not isinstance(set, (str, os.PathLike, ExperimentSet)):
-        raise SubfricError(f"set: {type(set).__name__} {set!r} is not a set folder (expected a path or an ExperimentSet)")
     text, words = _native.plan(
-        os.fspath(set),
+        _set_dir(set),
         out=None if out is None else os.fspath(out),
         diagnosis=None if diagnosis is None else os.fspath(diagnosis),
         seed=_count("seed", seed, 0),
@@ -521,10 +522,8 @@ def plot(set, *, params=None, out=None, force=False):
     model that runs away on a test) is issued as a :class:`SubfricWarning`, not dropped
     silently.
     """
-    if not isinstance(set, (str, os.PathLike, ExperimentSet)):
-        raise SubfricError(f"set: {type(set).__name__} {set!r} is not a set folder (expected a path or an ExperimentSet)")
     files, notes = _native.plot(
-        os.fspath(set),
+        _set_dir(set),
         params=None if params is None else os.fspath(params),
         out=None if out is None else os.fspath(out),
         force=_flag("force", force),
