@@ -170,8 +170,11 @@ impl Layout {
     pub fn shows(self, form: Form) -> bool {
         match self {
             Layout::Mixed => true,
+            // A load-cell creep grows with time under load as slip hardening grows with slip:
+            // monotonic tests at one rate, without holds, cannot tell the two apart.
             Layout::DirectShear => {
                 matches!(form.family(), "pressure" | "slip-hardening" | "unexplained")
+                    && form != Form::Creep
             }
             // One pressure class: Bolton's law stands for the family.
             Layout::DenseSand => form == Form::PressurePower,
