@@ -210,7 +210,8 @@ pub fn fit(tests: &[FitTest], space: &Space, starts: &[Model], effort: Effort) -
     result
 }
 
-/// SSR of `m` on `tests` in noise units, each test's drift removed where it is fitted.
+/// SSR of `m` on `tests` in noise units, the set's drift of the measurement removed where it is
+/// fitted.
 fn ssr_on(tests: &[FitTest], m: &Model) -> f64 {
     let drift = tests.iter().any(|t| t.detrend).then_some(tests);
     residuals(tests, m, drift)
@@ -221,8 +222,8 @@ fn ssr_on(tests: &[FitTest], m: &Model) -> f64 {
 }
 
 /// Per-row residuals k √w (prediction − measurement) of every test (NaN where the model cannot
-/// simulate), with each test's drift fitted on the rows that weigh in `train` removed when
-/// `drift` is set.
+/// simulate), with the set's drift of the measurement, fitted on the rows that weigh in `train`,
+/// removed when `drift` is set.
 pub fn residuals(tests: &[FitTest], m: &Model, drift: Option<&[FitTest]>) -> HeldOut {
     let mut out: HeldOut = tests
         .iter()

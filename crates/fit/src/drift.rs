@@ -62,10 +62,10 @@ fn creep_regressor(t: &FitTest, shear: &[f64], tau: f64, out: &mut Vec<f64>) {
 }
 
 /// The zero drift's regressor of row `i` in the residuals' units: time from the test's first
-/// row, weighted as the residuals are (k √w).
+/// row, weighted as the residuals are (k √w, k = √weight / noise SD).
 #[inline]
-fn zero_drift_term(t: &FitTest, i: usize) -> f64 {
-    t.weight.sqrt() / t.noise_sd * t.weight_of(i).sqrt() * (t.time[i] - t.time[0])
+fn zero_drift_term(t: &FitTest, k: f64, i: usize) -> f64 {
+    k * t.weight_of(i).sqrt() * (t.time[i] - t.time[0])
 }
 
 /// A creep term's regressor of a row in the residuals' units (prediction − measurement, times
@@ -97,12 +97,12 @@ pub struct FittedDrift {
 /// differences between tests, and a combination of its terms could then stand in for them.
 fn columns(t: &FitTest, r: &[f64], taus: &[f64]) -> Vec<Vec<f64>> {
     let n = t.len().min(r.len());
-    let zero: Vec<f64> = (0..n).map(|i| -zero_drift_term(t, i)).collect();
+    let k = t.weight.sqrt() / t.noise_sd;
+    let zero: Vec<f64> = (0..n).map(|i| -zero_drift_term(t, k, i)).collect();
     let mut cols = match t.control {
         Control::Slip => vec![zero, vec![0.0; n]],
         Control::Shear => vec![vec![0.0; n], zero],
     };
-    let k = t.weight.sqrt() / t.noise_sd;
     let predicted: Vec<f64> = (0..n)
         .map(|i| t.measured[i] + r[i] / (k * t.weight_of(i).sqrt()))
         .collect();
