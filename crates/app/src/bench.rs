@@ -11,25 +11,70 @@ use std::time::Instant;
 use subfric_fit::FitOptions;
 use subfric_model::{simulate, Contact1, Control, Model, Params, Protocol, State1};
 
-/// Results.
+/// One part of the benchmark (`subfric bench --only`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum BenchPart {
+    /// The model step on one core.
+    Step,
+    /// One full fit of each set of the experiments folder.
+    Fits,
+    /// A multi-start fit on 1 thread and on all.
+    Multistart,
+    /// A fit of 10 000 short tests.
+    ManyTests,
+    /// Whole diagnoses of two generated sets.
+    Diagnoses,
+    /// The posterior sampler.
+    Sampler,
+}
+
+impl BenchPart {
+    /// Every part, in the order they run.
+    pub const ALL: [BenchPart; 6] = [
+        BenchPart::Step,
+        BenchPart::Fits,
+        BenchPart::Multistart,
+        BenchPart::ManyTests,
+        BenchPart::Diagnoses,
+        BenchPart::Sampler,
+    ];
+
+    /// Whether the part reads the experiments folder.
+    fn reads_sets(self) -> bool {
+        matches!(
+            self,
+            BenchPart::Fits | BenchPart::Multistart | BenchPart::Sampler
+        )
+    }
+}
+
+/// Results; a part not asked for is `None` (left out of the JSON).
 #[derive(Debug, Serialize)]
 pub struct BenchReport {
     /// The step benchmark case.
-    pub step_case: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step_case: Option<String>,
     /// Steps per second on one core (best of repeats).
-    pub steps_per_second: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steps_per_second: Option<f64>,
     /// Whether the hot loop gave bit-identical results to the general simulate path.
-    pub identical_to_simulate: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub identical_to_simulate: Option<bool>,
     /// Seconds for one full fit of each paper set.
-    pub fit_seconds: Vec<(String, f64)>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fit_seconds: Option<Vec<(String, f64)>>,
     /// Multi-start fitting: seconds with 1 thread, with all threads, threads, speed-up.
-    pub multistart: MultiStart,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub multistart: Option<MultiStart>,
     /// Whole diagnoses of generated sets of lab size.
-    pub diagnoses: Vec<DiagnosisTime>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub diagnoses: Option<Vec<DiagnosisTime>>,
     /// A fit of a set of many short tests (the cost must grow linearly with their number).
-    pub many_tests: ManyTestsFit,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub many_tests: Option<ManyTestsFit>,
     /// The posterior sampler's model runs per second.
-    pub sampler: SamplerSpeed,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sampler: Option<SamplerSpeed>,
 }
 
 /// Speed of the posterior sampler (`fit --posterior`): a fixed number of steps of the ensemble
@@ -418,8 +463,85 @@ fn request(dir: PathBuf) -> FitRequest {
     FitRequest::of_set(dir, FitOptions::default())
 }
 
-/// Runs every benchmark.
-pub fn measure(experiments: &Path) -> Result<BenchReport> {
+/// Runs the benchmark's `parts` (every part when empty); the sets of `experiments` are read
+/// only by the parts that fit them.
+pub fn measure(experiments: &Path, parts: &[BenchPart]) -> Result<BenchReport> {
+    let parts: Vec<BenchPart> = if parts.is_empty() {
+        BenchPart::ALL.to_vec()
+    } else {
+        parts.to_vec()
+    };
+    let wants = |p: BenchPart| parts.contains(&p);
+    let dirs = if parts.iter().any(|p| p.reads_sets()) {
+        experiment_sets(experiments)?
+    } else {
+        Vec::new()
+    };
+    let mut r = BenchReport {
+        step_case: None,
+        steps_per_second: None,
+        identical_to_simulate: None,
+        fit_seconds: None,
+        multistart: None,
+        diagnoses: None,
+        many_tests: None,
+        sampler: None,
+    };
+    if wants(BenchPart::Step) {
+        let (sps, identical) = steps_per_second(10);
+        r.step_case = Some("1-D slip control, u = 1 mm sin(2πt/200 s), 10 cycles in 200 000 steps, Params::sample(), 100 kPa".into());
+        r.steps_per_second = Some(sps);
+        r.identical_to_simulate = Some(identical);
+    }
+    if wants(BenchPart::Fits) {
+        let mut fit_seconds = Vec::new();
+        for d in &dirs {
+            let t0 = Instant::now();
+            run_fit(&request(d.clone()), &Silent)?;
+            fit_seconds.push((folder_name(d), t0.elapsed().as_secs_f64()));
+        }
+        r.fit_seconds = Some(fit_seconds);
+    }
+    let probe = dirs
+        .iter()
+        .find(|d| d.ends_with("table4-two-way"))
+        .or(dirs.first())
+        .cloned();
+    if let (true, Some(probe)) = (wants(BenchPart::Multistart), &probe) {
+        let time_with = |threads: usize| -> Result<f64> {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()?;
+            let t0 = Instant::now();
+            pool.install(|| run_fit(&request(probe.clone()), &Silent))?;
+            Ok(t0.elapsed().as_secs_f64())
+        };
+        let threads = rayon::current_num_threads();
+        let one = time_with(1)?;
+        let all = time_with(threads)?;
+        r.multistart = Some(MultiStart {
+            set: folder_name(probe),
+            one_thread_s: one,
+            all_threads_s: all,
+            threads,
+            speedup: one / all,
+        });
+    }
+    if wants(BenchPart::ManyTests) {
+        r.many_tests = Some(many_tests_fit(MANY_TESTS)?);
+    }
+    if wants(BenchPart::Diagnoses) {
+        r.diagnoses = Some(diagnoses()?);
+    }
+    if let (true, Some(probe)) = (wants(BenchPart::Sampler), &probe) {
+        r.sampler = Some(sampler_speed(probe)?);
+    }
+    Ok(r)
+}
+
+/// The experiment sets (folders with an `experiment.json`) of `experiments`, sorted; an error
+/// naming the folder when it cannot be read or holds none.
+fn experiment_sets(experiments: &Path) -> Result<Vec<PathBuf>> {
     let mut dirs: Vec<PathBuf> = std::fs::read_dir(experiments)
         .map_err(|e| {
             anyhow::anyhow!(
@@ -434,52 +556,14 @@ pub fn measure(experiments: &Path) -> Result<BenchReport> {
     if dirs.is_empty() {
         bail!("{}: no experiment set found", experiments.display());
     }
-    let (sps, identical) = steps_per_second(10);
-    let mut fit_seconds = Vec::new();
-    for d in &dirs {
-        let t0 = Instant::now();
-        run_fit(&request(d.clone()), &Silent)?;
-        fit_seconds.push((
-            d.file_name()
-                .unwrap_or_default()
-                .to_string_lossy()
-                .to_string(),
-            t0.elapsed().as_secs_f64(),
-        ));
-    }
-    let probe = dirs
-        .iter()
-        .find(|d| d.ends_with("table4-two-way"))
-        .unwrap_or(&dirs[0])
-        .clone();
-    let time_with = |threads: usize| -> Result<f64> {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()?;
-        let t0 = Instant::now();
-        pool.install(|| run_fit(&request(probe.clone()), &Silent))?;
-        Ok(t0.elapsed().as_secs_f64())
-    };
-    let threads = rayon::current_num_threads();
-    let one = time_with(1)?;
-    let all = time_with(threads)?;
-    let sampler = sampler_speed(&probe)?;
-    Ok(BenchReport {
-        step_case: "1-D slip control, u = 1 mm sin(2πt/200 s), 10 cycles in 200 000 steps, Params::sample(), 100 kPa".into(),
-        steps_per_second: sps,
-        identical_to_simulate: identical,
-        fit_seconds,
-        multistart: MultiStart {
-            set: probe.file_name().unwrap_or_default().to_string_lossy().to_string(),
-            one_thread_s: one,
-            all_threads_s: all,
-            threads,
-            speedup: one / all,
-        },
-        diagnoses: diagnoses()?,
-        many_tests: many_tests_fit(MANY_TESTS)?,
-        sampler,
-    })
+    Ok(dirs)
+}
+
+fn folder_name(d: &Path) -> String {
+    d.file_name()
+        .unwrap_or_default()
+        .to_string_lossy()
+        .to_string()
 }
 
 /// Tests of the many-short-tests case (issue 25: 10 000 tests of 39 rows in under 60 s).

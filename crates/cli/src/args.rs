@@ -643,9 +643,51 @@ pub struct BenchArgs {
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
-    /// Folder of experiment sets.
+    /// Folder of experiment sets (read by fits, multistart and sampler).
     #[arg(long, default_value = "experiments")]
     pub experiments: PathBuf,
+    /// Run only these parts, comma-separated (the whole benchmark takes minutes; the step alone,
+    /// seconds).
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = BenchPartArg::all())]
+    pub only: Vec<BenchPartArg>,
+}
+
+/// A part of `subfric bench`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BenchPartArg {
+    /// The model step on one core.
+    Step,
+    /// One full fit of each set of --experiments.
+    Fits,
+    /// A multi-start fit on 1 thread and on all.
+    Multistart,
+    /// A fit of 10 000 short tests.
+    ManyTests,
+    /// Whole diagnoses of two generated sets.
+    Diagnoses,
+    /// The posterior sampler.
+    Sampler,
+}
+
+impl BenchPartArg {
+    /// Every part.
+    pub fn all() -> Vec<BenchPartArg> {
+        use BenchPartArg::*;
+        vec![Step, Fits, Multistart, ManyTests, Diagnoses, Sampler]
+    }
+
+    /// The application's part.
+    pub fn part(self) -> subfric_app::bench::BenchPart {
+        use subfric_app::bench::BenchPart;
+        match self {
+            BenchPartArg::Step => BenchPart::Step,
+            BenchPartArg::Fits => BenchPart::Fits,
+            BenchPartArg::Multistart => BenchPart::Multistart,
+            BenchPartArg::ManyTests => BenchPart::ManyTests,
+            BenchPartArg::Diagnoses => BenchPart::Diagnoses,
+            BenchPartArg::Sampler => BenchPart::Sampler,
+        }
+    }
 }
 
 /// Options that contradict each other, which clap cannot see value by value: a usage error

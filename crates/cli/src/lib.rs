@@ -372,51 +372,61 @@ fn selfcheck(a: SelfcheckArgs) -> Result<()> {
 
 /// `subfric bench`: the figures, as text or JSON.
 fn bench(a: BenchArgs) -> Result<()> {
-    let r = subfric_app::bench::measure(&a.experiments)?;
+    let parts: Vec<_> = a.only.iter().map(|p| p.part()).collect();
+    let r = subfric_app::bench::measure(&a.experiments, &parts)?;
     if a.json {
         out(serde_json::to_string_pretty(&r)?);
         return Ok(());
     }
-    out(format!(
-        "model step: {:.2} million steps/s on one core ({})",
-        r.steps_per_second / 1e6,
-        r.step_case
-    ));
-    out(format!(
-        "  identical to the general simulate path: {}",
-        r.identical_to_simulate
-    ));
-    out("one full fit of each paper set:");
-    for (s, t) in &r.fit_seconds {
-        out(format!("  {s:<24} {t:6.2} s"));
-    }
-    let m = &r.multistart;
-    out(format!(
-        "multi-start fit of {}: {:.2} s on 1 thread, {:.2} s on {} threads: speed-up {:.2}×",
-        m.set, m.one_thread_s, m.all_threads_s, m.threads, m.speedup
-    ));
-    let f = &r.many_tests;
-    out(format!(
-        "fit of {} tests of {} rows: {:.1} s ({:.1} s of processor time, {} model runs; \
-         fitted mu_s, mu_k within {:.2}% of the truth)",
-        f.tests,
-        f.rows_per_test,
-        f.seconds,
-        f.cpu_seconds,
-        f.model_runs,
-        100.0 * f.worst_recovery
-    ));
-    out("whole diagnoses (prepare, fit every candidate, held-out folds, verdict):");
-    for d in &r.diagnoses {
+    if let (Some(sps), Some(case), Some(identical)) =
+        (r.steps_per_second, &r.step_case, r.identical_to_simulate)
+    {
         out(format!(
-            "  {:<30} {:>7} rows in {} tests: {:6.2} s, peak memory {:.0} MB (verdict: {})",
-            d.case, d.rows, d.tests, d.seconds, d.peak_memory_mb, d.verdict
+            "model step: {:.2} million steps/s on one core ({case})",
+            sps / 1e6
+        ));
+        out(format!(
+            "  identical to the general simulate path: {identical}"
         ));
     }
-    let p = &r.sampler;
-    out(format!(
-        "posterior sampler on {}: {} steps of {} walkers, {} model runs in {:.2} s on {} threads: {:.0} model runs per second (load average {:.1})",
-        p.set, p.steps, p.walkers, p.model_runs, p.seconds, p.threads, p.runs_per_second, p.load_average
-    ));
+    if let Some(fits) = &r.fit_seconds {
+        out("one full fit of each paper set:");
+        for (s, t) in fits {
+            out(format!("  {s:<24} {t:6.2} s"));
+        }
+    }
+    if let Some(m) = &r.multistart {
+        out(format!(
+            "multi-start fit of {}: {:.2} s on 1 thread, {:.2} s on {} threads: speed-up {:.2}×",
+            m.set, m.one_thread_s, m.all_threads_s, m.threads, m.speedup
+        ));
+    }
+    if let Some(f) = &r.many_tests {
+        out(format!(
+            "fit of {} tests of {} rows: {:.1} s ({:.1} s of processor time, {} model runs; \
+             fitted mu_s, mu_k within {:.2}% of the truth)",
+            f.tests,
+            f.rows_per_test,
+            f.seconds,
+            f.cpu_seconds,
+            f.model_runs,
+            100.0 * f.worst_recovery
+        ));
+    }
+    if let Some(diagnoses) = &r.diagnoses {
+        out("whole diagnoses (prepare, fit every candidate, held-out folds, verdict):");
+        for d in diagnoses {
+            out(format!(
+                "  {:<30} {:>7} rows in {} tests: {:6.2} s, peak memory {:.0} MB (verdict: {})",
+                d.case, d.rows, d.tests, d.seconds, d.peak_memory_mb, d.verdict
+            ));
+        }
+    }
+    if let Some(p) = &r.sampler {
+        out(format!(
+            "posterior sampler on {}: {} steps of {} walkers, {} model runs in {:.2} s on {} threads: {:.0} model runs per second (load average {:.1})",
+            p.set, p.steps, p.walkers, p.model_runs, p.seconds, p.threads, p.runs_per_second, p.load_average
+        ));
+    }
     Ok(())
 }
