@@ -400,8 +400,9 @@ def diagnose(set, *, seed=1):
     how far it shrinks on held-out data. Takes several seconds for a few thousand rows.
 
     ``set``: a set folder or an :class:`ExperimentSet`. Returns the content of the
-    diagnosis.json that ``subfric diagnose`` writes: ``set``, ``verdict`` (``effect``,
-    ``held_out_shrink``, ``explanation``, ``extra_parameters``) and ``diagnosis`` (everything
+    diagnosis.json that ``subfric diagnose`` writes: ``set``, ``verdict`` (``effects``,
+    ``effect``, ``held_out_shrink``, ``explanation``, ``extra_parameters``, ``confidence``,
+    ``standing`` — ``confident``, ``probable`` or ``uncertain`` — and ``alternatives``) and ``diagnosis`` (everything
     else: the base fit, localisation by test and segment, candidates, selection, evidence).
     """
     text, warns = _native.diagnose(_set_dir(set), seed=_count("seed", seed, 0))

@@ -83,7 +83,7 @@ def campaign(
     Returns a dict: ``out`` (the campaign folder, absolute), ``rows`` (one dict per set, sorted
     by set: ``set``, ``name``, ``status`` (``ok``, ``failed``, ``not-run``, ``out-of-date``),
     ``error``, the interface metadata, ``normal_stresses_kpa``, ``reduced_chi2``,
-    ``parameters`` with their intervals and identifiability, ``verdict``, ``held_out_shrink``),
+    ``parameters`` with their intervals and identifiability, ``verdict``, ``held_out_shrink``, ``confidence``),
     ``runs`` (per set: ``outcome`` ``ran``, ``skipped`` or ``failed`` with its ``error``, and
     ``seconds``) and ``files`` (the table and figures written). A set that failed does not stop
     the others: it is in ``rows`` and ``runs`` and issued as a :class:`SubfricWarning`.

@@ -30,6 +30,9 @@ def test_diagnose_returns_what_the_command_writes_to_diagnosis_json(cli, tmp_pat
     v = got["verdict"]
     assert isinstance(v["effect"], str) and v["effect"]
     assert isinstance(v["held_out_shrink"], float)
+    # The word the report leads with follows the confidence.
+    c = v["confidence"]
+    assert v["standing"] == ("confident" if c >= 0.9 else "probable" if c >= 0.5 else "uncertain")
 
 
 def test_a_bad_set_is_refused_with_the_command_s_message(copy_set, cli):

@@ -413,6 +413,20 @@ fn a_manifest_names_sets_and_their_options_and_its_problems_are_located() {
     let verdict = header.iter().position(|h| h == "verdict").unwrap();
     assert!(rows.iter().all(|(_, r)| !r[verdict].is_empty()), "{rows:?}");
     assert_eq!(header[verdict + 1], "held_out_shrink");
+    // How sure each verdict is, as the diagnosis states it: a probability, none where the
+    // diagnosis could not judge.
+    assert_eq!(header[verdict + 2], "confidence");
+    for (_, r) in &rows {
+        let c = &r[verdict + 2];
+        if r[verdict] == "cannot-judge" {
+            assert!(c.is_empty(), "{r:?}");
+        } else {
+            assert!(
+                c.parse::<f64>().is_ok_and(|c| (0.0..=1.0).contains(&c)),
+                "{r:?}"
+            );
+        }
+    }
     assert!(out
         .join("sets/table1-smooth/diagnosis/diagnosis.json")
         .is_file());

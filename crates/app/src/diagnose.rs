@@ -117,6 +117,9 @@ pub fn diagnosis_json(set_name: &str, d: &Diagnosis) -> Value {
             "explanation": d.verdict.explanation,
             "extra_parameters": d.verdict.extra_parameters,
             "confidence": d.verdict.confidence,
+            // confident, probable or uncertain: the word the report leads with (null when
+            // nothing was judged).
+            "standing": d.verdict.standing(),
             "alternatives": d.verdict.alternatives,
         },
         "diagnosis": d,

@@ -5,6 +5,7 @@
 use crate::adequacy::{misfit_number, Adequacy, MISFIT_LEGEND};
 use std::fmt::Write as _;
 use std::path::Path;
+use subfric_diagnose::confidence::Standing;
 use subfric_diagnose::localise::GroupMisfit;
 use subfric_diagnose::verdict::Decision;
 use subfric_diagnose::{Diagnosis, NamedEffect};
@@ -51,22 +52,43 @@ pub fn final_adequacy(d: &Diagnosis) -> Adequacy {
 /// The verdict in plain words and the next step, one line each ("verdict: …", "how sure: …",
 /// "next: …"): whether the base model describes the data, which effect it lacks, whether the
 /// model with it describes the held-out data, how sure that is (or what else the data allow),
-/// and what to run next on the set in `dir`.
+/// and what to run next on the set in `dir`. The verdict leads with the word its confidence
+/// earns ([`Standing`]): plain when confident, "probably" below, "uncertain" where the data give
+/// the comparison's pick less than even odds — a user acts on the first words.
 pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
     let base = base_adequacy(d);
     let mut v = vec![format!("verdict: {}", base.sentence("the base model"))];
     let set = dir.display();
+    let standing = d.verdict.standing();
+    let head = |plain: &str, probable: &str, uncertain: &str| {
+        let p = 100.0 * d.verdict.confidence.unwrap_or(f64::NAN);
+        match standing {
+            None | Some(Standing::Confident) => plain.to_string(),
+            Some(Standing::Probable) => format!("probably {probable} ({p:.0} %)"),
+            Some(Standing::Uncertain) => format!("uncertain: {uncertain} {p:.0} %"),
+        }
+    };
     if d.verdict.effects.is_empty() {
         match d.verdict.effect {
-            subfric_diagnose::Effect::None => v.push(
-                "verdict: no missing effect: none of the candidate effects predicts held-out data better than the base model".into(),
-            ),
+            subfric_diagnose::Effect::None => v.push(format!(
+                "verdict: {}: none of the candidate effects predicts held-out data better than the base model",
+                head(
+                    "no missing effect",
+                    "no missing effect",
+                    "no candidate effect is taken, and the data give \"none\" only"
+                )
+            )),
             subfric_diagnose::Effect::CannotJudge => v.push(format!(
                 "verdict: {}",
                 d.verdict.explanation
             )),
             _ => v.push(format!(
-                "verdict: unexplained: none of the candidate effects explains the gap ({}); see section 5",
+                "verdict: {}: none of the candidate effects explains the gap ({}); see section 5",
+                head(
+                    "unexplained",
+                    "unexplained",
+                    "no candidate effect is taken, and the data give \"unexplained\" only"
+                ),
                 crate::adequacy::diagnosed_effects()
             )),
         }
@@ -87,7 +109,14 @@ pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
     let label = effects_label(d);
     let with = final_adequacy(d);
     v.push(format!(
-        "verdict: missing effect: {label}; {}",
+        "verdict: {}; {}",
+        head(
+            &format!("missing effect: {label}"),
+            &format!("missing effect: {label}"),
+            &format!(
+                "the held-out comparison picks missing effect: {label}, and the data give it only"
+            )
+        ),
         with.sentence_on(
             &format!("the model with {label}"),
             "the data held out from its fit"

@@ -29,6 +29,37 @@ use subfric_model::terms::{self, Shows};
 /// Confidence at and above which a verdict is stated as "confident".
 pub const CONFIDENT: f64 = 0.9;
 
+/// Confidence below which a verdict is stated as "uncertain" rather than "probably": the
+/// comparison picked it, but the data give it less than even odds (the reading the user acts on
+/// must say so before it names an effect).
+pub const PROBABLE: f64 = 0.5;
+
+/// How a verdict stands, from its calibrated confidence: the word a report leads with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Standing {
+    /// At least [`CONFIDENT`]: stated plainly.
+    Confident,
+    /// At least [`PROBABLE`], below [`CONFIDENT`]: "probably".
+    Probable,
+    /// Below [`PROBABLE`]: the comparison's pick, which the data do not carry.
+    Uncertain,
+}
+
+impl Standing {
+    /// The standing of a verdict with probability `confidence` of being exactly right (a
+    /// confidence that is not a number stands as uncertain).
+    pub fn of(confidence: f64) -> Self {
+        if confidence >= CONFIDENT {
+            Standing::Confident
+        } else if confidence >= PROBABLE {
+            Standing::Probable
+        } else {
+            Standing::Uncertain
+        }
+    }
+}
+
 /// The temperature T (see the module documentation): 1, the plain quasi-likelihood. Tried from
 /// 0.25 to 50 on the rig-artifact campaigns of `../shared/generators/` (seeds 1001-1005), no
 /// temperature made the tempered evidence alone a calibrated confidence (its mean stayed near
@@ -200,26 +231,40 @@ pub struct Certainty {
 }
 
 impl Certainty {
-    /// "confident" at or above [`CONFIDENT`], else "uncertain between" the verdict (`label`)
-    /// and its alternatives, with what would tell the first two apart.
+    /// How sure, in the words of its [`Standing`]: "confident (…)"; "probably (…)" with what
+    /// else the data allow; "uncertain between" the verdict (`label`) and its alternatives. With
+    /// alternatives, the test that would tell the first two apart follows.
     pub fn sentence(&self, label: &str) -> String {
-        if self.confidence >= CONFIDENT || self.alternatives.is_empty() {
-            return format!(
-                "confident ({:.0} % that exactly these effects are at work)",
-                100.0 * self.confidence
-            );
-        }
+        let p = 100.0 * self.confidence;
         let others: Vec<String> = self
             .alternatives
             .iter()
             .map(|a| format!("{} ({:.0} %)", a.label, 100.0 * a.probability))
             .collect();
-        format!(
-            "uncertain between {label} ({:.0} %) and {}: {}",
-            100.0 * self.confidence,
-            others.join(", "),
-            self.alternatives[0].tell_apart
-        )
+        let tell = self
+            .alternatives
+            .first()
+            .map(|a| format!(": {}", a.tell_apart))
+            .unwrap_or_default();
+        match Standing::of(self.confidence) {
+            Standing::Confident => {
+                format!("confident ({p:.0} % that exactly these effects are at work)")
+            }
+            Standing::Probable if others.is_empty() => {
+                format!("probably ({p:.0} % that exactly these effects are at work)")
+            }
+            Standing::Probable => format!(
+                "probably ({p:.0} % that exactly these effects are at work); else {}{tell}",
+                others.join(", ")
+            ),
+            Standing::Uncertain if others.is_empty() => format!(
+                "uncertain ({p:.0} % that exactly these effects are at work; the selection weighed no other verdict)"
+            ),
+            Standing::Uncertain => format!(
+                "uncertain between {label} ({p:.0} %) and {}{tell}",
+                others.join(", ")
+            ),
+        }
     }
 }
 
@@ -584,9 +629,54 @@ mod tests {
         let c = path_certainty(close, &[rate]);
         assert!((0.4..0.7).contains(&c.confidence), "{c:?}");
         assert_eq!(c.alternatives[0].effects, vec![healing]);
-        let s = c.sentence("rate");
-        assert!(s.starts_with("uncertain between rate"), "{s}");
+        let s = Certainty {
+            confidence: 0.45,
+            ..c.clone()
+        }
+        .sentence("rate");
+        assert!(
+            s.starts_with("uncertain between rate (45 %) and log-healing"),
+            "{s}"
+        );
         assert!(s.contains("velocity step"), "{s}");
+    }
+
+    #[test]
+    fn a_verdict_leads_with_the_word_its_confidence_earns() {
+        let healing = family("log-healing");
+        let alternative = Alternative {
+            effects: vec![healing],
+            label: "log-healing".into(),
+            probability: 0.3,
+            tell_apart: "holds of 10, 100 and 1000 s".into(),
+        };
+        let at = |confidence: f64, alternatives: Vec<Alternative>| {
+            Certainty {
+                confidence,
+                alternatives,
+                stages: Vec::new(),
+            }
+            .sentence("rate")
+        };
+        let alt = || vec![alternative.clone()];
+        assert_eq!(Standing::of(0.95), Standing::Confident);
+        assert_eq!(Standing::of(CONFIDENT), Standing::Confident);
+        assert_eq!(Standing::of(0.7), Standing::Probable);
+        assert_eq!(Standing::of(PROBABLE), Standing::Probable);
+        assert_eq!(Standing::of(0.02), Standing::Uncertain);
+        assert_eq!(Standing::of(f64::NAN), Standing::Uncertain);
+        assert!(at(0.95, alt()).starts_with("confident (95 %"));
+        let probable = at(0.7, alt());
+        assert!(
+            probable.starts_with("probably (70 %")
+                && probable.contains("else log-healing (30 %): holds of 10"),
+            "{probable}"
+        );
+        assert!(at(0.02, alt()).starts_with("uncertain between rate (2 %) and log-healing (30 %)"));
+        // No alternative weighed does not make a low confidence "confident".
+        let alone = at(0.3, Vec::new());
+        assert!(alone.starts_with("uncertain (30 %"), "{alone}");
+        assert!(at(0.6, Vec::new()).starts_with("probably (60 %"));
     }
 
     #[test]

@@ -345,6 +345,7 @@ mod tests {
                 parameters: Vec::new(),
                 verdict: Some(["rate", "none", "pressure"][i % 3].into()),
                 held_out_shrink: Some((i % 10) as f64 / 10.0),
+                confidence: Some(0.95),
             })
             .collect()
     }

@@ -98,6 +98,9 @@ pub struct Row {
     pub verdict: Option<String>,
     /// The held-out shrink of the misfit the verdict's first effect gives (a fraction).
     pub held_out_shrink: Option<f64>,
+    /// The probability that the verdict's effects are exactly the ones at work (the
+    /// diagnosis's calibrated confidence), when diagnosed and judged.
+    pub confidence: Option<f64>,
 }
 
 impl Row {
@@ -125,6 +128,7 @@ impl Row {
             parameters: Vec::new(),
             verdict: None,
             held_out_shrink: None,
+            confidence: None,
         }
     }
 
@@ -244,6 +248,7 @@ fn verdict_cells(row: &mut Row, d: &Value) {
         Some(named.join(" + "))
     };
     row.held_out_shrink = verdict["held_out_shrink"].as_f64();
+    row.confidence = verdict["confidence"].as_f64();
 }
 
 /// The parameters of the rows, in the order of the first row that has each.
@@ -303,7 +308,11 @@ pub fn csv(rows: &[Row], diagnosed: bool) -> String {
         ]);
     }
     if diagnosed {
-        head.extend(["verdict".into(), "held_out_shrink".into()]);
+        head.extend([
+            "verdict".into(),
+            "held_out_shrink".into(),
+            "confidence".into(),
+        ]);
     }
     head.push("error".into());
     let mut records = vec![head];
@@ -337,6 +346,7 @@ pub fn csv(rows: &[Row], diagnosed: bool) -> String {
         if diagnosed {
             cells.push(r.verdict.clone().unwrap_or_default());
             cells.push(num(r.held_out_shrink));
+            cells.push(num(r.confidence));
         }
         cells.push(r.error.clone().unwrap_or_default());
         records.push(cells);
@@ -483,16 +493,37 @@ pub(super) fn cells(
     }
     cells.push(md_num(r.reduced_chi2));
     if diagnosed {
-        cells.push(match (&r.verdict, r.held_out_shrink) {
-            (Some(v), Some(h)) if h > 0.0 => {
-                format!("{} (held-out misfit −{:.0} %)", text(v), 100.0 * h)
-            }
-            (Some(v), _) => text(v),
-            _ => String::new(),
+        cells.push(match &r.verdict {
+            Some(v) => verdict_cell(&text(v), r.held_out_shrink, r.confidence),
+            None => String::new(),
         });
     }
     cells.push(r.status.text().to_string());
     cells
+}
+
+/// A verdict in a campaign's Markdown or HTML table: led by the word its confidence earns
+/// (as `diagnose` leads its verdict: "probably", "uncertain:"), then the held-out misfit its
+/// first effect removes and how sure.
+fn verdict_cell(verdict: &str, held_out_shrink: Option<f64>, confidence: Option<f64>) -> String {
+    use subfric_diagnose::confidence::Standing;
+    let lead = match confidence.map(Standing::of) {
+        Some(Standing::Probable) => format!("probably {verdict}"),
+        Some(Standing::Uncertain) => format!("uncertain: {verdict}"),
+        None | Some(Standing::Confident) => verdict.to_string(),
+    };
+    let mut notes = Vec::new();
+    if let Some(h) = held_out_shrink.filter(|h| *h > 0.0) {
+        notes.push(format!("held-out misfit −{:.0} %", 100.0 * h));
+    }
+    if let Some(c) = confidence {
+        notes.push(format!("how sure {:.0} %", 100.0 * c));
+    }
+    if notes.is_empty() {
+        lead
+    } else {
+        format!("{lead} ({})", notes.join("; "))
+    }
 }
 
 /// Why a set has no results, in words.
@@ -538,6 +569,60 @@ pub fn markdown(title: &str, rows: &[Row], diagnosed: bool) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_verdict_cell_leads_with_how_sure_it_is() {
+        assert_eq!(
+            verdict_cell("rate", Some(0.88), Some(0.93)),
+            "rate (held-out misfit −88 %; how sure 93 %)"
+        );
+        assert_eq!(
+            verdict_cell("rate", Some(0.5), Some(0.7)),
+            "probably rate (held-out misfit −50 %; how sure 70 %)"
+        );
+        assert_eq!(
+            verdict_cell("unexplained", Some(0.0), Some(0.02)),
+            "uncertain: unexplained (how sure 2 %)"
+        );
+        assert_eq!(verdict_cell("none", None, None), "none");
+        // Read from diagnosis.json as `diagnose` writes it, and written to the CSV beside the
+        // verdict.
+        let mut row = Row {
+            set: "s".into(),
+            name: None,
+            folder: String::new(),
+            status: RowStatus::Ok,
+            error: None,
+            soil: None,
+            d50_mm: None,
+            surface: None,
+            roughness_rmax_um: None,
+            roughness_ra_um: None,
+            rmax_over_d50: None,
+            normal_stresses_kpa: vec![100.0],
+            rows: Some(10),
+            reduced_chi2: Some(1.0),
+            parameters: Vec::new(),
+            verdict: None,
+            held_out_shrink: None,
+            confidence: None,
+        };
+        verdict_cells(
+            &mut row,
+            &serde_json::json!({
+                "verdict": {"effect": "rate", "held_out_shrink": 0.5, "confidence": 0.25},
+                "diagnosis": {"verdict": {"effects": [{"effect": "rate"}]}}
+            }),
+        );
+        assert_eq!(row.confidence, Some(0.25));
+        let text = csv(&[row], true);
+        let mut lines = text.lines();
+        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let cells: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let at = head.iter().position(|h| *h == "confidence").unwrap();
+        assert_eq!((head[at - 2], cells[at - 2]), ("verdict", "rate"));
+        assert_eq!(cells[at], "0.25");
+    }
 
     #[test]
     fn csv_cells_with_commas_quotes_and_lines_are_quoted() {

@@ -227,6 +227,12 @@ impl Verdict {
         }
     }
 
+    /// How the verdict stands (confident, probable, uncertain) by its confidence; `None` when
+    /// nothing was judged.
+    pub fn standing(&self) -> Option<crate::confidence::Standing> {
+        self.confidence.map(crate::confidence::Standing::of)
+    }
+
     /// "confident (…)" or "uncertain between …" (see [`crate::confidence::Certainty::sentence`]);
     /// `None` when nothing was judged.
     pub fn certainty_sentence(&self) -> Option<String> {
