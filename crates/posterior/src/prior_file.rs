@@ -141,24 +141,85 @@ fn entry(
 const DISTRIBUTIONS: &str =
     "uniform (lo, hi), log-uniform (lo, hi), normal (mean, sd), log-normal (median or mu, sigma)";
 
-/// A prior from the fields of its table; `None` (with problems pushed) when they do not make one.
-fn prior_of(
-    path: &Path,
-    key: &str,
-    line: usize,
+/// A distribution a prior file names (`dist`), with the fields it takes.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Distribution {
+    Uniform,
+    LogUniform,
+    Normal,
+    LogNormal,
+}
+
+impl Distribution {
+    /// The distribution named `name`, whatever its case and its `-`, `_` or spaces.
+    fn from_name(name: &str) -> Option<Self> {
+        let normalised: String = name
+            .chars()
+            .filter(|c| *c != '-' && *c != '_' && *c != ' ')
+            .flat_map(|c| c.to_lowercase())
+            .collect();
+        match normalised.as_str() {
+            "uniform" => Some(Self::Uniform),
+            "loguniform" => Some(Self::LogUniform),
+            "normal" => Some(Self::Normal),
+            "lognormal" => Some(Self::LogNormal),
+            _ => None,
+        }
+    }
+
+    /// The number fields it takes.
+    fn fields(self) -> &'static [&'static str] {
+        match self {
+            Self::Uniform | Self::LogUniform => &["lo", "hi"],
+            Self::Normal => &["mean", "sd"],
+            Self::LogNormal => &["median", "mu", "sigma"],
+        }
+    }
+
+    /// What it needs, in words.
+    fn needs(self) -> String {
+        match self {
+            Self::LogNormal => "median or mu, and sigma".to_string(),
+            other => other.fields().join(" and "),
+        }
+    }
+}
+
+/// The fields of one prior's table as read: the distribution's name and line, the numbers with
+/// their lines, and every field present (even with an unusable value, which is reported once,
+/// never again as missing).
+struct PriorFields {
+    dist: Option<(String, usize)>,
+    numbers: Vec<(String, f64, usize)>,
+    present: Vec<String>,
+}
+
+impl PriorFields {
+    /// The number given for field `name`.
+    fn get(&self, name: &str) -> Option<f64> {
+        self.numbers
+            .iter()
+            .find(|(k, _, _)| k == name)
+            .map(|(_, v, _)| *v)
+    }
+}
+
+/// Reads the fields of a prior's table: each given once, `dist` a name, the others finite
+/// numbers; what is not is pushed to `problems` through `field_at` (field, line, message).
+fn read_fields(
     fields: Vec<(String, Node)>,
+    field_at: &dyn Fn(&str, usize, String) -> InputProblem,
     problems: &mut Vec<InputProblem>,
-) -> Option<Prior> {
-    let before = problems.len();
-    let field_at = |name: &str, l: usize, m: String| {
-        InputProblem::new(path, Some(l), Some(&format!("{key}.{name}")), m)
+) -> PriorFields {
+    let mut read = PriorFields {
+        dist: None,
+        numbers: Vec::new(),
+        present: fields.iter().map(|(k, _)| k.clone()).collect(),
     };
-    let mut dist: Option<(String, usize)> = None;
-    let mut numbers: Vec<(String, f64, usize)> = Vec::new();
-    // Fields present, even with an unusable value (those are reported once, not as missing).
-    let present: Vec<String> = fields.iter().map(|(k, _)| k.clone()).collect();
     for (name, n) in fields {
-        if numbers.iter().any(|(k, _, _)| *k == name) || (name == "dist" && dist.is_some()) {
+        if read.numbers.iter().any(|(k, _, _)| *k == name)
+            || (name == "dist" && read.dist.is_some())
+        {
             problems.push(field_at(
                 &name,
                 n.line,
@@ -167,7 +228,7 @@ fn prior_of(
             continue;
         }
         match (name.as_str(), n.value) {
-            ("dist", Val::Text(t)) => dist = Some((t, n.line)),
+            ("dist", Val::Text(t)) => read.dist = Some((t, n.line)),
             ("dist", other) => problems.push(field_at(
                 "dist",
                 n.line,
@@ -178,7 +239,7 @@ fn prior_of(
                 n.line,
                 format!("{v} is not finite (expected a finite number)"),
             )),
-            (_, Val::Number { value: v, .. }) => numbers.push((name, v, n.line)),
+            (_, Val::Number { value: v, .. }) => read.numbers.push((name, v, n.line)),
             (_, Val::Text(t)) => problems.push(field_at(
                 &name,
                 n.line,
@@ -191,34 +252,61 @@ fn prior_of(
             )),
         }
     }
-    let Some((dist, dist_line)) = dist else {
-        problems.push(InputProblem::new(
-            path,
-            Some(line),
-            Some(&format!("{key}.dist")),
+    read
+}
+
+/// μ of a log-normal prior: ln(median), or μ as given; one of them, never both, and a median
+/// above zero. `None` (the problem pushed, at the table's `line`) otherwise.
+fn log_normal_mu(
+    read: &PriorFields,
+    line: usize,
+    field_at: &dyn Fn(&str, usize, String) -> InputProblem,
+    problems: &mut Vec<InputProblem>,
+) -> Option<f64> {
+    let problem = match (read.get("median"), read.get("mu")) {
+        (Some(m), None) if m > 0.0 => return Some(m.ln()),
+        (None, Some(mu)) => return Some(mu),
+        (Some(m), None) => format!("{m} is not positive (expected median > 0)"),
+        (Some(_), Some(_)) => {
+            "both median and mu given (expected one of them: mu = ln(median))".into()
+        }
+        (None, None) => "missing (a log-normal prior needs median or mu, and sigma)".into(),
+    };
+    problems.push(field_at("median", line, problem));
+    None
+}
+
+/// A prior from the fields of its table; `None` (with problems pushed) when they do not make one.
+fn prior_of(
+    path: &Path,
+    key: &str,
+    line: usize,
+    fields: Vec<(String, Node)>,
+    problems: &mut Vec<InputProblem>,
+) -> Option<Prior> {
+    let before = problems.len();
+    let field_at = |name: &str, l: usize, m: String| {
+        InputProblem::new(path, Some(l), Some(&format!("{key}.{name}")), m)
+    };
+    let read = read_fields(fields, &field_at, problems);
+    let Some((dist, dist_line)) = &read.dist else {
+        problems.push(field_at(
+            "dist",
+            line,
             format!("missing (expected one of: {DISTRIBUTIONS})"),
         ));
         return None;
     };
-    let normalised: String = dist
-        .chars()
-        .filter(|c| *c != '-' && *c != '_' && *c != ' ')
-        .flat_map(|c| c.to_lowercase())
-        .collect();
-    let wanted: &[&str] = match normalised.as_str() {
-        "uniform" | "loguniform" => &["lo", "hi"],
-        "normal" => &["mean", "sd"],
-        "lognormal" => &["median", "mu", "sigma"],
-        _ => {
-            problems.push(field_at(
-                "dist",
-                dist_line,
-                format!("unknown distribution \"{dist}\" (expected one of: {DISTRIBUTIONS})"),
-            ));
-            return None;
-        }
+    let Some(distribution) = Distribution::from_name(dist) else {
+        problems.push(field_at(
+            "dist",
+            *dist_line,
+            format!("unknown distribution \"{dist}\" (expected one of: {DISTRIBUTIONS})"),
+        ));
+        return None;
     };
-    for (name, _, l) in &numbers {
+    let wanted = distribution.fields();
+    for (name, _, l) in &read.numbers {
         if !wanted.contains(&name.as_str()) {
             problems.push(field_at(
                 name,
@@ -230,69 +318,33 @@ fn prior_of(
             ));
         }
     }
-    let get = |n: &str| numbers.iter().find(|(k, _, _)| k == n).map(|(_, v, _)| *v);
     let mut need = |n: &str| {
-        let v = get(n);
-        if v.is_none() && !present.iter().any(|p| p == n) {
-            problems.push(InputProblem::new(
-                path,
-                Some(line),
-                Some(&format!("{key}.{n}")),
-                format!(
-                    "missing (a {dist} prior needs {})",
-                    if normalised == "lognormal" {
-                        "median or mu, and sigma".to_string()
-                    } else {
-                        wanted.join(" and ")
-                    }
-                ),
+        let v = read.get(n);
+        if v.is_none() && !read.present.iter().any(|p| p == n) {
+            problems.push(field_at(
+                n,
+                line,
+                format!("missing (a {dist} prior needs {})", distribution.needs()),
             ));
         }
         v
     };
-    let prior = match normalised.as_str() {
-        "uniform" => Prior::Uniform {
+    let prior = match distribution {
+        Distribution::Uniform => Prior::Uniform {
             lo: need("lo")?,
             hi: need("hi")?,
         },
-        "loguniform" => Prior::LogUniform {
+        Distribution::LogUniform => Prior::LogUniform {
             lo: need("lo")?,
             hi: need("hi")?,
         },
-        "normal" => Prior::Normal {
+        Distribution::Normal => Prior::Normal {
             mean: need("mean")?,
             sd: need("sd")?,
         },
-        _ => {
+        Distribution::LogNormal => {
             let sigma = need("sigma")?;
-            let mu = match (get("median"), get("mu")) {
-                (Some(m), None) if m > 0.0 => m.ln(),
-                (Some(m), None) => {
-                    problems.push(field_at(
-                        "median",
-                        line,
-                        format!("{m} is not positive (expected median > 0)"),
-                    ));
-                    return None;
-                }
-                (None, Some(mu)) => mu,
-                (Some(_), Some(_)) => {
-                    problems.push(field_at(
-                        "median",
-                        line,
-                        "both median and mu given (expected one of them: mu = ln(median))".into(),
-                    ));
-                    return None;
-                }
-                (None, None) => {
-                    problems.push(field_at(
-                        "median",
-                        line,
-                        "missing (a log-normal prior needs median or mu, and sigma)".into(),
-                    ));
-                    return None;
-                }
-            };
+            let mu = log_normal_mu(&read, line, &field_at, problems)?;
             Prior::LogNormal { mu, sigma }
         }
     };
