@@ -831,13 +831,84 @@ fn selection_stage(
             Vec::new(),
         );
     }
+    let (candidates, kept) = candidates_added_to(cx, current, families);
+    let drift = with_drift.then(|| drift_candidate(cx, current));
+    let pairs: Vec<(Effect, Comparison)> = candidates
+        .iter()
+        .map(|c| (c.effect, c.held_out.clone()))
+        .collect();
+    let th = &cx.opts.thresholds;
+    // One standard for every effect named, the first included: the variable it acts through
+    // varies in the data (a rate law fitted to the holds of a record slid at one rate stands
+    // for healing as well as for rate, and stays an alternative, weighed, never named).
+    let namable: Vec<bool> = candidates
+        .iter()
+        .map(|c| c.effect.varies_in(&cx.features))
+        .collect();
+    // ... and, after the first, the events read one by one do not speak against it.
+    let corroborated: Vec<bool> = candidates
+        .iter()
+        .zip(&namable)
+        .map(|(c, &namable)| namable && crate::events::corroborates(&cx.events, c.effect))
+        .collect();
+    let own: Vec<Comparison> = candidates
+        .iter()
+        .map(|c| c.best_own_kind(th).unwrap_or(&c.held_out).clone())
+        .collect();
+    let decision = if first_stage {
+        first_effect(
+            cx,
+            reference_chi2,
+            &pairs,
+            &namable,
+            (&own, &corroborated),
+            drift.as_ref(),
+        )
+    } else {
+        decide_further(reference_chi2, &pairs, &own, &corroborated, th)
+    };
+    // A family the events show outright (the tests' stress ratios changing with the normal
+    // stress) is weighed coarsely by the held-out pieces: each stress is one piece, so three
+    // stresses cannot reach D 20 however consistently the candidate predicts them. It is named
+    // when it predicts every held-out piece of its kind better, explains enough and beats the
+    // drift of the measurement; the events carry the significance.
+    let decision = match decision {
+        d @ (Decision::Tentative(_) | Decision::Unexplained) => {
+            shown_and_predicted(cx, &candidates, drift.as_ref()).map_or(d, Decision::Named)
+        }
+        d => d,
+    };
+    let decision = if first_stage {
+        within_unseen_noise(cx, reference_chi2, &pairs, decision)
+    } else {
+        decision
+    };
+    (
+        SelectionStage {
+            reference: current.spec.describe(),
+            reference_chi2,
+            candidates,
+            drift,
+            decision,
+        },
+        kept,
+    )
+}
+
+/// Every family of `families` not in the current model added to it (its best form, polished
+/// on top of the current model already: on the base in the first stage, by `rescreen` in later
+/// ones), in parallel, each scored on the held-out pieces against the current model. Returns
+/// the scores and the models, in the order of `families`.
+fn candidates_added_to(
+    cx: &Context,
+    current: &Current,
+    families: &[Family],
+) -> (Vec<CandidateScore>, Vec<Current>) {
     let results: Vec<(Effect, Current)> = families
         .par_iter()
         .filter(|f| !current.spec.forms.iter().any(|g| g.effect == f.effect))
         .map(|f| {
             let spec = current.spec.plus(&f.form);
-            // The family's best form was polished on top of the current model already (on the
-            // base in the first stage, by `rescreen` in later ones).
             let fitted = f.alone.clone();
             let model = fitted.result.model;
             let held = cx.held_out(
@@ -870,124 +941,98 @@ fn selection_stage(
         ));
         kept.push(c);
     }
-    let drift = with_drift.then(|| drift_candidate(cx, current));
-    let pairs: Vec<(Effect, Comparison)> = candidates
-        .iter()
-        .map(|c| (c.effect, c.held_out.clone()))
-        .collect();
+    (candidates, kept)
+}
+
+/// The first stage's decision among the candidates `pairs` (their held-out comparisons),
+/// those `namable`, their comparisons on pieces of their own kind and whether the events
+/// corroborate them (`own`, `corroborated`), against the drift of the measurement.
+fn first_effect(
+    cx: &Context,
+    reference_chi2: f64,
+    pairs: &[(Effect, Comparison)],
+    namable: &[bool],
+    (own, corroborated): (&[Comparison], &[bool]),
+    drift: Option<&CandidateScore>,
+) -> Decision {
     let th = &cx.opts.thresholds;
-    // One standard for every effect named, the first included: the variable it acts through
-    // varies in the data (a rate law fitted to the holds of a record slid at one rate stands
-    // for healing as well as for rate, and stays an alternative, weighed, never named).
-    let namable: Vec<bool> = candidates
-        .iter()
-        .map(|c| c.effect.varies_in(&cx.features))
-        .collect();
-    // ... and, after the first, the events read one by one do not speak against it.
-    let corroborated: Vec<bool> = candidates
-        .iter()
-        .zip(&namable)
-        .map(|(c, &namable)| namable && crate::events::corroborates(&cx.events, c.effect))
-        .collect();
-    let own: Vec<Comparison> = candidates
-        .iter()
-        .map(|c| c.best_own_kind(th).unwrap_or(&c.held_out).clone())
-        .collect();
-    let decision = if first_stage {
-        // A first effect that explains a typical piece's share of the misfit but not most of
-        // its excess is not named when the events read one by one speak against it (a record
-        // that vibrates: a rate law fitted a typical piece 23 % better, 7 % of the excess, over
-        // velocity steps of which none showed a direct effect).
-        let first = match decide_among(
-            reference_chi2,
-            &pairs,
-            &namable,
-            drift.as_ref().map(|d| &d.held_out),
-            th,
-        ) {
-            Decision::Named(i)
-                if pairs[i].1.excess_shrink < th.min_excess_shrink
-                    && crate::events::contradicts(&cx.events, pairs[i].0) =>
-            {
-                Decision::Unexplained
-            }
-            d => d,
-        };
-        match first {
-            // Nothing explains the gap as a whole: an effect that explains the pieces of its
-            // own kind, with significant evidence over all pieces, is still named (the rest
-            // of the gap is then reported as unexplained) — unless a drift of the measurement
-            // has more held-out evidence: then the instrument explains the gap at least as
-            // well as the interface does, as on the route of the events read one by one.
-            d @ (Decision::Tentative(_) | Decision::Unexplained) => {
-                match decide_further(reference_chi2, &pairs, &own, &corroborated, th) {
-                    Decision::Named(i)
-                        if pairs[i].1.score >= th.min_score
-                            && drift
-                                .as_ref()
-                                .is_none_or(|d| d.held_out.score < pairs[i].1.score) =>
-                    {
-                        Decision::Named(i)
-                    }
-                    _ => d,
-                }
-            }
-            d => d,
-        }
-    } else {
-        decide_further(reference_chi2, &pairs, &own, &corroborated, th)
-    };
-    // A family the events show outright (the tests' stress ratios changing with the normal
-    // stress) is weighed coarsely by the held-out pieces: each stress is one piece, so three
-    // stresses cannot reach D 20 however consistently the candidate predicts them. It is named
-    // when it predicts every held-out piece of its kind better, explains enough and beats the
-    // drift of the measurement; the events carry the significance.
-    let decision = match decision {
-        d @ (Decision::Tentative(_) | Decision::Unexplained) => {
-            shown_and_predicted(cx, &candidates, drift.as_ref()).map_or(d, Decision::Named)
+    // A first effect that explains a typical piece's share of the misfit but not most of
+    // its excess is not named when the events read one by one speak against it (a record
+    // that vibrates: a rate law fitted a typical piece 23 % better, 7 % of the excess, over
+    // velocity steps of which none showed a direct effect).
+    let first = match decide_among(
+        reference_chi2,
+        pairs,
+        namable,
+        drift.map(|d| &d.held_out),
+        th,
+    ) {
+        Decision::Named(i)
+            if pairs[i].1.excess_shrink < th.min_excess_shrink
+                && crate::events::contradicts(&cx.events, pairs[i].0) =>
+        {
+            Decision::Unexplained
         }
         d => d,
     };
-    // Within the noise the record's own steady stretches show beyond their white noise, a gap
-    // that no candidate explains is that noise — as below the near-noise gap itself, where
-    // `decide` says so before it keeps a candidate tentatively, and where it names one that
-    // removes half the excess with significant evidence (an effect confined to a few pieces:
-    // a rate law taking 69 % of the excess, the velocity steps 22× → 3×, is not noise however
-    // much the record wanders).
-    // The base fitted to all rows is judged the same way: a model that follows every row
-    // within that noise leaves no gap, however badly its refits predict a piece. A whole test
-    // held out is predicted at a normal stress no fitted test has, and the refit's error grows
-    // with that leverage (μ_s 4 % low from the 25 and 50 kPa tests of a direct-shear
-    // programme misses the 400 kPa peak by 7 kPa: held out 7.5×, all rows 2.1×, where the
-    // record's unseen noise is 2).
+    match first {
+        // Nothing explains the gap as a whole: an effect that explains the pieces of its
+        // own kind, with significant evidence over all pieces, is still named (the rest
+        // of the gap is then reported as unexplained) — unless a drift of the measurement
+        // has more held-out evidence: then the instrument explains the gap at least as
+        // well as the interface does, as on the route of the events read one by one.
+        d @ (Decision::Tentative(_) | Decision::Unexplained) => {
+            match decide_further(reference_chi2, pairs, own, corroborated, th) {
+                Decision::Named(i)
+                    if pairs[i].1.score >= th.min_score
+                        && drift.is_none_or(|d| d.held_out.score < pairs[i].1.score) =>
+                {
+                    Decision::Named(i)
+                }
+                _ => d,
+            }
+        }
+        d => d,
+    }
+}
+
+/// The first stage's `decision` read against the noise the record's own steady stretches show
+/// beyond their white noise (`unseen_noise`): within it, a gap no candidate explains is that
+/// noise, as below the near-noise gap itself, where `decide` says so before it keeps a
+/// candidate tentatively, and where it names one that removes half the excess with
+/// significant evidence (an effect confined to a few pieces: a rate law taking 69 % of the
+/// excess, the velocity steps 22× → 3×, is not noise however much the record wanders).
+///
+/// The base fitted to all rows is judged the same way: a model that follows every row
+/// within that noise leaves no gap, however badly its refits predict a piece. A whole test
+/// held out is predicted at a normal stress no fitted test has, and the refit's error grows
+/// with that leverage (μ_s 4 % low from the 25 and 50 kPa tests of a direct-shear
+/// programme misses the 400 kPa peak by 7 kPa: held out 7.5×, all rows 2.1×, where the
+/// record's unseen noise is 2).
+fn within_unseen_noise(
+    cx: &Context,
+    reference_chi2: f64,
+    pairs: &[(Effect, Comparison)],
+    decision: Decision,
+) -> Decision {
+    let th = &cx.opts.thresholds;
     let unseen_gap = th.gap_chi2 * cx.features.unseen_noise;
     let in_sample_chi2 = || {
         cx.compare(&cx.pieces, &cx.base_residuals, &cx.base_residuals)
             .reference_chi2
     };
-    let within_unseen_noise =
-        first_stage && (reference_chi2 <= unseen_gap || in_sample_chi2() <= unseen_gap);
-    let decision = match decision {
+    let within = reference_chi2 <= unseen_gap || in_sample_chi2() <= unseen_gap;
+    match decision {
         Decision::Tentative(i)
-            if within_unseen_noise
+            if within
                 && pairs[i].1.score >= th.min_score
                 && pairs[i].1.excess_shrink >= th.near_noise_excess_shrink =>
         {
             Decision::Named(i)
         }
-        Decision::Unexplained | Decision::Tentative(_) if within_unseen_noise => Decision::NoGap,
+        Decision::Unexplained | Decision::Tentative(_) if within => Decision::NoGap,
         d => d,
-    };
-    (
-        SelectionStage {
-            reference: current.spec.describe(),
-            reference_chi2,
-            candidates,
-            drift,
-            decision,
-        },
-        kept,
-    )
+    }
 }
 
 #[cfg(test)]
