@@ -144,6 +144,117 @@ impl FitSetup {
     }
 }
 
+/// The sets of a request as read: their tests prepared, what they publish and what they warn.
+struct ReadSets {
+    tests: Vec<PreparedTest>,
+    /// The published model (of the one set; none in a joint fit).
+    published: Option<Model>,
+    /// Each set's name and the stiffness it publishes.
+    stiffness: Vec<(String, Option<Params>)>,
+    names: Vec<String>,
+    warnings: Vec<Warning>,
+    /// The CSV file of each test, by test name.
+    files: Vec<(String, PathBuf)>,
+    /// Each test's name, file and content hash (to refuse the same rows twice).
+    contents: Vec<(String, PathBuf, u64)>,
+}
+
+/// Reads and segments every set of the request (tests named `set/test` in a joint fit).
+fn read_sets(dirs: &[PathBuf], progress: &dyn Progress) -> Result<ReadSets> {
+    let joint = dirs.len() > 1;
+    let mut read = ReadSets {
+        tests: Vec::new(),
+        published: None,
+        stiffness: Vec::new(),
+        names: Vec::new(),
+        warnings: Vec::new(),
+        files: Vec::new(),
+        contents: Vec::new(),
+    };
+    for d in dirs {
+        progress.stage(&format!("reading {}", d.display()), None);
+        let set = load_set(d)?;
+        let reference = crate::sets::published(&set)?;
+        read.stiffness
+            .push((set.meta.name.clone(), reference.as_ref().map(|m| m.params)));
+        if !joint {
+            read.published = reference;
+        }
+        read.warnings.extend(plausibility(&set));
+        read.names.push(set.meta.name.clone());
+        for t in &set.tests {
+            let name = if joint {
+                format!("{}/{}", set.meta.name, t.spec.name)
+            } else {
+                t.spec.name.clone()
+            };
+            read.contents
+                .push((name.clone(), t.path.clone(), t.content_hash()));
+            read.files.push((name, t.path.clone()));
+        }
+        let rows: usize = set.tests.iter().map(|t| t.len()).sum();
+        progress.stage(
+            &format!("segmenting {} tests ({rows} rows)", set.tests.len()),
+            None,
+        );
+        read.tests.extend(prepare_set(&set, joint));
+    }
+    Ok(read)
+}
+
+/// The parameters the request frees, less those it fixes.
+fn free_not_fixed(req: &FitRequest) -> Vec<Param> {
+    req.free
+        .iter()
+        .copied()
+        .filter(|p| !req.fix.iter().any(|(q, _)| q == p))
+        .collect()
+}
+
+/// The stiffness the fit starts from, into `template`, and whether α_t is fitted: a series
+/// stiffness the loading slopes resolve (the machine's compliance in the slip column) is
+/// fitted, from the slopes' estimate, unless the request says what to do with α_t; else, where
+/// a first loading rises over several rows, from a trial (α_t free against α_t held, with the
+/// request's other parameters), kept when the rise decides it; else the stiffness the sets
+/// publish (`published`: each set's), with a note when they disagree. Returns the stiffness
+/// fitted, if any.
+fn starting_stiffness(
+    req: &FitRequest,
+    tests: &[PreparedTest],
+    published: &[(String, Option<Params>)],
+    template: &mut Model,
+    progress: &dyn Progress,
+) -> Option<subfric_fit::Stiffness> {
+    let (alpha, why) = held_stiffness(published, template.params.alpha_t);
+    if let (Some(p), None) = (alpha, &req.start) {
+        template.params.alpha_t = p.alpha_t;
+        template.params.alpha_n = p.alpha_n;
+    }
+    let alpha_given = req.start.is_some()
+        || req.free.contains(&Param::AlphaT)
+        || req.fix.iter().any(|(p, _)| *p == Param::AlphaT);
+    let resolved = (!alpha_given)
+        .then(|| {
+            subfric_fit::resolved_stiffness(tests).or_else(|| {
+                let mut held = *template;
+                for (p, v) in &req.fix {
+                    p.set(&mut held, *v);
+                }
+                subfric_fit::stiffness_by_trial(tests, &held, &free_not_fixed(req), &req.options)
+            })
+        })
+        .flatten();
+    match (&resolved, why) {
+        (Some(s), _) => {
+            template.params.alpha_t = s.alpha_t;
+            template.params.alpha_n = s.alpha_t;
+        }
+        (None, Some(why)) if !alpha_given => progress.note(&why),
+        _ => {}
+    }
+    resolved
+}
+
 /// Loads the sets, selects and weights the tests, and checks fixed values and bounds: every
 /// mistake in the request is found here, before any output is prepared or any fitting done.
 /// The sets' plausibility warnings go to `progress` (and into the setup).
@@ -153,40 +264,15 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
     }
     crate::flags::conflicts(None, &req.fix, &req.bounds, &req.weights).map_err(|e| anyhow!(e))?;
     refuse_repeated_sets(&req.dirs)?;
-    let joint = req.dirs.len() > 1;
-    let mut tests = Vec::new();
-    let mut published = None;
-    let mut names = Vec::new();
-    let mut warnings = Vec::new();
-    let mut files = Vec::new();
-    let mut contents: Vec<(String, PathBuf, u64)> = Vec::new();
-    let mut stiffness = Vec::new();
-    for d in &req.dirs {
-        progress.stage(&format!("reading {}", d.display()), None);
-        let set = load_set(d)?;
-        let reference = crate::sets::published(&set)?;
-        stiffness.push((set.meta.name.clone(), reference.as_ref().map(|m| m.params)));
-        if !joint {
-            published = reference;
-        }
-        warnings.extend(plausibility(&set));
-        names.push(set.meta.name.clone());
-        for t in &set.tests {
-            let name = if joint {
-                format!("{}/{}", set.meta.name, t.spec.name)
-            } else {
-                t.spec.name.clone()
-            };
-            contents.push((name.clone(), t.path.clone(), t.content_hash()));
-            files.push((name, t.path.clone()));
-        }
-        let rows: usize = set.tests.iter().map(|t| t.len()).sum();
-        progress.stage(
-            &format!("segmenting {} tests ({rows} rows)", set.tests.len()),
-            None,
-        );
-        tests.extend(prepare_set(&set, joint));
-    }
+    let ReadSets {
+        mut tests,
+        published,
+        stiffness,
+        names,
+        warnings,
+        files,
+        contents,
+    } = read_sets(&req.dirs, progress)?;
     select_tests(&mut tests, &req.tests)?;
     refuse_repeated_tests(&tests, &contents)?;
     apply_weights(&mut tests, &req.weights)?;
@@ -196,56 +282,13 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         Some(m) => m,
         None => Model::base(Params::sample())?,
     };
-    let (alpha, why) = held_stiffness(&stiffness, template.params.alpha_t);
-    if let (Some(p), None) = (alpha, &req.start) {
-        template.params.alpha_t = p.alpha_t;
-        template.params.alpha_n = p.alpha_n;
-    }
-    let alpha_given = req.start.is_some()
-        || req.free.contains(&Param::AlphaT)
-        || req.fix.iter().any(|(p, _)| *p == Param::AlphaT);
-    // A series stiffness the loading slopes resolve (the machine's compliance in the slip
-    // column) is fitted, from the slopes' estimate, unless the request says what to do with α_t.
-    // Else, where a first loading rises over several rows, from a trial: α_t free against α_t
-    // held (with the request's other parameters), kept when the rise decides it.
-    let resolved = (!alpha_given)
-        .then(|| {
-            subfric_fit::resolved_stiffness(&tests).or_else(|| {
-                let mut held = template;
-                for (p, v) in &req.fix {
-                    p.set(&mut held, *v);
-                }
-                let free: Vec<Param> = req
-                    .free
-                    .iter()
-                    .copied()
-                    .filter(|p| !req.fix.iter().any(|(q, _)| q == p))
-                    .collect();
-                subfric_fit::stiffness_by_trial(&tests, &held, &free, &req.options)
-            })
-        })
-        .flatten();
-    let mut free_alpha = false;
-    match (&resolved, why) {
-        (Some(s), _) => {
-            template.params.alpha_t = s.alpha_t;
-            template.params.alpha_n = s.alpha_t;
-            free_alpha = true;
-        }
-        (None, Some(why)) if !alpha_given => progress.note(&why),
-        _ => {}
-    }
+    let resolved = starting_stiffness(req, &tests, &stiffness, &mut template, progress);
     for (p, v) in &req.fix {
         p.set(&mut template, *v);
     }
     Model::new(template.params, template.ext).map_err(|e| anyhow!("--fix: {e}"))?;
-    let mut free: Vec<Param> = req
-        .free
-        .iter()
-        .copied()
-        .filter(|p| !req.fix.iter().any(|(q, _)| q == p))
-        .collect();
-    if free_alpha {
+    let mut free = free_not_fixed(req);
+    if resolved.is_some() {
         free.push(Param::AlphaT);
     }
     // Bedding: a closure of the rig on first loading is taken out of the travel, as the
