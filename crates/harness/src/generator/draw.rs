@@ -291,13 +291,45 @@ pub struct Setting {
 /// Switches the effect of `form` on in `fx`, with parameters from the literature's ranges.
 pub fn add_effect(fx: &mut Effects, form: Form, s: &Setting, rng: &mut ChaCha8Rng) {
     // Creep needs a spring to relax through: with a rigid rig every hold would drop at once by
-    // a ln(v0/v_min).
+    // a ln(v0/v_min). Drawn for every form, so that each form's draws follow the same ones.
     let reading = if s.compliant && rng.gen::<f64>() < 0.6 {
         Reading::Creep
     } else {
         Reading::Locked
     };
     let v_min = log_uniform(rng, 1e-7, 1e-5);
+    match form {
+        Form::RsfAgeing | Form::RsfSlip | Form::RatePower | Form::RateLog => {
+            fx.rate = Some(rate_effect(form, s, reading, v_min, rng));
+        }
+        Form::PressurePower | Form::PressureLinear | Form::PressureExp => {
+            fx.pressure = Some(pressure_effect(form, s, rng));
+        }
+        Form::SlipExp | Form::SlipHyperbolic | Form::SlipCapped => {
+            fx.slip = Some(slip_effect(form, rng));
+        }
+        Form::HealLog | Form::HealPower => fx.healing = Some(healing_effect(form, rng)),
+        Form::DirectionMu | Form::DirectionMuK | Form::DirectionKappa => {
+            let (target, delta) = match form {
+                Form::DirectionMu => (Target::Mu, signed(rng, 0.08, 0.25)),
+                Form::DirectionMuK => (Target::MuK, signed(rng, 0.08, 0.25)),
+                _ => (Target::Kappa, signed(rng, 0.3, 0.7)),
+            };
+            fx.direction = Some(Direction { target, delta });
+        }
+        Form::Drift | Form::Creep | Form::Vibration => fx.gap = Some(gap_effect(form, rng)),
+    }
+}
+
+/// A rate effect of `form` (rate and state by either law, a power law, a log law), read
+/// through `reading`, creeping down to `v_min` in holds.
+fn rate_effect(
+    form: Form,
+    s: &Setting,
+    reading: Reading,
+    v_min: f64,
+    rng: &mut ChaCha8Rng,
+) -> Rate {
     // A negative direct effect has no creeping reading (instant weakening is unstable).
     let rate_sign = |rng: &mut ChaCha8Rng| {
         if reading == Reading::Creep || rng.gen::<f64>() < 0.6 {
@@ -306,7 +338,7 @@ pub fn add_effect(fx: &mut Effects, form: Form, s: &Setting, rng: &mut ChaCha8Rn
             -1.0
         }
     };
-    match form {
+    let form = match form {
         Form::RsfAgeing | Form::RsfSlip => {
             let a = uniform(rng, 0.002, 0.02);
             let mut b = (a + uniform(rng, -0.01, 0.01)).max(0.0);
@@ -324,116 +356,105 @@ pub fn add_effect(fx: &mut Effects, form: Form, s: &Setting, rng: &mut ChaCha8Rn
             } else {
                 StateLaw::Slip
             };
-            fx.rate = Some(Rate {
-                form: RateForm::State { law, a, b, dc },
-                v_star: s.v0,
-                v_min,
-                reading,
-            });
+            RateForm::State { law, a, b, dc }
         }
-        Form::RatePower => {
-            let n = rate_sign(rng) * uniform(rng, 0.005, 0.03);
-            fx.rate = Some(Rate {
-                form: RateForm::Power { n },
-                v_star: s.v0,
-                v_min,
-                reading,
-            });
+        Form::RatePower => RateForm::Power {
+            n: rate_sign(rng) * uniform(rng, 0.005, 0.03),
+        },
+        _ => RateForm::Log {
+            a: rate_sign(rng) * uniform(rng, 0.003, 0.015),
+        },
+    };
+    Rate {
+        form,
+        v_star: s.v0,
+        v_min,
+        reading,
+    }
+}
+
+/// A pressure effect of `form` (power, linear, exponential) on μ, μ_s or μ_k.
+fn pressure_effect(form: Form, s: &Setting, rng: &mut ChaCha8Rng) -> Pressure {
+    // Sand–steel interfaces mostly lose friction with normal stress (grain crushing, less
+    // dilatancy); one in five draws gains.
+    let sign = if rng.gen::<f64>() < 0.8 { 1.0 } else { -1.0 };
+    let shape = match form {
+        Form::PressurePower => PressureShape::Power {
+            n: sign * uniform(rng, 0.03, 0.15),
+        },
+        Form::PressureLinear => PressureShape::Linear {
+            c: sign * uniform(rng, 0.03, 0.1),
+        },
+        _ => PressureShape::Exponential {
+            drop: sign * uniform(rng, 0.1, 0.3),
+            p_c: log_uniform(rng, 100.0, 400.0),
+        },
+    };
+    Pressure {
+        shape,
+        target: pick(rng, &[Target::Mu, Target::MuS, Target::MuK]),
+        p_ref: s.p_ref,
+    }
+}
+
+/// A hardening or softening with slip of `form` (exponential, hyperbolic, linear to a cap),
+/// added to or multiplying friction.
+fn slip_effect(form: Form, rng: &mut ChaCha8Rng) -> Slip {
+    let combine = pick(rng, &[Combine::Additive, Combine::Multiplicative]);
+    let amount = match combine {
+        Combine::Additive => signed(rng, 0.03, 0.12),
+        Combine::Multiplicative => signed(rng, 0.06, 0.25),
+    };
+    Slip {
+        shape: match form {
+            Form::SlipExp => SlipShape::Exponential,
+            Form::SlipHyperbolic => SlipShape::Hyperbolic,
+            _ => SlipShape::LinearCapped,
+        },
+        combine,
+        amount,
+        length: log_uniform(rng, 1.0, 6.0),
+    }
+}
+
+/// A time healing of `form` (log or power of the hold time), erased over a slip `d_h`.
+fn healing_effect(form: Form, rng: &mut ChaCha8Rng) -> Healing {
+    let per_decade = uniform(rng, 0.002, 0.02);
+    let tau = log_uniform(rng, 0.3, 10.0);
+    let shape = if form == Form::HealLog {
+        HealShape::Log { per_decade }
+    } else {
+        // The same mean gain per decade between 10 and 1000 s as the log form.
+        let m = uniform(rng, 0.15, 0.45);
+        let span = (1.0 + 1000.0 / tau).powf(m) - (1.0 + 10.0 / tau).powf(m);
+        HealShape::Power {
+            c: 2.0 * per_decade / span,
+            m,
         }
-        Form::RateLog => {
-            let a = rate_sign(rng) * uniform(rng, 0.003, 0.015);
-            fx.rate = Some(Rate {
-                form: RateForm::Log { a },
-                v_star: s.v0,
-                v_min,
-                reading,
-            });
-        }
-        Form::PressurePower | Form::PressureLinear | Form::PressureExp => {
-            // Sand–steel interfaces mostly lose friction with normal stress (grain crushing,
-            // less dilatancy); one in five draws gains.
-            let sign = if rng.gen::<f64>() < 0.8 { 1.0 } else { -1.0 };
-            let shape = match form {
-                Form::PressurePower => PressureShape::Power {
-                    n: sign * uniform(rng, 0.03, 0.15),
-                },
-                Form::PressureLinear => PressureShape::Linear {
-                    c: sign * uniform(rng, 0.03, 0.1),
-                },
-                _ => PressureShape::Exponential {
-                    drop: sign * uniform(rng, 0.1, 0.3),
-                    p_c: log_uniform(rng, 100.0, 400.0),
-                },
-            };
-            fx.pressure = Some(Pressure {
-                shape,
-                target: pick(rng, &[Target::Mu, Target::MuS, Target::MuK]),
-                p_ref: s.p_ref,
-            });
-        }
-        Form::SlipExp | Form::SlipHyperbolic | Form::SlipCapped => {
-            let combine = pick(rng, &[Combine::Additive, Combine::Multiplicative]);
-            let amount = match combine {
-                Combine::Additive => signed(rng, 0.03, 0.12),
-                Combine::Multiplicative => signed(rng, 0.06, 0.25),
-            };
-            fx.slip = Some(Slip {
-                shape: match form {
-                    Form::SlipExp => SlipShape::Exponential,
-                    Form::SlipHyperbolic => SlipShape::Hyperbolic,
-                    _ => SlipShape::LinearCapped,
-                },
-                combine,
-                amount,
-                length: log_uniform(rng, 1.0, 6.0),
-            });
-        }
-        Form::HealLog | Form::HealPower => {
-            let per_decade = uniform(rng, 0.002, 0.02);
-            let tau = log_uniform(rng, 0.3, 10.0);
-            let shape = if form == Form::HealLog {
-                HealShape::Log { per_decade }
-            } else {
-                // The same mean gain per decade between 10 and 1000 s as the log form.
-                let m = uniform(rng, 0.15, 0.45);
-                let span = (1.0 + 1000.0 / tau).powf(m) - (1.0 + 10.0 / tau).powf(m);
-                HealShape::Power {
-                    c: 2.0 * per_decade / span,
-                    m,
-                }
-            };
-            fx.healing = Some(Healing {
-                shape,
-                tau,
-                d_h: log_uniform(rng, 0.01, 0.1),
-            });
-        }
-        Form::DirectionMu | Form::DirectionMuK | Form::DirectionKappa => {
-            let (target, delta) = match form {
-                Form::DirectionMu => (Target::Mu, signed(rng, 0.08, 0.25)),
-                Form::DirectionMuK => (Target::MuK, signed(rng, 0.08, 0.25)),
-                _ => (Target::Kappa, signed(rng, 0.3, 0.7)),
-            };
-            fx.direction = Some(Direction { target, delta });
-        }
-        Form::Drift => {
-            fx.gap = Some(Gap::Drift {
-                kpa_per_s: signed(rng, 0.5, 3.0) / 1000.0,
-            });
-        }
-        Form::Creep => {
-            fx.gap = Some(Gap::Creep {
-                share: uniform(rng, 0.02, 0.06),
-                tau_s: log_uniform(rng, 100.0, 3000.0),
-            });
-        }
-        Form::Vibration => {
-            fx.gap = Some(Gap::Vibration {
-                amplitude_kpa: uniform(rng, 0.5, 2.0),
-                period_s: log_uniform(rng, 100.0, 600.0),
-                phase: uniform(rng, 0.0, std::f64::consts::TAU),
-            });
-        }
+    };
+    Healing {
+        shape,
+        tau,
+        d_h: log_uniform(rng, 0.01, 0.1),
+    }
+}
+
+/// A gap of the measurement of `form`: a drift of the zero, a creep of the load cell, a
+/// vibration.
+fn gap_effect(form: Form, rng: &mut ChaCha8Rng) -> Gap {
+    match form {
+        Form::Drift => Gap::Drift {
+            kpa_per_s: signed(rng, 0.5, 3.0) / 1000.0,
+        },
+        Form::Creep => Gap::Creep {
+            share: uniform(rng, 0.02, 0.06),
+            tau_s: log_uniform(rng, 100.0, 3000.0),
+        },
+        _ => Gap::Vibration {
+            amplitude_kpa: uniform(rng, 0.5, 2.0),
+            period_s: log_uniform(rng, 100.0, 600.0),
+            phase: uniform(rng, 0.0, std::f64::consts::TAU),
+        },
     }
 }
 
