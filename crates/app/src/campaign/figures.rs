@@ -328,24 +328,17 @@ mod tests {
     fn rows(n: usize) -> Vec<Row> {
         (0..n)
             .map(|i| Row {
-                set: format!("s{:02}-pair-{}", i / 20 + 1, 61 + i % 20),
-                name: None,
-                folder: String::new(),
                 status: RowStatus::Ok,
-                error: None,
-                soil: None,
-                d50_mm: None,
-                surface: None,
-                roughness_rmax_um: None,
-                roughness_ra_um: None,
-                rmax_over_d50: None,
                 normal_stresses_kpa: vec![100.0],
                 rows: Some(1000),
                 reduced_chi2: Some(1.0),
-                parameters: Vec::new(),
                 verdict: Some(["rate", "none", "pressure"][i % 3].into()),
                 held_out_shrink: Some((i % 10) as f64 / 10.0),
                 confidence: Some(0.95),
+                ..Row::not_run(
+                    format!("s{:02}-pair-{}", i / 20 + 1, 61 + i % 20),
+                    String::new(),
+                )
             })
             .collect()
     }

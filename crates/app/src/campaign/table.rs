@@ -110,10 +110,15 @@ impl Row {
     }
 
     fn empty(job: &SetJob) -> Row {
+        Row::not_run(job.id.clone(), job.folder.clone())
+    }
+
+    /// The row of set `set` (its folder `folder`) before anything is known of it.
+    pub(super) fn not_run(set: String, folder: String) -> Row {
         Row {
-            set: job.id.clone(),
+            set,
             name: None,
-            folder: job.folder.clone(),
+            folder,
             status: RowStatus::NotRun,
             error: None,
             soil: None,
@@ -588,24 +593,11 @@ mod tests {
         // Read from diagnosis.json as `diagnose` writes it, and written to the CSV beside the
         // verdict.
         let mut row = Row {
-            set: "s".into(),
-            name: None,
-            folder: String::new(),
             status: RowStatus::Ok,
-            error: None,
-            soil: None,
-            d50_mm: None,
-            surface: None,
-            roughness_rmax_um: None,
-            roughness_ra_um: None,
-            rmax_over_d50: None,
             normal_stresses_kpa: vec![100.0],
             rows: Some(10),
             reduced_chi2: Some(1.0),
-            parameters: Vec::new(),
-            verdict: None,
-            held_out_shrink: None,
-            confidence: None,
+            ..Row::not_run("s".into(), String::new())
         };
         verdict_cells(
             &mut row,
