@@ -59,21 +59,12 @@ pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
     let base = base_adequacy(d);
     let mut v = vec![format!("verdict: {}", base.sentence("the base model"))];
     let set = dir.display();
-    let standing = d.verdict.standing();
-    let head = |plain: &str, probable: &str, uncertain: &str| {
-        let p = 100.0 * d.verdict.confidence.unwrap_or(f64::NAN);
-        match standing {
-            None | Some(Standing::Confident) => plain.to_string(),
-            Some(Standing::Probable) => format!("probably {probable} ({p:.0} %)"),
-            Some(Standing::Uncertain) => format!("uncertain: {uncertain} {p:.0} %"),
-        }
-    };
+    let head = |stated: &str, uncertain: &str| lead(d.verdict.confidence, stated, uncertain);
     if d.verdict.effects.is_empty() {
         match d.verdict.effect {
             subfric_diagnose::Effect::None => v.push(format!(
                 "verdict: {}: none of the candidate effects predicts held-out data better than the base model",
                 head(
-                    "no missing effect",
                     "no missing effect",
                     "no candidate effect is taken, and the data give \"none\" only"
                 )
@@ -85,7 +76,6 @@ pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
             _ => v.push(format!(
                 "verdict: {}: none of the candidate effects explains the gap ({}); see section 5",
                 head(
-                    "unexplained",
                     "unexplained",
                     "no candidate effect is taken, and the data give \"unexplained\" only"
                 ),
@@ -112,7 +102,6 @@ pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
         "verdict: {}; {}",
         head(
             &format!("missing effect: {label}"),
-            &format!("missing effect: {label}"),
             &format!(
                 "the held-out comparison picks missing effect: {label}, and the data give it only"
             )
@@ -130,6 +119,23 @@ pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
         "next: `subfric plan {set}` proposes the next test for the model with {label} (it reads this diagnosis)"
     ));
     v
+}
+
+/// The head of a verdict line by how it stands at `confidence` ([`Standing`]): `stated` as it
+/// is when confident (or not judged), "probably `stated` (p %)" from [`PROBABLE`], and
+/// "uncertain: `uncertain` p %" below it, where `uncertain` says what the comparison picked.
+///
+/// [`PROBABLE`]: subfric_diagnose::confidence::PROBABLE
+fn lead(confidence: Option<f64>, stated: &str, uncertain: &str) -> String {
+    let Some(c) = confidence else {
+        return stated.to_string();
+    };
+    let p = 100.0 * c;
+    match Standing::of(c) {
+        Standing::Confident => stated.to_string(),
+        Standing::Probable => format!("probably {stated} ({p:.0} %)"),
+        Standing::Uncertain => format!("uncertain: {uncertain} {p:.0} %"),
+    }
 }
 
 /// Whether the verdict holds with the first loadings left out (where a seating toe or a
@@ -542,7 +548,20 @@ fn added_label(spec: &str, reference: &str) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::added_label;
+    use super::{added_label, lead};
+
+    #[test]
+    fn a_verdict_line_leads_with_the_word_its_confidence_earns() {
+        let head = |c| lead(c, "missing effect: rate", "the comparison picks rate, only");
+        assert_eq!(head(Some(0.93)), "missing effect: rate");
+        assert_eq!(head(None), "missing effect: rate");
+        assert_eq!(head(Some(0.72)), "probably missing effect: rate (72 %)");
+        assert_eq!(head(Some(0.5)), "probably missing effect: rate (50 %)");
+        assert_eq!(
+            head(Some(0.02)),
+            "uncertain: the comparison picks rate, only 2 %"
+        );
+    }
 
     #[test]
     fn a_later_stages_candidate_is_labelled_by_the_form_it_adds() {
