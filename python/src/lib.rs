@@ -9,6 +9,7 @@
 //! released.
 
 mod campaign;
+mod progress;
 
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;
@@ -342,7 +343,7 @@ type FitResult<'py> = (
 /// test (arrays; with the posterior's 95 % band), the plausibility warnings, and the
 /// posterior's thinned chain (arrays) when sampled.
 #[pyfunction]
-#[pyo3(signature = (dirs, *, tests, free, fix, bounds, weights, method, starts, seed, global_evals, profiles, posterior=false, priors=None, max_evals=None, residuals="correlated"))]
+#[pyo3(signature = (dirs, *, tests, free, fix, bounds, weights, method, starts, seed, global_evals, profiles, posterior=false, priors=None, max_evals=None, residuals="correlated", progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn fit<'py>(
     py: Python<'py>,
@@ -361,7 +362,9 @@ fn fit<'py>(
     priors: Option<PathBuf>,
     max_evals: Option<usize>,
     residuals: &str,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<FitResult<'py>> {
+    let progress = progress::Callback::of(py, progress)?;
     // The command line's own parsers, so that a value is refused with the same reason.
     let free_given = free.is_some();
     let free: Vec<Param> = match free {
@@ -427,8 +430,8 @@ fn fit<'py>(
         },
         start: None,
     };
-    let run = py.detach(move || -> anyhow::Result<_> {
-        let fitted = api::fit(&req, &Silent)?;
+    let run = py.detach(|| -> anyhow::Result<_> {
+        let fitted = api::fit(&req, shown(&progress))?;
         let model = fitted.outcome.report.model;
         let mut curves = Vec::new();
         for t in &fitted.outcome.tests {
@@ -440,6 +443,7 @@ fn fit<'py>(
         let warnings: Vec<String> = fitted.warnings.iter().map(|w| w.to_string()).collect();
         Ok((text, curves, warnings, fitted.posterior))
     });
+    progress.map_or(Ok(()), progress::Callback::finish)?;
     let (text, curves, warnings, sampled) = run.map_err(error)?;
     let out = PyDict::new(py);
     for (k, (name, t, traj)) in curves.into_iter().enumerate() {
@@ -461,18 +465,33 @@ fn fit<'py>(
 /// Diagnoses a set as `subfric diagnose` does. Returns the text of the diagnosis.json it would
 /// write and the plausibility warnings.
 #[pyfunction]
-#[pyo3(signature = (dir, *, seed))]
-fn diagnose(py: Python<'_>, dir: PathBuf, seed: u64) -> PyResult<(String, Vec<String>)> {
+#[pyo3(signature = (dir, *, seed, progress=None))]
+fn diagnose(
+    py: Python<'_>,
+    dir: PathBuf,
+    seed: u64,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<(String, Vec<String>)> {
+    let progress = progress::Callback::of(py, progress)?;
     let opts = DiagnoseOptions {
         seed,
         ..DiagnoseOptions::default()
     };
-    let run = py.detach(move || -> anyhow::Result<_> {
-        let d = api::diagnose(&dir, &opts, &Silent)?;
+    let run = py.detach(|| -> anyhow::Result<_> {
+        let d = api::diagnose(&dir, &opts, shown(&progress))?;
         let text = serde_json::to_string(&d.json)?;
         Ok((text, d.warnings.iter().map(|w| w.to_string()).collect()))
     });
+    progress.map_or(Ok(()), progress::Callback::finish)?;
     run.map_err(error)
+}
+
+/// Where a long call reports its progress: the caller's callable, or nowhere.
+fn shown(progress: &Option<progress::Callback>) -> &dyn api::progress::Progress {
+    match progress {
+        Some(p) => p,
+        None => &Silent,
+    }
 }
 
 /// `subfric check`: the set's summary (as JSON text, the command's text beside it), the rig

@@ -327,6 +327,7 @@ def fit(
     priors=None,
     max_evals=None,
     residuals="correlated",
+    progress=None,
 ):
     """Calibrates the model against one set, or several jointly, exactly as ``subfric fit``.
 
@@ -337,6 +338,18 @@ def fit(
     (``{"kappa": (0.1, 10)}``, in the parameters' own units), ``weights`` (``{"test": 2.0}``),
     ``method`` (``"lsq"`` Levenberg-Marquardt or ``"nm"`` Nelder-Mead), ``starts``, ``seed``,
     ``global_evals`` (model runs of the global stage), ``profiles`` (profile intervals).
+    ``progress``: None, or a function ``progress(stage, done, total)`` called as the command's
+    progress display is drawn: when a stage begins (``done`` None; ``total`` its budget in
+    model runs when known, else None) and, with the posterior, at most ten times a second with
+    the sampler's model runs done (``done`` of about ``total``). It is called from the threads doing the work; an exception
+    it raises stops the calls and is raised once the fit has ended. With tqdm::
+
+        bar = tqdm.tqdm()
+        def progress(stage, done, total):
+            bar.set_description(stage)
+            if total: bar.total = total
+            if done is not None: bar.n = done
+            bar.refresh()
 
     Returns a dict with the content of the fit.json that ``subfric fit`` writes (``set``,
     ``tests``, ``params``, ``model``, ``report``: parameters with standard errors, intervals and
@@ -381,6 +394,7 @@ def fit(
         priors=None if priors is None else os.fspath(priors),
         max_evals=None if max_evals is None else _count("max_evals", max_evals, 1),
         residuals=_text("residuals", residuals),
+        progress=progress,
     )
     _warn(warns)
     result = json.loads(text)
@@ -394,7 +408,7 @@ def fit(
     return result
 
 
-def diagnose(set, *, seed=1):
+def diagnose(set, *, seed=1, progress=None):
     """Diagnoses the gap between the calibrated model and the data of one set, exactly as
     ``subfric diagnose``: where the base model misses, which unmodelled effect explains it, and
     how far it shrinks on held-out data. Takes several seconds for a few thousand rows.
@@ -404,8 +418,11 @@ def diagnose(set, *, seed=1):
     ``effect``, ``held_out_shrink``, ``explanation``, ``extra_parameters``, ``confidence``,
     ``standing`` — ``confident``, ``probable`` or ``uncertain`` — and ``alternatives``) and ``diagnosis`` (everything
     else: the base fit, localisation by test and segment, candidates, selection, evidence).
+    ``progress``: None, or a function ``progress(stage, done, total)`` called as each step of
+    the diagnosis begins, with the command's words ("diagnosis 2/5: screening every candidate
+    form (12/25 forms fitted)"; ``done`` and ``total`` None), as :func:`fit` describes.
     """
-    text, warns = _native.diagnose(_set_dir(set), seed=_count("seed", seed, 0))
+    text, warns = _native.diagnose(_set_dir(set), seed=_count("seed", seed, 0), progress=progress)
     _warn(warns)
     return json.loads(text)
 

@@ -35,6 +35,17 @@ def test_diagnose_returns_what_the_command_writes_to_diagnosis_json(cli, tmp_pat
     assert v["standing"] == ("confident" if c >= 0.9 else "probable" if c >= 0.5 else "uncertain")
 
 
+def test_diagnose_reports_its_steps_in_the_command_s_words():
+    stages = []
+    d = subfric.diagnose(GOLDEN / "pair-01", progress=lambda stage, done, total: stages.append((stage, done, total)))
+    assert d["set"] == "pair-01"
+    words = [s for s, _, _ in stages]
+    assert words[0] == "diagnosis: preparing the tests", words
+    assert any(w.startswith("diagnosis 2/5: screening every candidate form (") for w in words), words
+    assert words[-1].startswith("diagnosis 5/5"), words
+    assert all(done is None and total is None for _, done, total in stages)
+
+
 def test_a_bad_set_is_refused_with_the_command_s_message(copy_set, cli):
     d = copy_set("pair-01", GOLDEN)
     set_cell(d / "velocity-steps.csv", 30, "time_s", "-1")

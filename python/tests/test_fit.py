@@ -198,3 +198,38 @@ def test_other_functions_refuse_wrong_arguments_with_subfric_error(tmp_path):
         with pytest.raises(subfric.SubfricError) as e:
             call()
         assert named in str(e.value), str(e.value)
+
+
+def test_progress_is_called_with_the_command_s_stages_and_changes_nothing():
+    calls = []
+    threads = set()
+
+    def progress(stage, done, total):
+        calls.append((stage, done, total))
+        threads.add(threading.get_ident())
+
+    with_progress = subfric.fit(EXPERIMENTS / "table1-medium", profiles=False, progress=progress)
+    stages = [s for s, done, _ in calls if done is None]
+    assert stages[0].startswith("reading ") and stages[-1] == "done", stages
+    global_search = [c for c in calls if c[0].startswith("global search")]
+    assert global_search and global_search[0][2] == 3000, calls  # its budget: global_evals
+    assert any(s.startswith("least-squares polish 1/") for s in stages), stages
+    # The same fit as without a progress function.
+    without = subfric.fit(EXPERIMENTS / "table1-medium", profiles=False)
+    assert without_curves(with_progress) == without_curves(without)
+    for test, c in without["curves"].items():
+        assert np.array_equal(with_progress["curves"][test]["fitted"], c["fitted"]), test
+
+
+def test_a_progress_function_that_raises_stops_the_reports_and_its_exception_is_raised():
+    calls = []
+
+    def progress(stage, done, total):
+        calls.append(stage)
+        raise KeyError("stop here")
+
+    with pytest.raises(KeyError, match="stop here"):
+        subfric.fit(EXPERIMENTS / "table1-medium", profiles=False, progress=progress)
+    assert len(calls) == 1, calls
+    with pytest.raises(TypeError, match="progress: a int is not callable"):
+        subfric.fit(EXPERIMENTS / "table1-medium", progress=3)
