@@ -67,7 +67,7 @@ fn absolute(p: PathBuf) -> PyResult<String> {
 /// `subfric campaign`: every set run here (in parallel), the table and figures written.
 /// Returns {"out", "runs", "rows", "files"} as JSON.
 #[pyfunction]
-#[pyo3(signature = (sets, *, out, seed, starts, global_evals, profiles, diagnose, force, jobs))]
+#[pyo3(signature = (sets, *, out, seed, starts, global_evals, profiles, diagnose, force, jobs, progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn campaign_run(
     py: Python<'_>,
@@ -80,7 +80,9 @@ pub fn campaign_run(
     diagnose: bool,
     force: bool,
     jobs: Option<usize>,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<String> {
+    let progress = crate::progress::Callback::of(py, progress)?;
     let req = request(
         sets,
         out,
@@ -91,9 +93,12 @@ pub fn campaign_run(
         diagnose,
         force,
     )?;
-    let f = py
-        .detach(|| campaign::run(&req, jobs, &|_| {}, &Silent))
-        .map_err(error)?;
+    let f = py.detach(|| match &progress {
+        Some(p) => campaign::run(&req, jobs, &|_| {}, &crate::progress::SetsOnly(p)),
+        None => campaign::run(&req, jobs, &|_| {}, &Silent),
+    });
+    progress.map_or(Ok(()), crate::progress::Callback::finish)?;
+    let f = f.map_err(error)?;
     json(&serde_json::json!({
         "out": absolute(f.collected.out.clone())?,
         "runs": f.runs,

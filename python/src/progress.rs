@@ -63,6 +63,28 @@ impl Callback {
     }
 }
 
+/// A campaign's progress as its sets end ("campaign: 3 of 20 sets done", `done` of `total`
+/// sets), without the stages of each set's own fit and diagnosis, which run several at once.
+pub(crate) struct SetsOnly<'a>(pub(crate) &'a Callback);
+
+impl Progress for SetsOnly<'_> {
+    // The sets' own stages interleave; the count below says where the campaign is.
+    fn stage(&self, _stage: &str, _budget: Option<usize>) {}
+
+    fn warning(&self, _text: &str) {}
+
+    fn note(&self, _text: &str) {}
+
+    // Every set's end is passed on: there are few, and each ends seconds after the last.
+    fn count(&self, done: usize, total: usize) {
+        self.0.call(
+            &format!("campaign: {done} of {total} sets done"),
+            Some(done),
+            Some(total),
+        );
+    }
+}
+
 impl Progress for Callback {
     fn stage(&self, stage: &str, budget: Option<usize>) {
         {

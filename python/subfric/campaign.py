@@ -68,6 +68,7 @@ def campaign(
     profiles=True,
     force=False,
     jobs=None,
+    progress=None,
 ):
     """Fits (and with ``diagnose=True`` diagnoses) every set of a campaign, as
     ``subfric campaign`` does, and writes the campaign table and figures.
@@ -78,7 +79,13 @@ def campaign(
     (one task per set); ``None`` runs them here, in parallel (``jobs`` sets at once, default one
     per core). ``out``: the campaign folder (default ``campaigns/<name>``). ``seed``,
     ``starts``, ``global_evals``, ``profiles``: the fits' options (a manifest's own win).
-    ``force``: replace the results of another campaign in ``out``.
+    ``force``: replace the results of another campaign in ``out``. ``progress``: None, or a
+    function ``progress(stage, done, total)`` called as the campaign starts and as each set ends,
+    locally or on the cluster, with ``stage`` "campaign: 3 of 20 sets done", ``done`` 3 and
+    ``total`` 20 (a tqdm bar: ``bar.total = total; bar.n = done; bar.refresh()``). Locally it is
+    called from the working threads and an exception it raises is raised once the campaign has
+    ended; with a client it is called here, and an exception stops the waiting (the tasks go
+    on).
 
     Returns a dict: ``out`` (the campaign folder, absolute), ``rows`` (one dict per set, sorted
     by set: ``set``, ``name``, ``status`` (``ok``, ``failed``, ``not-run``, ``out-of-date``),
@@ -104,8 +111,12 @@ def campaign(
     )
     jobs = None if jobs is None else _count("jobs", jobs, 1)
     if client is None:
+        if progress is not None and not callable(progress):
+            raise TypeError(
+                f"progress: a {type(progress).__name__} is not callable (expected a function progress(stage, done, total), or None)"
+            )
         result = json.loads(
-            _native.campaign_run(source, jobs=jobs, **options)
+            _native.campaign_run(source, jobs=jobs, progress=progress, **options)
         )
     else:
         plan = json.loads(_native.campaign_prepare(source, **options))
@@ -116,8 +127,25 @@ def campaign(
             force=bool(force),
             pure=False,
         )
+        if progress is not None:
+            _follow(futures, progress)
         runs = client.gather(futures)
         result = json.loads(_native.campaign_collect(source, **options))
         result["runs"] = runs
     _warn_incomplete(result["rows"])
     return result
+
+
+def _follow(futures, progress):
+    """Calls ``progress`` as the campaign starts and as each of the cluster's ``futures`` ends,
+    in the words of a local campaign."""
+    from distributed import as_completed
+
+    if not callable(progress):
+        raise TypeError(
+            f"progress: a {type(progress).__name__} is not callable (expected a function progress(stage, done, total), or None)"
+        )
+    total = len(futures)
+    progress(f"campaign: 0 of {total} sets done", 0, total)
+    for done, _ in enumerate(as_completed(futures), 1):
+        progress(f"campaign: {done} of {total} sets done", done, total)

@@ -28,7 +28,17 @@ def read(folder, name):
 def test_a_dask_cluster_a_local_run_and_the_program_write_the_same_table(lab, tmp_path, cli):
     from dask.distributed import Client, LocalCluster, get_task_stream
 
-    local = subfric.campaign(lab, out=tmp_path / "local")
+    def follow(calls):
+        return lambda stage, done, total: calls.append((stage, done, total))
+
+    def followed_every_set(calls):
+        # Once as it starts, once as each set ends, in the same words here and on a cluster.
+        assert sorted(d for _, d, _ in calls) == [0, 1, 2, 3], calls
+        assert all(s == f"campaign: {d} of 3 sets done" and t == 3 for s, d, t in calls), calls
+
+    local_calls = []
+    local = subfric.campaign(lab, out=tmp_path / "local", progress=follow(local_calls))
+    followed_every_set(local_calls)
     assert [r["set"] for r in local["rows"]] == sorted(SETS)
     assert [r["status"] for r in local["rows"]] == ["ok"] * 3
     assert [r["outcome"] for r in local["runs"]] == ["ran"] * 3
@@ -43,8 +53,10 @@ def test_a_dask_cluster_a_local_run_and_the_program_write_the_same_table(lab, tm
     ) as cluster, Client(cluster) as client:
         workers = set(client.scheduler_info()["workers"])
         assert len(workers) == 2
+        dask_calls = []
         with get_task_stream(client) as stream:
-            dask = subfric.campaign(lab, client, out=tmp_path / "dask")
+            dask = subfric.campaign(lab, client, out=tmp_path / "dask", progress=follow(dask_calls))
+        followed_every_set(dask_calls)
         ran_on = {t["worker"] for t in stream.data if t["key"].startswith("_run_index")}
         # Every set ran as a task on the cluster's worker processes, none here.
         assert ran_on and ran_on <= workers, (ran_on, workers)
