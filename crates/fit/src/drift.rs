@@ -61,6 +61,31 @@ fn creep_regressor(t: &FitTest, shear: &[f64], tau: f64, out: &mut Vec<f64>) {
     }
 }
 
+/// The creep's time constants for `tests`: a fixed grid of multiples of the longest test's
+/// duration (none when no test measures shear).
+fn creep_time_constants(tests: &[FitTest]) -> Vec<f64> {
+    let longest = tests
+        .iter()
+        .filter(|t| !t.is_empty())
+        .map(|t| t.time[t.len() - 1] - t.time[0])
+        .fold(0.0f64, f64::max);
+    if longest > 0.0 && tests.iter().any(|t| t.control == Control::Slip) {
+        CREEP_TIME_CONSTANTS.iter().map(|m| m * longest).collect()
+    } else {
+        Vec::new()
+    }
+}
+
+/// How many coefficients the drift fits to `tests`: the zero drift of each channel a test
+/// measures (the shear of slip-controlled tests, the slip of traction-controlled ones) and one
+/// per creep time constant. What the drift costs as an alternative to a friction effect.
+pub fn drift_coefficients(tests: &[FitTest]) -> usize {
+    let measures = |c: Control| tests.iter().any(|t| t.control == c && !t.is_empty());
+    usize::from(measures(Control::Slip))
+        + usize::from(measures(Control::Shear))
+        + creep_time_constants(tests).len()
+}
+
 /// The zero drift's regressor of row `i` in the residuals' units: time from the test's first
 /// row, weighted as the residuals are (k √w, k = √weight / noise SD).
 #[inline]
@@ -131,16 +156,7 @@ pub fn remove_drift(
     learn: impl Fn(usize, usize) -> bool,
     apply: impl Fn(usize) -> std::ops::Range<usize>,
 ) -> FittedDrift {
-    let longest = tests
-        .iter()
-        .filter(|t| !t.is_empty())
-        .map(|t| t.time[t.len() - 1] - t.time[0])
-        .fold(0.0f64, f64::max);
-    let taus: Vec<f64> = if longest > 0.0 && tests.iter().any(|t| t.control == Control::Slip) {
-        CREEP_TIME_CONSTANTS.iter().map(|m| m * longest).collect()
-    } else {
-        Vec::new()
-    };
+    let taus = creep_time_constants(tests);
     let m = 2 + taus.len();
     let cols: Vec<Vec<Vec<f64>>> = tests
         .iter()
@@ -229,6 +245,24 @@ mod tests {
         (0..t.len())
             .map(|i| truth(t.time[i]) - t.measured[i])
             .collect()
+    }
+
+    #[test]
+    fn the_drift_costs_one_coefficient_per_channel_measured_and_per_creep_term() {
+        let slip = test(50, |_| 0.0);
+        assert_eq!(
+            drift_coefficients(std::slice::from_ref(&slip)),
+            1 + CREEP_TIME_CONSTANTS.len()
+        );
+        // A traction-controlled test adds the slip channel's zero drift (no creep of its own).
+        let mut traction = test(50, |_| 0.0);
+        traction.control = Control::Shear;
+        assert_eq!(drift_coefficients(&[traction.clone()]), 1);
+        assert_eq!(
+            drift_coefficients(&[slip, traction]),
+            2 + CREEP_TIME_CONSTANTS.len()
+        );
+        assert_eq!(drift_coefficients(&[]), 0);
     }
 
     #[test]

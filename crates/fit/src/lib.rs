@@ -40,7 +40,7 @@ pub use calibrate::{
     Status,
 };
 pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
-pub use drift::{remove_drift, FittedDrift};
+pub use drift::{drift_coefficients, remove_drift, FittedDrift};
 pub use estimate::Estimate;
 pub use interval::Interval;
 pub use levels::{read_levels, LevelReadings, StressTrend, TestLevels};
