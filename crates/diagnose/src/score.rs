@@ -107,8 +107,28 @@ pub struct Comparison {
     pub rows: usize,
     /// Effective independent observations (shapes and levels).
     pub n_eff: f64,
+    /// Parameters the candidate adds to the reference (0 from [`compare`]; the caller that
+    /// knows the candidate sets it).
+    pub parameters: usize,
     /// Per piece.
     pub pieces: Vec<PieceScore>,
+}
+
+impl Comparison {
+    /// The evidence D less ln(n_eff) per parameter the candidate adds (a BIC on the effective
+    /// number of held-out observations): the price of its extra freedom, for comparing
+    /// candidates of different sizes with one another (the drift of the measurement, five or
+    /// six coefficients, against a two-parameter form). Fewer than one independent row counts
+    /// as one.
+    pub fn penalised_score(&self) -> f64 {
+        penalised(self.score, self.n_eff, self.parameters)
+    }
+}
+
+/// Evidence `score` on `n_eff` effective observations less ln(n_eff) per parameter in
+/// `parameters` (fewer than one observation counts as one: no reward for a negative log).
+pub fn penalised(score: f64, n_eff: f64, parameters: usize) -> f64 {
+    score - parameters as f64 * n_eff.max(1.0).ln()
 }
 
 /// Lag-1 autocorrelation of a short sequence (0 with fewer than three values).
@@ -237,6 +257,7 @@ pub fn compare(
         candidate_chi2: per_row(c_all),
         rows,
         n_eff,
+        parameters: 0,
         pieces: out,
     }
 }

@@ -9,7 +9,9 @@ use crate::candidates::{Effect, Form, OwnKind};
 use crate::fits::{residuals, with_values, Effort, Spec};
 use crate::folds::{Piece, PieceKind};
 use crate::score::{by_kind, Comparison, HeldOut};
-use crate::verdict::{decide_among, decide_further, material, named_count, Decision};
+use crate::verdict::{
+    decide_among, decide_further, drift_outweighs, material, named_count, Decision,
+};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use subfric_model::Model;
@@ -274,8 +276,12 @@ fn candidate_score(
     model: Model,
     reference: &HeldOut,
     held: &HeldOut,
+    parameters: usize,
 ) -> CandidateScore {
-    let c = cx.compare(&cx.pieces, reference, held);
+    let c = Comparison {
+        parameters,
+        ..cx.compare(&cx.pieces, reference, held)
+    };
     // The same comparison with the first loadings left out: where a rig artifact of the first
     // loadings (seating, a compliant start) drives the evidence, the verdict would change.
     let later: Vec<Piece> = cx
@@ -290,7 +296,10 @@ fn candidate_score(
             .into_iter()
             .map(|(kind, own)| OwnKindScore {
                 kind,
-                held_out: cx.compare(&own, reference, held),
+                held_out: Comparison {
+                    parameters,
+                    ..cx.compare(&own, reference, held)
+                },
             })
             .collect()
     };
@@ -437,7 +446,7 @@ const POLISHED_PER_FAMILY: usize = 2;
 /// In-sample evidence less ln(n_eff) per extra parameter (a BIC on the effective number of
 /// observations), so that forms with more parameters do not win by fitting noise.
 fn penalised(c: &Comparison, extra_parameters: usize) -> f64 {
-    c.score - extra_parameters as f64 * c.n_eff.max(1.0).ln()
+    crate::score::penalised(c.score, c.n_eff, extra_parameters)
 }
 
 /// An effect the selection took, with its comparison against the model before it and the
@@ -574,10 +583,14 @@ impl Path {
             form,
             credited_on_events: credited,
             // A further effect is judged on all pieces when it passes there, else on the
-            // pieces of its own kind (see `decide_further`).
+            // pieces of its own kind — but only when it leaves the held-out record as a whole
+            // no worse, as `decide_further` asks: a pressure law that fits the first loadings
+            // and doubles the misfit of the velocity steps is not named on its own kind.
             own: {
                 let c = &stage.candidates[i];
-                if crate::verdict::passes(&c.held_out, &cx.opts.thresholds) {
+                if crate::verdict::passes(&c.held_out, &cx.opts.thresholds)
+                    || c.held_out.excess_shrink < 0.0
+                {
                     c.held_out.clone()
                 } else {
                     c.best_own_kind(&cx.opts.thresholds)
@@ -747,6 +760,7 @@ fn drift_candidate(cx: &Context, current: &Current) -> CandidateScore {
         fitted.result.model,
         &current.held,
         &held,
+        subfric_fit::drift_coefficients(&cx.tests),
     )
 }
 
@@ -800,7 +814,7 @@ fn credited_on_events(cx: &Context, c: &CandidateScore, drift: Option<&Candidate
         && c.held_out.score > 0.0
         && c.held_out.excess_shrink > 0.0
         && (material(&c.held_out, th) || c.shown_in.iter().all(|k| material(&k.held_out, th)))
-        && drift.is_none_or(|d| d.held_out.score < c.held_out.score)
+        && drift.is_none_or(|d| !drift_outweighs(&d.held_out, &c.held_out))
 }
 
 /// One stage of the forward selection: every remaining family added to the current
@@ -931,6 +945,8 @@ fn candidates_added_to(
     let mut candidates = Vec::new();
     let mut kept = Vec::new();
     for (e, c) in results {
+        // The family's form, added last to the current model, is what it adds.
+        let parameters = c.spec.forms.last().map_or(0, |f| f.params.len());
         candidates.push(candidate_score(
             cx,
             e,
@@ -938,6 +954,7 @@ fn candidates_added_to(
             c.model,
             &current.held,
             &c.held,
+            parameters,
         ));
         kept.push(c);
     }
@@ -985,7 +1002,7 @@ fn first_effect(
             match decide_further(reference_chi2, pairs, own, corroborated, th) {
                 Decision::Named(i)
                     if pairs[i].1.score >= th.min_score
-                        && drift.is_none_or(|d| d.held_out.score < pairs[i].1.score) =>
+                        && drift.is_none_or(|d| !drift_outweighs(&d.held_out, &pairs[i].1)) =>
                 {
                     Decision::Named(i)
                 }

@@ -105,6 +105,7 @@ fn comparison(score: f64, n_eff: f64, pieces: Vec<PieceScore>) -> Comparison {
         candidate_chi2: 2.0,
         rows: 100,
         n_eff,
+        parameters: 0,
         pieces,
     }
 }
