@@ -117,9 +117,8 @@ pub struct Comparison {
 impl Comparison {
     /// The evidence D less ln(n_eff) per parameter the candidate adds (a BIC on the effective
     /// number of held-out observations): the price of its extra freedom, for comparing
-    /// candidates of different sizes with one another (the drift of the measurement, five or
-    /// six coefficients, against a two-parameter form). Fewer than one independent row counts
-    /// as one.
+    /// candidates of different sizes with one another (a four-parameter rate-and-state law
+    /// against a two-parameter slip softening). Fewer than one independent row counts as one.
     pub fn penalised_score(&self) -> f64 {
         penalised(self.score, self.n_eff, self.parameters)
     }

@@ -122,13 +122,19 @@ fn by_penalised(a: &Comparison, b: &Comparison) -> std::cmp::Ordering {
     a.penalised_score().total_cmp(&b.penalised_score())
 }
 
-/// True when the drift of the measurement (`drift`, compared with the same reference) explains
-/// the gap better than `candidate` once each has paid for its parameters
-/// ([`Comparison::penalised_score`]): the drift's five or six coefficients against a form's one
-/// to four. On tests slid at one rate time and slip run together, and a drift and a slip
-/// softening trace one curve; a tie of raw evidence then goes to the smaller model.
+/// True when the drift of the measurement (`drift`, compared with the same reference) has more
+/// held-out evidence than `candidate`: the instrument explains the gap at least as well as the
+/// interface does.
+///
+/// On raw evidence, not net of parameters. Tried (`penalised_score`, the drift's five or six
+/// coefficients against a form's one to four): near-ties went to the physical form — right on
+/// two rate + slip softening sets of seed 10002 (the drift ahead by 13 and 5 in D), wrong on a
+/// load-cell creep set of the fresh seed 11001 (ahead by 4). On tests slid at one rate, time
+/// and slip run together
+/// and a drift and a slip softening trace one curve: a tie the data cannot settle either way,
+/// and the verdict's confidence says so.
 pub fn drift_outweighs(drift: &Comparison, candidate: &Comparison) -> bool {
-    drift.penalised_score() > candidate.penalised_score()
+    drift.score > candidate.score
 }
 
 /// True when comparison `c` is both significant and material.
@@ -599,10 +605,11 @@ mod tests {
     }
 
     #[test]
-    fn a_drift_pays_for_its_coefficients_before_it_takes_the_gap() {
+    fn a_drift_with_more_raw_evidence_than_every_candidate_takes_the_gap() {
         // A slip softening on tests slid at one rate (two parameters, D 187 on 150 effective
-        // rows) against the drift of the measurement (five coefficients, D 200): 13 more in
-        // D, less than three more parameters cost (3 ln 150 = 15): the smaller model is named.
+        // rows) against the drift of the measurement (five coefficients, D 200): the drift
+        // takes it on raw evidence, though net of its parameters it would be behind (the tie
+        // is the data's, and the confidence carries it).
         let th = Thresholds::default();
         let with = |score: f64, parameters: usize| Comparison {
             n_eff: 150.0,
@@ -611,7 +618,8 @@ mod tests {
         };
         let softening = with(187.0, 2);
         let slip = || Effect::from_name("slip-hardening").unwrap();
-        assert!(!drift_outweighs(&with(200.0, 5), &softening));
+        assert!(with(200.0, 5).penalised_score() < softening.penalised_score());
+        assert!(drift_outweighs(&with(200.0, 5), &softening));
         assert_eq!(
             decide(
                 9.7,
@@ -619,13 +627,13 @@ mod tests {
                 Some(&with(200.0, 5)),
                 &th
             ),
-            Decision::Named(0)
-        );
-        // Clearly ahead once paid for, the drift takes it.
-        assert!(drift_outweighs(&with(210.0, 5), &softening));
-        assert_eq!(
-            decide(9.7, &[(slip(), softening)], Some(&with(210.0, 5)), &th),
             Decision::Drift
+        );
+        // Behind the candidate, it does not.
+        assert!(!drift_outweighs(&with(180.0, 5), &softening));
+        assert_eq!(
+            decide(9.7, &[(slip(), softening)], Some(&with(180.0, 5)), &th),
+            Decision::Named(0)
         );
     }
 
