@@ -583,14 +583,10 @@ impl Path {
             form,
             credited_on_events: credited,
             // A further effect is judged on all pieces when it passes there, else on the
-            // pieces of its own kind — but only when it leaves the held-out record as a whole
-            // no worse, as `decide_further` asks: a pressure law that fits the first loadings
-            // and doubles the misfit of the velocity steps is not named on its own kind.
+            // pieces of its own kind (see `decide_further`).
             own: {
                 let c = &stage.candidates[i];
-                if crate::verdict::passes(&c.held_out, &cx.opts.thresholds)
-                    || c.held_out.excess_shrink < 0.0
-                {
+                if crate::verdict::passes(&c.held_out, &cx.opts.thresholds) {
                     c.held_out.clone()
                 } else {
                     c.best_own_kind(&cx.opts.thresholds)
