@@ -14,8 +14,9 @@ pub struct Thresholds {
     pub min_excess_shrink: f64,
     /// When model error dominates, a candidate that lowers the misfit of a typical held-out
     /// piece by this fraction explains enough (or it meets `min_excess_shrink`); a first
-    /// effect, judged against the base, does at any misfit above the noise when it removes this
-    /// fraction of a typical piece's excess ([`material_over_base`]).
+    /// effect, judged against the base, does where the base misses by twice the noise variance
+    /// or more when it removes this fraction of a typical piece's excess
+    /// ([`material_over_base`]).
     pub min_typical_shrink: f64,
     /// Held-out reduced χ² (noise units) of the reference above which model error dominates.
     pub model_error_chi2: f64,
@@ -130,9 +131,8 @@ fn by_penalised(a: &Comparison, b: &Comparison) -> std::cmp::Ordering {
 /// coefficients against a form's one to four): near-ties went to the physical form — right on
 /// two rate + slip softening sets of seed 10002 (the drift ahead by 13 and 5 in D), wrong on a
 /// load-cell creep set of the fresh seed 11001 (ahead by 4). On tests slid at one rate, time
-/// and slip run together
-/// and a drift and a slip softening trace one curve: a tie the data cannot settle either way,
-/// and the verdict's confidence says so.
+/// and slip run together and a drift and a slip softening trace one curve: a tie the data
+/// cannot settle either way, and the verdict's confidence says so.
 pub fn drift_outweighs(drift: &Comparison, candidate: &Comparison) -> bool {
     drift.score > candidate.score
 }
@@ -151,9 +151,8 @@ pub fn passes_over_base(c: &Comparison, th: &Thresholds) -> bool {
 /// Decides one stage: `candidates` are (family, comparison with the current model) and `drift`
 /// the measurement-drift alternative (only at the first stage). The candidate with the most
 /// held-out evidence, net of its parameters' price ([`Comparison::penalised_score`]), is named
-/// when it passes; a drift that passes with more evidence than every
-/// physical candidate, each paying for its parameters ([`drift_outweighs`]), sends the gap to
-/// "unexplained".
+/// when it passes; a drift that passes with more evidence than every physical candidate
+/// ([`drift_outweighs`]) sends the gap to "unexplained".
 ///
 /// ```
 /// use subfric_diagnose::score::Comparison;
