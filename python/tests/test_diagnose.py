@@ -16,13 +16,27 @@ def without_wall_times(v):
     return v
 
 
-def test_diagnose_returns_what_the_command_writes_to_diagnosis_json(cli, tmp_path):
-    # Four lab-style tests (6 500 rows) with an effect the base model lacks: a whole diagnosis.
+@pytest.fixture(scope="module")
+def diagnosed_with_progress():
+    """One whole diagnosis (four lab-style tests, 6 500 rows, an effect the base model lacks)
+    through the package, with a progress callback: each takes seconds, so the tests of what it
+    returns and of what it reports share it."""
+    stages = []
+    got = subfric.diagnose(
+        subfric.load_set(GOLDEN / "pair-01"),
+        seed=2,
+        progress=lambda stage, done, total: stages.append((stage, done, total)),
+    )
+    return got, stages
+
+
+def test_diagnose_returns_what_the_command_writes_to_diagnosis_json(cli, tmp_path, diagnosed_with_progress):
     d = GOLDEN / "pair-01"
     out = tmp_path / "diag"
     cli.run("diagnose", d, "--out", out, "--seed", "2")
     want = cli.json(out / "diagnosis.json")
-    got = subfric.diagnose(subfric.load_set(d), seed=2)
+    # Reporting progress changes nothing in what the diagnosis returns.
+    got, _ = diagnosed_with_progress
     assert set(got) == {"set", "verdict", "diagnosis"}
     assert got["set"] == "pair-01"
     assert "elapsed_s" in got["diagnosis"]
@@ -35,9 +49,8 @@ def test_diagnose_returns_what_the_command_writes_to_diagnosis_json(cli, tmp_pat
     assert v["standing"] == ("confident" if c >= 0.9 else "probable" if c >= 0.5 else "uncertain")
 
 
-def test_diagnose_reports_its_steps_in_the_command_s_words():
-    stages = []
-    d = subfric.diagnose(GOLDEN / "pair-01", progress=lambda stage, done, total: stages.append((stage, done, total)))
+def test_diagnose_reports_its_steps_in_the_command_s_words(diagnosed_with_progress):
+    d, stages = diagnosed_with_progress
     assert d["set"] == "pair-01"
     words = [s for s, _, _ in stages]
     assert words[0] == "diagnosis: preparing the tests", words

@@ -174,3 +174,74 @@ fn the_python_package_installs_from_the_repository_and_its_tests_pass() {
         env!("CARGO_PKG_VERSION")
     );
 }
+
+/// `cargo tree` of `args` (features per package, one line each, no tree drawing): package
+/// "name version" → the feature lists it is built with (several where it is built twice, for
+/// a build script and for the target).
+fn features_of(
+    args: &[&str],
+) -> std::collections::BTreeMap<String, std::collections::BTreeSet<String>> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let o = run(
+        "cargo tree",
+        Command::new(cargo)
+            .arg("tree")
+            .args(args)
+            .args([
+                "--locked",
+                "-f",
+                "{p} {f}",
+                "--prefix",
+                "none",
+                "--no-dedupe",
+            ])
+            .current_dir(repo),
+    );
+    let mut out: std::collections::BTreeMap<String, std::collections::BTreeSet<String>> =
+        Default::default();
+    for line in String::from_utf8_lossy(&o.stdout).lines() {
+        let mut words = line.split_whitespace();
+        let (Some(name), Some(version)) = (words.next(), words.next()) else {
+            continue;
+        };
+        // A path package prints its folder in parentheses before its features.
+        let features = words.find(|w| !w.starts_with('(')).unwrap_or("");
+        out.entry(format!("{name} {version}"))
+            .or_default()
+            .insert(features.to_string());
+    }
+    out
+}
+
+#[test]
+fn the_extension_is_built_from_the_crates_the_test_programs_built() {
+    // maturin builds subfric-py alone; `cargo test --workspace` builds every member, with the
+    // features all of them (dev- and bench-dependencies included) switch on. A dependency with
+    // other features in the extension's build is another build of it and of every crate above
+    // it: on a clean clone the pip install compiled the whole tree a second time (rayon, png,
+    // tiny-skia, usvg and every subfric crate; serde's "alloc" came from criterion). The
+    // feature pins in python/Cargo.toml keep the two equal.
+    let workspace = features_of(&["--workspace", "-e", "normal,build,dev"]);
+    let extension = features_of(&["-p", "subfric-py", "-e", "normal,build"]);
+    assert!(
+        extension.len() > 50,
+        "cargo tree listed {} packages",
+        extension.len()
+    );
+    let differ: Vec<String> = extension
+        .iter()
+        .filter(|(p, f)| workspace.get(*p).is_none_or(|w| !f.is_subset(w)))
+        .map(|(p, f)| {
+            format!(
+                "{p}: {f:?} in the extension's build, {:?} in the workspace's",
+                workspace.get(p)
+            )
+        })
+        .collect();
+    assert!(
+        differ.is_empty(),
+        "built with other features for the Python extension than for the test programs (add a feature pin to python/Cargo.toml):\n{}",
+        differ.join("\n")
+    );
+}
