@@ -248,7 +248,7 @@ pub fn diagnose_reporting(
     let (forms, families) = screen_and_polish(&cx, &base.model, &lib);
     let shortlist = shortlist(&forms, &lib, &events);
     cx.step(4, 0, opts.thresholds.max_effects);
-    let selection = forward_selection(&cx, &base, &families, &shortlist);
+    let selection = forward_selection(&cx, &base, &families, &shortlist, &forms);
     cx.step(5, 0, 0);
 
     let evidence = residual_evidence(

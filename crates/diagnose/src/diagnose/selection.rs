@@ -104,11 +104,17 @@ fn ranked_by_family(reports: &[FormReport], per_family: usize) -> Vec<Vec<usize>
 
 /// The best form of every family not yet in `current`, each fitted on top of it: an effect
 /// masked by another one not yet modelled may show its best form only now. Every form is
-/// screened (starts: the current model with the form switched off, and the form's own starts);
-/// the best of each family and those the screening cannot tell from it (see
-/// [`polished_among`]) are polished on the current model, and the best once polished is the
-/// family's form, as in the first stage.
-fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
+/// screened (starts: the current model with the form switched off, the form's own starts, and
+/// its first-stage fit with the current effects added — see [`alone_plus_current`]); the best
+/// of each family and those the screening cannot tell from it (see [`polished_among`]) are
+/// polished on the current model, and the best once polished is the family's form, as in the
+/// first stage.
+fn rescreen(
+    cx: &Context,
+    current: &Current,
+    lib: &[Form],
+    first_stage: &[FormReport],
+) -> Vec<Family> {
     let own_residuals = residuals(&cx.tests, &current.model, None);
     // (penalised score, effective rows) of a fitted model against the current one.
     let score_of = |model: &Model, f: &Form| {
@@ -132,6 +138,7 @@ fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
                     .iter()
                     .map(|v| with_values(&current.model, &alone, std::slice::from_ref(v))),
             );
+            starts.extend(alone_plus_current(first_stage, f, current));
             let fitted = cx.screen_spec(&current.model, &spec, &starts, cx.opts.rescreening);
             let (score, n_eff) = score_of(&fitted.result.model, f);
             (i, score, n_eff, fitted)
@@ -193,6 +200,31 @@ fn rescreen(cx: &Context, current: &Current, lib: &[Form]) -> Vec<Family> {
             alone: fitted,
         })
         .collect()
+}
+
+/// Form `f`'s first-stage fit (alone on the base) with the effects of `current` added at their
+/// current values: a start for `f` on top of them. The current model was fitted without `f`,
+/// and where `f` acts on whole tests (a pressure effect moves every test's level) the base
+/// parameters bent to the first effect can hold `f`, started switched off on them, in a valley
+/// far from its own: of two effects each seen alone, the pair then fits worse than the second
+/// one alone did. Starting from both single-effect fits lets the pair find the better of them.
+fn alone_plus_current(first_stage: &[FormReport], f: &Form, current: &Current) -> Option<Model> {
+    let alone = first_stage
+        .iter()
+        .find(|r| r.effect == f.effect && r.form == f.name && r.ssr.is_finite())?;
+    let values: Vec<Vec<f64>> = current
+        .spec
+        .forms
+        .iter()
+        .map(|g| {
+            g.params
+                .iter()
+                .zip(&g.neutral)
+                .map(|(p, &n)| p.get(&current.model).unwrap_or(n))
+                .collect()
+        })
+        .collect();
+    Some(with_values(&alone.model, &current.spec, &values))
 }
 
 fn kind_shrinks(c: &Comparison) -> Vec<KindShrink> {
@@ -483,6 +515,7 @@ pub(super) fn forward_selection(
     base: &Current,
     families: &[Family],
     lib: &[Form],
+    first_stage: &[FormReport],
 ) -> Selection {
     let (first, kept) = selection_stage(cx, base, families, true);
     cx.trace("selection stage 1");
@@ -521,7 +554,7 @@ pub(super) fn forward_selection(
             }
             let mut path = Path::default();
             path.take(cx, base, stage, kept[i].clone(), i);
-            path.go_on(cx, base, lib);
+            path.go_on(cx, base, lib, first_stage);
             path
         })
         .collect();
@@ -601,10 +634,10 @@ impl Path {
     }
 
     /// The later stages, until one takes nothing or the most effects are taken.
-    fn go_on(&mut self, cx: &Context, base: &Current, lib: &[Form]) {
+    fn go_on(&mut self, cx: &Context, base: &Current, lib: &[Form], first_stage: &[FormReport]) {
         while self.selected.len() < cx.opts.thresholds.max_effects {
             let current = self.selected.last().map_or(base, |s| &s.at).clone();
-            let families = rescreen(cx, &current, lib);
+            let families = rescreen(cx, &current, lib, first_stage);
             let (stage, kept) = selection_stage(cx, &current, &families, false);
             cx.trace(&format!("selection stage {}", self.stages.len() + 1));
             cx.step(4, self.stages.len() + 1, cx.opts.thresholds.max_effects);

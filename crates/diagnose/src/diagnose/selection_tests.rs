@@ -220,3 +220,48 @@ fn a_form_whose_parameters_all_sit_at_their_neutral_values_is_switched_off() {
     let on = with_values(&base, &spec, &[on_values]);
     assert!(!at_neutral(healing, &on));
 }
+
+#[test]
+fn a_later_stage_starts_a_form_from_its_fit_alone_with_the_current_effects_added() {
+    let lib = crate::candidates::every_form();
+    let pressure = Effect::from_name("pressure").unwrap();
+    let first = lib.iter().find(|f| f.effect == healing()).unwrap();
+    let second = lib.iter().find(|f| f.effect == pressure).unwrap();
+    // The current model: the base bent to the first effect (μ_k 0.30), the effect on.
+    let mut bent = Params::sample();
+    bent.mu_k = 0.30;
+    let on: Vec<f64> = first.starts[0].clone();
+    let current = Current {
+        spec: Spec::with(first),
+        model: with_values(
+            &Model::base(bent).unwrap(),
+            &Spec::with(first),
+            &[on.clone()],
+        ),
+        fit_tests: Vec::new(),
+        held: Vec::new(),
+    };
+    // The second form's fit alone on the base: its own base parameters (μ_k 0.20) and values.
+    let mut own = Params::sample();
+    own.mu_k = 0.20;
+    let alone_values: Vec<f64> = second.starts[0].clone();
+    let mut alone = report(pressure, second.name, 10.0, 1.0);
+    alone.model = with_values(
+        &Model::base(own).unwrap(),
+        &Spec::with(second),
+        &[alone_values.clone()],
+    );
+    let start = alone_plus_current(&[alone.clone()], second, &current).expect("a start");
+    // Its own base and values, with the first effect at its current values.
+    assert_eq!(start.params.mu_k, 0.20);
+    for (p, v) in second.params.iter().zip(&alone_values) {
+        assert_eq!(p.get(&start), Some(*v));
+    }
+    for (p, v) in first.params.iter().zip(&on) {
+        assert_eq!(p.get(&start), Some(*v));
+    }
+    // No start where the form was not fitted alone, or its fit failed.
+    assert!(alone_plus_current(&[], second, &current).is_none());
+    alone.ssr = f64::NAN;
+    assert!(alone_plus_current(&[alone], second, &current).is_none());
+}

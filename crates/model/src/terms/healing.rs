@@ -5,7 +5,9 @@
 //! - log time, Δμ = b ln(1 + θ/t_c);
 //! - power-law time, Δμ = b (θ / 1 s)^n;
 //! - general, Δμ = b ((1 + θ/t_c)^n − 1)/n: the log law as n → 0, a power law for θ ≫ t_c,
-//!   linear at n = 1 — one law that holds the others, for healing laws none of them names.
+//!   linear at n = 1, and for n < 0 a gain that levels off at b/|n| after a few t_c (n = −1:
+//!   b θ/(θ + t_c)), as healing saturates at long holds — one law that holds the others, for
+//!   healing laws none of them names.
 //!
 //! Each in three roles, the form's second half:
 //!
@@ -180,6 +182,10 @@ const FORMS: [TermForm; 9] = [
     },
 ];
 
+/// The exponent of the general law: from a gain that levels off at b after a few t_c (−1)
+/// through the log law (0) to a linear one (1).
+const GENERAL_N: (f64, f64) = (-1.0, 1.0);
+
 /// Forms the diagnosis tries (the first seven).
 const TRIED: usize = 7;
 
@@ -281,23 +287,27 @@ impl TermFamily for TimeHealing {
                 vec![0.0, 10.0, 0.02],
                 vec![(2, 1e-4, 1.0)],
             ),
+            // Each general form also starts saturating (n < 0: the gain levels off after a
+            // few t_c), where the peaks of long holds gain less per decade than short ones.
             (Law::General, Role::Erased) => guess(
                 vec![
                     vec![b0, 1.0, 0.05, 0.02],
                     vec![b0, 10.0, 0.3, 0.1],
                     vec![0.5 * b0, 1.0, 0.6, 0.005],
+                    vec![4.0 * b0, 30.0, -0.5, 0.05],
                 ],
                 vec![0.0, 10.0, 0.3, 0.02],
-                vec![(2, 0.0, 1.0), (3, 1e-4, 1.0)],
+                vec![(2, GENERAL_N.0, GENERAL_N.1), (3, 1e-4, 1.0)],
             ),
             (Law::General, _) => guess(
                 vec![
                     vec![0.01, 1.0, 0.05],
                     vec![0.01, 10.0, 0.3],
                     vec![0.003, 1.0, 0.6],
+                    vec![0.02, 30.0, -0.5],
                 ],
                 vec![0.0, 10.0, 0.3],
-                vec![(2, 0.0, 1.0)],
+                vec![(2, GENERAL_N.0, GENERAL_N.1)],
             ),
             (Law::Power, Role::Erased) => guess(
                 vec![
@@ -374,8 +384,8 @@ impl TermFamily for TimeHealing {
             out.push((PARAMS[T_C].key, p[T_C], PARAMS[T_C].expected));
         }
         match law {
-            Law::General if !(0.0..=1.0).contains(&p[N]) => {
-                out.push((PARAMS[N].key, p[N], "an exponent in [0, 1]"));
+            Law::General if !(GENERAL_N.0..=GENERAL_N.1).contains(&p[N]) => {
+                out.push((PARAMS[N].key, p[N], "an exponent in [-1, 1]"));
             }
             Law::Power if !(p[N] > 0.0 && p[N] <= 1.0) => {
                 out.push((PARAMS[N].key, p[N], PARAMS[N].expected));
@@ -506,6 +516,84 @@ mod tests {
             .issues(general, &p(0.01, 5.0, 0.0, 0.0))
             .is_empty());
         assert_eq!(TimeHealing.issues(1, &p(0.01, 5.0, 0.0, 0.0)).len(), 1);
+    }
+
+    #[test]
+    fn the_general_law_below_zero_levels_off_as_saturating_healing_does() {
+        let general = 6;
+        // n = −1: b θ/(θ + t_c), summed over steps from rest.
+        let (b, t_c) = (0.02, 30.0);
+        let gain = |theta: f64| {
+            let mut total = 0.0;
+            let (mut age, dt) = (0.0, theta / 1000.0);
+            while age < theta - 1e-9 {
+                total += TimeHealing.rest_gain(general, &p(b, t_c, -1.0, 0.0), age, dt);
+                age += dt;
+            }
+            total
+        };
+        for theta in [10.0, 100.0, 1000.0] {
+            let exact = b * theta / (theta + t_c);
+            assert!(
+                (gain(theta) - exact).abs() < 1e-12,
+                "{theta}: {}",
+                gain(theta)
+            );
+        }
+        // The last decade gains less than the one before it (a log law gains the same).
+        assert!(gain(1000.0) - gain(100.0) < 0.5 * (gain(100.0) - gain(10.0)));
+        assert!(TimeHealing
+            .issues(general, &p(b, t_c, -1.0, 0.0))
+            .is_empty());
+        assert_eq!(TimeHealing.issues(general, &p(b, t_c, -1.5, 0.0)).len(), 1);
+    }
+
+    #[test]
+    fn the_general_forms_are_tried_saturating_as_well() {
+        let scales = super::super::DataScales {
+            v_ref: 0.01,
+            p_ref: 100.0,
+            slip_span_mm: 5.0,
+            duration_s: 2000.0,
+            holds: 3,
+            reversals: 0,
+            pressure_levels: 1,
+            sliding_rates: 1,
+            traction_tests: 0,
+            healing_per_decade: Some(0.02),
+            steps: Default::default(),
+            rate_and_state: None,
+            stress_trend: Default::default(),
+            slip_slope_per_mm: None,
+        };
+        let fam: &dyn TermFamily = &TimeHealing;
+        for (k, &(law, _)) in SHAPES.iter().enumerate().take(TRIED) {
+            if law != Law::General {
+                continue;
+            }
+            let g = fam.guess(k, &scales);
+            let at = fam.fitted(k).iter().position(|&i| i == N).unwrap();
+            // The exponent may go below zero, down to a gain that levels off at b.
+            assert!(g
+                .bounds
+                .iter()
+                .any(|&(i, lo, hi)| i == at && lo == -1.0 && hi == 1.0));
+            // And one start is saturating, valid for the law.
+            let saturating = g
+                .starts
+                .iter()
+                .find(|v| v[at] < 0.0)
+                .expect("a start below zero");
+            let mut q = [0.0; MAX_TERM_PARAMS];
+            for (&i, &v) in fam.fitted(k).iter().zip(saturating) {
+                q[i] = v;
+            }
+            assert!(
+                TimeHealing.issues(k, &q).is_empty(),
+                "{:?}",
+                TimeHealing.issues(k, &q)
+            );
+        }
     }
 
     #[test]
