@@ -236,7 +236,7 @@ fn a_later_stage_starts_a_form_from_its_fit_alone_with_the_current_effects_added
         model: with_values(
             &Model::base(bent).unwrap(),
             &Spec::with(first),
-            &[on.clone()],
+            std::slice::from_ref(&on),
         ),
         fit_tests: Vec::new(),
         held: Vec::new(),
@@ -249,7 +249,7 @@ fn a_later_stage_starts_a_form_from_its_fit_alone_with_the_current_effects_added
     alone.model = with_values(
         &Model::base(own).unwrap(),
         &Spec::with(second),
-        &[alone_values.clone()],
+        std::slice::from_ref(&alone_values),
     );
     let start = alone_plus_current(&[alone.clone()], second, &current).expect("a start");
     // Its own base and values, with the first effect at its current values.
