@@ -289,7 +289,8 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
         return seg;
     }
     let in_hold = hold_mask(n, &seg.holds);
-    find_rate_levels(t, &y, &in_hold, &an, opts, &mut seg);
+    let rise_end = seating_rise_end(test, n, &seg);
+    find_rate_levels(t, &y, &in_hold, &an, opts, rise_end, &mut seg);
     smooth_levels(
         t,
         &mut seg.conditioned.values,
@@ -301,6 +302,44 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
     seg.segments = collect_segments(t, &y, &event_at, &seg);
     seg.start = decide_start(test, &seg);
     seg
+}
+
+/// Share of the first run's largest traction below which a slip-controlled test's first
+/// loading is still rising from rest.
+const RISE_SHARE_OF_PEAK: f64 = 0.5;
+
+/// One past the last row of a slip-controlled test's first rise from rest — the rows before
+/// its measured traction first reaches [`RISE_SHARE_OF_PEAK`] of the largest it reaches
+/// before the first hold or reversal — or 0 (traction control, a test that starts loaded or
+/// sliding, a first run of one row). While the shear is low a box seats: gaps close and the
+/// specimen beds in, and the travel column counts that closure as slip, fast at first and
+/// slowing as the load comes on. The rate of the travel there is not the drive's, and a change
+/// of it is not a velocity step: a lab does not step the drive before the first peak, and a
+/// seating read as a step from 0.04 to 0.01 mm/s would make a test at one rate look like two.
+fn seating_rise_end(test: &TestData, n: usize, seg: &Segmentation) -> usize {
+    if test.spec.control != ControlColumn::Slip || n < 2 {
+        return 0;
+    }
+    let first_event = seg
+        .holds
+        .iter()
+        .map(|h| h.0)
+        .chain(seg.reversals.iter().copied())
+        .min()
+        .unwrap_or(n)
+        .min(n);
+    let shear = &test.shear_kpa[..first_event];
+    let peak = shear
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
+    if peak <= 0.0 || !shear[0].is_finite() || shear[0].abs() >= RISE_SHARE_OF_PEAK * peak {
+        return 0;
+    }
+    shear
+        .iter()
+        .position(|v| v.abs() >= RISE_SHARE_OF_PEAK * peak)
+        .unwrap_or(0)
 }
 
 /// Which of the `n` rows lie in a hold.
@@ -337,6 +376,7 @@ fn find_rate_levels(
     in_hold: &[bool],
     an: &Analysis,
     opts: &SegmentOptions,
+    rise_end: usize,
     seg: &mut Segmentation,
 ) {
     let n = t.len();
@@ -354,7 +394,10 @@ fn find_rate_levels(
         }
         // intervals s..i (rows s-1 ..= i-1)
         let (p, q) = (s - 1, i - 1);
-        let steps = velocity_steps(t, y, p, q, an.chunk_travel, opts);
+        let mut steps = velocity_steps(t, y, p, q, an.chunk_travel, opts);
+        // A change of the travel's rate while the first loading rises from rest is the rig
+        // seating, not the drive (see [`seating_rise_end`]).
+        steps.retain(|&c| c >= rise_end);
         let mut a = p;
         for &c in steps.iter().chain(std::iter::once(&q)) {
             if c > a {

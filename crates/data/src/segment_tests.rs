@@ -171,3 +171,65 @@ fn tiny_inputs() {
         assert_eq!(s.row_kind.len(), n);
     }
 }
+
+/// A slip-controlled test from rest whose travel column counts a seating: fast while the shear
+/// is low (its first rows as a generated record with a seating toe shows them: 0.07 mm/s,
+/// settling to the drive's 0.01 mm/s over a few seconds), then a true step to 0.1 mm/s long
+/// after the peak. `from_rest` false: the same travel with the shear at its sliding level from
+/// the first row (a segment cut from a longer run).
+fn seating_then_step(from_rest: bool) -> TestData {
+    const SEATING: [f64; 20] = [
+        0.0, 0.0139, 0.026, 0.0369, 0.0464, 0.0551, 0.0629, 0.0699, 0.0764, 0.0824, 0.0879, 0.0931,
+        0.0978, 0.1022, 0.1064, 0.1104, 0.1142, 0.1178, 0.1212, 0.1245,
+    ];
+    let dt = 0.2;
+    let mut y = SEATING.to_vec();
+    let mut t: Vec<f64> = (0..y.len()).map(|i| i as f64 * dt).collect();
+    let mut shear: Vec<f64> = Vec::new();
+    for i in y.len()..3000 {
+        let rate = if i < 2000 { 0.01 } else { 0.1 };
+        t.push(i as f64 * dt);
+        y.push(y[i - 1] + rate * dt);
+    }
+    for &time in &t {
+        // The shear rises to its peak of 50 kPa over the first 30 s, then slides at 45.
+        shear.push(if !from_rest {
+            45.0
+        } else if time < 30.0 {
+            50.0 * time / 30.0
+        } else {
+            45.0
+        });
+    }
+    // A transducer with 0.2 µm of noise (a deterministic wiggle): rates are read over chunks
+    // of about 20 µm, a few of them in the seating.
+    let y = y
+        .iter()
+        .enumerate()
+        .map(|(i, v)| v + 2e-4 * ((i as f64 * 2.399).sin() + (i as f64 * 0.7071).cos()) / 1.41)
+        .collect();
+    let mut d = data(ControlColumn::Slip, t, y);
+    d.shear_kpa = shear;
+    d
+}
+
+#[test]
+fn a_seating_while_the_first_loading_rises_is_not_a_velocity_step() {
+    let s = segment(&seating_then_step(true), &SegmentOptions::default());
+    // Only the true step after the peak: the fast travel of the seating is part of the first
+    // loading, at one drive rate.
+    assert_eq!(s.rate_changes.len(), 1, "{:?}", s.rate_changes);
+    assert!(
+        (1990..=2010).contains(&s.rate_changes[0]),
+        "{:?}",
+        s.rate_changes
+    );
+    assert_eq!(s.row_kind[5], SegmentKind::InitialLoading);
+    assert!(s.row_kind[..1990]
+        .iter()
+        .all(|k| *k != SegmentKind::AfterVelocityStep));
+    // Already sliding at the first row: no rise from rest, and the change of rate in the first
+    // seconds is read as the column shows it.
+    let sliding = segment(&seating_then_step(false), &SegmentOptions::default());
+    assert_eq!(sliding.rate_changes.len(), 2, "{:?}", sliding.rate_changes);
+}
