@@ -111,6 +111,13 @@ impl Effect {
         self.kinds(|f| f.shows())
     }
 
+    /// Whether the family acts on whole tests — on the tests away from the reference normal
+    /// stress (pressure) — so that its evidence lives in the tests' levels, each test a
+    /// specimen ([`crate::score::between_tests`]).
+    pub fn acts_on_whole_tests(self) -> bool {
+        self.own_kinds().contains(&OwnKind::AwayFromReferenceStress)
+    }
+
     /// The kinds of held-out piece where the events that show this family outright were read
     /// ([`subfric_model::terms::TermFamily::shown_in`]).
     pub fn shown_kinds(self) -> Vec<OwnKind> {

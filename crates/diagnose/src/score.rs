@@ -261,6 +261,59 @@ pub fn compare(
     }
 }
 
+/// Held-out evidence at the level of whole tests, judged against the scatter between
+/// specimens: for each test, the level of its held-out rows among `pieces` (the weighted mean
+/// error in noise units, m = Σ √w r / Σ w) under the reference and under the candidate, and
+///
+/// D_tests = Σ_tests (m_ref² − m_cand²) / (s² + 1/Σ w),
+///
+/// with s the test's scatter (`scatter[test]`, noise units: what a second specimen tested
+/// alike could differ by) and 1/Σ w the noise of the mean. A Gaussian likelihood ratio with a
+/// known variance, in deviance units like [`compare`]'s D. [`compare`] counts each piece's
+/// level against the levels along its test, with no scale of its own: a test held out whole
+/// — a monotonic test at another normal stress — is one level, and predicting it at a
+/// specimen's scatter instead of 30 times that earns ln 100 ≈ 5 at most. An effect that acts on
+/// whole tests (pressure) shows in their levels, and each test is a specimen: its level is
+/// judged against what specimens differ by. A test without a finite positive scatter (traction
+/// control: the level read is a slip) counts nothing.
+pub fn between_tests(
+    pieces: &[Piece],
+    weights: &Weights,
+    reference: &HeldOut,
+    candidate: &HeldOut,
+    scatter: &[f64],
+) -> f64 {
+    // Per test: (Σ w, Σ √w r_ref, Σ √w r_cand).
+    let mut sums: std::collections::BTreeMap<usize, (f64, f64, f64)> = Default::default();
+    for p in pieces {
+        let (Some(rb), Some(rc), Some(w)) = (
+            reference.get(p.test),
+            candidate.get(p.test),
+            weights.get(p.test),
+        ) else {
+            continue;
+        };
+        let end = p.end.min(rb.len()).min(rc.len()).min(w.len());
+        let e = sums.entry(p.test).or_default();
+        for i in p.start.min(end)..end {
+            if rb[i].is_finite() && rc[i].is_finite() {
+                e.0 += w[i];
+                e.1 += w[i].sqrt() * rb[i];
+                e.2 += w[i].sqrt() * rc[i];
+            }
+        }
+    }
+    sums.into_iter()
+        .filter_map(|(test, (sw, sb, sc))| {
+            let s = *scatter.get(test)?;
+            (sw > 0.0 && s.is_finite() && s > 0.0).then(|| {
+                let (mb, mc) = (sb / sw, sc / sw);
+                (mb * mb - mc * mc) / (s * s + 1.0 / sw)
+            })
+        })
+        .sum()
+}
+
 /// Shrink per piece kind: (kind, reference SSR, candidate SSR, rows).
 pub fn by_kind(c: &Comparison) -> Vec<(PieceKind, f64, f64, usize)> {
     let mut acc: std::collections::BTreeMap<PieceKind, (f64, f64, usize)> = Default::default();
@@ -346,5 +399,61 @@ mod tests {
         );
         assert!(c.score < 0.0);
         assert!(c.relative_shrink < 0.0);
+    }
+
+    #[test]
+    fn whole_tests_are_judged_against_the_scatter_between_specimens() {
+        // Two monotonic tests at other normal stresses, each one piece held out whole: the
+        // reference misses each by a level of 30 noise units, the candidate by 1; the scatter
+        // between specimens is 3 noise units.
+        let pieces = vec![
+            Piece {
+                test: 0,
+                start: 0,
+                end: 500,
+                kind: PieceKind::InitialLoading,
+            },
+            Piece {
+                test: 1,
+                start: 0,
+                end: 500,
+                kind: PieceKind::InitialLoading,
+            },
+        ];
+        let weights = vec![vec![1.0; 500]; 2];
+        let wiggle = |level: f64| -> Vec<f64> {
+            (0..500)
+                .map(|i| level + if i % 2 == 0 { 1.0 } else { -1.0 })
+                .collect()
+        };
+        let reference = vec![wiggle(30.0), wiggle(-30.0)];
+        let candidate = vec![wiggle(1.0), wiggle(-1.0)];
+        let d = between_tests(&pieces, &weights, &reference, &candidate, &[3.0, 3.0]);
+        let expected = 2.0 * (900.0 - 1.0) / (9.0 + 1.0 / 500.0);
+        assert!((d - expected).abs() < 1e-9, "{d} vs {expected}");
+        // The per-piece levels of `compare` credit the same improvement with a few units only.
+        let c = compare(&pieces, &weights, &reference, &candidate);
+        assert!(c.level_score < 20.0 && d > 100.0, "{}", c.level_score);
+        // Within the scatter, a level earns almost nothing; a candidate that moves a level
+        // away from the data loses; a test without a scatter (traction control) counts nothing.
+        let near = between_tests(
+            &pieces,
+            &weights,
+            &vec![wiggle(2.0), wiggle(-2.0)],
+            &vec![wiggle(0.0), wiggle(0.0)],
+            &[3.0, 3.0],
+        );
+        assert!(near < 1.0);
+        assert!(between_tests(&pieces, &weights, &candidate, &reference, &[3.0, 3.0]) < -100.0);
+        assert_eq!(
+            between_tests(
+                &pieces,
+                &weights,
+                &reference,
+                &candidate,
+                &[f64::INFINITY; 2]
+            ),
+            0.0
+        );
     }
 }

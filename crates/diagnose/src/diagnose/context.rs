@@ -50,6 +50,9 @@ pub(super) struct Context<'a> {
     pub(super) folds: Vec<Fold>,
     /// Rows of the record each fitted row stands for.
     pub(super) weights: Weights,
+    /// Per test, what a second specimen tested alike could differ by, in noise units
+    /// ([`specimen_scatter`]).
+    pub(super) scatter: Vec<f64>,
     pub(super) opts: &'a DiagnoseOptions,
     /// When the diagnosis began (for [`Context::trace`]).
     pub(super) started: Instant,
@@ -102,6 +105,7 @@ impl<'a> Context<'a> {
             .collect();
         let cx = Context {
             weights,
+            scatter: tests.iter().map(specimen_scatter).collect(),
             reweight: false,
             base_residuals: Vec::new(),
             tests,
@@ -321,15 +325,10 @@ impl<'a> Context<'a> {
         compare(pieces, &self.weights, reference, candidate)
     }
 
-    /// In-sample comparison of a model's residuals with the base's, piece by piece.
-    pub(super) fn in_sample(
-        &self,
-        model: &Model,
-        spec: &Spec,
-        fit_tests: &[FitTest],
-    ) -> Comparison {
-        let own = residuals(&self.tests, model, spec.drift.then_some(fit_tests));
-        self.compare(&self.pieces, &self.base_residuals, &own)
+    /// A model's in-sample residuals on the tests (with the drift of the measurement projected
+    /// out when `spec` carries it), to compare with the base's ([`Context::base_residuals`]).
+    pub(super) fn in_sample(&self, model: &Model, spec: &Spec, fit_tests: &[FitTest]) -> HeldOut {
+        residuals(&self.tests, model, spec.drift.then_some(fit_tests))
     }
 }
 
@@ -437,6 +436,24 @@ pub(super) fn calibrated_base(
         &|_| {},
     )?;
     Ok(report.model)
+}
+
+/// What a second specimen tested alike could differ by in test `t`'s level, in units of its
+/// noise: [`subfric_fit::levels::REPRODUCIBILITY_SHARE`] of its typical |shear| (the median
+/// over its rows) over its noise SD; infinite under traction control, where the measured
+/// column is a slip.
+pub(super) fn specimen_scatter(t: &FitTest) -> f64 {
+    if t.control != subfric_model::Control::Slip || !(t.noise_sd > 0.0) {
+        return f64::INFINITY;
+    }
+    let mut shear: Vec<f64> = t
+        .measured
+        .iter()
+        .filter(|v| v.is_finite())
+        .map(|v| v.abs())
+        .collect();
+    let typical = subfric_data::stats::median(&mut shear).unwrap_or(0.0);
+    subfric_fit::levels::REPRODUCIBILITY_SHARE * typical / t.noise_sd
 }
 
 /// The base misses by more than `model_error_chi2` × the noise variance per row.

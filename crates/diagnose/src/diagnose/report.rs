@@ -79,6 +79,9 @@ pub struct CandidateScore {
     /// `own_kinds` unless the family reads its effect elsewhere: slip hardening on the tests'
     /// first loadings).
     pub shown_in: Vec<OwnKindScore>,
+    /// Held-out evidence at the level of whole tests on the pieces of `shown_in`, against the
+    /// scatter between specimens ([`crate::score::between_tests`]).
+    pub between_tests: f64,
     /// Held-out evidence D with the first loadings left out (0 where every piece is one).
     pub without_first_loadings: f64,
 }

@@ -265,3 +265,42 @@ fn a_later_stage_starts_a_form_from_its_fit_alone_with_the_current_effects_added
     alone.ssr = f64::NAN;
     assert!(alone_plus_current(&[alone], second, &current).is_none());
 }
+
+#[test]
+fn an_effect_shown_is_weighed_where_it_lives_when_shapes_elsewhere_outvote_it() {
+    let th = crate::verdict::Thresholds::default();
+    let candidate = |overall: f64, shown: Option<f64>| CandidateScore {
+        effect: Effect::from_name("slip-hardening").unwrap(),
+        spec: "base + slip-hardening".into(),
+        extra_parameters: BTreeMap::new(),
+        model: Model::base(Params::sample()).unwrap(),
+        held_out: comparison(overall, 800.0, vec![]),
+        held_out_shrink: 0.5,
+        by_kind: vec![],
+        own_kinds: vec![],
+        shown_in: shown
+            .map(|d| OwnKindScore {
+                kind: crate::candidates::OwnKind::Piece(PieceKind::InitialLoading),
+                held_out: comparison(d, 30.0, vec![]),
+            })
+            .into_iter()
+            .collect(),
+        between_tests: 0.0,
+        without_first_loadings: 0.0,
+    };
+    // Over all pieces in favour: it gains.
+    assert!(gains_where_it_lives(&candidate(5.0, Some(1.0)), &th));
+    // Against over all pieces (the shapes of many short pieces a hair worse), but significant
+    // on the first loadings where the events read it: it gains where it lives.
+    assert!(gains_where_it_lives(
+        &candidate(-17.0, Some(th.min_score + 15.0)),
+        &th
+    ));
+    // Against over all pieces and short of significance where it lives: no.
+    assert!(!gains_where_it_lives(
+        &candidate(-17.0, Some(th.min_score - 1.0)),
+        &th
+    ));
+    // A family with no pieces where the events are read has only the whole to go by.
+    assert!(!gains_where_it_lives(&candidate(-17.0, None), &th));
+}
