@@ -206,7 +206,7 @@ fn seating_then_step(from_rest: bool) -> TestData {
     let y = y
         .iter()
         .enumerate()
-        .map(|(i, v)| v + 2e-4 * ((i as f64 * 2.399).sin() + (i as f64 * 0.7071).cos()) / 1.41)
+        .map(|(i, v)| v + 2e-4 * ((i as f64 * 2.399).sin() + (i as f64 * 0.61).cos()) / 1.41)
         .collect();
     let mut d = data(ControlColumn::Slip, t, y);
     d.shear_kpa = shear;

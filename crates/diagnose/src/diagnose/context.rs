@@ -443,7 +443,8 @@ pub(super) fn calibrated_base(
 /// over its rows) over its noise SD; infinite under traction control, where the measured
 /// column is a slip.
 pub(super) fn specimen_scatter(t: &FitTest) -> f64 {
-    if t.control != subfric_model::Control::Slip || !(t.noise_sd > 0.0) {
+    let noise_read = t.noise_sd > 0.0;
+    if t.control != subfric_model::Control::Slip || !noise_read {
         return f64::INFINITY;
     }
     let mut shear: Vec<f64> = t
