@@ -121,7 +121,7 @@ fn rescreen(
     first_stage: &[FormReport],
 ) -> Vec<Family> {
     let own_residuals = residuals(&cx.tests, &current.model, None);
-    // (penalised score, effective rows) of a fitted model against the current one.
+    // (in-sample score, effective rows) of a fitted model against the current one.
     let score_of = |model: &Model, f: &Form| {
         in_sample_score(cx, f, &own_residuals, &residuals(&cx.tests, model, None))
     };
@@ -492,9 +492,11 @@ const POLISHED_PER_FAMILY: usize = 2;
 /// its parameters' price ([`penalised`]) and, for a family that acts on whole tests, the
 /// evidence at the level of the tests against the scatter between specimens
 /// ([`crate::score::between_tests`]). The forms of a pressure law differ in how they follow
-/// the tests' levels across the normal stresses (a linear law on μ_k and a power law on μ
-/// agree at the reference stress and part by 10 % at 400 kPa), and the per-piece evidence
-/// weighs a test's level as one unit with no scale of its own.
+/// the tests' levels across the normal stresses (linear, power or exponential in p, on μ or
+/// on μ_s or μ_k alone), and the per-piece evidence weighs a test's level as one unit with no
+/// scale of its own: every pressure form of a set at 50, 100 and 400 kPa scored below zero
+/// in-sample that way, the polished ones included, though each took most of the base's misfit
+/// at 50 and 400 kPa.
 fn in_sample_score(cx: &Context, f: &Form, reference: &HeldOut, own: &HeldOut) -> (f64, f64) {
     let c = cx.compare(&cx.pieces, reference, own);
     let whole_tests = if f.effect.acts_on_whole_tests() {
@@ -880,9 +882,9 @@ fn credited_on_events(cx: &Context, c: &CandidateScore, drift: Option<&Candidate
 /// over all pieces (D > 0), or, significant on the pieces where the events show it — D at
 /// least `min_score` there, or as much at the level of whole tests against the scatter
 /// between specimens (`between_tests`) — with the misfit of all held-out pieces together
-/// falling (checked by the caller). A change of friction with slip or with the normal stress moves the level of whole
-/// pieces — a monotonic test is one piece — and the levels along a test count once per
-/// correlation length, while a refit's small changes of shape on many short pieces elsewhere
+/// falling (checked by the caller). A change of friction with slip or with the normal stress
+/// moves the level of whole pieces — a monotonic test is one piece — and the levels along a
+/// test count once per correlation length, while a refit's small changes of shape on many short pieces elsewhere
 /// (a reversal's transient a hair sharper or flatter) count row by row: over all pieces D can
 /// then fall below zero for an effect that predicts nearly every piece better (a wear
 /// softening: 11 of 13 pieces better, 64 % of the held-out excess removed, D −17).
