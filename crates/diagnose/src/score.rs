@@ -142,6 +142,23 @@ fn lag1_short(v: &[f64]) -> f64 {
 /// residuals carry √w already, so a piece's level is the w-weighted mean error.
 pub type Weights = Vec<Vec<f64>>;
 
+/// The reference's and the candidate's residuals and the weights of piece `p`'s test, and one
+/// past the piece's last row that all three hold (`None` when the test is missing from one).
+fn piece_rows<'a>(
+    p: &Piece,
+    weights: &'a Weights,
+    reference: &'a HeldOut,
+    candidate: &'a HeldOut,
+) -> Option<(&'a [f64], &'a [f64], &'a [f64], usize)> {
+    let (rb, rc, w) = (
+        reference.get(p.test)?,
+        candidate.get(p.test)?,
+        weights.get(p.test)?,
+    );
+    let end = p.end.min(rb.len()).min(rc.len()).min(w.len());
+    Some((rb, rc, w, end))
+}
+
 /// Compares held-out residuals of a candidate with those of the reference, piece by piece (see
 /// the module documentation); `weights` are the rows each fitted row stands for.
 ///
@@ -169,14 +186,9 @@ pub fn compare(
     // Per test: the levels of its pieces in order, (N, reference mean, candidate mean).
     let mut levels: std::collections::BTreeMap<usize, Vec<(f64, f64, f64)>> = Default::default();
     for p in pieces {
-        let (Some(rb), Some(rc), Some(w)) = (
-            reference.get(p.test),
-            candidate.get(p.test),
-            weights.get(p.test),
-        ) else {
+        let Some((rb, rc, w, end)) = piece_rows(p, weights, reference, candidate) else {
             continue;
         };
-        let end = p.end.min(rb.len()).min(rc.len()).min(w.len());
         if p.start >= end {
             continue;
         }
@@ -286,14 +298,9 @@ pub fn between_tests(
     // Per test: (Σ w, Σ √w r_ref, Σ √w r_cand).
     let mut sums: std::collections::BTreeMap<usize, (f64, f64, f64)> = Default::default();
     for p in pieces {
-        let (Some(rb), Some(rc), Some(w)) = (
-            reference.get(p.test),
-            candidate.get(p.test),
-            weights.get(p.test),
-        ) else {
+        let Some((rb, rc, w, end)) = piece_rows(p, weights, reference, candidate) else {
             continue;
         };
-        let end = p.end.min(rb.len()).min(rc.len()).min(w.len());
         let e = sums.entry(p.test).or_default();
         for i in p.start.min(end)..end {
             if rb[i].is_finite() && rc[i].is_finite() {
