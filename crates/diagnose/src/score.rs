@@ -142,21 +142,33 @@ fn lag1_short(v: &[f64]) -> f64 {
 /// residuals carry √w already, so a piece's level is the w-weighted mean error.
 pub type Weights = Vec<Vec<f64>>;
 
-/// The reference's and the candidate's residuals and the weights of piece `p`'s test, and one
-/// past the piece's last row that all three hold (`None` when the test is missing from one).
+/// The rows of one piece's test: the reference's and the candidate's residuals, their weights,
+/// and one past the piece's last row that all three hold.
+struct PieceRows<'a> {
+    reference: &'a [f64],
+    candidate: &'a [f64],
+    weights: &'a [f64],
+    end: usize,
+}
+
+/// The rows of piece `p`'s test (`None` when the test is missing from one of the three).
 fn piece_rows<'a>(
     p: &Piece,
     weights: &'a Weights,
     reference: &'a HeldOut,
     candidate: &'a HeldOut,
-) -> Option<(&'a [f64], &'a [f64], &'a [f64], usize)> {
+) -> Option<PieceRows<'a>> {
     let (rb, rc, w) = (
         reference.get(p.test)?,
         candidate.get(p.test)?,
         weights.get(p.test)?,
     );
-    let end = p.end.min(rb.len()).min(rc.len()).min(w.len());
-    Some((rb, rc, w, end))
+    Some(PieceRows {
+        reference: rb,
+        candidate: rc,
+        weights: w,
+        end: p.end.min(rb.len()).min(rc.len()).min(w.len()),
+    })
 }
 
 /// Compares held-out residuals of a candidate with those of the reference, piece by piece (see
@@ -186,7 +198,13 @@ pub fn compare(
     // Per test: the levels of its pieces in order, (N, reference mean, candidate mean).
     let mut levels: std::collections::BTreeMap<usize, Vec<(f64, f64, f64)>> = Default::default();
     for p in pieces {
-        let Some((rb, rc, w, end)) = piece_rows(p, weights, reference, candidate) else {
+        let Some(PieceRows {
+            reference: rb,
+            candidate: rc,
+            weights: w,
+            end,
+        }) = piece_rows(p, weights, reference, candidate)
+        else {
             continue;
         };
         if p.start >= end {
@@ -298,7 +316,13 @@ pub fn between_tests(
     // Per test: (Σ w, Σ √w r_ref, Σ √w r_cand).
     let mut sums: std::collections::BTreeMap<usize, (f64, f64, f64)> = Default::default();
     for p in pieces {
-        let Some((rb, rc, w, end)) = piece_rows(p, weights, reference, candidate) else {
+        let Some(PieceRows {
+            reference: rb,
+            candidate: rc,
+            weights: w,
+            end,
+        }) = piece_rows(p, weights, reference, candidate)
+        else {
             continue;
         };
         let e = sums.entry(p.test).or_default();
