@@ -328,7 +328,10 @@ fn seating_rise_end(test: &TestData, n: usize, seg: &Segmentation) -> usize {
         .min()
         .unwrap_or(n)
         .min(n);
-    let shear = &test.shear_kpa[..first_event];
+    // A file that starts in a hold (or reverses at once) has no rise from rest to read.
+    let Some(shear) = test.shear_kpa.get(..first_event).filter(|s| s.len() >= 2) else {
+        return 0;
+    };
     let peak = shear
         .iter()
         .filter(|v| v.is_finite())

@@ -233,3 +233,28 @@ fn a_seating_while_the_first_loading_rises_is_not_a_velocity_step() {
     let sliding = segment(&seating_then_step(false), &SegmentOptions::default());
     assert_eq!(sliding.rate_changes.len(), 2, "{:?}", sliding.rate_changes);
 }
+
+#[test]
+fn a_test_that_starts_in_a_hold_or_with_no_shear_has_no_seating_rise() {
+    // Rows 0..20 still, then sliding: the first hold starts at the second row, and the first
+    // run before it is a single row.
+    let t: Vec<f64> = (0..400).map(|i| i as f64).collect();
+    let y: Vec<f64> = t
+        .iter()
+        .map(|&t| if t < 20.0 { 0.0 } else { 0.01 * (t - 20.0) })
+        .collect();
+    let mut d = data(ControlColumn::Slip, t, y);
+    d.shear_kpa = (0..400).map(|i| (i as f64 * 0.2).min(40.0)).collect();
+    let seg = segment(&d, &SegmentOptions::default());
+    assert!(
+        seg.holds.first().is_some_and(|h| h.0 <= 1),
+        "{:?}",
+        seg.holds
+    );
+    assert_eq!(seating_rise_end(&d, 400, &seg), 0);
+    // A shear column shorter than the record (never a panic) and one that is all zero.
+    d.shear_kpa.truncate(3);
+    assert_eq!(seating_rise_end(&d, 400, &seg), 0);
+    d.shear_kpa = vec![0.0; 400];
+    assert_eq!(seating_rise_end(&d, 400, &seg), 0);
+}
