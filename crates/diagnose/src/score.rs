@@ -198,15 +198,10 @@ pub fn compare(
     // Per test: the levels of its pieces in order, (N, reference mean, candidate mean).
     let mut levels: std::collections::BTreeMap<usize, Vec<(f64, f64, f64)>> = Default::default();
     for p in pieces {
-        let Some(PieceRows {
-            reference: rb,
-            candidate: rc,
-            weights: w,
-            end,
-        }) = piece_rows(p, weights, reference, candidate)
-        else {
+        let Some(piece) = piece_rows(p, weights, reference, candidate) else {
             continue;
         };
+        let (rb, rc, w, end) = (piece.reference, piece.candidate, piece.weights, piece.end);
         if p.start >= end {
             continue;
         }
@@ -316,15 +311,10 @@ pub fn between_tests(
     // Per test: (Σ w, Σ √w r_ref, Σ √w r_cand).
     let mut sums: std::collections::BTreeMap<usize, (f64, f64, f64)> = Default::default();
     for p in pieces {
-        let Some(PieceRows {
-            reference: rb,
-            candidate: rc,
-            weights: w,
-            end,
-        }) = piece_rows(p, weights, reference, candidate)
-        else {
+        let Some(piece) = piece_rows(p, weights, reference, candidate) else {
             continue;
         };
+        let (rb, rc, w, end) = (piece.reference, piece.candidate, piece.weights, piece.end);
         let e = sums.entry(p.test).or_default();
         for i in p.start.min(end)..end {
             if rb[i].is_finite() && rc[i].is_finite() {
