@@ -24,8 +24,8 @@
 //! The drift is a linear projection whose regressors (the time, the predicted shear
 //! low-passed) change smoothly with the model's parameters, so the residual stays a smooth
 //! function of them and a least-squares solver can follow it (τ is never switched between
-//! evaluations). Collinear
-//! terms are handled by a pseudo-inverse.
+//! evaluations). Terms the learned rows cannot tell apart are read as one
+//! ([`DRIFT_COLLINEAR_SHARE`]).
 //!
 //! The creep acts on a measured shear only: under traction control the measured column is the
 //! slip, and only the zero drift applies.
@@ -36,9 +36,17 @@ use subfric_model::Control;
 /// Time constants of the creep's terms, as multiples of the longest test's duration.
 const CREEP_TIME_CONSTANTS: [f64; 4] = [0.1, 0.316, 1.0, 3.16];
 
-/// Singular values of the drift's normal matrix below this share of the largest are
-/// dropped: adjacent time constants are nearly collinear on a short record.
-const CREEP_RCOND: f64 = 1e-9;
+/// Combinations of the drift's terms (each scaled to unit norm over the learned rows) whose
+/// norm is below this share of the largest are dropped: such a combination is a shape the
+/// terms trace alike to within the readings' reproducibility between specimens
+/// ([`crate::levels::REPRODUCIBILITY_SHARE`]), and its coefficient is not read from the data
+/// but from their noise and misfit. Kept, it carries large coefficients of opposite sign that
+/// cancel on the learned rows and not elsewhere: on a set whose long tests sit at one load, a
+/// zero drift and a slow creep term (both nearly linear in time) traded that way, and a test
+/// held out at another load was predicted 10 to 100× worse than by the model without any
+/// drift (five load-cell creep sets of seeds 15001–17005, with the cutoff at 1e-9 of the
+/// normal matrix, unscaled).
+const DRIFT_COLLINEAR_SHARE: f64 = crate::levels::REPRODUCIBILITY_SHARE;
 
 /// The shear history `shear` of `t` low-passed with time constant `tau` (zero before the
 /// first row): what one creep term of the load cell adds, per unit of its coefficient.
@@ -146,6 +154,40 @@ fn columns(t: &FitTest, r: &[f64], taus: &[f64]) -> Vec<Vec<f64>> {
     cols
 }
 
+/// Solves the drift's normal equations `normal` c = `rhs` with every term scaled to unit norm
+/// and the combinations of terms shorter than [`DRIFT_COLLINEAR_SHARE`] of the longest
+/// dropped (a truncated singular value decomposition; a term that never applies has a zero
+/// coefficient).
+fn solve_collinear_dropped(
+    normal: &nalgebra::DMatrix<f64>,
+    rhs: &nalgebra::DVector<f64>,
+    collinear_share: f64,
+) -> Vec<f64> {
+    let m = rhs.len();
+    let scale: Vec<f64> = (0..m)
+        .map(|j| {
+            let d = normal[(j, j)];
+            if d > 0.0 {
+                1.0 / d.sqrt()
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    if scale.iter().all(|&s| s == 0.0) {
+        return vec![0.0; m];
+    }
+    let scaled = nalgebra::DMatrix::from_fn(m, m, |j, l| scale[j] * normal[(j, l)] * scale[l]);
+    let scaled_rhs = nalgebra::DVector::from_fn(m, |j, _| scale[j] * rhs[j]);
+    let svd = scaled.svd(true, true);
+    // The normal matrix's singular values are the squares of the terms' norms.
+    let cutoff = collinear_share.powi(2) * svd.singular_values.max();
+    match svd.solve(&scaled_rhs, cutoff) {
+        Ok(y) => (0..m).map(|j| scale[j] * y[j]).collect(),
+        Err(_) => vec![0.0; m],
+    }
+}
+
 /// Fits the drift of the measurement to the weighted residuals `r` of `tests` (one slice per
 /// test, in the noise units of [`crate::dataset::residuals_into`]) on the rows `learn` marks,
 /// and removes it from the rows `apply` gives for each test. Rows with a non-finite residual
@@ -155,6 +197,18 @@ pub fn remove_drift(
     r: &mut [&mut [f64]],
     learn: impl Fn(usize, usize) -> bool,
     apply: impl Fn(usize) -> std::ops::Range<usize>,
+) -> FittedDrift {
+    remove_drift_reading(tests, r, learn, apply, DRIFT_COLLINEAR_SHARE)
+}
+
+/// [`remove_drift`] with the combinations of terms shorter than `collinear_share` of the
+/// longest dropped.
+fn remove_drift_reading(
+    tests: &[FitTest],
+    r: &mut [&mut [f64]],
+    learn: impl Fn(usize, usize) -> bool,
+    apply: impl Fn(usize) -> std::ops::Range<usize>,
+    collinear_share: f64,
 ) -> FittedDrift {
     let taus = creep_time_constants(tests);
     let m = 2 + taus.len();
@@ -189,16 +243,7 @@ pub fn remove_drift(
             normal[(j, l)] = normal[(l, j)];
         }
     }
-    let largest = normal.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let coef: Vec<f64> = if largest > 0.0 {
-        let svd = normal.svd(true, true);
-        let cutoff = CREEP_RCOND * svd.singular_values.max();
-        svd.solve(&rhs, cutoff)
-            .map(|c| c.iter().copied().collect())
-            .unwrap_or_else(|_| vec![0.0; m])
-    } else {
-        vec![0.0; m]
-    };
+    let coef = solve_collinear_dropped(&normal, &rhs, collinear_share);
     for (ti, rt) in r.iter_mut().enumerate() {
         let rows = apply(ti);
         let end = rows.end.min(cols[ti][0].len());
@@ -334,8 +379,50 @@ mod tests {
         let mut r = [residuals(&tests[0], |_| 50.0)];
         let mut slices: Vec<&mut [f64]> = r.iter_mut().map(|v| &mut v[..]).collect();
         remove_drift(&tests, &mut slices, |_, i| i < 200, |_| 0..400);
+        // Learned on 200 s, the creep terms with τ of 126 s and more are alike to within the
+        // readings' reproducibility there, and the tail is extrapolated from fewer shapes.
         let tail: f64 = r[0][200..].iter().map(|v| v.abs()).fold(0.0, f64::max);
-        assert!(tail < 0.3, "the held rows keep {tail} of a 2.5 kPa creep");
+        assert!(
+            tail < 0.25 * 2.5,
+            "the held rows keep {tail} of a 2.5 kPa creep"
+        );
+    }
+
+    #[test]
+    fn terms_the_learned_rows_cannot_tell_apart_are_not_traded_against_each_other() {
+        // The learned test, 150 s at 50 kPa, leaves a misfit that is no drift (a wave of a
+        // few noise units, a shape the model lacks); the held-out test, 1200 s at 200 kPa, has
+        // none. Over 150 s the zero drift and the creep terms of τ 380 s and more are nearly
+        // linear in time: a plain least-squares drift trades them against each other to fit
+        // the wave, with coefficients of opposite sign that cancel at 50 kPa and not at
+        // 200 kPa.
+        let learned = test(150, |t| 50.0 + 3.0 * (t / 25.0).sin());
+        let held = test(1200, |_| 200.0);
+        let tests = [learned, held];
+        let read = |share: f64| {
+            let mut r = vec![
+                residuals(&tests[0], |_| 50.0),
+                residuals(&tests[1], |_| 200.0),
+            ];
+            let mut slices: Vec<&mut [f64]> = r.iter_mut().map(|v| &mut v[..]).collect();
+            let d = remove_drift_reading(
+                &tests,
+                &mut slices,
+                |ti, _| ti == 0,
+                |ti| 0..tests[ti].len(),
+                share,
+            );
+            let held_ssr: f64 = r[1].iter().map(|v| v * v).sum();
+            let largest_creep = d.creep.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+            (held_ssr, largest_creep)
+        };
+        // Nearly machine precision: every combination read.
+        let (plain_ssr, plain_creep) = read(1e-7);
+        let (ssr, creep) = read(DRIFT_COLLINEAR_SHARE);
+        assert!(
+            ssr < 0.01 * plain_ssr && creep < 0.1 * plain_creep,
+            "held out at 200 kPa: {ssr} (creep {creep}) against {plain_ssr} (creep {plain_creep}) read plainly"
+        );
     }
 
     #[test]
