@@ -219,6 +219,9 @@ fn header(s: &mut String, name: &str, d: &Diagnosis) {
         if let Some(toe) = &st.seating_toe {
             let _ = writeln!(s, "   {}: {}", st.test, toe.reason);
         }
+        if let Some(why) = &st.normal_held {
+            let _ = writeln!(s, "   {}: {why}", st.test);
+        }
         if st.noise_floor {
             let _ = writeln!(
                 s,

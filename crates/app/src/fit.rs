@@ -94,20 +94,28 @@ pub struct Artifact {
     pub detail: String,
 }
 
-/// The rig artifacts of prepared tests: their seating toes (excluded) and a series stiffness
-/// the loading slopes resolve (fitted as α_t, unless the request fixes or frees α_t itself).
+/// The rig artifacts of prepared tests: their seating toes (excluded), a normal-stress column
+/// held at its levels (its scatter the reading's) and a series stiffness the loading slopes
+/// resolve (fitted as α_t, unless the request fixes or frees α_t itself).
 pub fn artifacts_of(
     tests: &[PreparedTest],
     stiffness: Option<&subfric_fit::Stiffness>,
 ) -> Vec<Artifact> {
     let mut out: Vec<Artifact> = tests
         .iter()
-        .filter_map(|t| {
-            t.toe.as_ref().map(|toe| Artifact {
+        .flat_map(|t| {
+            let toe = t.toe.as_ref().map(|toe| Artifact {
                 test: t.full.name.clone(),
                 kind: "seating-toe",
                 detail: toe.reason.clone(),
-            })
+            });
+            let normal = &t.segmentation.normal;
+            let held = normal.changed.then(|| Artifact {
+                test: t.full.name.clone(),
+                kind: "normal-reading-noise",
+                detail: normal.reason.clone(),
+            });
+            toe.into_iter().chain(held)
         })
         .collect();
     if let Some(s) = stiffness {

@@ -42,6 +42,7 @@ pub mod line;
 pub mod located;
 pub mod meta;
 pub mod noise;
+pub mod normal;
 pub mod plausible;
 pub mod segment;
 pub mod set;

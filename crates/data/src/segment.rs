@@ -141,6 +141,8 @@ pub struct Segmentation {
     pub conditioned: Conditioned,
     /// How the test starts, and why that was decided.
     pub start: Start,
+    /// The normal-stress column the model is given ([`crate::normal::condition_normal`]).
+    pub normal: crate::normal::ConditionedNormal,
 }
 
 /// How a test starts.
@@ -284,6 +286,12 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
             from_spec: false,
             reason: String::new(),
         },
+        normal: crate::normal::ConditionedNormal {
+            values: test.normal_kpa.clone(),
+            noise_sd: 0.0,
+            changed: false,
+            reason: String::new(),
+        },
     };
     if n == 0 {
         return seg;
@@ -301,6 +309,7 @@ pub fn segment(test: &TestData, opts: &SegmentOptions) -> Segmentation {
     classify_rows(test, &y, &in_hold, &event_at, opts, &mut seg);
     seg.segments = collect_segments(t, &y, &event_at, &seg);
     seg.start = decide_start(test, &seg);
+    seg.normal = crate::normal::condition_normal(test, &seg.row_kind);
     seg
 }
 

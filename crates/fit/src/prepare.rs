@@ -150,7 +150,7 @@ fn finish(test: &TestData, name: String, segmentation: Segmentation) -> Prepared
         test.time_s.clone(),
         segmentation.conditioned.values.clone(),
         test.measured().to_vec(),
-        test.normal_kpa.clone(),
+        segmentation.normal.values.clone(),
     );
     fit.initial = initial_of(&segmentation);
     PreparedTest {

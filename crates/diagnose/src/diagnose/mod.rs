@@ -387,6 +387,11 @@ fn test_starts(prepared: &[PreparedTest]) -> Vec<TestStart> {
             noise_sd: p.full.noise_sd,
             noise_floor: subfric_data::estimate_noise(&p.full.time, &p.full.measured).floor,
             seating_toe: p.toe.clone(),
+            normal_held: p
+                .segmentation
+                .normal
+                .changed
+                .then(|| p.segmentation.normal.reason.clone()),
         })
         .collect()
 }

@@ -291,6 +291,10 @@ pub struct TestStart {
     pub noise_floor: bool,
     /// A seating toe excluded from the start of the record (a rig artifact, not friction).
     pub seating_toe: Option<subfric_data::SeatingToe>,
+    /// Why the normal-stress column was held at its levels (its scatter the reading's, not
+    /// followed by the shear), when it was.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normal_held: Option<String>,
 }
 
 /// A complete diagnosis.
