@@ -187,6 +187,13 @@ fn rescreen(
     // behind slip hardening, slow to converge on steps of few rows, would otherwise leave its
     // family untried; its report says it did not converge).
     for (i, score, fitted) in polished {
+        cx.trace(&format!(
+            "rescreened on {}: {} polished, score {score:.1}, judged {}, {:?}",
+            current.spec.describe(),
+            lib[i].name,
+            fitted.judged(),
+            parameters_of(&fitted.result.model, std::slice::from_ref(&lib[i]))
+        ));
         let e = lib[i].effect;
         let rank = |judged: bool, score: f64| (judged, score);
         if best
