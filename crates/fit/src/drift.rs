@@ -400,7 +400,7 @@ mod tests {
         let held = test(1200, |_| 200.0);
         let tests = [learned, held];
         let read = |share: f64| {
-            let mut r = vec![
+            let mut r = [
                 residuals(&tests[0], |_| 50.0),
                 residuals(&tests[1], |_| 200.0),
             ];
