@@ -14,7 +14,7 @@
 //! Whether the shear follows the column is read where it must if the changes are real: while
 //! sliding steadily, friction holds the stress ratio, so a real change of the normal stress
 //! moves the shear by the stress ratio times as much from one row to the next; a reading's
-//! noise does not move it at all. Of the two, the one the rows' changes fit better is taken
+//! noise does not move it at all. Pair by pair, the nearer of the two for most pairs decides
 //! ([`shear_follows`]). When the shear does not follow, the column is held at its level
 //! between changes larger than the reading's noise can make ([`LEVEL_CHANGE_SDS`]) and each
 //! stretch is replaced by its mean: stages and slow trends stay, the scatter goes.
@@ -70,8 +70,7 @@ pub fn condition_normal(test: &TestData, row_kind: &[SegmentKind]) -> Conditione
         return keep(noise.sd);
     }
     let band = (LEVEL_CHANGE_SDS * noise.sd).max(2.5 * noise.quantum);
-    let (values, levels) = held_at_levels(&raw[..n], band);
-    let mut values = values;
+    let (mut values, levels) = held_at_levels(&raw[..n], band);
     values.extend_from_slice(&raw[n..]);
     let changed = values.iter().zip(raw).any(|(a, b)| a != b);
     let reason = if changed {
