@@ -733,3 +733,38 @@ fn a_gds_ini_export_imports_in_one_command_and_says_every_choice() {
     }
     assert!(dout.join("report.html").exists());
 }
+
+/// `table1-medium` copied with a `normal_kpa` column around its 78.4 kPa: a reading's scatter
+/// (±0.4 kPa, deterministic) that the shear does not follow, or, with `followed`, a load that
+/// really moves by as much and the shear with it at the row's stress ratio.
+fn with_noisy_normal(tmp: &Path, followed: bool) -> std::path::PathBuf {
+    let name = if followed { "followed" } else { "scatter" };
+    let set = copy_set("table1-medium", &tmp.join(name));
+    let csv = set.join("monotonic.csv");
+    let (header, rows) = subfric_e2e::read_data_csv(&csv);
+    assert_eq!(header, ["time_s", "slip_mm", "shear_kpa"]);
+    let mut out = String::from("time_s,slip_mm,shear_kpa,normal_kpa\n");
+    for (i, r) in rows.iter().enumerate() {
+        let wiggle = [0.4, -0.3, 0.1, -0.4, 0.3, -0.1][i % 6];
+        let normal = 78.4 + wiggle;
+        let shear = if followed { r[2] * normal / 78.4 } else { r[2] };
+        out.push_str(&format!("{},{},{shear:.4},{normal:.2}\n", r[0], r[1]));
+    }
+    std::fs::write(&csv, out).unwrap();
+    set
+}
+
+#[test]
+fn check_says_when_the_normal_column_is_held_at_its_level_and_why() {
+    let tmp = tempfile::tempdir().unwrap();
+    let said = "the shear does not follow it while sliding";
+    let scatter = subfric!().ok(args!["check", &with_noisy_normal(tmp.path(), false)]);
+    assert!(
+        scatter.contains("rig artifact, monotonic: the normal stress column scatters by")
+            && scatter.contains(said)
+            && scatter.contains("held at its level"),
+        "{scatter}"
+    );
+    let followed = subfric!().ok(args!["check", &with_noisy_normal(tmp.path(), true)]);
+    assert!(!followed.contains(said), "{followed}");
+}
