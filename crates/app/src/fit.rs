@@ -109,11 +109,10 @@ pub fn artifacts_of(
                 kind: "seating-toe",
                 detail: toe.reason.clone(),
             });
-            let normal = &t.segmentation.normal;
-            let held = normal.changed.then(|| Artifact {
+            let held = t.segmentation.normal.held_because().map(|why| Artifact {
                 test: t.full.name.clone(),
                 kind: "normal-reading-noise",
-                detail: normal.reason.clone(),
+                detail: why.to_string(),
             });
             toe.into_iter().chain(held)
         })

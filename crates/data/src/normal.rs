@@ -37,6 +37,14 @@ pub struct ConditionedNormal {
     pub reason: String,
 }
 
+impl ConditionedNormal {
+    /// Why the column was held at its levels, when it was: what `check`, `fit` and `diagnose`
+    /// say of the test.
+    pub fn held_because(&self) -> Option<&str> {
+        self.changed.then_some(self.reason.as_str())
+    }
+}
+
 /// A reading off the column's current level by more than this many noise SDs, twice in a
 /// row, starts a new level: as for a hold's level of the imposed column
 /// ([`crate::condition`]), four SDs of one reading; a single reading that far is an outlier

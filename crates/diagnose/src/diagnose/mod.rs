@@ -387,11 +387,7 @@ fn test_starts(prepared: &[PreparedTest]) -> Vec<TestStart> {
             noise_sd: p.full.noise_sd,
             noise_floor: subfric_data::estimate_noise(&p.full.time, &p.full.measured).floor,
             seating_toe: p.toe.clone(),
-            normal_held: p
-                .segmentation
-                .normal
-                .changed
-                .then(|| p.segmentation.normal.reason.clone()),
+            normal_held: p.segmentation.normal.held_because().map(String::from),
         })
         .collect()
 }
