@@ -1,0 +1,218 @@
+//! Each candidate fitted on top of the current model and scored on the held-out pieces: over
+//! all of them, on the pieces of its own kinds, and on those where the events show it.
+
+use super::*;
+
+pub(super) fn kind_shrinks(c: &Comparison) -> Vec<KindShrink> {
+    by_kind(c)
+        .into_iter()
+        .map(|(k, b, cc, n)| KindShrink {
+            kind: k.name().into(),
+            rows: n,
+            reference_rms_over_noise: (b / n.max(1) as f64).sqrt(),
+            candidate_rms_over_noise: (cc / n.max(1) as f64).sqrt(),
+            reference_chi2: b / n.max(1) as f64,
+            candidate_chi2: cc / n.max(1) as f64,
+            shrink: if b > 0.0 { (b - cc) / b } else { 0.0 },
+        })
+        .collect()
+}
+
+/// The held-out pieces of each kind family `effect` acts on, leaving out the kinds the other
+/// effects of `spec` act on already: a further effect is not credited there, where it would
+/// only take up what the named effect's form leaves (a trend within the velocity steps
+/// standing in as slip hardening after a rate effect).
+pub(super) fn own_pieces(cx: &Context, effect: Effect, spec: &Spec) -> Vec<(OwnKind, Vec<Piece>)> {
+    pieces_of_kinds(cx, effect, effect.own_kinds(), spec)
+}
+
+/// The held-out pieces of each of `kinds`, leaving out the kinds the effects of `spec` other
+/// than `effect` act on ([`own_pieces`]).
+pub(super) fn pieces_of_kinds(
+    cx: &Context,
+    effect: Effect,
+    kinds: Vec<OwnKind>,
+    spec: &Spec,
+) -> Vec<(OwnKind, Vec<Piece>)> {
+    let claimed: Vec<PieceKind> = spec
+        .forms
+        .iter()
+        .filter(|f| f.effect != effect)
+        .flat_map(|f| f.effect.own_kinds())
+        .filter_map(|k| match k {
+            OwnKind::Piece(p) => Some(p),
+            _ => None,
+        })
+        .collect();
+    kinds
+        .into_iter()
+        .filter_map(|kind| {
+            let own: Vec<Piece> = cx
+                .pieces
+                .iter()
+                .filter(|p| {
+                    let stress = cx.tests[p.test].normal.first().copied().unwrap_or(f64::NAN);
+                    kind.holds(p.kind, stress, cx.features.p_ref) && !claimed.contains(&p.kind)
+                })
+                .cloned()
+                .collect();
+            (!own.is_empty()).then_some((kind, own))
+        })
+        .collect()
+}
+
+/// Whether the current model still misses, beyond the noise, the pieces of a kind that one of
+/// the remaining families acts on (the holds after a direction effect, say), though it fits
+/// all pieces together within the noise: such a gap is left for that family to explain on its
+/// own kind ([`crate::verdict::decide_further`]).
+pub(super) fn own_kind_gap(cx: &Context, current: &Current, families: &[Family]) -> bool {
+    families
+        .iter()
+        .filter(|f| !current.spec.forms.iter().any(|g| g.effect == f.effect))
+        .flat_map(|f| own_pieces(cx, f.effect, &current.spec))
+        .any(|(_, own)| {
+            cx.compare(&own, &current.held, &current.held)
+                .reference_chi2
+                > cx.opts.thresholds.gap_chi2
+        })
+}
+
+pub(super) fn candidate_score(
+    cx: &Context,
+    effect: Effect,
+    spec: &Spec,
+    model: Model,
+    reference: &HeldOut,
+    held: &HeldOut,
+    parameters: usize,
+) -> CandidateScore {
+    let c = Comparison {
+        parameters,
+        ..cx.compare(&cx.pieces, reference, held)
+    };
+    // The same comparison with the first loadings left out: where a rig artifact of the first
+    // loadings (seating, a compliant start) drives the evidence, the verdict would change.
+    let later: Vec<Piece> = cx
+        .pieces
+        .iter()
+        .filter(|p| p.kind != PieceKind::InitialLoading)
+        .cloned()
+        .collect();
+    let without_first_loadings = cx.compare(&later, reference, held).score;
+    let score_kinds = |kinds: Vec<(OwnKind, Vec<Piece>)>| -> Vec<OwnKindScore> {
+        kinds
+            .into_iter()
+            .map(|(kind, own)| OwnKindScore {
+                kind,
+                held_out: Comparison {
+                    parameters,
+                    ..cx.compare(&own, reference, held)
+                },
+            })
+            .collect()
+    };
+    let own_kinds = score_kinds(own_pieces(cx, effect, spec));
+    let shown_kinds = pieces_of_kinds(cx, effect, effect.shown_kinds(), spec);
+    let shown_pieces: Vec<Piece> = shown_kinds
+        .iter()
+        .flat_map(|(_, own)| own.iter().cloned())
+        .collect();
+    let between_tests =
+        crate::score::between_tests(&shown_pieces, &cx.weights, reference, held, &cx.scatter);
+    let shown_in = score_kinds(shown_kinds);
+    CandidateScore {
+        effect,
+        spec: spec.describe(),
+        extra_parameters: parameters_of(&model, &spec.forms),
+        model,
+        held_out_shrink: c.excess_shrink,
+        by_kind: kind_shrinks(&c),
+        held_out: c,
+        own_kinds,
+        shown_in,
+        between_tests,
+        without_first_loadings,
+    }
+}
+
+/// The drift alternative: the current model with each measurement free to drift linearly in
+/// time, which no physical candidate models.
+pub(super) fn drift_candidate(cx: &Context, current: &Current) -> CandidateScore {
+    let spec = Spec {
+        forms: current.spec.forms.clone(),
+        drift: true,
+    };
+    let fitted = cx.fit_spec(
+        &current.model,
+        &spec,
+        &[current.model],
+        Effort::refit(cx.opts.candidate_iterations),
+    );
+    let held = cx.held_out(
+        &current.model,
+        &spec,
+        &fitted.fit_tests,
+        &[fitted.result.model, current.model],
+    );
+    candidate_score(
+        cx,
+        Effect::Unexplained,
+        &spec,
+        fitted.result.model,
+        &current.held,
+        &held,
+        subfric_fit::drift_coefficients(&cx.tests),
+    )
+}
+
+/// Every family of `families` not in the current model added to it (its best form, polished
+/// on top of the current model already: on the base in the first stage, by `rescreen` in later
+/// ones), in parallel, each scored on the held-out pieces against the current model. Returns
+/// the scores and the models, in the order of `families`.
+pub(super) fn candidates_added_to(
+    cx: &Context,
+    current: &Current,
+    families: &[Family],
+) -> (Vec<CandidateScore>, Vec<Current>) {
+    let results: Vec<(Effect, Current)> = families
+        .par_iter()
+        .filter(|f| !current.spec.forms.iter().any(|g| g.effect == f.effect))
+        .map(|f| {
+            let spec = current.spec.plus(&f.form);
+            let fitted = f.alone.clone();
+            let model = fitted.result.model;
+            let held = cx.held_out(
+                &current.model,
+                &spec,
+                &fitted.fit_tests,
+                &[model, current.model],
+            );
+            (
+                f.effect,
+                Current {
+                    spec,
+                    model,
+                    fit_tests: fitted.fit_tests,
+                    held,
+                },
+            )
+        })
+        .collect();
+    let mut candidates = Vec::new();
+    let mut kept = Vec::new();
+    for (e, c) in results {
+        // The family's form, added last to the current model, is what it adds.
+        let parameters = c.spec.forms.last().map_or(0, |f| f.params.len());
+        candidates.push(candidate_score(
+            cx,
+            e,
+            &c.spec,
+            c.model,
+            &current.held,
+            &c.held,
+            parameters,
+        ));
+        kept.push(c);
+    }
+    (candidates, kept)
+}
