@@ -83,7 +83,45 @@ pub(super) fn make_verdict(
         return no_response(base_chi2, flat);
     }
     let current = &selection.current;
-    let effects: Vec<NamedEffect> = selection
+    let effects = named_effects(cx, base, selection);
+    let final_chi2 = cx
+        .compare(&cx.pieces, &current.held, &current.held)
+        .reference_chi2;
+    let (effect, explanation) =
+        effect_and_explanation(cx, &effects, first, (base_chi2, final_chi2), evidence);
+    let evidence_supports = effects.first().map(|e| {
+        evidence
+            .features
+            .iter()
+            .take(2)
+            .any(|f| f.family == Some(e.effect) && f.share > SUPPORTING_SHARE)
+    });
+    let mut verdict = Verdict {
+        effect,
+        held_out_shrink: effects.first().map_or(0.0, |e| e.held_out_shrink),
+        extra_parameters: effects
+            .first()
+            .map(|e| e.parameters.clone())
+            .unwrap_or_default(),
+        effects,
+        explanation,
+        final_chi2,
+        evidence_supports,
+        confidence: None,
+        alternatives: Vec::new(),
+        weighed: Vec::new(),
+        without_first_loadings: None,
+    };
+    weigh_certainty(cx, selection, &mut verdict);
+    verdict
+}
+
+/// The effects the selection named, each with its held-out comparison against the model before
+/// it, its parameters in the final model and the extra held-out checks (tail, each test left
+/// out).
+fn named_effects(cx: &Context, base: &Current, selection: &Selection) -> Vec<NamedEffect> {
+    let current = &selection.current;
+    selection
         .named
         .iter()
         .map(|s| {
@@ -102,12 +140,21 @@ pub(super) fn make_verdict(
                 shown_by_events: crate::events::shows(&cx.events, form.effect),
             }
         })
-        .collect();
-    let final_chi2 = cx
-        .compare(&cx.pieces, &current.held, &current.held)
-        .reference_chi2;
-    let (effect, explanation) = match (effects.first(), first.map(|s| s.decision)) {
-        (Some(e), _) => (e.effect, explain_named(&effects, base_chi2, final_chi2)),
+        .collect()
+}
+
+/// The verdict's first effect and the sentence that explains it: the effects named, or, when
+/// none is, what the first stage `first` decided (no gap, a drift of the measurement, unexplained);
+/// `(base_chi2, final_chi2)` the held-out misfits of the base and of the final model.
+fn effect_and_explanation(
+    cx: &Context,
+    effects: &[NamedEffect],
+    first: Option<&SelectionStage>,
+    (base_chi2, final_chi2): (f64, f64),
+    evidence: &ResidualEvidence,
+) -> (Effect, String) {
+    match (effects.first(), first.map(|s| s.decision)) {
+        (Some(e), _) => (e.effect, explain_named(effects, base_chi2, final_chi2)),
         (None, Some(Decision::NoGap)) | (None, None) => (
             Effect::None,
             if base_chi2 > cx.opts.thresholds.gap_chi2 {
@@ -132,30 +179,13 @@ pub(super) fn make_verdict(
             Effect::Unexplained,
             explain_unexplained(first, base_chi2, evidence),
         ),
-    };
-    let evidence_supports = effects.first().map(|e| {
-        evidence
-            .features
-            .iter()
-            .take(2)
-            .any(|f| f.family == Some(e.effect) && f.share > SUPPORTING_SHARE)
-    });
-    let mut verdict = Verdict {
-        effect,
-        held_out_shrink: effects.first().map_or(0.0, |e| e.held_out_shrink),
-        extra_parameters: effects
-            .first()
-            .map(|e| e.parameters.clone())
-            .unwrap_or_default(),
-        effects,
-        explanation,
-        final_chi2,
-        evidence_supports,
-        confidence: None,
-        alternatives: Vec::new(),
-        weighed: Vec::new(),
-        without_first_loadings: None,
-    };
+    }
+}
+
+/// The verdict's confidence and its alternatives, weighed over the stages of the selection
+/// (docs/diagnosis.md, "How sure"), with what the evidence points to without the first
+/// loadings.
+fn weigh_certainty(cx: &Context, selection: &Selection, verdict: &mut Verdict) {
     verdict.without_first_loadings = cx
         .pieces
         .iter()
@@ -170,7 +200,6 @@ pub(super) fn make_verdict(
     verdict.confidence = Some(certainty.confidence);
     verdict.alternatives = certainty.alternatives;
     verdict.weighed = certainty.stages;
-    verdict
 }
 
 /// The misfit (× the noise variance, each test's own) of a constant per test: the mean of its

@@ -177,21 +177,16 @@ pub fn diagnose(
     diagnose_reporting(prepared, opts, &|_| {})
 }
 
-/// [`diagnose`](fn@diagnose), telling `report` where it is ([`Step`]) as it goes.
-pub fn diagnose_reporting(
+/// The elastic stiffness α_t the diagnosis holds: from unloads and reloads when the record
+/// resolves it there, else from the springs the velocity steps needed one by one, else, where a
+/// first loading rises over several rows, from a trial (α_t free against α_t held, kept when the
+/// rise decides it); `None` when nothing decides it.
+fn elastic_stiffness(
     prepared: &[PreparedTest],
+    events: &crate::events::EventAnalysis,
     opts: &DiagnoseOptions,
-    report: &(dyn Fn(Step) + Sync),
-) -> Result<Diagnosis, DiagnoseError> {
-    if prepared.iter().all(|p| p.full.len() < MIN_ROWS) {
-        return Err(DiagnoseError::TooLittleData);
-    }
-    let events = crate::events::analyse(prepared, resolved_stiffness(prepared).as_ref());
-    // The elastic stiffness: from unloads and reloads when the record resolves it there, else
-    // from the springs the velocity steps needed one by one.
-    // Else, where a first loading rises over several rows, from a trial: α_t free against α_t
-    // held, kept when the rise decides it.
-    let stiffness = resolved_stiffness(prepared)
+) -> Option<subfric_fit::Stiffness> {
+    resolved_stiffness(prepared)
         .or_else(|| events.stiffness())
         .or_else(|| {
             subfric_fit::stiffness_by_trial(
@@ -205,7 +200,20 @@ pub fn diagnose_reporting(
                     ..subfric_fit::FitOptions::default()
                 },
             )
-        });
+        })
+}
+
+/// [`diagnose`](fn@diagnose), telling `report` where it is ([`Step`]) as it goes.
+pub fn diagnose_reporting(
+    prepared: &[PreparedTest],
+    opts: &DiagnoseOptions,
+    report: &(dyn Fn(Step) + Sync),
+) -> Result<Diagnosis, DiagnoseError> {
+    if prepared.iter().all(|p| p.full.len() < MIN_ROWS) {
+        return Err(DiagnoseError::TooLittleData);
+    }
+    let events = crate::events::analyse(prepared, resolved_stiffness(prepared).as_ref());
+    let stiffness = elastic_stiffness(prepared, &events, opts);
     let (cx, template) = Context::new(prepared, stiffness.as_ref(), opts, report);
     cx.step(1, 0, 0);
     let calibrated = calibrated_base(&cx, &template, &[])?;
