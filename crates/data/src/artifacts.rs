@@ -102,26 +102,7 @@ pub fn seating_toe(test: &TestData, seg: &Segmentation) -> Option<SeatingToe> {
     // at rest where that leg ends.
     let later = tau[end..].iter().map(|v| v.abs()).fold(0.0, f64::max);
     if peak < TOE_SHARE * later {
-        // The leg ends at its reversal (or where its hold begins): the test starts there, at
-        // the leg's furthest travel (one row earlier it would still be moving into the gap).
-        let first_kept = end.min(n - 1);
-        let travel = (u[first_kept] - u[0]).abs();
-        if travel < MIN_TOE_MM.max(10.0 * seg.conditioned.band) {
-            return None;
-        }
-        let start_shear_kpa = tau[first_kept];
-        return Some(SeatingToe {
-            first_kept,
-            travel_mm: travel,
-            shear_share: peak / later,
-            start_shear_kpa,
-            slack_leg_direction: Some(sign),
-            remainder: None,
-            reason: format!(
-                "seating toe: the whole first leg ({travel:.3} mm) raised the shear to at most {:.1} % of what the test reaches after it: its {first_kept} rows excluded, the test starts at rest under {start_shear_kpa:.2} kPa where that leg ends",
-                100.0 * peak / later
-            ),
-        });
+        return slack_first_leg(test, seg, end, sign, (peak, later));
     }
     let first_above = |share: f64| (0..end).find(|&i| sign * tau[i] >= share * peak);
     let i_rise = first_above(SLOPE_SHARE)?;
@@ -139,26 +120,9 @@ pub fn seating_toe(test: &TestData, seg: &Segmentation) -> Option<SeatingToe> {
     }
     let mut reached_back = None;
     if toe < TOE_OVER_RISE * rise {
-        // A toe shorter than the climb after it (a soft rig under a high normal stress): the
-        // climb from 5 % to 25 % of the peak, a straight line of shear on travel, reaches back
-        // to zero shear where the contact began to carry load — before the start without a
-        // toe (a loading from rest is steepest at its start), past it after one. Read on many
-        // rows, that line is not moved by the noise that moves the last reading under 5 %.
-        let rows: Vec<usize> = (i_toe..=i_rise)
-            .filter(|&i| {
-                let f = sign * tau[i];
-                f >= TOE_SHARE * peak && f <= SLOPE_SHARE * peak
-            })
-            .collect();
-        let travel: Vec<f64> = rows.iter().map(|&i| sign * (u[i] - u[0])).collect();
-        let shear: Vec<f64> = rows.iter().map(|&i| sign * tau[i]).collect();
-        // Shear on travel (the travel is the precise column: a line of travel on a noisy
-        // shear would be flattened by the noise and reach back too far).
-        let reaches_back = (rows.len() >= LINE_ROWS)
-            .then(|| crate::line::fit_line(&travel, &shear))
-            .flatten()
-            .filter(|l| l.slope > 0.0)
-            .map_or(0.0, |l| -l.intercept / l.slope);
+        // A toe shorter than the climb after it (a soft rig under a high normal stress) counts
+        // only where that climb reaches back far enough into the test.
+        let reaches_back = climb_reaches_back(u, tau, (i_toe, i_rise), sign, peak);
         if reaches_back < MIN_TOE_MM.max(resolution) || reaches_back < LINE_TOE_OVER_RISE * rise {
             return None;
         }
@@ -188,6 +152,70 @@ pub fn seating_toe(test: &TestData, seg: &Segmentation) -> Option<SeatingToe> {
             )),
         ),
     })
+}
+
+/// The seating toe of a first leg (rows `..end`, travelling in direction `sign`) whose shear
+/// stays below 5 % of what the test reaches after it (`(peak, later)`: the leg's largest shear
+/// and the test's after it) — a cyclic test whose first stroke is shorter than the gap to
+/// close: the leg is slack as a whole, and the test starts at rest at its reversal (or where
+/// its hold begins), at the leg's furthest travel (one row earlier it would still be moving
+/// into the gap). `None` when the leg travels less than the toe's least travel.
+fn slack_first_leg(
+    test: &TestData,
+    seg: &Segmentation,
+    end: usize,
+    sign: f64,
+    (peak, later): (f64, f64),
+) -> Option<SeatingToe> {
+    let (u, tau) = (&seg.conditioned.values, &test.shear_kpa);
+    let first_kept = end.min(test.len() - 1);
+    let travel = (u[first_kept] - u[0]).abs();
+    if travel < MIN_TOE_MM.max(10.0 * seg.conditioned.band) {
+        return None;
+    }
+    let start_shear_kpa = tau[first_kept];
+    Some(SeatingToe {
+        first_kept,
+        travel_mm: travel,
+        shear_share: peak / later,
+        start_shear_kpa,
+        slack_leg_direction: Some(sign),
+        remainder: None,
+        reason: format!(
+            "seating toe: the whole first leg ({travel:.3} mm) raised the shear to at most {:.1} % of what the test reaches after it: its {first_kept} rows excluded, the test starts at rest under {start_shear_kpa:.2} kPa where that leg ends",
+            100.0 * peak / later
+        ),
+    })
+}
+
+/// How far into the test [mm] the first loading's climb from 5 % to 25 % of its peak (rows
+/// `i_toe..=i_rise`, travelling in direction `sign`), a straight line of shear on travel,
+/// reaches back to zero shear: where the contact began to carry load — before the start
+/// without a toe (a loading from rest is steepest at its start), past it after one. Read on
+/// many rows, that line is not moved by the noise that moves the last reading under 5 %. 0
+/// when too few rows lie on the climb or it does not rise.
+fn climb_reaches_back(
+    u: &[f64],
+    tau: &[f64],
+    (i_toe, i_rise): (usize, usize),
+    sign: f64,
+    peak: f64,
+) -> f64 {
+    let rows: Vec<usize> = (i_toe..=i_rise)
+        .filter(|&i| {
+            let f = sign * tau[i];
+            f >= TOE_SHARE * peak && f <= SLOPE_SHARE * peak
+        })
+        .collect();
+    let travel: Vec<f64> = rows.iter().map(|&i| sign * (u[i] - u[0])).collect();
+    let shear: Vec<f64> = rows.iter().map(|&i| sign * tau[i]).collect();
+    // Shear on travel (the travel is the precise column: a line of travel on a noisy shear
+    // would be flattened by the noise and reach back too far).
+    (rows.len() >= LINE_ROWS)
+        .then(|| crate::line::fit_line(&travel, &shear))
+        .flatten()
+        .filter(|l| l.slope > 0.0)
+        .map_or(0.0, |l| -l.intercept / l.slope)
 }
 
 /// What is left of a gap after a slack first stroke (travel in `direction`), in a test that
