@@ -310,26 +310,7 @@ impl Sampled {
         let p = &self.posterior;
         let c = &p.convergence;
         let mut s = String::new();
-        let _ = writeln!(
-            s,
-            "posterior (ensemble sampler, {} walkers, {} model runs{}, acceptance {:.2}; noise of the fit × {:.3}{}):",
-            c.walkers,
-            p.model_runs,
-            if p.failed_runs > 0 {
-                format!(" of which {} failed", p.failed_runs)
-            } else {
-                String::new()
-            },
-            p.acceptance,
-            p.noise.variance_scale,
-            match p.noise.model {
-                ResidualModel::Autocorrelated => format!(
-                    ", residuals correlated over {:.2} rows",
-                    p.noise.correlation_time
-                ),
-                ResidualModel::Independent => ", residuals independent".to_string(),
-            }
-        );
+        let _ = writeln!(s, "{}", sampler_line(p));
         let _ = writeln!(
             s,
             "{:<18} {:>11} {:>26} {:>26}  {:<34} {:>7} {:>6} {:>7}",
@@ -386,29 +367,7 @@ impl Sampled {
             self.judged_because
         );
         if p.parameters.len() > 1 {
-            let _ = writeln!(s, "correlations of the posterior samples:");
-            let names = keys(&p.parameters);
-            let width = names.iter().map(|n| n.len()).max().unwrap_or(0).max(6);
-            let _ = write!(s, "  {:<width$}", "");
-            for n in &names {
-                let _ = write!(s, " {n:>width$}");
-            }
-            s.push('\n');
-            for (n, row) in names.iter().zip(&p.correlation) {
-                let _ = write!(s, "  {n:<width$}");
-                for r in row {
-                    let _ = write!(
-                        s,
-                        " {:>width$}",
-                        if r.is_finite() {
-                            format!("{r:+.2}")
-                        } else {
-                            "—".into()
-                        }
-                    );
-                }
-                s.push('\n');
-            }
+            s.push_str(&correlation_table(p));
         }
         let priors: Vec<String> = p
             .summary
@@ -510,6 +469,57 @@ fn finite_or_dash(v: f64, decimals: usize) -> String {
     } else {
         "—".into()
     }
+}
+
+/// The sampler's line that heads the posterior's text: walkers, model runs (and failed ones),
+/// acceptance and the noise the likelihood assumed.
+fn sampler_line(p: &Posterior) -> String {
+    let c = &p.convergence;
+    format!(
+        "posterior (ensemble sampler, {} walkers, {} model runs{}, acceptance {:.2}; noise of the fit × {:.3}{}):",
+        c.walkers,
+        p.model_runs,
+        if p.failed_runs > 0 {
+            format!(" of which {} failed", p.failed_runs)
+        } else {
+            String::new()
+        },
+        p.acceptance,
+        p.noise.variance_scale,
+        match p.noise.model {
+            ResidualModel::Autocorrelated => format!(
+                ", residuals correlated over {:.2} rows",
+                p.noise.correlation_time
+            ),
+            ResidualModel::Independent => ", residuals independent".to_string(),
+        }
+    )
+}
+
+/// The correlation matrix of the posterior samples, one row per parameter ("—" where a
+/// correlation is not a number).
+fn correlation_table(p: &Posterior) -> String {
+    let mut s = String::from("correlations of the posterior samples:\n");
+    let names = keys(&p.parameters);
+    let width = names.iter().map(|n| n.len()).max().unwrap_or(0).max(6);
+    let _ = write!(s, "  {:<width$}", "");
+    for n in &names {
+        let _ = write!(s, " {n:>width$}");
+    }
+    s.push('\n');
+    for (n, row) in names.iter().zip(&p.correlation) {
+        let _ = write!(s, "  {n:<width$}");
+        for r in row {
+            let cell = if r.is_finite() {
+                format!("{r:+.2}")
+            } else {
+                "—".into()
+            };
+            let _ = write!(s, " {cell:>width$}");
+        }
+        s.push('\n');
+    }
+    s
 }
 
 #[cfg(test)]
