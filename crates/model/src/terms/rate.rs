@@ -559,6 +559,21 @@ impl TermFamily for Rate {
         events.steps_read >= 2 && events.steps_with_direct_effect == 0
     }
 
+    fn shown(&self, events: &EventReadings) -> bool {
+        // The velocity steps, each fitted on its own with a spring-slider, mostly show a direct
+        // effect (two at least, and two thirds of those whose rows resolve the transient): each
+        // step is one reading of the law, and its own fit weighs every row of its transient,
+        // where the held-out pieces weigh a step as one piece predicted from the others — after
+        // a first effect, five steps each read at D 40–1100 left the rate law D 13 on their
+        // held-out pieces (misfit 15.9 → 2.8× the noise), below what a piece must show alone.
+        events.steps_agree_on_rate_and_state == Some(true) && events.steps_with_direct_effect >= 2
+    }
+
+    fn shown_in(&self) -> &'static [Shows] {
+        // What shows it outright is read on the steps; a hold's reload is not a step.
+        &[Shows::VelocitySteps]
+    }
+
     fn singled_out(&self, events: &EventReadings) -> Vec<usize> {
         // When the steps agree on rate and state, every rate-and-state form: on a base that
         // lacks another effect they may rank low, and the steps say they are the ones to try.
@@ -701,6 +716,23 @@ mod tests {
             r.plastic_terms(5.0, dt, lam),
         );
         assert!(((hi.add - lo.add) / (2.0 * h) - mid.dadd).abs() < 1e-5 * mid.dadd.abs());
+    }
+
+    #[test]
+    fn steps_that_mostly_show_a_direct_effect_show_the_family_outright() {
+        let mut events = EventReadings::default();
+        assert!(!Rate.shown(&events), "no step read, nothing shown");
+        (events.steps_read, events.steps_with_direct_effect) = (5, 5);
+        events.steps_agree_on_rate_and_state = Some(true);
+        assert!(Rate.shown(&events));
+        assert_eq!(Rate.shown_in(), &[Shows::VelocitySteps]);
+        // The steps disagree (too few of those resolved show one): not shown, whatever the count.
+        events.steps_agree_on_rate_and_state = Some(false);
+        assert!(!Rate.shown(&events));
+        // One step alone is one reading.
+        events.steps_agree_on_rate_and_state = Some(true);
+        (events.steps_read, events.steps_with_direct_effect) = (1, 1);
+        assert!(!Rate.shown(&events));
     }
 
     #[test]
