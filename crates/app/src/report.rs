@@ -192,6 +192,20 @@ pub fn diagnosis_page(
             })
             .collect(),
     );
+    selection_section(&mut page, d);
+    page.h2("figures", "Figures");
+    page.p("Per test: measured (dark markers), the base model, and the model with the named effects; then a zoom on every velocity step and hold; then the residual by segment and by test.");
+    figures(&mut page, dir, plots)?;
+    page.h2("report", "The whole report");
+    page.pre(text);
+    page.h2("how-to-read", "How to read the misfit");
+    page.list("legend", &[MISFIT_LEGEND.to_string()]);
+    Ok(page.finish())
+}
+
+/// The diagnosis page's section on the selection: each stage's candidates on the held-out
+/// pieces and what it decided (the explanation alone where the data cannot be judged).
+fn selection_section(page: &mut Page, d: &Diagnosis) {
     page.h2("selection", "Effects on data held out from the fit");
     let judged = d.verdict.effect != subfric_diagnose::Effect::CannotJudge;
     if !judged {
@@ -234,14 +248,6 @@ pub fn diagnosis_page(
         );
         page.p(&format!("→ {decided}"));
     }
-    page.h2("figures", "Figures");
-    page.p("Per test: measured (dark markers), the base model, and the model with the named effects; then a zoom on every velocity step and hold; then the residual by segment and by test.");
-    figures(&mut page, dir, plots)?;
-    page.h2("report", "The whole report");
-    page.pre(text);
-    page.h2("how-to-read", "How to read the misfit");
-    page.list("legend", &[MISFIT_LEGEND.to_string()]);
-    Ok(page.finish())
 }
 
 /// `report.html` of `subfric plan`: the verdict on the model planned on, the next test, the

@@ -259,8 +259,10 @@ pub fn score(cases: &[Case]) -> Scores {
     }
 }
 
-impl std::fmt::Display for Scores {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl Scores {
+    /// The confusion matrix of the sets with at most one effect (rows: truth, columns: the
+    /// first effect named), rows without a set left out.
+    fn write_confusion(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         writeln!(
             f,
             "confusion matrix of sets with at most one effect (rows: truth, columns: first effect named)"
@@ -280,6 +282,42 @@ impl std::fmt::Display for Scores {
             }
             writeln!(f)?;
         }
+        Ok(())
+    }
+
+    /// The verdicts stated as confident and how the stated confidence compares with the share
+    /// right, bin by bin (`brier`: the Brier score).
+    fn write_calibration(&self, f: &mut std::fmt::Formatter<'_>, brier: f64) -> std::fmt::Result {
+        writeln!(
+            f,
+            "verdicts stated as confident (confidence at least {:.0} %): {} right of {}; confident and wrong: {}",
+            100.0 * subfric_diagnose::confidence::CONFIDENT,
+            self.confident_right.0,
+            self.confident_right.1,
+            self.confident_right.1 - self.confident_right.0
+        )?;
+        writeln!(
+            f,
+            "confidence against the share right (Brier score {brier:.3}):"
+        )?;
+        for b in self.calibration.iter().filter(|b| b.sets > 0) {
+            writeln!(
+                f,
+                "  {:>3.0}-{:<3.0}%  {:>3} sets, mean confidence {:>3.0} %, right {:>3.0} %",
+                100.0 * b.from,
+                100.0 * b.to,
+                b.sets,
+                100.0 * b.mean_confidence,
+                100.0 * b.right as f64 / b.sets as f64
+            )?;
+        }
+        Ok(())
+    }
+}
+
+impl std::fmt::Display for Scores {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.write_confusion(f)?;
         writeln!(
             f,
             "accuracy per form (every named effect right, nothing more):"
@@ -337,29 +375,7 @@ impl std::fmt::Display for Scores {
             self.unexplained_right.1, self.unexplained_right.0
         )?;
         if let Some(brier) = self.brier {
-            writeln!(
-                f,
-                "verdicts stated as confident (confidence at least {:.0} %): {} right of {}; confident and wrong: {}",
-                100.0 * subfric_diagnose::confidence::CONFIDENT,
-                self.confident_right.0,
-                self.confident_right.1,
-                self.confident_right.1 - self.confident_right.0
-            )?;
-            writeln!(
-                f,
-                "confidence against the share right (Brier score {brier:.3}):"
-            )?;
-            for b in self.calibration.iter().filter(|b| b.sets > 0) {
-                writeln!(
-                    f,
-                    "  {:>3.0}-{:<3.0}%  {:>3} sets, mean confidence {:>3.0} %, right {:>3.0} %",
-                    100.0 * b.from,
-                    100.0 * b.to,
-                    b.sets,
-                    100.0 * b.mean_confidence,
-                    100.0 * b.right as f64 / b.sets as f64
-                )?;
-            }
+            self.write_calibration(f, brier)?;
         }
         write!(
             f,
