@@ -456,13 +456,7 @@ impl Contact {
             Drive::Slip(du) => (self.shear_after(s, du), du == 0.0, du),
             Drive::Shear(df) => (s.f + df, df == 0.0, 0.0),
         };
-        let dir = if f_trial > 0.0 {
-            1.0
-        } else if f_trial < 0.0 {
-            -1.0
-        } else {
-            s.dir
-        };
+        let dir = direction_of(f_trial, s.dir);
         let reversed = s.f * f_trial < 0.0;
         let r_start = if reversed { 0.0 } else { s.r };
         let driven = (rig_move * dir > 0.0 && dt > 0.0).then(|| rig_move.abs() / dt);
@@ -550,6 +544,18 @@ impl Contact {
                 Ok(finish(tr, f_trial, elastic_u + dir * dl, dl, tr.r))
             }
         }
+    }
+}
+
+/// The sliding direction a trial shear `f_trial` loads in: its sign, or `previous` at zero
+/// shear (the contact keeps the direction it had).
+fn direction_of(f_trial: f64, previous: f64) -> f64 {
+    if f_trial > 0.0 {
+        1.0
+    } else if f_trial < 0.0 {
+        -1.0
+    } else {
+        previous
     }
 }
 
