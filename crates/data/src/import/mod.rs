@@ -685,6 +685,44 @@ fn delimited_table(lf: &Path, spec: &ImportSpec, text: &str) -> Result<LabTable,
     })
 }
 
+/// The further channels read (`values`, in the order of `cols.channels`), each under the name
+/// it takes in the test CSV.
+fn named_channels(cols: &Columns, values: Vec<Vec<f64>>) -> Vec<Channel> {
+    cols.channels
+        .iter()
+        .zip(values)
+        .map(|((name, _), values)| Channel {
+            name: name.clone(),
+            values,
+        })
+        .collect()
+}
+
+/// The rows of `rows` that `--keep` (`keep`) keeps, with a note of the trim among the test's
+/// `comments`, and a problem in `pr` when it keeps none of a record that has rows.
+fn kept_rows(
+    lf: &Path,
+    keep: &Keep,
+    rows: LabRows,
+    place: &str,
+    (comments, pr): (&mut Vec<String>, &mut Problems),
+) -> LabRows {
+    let kept = keep.rows(match keep.column {
+        KeepColumn::Time => &rows.time_s,
+        KeepColumn::Slip => &rows.slip_mm,
+    });
+    if kept.is_empty() && !rows.time_s.is_empty() {
+        pr.add(
+            lf,
+            None,
+            Some(keep.column.name()),
+            format!("--keep {keep} keeps no row (expected a stretch the record reaches)"),
+        );
+    }
+    comments.push(keep::trim_note(keep, &rows.line_of_row, &kept, place));
+    rows.within(kept)
+}
+
 /// The test a table holds, read through the columns `spec` names; `text` is the file's text
 /// when it is a delimited file (for the hint at `--skip` on a header block).
 fn test_from_table(
@@ -737,22 +775,7 @@ fn test_from_table(
         .unwrap_or_default();
     comments.push(format!("imported from lab file `{file_name}`"));
     let rows = match &spec.keep {
-        Some(keep) => {
-            let kept = keep.rows(match keep.column {
-                KeepColumn::Time => &rows.time_s,
-                KeepColumn::Slip => &rows.slip_mm,
-            });
-            if kept.is_empty() && !rows.time_s.is_empty() {
-                pr.add(
-                    lf,
-                    None,
-                    Some(keep.column.name()),
-                    format!("--keep {keep} keeps no row (expected a stretch the record reaches)"),
-                );
-            }
-            comments.push(keep::trim_note(keep, &rows.line_of_row, &kept, place));
-            rows.within(kept)
-        }
+        Some(keep) => kept_rows(lf, keep, rows, place, (&mut comments, &mut pr)),
         None => rows,
     };
     let mut time_s = rows.time_s;
@@ -768,15 +791,7 @@ fn test_from_table(
     // The written test keeps what the reader did as provenance (a gap, a spread clock, the
     // stage kept, the units a GDS file left unsaid).
     comments.extend(reading_notes.iter().map(|n| n.message.clone()));
-    let channels = cols
-        .channels
-        .iter()
-        .zip(rows.channels)
-        .map(|((name, _), values)| Channel {
-            name: name.clone(),
-            values,
-        })
-        .collect();
+    let channels = named_channels(&cols, rows.channels);
     let td = TestData {
         spec: TestSpec {
             name: spec.test_name.trim().to_string(),
