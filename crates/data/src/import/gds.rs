@@ -927,45 +927,7 @@ impl<'a> Mapper<'a> {
                 return None;
             }
         };
-        let unit = match (stated_unit(&name), self.spec.rate_unit) {
-            // The file's own unit stands; --rate-unit is for a file that states none, and one
-            // that contradicts the file is refused rather than chosen between.
-            (Some(stated), Some(given)) => match stated.parse::<super::RateUnit>() {
-                Ok(u) if u == given => u,
-                Ok(u) => {
-                    self.pr.add(
-                        self.lf,
-                        Some(line).filter(|&l| l > 0),
-                        Some(&name),
-                        format!("the file states the rate in {u}, --rate-unit says {given} (expected --rate-unit only for a rate that states no unit, or the same unit)"),
-                    );
-                    return None;
-                }
-                Err(e) => {
-                    self.pr
-                        .add(self.lf, Some(line).filter(|&l| l > 0), Some(&name), e);
-                    return None;
-                }
-            },
-            (None, Some(u)) => u,
-            (Some(u), None) => match u.parse::<super::RateUnit>() {
-                Ok(u) => u,
-                Err(e) => {
-                    self.pr
-                        .add(self.lf, Some(line).filter(|&l| l > 0), Some(&name), e);
-                    return None;
-                }
-            },
-            (None, None) => {
-                self.pr.add(
-                    self.lf,
-                    Some(line).filter(|&l| l > 0),
-                    Some(&name),
-                    "the rate of shear displacement states no unit, and the file has no time (expected --rate-unit, e.g. mm/min, to reckon the time from the displacement)",
-                );
-                return None;
-            }
-        };
+        let unit = self.rate_unit(&name, line)?;
         let per_s = unit.to_mm_per_s();
         let rates: Vec<Option<f64>> = match rate_channel {
             // Read as written and converted unrounded: the time divides by it, and rounding
@@ -1029,6 +991,52 @@ impl<'a> Mapper<'a> {
             ),
         ));
         Some(out)
+    }
+
+    /// The unit of the rate channel or value `name` (on line `line`): the one its name states,
+    /// else `--rate-unit`; `None`, with the problem added, when they contradict, when the stated
+    /// one is not a unit of rate, or when neither says.
+    fn rate_unit(&mut self, name: &str, line: usize) -> Option<super::RateUnit> {
+        let unit = match (stated_unit(name), self.spec.rate_unit) {
+            // The file's own unit stands; --rate-unit is for a file that states none, and one
+            // that contradicts the file is refused rather than chosen between.
+            (Some(stated), Some(given)) => match stated.parse::<super::RateUnit>() {
+                Ok(u) if u == given => u,
+                Ok(u) => {
+                    self.pr.add(
+                        self.lf,
+                        Some(line).filter(|&l| l > 0),
+                        Some(name),
+                        format!("the file states the rate in {u}, --rate-unit says {given} (expected --rate-unit only for a rate that states no unit, or the same unit)"),
+                    );
+                    return None;
+                }
+                Err(e) => {
+                    self.pr
+                        .add(self.lf, Some(line).filter(|&l| l > 0), Some(name), e);
+                    return None;
+                }
+            },
+            (None, Some(u)) => u,
+            (Some(u), None) => match u.parse::<super::RateUnit>() {
+                Ok(u) => u,
+                Err(e) => {
+                    self.pr
+                        .add(self.lf, Some(line).filter(|&l| l > 0), Some(name), e);
+                    return None;
+                }
+            },
+            (None, None) => {
+                self.pr.add(
+                    self.lf,
+                    Some(line).filter(|&l| l > 0),
+                    Some(name),
+                    "the rate of shear displacement states no unit, and the file has no time (expected --rate-unit, e.g. mm/min, to reckon the time from the displacement)",
+                );
+                return None;
+            }
+        };
+        Some(unit)
     }
 
     fn note(&self, field: &str, message: String) -> Warning {
