@@ -120,90 +120,17 @@ pub(super) fn choose(
             None => Ok((records, None)),
         };
     };
-    let mut stages: Vec<Stage> = Vec::new();
-    let mut current: Option<usize> = None;
-    for (i, (_, cells)) in records.iter().enumerate() {
-        let cell = cells.get(col).map(String::as_str).unwrap_or("");
-        // A row whose stage cell the logger missed belongs to the stage it is in.
-        let k = if crate::gaps::is_missing(cell) {
-            current.unwrap_or(0)
-        } else {
-            let label = label_of(cell);
-            match stages.iter().position(|s| s.label == label) {
-                Some(k) => k,
-                None => {
-                    stages.push(Stage {
-                        label,
-                        rows: Vec::new(),
-                        travel_mm: 0.0,
-                    });
-                    stages.len() - 1
-                }
-            }
-        };
-        if stages.is_empty() {
-            stages.push(Stage {
-                label: String::new(),
-                rows: Vec::new(),
-                travel_mm: 0.0,
-            });
-        }
-        stages[k].rows.push(i);
-        current = Some(k);
-    }
-    let to_mm = spec.slip_unit.to_mm();
-    for s in &mut stages {
-        let slips: Vec<f64> = s
-            .rows
-            .iter()
-            .filter_map(|&i| records[i].1.get(slip.0))
-            .filter_map(|c| {
-                // As the rows are read: a decimal comma where the cells are not comma-separated.
-                let c = if decimal_comma && c.contains(',') && !c.contains('.') {
-                    c.replace(',', ".")
-                } else {
-                    c.clone()
-                };
-                crate::set::parse_number(&c).ok()
-            })
-            .filter(|x| x.is_finite())
-            .collect();
-        let (lo, hi) = slips
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
-                (lo.min(x), hi.max(x))
-            });
-        s.travel_mm = if hi >= lo { (hi - lo) * to_mm } else { 0.0 };
-    }
-    let listing = || {
-        stages
-            .iter()
-            .map(|s| {
-                format!(
-                    "{}: {} row{}, {} mm of slip",
-                    s.label,
-                    s.rows.len(),
-                    if s.rows.len() == 1 { "" } else { "s" },
-                    crate::text::short_number(s.travel_mm)
-                )
-            })
-            .collect::<Vec<_>>()
-            .join("; ")
-    };
+    let mut stages = stages_of(&records, col);
+    measure_travels(
+        &mut stages,
+        &records,
+        slip,
+        (spec.slip_unit.to_mm(), decimal_comma),
+    );
+    let listing = || listing(&stages);
     let (kept, why) = match &spec.stage {
         Some(wanted) => {
-            // The label itself first; a label ending in the number only when none is it.
-            let exact: Vec<usize> = (0..stages.len())
-                .filter(|&k| stages[k].label.eq_ignore_ascii_case(&label_of(wanted)))
-                .collect();
-            let found = if exact.is_empty() {
-                (0..stages.len())
-                    .filter(|&k| matches(&stages[k].label, wanted))
-                    .collect()
-            } else {
-                exact
-            };
-            match found[..] {
+            match asked_stages(&stages, wanted)[..] {
                 [k] => (k, format!("as asked (--stage {wanted})")),
                 [] => {
                     return Err(refuse(format!(
@@ -235,38 +162,14 @@ pub(super) fn choose(
             )
         }
     };
-    let longest = stages[kept].travel_mm;
-    let rivals: Vec<&str> = stages
-        .iter()
-        .enumerate()
-        .filter(|&(k, s)| k != kept && longest > 0.0 && s.travel_mm >= 0.5 * longest)
-        .map(|(_, s)| s.label.as_str())
-        .collect();
-    let mut message = format!(
-        "the record holds {} stages ({}); stage {} is kept, {why}, and the other stages' rows are left out",
-        stages.len(),
-        listing(),
-        stages[kept].label
-    );
-    if !rivals.is_empty() && spec.stage.is_none() {
-        message.push_str(&format!(
-            "; stage{} {} travel{} at least half as far: a multi-stage test? (import each stage as its own test with --stage)",
-            if rivals.len() == 1 { "" } else { "s" },
-            rivals.join(", "),
-            if rivals.len() == 1 { "s" } else { "" }
-        ));
-    }
     let keep_rows: std::collections::HashSet<usize> = stages[kept].rows.iter().copied().collect();
-    let left_out: Vec<usize> = (0..records.len())
-        .filter(|i| !keep_rows.contains(i))
-        .map(|i| records[i].0)
-        .collect();
-    if !left_out.is_empty() {
-        message.push_str(&format!(
-            " ({place}s {})",
-            crate::gaps::describe_lines(&left_out)
-        ));
-    }
+    let message = kept_stage_message(
+        &stages,
+        kept,
+        &why,
+        spec.stage.is_none(),
+        (&records, &keep_rows, place),
+    );
     let note = Warning {
         file: lf.to_path_buf(),
         field: names[col].clone(),
@@ -279,6 +182,153 @@ pub(super) fn choose(
         .map(|(_, r)| r)
         .collect();
     Ok((records, Some(note)))
+}
+
+/// The stages of `records` by the labels of their stage column `col`, in the order they first
+/// appear; a row whose stage cell the logger missed belongs to the stage it is in (rows before
+/// any label to a stage without one).
+fn stages_of(records: &Records, col: usize) -> Vec<Stage> {
+    let mut stages: Vec<Stage> = Vec::new();
+    let mut current: Option<usize> = None;
+    for (i, (_, cells)) in records.iter().enumerate() {
+        let cell = cells.get(col).map(String::as_str).unwrap_or("");
+        let k = if crate::gaps::is_missing(cell) {
+            current.unwrap_or(0)
+        } else {
+            let label = label_of(cell);
+            match stages.iter().position(|s| s.label == label) {
+                Some(k) => k,
+                None => {
+                    stages.push(Stage {
+                        label,
+                        rows: Vec::new(),
+                        travel_mm: 0.0,
+                    });
+                    stages.len() - 1
+                }
+            }
+        };
+        if stages.is_empty() {
+            stages.push(Stage {
+                label: String::new(),
+                rows: Vec::new(),
+                travel_mm: 0.0,
+            });
+        }
+        stages[k].rows.push(i);
+        current = Some(k);
+    }
+    stages
+}
+
+/// Each stage's shear travel [mm]: the span of its slip column `slip` (in the unit that
+/// `to_mm` converts), read as the rows are read — a decimal comma where the cells are not
+/// comma-separated (`decimal_comma`).
+fn measure_travels(
+    stages: &mut [Stage],
+    records: &Records,
+    slip: &Col,
+    (to_mm, decimal_comma): (f64, bool),
+) {
+    for s in stages {
+        let slips: Vec<f64> = s
+            .rows
+            .iter()
+            .filter_map(|&i| records[i].1.get(slip.0))
+            .filter_map(|c| {
+                let c = if decimal_comma && c.contains(',') && !c.contains('.') {
+                    c.replace(',', ".")
+                } else {
+                    c.clone()
+                };
+                crate::set::parse_number(&c).ok()
+            })
+            .filter(|x| x.is_finite())
+            .collect();
+        let (lo, hi) = slips
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+                (lo.min(x), hi.max(x))
+            });
+        s.travel_mm = if hi >= lo { (hi - lo) * to_mm } else { 0.0 };
+    }
+}
+
+/// What the import says of the stage kept (`kept`, kept because `why`): every stage, the rows
+/// left out (`records` less `keep_rows`, counted as `place`s), and, where the stage was chosen by
+/// its travel (`chosen_by_travel`), the other stages that travel at least half as far — a
+/// multi-stage test whose stages are tests of their own.
+fn kept_stage_message(
+    stages: &[Stage],
+    kept: usize,
+    why: &str,
+    chosen_by_travel: bool,
+    (records, keep_rows, place): (&Records, &std::collections::HashSet<usize>, &str),
+) -> String {
+    let longest = stages[kept].travel_mm;
+    let rivals: Vec<&str> = stages
+        .iter()
+        .enumerate()
+        .filter(|&(k, s)| k != kept && longest > 0.0 && s.travel_mm >= 0.5 * longest)
+        .map(|(_, s)| s.label.as_str())
+        .collect();
+    let mut message = format!(
+        "the record holds {} stages ({}); stage {} is kept, {why}, and the other stages' rows are left out",
+        stages.len(),
+        listing(stages),
+        stages[kept].label
+    );
+    if !rivals.is_empty() && chosen_by_travel {
+        message.push_str(&format!(
+            "; stage{} {} travel{} at least half as far: a multi-stage test? (import each stage as its own test with --stage)",
+            if rivals.len() == 1 { "" } else { "s" },
+            rivals.join(", "),
+            if rivals.len() == 1 { "s" } else { "" }
+        ));
+    }
+    let left_out: Vec<usize> = (0..records.len())
+        .filter(|i| !keep_rows.contains(i))
+        .map(|i| records[i].0)
+        .collect();
+    if !left_out.is_empty() {
+        message.push_str(&format!(
+            " ({place}s {})",
+            crate::gaps::describe_lines(&left_out)
+        ));
+    }
+    message
+}
+
+/// The stages as a sentence names them: label, rows and travel of each.
+fn listing(stages: &[Stage]) -> String {
+    stages
+        .iter()
+        .map(|s| {
+            format!(
+                "{}: {} row{}, {} mm of slip",
+                s.label,
+                s.rows.len(),
+                if s.rows.len() == 1 { "" } else { "s" },
+                crate::text::short_number(s.travel_mm)
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// The stages `--stage wanted` names: the label itself first; a label ending in the number only
+/// when none is it.
+fn asked_stages(stages: &[Stage], wanted: &str) -> Vec<usize> {
+    let exact: Vec<usize> = (0..stages.len())
+        .filter(|&k| stages[k].label.eq_ignore_ascii_case(&label_of(wanted)))
+        .collect();
+    if exact.is_empty() {
+        (0..stages.len())
+            .filter(|&k| matches(&stages[k].label, wanted))
+            .collect()
+    } else {
+        exact
+    }
 }
 
 #[cfg(test)]
