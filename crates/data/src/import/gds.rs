@@ -220,14 +220,11 @@ fn is_channel(key: &str, cells: &[String]) -> bool {
         && (2 * numbers >= cells.len() || matches!(role_of(key), Some(Role::Stage | Role::Time(_))))
 }
 
-/// Reads an `.ini` channel file: `[sections]` with data become stages (a stage channel
-/// otherwise says them), `Key="a,b,c"` lines channels, `Key=v` lines single values. A single
-/// value given in the sections of the data with different values there (each stage's own rate
-/// or area) becomes a channel, each row taking its section's value.
-fn read_ini(lf: &Path, text: &str) -> Result<RawFile, DataError> {
-    let mut pr = Problems::default();
+/// The sections of an `.ini` channel file (the first one unnamed: the lines before any
+/// `[section]`), each with its channels (`Key="a,b,c"`) and single values (`Key=v`); a line that
+/// is neither, or a channel given twice in a section, is a problem added to `pr`.
+fn ini_sections(lf: &Path, text: &str, pr: &mut Problems) -> Vec<Section> {
     let mut sections: Vec<Section> = vec![Section::default()];
-    let mut first_line = 1;
     for (line, l) in ini_lines(text) {
         if l.starts_with('[') && l.ends_with(']') {
             sections.push(Section {
@@ -284,10 +281,13 @@ fn read_ini(lf: &Path, text: &str) -> Result<RawFile, DataError> {
             sec.single.push((key, value.to_string(), line));
         }
     }
-    let (data, rest): (Vec<Section>, Vec<Section>) =
-        sections.into_iter().partition(|s| !s.channels.is_empty());
-    // Every channel of a section has one value per row of that section.
-    for sec in &data {
+    sections
+}
+
+/// Adds to `pr` every channel of a data section whose count of values differs from its first
+/// channel's: every channel has one value per row of its section.
+fn check_section_lengths(lf: &Path, data: &[Section], pr: &mut Problems) {
+    for sec in data {
         let first = &sec.channels[0];
         for c in &sec.channels[1..] {
             if c.cells.len() != first.cells.len() {
@@ -306,25 +306,19 @@ fn read_ini(lf: &Path, text: &str) -> Result<RawFile, DataError> {
             }
         }
     }
-    if data.is_empty() {
-        pr.add(
-            lf,
-            None,
-            None,
-            "no channel in the file (expected `Key=\"v1,v2,…\"` lines, one per channel)",
-        );
-    }
-    pr.into_result(())?;
-    if let Some(sec) = data.first() {
-        first_line = sec.channels[0].line;
-    }
-    let file_level: Vec<(String, String, usize)> =
-        rest.into_iter().flat_map(|s| s.single).collect();
-    // Single values of the data's sections: kept single where every section says the same
-    // (or only one says it), else a channel of their sections' values.
-    let mut single = file_level.clone();
+}
+
+/// The single values of the file (`file_level`: those outside the data's sections) and of the
+/// data's sections: a section's value is kept single where every section says the same (or only
+/// one says it), else its key is returned among the channels of per-row values (each row takes
+/// its section's value).
+fn singles_and_per_row(
+    data: &[Section],
+    file_level: &[(String, String, usize)],
+) -> (Vec<(String, String, usize)>, Vec<String>) {
+    let mut single = file_level.to_vec();
     let mut per_row: Vec<String> = Vec::new();
-    for sec in &data {
+    for sec in data {
         for (key, value, line) in &sec.single {
             let same_key = |k: &String| k.eq_ignore_ascii_case(key);
             let values: Vec<&str> = data
@@ -346,6 +340,35 @@ fn read_ini(lf: &Path, text: &str) -> Result<RawFile, DataError> {
             }
         }
     }
+    (single, per_row)
+}
+
+/// Reads an `.ini` channel file: `[sections]` with data become stages (a stage channel
+/// otherwise says them), `Key="a,b,c"` lines channels, `Key=v` lines single values. A single
+/// value given in the sections of the data with different values there (each stage's own rate
+/// or area) becomes a channel, each row taking its section's value.
+fn read_ini(lf: &Path, text: &str) -> Result<RawFile, DataError> {
+    let mut pr = Problems::default();
+    let sections = ini_sections(lf, text, &mut pr);
+    let mut first_line = 1;
+    let (data, rest): (Vec<Section>, Vec<Section>) =
+        sections.into_iter().partition(|s| !s.channels.is_empty());
+    check_section_lengths(lf, &data, &mut pr);
+    if data.is_empty() {
+        pr.add(
+            lf,
+            None,
+            None,
+            "no channel in the file (expected `Key=\"v1,v2,…\"` lines, one per channel)",
+        );
+    }
+    pr.into_result(())?;
+    if let Some(sec) = data.first() {
+        first_line = sec.channels[0].line;
+    }
+    let file_level: Vec<(String, String, usize)> =
+        rest.into_iter().flat_map(|s| s.single).collect();
+    let (single, per_row) = singles_and_per_row(&data, &file_level);
     // Channels over the sections: a section lacking a channel others have leaves its rows
     // without a value there (a gap where the test reads it).
     let mut names: Vec<String> = Vec::new();
