@@ -343,6 +343,14 @@ fn singles_and_per_row(
     (single, per_row)
 }
 
+/// The problem of a file without a channel of role `what` among its channels (`names`).
+fn missing_role(names: &[String], what: &str) -> String {
+    format!(
+        "no {what} channel among the file's channels ({}) (expected a GDS export naming it; another layout imports with --format delimited and the columns named)",
+        names.join(", ")
+    )
+}
+
 /// Reads an `.ini` channel file: `[sections]` with data become stages (a stage channel
 /// otherwise says them), `Key="a,b,c"` lines channels, `Key=v` lines single values. A single
 /// value given in the sections of the data with different values there (each stage's own rate
@@ -667,95 +675,12 @@ impl<'a> Mapper<'a> {
         let n = self.raw.places.len();
         let names: Vec<String> = self.raw.channels.iter().map(|c| c.name.clone()).collect();
         let line_of = |m: &Self, k: usize| m.raw.channels[k].line;
-        let missing_role = |what: &str| -> String {
-            format!(
-                "no {what} channel among the file's channels ({}) (expected a GDS export naming it; another layout imports with --format delimited and the columns named)",
-                names.join(", ")
-            )
-        };
-        // Slip.
-        let slip_k = self.channel_of(|r| r == Role::Slip);
-        let slip = match slip_k {
-            Some(k) => {
-                let name = names[k].clone();
-                let u = self.unit(&name, line_of(&self, k), LengthUnit::Mm, "mm", |u| {
-                    u.parse()
-                });
-                u.map(|u| self.values(k, |_| u.to_mm()))
-            }
-            None => {
-                self.pr.add(
-                    self.lf,
-                    None,
-                    Some("slip"),
-                    missing_role("horizontal (shear) displacement"),
-                );
-                None
-            }
-        };
-        // Area: a channel (area correction), else the file's single value, else --area.
-        let area: Option<Vec<Option<f64>>> = if let Some(a) = self.spec.area_mm2 {
-            if !(a > 0.0 && a.is_finite()) {
-                self.pr.add(
-                    self.lf,
-                    None,
-                    Some("area"),
-                    format!(
-                        "--area {a} mm² (expected the contact area in mm², a finite number > 0)"
-                    ),
-                );
-            }
-            Some(vec![Some(a); n])
-        } else if let Some(k) = self.channel_of(|r| r == Role::Area) {
-            let name = names[k].clone();
-            let values = self
-                .unit(&name, line_of(&self, k), 1.0, "mm²", area_unit)
-                .map(|f| self.values(k, |_| f));
-            // A row's area that is not positive would turn its force into a wrong stress.
-            if let Some(i) = values.as_ref().and_then(|v| {
-                v.iter()
-                    .position(|a| a.is_some_and(|a| !(a > 0.0 && a.is_finite())))
-            }) {
-                let at = self.raw.channels[k].origin.get(i).copied();
-                let (line, place) = match at {
-                    Some((line, j)) => (line, format!("value {j} of the list: ")),
-                    None => (self.raw.places[i], String::new()),
-                };
-                self.pr.add(
-                    self.lf,
-                    Some(line).filter(|&l| l > 0),
-                    Some(&name),
-                    format!("{place}an area that is not positive (expected the contact area, > 0)"),
-                );
-            }
-            values
-        } else if let Some((x, key, line)) = self.single_number(Role::Area) {
-            self.unit(&key, line, 1.0, "mm²", area_unit)
-                .map(|f| vec![Some(x * f); n])
-        } else {
-            None
-        };
+        let missing_role = |what: &str| missing_role(&names, what);
+        let slip = self.slip_column(&names);
+        let area = self.area_column(&names);
         // Shear and normal: a stress, else a force over the area of its row.
         let stress = |m: &mut Self, stress_role: Role, force_role: Role, what: &str| {
-            if let Some(k) = m.channel_of(|r| r == stress_role) {
-                let name = names[k].clone();
-                let u = m.unit(&name, line_of(m, k), StressUnit::KPa, "kPa", |u| u.parse::<StressUnit>().and_then(|s| if s.is_force() { Err(format!("`{u}` is a force but the channel is named a stress (expected kPa, MPa, Pa or psi)")) } else { Ok(s) }));
-                return u.map(|u| m.values(k, |_| u.to_kpa()));
-            }
-            let k = m.channel_of(|r| r == force_role)?;
-            m.force_read = true;
-            let name = names[k].clone();
-            let u = m.unit(&name, line_of(m, k), StressUnit::KN, "kN", |u| u.parse::<StressUnit>().and_then(|s| if s.is_force() { Ok(s) } else { Err(format!("`{u}` is a stress but the channel is named a force (expected N, kN or lbf)")) }))?;
-            match &area {
-                Some(a) => {
-                    let a = a.clone();
-                    Some(m.values(k, |i| a[i].map_or(f64::NAN, |a| u.to_kpa() / a)))
-                }
-                None => {
-                    m.pr.add(m.lf, None, Some(&name), format!("the {what} is a force in {} but the file states no area (expected an area line or channel, or --area in mm²)", u.name()));
-                    None
-                }
-            }
+            m.stress_column(&names, area.as_ref(), (stress_role, force_role), what)
         };
         let shear = stress(&mut self, Role::ShearStress, Role::ShearForce, "shear");
         if shear.is_none() && self.pr.is_empty() {
@@ -797,13 +722,202 @@ impl<'a> Mapper<'a> {
         } else {
             self.time_from_rate(slip.as_deref(), &mut notes)
         };
-        // Further channels the test carries.
-        let mut extra: Vec<(&str, Vec<Option<f64>>)> = Vec::new();
+        let extra = self.further_channels(&names, area.as_ref());
+        let stage_k = self.channel_of(|r| r == Role::Stage);
+        std::mem::take(&mut self.pr).into_result(())?;
+        let (slip, shear, time) = (
+            slip.expect("reported above"),
+            shear.expect("reported above"),
+            time.expect("reported above"),
+        );
+        notes.extend(self.reading_notes(&names));
+        // The table in the test's own columns.
+        let mut cols: Vec<(&str, Vec<Option<f64>>)> =
+            vec![("time_s", time), ("slip_mm", slip), ("shear_kpa", shear)];
+        if let Some(nv) = normal.clone() {
+            cols.push(("normal_kpa", nv));
+        }
+        let stage_name = stage_k.map(|k| names[k].clone());
+        let mut header: Vec<String> = cols.iter().map(|c| c.0.to_string()).collect();
+        header.extend(stage_name.iter().cloned());
+        header.extend(extra.iter().map(|c| c.0.to_string()));
+        let records = (0..n)
+            .map(|i| {
+                let mut cells: Vec<String> = cols
+                    .iter()
+                    .chain(&extra)
+                    .map(|(_, v)| v[i].map_or(String::new(), |x| format!("{x}")))
+                    .collect();
+                if let Some(k) = stage_k {
+                    cells.insert(cols.len(), self.raw.channels[k].cells[i].clone());
+                }
+                (self.raw.places[i], cells)
+            })
+            .collect();
+        let read_spec = self.spec_of_table(normal.is_some(), &extra);
+        let table = LabTable {
+            names: header,
+            first_line: self.raw.first_line,
+            records,
+            delim: super::Delimiter::Comma,
+            comments: Vec::new(),
+            notes,
+            place: self.raw.place,
+        };
+        Ok((table, read_spec))
+    }
+
+    /// How the table the GDS file becomes is read: the test's own columns by name, in their own
+    /// units (`normal_read`: whether it has a normal stress column; `extra`: the further channels
+    /// it carries), with the rest of the user's import options.
+    fn spec_of_table(
+        &self,
+        normal_read: bool,
+        extra: &[(&'static str, Vec<Option<f64>>)],
+    ) -> ImportSpec {
+        let name = |s: &str| ColumnRef::Name(s.into());
+        ImportSpec {
+            delimiter: super::Delimiter::Comma,
+            skip_lines: 0,
+            has_header: true,
+            time: name("time_s"),
+            time_unit: TimeUnit::S,
+            slip: name("slip_mm"),
+            slip_unit: LengthUnit::Mm,
+            shear: Some((name("shear_kpa"), StressUnit::KPa)),
+            friction: None,
+            normal: normal_read.then(|| (name("normal_kpa"), StressUnit::KPa)),
+            area_mm2: None,
+            channels: extra.iter().map(|c| (c.0.to_string(), name(c.0))).collect(),
+            format: super::ImportFormat::Delimited,
+            ..self.spec.clone()
+        }
+    }
+
+    /// A stress column [kPa]: the channel of `stress_role` in its unit, else the channel of
+    /// `force_role` over each row's `area`; `None` where the file has neither, or gives a force
+    /// without an area (said, naming the `what`).
+    fn stress_column(
+        &mut self,
+        names: &[String],
+        area: Option<&Vec<Option<f64>>>,
+        (stress_role, force_role): (Role, Role),
+        what: &str,
+    ) -> Option<Vec<Option<f64>>> {
+        if let Some(k) = self.channel_of(|r| r == stress_role) {
+            let name = names[k].clone();
+            let u = self.unit(&name, self.raw.channels[k].line, StressUnit::KPa, "kPa", |u| u.parse::<StressUnit>().and_then(|s| if s.is_force() { Err(format!("`{u}` is a force but the channel is named a stress (expected kPa, MPa, Pa or psi)")) } else { Ok(s) }));
+            return u.map(|u| self.values(k, |_| u.to_kpa()));
+        }
+        let k = self.channel_of(|r| r == force_role)?;
+        self.force_read = true;
+        let name = names[k].clone();
+        let u = self.unit(&name, self.raw.channels[k].line, StressUnit::KN, "kN", |u| u.parse::<StressUnit>().and_then(|s| if s.is_force() { Ok(s) } else { Err(format!("`{u}` is a stress but the channel is named a force (expected N, kN or lbf)")) }))?;
+        match area {
+            Some(a) => {
+                let a = a.clone();
+                Some(self.values(k, |i| a[i].map_or(f64::NAN, |a| u.to_kpa() / a)))
+            }
+            None => {
+                self.pr.add(self.lf, None, Some(&name), format!("the {what} is a force in {} but the file states no area (expected an area line or channel, or --area in mm²)", u.name()));
+                None
+            }
+        }
+    }
+
+    /// The slip column [mm], from the horizontal (shear) displacement channel in its unit; `None`,
+    /// with the problem said, where there is none or its unit is not a length.
+    fn slip_column(&mut self, names: &[String]) -> Option<Vec<Option<f64>>> {
+        match self.channel_of(|r| r == Role::Slip) {
+            Some(k) => {
+                let name = names[k].clone();
+                let u = self.unit(
+                    &name,
+                    self.raw.channels[k].line,
+                    LengthUnit::Mm,
+                    "mm",
+                    |u| u.parse(),
+                );
+                u.map(|u| self.values(k, |_| u.to_mm()))
+            }
+            None => {
+                self.pr.add(
+                    self.lf,
+                    None,
+                    Some("slip"),
+                    missing_role(names, "horizontal (shear) displacement"),
+                );
+                None
+            }
+        }
+    }
+
+    /// The contact area of each row [mm²]: `--area`, else an area channel (area correction),
+    /// else the file's single value; `None` where none is given (a file that logs stresses needs
+    /// none). An area that is not positive is a problem, said where it was read.
+    fn area_column(&mut self, names: &[String]) -> Option<Vec<Option<f64>>> {
+        let n = self.raw.places.len();
+        if let Some(a) = self.spec.area_mm2 {
+            if !(a > 0.0 && a.is_finite()) {
+                self.pr.add(
+                    self.lf,
+                    None,
+                    Some("area"),
+                    format!(
+                        "--area {a} mm² (expected the contact area in mm², a finite number > 0)"
+                    ),
+                );
+            }
+            Some(vec![Some(a); n])
+        } else if let Some(k) = self.channel_of(|r| r == Role::Area) {
+            let name = names[k].clone();
+            let values = self
+                .unit(&name, self.raw.channels[k].line, 1.0, "mm²", area_unit)
+                .map(|f| self.values(k, |_| f));
+            // A row's area that is not positive would turn its force into a wrong stress.
+            if let Some(i) = values.as_ref().and_then(|v| {
+                v.iter()
+                    .position(|a| a.is_some_and(|a| !(a > 0.0 && a.is_finite())))
+            }) {
+                let at = self.raw.channels[k].origin.get(i).copied();
+                let (line, place) = match at {
+                    Some((line, j)) => (line, format!("value {j} of the list: ")),
+                    None => (self.raw.places[i], String::new()),
+                };
+                self.pr.add(
+                    self.lf,
+                    Some(line).filter(|&l| l > 0),
+                    Some(&name),
+                    format!("{place}an area that is not positive (expected the contact area, > 0)"),
+                );
+            }
+            values
+        } else if let Some((x, key, line)) = self.single_number(Role::Area) {
+            self.unit(&key, line, 1.0, "mm²", area_unit)
+                .map(|f| vec![Some(x * f); n])
+        } else {
+            None
+        }
+    }
+
+    /// The further channels the test carries, in its own columns: the normal displacement, the
+    /// forces read (kN per mm² of area: a force's kPa on one mm²), the area where a channel gave
+    /// it (`area`: each row's) and the temperature in °C.
+    fn further_channels(
+        &mut self,
+        names: &[String],
+        area: Option<&Vec<Option<f64>>>,
+    ) -> Vec<(&'static str, Vec<Option<f64>>)> {
+        let mut extra: Vec<(&'static str, Vec<Option<f64>>)> = Vec::new();
         if let Some(k) = self.channel_of(|r| r == Role::NormalDisp) {
             let name = names[k].clone();
-            if let Some(u) = self.unit(&name, line_of(&self, k), LengthUnit::Mm, "mm", |u| {
-                u.parse()
-            }) {
+            if let Some(u) = self.unit(
+                &name,
+                self.raw.channels[k].line,
+                LengthUnit::Mm,
+                "mm",
+                |u| u.parse(),
+            ) {
                 extra.push(("normal_disp_mm", self.values(k, |_| u.to_mm())));
             }
         }
@@ -813,15 +927,19 @@ impl<'a> Mapper<'a> {
         ] {
             if let Some(k) = self.channel_of(|r| r == role) {
                 let name = names[k].clone();
-                if let Some(u) = self.unit(&name, line_of(&self, k), StressUnit::KN, "kN", |u| {
-                    u.parse()
-                }) {
+                if let Some(u) = self.unit(
+                    &name,
+                    self.raw.channels[k].line,
+                    StressUnit::KN,
+                    "kN",
+                    |u| u.parse(),
+                ) {
                     // kN per unit: a force's kPa on one mm² is 1e6 per kN.
                     extra.push((col, self.values(k, |_| u.to_kpa() / 1e6)));
                 }
             }
         }
-        if let Some(a) = &area {
+        if let Some(a) = area {
             if self.spec.area_mm2.is_none() && self.find_channel(|r| r == Role::Area).is_some() {
                 extra.push(("area_mm2", a.clone()));
             }
@@ -842,19 +960,20 @@ impl<'a> Mapper<'a> {
             } else {
                 self.pr.add(
                     self.lf,
-                    Some(line_of(&self, k)).filter(|&l| l > 0),
+                    Some(self.raw.channels[k].line).filter(|&l| l > 0),
                     Some(&name),
                     "a temperature not in °C (expected °C)",
                 );
             }
         }
-        let stage_k = self.channel_of(|r| r == Role::Stage);
-        std::mem::take(&mut self.pr).into_result(())?;
-        let (slip, shear, time) = (
-            slip.expect("reported above"),
-            shear.expect("reported above"),
-            time.expect("reported above"),
-        );
+        extra
+    }
+
+    /// What the reading says of the file beyond its values: the channels not carried (a second
+    /// channel of a role read once among them) and the units read as GDS's where the file left
+    /// them unsaid.
+    fn reading_notes(&self, names: &[String]) -> Vec<Warning> {
+        let mut notes = Vec::new();
         // The channels not carried, said (a second channel of a role read once among them).
         let unused: Vec<String> = (0..names.len())
             .filter(|k| !self.used.contains(k))
@@ -880,56 +999,7 @@ impl<'a> Mapper<'a> {
                 ),
             ));
         }
-        // The table in the test's own columns.
-        let mut cols: Vec<(&str, Vec<Option<f64>>)> =
-            vec![("time_s", time), ("slip_mm", slip), ("shear_kpa", shear)];
-        if let Some(nv) = normal.clone() {
-            cols.push(("normal_kpa", nv));
-        }
-        let stage_name = stage_k.map(|k| names[k].clone());
-        let mut header: Vec<String> = cols.iter().map(|c| c.0.to_string()).collect();
-        header.extend(stage_name.iter().cloned());
-        header.extend(extra.iter().map(|c| c.0.to_string()));
-        let records = (0..n)
-            .map(|i| {
-                let mut cells: Vec<String> = cols
-                    .iter()
-                    .chain(&extra)
-                    .map(|(_, v)| v[i].map_or(String::new(), |x| format!("{x}")))
-                    .collect();
-                if let Some(k) = stage_k {
-                    cells.insert(cols.len(), self.raw.channels[k].cells[i].clone());
-                }
-                (self.raw.places[i], cells)
-            })
-            .collect();
-        let name = |s: &str| ColumnRef::Name(s.into());
-        let read_spec = ImportSpec {
-            delimiter: super::Delimiter::Comma,
-            skip_lines: 0,
-            has_header: true,
-            time: name("time_s"),
-            time_unit: TimeUnit::S,
-            slip: name("slip_mm"),
-            slip_unit: LengthUnit::Mm,
-            shear: Some((name("shear_kpa"), StressUnit::KPa)),
-            friction: None,
-            normal: normal.map(|_| (name("normal_kpa"), StressUnit::KPa)),
-            area_mm2: None,
-            channels: extra.iter().map(|c| (c.0.to_string(), name(c.0))).collect(),
-            format: super::ImportFormat::Delimited,
-            ..self.spec.clone()
-        };
-        let table = LabTable {
-            names: header,
-            first_line: self.raw.first_line,
-            records,
-            delim: super::Delimiter::Comma,
-            comments: Vec::new(),
-            notes,
-            place: self.raw.place,
-        };
-        Ok((table, read_spec))
+        notes
     }
 
     /// Time from the displacement and the rate of shear displacement (a single value or a
