@@ -522,6 +522,27 @@ pub fn path_certainty(stages: Vec<StageWeighing>, verdict: &[Effect]) -> Certain
             .map_or(1.0, |o| o.probability);
         confidence *= taken;
     }
+    // The effects the path ended with, where the verdict names fewer (a further effect taken
+    // tentatively and not named: too little on its own), are the verdict the evidence itself
+    // walked to: an alternative with the path's weight, not a reading lost between the two.
+    if let Some(end) = stages
+        .last()
+        .and_then(|st| st.options.iter().find(|o| o.chosen))
+        .filter(|o| !same(&o.effects, verdict))
+    {
+        match alternatives
+            .iter_mut()
+            .find(|a| same(&a.effects, &end.effects))
+        {
+            Some(a) => a.probability += confidence,
+            None => alternatives.push(Alternative {
+                effects: end.effects.clone(),
+                label: label(&end.effects),
+                probability: confidence,
+                tell_apart: tell_apart(verdict, &end.effects),
+            }),
+        }
+    }
     alternatives.sort_by(|a, b| b.probability.total_cmp(&a.probability));
     Certainty {
         confidence,
@@ -562,8 +583,14 @@ pub fn tell_apart(a: &[Effect], b: &[Effect]) -> String {
     };
     let (only_a, only_b) = (only(a, b), only(b, a));
     let kinds = |es: &[Effect]| -> Vec<Shows> {
-        let mut v: Vec<Shows> = es.iter().flat_map(|&e| shows(e).iter().copied()).collect();
-        v.dedup();
+        // Each kind once, in the order first named (two families may share one that a third
+        // does not: rate and healing both show after holds).
+        let mut v: Vec<Shows> = Vec::new();
+        for k in es.iter().flat_map(|&e| shows(e).iter().copied()) {
+            if !v.contains(&k) {
+                v.push(k);
+            }
+        }
         v
     };
     let (ka, kb) = (kinds(&only_a), kinds(&only_b));
@@ -574,8 +601,12 @@ pub fn tell_apart(a: &[Effect], b: &[Effect]) -> String {
         .copied()
         .collect();
     let unexplained = a.contains(&Effect::Unexplained) != b.contains(&Effect::Unexplained);
-    let mut tests: Vec<&str> = telling.into_iter().map(test_showing).collect();
-    tests.dedup();
+    let mut tests: Vec<&str> = Vec::new();
+    for t in telling.into_iter().map(test_showing) {
+        if !tests.contains(&t) {
+            tests.push(t);
+        }
+    }
     if tests.is_empty() && !ka.is_empty() && ka == kb {
         return format!(
             "{} and {} show in the same pieces here: the same test at a sliding rate 10× apart (slip and time then grow at different paces) would tell them apart",
@@ -702,6 +733,56 @@ mod tests {
     }
 
     #[test]
+    fn a_further_effect_the_path_took_but_the_verdict_did_not_name_is_an_alternative() {
+        // Pressure named; log-healing taken tentatively at the second stage and dropped (too
+        // little on its own); the third stage stops there. The path's end, pressure +
+        // log-healing, is what the evidence walked to: it must be among the alternatives, with
+        // the weight of the path.
+        let pressure = family("pressure");
+        let healing = family("log-healing");
+        let rate = family("rate");
+        let stages = weigh(
+            vec![
+                vec![
+                    option(vec![Effect::Unexplained], 0.0, 290.0, false),
+                    option(vec![pressure], 480.0, 5.3, true),
+                ],
+                vec![
+                    option(vec![pressure], 0.0, 5.3, false),
+                    option(vec![pressure, healing], 27.0, 5.1, true),
+                ],
+                vec![
+                    option(vec![pressure, healing], 0.0, 5.1, true),
+                    option(vec![pressure, healing, rate], 9.0, 5.0, false),
+                ],
+            ],
+            1.0,
+        );
+        let c = path_certainty(stages.clone(), &[pressure]);
+        let end = c
+            .alternatives
+            .iter()
+            .find(|a| same(&a.effects, &[pressure, healing]))
+            .expect("the path's end is an alternative");
+        assert!((end.probability - c.confidence).abs() < 1e-12, "{c:?}");
+        let path: f64 = c
+            .stages
+            .iter()
+            .map(|st| st.options.iter().find(|o| o.chosen).unwrap().probability)
+            .product();
+        assert!(
+            (end.probability - path).abs() < 1e-12 && path > 0.2,
+            "{c:?}"
+        );
+        // A verdict that is the path's end adds nothing.
+        let c = path_certainty(stages, &[pressure, healing]);
+        assert!(c
+            .alternatives
+            .iter()
+            .all(|a| !same(&a.effects, &[pressure, healing])));
+    }
+
+    #[test]
     fn confidence_multiplies_over_stages_and_alternatives_carry_the_prefix() {
         let rate = family("rate");
         let slip = family("slip-hardening");
@@ -791,5 +872,13 @@ mod tests {
         let trend = family("time-trend");
         assert!(tell_apart(&[slip], &[trend]).contains("sliding rate 10× apart"));
         assert!(tell_apart(&[Effect::Unexplained], &[rate]).contains("fresh specimen"));
+        // Each test named once, however many of the families differing show in it.
+        let both = tell_apart(&[pressure], &[pressure, healing, rate]);
+        assert_eq!(
+            both.matches("holds of 10, 100 and 1000 s").count(),
+            1,
+            "{both}"
+        );
+        assert!(both.contains("velocity step"), "{both}");
     }
 }
