@@ -688,6 +688,67 @@ pub(crate) fn draw_lines(
     Ok(())
 }
 
+/// The region the zoom `inset` shows, `(x, y)`: its slip range within the panel's (`x`), and
+/// the range of the main panel's data there (`y` padded); `None` when it holds no data or would
+/// show most of the panel (`x`, `y`) anyway.
+fn inset_region(
+    fig: &Figure,
+    inset: &crate::Inset,
+    x: AxisRange,
+    y: AxisRange,
+) -> Option<(AxisRange, AxisRange)> {
+    let (lo, hi) = inset.x_range;
+    let (lo, hi) = (lo.min(hi).max(x.min), hi.max(lo).min(x.max));
+    if !(lo.is_finite() && hi.is_finite() && hi > lo) {
+        return None;
+    }
+    let mut ey = Extent::default();
+    for (px, py) in fig.main.series.iter().flat_map(points) {
+        if (lo..=hi).contains(&px) {
+            ey.add(py);
+        }
+    }
+    // No data in the zoom's slip range: nothing to show.
+    ey.bounds?;
+    let (zx, zy) = (AxisRange { min: lo, max: hi }, ey.padded(false));
+    if zx.span() > 0.6 * x.span() && zy.span() > 0.6 * y.span() {
+        return None;
+    }
+    Some((zx, zy))
+}
+
+/// Outlines the zoomed region `(zx, zy)` in the main panel (dashed), each side clipped to the
+/// panel's ranges `x`, `y`; a side the clipping moved onto the panel's edge is left out (the
+/// frame is there).
+fn outline_zoom(
+    main: &mut Chart2d<'_, '_>,
+    (zx, zy): (AxisRange, AxisRange),
+    x: AxisRange,
+    y: AxisRange,
+) -> Result<(), Invalid> {
+    let outline = [
+        (zx.min, zy.max),
+        (zx.max, zy.max),
+        (zx.max, zy.min),
+        (zx.min, zy.min),
+        (zx.min, zy.max),
+    ];
+    for w in outline.windows(2) {
+        let Some((a, b)) = crate::chart::clip_segment(w[0], w[1], x, y) else {
+            continue;
+        };
+        if (a.1 == b.1) && (a.1 == y.min || a.1 == y.max) {
+            continue;
+        }
+        main.draw_series(std::iter::once(PathElement::new(
+            vec![a, b],
+            dashed(ZERO_RGB, 1),
+        )))
+        .map_err(chart_err)?;
+    }
+    Ok(())
+}
+
 /// Share of the main panel's width and height the inset takes.
 const INSET_SHARE: (f64, f64) = (0.44, 0.46);
 
@@ -705,24 +766,9 @@ fn draw_inset(
     occupancy: &mut Occupancy,
     m: &Metrics,
 ) -> Result<Option<PixelRect>, Invalid> {
-    let (lo, hi) = inset.x_range;
-    let (lo, hi) = (lo.min(hi).max(x.min), hi.max(lo).min(x.max));
-    if !(lo.is_finite() && hi.is_finite() && hi > lo) {
+    let Some((zx, zy)) = inset_region(fig, inset, x, y) else {
         return Ok(None);
-    }
-    let mut ey = Extent::default();
-    for (px, py) in fig.main.series.iter().flat_map(points) {
-        if (lo..=hi).contains(&px) {
-            ey.add(py);
-        }
-    }
-    if ey.bounds.is_none() {
-        return Ok(None);
-    }
-    let (zx, zy) = (AxisRange { min: lo, max: hi }, ey.padded(false));
-    if zx.span() > 0.6 * x.span() && zy.span() > 0.6 * y.span() {
-        return Ok(None);
-    }
+    };
     let r = plot_rect(main);
     let (w, h) = (
         (f64::from(r.width()) * INSET_SHARE.0) as i32,
@@ -747,29 +793,7 @@ fn draw_inset(
         return Ok(None);
     };
     occupancy.mark_rect(outer);
-    // The zoomed region, outlined in the main panel.
-    let outline = [
-        (zx.min, zy.max),
-        (zx.max, zy.max),
-        (zx.max, zy.min),
-        (zx.min, zy.min),
-        (zx.min, zy.max),
-    ];
-    // Each side clipped to the panel; one that the clipping moved onto the panel's edge is
-    // left out (the frame is there).
-    for w in outline.windows(2) {
-        let Some((a, b)) = crate::chart::clip_segment(w[0], w[1], x, y) else {
-            continue;
-        };
-        if (a.1 == b.1) && (a.1 == y.min || a.1 == y.max) {
-            continue;
-        }
-        main.draw_series(std::iter::once(PathElement::new(
-            vec![a, b],
-            dashed(ZERO_RGB, 1),
-        )))
-        .map_err(chart_err)?;
-    }
+    outline_zoom(main, (zx, zy), x, y)?;
     let sm = Metrics::new(
         (f64::from(fig.width) * 0.78) as u32,
         (f64::from(fig.height) * 0.78) as u32,
