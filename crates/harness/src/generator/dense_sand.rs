@@ -107,6 +107,128 @@ impl Sand {
     }
 }
 
+/// A shear box's logger as one programme draws it: a row every `per_row` mm at `rate` mm/s
+/// over `travel` mm, the displacement to `resolution`, load-cell noise `white` with a slow part
+/// (`slow`, correlated over `slow_tau` s), and, half the time, a seating toe of `toe` mm.
+struct Logger {
+    rate: f64,
+    per_row: f64,
+    travel: f64,
+    resolution: f64,
+    white: f64,
+    slow: f64,
+    slow_tau: f64,
+    toe: Option<f64>,
+}
+
+impl Logger {
+    /// The logger of one programme (the draws in the order the generator has always made
+    /// them: a seed gives the same sets).
+    fn draw(rng: &mut ChaCha8Rng) -> Logger {
+        let rate = uniform(rng, 0.2, 1.2) / 60.0;
+        let per_row = uniform(rng, 0.005, 0.02);
+        let travel = uniform(rng, 7.0, 12.0);
+        let resolution = if rng.gen_bool(0.5) { 0.001 } else { 0.002 };
+        let white = uniform(rng, 0.1, 0.5);
+        let slow = uniform(rng, 0.3, 1.0) * white;
+        let slow_tau = uniform(rng, 5.0, 30.0);
+        let toe = rng.gen_bool(0.5).then(|| uniform(rng, 0.05, 0.4));
+        Logger {
+            rate,
+            per_row,
+            travel,
+            resolution,
+            white,
+            slow,
+            slow_tau,
+            toe,
+        }
+    }
+
+    /// One monotonic test at normal stress `p` [kPa] whose stress ratio follows `ratio` of the
+    /// slip past the toe, as this logger records it.
+    fn record(&self, rng: &mut ChaCha8Rng, p: f64, ratio: impl Fn(f64) -> f64) -> Recorded {
+        let rows = (self.travel / self.per_row).round() as usize;
+        let mut rec = Recorded {
+            t: Vec::with_capacity(rows + 1),
+            u: Vec::with_capacity(rows + 1),
+            f: Vec::with_capacity(rows + 1),
+            p: Vec::with_capacity(rows + 1),
+        };
+        let mut wander = 0.0;
+        let dt = self.per_row / self.rate;
+        let keep = (-dt / self.slow_tau).exp();
+        for i in 0..=rows {
+            let u = i as f64 * self.per_row;
+            // Along a toe the box closes its gaps: the shear stays below 1 % of σ_n.
+            let (slid, toe_shear) = match self.toe {
+                Some(g) if u < g => (0.0, 0.01 * p * (u / g).powi(2)),
+                Some(g) => (u - g, 0.0),
+                None => (u, 0.0),
+            };
+            wander = keep * wander + self.slow * (1.0 - keep * keep).sqrt() * gauss(rng);
+            let shear = p * ratio(slid) + toe_shear + self.white * gauss(rng) + wander;
+            rec.t.push(quantise(u / self.rate, 1e-3));
+            rec.u.push(quantise(
+                u + 0.2 * self.resolution * gauss(rng),
+                self.resolution,
+            ));
+            rec.f.push(quantise(shear, 1e-3));
+            rec.p.push(p);
+        }
+        rec
+    }
+}
+
+/// The truth of a programme: its family (`pressure` when the sand's peak follows the stress,
+/// else `unexplained`), its form and the truth file's record of the sand, the logger and each test's
+/// stress ratios (`per_test`).
+fn truth_json(
+    sand: &Sand,
+    logger: &Logger,
+    per_test: Vec<serde_json::Value>,
+) -> (&'static str, &'static str, serde_json::Value) {
+    let family = if sand.pressure {
+        "pressure"
+    } else {
+        "unexplained"
+    };
+    let form = if sand.pressure {
+        "bolton-peak"
+    } else {
+        "empirical-shape"
+    };
+    let kw = json!({
+        "relative_density": sand.relative_density,
+        "phi_cv_deg": sand.phi_cv_deg,
+        "bolton_a": sand.bolton_a,
+        "roughness": sand.roughness,
+        "half_rise_mm": sand.half_rise_mm,
+        "stiffness_exponent": if sand.pressure { sand.stiffness_exponent } else { 1.0 },
+        "softening_mm": sand.softening_mm,
+        "tests": per_test,
+    });
+    let json = json!({
+        "effect": family,
+        "form": form,
+        "kw": kw,
+        "effects": [family],
+        "midrun": false,
+        "artifacts": {
+            "profile": "dense-sand",
+            "seating_toe_mm": logger.toe,
+            "white_noise_kpa": logger.white,
+            "slow_noise_kpa": logger.slow,
+            "slow_noise_tau_s": logger.slow_tau,
+            "slip_per_row_mm": logger.per_row,
+            "rate_mm_s": logger.rate,
+            "resolution_mm": logger.resolution,
+        },
+        "forms": [{"effect": family, "form": form, "kw": kw}],
+    });
+    (family, form, json)
+}
+
 /// A direct-shear programme of dense sand (see the module documentation): three or four
 /// monotonic tests, Bolton's pressure dependence when `pressure`, a shear box's logger (a row
 /// every 5–20 µm, 0.2–1.2 mm/min, displacement to 1–2 µm, load-cell noise of 0.1–0.5 kPa
@@ -147,44 +269,11 @@ pub fn dense_sand_programme(name: &str, pressure: bool, seed: u64) -> Generated 
     let (sand, stresses) = drawn;
     let count = stresses.len();
     let p_mean = (stresses.iter().map(|p| p.ln()).sum::<f64>() / count as f64).exp();
-    let rate = uniform(&mut rng, 0.2, 1.2) / 60.0;
-    let per_row = uniform(&mut rng, 0.005, 0.02);
-    let travel = uniform(&mut rng, 7.0, 12.0);
-    let resolution = if rng.gen_bool(0.5) { 0.001 } else { 0.002 };
-    let white = uniform(&mut rng, 0.1, 0.5);
-    let slow = uniform(&mut rng, 0.3, 1.0) * white;
-    let slow_tau = uniform(&mut rng, 5.0, 30.0);
-    let toe = rng.gen_bool(0.5).then(|| uniform(&mut rng, 0.05, 0.4));
+    let logger = Logger::draw(&mut rng);
     let mut tests = Vec::new();
     let mut per_test = Vec::new();
     for &p in &stresses {
-        let ratio = sand.curve(p, p_mean);
-        let rows = (travel / per_row).round() as usize;
-        let mut rec = Recorded {
-            t: Vec::with_capacity(rows + 1),
-            u: Vec::with_capacity(rows + 1),
-            f: Vec::with_capacity(rows + 1),
-            p: Vec::with_capacity(rows + 1),
-        };
-        let mut wander = 0.0;
-        let dt = per_row / rate;
-        let keep = (-dt / slow_tau).exp();
-        for i in 0..=rows {
-            let u = i as f64 * per_row;
-            // Along a toe the box closes its gaps: the shear stays below 1 % of σ_n.
-            let (slid, toe_shear) = match toe {
-                Some(g) if u < g => (0.0, 0.01 * p * (u / g).powi(2)),
-                Some(g) => (u - g, 0.0),
-                None => (u, 0.0),
-            };
-            wander = keep * wander + slow * (1.0 - keep * keep).sqrt() * gauss(&mut rng);
-            let shear = p * ratio(slid) + toe_shear + white * gauss(&mut rng) + wander;
-            rec.t.push(quantise(u / rate, 1e-3));
-            rec.u
-                .push(quantise(u + 0.2 * resolution * gauss(&mut rng), resolution));
-            rec.f.push(quantise(shear, 1e-3));
-            rec.p.push(p);
-        }
+        let rec = logger.record(&mut rng, p, sand.curve(p, p_mean));
         let (peak, critical) = sand.ratios(p, p_mean);
         per_test.push(json!({"normal_kpa": p, "peak_ratio": peak, "critical_ratio": critical}));
         let test = format!("shear-{:.0}kPa", p);
@@ -197,40 +286,7 @@ pub fn dense_sand_programme(name: &str, pressure: bool, seed: u64) -> Generated 
             )],
         ));
     }
-    let family = if pressure { "pressure" } else { "unexplained" };
-    let form = if pressure {
-        "bolton-peak"
-    } else {
-        "empirical-shape"
-    };
-    let kw = json!({
-        "relative_density": sand.relative_density,
-        "phi_cv_deg": sand.phi_cv_deg,
-        "bolton_a": sand.bolton_a,
-        "roughness": sand.roughness,
-        "half_rise_mm": sand.half_rise_mm,
-        "stiffness_exponent": if pressure { sand.stiffness_exponent } else { 1.0 },
-        "softening_mm": sand.softening_mm,
-        "tests": per_test,
-    });
-    let json = json!({
-        "effect": family,
-        "form": form,
-        "kw": kw,
-        "effects": [family],
-        "midrun": false,
-        "artifacts": {
-            "profile": "dense-sand",
-            "seating_toe_mm": toe,
-            "white_noise_kpa": white,
-            "slow_noise_kpa": slow,
-            "slow_noise_tau_s": slow_tau,
-            "slip_per_row_mm": per_row,
-            "rate_mm_s": rate,
-            "resolution_mm": resolution,
-        },
-        "forms": [{"effect": family, "form": form, "kw": kw}],
-    });
+    let (family, form, json) = truth_json(&sand, &logger, per_test);
     let set = super::campaign::generated_set(
         name,
         format!("Dense sand on steel in direct shear, generated set {name}"),
