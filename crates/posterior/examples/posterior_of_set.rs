@@ -18,42 +18,13 @@ use subfric_plot::write_figure;
 use subfric_posterior::{figures, sample, BandOptions, PosteriorOptions, Priors, ResidualModel};
 
 fn main() {
-    let mut args = std::env::args().skip(1);
-    let mut dir: Option<PathBuf> = None;
-    let mut out: Option<PathBuf> = None;
-    let mut opts = PosteriorOptions::default();
-    let mut judge_all = false;
-    let mut priors = Priors::default();
-    while let Some(a) = args.next() {
-        let mut value = |name: &str| {
-            args.next().unwrap_or_else(|| {
-                eprintln!("{name} needs a value");
-                std::process::exit(2)
-            })
-        };
-        match a.as_str() {
-            "--out" => out = Some(value("--out").into()),
-            "--max-evals" => opts.max_evals = parse(&value("--max-evals"), "--max-evals"),
-            "--seed" => opts.seed = parse(&value("--seed"), "--seed"),
-            "--judge" => judge_all = value("--judge") == "all",
-            "--independent" => opts.residuals = ResidualModel::Independent,
-            "--priors" => {
-                priors = Priors::load(&PathBuf::from(value("--priors"))).unwrap_or_else(|e| {
-                    eprintln!("{e}");
-                    std::process::exit(2)
-                })
-            }
-            other if !other.starts_with('-') && dir.is_none() => dir = Some(other.into()),
-            other => {
-                eprintln!("unknown argument `{other}`");
-                std::process::exit(2)
-            }
-        }
-    }
-    let Some(dir) = dir else {
-        eprintln!("usage: posterior_of_set <set folder> [--out DIR] [--max-evals N] [--seed S] [--judge determined|all] [--priors FILE] [--independent]");
-        std::process::exit(2)
-    };
+    let Args {
+        dir,
+        out,
+        mut opts,
+        judge_all,
+        priors,
+    } = parse_args();
     let set = subfric_data::load_set(&dir).unwrap_or_else(|e| {
         eprintln!("{e}");
         std::process::exit(1)
@@ -122,27 +93,7 @@ fn main() {
         );
     }
     if let Some(out) = out {
-        std::fs::create_dir_all(&out).expect("output folder");
-        let name = &set.meta.name;
-        write_figure(
-            &figures::corner_figure(&post, &format!("{name}: posterior"), None),
-            &out.join("corner.png"),
-        )
-        .expect("corner plot");
-        let full: Vec<_> = prepared.iter().map(|p| p.full.clone()).collect();
-        let bands = post.predictive_bands(&full, &BandOptions::default());
-        for (t, b) in full.iter().zip(&bands) {
-            let path = out.join(format!("{}-band.png", t.name));
-            write_figure(
-                &figures::band_figure(t, b, Some(&fit.model), &format!("{name}: {}", t.name)),
-                &path,
-            )
-            .expect("band figure");
-        }
-        let mut csv = Vec::new();
-        post.write_chain_csv(&mut csv).expect("chain CSV");
-        subfric_data::write_atomic(&out.join("chain.csv"), &csv).expect("chain CSV written");
-        println!("figures and chain in {}", out.display());
+        write_outputs(&out, &set.meta.name, &post, &prepared, &fit.model);
     }
 }
 
@@ -170,4 +121,91 @@ fn parse<T: std::str::FromStr>(s: &str, name: &str) -> T {
         eprintln!("{name}: `{s}` is not a valid value");
         std::process::exit(2)
     })
+}
+
+/// What the command line asks: the set, where to write, the sampler's options, whether to
+/// judge convergence on every parameter, and the priors.
+struct Args {
+    dir: PathBuf,
+    out: Option<PathBuf>,
+    opts: PosteriorOptions,
+    judge_all: bool,
+    priors: Priors,
+}
+
+/// The command line read, or the usage printed and the process ended.
+fn parse_args() -> Args {
+    let mut args = std::env::args().skip(1);
+    let mut dir: Option<PathBuf> = None;
+    let mut out: Option<PathBuf> = None;
+    let mut opts = PosteriorOptions::default();
+    let mut judge_all = false;
+    let mut priors = Priors::default();
+    while let Some(a) = args.next() {
+        let mut value = |name: &str| {
+            args.next().unwrap_or_else(|| {
+                eprintln!("{name} needs a value");
+                std::process::exit(2)
+            })
+        };
+        match a.as_str() {
+            "--out" => out = Some(value("--out").into()),
+            "--max-evals" => opts.max_evals = parse(&value("--max-evals"), "--max-evals"),
+            "--seed" => opts.seed = parse(&value("--seed"), "--seed"),
+            "--judge" => judge_all = value("--judge") == "all",
+            "--independent" => opts.residuals = ResidualModel::Independent,
+            "--priors" => {
+                priors = Priors::load(&PathBuf::from(value("--priors"))).unwrap_or_else(|e| {
+                    eprintln!("{e}");
+                    std::process::exit(2)
+                })
+            }
+            other if !other.starts_with('-') && dir.is_none() => dir = Some(other.into()),
+            other => {
+                eprintln!("unknown argument `{other}`");
+                std::process::exit(2)
+            }
+        }
+    }
+    let Some(dir) = dir else {
+        eprintln!("usage: posterior_of_set <set folder> [--out DIR] [--max-evals N] [--seed S] [--judge determined|all] [--priors FILE] [--independent]");
+        std::process::exit(2)
+    };
+    Args {
+        dir,
+        out,
+        opts,
+        judge_all,
+        priors,
+    }
+}
+
+/// The corner plot, a band figure per test and the chain, written into `out`.
+fn write_outputs(
+    out: &std::path::Path,
+    name: &str,
+    post: &subfric_posterior::Posterior,
+    prepared: &[subfric_fit::PreparedTest],
+    model: &Model,
+) {
+    std::fs::create_dir_all(out).expect("output folder");
+    write_figure(
+        &figures::corner_figure(post, &format!("{name}: posterior"), None),
+        &out.join("corner.png"),
+    )
+    .expect("corner plot");
+    let full: Vec<_> = prepared.iter().map(|p| p.full.clone()).collect();
+    let bands = post.predictive_bands(&full, &BandOptions::default());
+    for (t, b) in full.iter().zip(&bands) {
+        let path = out.join(format!("{}-band.png", t.name));
+        write_figure(
+            &figures::band_figure(t, b, Some(model), &format!("{name}: {}", t.name)),
+            &path,
+        )
+        .expect("band figure");
+    }
+    let mut csv = Vec::new();
+    post.write_chain_csv(&mut csv).expect("chain CSV");
+    subfric_data::write_atomic(&out.join("chain.csv"), &csv).expect("chain CSV written");
+    println!("figures and chain in {}", out.display());
 }
