@@ -68,101 +68,7 @@ fn main() {
     let ranges = CampaignRanges::default();
     let mut outcomes = Vec::new();
     for index in first..first + campaigns {
-        let c = generate_campaign(seed, index, &ranges);
-        let tests: Vec<FitTest> = prepare_set_with(&c.set, false, &PrepareOptions::default())
-            .into_iter()
-            .map(|p| p.fit)
-            .collect();
-        let mut template = Model::base(Params::sample()).expect("sample parameters are valid");
-        template.params.alpha_t = c.truth.params.alpha_t;
-        template.params.alpha_n = c.truth.params.alpha_n;
-        let space = Space::with_rate(template, &Param::BASE, &[], typical_rate(&tests));
-        let fit_opts = FitOptions {
-            seed: seed.wrapping_add(index as u64),
-            ..FitOptions::default()
-        };
-        let fit = calibrate(&tests, space.clone(), &fit_opts, &|_| {})
-            .expect("a generated campaign fits");
-        let t1 = Instant::now();
-        let post_opts = PosteriorOptions {
-            seed: seed.wrapping_add(index as u64),
-            ..opts.clone()
-        };
-        let post = sample(
-            &tests,
-            &space,
-            &fit.model,
-            &Priors::default(),
-            &post_opts,
-            &|_, _| {},
-        )
-        .expect("a generated campaign samples");
-        let truth: Vec<f64> = space
-            .free
-            .iter()
-            .map(|p| p.get(&c.truth).unwrap_or(f64::NAN))
-            .collect();
-        let credible_covers: Vec<bool> = post
-            .summary
-            .iter()
-            .zip(&truth)
-            .map(|(s, t)| s.covers(*t))
-            .collect();
-        let profile_covers: Vec<bool> = space
-            .free
-            .iter()
-            .zip(&truth)
-            .map(|(p, t)| {
-                fit.param(p.key())
-                    .and_then(|r| r.interval)
-                    .is_some_and(|i| i.contains(*t))
-            })
-            .collect();
-        let o = Outcome {
-            index,
-            lo: post.summary.iter().map(|s| s.lo).collect(),
-            hi: post.summary.iter().map(|s| s.hi).collect(),
-            truth,
-            credible_covers,
-            profile_covers,
-            converged: post.convergence.converged(),
-            steps: post.convergence.steps,
-            model_runs: post.model_runs,
-            noise_correlation: post.noise.correlation_time,
-            sample_s: t1.elapsed().as_secs_f64(),
-        };
-        let missed: Vec<&str> = space
-            .free
-            .iter()
-            .zip(&o.credible_covers)
-            .filter(|(_, c)| !**c)
-            .map(|(p, _)| p.key())
-            .collect();
-        let profile_missed: Vec<&str> = space
-            .free
-            .iter()
-            .zip(&o.profile_covers)
-            .filter(|(_, c)| !**c)
-            .map(|(p, _)| p.key())
-            .collect();
-        let list = |v: &[&str]| {
-            if v.is_empty() {
-                "-".to_string()
-            } else {
-                v.join(",")
-            }
-        };
-        eprintln!(
-            "campaign {index:>3}: {} after {} steps, {} model runs, tau of the residuals {:.1}, {:.1} s; credible missed {}; profile missed {}",
-            if o.converged { "converged" } else { "NOT converged" },
-            o.steps,
-            o.model_runs,
-            o.noise_correlation,
-            o.sample_s,
-            list(&missed),
-            list(&profile_missed)
-        );
-        outcomes.push(o);
+        outcomes.push(run_campaign(seed, index, &ranges, &opts));
     }
     println!(
         "coverage of the 95 % intervals over {campaigns} generated campaigns ({first}..{}, seed {seed}), {} converged, {:.0} s:",
@@ -204,4 +110,106 @@ fn parse<T: std::str::FromStr>(s: &str, name: &str) -> T {
         eprintln!("{name}: `{s}` is not a valid value");
         std::process::exit(2)
     })
+}
+
+/// Campaign `index` of `seed` generated, fitted and sampled (with `opts`), its coverage said on
+/// stderr.
+fn run_campaign(
+    seed: u64,
+    index: usize,
+    ranges: &CampaignRanges,
+    opts: &PosteriorOptions,
+) -> Outcome {
+    let c = generate_campaign(seed, index, ranges);
+    let tests: Vec<FitTest> = prepare_set_with(&c.set, false, &PrepareOptions::default())
+        .into_iter()
+        .map(|p| p.fit)
+        .collect();
+    let mut template = Model::base(Params::sample()).expect("sample parameters are valid");
+    template.params.alpha_t = c.truth.params.alpha_t;
+    template.params.alpha_n = c.truth.params.alpha_n;
+    let space = Space::with_rate(template, &Param::BASE, &[], typical_rate(&tests));
+    let fit_opts = FitOptions {
+        seed: seed.wrapping_add(index as u64),
+        ..FitOptions::default()
+    };
+    let fit =
+        calibrate(&tests, space.clone(), &fit_opts, &|_| {}).expect("a generated campaign fits");
+    let t1 = Instant::now();
+    let post_opts = PosteriorOptions {
+        seed: seed.wrapping_add(index as u64),
+        ..opts.clone()
+    };
+    let post = sample(
+        &tests,
+        &space,
+        &fit.model,
+        &Priors::default(),
+        &post_opts,
+        &|_, _| {},
+    )
+    .expect("a generated campaign samples");
+    let truth: Vec<f64> = space
+        .free
+        .iter()
+        .map(|p| p.get(&c.truth).unwrap_or(f64::NAN))
+        .collect();
+    let credible_covers: Vec<bool> = post
+        .summary
+        .iter()
+        .zip(&truth)
+        .map(|(s, t)| s.covers(*t))
+        .collect();
+    let profile_covers: Vec<bool> = space
+        .free
+        .iter()
+        .zip(&truth)
+        .map(|(p, t)| {
+            fit.param(p.key())
+                .and_then(|r| r.interval)
+                .is_some_and(|i| i.contains(*t))
+        })
+        .collect();
+    let o = Outcome {
+        index,
+        lo: post.summary.iter().map(|s| s.lo).collect(),
+        hi: post.summary.iter().map(|s| s.hi).collect(),
+        truth,
+        credible_covers,
+        profile_covers,
+        converged: post.convergence.converged(),
+        steps: post.convergence.steps,
+        model_runs: post.model_runs,
+        noise_correlation: post.noise.correlation_time,
+        sample_s: t1.elapsed().as_secs_f64(),
+    };
+    let missed = missed_keys(&space.free, &o.credible_covers);
+    let profile_missed = missed_keys(&space.free, &o.profile_covers);
+    eprintln!(
+        "campaign {index:>3}: {} after {} steps, {} model runs, tau of the residuals {:.1}, {:.1} s; credible missed {}; profile missed {}",
+        if o.converged { "converged" } else { "NOT converged" },
+        o.steps,
+        o.model_runs,
+        o.noise_correlation,
+        o.sample_s,
+        missed,
+        profile_missed
+    );
+    o
+}
+
+/// The keys of the parameters of `free` whose interval missed the truth (`covers` false),
+/// comma separated; "-" when none did.
+fn missed_keys(free: &[Param], covers: &[bool]) -> String {
+    let missed: Vec<&str> = free
+        .iter()
+        .zip(covers)
+        .filter(|(_, c)| !**c)
+        .map(|(p, _)| p.key())
+        .collect();
+    if missed.is_empty() {
+        "-".to_string()
+    } else {
+        missed.join(",")
+    }
 }
