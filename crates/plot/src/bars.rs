@@ -7,8 +7,8 @@ use plotters::style::text_anchor::{HPos, VPos};
 
 use crate::chart::{
     anchored, chart_err, dashed, draw_legend, font, frame, no_data, place_legend, plot_rect,
-    plottable, rgb, shrink_to_fit, stroke, text_width, typographic_minus, AxisRange, Entry, Extent,
-    Metrics, Occupancy, Swatch, Ticks,
+    plottable, rgb, shrink_to_fit, stroke, text_width, typographic_minus, AxisRange, Chart2d,
+    Entry, Extent, Metrics, Occupancy, Swatch, Ticks,
 };
 use crate::colors::{BAR_PALETTE, INK_RGB, ZERO_RGB};
 use crate::figure::title;
@@ -144,14 +144,144 @@ fn y_range(fig: &BarFigure, legend_share: f64) -> AxisRange {
     AxisRange { min, max }
 }
 
-struct Drawn {
-    svg: String,
-    layout: BarLayout,
+/// The zero line where the bars go both ways, and the figure's reference line (dashed, marked in
+/// `occupancy` so that the legend keeps off it), across the `n` categories of the y range `y`.
+fn draw_level_lines(
+    chart: &mut Chart2d<'_, '_>,
+    fig: &BarFigure,
+    (y, n): (AxisRange, usize),
+    occupancy: &mut Occupancy,
+    m: &Metrics,
+) -> Result<(), Invalid> {
+    let spec = chart.as_coord_spec().clone();
+    let px = |x: f64, v: f64| plotters::coord::CoordTranslate::translate(&spec, &(x, v));
+    if y.min < 0.0 && y.max > 0.0 {
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(-0.5, 0.0), (n as f64 - 0.5, 0.0)],
+                stroke(INK_RGB, 1),
+            )))
+            .map_err(chart_err)?;
+    }
+    if let Some((_, v)) = fig
+        .reference_line
+        .as_ref()
+        .filter(|(_, v)| plottable(*v) && y.contains(*v))
+    {
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(-0.5, *v), (n as f64 - 0.5, *v)],
+                dashed(ZERO_RGB, m.width(1.5)),
+            )))
+            .map_err(chart_err)?;
+        let (a, b) = (px(-0.5, *v), px(n as f64 - 0.5, *v));
+        occupancy.mark_polyline(&[
+            (f64::from(a.0), f64::from(a.1)),
+            (f64::from(b.0), f64::from(b.1)),
+        ]);
+    }
+    Ok(())
 }
 
-fn draw(fig: &BarFigure) -> Result<Drawn, Invalid> {
-    validate(fig)?;
-    render::ensure_font().map_err(Invalid::Draw)?;
+/// A value's label drawn over (or under) its bar: text, anchor, vertical side, colour.
+type ValueLabel = (String, (i32, i32), VPos, [u8; 3]);
+
+/// A bar drawn: its category, its group and its box.
+type DrawnBar = (usize, usize, PixelRect);
+
+/// Every bar of `fig` drawn on `chart` (its y range `y`), each marked in `occupancy` (the
+/// plotting box `plot`); returns each bar's (category, group, box) and the value labels that
+/// fit in their bars, to be drawn over everything else ("n/a" where a value is missing).
+fn draw_bars(
+    chart: &mut Chart2d<'_, '_>,
+    fig: &BarFigure,
+    y: AxisRange,
+    format: &ValueFormat,
+    (occupancy, plot): (&mut Occupancy, PixelRect),
+    m: &Metrics,
+) -> Result<(Vec<DrawnBar>, Vec<ValueLabel>), Invalid> {
+    let spec = chart.as_coord_spec().clone();
+    let px = |x: f64, v: f64| plotters::coord::CoordTranslate::translate(&spec, &(x, v));
+    let groups = fig.groups.len().max(1) as f64;
+    let bar_w = 0.8 / groups;
+    let y0 = 0.0f64.clamp(y.min, y.max);
+    let mut bars = Vec::new();
+    let mut texts = Vec::new();
+    let value_size = m.tick * 0.8;
+    for (g, (_, values)) in fig.groups.iter().enumerate() {
+        let color = BAR_PALETTE[g % BAR_PALETTE.len()];
+        for (j, &v) in values.iter().enumerate() {
+            let x0 = j as f64 - 0.4 + bar_w * g as f64;
+            let cx = x0 + 0.5 * bar_w;
+            if !plottable(v) {
+                texts.push(("n/a".to_string(), px(cx, y0), VPos::Bottom, ZERO_RGB));
+                continue;
+            }
+            let (a, b) = (px(x0, v.clamp(y.min, y.max)), px(x0 + bar_w, y0));
+            let rect = PixelRect {
+                left: a.0.min(b.0),
+                right: a.0.max(b.0) - 1,
+                top: a.1.min(b.1),
+                bottom: a.1.max(b.1),
+            };
+            occupancy.mark_rect(rect);
+            bars.push((j, g, rect));
+            chart
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(x0, v), (x0 + bar_w, y0)],
+                    rgb(color).filled(),
+                )))
+                .map_err(chart_err)?;
+            chart
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(x0, v), (x0 + bar_w, y0)],
+                    BLACK.stroke_width(1),
+                )))
+                .map_err(chart_err)?;
+            let label = format.format(v);
+            if text_width(&label, value_size) + 2 <= rect.width() {
+                let (at, vp) = if v >= 0.0 {
+                    ((px(cx, v).0, rect.top - m.px(3.0)), VPos::Bottom)
+                } else {
+                    ((px(cx, v).0, rect.bottom + m.px(3.0)), VPos::Top)
+                };
+                let th = (value_size / 1.24) as i32;
+                let inside = if v >= 0.0 {
+                    at.1 - th > plot.top
+                } else {
+                    at.1 + th < plot.bottom
+                };
+                if inside {
+                    texts.push((label, at, vp, INK_RGB));
+                }
+            }
+        }
+    }
+    Ok((bars, texts))
+}
+
+/// Where a bar chart's parts go, decided before anything is drawn: the metrics, the figure's
+/// height, the number of categories, the title's and the x labels' heights, the legend's
+/// entries, the y range (room left above the bars for the legend) and its ticks and label, the
+/// left margin and the right one, and the category labels with their common size.
+struct Geometry {
+    m: Metrics,
+    h: i32,
+    n: usize,
+    title_h: i32,
+    x_area: i32,
+    legend_entries: Vec<Entry>,
+    y: AxisRange,
+    yticks: Ticks,
+    y_label: (String, f64),
+    left: i32,
+    right_margin: i32,
+    cat_size: f64,
+    labels: Vec<String>,
+}
+
+/// The [`Geometry`] of `fig`; too low or too narrow a figure is refused.
+fn geometry(fig: &BarFigure) -> Result<Geometry, Invalid> {
     let m = Metrics::new(fig.width, fig.height);
     let (w, h) = (fig.width as i32, fig.height as i32);
     let n = fig.categories.len().max(1);
@@ -216,6 +346,46 @@ fn draw(fig: &BarFigure) -> Result<Drawn, Invalid> {
         .iter()
         .map(|c| crate::chart::fit_text(c.trim(), cat_size, (f64::from(slot) * 0.92) as i32))
         .collect();
+    Ok(Geometry {
+        m,
+        h,
+        n,
+        title_h,
+        x_area,
+        legend_entries,
+        y,
+        yticks,
+        y_label,
+        left,
+        right_margin,
+        cat_size,
+        labels,
+    })
+}
+
+struct Drawn {
+    svg: String,
+    layout: BarLayout,
+}
+
+fn draw(fig: &BarFigure) -> Result<Drawn, Invalid> {
+    validate(fig)?;
+    render::ensure_font().map_err(Invalid::Draw)?;
+    let Geometry {
+        m,
+        h,
+        n,
+        title_h,
+        x_area,
+        legend_entries,
+        y,
+        yticks,
+        y_label,
+        left,
+        right_margin,
+        cat_size,
+        labels,
+    } = geometry(fig)?;
     let format = ValueFormat::for_values(fig.groups.iter().flat_map(|(_, v)| v.iter()));
     let mut layout = None;
     let svg = render::svg_of(fig.width, fig.height, |root| {
@@ -257,89 +427,10 @@ fn draw(fig: &BarFigure) -> Result<Drawn, Invalid> {
             .draw()
             .map_err(chart_err)?;
         let plot = plot_rect(&chart);
-        let spec = chart.as_coord_spec().clone();
-        let px = |x: f64, v: f64| plotters::coord::CoordTranslate::translate(&spec, &(x, v));
-        let groups = fig.groups.len().max(1) as f64;
-        let bar_w = 0.8 / groups;
-        let y0 = 0.0f64.clamp(y.min, y.max);
         let mut occupancy = Occupancy::new(plot, m.px(6.0).max(3));
-        let mut bars = Vec::new();
-        let mut texts = Vec::new();
         let value_size = m.tick * 0.8;
-        for (g, (_, values)) in fig.groups.iter().enumerate() {
-            let color = BAR_PALETTE[g % BAR_PALETTE.len()];
-            for (j, &v) in values.iter().enumerate() {
-                let x0 = j as f64 - 0.4 + bar_w * g as f64;
-                let cx = x0 + 0.5 * bar_w;
-                if !plottable(v) {
-                    texts.push(("n/a".to_string(), px(cx, y0), VPos::Bottom, ZERO_RGB));
-                    continue;
-                }
-                let (a, b) = (px(x0, v.clamp(y.min, y.max)), px(x0 + bar_w, y0));
-                let rect = PixelRect {
-                    left: a.0.min(b.0),
-                    right: a.0.max(b.0) - 1,
-                    top: a.1.min(b.1),
-                    bottom: a.1.max(b.1),
-                };
-                occupancy.mark_rect(rect);
-                bars.push((j, g, rect));
-                chart
-                    .draw_series(std::iter::once(Rectangle::new(
-                        [(x0, v), (x0 + bar_w, y0)],
-                        rgb(color).filled(),
-                    )))
-                    .map_err(chart_err)?;
-                chart
-                    .draw_series(std::iter::once(Rectangle::new(
-                        [(x0, v), (x0 + bar_w, y0)],
-                        BLACK.stroke_width(1),
-                    )))
-                    .map_err(chart_err)?;
-                let label = format.format(v);
-                if text_width(&label, value_size) + 2 <= rect.width() {
-                    let (at, vp) = if v >= 0.0 {
-                        ((px(cx, v).0, rect.top - m.px(3.0)), VPos::Bottom)
-                    } else {
-                        ((px(cx, v).0, rect.bottom + m.px(3.0)), VPos::Top)
-                    };
-                    let th = (value_size / 1.24) as i32;
-                    let inside = if v >= 0.0 {
-                        at.1 - th > plot.top
-                    } else {
-                        at.1 + th < plot.bottom
-                    };
-                    if inside {
-                        texts.push((label, at, vp, INK_RGB));
-                    }
-                }
-            }
-        }
-        if y.min < 0.0 && y.max > 0.0 {
-            chart
-                .draw_series(std::iter::once(PathElement::new(
-                    vec![(-0.5, 0.0), (n as f64 - 0.5, 0.0)],
-                    stroke(INK_RGB, 1),
-                )))
-                .map_err(chart_err)?;
-        }
-        if let Some((_, v)) = fig
-            .reference_line
-            .as_ref()
-            .filter(|(_, v)| plottable(*v) && y.contains(*v))
-        {
-            chart
-                .draw_series(std::iter::once(PathElement::new(
-                    vec![(-0.5, *v), (n as f64 - 0.5, *v)],
-                    dashed(ZERO_RGB, m.width(1.5)),
-                )))
-                .map_err(chart_err)?;
-            let (a, b) = (px(-0.5, *v), px(n as f64 - 0.5, *v));
-            occupancy.mark_polyline(&[
-                (f64::from(a.0), f64::from(a.1)),
-                (f64::from(b.0), f64::from(b.1)),
-            ]);
-        }
+        let (bars, texts) = draw_bars(&mut chart, fig, y, &format, (&mut occupancy, plot), &m)?;
+        draw_level_lines(&mut chart, fig, (y, n), &mut occupancy, &m)?;
         for (text, at, vp, color) in texts {
             root.draw(&Text::new(
                 text,

@@ -16,6 +16,13 @@ use plotters_backend::BackendCoord;
 /// The drawing area every figure is drawn on.
 pub(crate) type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 
+/// A chart of two f64 axes on the SVG backend, as every figure draws.
+pub(crate) type Chart2d<'a, 'b> = ChartContext<
+    'a,
+    SVGBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
 /// Values whose magnitude exceeds this are treated like NaN (skipped), so
 /// that ranges and their padding stay finite.
 pub const MAX_ABS_VALUE: f64 = 1e300;

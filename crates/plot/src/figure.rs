@@ -10,7 +10,7 @@ use plotters::style::text_anchor::{HPos, VPos};
 use crate::chart::{
     anchored, chart_err, clip_polyline, dashed, decimate, distinct_pixels, draw_legend, frame,
     no_data, place_legend, plot_rect, plottable, rgb, shrink_to_fit, stroke, whole_numbers, Area,
-    AxisRange, Entry, Extent, Legend, Metrics, Occupancy, Pt, Swatch, Ticks,
+    AxisRange, Chart2d, Entry, Extent, Legend, Metrics, Occupancy, Pt, Swatch, Ticks,
 };
 use crate::colors::{self, INK_RGB, ZERO_RGB};
 use crate::render::{self, Chart};
@@ -645,12 +645,6 @@ fn draw_panels(
         main_line_points: line_points,
     })
 }
-
-type Chart2d<'a, 'b> = ChartContext<
-    'a,
-    SVGBackend<'b>,
-    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
->;
 
 /// Lines, then markers over them.
 pub(crate) fn draw_lines(
