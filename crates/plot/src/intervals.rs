@@ -15,8 +15,8 @@ use plotters::style::FontTransform;
 
 use crate::chart::{
     chart_err, dashed, draw_legend, font, frame, no_data, place_legend, plot_rect, plottable, rgb,
-    shrink_to_fit, stroke, text_width, whole_numbers, AxisRange, Entry, Extent, Metrics, Occupancy,
-    Swatch, Ticks,
+    shrink_to_fit, stroke, text_width, whole_numbers, AxisRange, Chart2d, Entry, Extent, Metrics,
+    Occupancy, Swatch, Ticks,
 };
 use crate::colors::{style_rgb, INK_RGB};
 use crate::figure::title;
@@ -197,14 +197,59 @@ fn marker_radius(m: &Metrics) -> u32 {
     (3.5 * m.s).round().max(2.0) as u32
 }
 
-struct Drawn {
-    svg: String,
-    layout: IntervalLayout,
+/// Where an interval chart's parts go, decided before anything is drawn: the metrics, the
+/// axes' ranges (and whether any point is drawable), the figure's height, the title's height,
+/// the margins, the x labels' area, the category labels (with their size, and whether upright),
+/// the axis labels, the ticks, and each group's sideways dodge in pixels.
+struct Geometry {
+    m: Metrics,
+    x: AxisRange,
+    y: AxisRange,
+    any: bool,
+    h: i32,
+    title_h: i32,
+    left: i32,
+    right_margin: i32,
+    x_area: i32,
+    categories: Option<(Vec<String>, f64, bool)>,
+    x_label: (String, f64),
+    y_label: (String, f64),
+    xticks: Ticks,
+    yticks: Ticks,
+    dodge_px: Vec<f64>,
 }
 
-fn draw(fig: &IntervalFigure) -> Result<Drawn, Invalid> {
-    check_size(fig.width, fig.height)?;
-    render::ensure_font().map_err(Invalid::Draw)?;
+/// The category labels, their size and whether upright: side by side when they fit their slots
+/// of the plotting width `plot_w`, else upright, cut to a third of the height `h`; `None` for a
+/// numeric x axis.
+fn category_labels(
+    fig: &IntervalFigure,
+    plot_w: i32,
+    h: i32,
+    m: &Metrics,
+) -> Option<(Vec<String>, f64, bool)> {
+    fig.categories.as_ref().map(|labels| {
+        let slot = plot_w / labels.len().max(1) as i32;
+        let widest = labels
+            .iter()
+            .map(|l| text_width(l, m.tick))
+            .max()
+            .unwrap_or(0);
+        if f64::from(widest) <= f64::from(slot) * 0.9 {
+            (labels.clone(), m.tick, false)
+        } else {
+            let size = (f64::from(slot) * 0.8 * 1.24).min(m.tick).max(m.tick * 0.5);
+            let cut: Vec<String> = labels
+                .iter()
+                .map(|l| crate::chart::fit_text(l, size, h / 3))
+                .collect();
+            (cut, size, true)
+        }
+    })
+}
+
+/// The [`Geometry`] of `fig`; too narrow or too low a figure is refused.
+fn geometry(fig: &IntervalFigure) -> Result<Geometry, Invalid> {
     let m = Metrics::new(fig.width, fig.height);
     let (x, y, any) = extents(fig);
     let (w, h) = (fig.width as i32, fig.height as i32);
@@ -228,26 +273,7 @@ fn draw(fig: &IntervalFigure) -> Result<Drawn, Invalid> {
             height: fig.height,
         }));
     }
-    // Category labels: side by side when they fit their slots, else upright (cut to a third of
-    // the height).
-    let categories = fig.categories.as_ref().map(|labels| {
-        let slot = plot_w / labels.len().max(1) as i32;
-        let widest = labels
-            .iter()
-            .map(|l| text_width(l, m.tick))
-            .max()
-            .unwrap_or(0);
-        if f64::from(widest) <= f64::from(slot) * 0.9 {
-            (labels.clone(), m.tick, false)
-        } else {
-            let size = (f64::from(slot) * 0.8 * 1.24).min(m.tick).max(m.tick * 0.5);
-            let cut: Vec<String> = labels
-                .iter()
-                .map(|l| crate::chart::fit_text(l, size, h / 3))
-                .collect();
-            (cut, size, true)
-        }
-    });
+    let categories = category_labels(fig, plot_w, h, &m);
     let tick_block = match &categories {
         Some((labels, size, true)) => labels
             .iter()
@@ -300,6 +326,158 @@ fn draw(fig: &IntervalFigure) -> Result<Drawn, Invalid> {
     let dodge_px: Vec<f64> = (0..n)
         .map(|g| (g as f64 - 0.5 * (n as f64 - 1.0)) * f64::from(m.px(8.0)))
         .collect();
+    Ok(Geometry {
+        m,
+        x,
+        y,
+        any,
+        h,
+        title_h,
+        left,
+        right_margin,
+        x_area,
+        categories,
+        x_label,
+        y_label,
+        xticks,
+        yticks,
+        dodge_px,
+    })
+}
+
+/// A point drawn: its group, its index in the group, and where it is (pixels).
+type DrawnPoint = (usize, usize, (f64, f64));
+
+/// Every drawable point of `fig` on `chart` (ranges `(x, y)`), dodged sideways by its group's
+/// `dodge_px`, with its x range, its interval (capped; dashed to the edge where open) and its
+/// marker, each marked in `occupancy` (the plotting box `plot`); returns the points drawn and
+/// whether any interval was open.
+fn draw_intervals(
+    chart: &mut Chart2d<'_, '_>,
+    fig: &IntervalFigure,
+    (x, y): (AxisRange, AxisRange),
+    dodge_px: &[f64],
+    (occupancy, plot): (&mut Occupancy, PixelRect),
+    m: &Metrics,
+) -> Result<(Vec<DrawnPoint>, bool), Invalid> {
+    let spec = chart.as_coord_spec().clone();
+    let to_px = |q: (f64, f64)| {
+        let c = spec.translate(&q);
+        (f64::from(c.0), f64::from(c.1))
+    };
+    let per_px = x.span() / f64::from(plot.width().max(1));
+    let mut points = Vec::new();
+    let mut open = false;
+    let width = m.width(1.6);
+    let cap = f64::from(m.px(5.0)) * per_px;
+    for (g, group) in fig.groups.iter().enumerate() {
+        let color = group_rgb(g);
+        let dx = dodge_px[g] * per_px;
+        for (i, p) in group.points.iter().enumerate().filter(|(_, p)| drawable(p)) {
+            let (cx, cy) = (p.x + dx, p.y);
+            if let Some((a, b)) = p.x_range.filter(|(a, b)| plottable(*a) && plottable(*b)) {
+                let (a, b) = (a.clamp(x.min, x.max), b.clamp(x.min, x.max));
+                chart
+                    .draw_series(std::iter::once(PathElement::new(
+                        vec![(a, cy), (b, cy)],
+                        stroke(color, m.width(1.0)),
+                    )))
+                    .map_err(chart_err)?;
+                occupancy.mark_polyline(&[to_px((a, cy)), to_px((b, cy))]);
+            }
+            for (end, edge) in [(p.hi, y.max), (p.lo, y.min)] {
+                let (to, is_open) = match end {
+                    IntervalEnd::At(v) if plottable(v) => (v.clamp(y.min, y.max), false),
+                    IntervalEnd::Open => (edge, true),
+                    _ => continue,
+                };
+                open |= is_open;
+                let style = if is_open {
+                    dashed(color, width)
+                } else {
+                    stroke(color, width)
+                };
+                let mut parts = vec![PathElement::new(vec![(cx, cy), (cx, to)], style)];
+                if !is_open {
+                    parts.push(PathElement::new(
+                        vec![(cx - cap, to), (cx + cap, to)],
+                        stroke(color, width),
+                    ));
+                }
+                chart.draw_series(parts).map_err(chart_err)?;
+                occupancy.mark_polyline(&[to_px((cx, cy)), to_px((cx, to))]);
+            }
+            chart
+                .draw_series(std::iter::once(Circle::new(
+                    (cx, cy),
+                    marker_radius(m),
+                    rgb(color).filled(),
+                )))
+                .map_err(chart_err)?;
+            occupancy.mark_point(to_px((cx, cy)));
+            points.push((g, i, to_px((cx, cy))));
+        }
+    }
+    Ok((points, open))
+}
+
+/// The legend's entries: each labelled group, and the dashed line of an open interval where one
+/// was drawn (`open`).
+fn legend_entries(fig: &IntervalFigure, open: bool, m: &Metrics) -> Vec<Entry> {
+    let mut entries: Vec<Entry> = fig
+        .groups
+        .iter()
+        .enumerate()
+        .filter(|(_, g)| !g.label.trim().is_empty())
+        .map(|(g, group)| Entry {
+            label: group.label.clone(),
+            swatch: Swatch::Line {
+                color: group_rgb(g),
+                width: m.width(1.5),
+                dashed: false,
+                marker: Some((marker_radius(m), group_rgb(g))),
+            },
+        })
+        .collect();
+    if open {
+        entries.push(Entry {
+            label: "interval not bounded by the data".into(),
+            swatch: Swatch::Line {
+                color: INK_RGB,
+                width: m.width(1.5),
+                dashed: true,
+                marker: None,
+            },
+        });
+    }
+    entries
+}
+
+struct Drawn {
+    svg: String,
+    layout: IntervalLayout,
+}
+
+fn draw(fig: &IntervalFigure) -> Result<Drawn, Invalid> {
+    check_size(fig.width, fig.height)?;
+    render::ensure_font().map_err(Invalid::Draw)?;
+    let Geometry {
+        m,
+        x,
+        y,
+        any,
+        h,
+        title_h,
+        left,
+        right_margin,
+        x_area,
+        categories,
+        x_label,
+        y_label,
+        xticks,
+        yticks,
+        dodge_px,
+    } = geometry(fig)?;
     let mut layout = None;
     let svg = render::svg_of(fig.width, fig.height, |root| {
         root.fill(&WHITE).map_err(chart_err)?;
@@ -338,95 +516,20 @@ fn draw(fig: &IntervalFigure) -> Result<Drawn, Invalid> {
         }
         mesh.draw().map_err(chart_err)?;
         let plot = plot_rect(&chart);
-        let spec = chart.as_coord_spec().clone();
-        let to_px = |q: (f64, f64)| {
-            let c = spec.translate(&q);
-            (f64::from(c.0), f64::from(c.1))
-        };
-        let per_px = x.span() / f64::from(plot.width().max(1));
         let mut occupancy = Occupancy::new(plot, m.px(12.0).max(4));
-        let mut points = Vec::new();
-        let mut open = false;
-        let width = m.width(1.6);
-        let cap = f64::from(m.px(5.0)) * per_px;
-        for (g, group) in fig.groups.iter().enumerate() {
-            let color = group_rgb(g);
-            let dx = dodge_px[g] * per_px;
-            for (i, p) in group.points.iter().enumerate().filter(|(_, p)| drawable(p)) {
-                let (cx, cy) = (p.x + dx, p.y);
-                if let Some((a, b)) = p.x_range.filter(|(a, b)| plottable(*a) && plottable(*b)) {
-                    let (a, b) = (a.clamp(x.min, x.max), b.clamp(x.min, x.max));
-                    chart
-                        .draw_series(std::iter::once(PathElement::new(
-                            vec![(a, cy), (b, cy)],
-                            stroke(color, m.width(1.0)),
-                        )))
-                        .map_err(chart_err)?;
-                    occupancy.mark_polyline(&[to_px((a, cy)), to_px((b, cy))]);
-                }
-                for (end, edge) in [(p.hi, y.max), (p.lo, y.min)] {
-                    let (to, is_open) = match end {
-                        IntervalEnd::At(v) if plottable(v) => (v.clamp(y.min, y.max), false),
-                        IntervalEnd::Open => (edge, true),
-                        _ => continue,
-                    };
-                    open |= is_open;
-                    let style = if is_open {
-                        dashed(color, width)
-                    } else {
-                        stroke(color, width)
-                    };
-                    let mut parts = vec![PathElement::new(vec![(cx, cy), (cx, to)], style)];
-                    if !is_open {
-                        parts.push(PathElement::new(
-                            vec![(cx - cap, to), (cx + cap, to)],
-                            stroke(color, width),
-                        ));
-                    }
-                    chart.draw_series(parts).map_err(chart_err)?;
-                    occupancy.mark_polyline(&[to_px((cx, cy)), to_px((cx, to))]);
-                }
-                chart
-                    .draw_series(std::iter::once(Circle::new(
-                        (cx, cy),
-                        marker_radius(&m),
-                        rgb(color).filled(),
-                    )))
-                    .map_err(chart_err)?;
-                occupancy.mark_point(to_px((cx, cy)));
-                points.push((g, i, to_px((cx, cy))));
-            }
-        }
+        let (points, open) = draw_intervals(
+            &mut chart,
+            fig,
+            (x, y),
+            &dodge_px,
+            (&mut occupancy, plot),
+            &m,
+        )?;
         if !any {
             no_data(root, plot, &m)?;
         }
         frame(root, plot, INK_RGB)?;
-        let mut entries: Vec<Entry> = fig
-            .groups
-            .iter()
-            .enumerate()
-            .filter(|(_, g)| !g.label.trim().is_empty())
-            .map(|(g, group)| Entry {
-                label: group.label.clone(),
-                swatch: Swatch::Line {
-                    color: group_rgb(g),
-                    width: m.width(1.5),
-                    dashed: false,
-                    marker: Some((marker_radius(&m), group_rgb(g))),
-                },
-            })
-            .collect();
-        if open {
-            entries.push(Entry {
-                label: "interval not bounded by the data".into(),
-                swatch: Swatch::Line {
-                    color: INK_RGB,
-                    width: m.width(1.5),
-                    dashed: true,
-                    marker: None,
-                },
-            });
-        }
+        let entries = legend_entries(fig, open, &m);
         let legend = place_legend(entries, plot, &occupancy, &m);
         if let Some(l) = &legend {
             draw_legend(&mut chart, l)?;
