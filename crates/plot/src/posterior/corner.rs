@@ -179,15 +179,42 @@ fn mix(t: f64, to: [u8; 3]) -> [u8; 3] {
     [c(to[0]), c(to[1]), c(to[2])]
 }
 
-struct Drawn {
-    svg: String,
-    layout: CornerLayout,
+/// Where a corner plot's cells go, decided before anything is drawn: the metrics, the
+/// figure's size, each parameter's range, ticks and label, the fonts' sizes, the tick labels'
+/// areas left of and below each cell, and the cells' size and spacing.
+struct Geometry {
+    m: Metrics,
+    w: i32,
+    h: i32,
+    ranges: Vec<AxisRange>,
+    ticks: Vec<Ticks>,
+    labels: Vec<(String, f64)>,
+    tick_font: f64,
+    title_h: i32,
+    y_area: i32,
+    x_area: i32,
+    left: i32,
+    gap: i32,
+    cell_w: i32,
+    cell_h: i32,
 }
 
-#[allow(clippy::too_many_lines)]
-fn draw(fig: &CornerFigure) -> Result<Drawn, Invalid> {
-    validate(fig)?;
-    render::ensure_font().map_err(Invalid::Draw)?;
+impl Geometry {
+    /// The plotting box of the cell in row `i`, column `j`.
+    fn cell(&self, i: usize, j: usize) -> PixelRect {
+        let l = self.left + j as i32 * (self.cell_w + self.gap);
+        let t = self.title_h + i as i32 * (self.cell_h + self.gap);
+        PixelRect {
+            left: l,
+            top: t,
+            right: l + self.cell_w - 1,
+            bottom: t + self.cell_h - 1,
+        }
+    }
+}
+
+/// The [`Geometry`] of `fig`; cells too narrow or too low are refused.
+fn geometry(fig: &CornerFigure) -> Result<Geometry, Invalid> {
     let m = Metrics::new(fig.width, fig.height);
     let n = fig.samples.len();
     let (w, h) = (fig.width as i32, fig.height as i32);
@@ -233,17 +260,6 @@ fn draw(fig: &CornerFigure) -> Result<Drawn, Invalid> {
             height: fig.height,
         }));
     }
-    let cell = |i: usize, j: usize| {
-        let l = left + j as i32 * (cell_w + gap);
-        let t = title_h + i as i32 * (cell_h + gap);
-        PixelRect {
-            left: l,
-            top: t,
-            right: l + cell_w - 1,
-            bottom: t + cell_h - 1,
-        }
-    };
-    let bins = fig.bins.max(2);
     let labels: Vec<(String, f64)> = fig
         .labels
         .iter()
@@ -256,6 +272,134 @@ fn draw(fig: &CornerFigure) -> Result<Drawn, Invalid> {
             )
         })
         .collect();
+    Ok(Geometry {
+        m,
+        w,
+        h,
+        ranges,
+        ticks,
+        labels,
+        tick_font,
+        title_h,
+        y_area,
+        x_area,
+        left,
+        gap,
+        cell_w,
+        cell_h,
+    })
+}
+
+/// The grid, ticks and axis labels of the cell in row `i`, column `j` of an `n`-parameter corner
+/// plot: tick labels only on the outer cells (the bottom row's x, the first column's y below the
+/// diagonal), the parameters' names beside them.
+fn cell_mesh(
+    chart: &mut Cell<'_, '_>,
+    g: &Geometry,
+    (i, j, n): (usize, usize, usize),
+) -> Result<(), Invalid> {
+    let xfmt = |v: &f64| {
+        if i + 1 == n {
+            g.ticks[j].label(*v)
+        } else {
+            String::new()
+        }
+    };
+    let yfmt = |v: &f64| {
+        if j == 0 && i != j {
+            g.ticks[i].label(*v)
+        } else {
+            String::new()
+        }
+    };
+    let mut mesh = chart.configure_mesh();
+    mesh.x_labels(4)
+        .y_labels(if i == j { 0 } else { 4 })
+        .x_label_formatter(&xfmt)
+        .y_label_formatter(&yfmt)
+        .bold_line_style(rgb(crate::colors::GRID_RGB))
+        .light_line_style(TRANSPARENT)
+        .axis_style(BLACK)
+        .set_all_tick_mark_size(g.m.tick_len)
+        .label_style(font(g.tick_font));
+    if i + 1 == n {
+        mesh.axis_desc_style(font(g.labels[j].1))
+            .x_desc(g.labels[j].0.clone());
+    }
+    if j == 0 && i > 0 {
+        mesh.axis_desc_style(font(g.labels[i].1))
+            .y_desc(g.labels[i].0.clone());
+    }
+    mesh.draw().map_err(chart_err)?;
+    Ok(())
+}
+
+/// The legend of the corner plot in the empty upper triangle's box `area`: the markers, the
+/// samples' shade, and the quantile lines.
+fn draw_corner_legend(
+    root: &crate::chart::Area<'_>,
+    fig: &CornerFigure,
+    area: PixelRect,
+    m: &Metrics,
+) -> Result<(), Invalid> {
+    let mut entries: Vec<Entry> = fig
+        .markers
+        .iter()
+        .map(|mk| Entry {
+            label: mk.label.clone(),
+            swatch: Swatch::Line {
+                color: style_rgb(mk.style),
+                width: m.width(2.0),
+                dashed: false,
+                marker: Some((marker_radius(m), style_rgb(mk.style))),
+            },
+        })
+        .collect();
+    entries.push(Entry {
+        label: "posterior samples (shade: √ density)".into(),
+        swatch: Swatch::Patch {
+            color: mix(0.7, DENSITY_RGB),
+        },
+    });
+    entries.push(Entry {
+        label: "2.5 %, median, 97.5 %".into(),
+        swatch: Swatch::Line {
+            color: ZERO_RGB,
+            width: m.width(1.2),
+            dashed: true,
+            marker: None,
+        },
+    });
+    if let Some(l) = place_legend(entries, area, &Occupancy::new(area, 8), m) {
+        // The legend is drawn by a chart over that corner (series labels are placed
+        // within a chart's plotting area).
+        let corner = root.clone().shrink(
+            (area.left, area.top),
+            (area.width() as u32, area.height() as u32),
+        );
+        let mut chart = ChartBuilder::on(&corner)
+            .build_cartesian_2d(0.0..1.0, 0.0..1.0)
+            .map_err(chart_err)?;
+        draw_legend(&mut chart, &l)?;
+    }
+    Ok(())
+}
+
+struct Drawn {
+    svg: String,
+    layout: CornerLayout,
+}
+
+#[allow(clippy::too_many_lines)]
+fn draw(fig: &CornerFigure) -> Result<Drawn, Invalid> {
+    validate(fig)?;
+    render::ensure_font().map_err(Invalid::Draw)?;
+    let g = geometry(fig)?;
+    let (m, n, w, h) = (g.m, fig.samples.len(), g.w, g.h);
+    let ranges = &g.ranges;
+    let (y_area, x_area) = (g.y_area, g.x_area);
+    let (cell_w, cell_h) = (g.cell_w, g.cell_h);
+    let bins = fig.bins.max(2);
     let mut panels = Vec::new();
     let svg = render::svg_of(fig.width, fig.height, |root| {
         root.fill(&WHITE).map_err(chart_err)?;
@@ -271,7 +415,7 @@ fn draw(fig: &CornerFigure) -> Result<Drawn, Invalid> {
         }
         for i in 0..n {
             for j in 0..=i {
-                let r = cell(i, j);
+                let r = g.cell(i, j);
                 // Every cell has room for tick labels left of and below it, so that all
                 // plotting areas are the cells; only the outer ones write into it.
                 let area = root.clone().shrink(
@@ -291,43 +435,11 @@ fn draw(fig: &CornerFigure) -> Result<Drawn, Invalid> {
                     .x_label_area_size(x_area)
                     .build_cartesian_2d(xr.min..xr.max, yr.min..yr.max)
                     .map_err(chart_err)?;
-                let xfmt = |v: &f64| {
-                    if i + 1 == n {
-                        ticks[j].label(*v)
-                    } else {
-                        String::new()
-                    }
-                };
-                let yfmt = |v: &f64| {
-                    if j == 0 && i != j {
-                        ticks[i].label(*v)
-                    } else {
-                        String::new()
-                    }
-                };
-                let mut mesh = chart.configure_mesh();
-                mesh.x_labels(4)
-                    .y_labels(if i == j { 0 } else { 4 })
-                    .x_label_formatter(&xfmt)
-                    .y_label_formatter(&yfmt)
-                    .bold_line_style(rgb(crate::colors::GRID_RGB))
-                    .light_line_style(TRANSPARENT)
-                    .axis_style(BLACK)
-                    .set_all_tick_mark_size(m.tick_len)
-                    .label_style(font(tick_font));
-                if i + 1 == n {
-                    mesh.axis_desc_style(font(labels[j].1))
-                        .x_desc(labels[j].0.clone());
-                }
-                if j == 0 && i > 0 {
-                    mesh.axis_desc_style(font(labels[i].1))
-                        .y_desc(labels[i].0.clone());
-                }
-                mesh.draw().map_err(chart_err)?;
+                cell_mesh(&mut chart, &g, (i, j, n))?;
                 if i == j {
-                    diagonal(&mut chart, fig, &ranges, i, bins, &m)?;
+                    diagonal(&mut chart, fig, ranges, i, bins, &m)?;
                 } else {
-                    pair(&mut chart, fig, &ranges, i, j, bins, &m)?;
+                    pair(&mut chart, fig, ranges, i, j, bins, &m)?;
                 }
                 frame(root, r, INK_RGB)?;
                 panels.push((i, j, r));
@@ -337,9 +449,9 @@ fn draw(fig: &CornerFigure) -> Result<Drawn, Invalid> {
             root,
             &fig.title,
             PixelRect {
-                left: cell(0, 0).left,
+                left: g.cell(0, 0).left,
                 top: 0,
-                right: cell(0, n - 1).right,
+                right: g.cell(0, n - 1).right,
                 bottom: 0,
             },
             fig.width,
@@ -348,51 +460,12 @@ fn draw(fig: &CornerFigure) -> Result<Drawn, Invalid> {
         // The empty upper triangle holds the legend.
         if n >= 2 {
             let area = PixelRect {
-                left: cell(0, n / 2).left,
-                top: cell(0, n - 1).top,
-                right: cell(0, n - 1).right,
-                bottom: cell((n - 1) / 2, n - 1).bottom,
+                left: g.cell(0, n / 2).left,
+                top: g.cell(0, n - 1).top,
+                right: g.cell(0, n - 1).right,
+                bottom: g.cell((n - 1) / 2, n - 1).bottom,
             };
-            let mut entries: Vec<Entry> = fig
-                .markers
-                .iter()
-                .map(|mk| Entry {
-                    label: mk.label.clone(),
-                    swatch: Swatch::Line {
-                        color: style_rgb(mk.style),
-                        width: m.width(2.0),
-                        dashed: false,
-                        marker: Some((marker_radius(&m), style_rgb(mk.style))),
-                    },
-                })
-                .collect();
-            entries.push(Entry {
-                label: "posterior samples (shade: √ density)".into(),
-                swatch: Swatch::Patch {
-                    color: mix(0.7, DENSITY_RGB),
-                },
-            });
-            entries.push(Entry {
-                label: "2.5 %, median, 97.5 %".into(),
-                swatch: Swatch::Line {
-                    color: ZERO_RGB,
-                    width: m.width(1.2),
-                    dashed: true,
-                    marker: None,
-                },
-            });
-            if let Some(l) = place_legend(entries, area, &Occupancy::new(area, 8), &m) {
-                // The legend is drawn by a chart over that corner (series labels are placed
-                // within a chart's plotting area).
-                let corner = root.clone().shrink(
-                    (area.left, area.top),
-                    (area.width() as u32, area.height() as u32),
-                );
-                let mut chart = ChartBuilder::on(&corner)
-                    .build_cartesian_2d(0.0..1.0, 0.0..1.0)
-                    .map_err(chart_err)?;
-                draw_legend(&mut chart, &l)?;
-            }
+            draw_corner_legend(root, fig, area, &m)?;
         }
         Ok(())
     })?;
