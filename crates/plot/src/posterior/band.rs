@@ -14,8 +14,8 @@ use plotters::prelude::*;
 
 use crate::chart::{
     chart_err, dashed, draw_legend, font, frame, place_legend, plot_rect, plottable, rgb,
-    shrink_to_fit, stroke, whole_numbers, AxisRange, Entry, Extent, Metrics, Occupancy, Pt, Swatch,
-    Ticks,
+    shrink_to_fit, stroke, whole_numbers, AxisRange, Chart2d, Entry, Extent, Metrics, Occupancy,
+    Pt, Swatch, Ticks,
 };
 use crate::colors::{INK_RGB, ZERO_RGB};
 use crate::figure::title;
@@ -265,14 +265,63 @@ fn band_shapes(
     shapes
 }
 
-struct Drawn {
-    svg: String,
-    layout: BandLayout,
+/// Where a band figure's parts go, decided before anything is drawn: the metrics, the x range,
+/// the title's height, the x label and its area, the main and difference panels' heights, the
+/// panels (each with its y range, ticks, label, band and data), the margins and the x ticks.
+struct Geometry {
+    m: Metrics,
+    x: AxisRange,
+    title_h: i32,
+    x_label: (String, f64),
+    x_area: i32,
+    main_h: i32,
+    diff_h: i32,
+    panels: Vec<Panel>,
+    left: i32,
+    right_margin: i32,
+    xticks: Ticks,
 }
 
-fn draw(fig: &BandFigure) -> Result<Drawn, Invalid> {
-    validate(fig)?;
-    render::ensure_font().map_err(Invalid::Draw)?;
+/// The panels of `fig`: the band itself (`main_h` high), and where a difference is asked, the
+/// band and data less the reference below it (`diff_h` high, with a zero line); each with its y
+/// range, ticks and label.
+fn panels_of(fig: &BandFigure, m: &Metrics, (main_h, diff_h): (i32, i32)) -> Vec<Panel> {
+    let main_y = y_range(&fig.x, &fig.lo, &fig.hi, &fig.series, false);
+    let mut panels = vec![Panel {
+        y: main_y,
+        yticks: Ticks::new(
+            main_y,
+            ((f64::from(main_h) / (60.0 * m.s)).round() as usize).clamp(2, 9),
+            false,
+        ),
+        y_label: shrink_to_fit(&fig.y_label, m.label, m.label * 0.7, main_h),
+        lo: fig.lo.clone(),
+        hi: fig.hi.clone(),
+        series: fig.series.clone(),
+        zero_line: false,
+    }];
+    if let Some((reference, label)) = &fig.difference {
+        let (lo, hi, series) = differences(fig, reference);
+        let y = y_range(&fig.x, &lo, &hi, &series, true);
+        panels.push(Panel {
+            y,
+            yticks: Ticks::new(
+                y,
+                ((f64::from(diff_h) / (45.0 * m.s)).round() as usize).clamp(2, 5),
+                false,
+            ),
+            y_label: shrink_to_fit(label, m.label, m.label * 0.7, diff_h),
+            lo,
+            hi,
+            series,
+            zero_line: true,
+        });
+    }
+    panels
+}
+
+/// The [`Geometry`] of `fig`; too low or too narrow a figure is refused.
+fn geometry(fig: &BandFigure) -> Result<Geometry, Invalid> {
     let m = Metrics::new(fig.width, fig.height);
     let (w, h) = (fig.width as i32, fig.height as i32);
     let mut xe = Extent::default();
@@ -316,37 +365,7 @@ fn draw(fig: &BandFigure) -> Result<Drawn, Invalid> {
             height: fig.height,
         }));
     }
-    let main_y = y_range(&fig.x, &fig.lo, &fig.hi, &fig.series, false);
-    let mut panels = vec![Panel {
-        y: main_y,
-        yticks: Ticks::new(
-            main_y,
-            ((f64::from(main_h) / (60.0 * m.s)).round() as usize).clamp(2, 9),
-            false,
-        ),
-        y_label: shrink_to_fit(&fig.y_label, m.label, m.label * 0.7, main_h),
-        lo: fig.lo.clone(),
-        hi: fig.hi.clone(),
-        series: fig.series.clone(),
-        zero_line: false,
-    }];
-    if let Some((reference, label)) = &fig.difference {
-        let (lo, hi, series) = differences(fig, reference);
-        let y = y_range(&fig.x, &lo, &hi, &series, true);
-        panels.push(Panel {
-            y,
-            yticks: Ticks::new(
-                y,
-                ((f64::from(diff_h) / (45.0 * m.s)).round() as usize).clamp(2, 5),
-                false,
-            ),
-            y_label: shrink_to_fit(label, m.label, m.label * 0.7, diff_h),
-            lo,
-            hi,
-            series,
-            zero_line: true,
-        });
-    }
+    let panels = panels_of(fig, &m, (main_h, diff_h));
     let tick_w = panels
         .iter()
         .map(|p| p.yticks.widest(m.tick))
@@ -370,6 +389,118 @@ fn draw(fig: &BandFigure) -> Result<Drawn, Invalid> {
         ((f64::from(plot_w) / (110.0 * m.s)).round() as usize).clamp(2, 12),
         integer_x,
     );
+    Ok(Geometry {
+        m,
+        x,
+        title_h,
+        x_label,
+        x_area,
+        main_h,
+        diff_h,
+        panels,
+        left,
+        right_margin,
+        xticks,
+    })
+}
+
+/// The main panel's legend (the band, then each labelled series) in the emptiest corner of its
+/// plotting box `rect` (what the panel holds: `occupancy`); returns its box, if placed.
+fn draw_band_legend<'a, 'b: 'a>(
+    chart: &mut Chart2d<'a, 'b>,
+    fig: &BandFigure,
+    (rect, occupancy): (PixelRect, &Occupancy),
+    m: &Metrics,
+) -> Result<Option<PixelRect>, Invalid> {
+    let mut entries = vec![Entry {
+        label: fig.band_label.clone(),
+        swatch: Swatch::Patch { color: BAND_RGB },
+    }];
+    entries.extend(
+        fig.series
+            .iter()
+            .filter_map(|s| crate::figure::legend_entry(s, m)),
+    );
+    let legend = place_legend(entries, rect, occupancy, m);
+    if let Some(l) = &legend {
+        draw_legend(chart, l)?;
+    }
+    Ok(legend.map(|l| l.rect))
+}
+
+/// A chart's data coordinates to pixels.
+type ToPixels<'a> = dyn Fn((f64, f64)) -> (f64, f64) + 'a;
+
+/// The band of panel `p` over `x`, filled and edged a shade darker (a band thinner than a
+/// pixel still shows as a line), each shape marked in `occupancy`.
+fn draw_band(
+    root: &crate::chart::Area<'_>,
+    x: &[f64],
+    p: &Panel,
+    to_px: &ToPixels<'_>,
+    occupancy: &mut Occupancy,
+) -> Result<(), Invalid> {
+    for shape in band_shapes(x, &p.lo, &p.hi, to_px) {
+        occupancy.mark_polyline(&shape);
+        let pts: Vec<(i32, i32)> = shape
+            .iter()
+            .map(|q| (q.0.round() as i32, q.1.round() as i32))
+            .collect();
+        root.draw(&Polygon::new(pts.clone(), rgb(BAND_RGB).filled()))
+            .map_err(chart_err)?;
+        // An edge a shade darker: a band thinner than a pixel still shows as a line.
+        let mut edge = pts;
+        if let Some(&first) = edge.first() {
+            edge.push(first);
+        }
+        root.draw(&PathElement::new(edge, stroke(BAND_EDGE_RGB, 1)))
+            .map_err(chart_err)?;
+    }
+    Ok(())
+}
+
+/// Panel `p`'s data on `chart` (x range `x`) as in every figure — a light line under the models,
+/// its markers over them (drawn last), so that neither the median nor the band hides the
+/// record — each marked in `occupancy`.
+fn draw_data(
+    chart: &mut Chart2d<'_, '_>,
+    p: &Panel,
+    x: AxisRange,
+    (to_px, occupancy): (&ToPixels<'_>, &mut Occupancy),
+    m: &Metrics,
+) -> Result<(), Invalid> {
+    let (lines, markers) = crate::figure::strokes(&p.series, x, p.y, to_px, m);
+    for l in &lines {
+        occupancy.mark_polyline(&l.pts.iter().map(|q| to_px(*q)).collect::<Vec<_>>());
+    }
+    for (q, _, _) in &markers {
+        occupancy.mark_point(to_px(*q));
+    }
+    crate::figure::draw_lines(chart, lines, markers)?;
+    Ok(())
+}
+
+struct Drawn {
+    svg: String,
+    layout: BandLayout,
+}
+
+fn draw(fig: &BandFigure) -> Result<Drawn, Invalid> {
+    validate(fig)?;
+    render::ensure_font().map_err(Invalid::Draw)?;
+    let Geometry {
+        m,
+        x,
+        title_h,
+        x_label,
+        x_area,
+        main_h,
+        diff_h,
+        panels,
+        left,
+        right_margin,
+        xticks,
+    } = geometry(fig)?;
     let mut layout = None;
     let svg = render::svg_of(fig.width, fig.height, |root| {
         root.fill(&WHITE).map_err(chart_err)?;
@@ -420,22 +551,7 @@ fn draw(fig: &BandFigure) -> Result<Drawn, Invalid> {
                 (f64::from(c.0), f64::from(c.1))
             };
             let mut occupancy = Occupancy::new(rect, m.px(12.0).max(4));
-            for shape in band_shapes(&fig.x, &p.lo, &p.hi, &to_px) {
-                occupancy.mark_polyline(&shape);
-                let pts: Vec<(i32, i32)> = shape
-                    .iter()
-                    .map(|q| (q.0.round() as i32, q.1.round() as i32))
-                    .collect();
-                root.draw(&Polygon::new(pts.clone(), rgb(BAND_RGB).filled()))
-                    .map_err(chart_err)?;
-                // An edge a shade darker: a band thinner than a pixel still shows as a line.
-                let mut edge = pts;
-                if let Some(&first) = edge.first() {
-                    edge.push(first);
-                }
-                root.draw(&PathElement::new(edge, stroke(BAND_EDGE_RGB, 1)))
-                    .map_err(chart_err)?;
-            }
+            draw_band(root, &fig.x, p, &to_px, &mut occupancy)?;
             if p.zero_line && p.y.contains(0.0) {
                 chart
                     .draw_series(std::iter::once(PathElement::new(
@@ -444,32 +560,10 @@ fn draw(fig: &BandFigure) -> Result<Drawn, Invalid> {
                     )))
                     .map_err(chart_err)?;
             }
-            // The data as in every figure: a light line under the models, its markers over
-            // them (drawn last), so that neither the median nor the band hides the record.
-            let (lines, markers) = crate::figure::strokes(&p.series, x, p.y, &to_px, &m);
-            for l in &lines {
-                occupancy.mark_polyline(&l.pts.iter().map(|q| to_px(*q)).collect::<Vec<_>>());
-            }
-            for (q, _, _) in &markers {
-                occupancy.mark_point(to_px(*q));
-            }
-            crate::figure::draw_lines(&mut chart, lines, markers)?;
+            draw_data(&mut chart, p, x, (&to_px, &mut occupancy), &m)?;
             frame(root, rect, INK_RGB)?;
             if k == 0 {
-                let mut entries = vec![Entry {
-                    label: fig.band_label.clone(),
-                    swatch: Swatch::Patch { color: BAND_RGB },
-                }];
-                entries.extend(
-                    fig.series
-                        .iter()
-                        .filter_map(|s| crate::figure::legend_entry(s, &m)),
-                );
-                let legend = place_legend(entries, rect, &occupancy, &m);
-                if let Some(l) = &legend {
-                    draw_legend(&mut chart, l)?;
-                }
-                legend_rect = legend.map(|l| l.rect);
+                legend_rect = draw_band_legend(&mut chart, fig, (rect, &occupancy), &m)?;
             }
             rects.push(rect);
         }
