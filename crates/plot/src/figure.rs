@@ -504,6 +504,83 @@ pub(crate) fn title(
     .map_err(chart_err)
 }
 
+/// The grid, ticks and axis labels of panel `p` on `chart`: the x ticks' labels (`xticks`) and
+/// the x axis's label (`x_label`) only where the panel shows them.
+fn panel_mesh(
+    chart: &mut Chart2d<'_, '_>,
+    p: &PanelPlan<'_>,
+    (xticks, x_label): (&Ticks, &(String, f64)),
+    m: &Metrics,
+) -> Result<(), Invalid> {
+    let xfmt = |v: &f64| {
+        if p.x_labels {
+            xticks.label(*v)
+        } else {
+            String::new()
+        }
+    };
+    let yfmt = |v: &f64| p.yticks.label(*v);
+    let mut mesh = chart.configure_mesh();
+    mesh.x_labels(xticks.values.len().max(1))
+        .y_labels(p.yticks.values.len().max(1))
+        .x_label_formatter(&xfmt)
+        .y_label_formatter(&yfmt)
+        .bold_line_style(rgb(colors::GRID_RGB))
+        .light_line_style(TRANSPARENT)
+        .axis_style(BLACK)
+        .set_all_tick_mark_size(m.tick_len)
+        .label_style(crate::chart::font(m.tick))
+        .axis_desc_style(crate::chart::font(p.y_label.1))
+        .y_desc(p.y_label.0.clone());
+    if p.x_labels && !x_label.0.is_empty() {
+        mesh.x_desc(x_label.0.clone());
+    }
+    mesh.draw().map_err(chart_err)?;
+    Ok(())
+}
+
+/// What a panel's plotting box `rect` holds once its `lines` and `markers` are drawn (`to_px`:
+/// data to pixels): where a legend would cover them.
+fn occupancy_of(
+    rect: PixelRect,
+    (lines, markers): (&[Line], &[Marker]),
+    to_px: &dyn Fn(Pt) -> Pt,
+    m: &Metrics,
+) -> Occupancy {
+    let mut occupancy = Occupancy::new(rect, m.px(6.0).max(3));
+    for l in lines {
+        let px: Vec<Pt> = l.pts.iter().map(|q| to_px(*q)).collect();
+        occupancy.mark_polyline(&px);
+    }
+    for (q, _, _) in markers {
+        occupancy.mark_point(to_px(*q));
+    }
+    occupancy
+}
+
+/// Each panel's legend after the first placed in its emptiest corner (kept in `plans`); one that
+/// would cover much of a short panel's data joins the main legend. Returns the main legend's
+/// entries.
+fn place_panel_legends(
+    plans: &mut [PanelPlan<'_>],
+    rects: &[PixelRect],
+    occupancies: &[Occupancy],
+    m: &Metrics,
+) -> Vec<Entry> {
+    let mut main_entries = plans[0].entries.clone();
+    for k in 1..plans.len() {
+        let l = place_legend(plans[k].entries.clone(), rects[k], &occupancies[k], m);
+        if l.as_ref()
+            .is_some_and(|l| occupancies[k].fraction(l.rect) > 0.15)
+        {
+            main_entries.extend(plans[k].entries.iter().cloned());
+        } else {
+            plans[k].legend = l;
+        }
+    }
+    main_entries
+}
+
 #[allow(clippy::too_many_arguments)]
 fn draw_panels(
     root: &Area<'_>,
@@ -537,30 +614,7 @@ fn draw_panels(
             .x_label_area_size(x_area)
             .build_cartesian_2d(x.min..x.max, p.y.min..p.y.max)
             .map_err(chart_err)?;
-        let xfmt = |v: &f64| {
-            if p.x_labels {
-                xticks.label(*v)
-            } else {
-                String::new()
-            }
-        };
-        let yfmt = |v: &f64| p.yticks.label(*v);
-        let mut mesh = chart.configure_mesh();
-        mesh.x_labels(xticks.values.len().max(1))
-            .y_labels(p.yticks.values.len().max(1))
-            .x_label_formatter(&xfmt)
-            .y_label_formatter(&yfmt)
-            .bold_line_style(rgb(colors::GRID_RGB))
-            .light_line_style(TRANSPARENT)
-            .axis_style(BLACK)
-            .set_all_tick_mark_size(m.tick_len)
-            .label_style(crate::chart::font(m.tick))
-            .axis_desc_style(crate::chart::font(p.y_label.1))
-            .y_desc(p.y_label.0.clone());
-        if p.x_labels && !x_label.0.is_empty() {
-            mesh.x_desc(x_label.0.clone());
-        }
-        mesh.draw().map_err(chart_err)?;
+        panel_mesh(&mut chart, p, (xticks, &x_label), m)?;
         let rect = plot_rect(&chart);
         let spec = chart.as_coord_spec().clone();
         let to_px = |q: (f64, f64)| {
@@ -576,14 +630,7 @@ fn draw_panels(
                 .map_err(chart_err)?;
         }
         let (lines, markers) = strokes(&p.panel.series, x, p.y, &to_px, m);
-        let mut occupancy = Occupancy::new(rect, m.px(6.0).max(3));
-        for l in &lines {
-            let px: Vec<Pt> = l.pts.iter().map(|q| to_px(*q)).collect();
-            occupancy.mark_polyline(&px);
-        }
-        for (q, _, _) in &markers {
-            occupancy.mark_point(to_px(*q));
-        }
+        let occupancy = occupancy_of(rect, (&lines, &markers), &to_px, m);
         if line_points.is_empty() {
             line_points = lines.iter().map(|l| l.pts.len()).collect();
         }
@@ -596,19 +643,7 @@ fn draw_panels(
         occupancies.push(occupancy);
         charts.push(chart);
     }
-    // Legends: each panel's in its emptiest corner; one that would cover much of a short
-    // panel's data joins the main legend.
-    let mut main_entries = plans[0].entries.clone();
-    for k in 1..plans.len() {
-        let l = place_legend(plans[k].entries.clone(), rects[k], &occupancies[k], m);
-        if l.as_ref()
-            .is_some_and(|l| occupancies[k].fraction(l.rect) > 0.15)
-        {
-            main_entries.extend(plans[k].entries.iter().cloned());
-        } else {
-            plans[k].legend = l;
-        }
-    }
+    let main_entries = place_panel_legends(plans, &rects, &occupancies, m);
     let inset = match &fig.inset {
         Some(i) => draw_inset(
             root,
