@@ -115,3 +115,128 @@ fn the_application_layer_gives_the_fit_json_the_program_writes() {
         "the application layer's fit.json differs from the program's"
     );
 }
+
+/// Longest function, in lines from its `fn` to its closing brace, the crates' sources may hold
+/// outside their tests (issue 40: a newcomer reads a function whole).
+const MAX_FUNCTION_LINES: usize = 100;
+
+/// The code of a line with its string and character literals and its comment taken out, so
+/// that a brace inside them does not count.
+fn code_of(line: &str) -> String {
+    let mut out = String::new();
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' => {
+                // A string literal: skip to its unescaped closing quote.
+                while let Some(d) = chars.next() {
+                    match d {
+                        '\\' => {
+                            chars.next();
+                        }
+                        '"' => break,
+                        _ => {}
+                    }
+                }
+            }
+            '\'' => {
+                // A character literal ('{', '\''), not a lifetime ('a): skip it whole.
+                let rest: String = chars.clone().take(3).collect();
+                if rest.starts_with('\\') {
+                    chars.next();
+                    chars.next();
+                    while let Some(d) = chars.next() {
+                        if d == '\'' {
+                            break;
+                        }
+                    }
+                } else if rest.chars().nth(1) == Some('\'') {
+                    chars.next();
+                    chars.next();
+                }
+            }
+            '/' if chars.peek() == Some(&'/') => break,
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+/// (file, first line, name, lines) of every function of `text` over `max` lines, its test
+/// module (from `#[cfg(test)]` at the start of a line) left out.
+fn long_functions(file: &str, text: &str, max: usize) -> Vec<(String, usize, String, usize)> {
+    let lines: Vec<&str> = text
+        .lines()
+        .take_while(|l| l.trim() != "#[cfg(test)]")
+        .collect();
+    let mut found = Vec::new();
+    let mut i = 0;
+    while i < lines.len() {
+        let code = code_of(lines[i]);
+        let name = code
+            .split_whitespace()
+            .skip_while(|w| *w != "fn")
+            .nth(1)
+            .map(|w| w.split(['(', '<']).next().unwrap_or("").to_string());
+        let Some(name) = name.filter(|n| !n.is_empty()) else {
+            i += 1;
+            continue;
+        };
+        let (mut depth, mut opened, mut j) = (0i64, false, i);
+        while j < lines.len() {
+            let c = code_of(lines[j]);
+            depth += c.matches('{').count() as i64 - c.matches('}').count() as i64;
+            opened |= c.contains('{');
+            if (opened && depth <= 0) || (!opened && c.trim_end().ends_with(';')) {
+                break;
+            }
+            j += 1;
+        }
+        if opened && j + 1 - i > max {
+            found.push((file.to_string(), i + 1, name, j + 1 - i));
+        }
+        i = if opened { j + 1 } else { i + 1 };
+    }
+    found
+}
+
+#[test]
+fn the_length_count_finds_a_long_function_and_ignores_braces_in_literals_and_tests() {
+    let body = "    let _ = \"{{{ not code\"; let _ = '{';\n".repeat(120);
+    let text = format!(
+        "fn short() {{\n    1;\n}}\n\npub(crate) fn long<T>(x: T) {{\n{body}}}\n#[cfg(test)]\nmod tests {{\n    fn in_tests() {{\n{body}    }}\n}}\n"
+    );
+    let found = long_functions("f.rs", &text, 100);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!((found[0].2.as_str(), found[0].3), ("long", 122));
+}
+
+#[test]
+fn no_function_outside_tests_runs_over_a_hundred_lines() {
+    let mut long = Vec::new();
+    let mut stack = vec![repo().join("crates")];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap().to_string_lossy().to_string();
+            if path.is_dir() {
+                // Integration tests and benches are tests; `target` is no source.
+                if !matches!(name.as_str(), "tests" | "benches" | "target") {
+                    stack.push(path);
+                }
+            } else if name.ends_with(".rs") && !name.ends_with("_tests.rs") && name != "tests.rs" {
+                let text = std::fs::read_to_string(&path).unwrap();
+                let shown = path.strip_prefix(repo()).unwrap().display().to_string();
+                long.extend(long_functions(&shown, &text, MAX_FUNCTION_LINES));
+            }
+        }
+    }
+    assert!(
+        long.is_empty(),
+        "functions over {MAX_FUNCTION_LINES} lines (split them by what each part does):\n{}",
+        long.iter()
+            .map(|(f, l, n, len)| format!("  {f}:{l} {n}: {len} lines"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+}
