@@ -145,7 +145,7 @@ fn code_of(line: &str) -> String {
                 if rest.starts_with('\\') {
                     chars.next();
                     chars.next();
-                    while let Some(d) = chars.next() {
+                    for d in chars.by_ref() {
                         if d == '\'' {
                             break;
                         }
