@@ -504,25 +504,27 @@ pub(crate) fn title(
     .map_err(chart_err)
 }
 
-/// The grid, ticks and axis labels of panel `p` on `chart`: the x ticks' labels (`xticks`) and
-/// the x axis's label (`x_label`) only where the panel shows them.
-fn panel_mesh(
+/// The grid, ticks and axis labels of one panel of a stack sharing its x axis (the figures'
+/// data and residual panels, a band and its difference): the x ticks' labels (`xticks`) and the x
+/// axis's label (`x_label`) only on the panel that shows them (`x_labels`: the bottom one), the
+/// y ticks and label its own.
+pub(crate) fn stacked_panel_mesh(
     chart: &mut Chart2d<'_, '_>,
-    p: &PanelPlan<'_>,
-    (xticks, x_label): (&Ticks, &(String, f64)),
+    (xticks, x_labels, x_label): (&Ticks, bool, &(String, f64)),
+    (yticks, y_label): (&Ticks, &(String, f64)),
     m: &Metrics,
 ) -> Result<(), Invalid> {
     let xfmt = |v: &f64| {
-        if p.x_labels {
+        if x_labels {
             xticks.label(*v)
         } else {
             String::new()
         }
     };
-    let yfmt = |v: &f64| p.yticks.label(*v);
+    let yfmt = |v: &f64| yticks.label(*v);
     let mut mesh = chart.configure_mesh();
     mesh.x_labels(xticks.values.len().max(1))
-        .y_labels(p.yticks.values.len().max(1))
+        .y_labels(yticks.values.len().max(1))
         .x_label_formatter(&xfmt)
         .y_label_formatter(&yfmt)
         .bold_line_style(rgb(colors::GRID_RGB))
@@ -530,9 +532,9 @@ fn panel_mesh(
         .axis_style(BLACK)
         .set_all_tick_mark_size(m.tick_len)
         .label_style(crate::chart::font(m.tick))
-        .axis_desc_style(crate::chart::font(p.y_label.1))
-        .y_desc(p.y_label.0.clone());
-    if p.x_labels && !x_label.0.is_empty() {
+        .axis_desc_style(crate::chart::font(y_label.1))
+        .y_desc(y_label.0.clone());
+    if x_labels && !x_label.0.is_empty() {
         mesh.x_desc(x_label.0.clone());
     }
     mesh.draw().map_err(chart_err)?;
@@ -614,7 +616,12 @@ fn draw_panels(
             .x_label_area_size(x_area)
             .build_cartesian_2d(x.min..x.max, p.y.min..p.y.max)
             .map_err(chart_err)?;
-        panel_mesh(&mut chart, p, (xticks, &x_label), m)?;
+        stacked_panel_mesh(
+            &mut chart,
+            (xticks, p.x_labels, &x_label),
+            (&p.yticks, &p.y_label),
+            m,
+        )?;
         let rect = plot_rect(&chart);
         let spec = chart.as_coord_spec().clone();
         let to_px = |q: (f64, f64)| {

@@ -13,9 +13,9 @@ use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 
 use crate::chart::{
-    chart_err, dashed, draw_legend, font, frame, place_legend, plot_rect, plottable, rgb,
-    shrink_to_fit, stroke, whole_numbers, AxisRange, Chart2d, Entry, Extent, Metrics, Occupancy,
-    Pt, Swatch, Ticks,
+    chart_err, dashed, draw_legend, frame, place_legend, plot_rect, plottable, rgb, shrink_to_fit,
+    stroke, whole_numbers, AxisRange, Chart2d, Entry, Extent, Metrics, Occupancy, Pt, Swatch,
+    Ticks,
 };
 use crate::colors::{INK_RGB, ZERO_RGB};
 use crate::figure::title;
@@ -520,30 +520,12 @@ fn draw(fig: &BandFigure) -> Result<Drawn, Invalid> {
                 .x_label_area_size(height - plot_h)
                 .build_cartesian_2d(x.min..x.max, p.y.min..p.y.max)
                 .map_err(chart_err)?;
-            let xfmt = |v: &f64| {
-                if last {
-                    xticks.label(*v)
-                } else {
-                    String::new()
-                }
-            };
-            let yfmt = |v: &f64| p.yticks.label(*v);
-            let mut mesh = chart.configure_mesh();
-            mesh.x_labels(xticks.values.len().max(1))
-                .y_labels(p.yticks.values.len().max(1))
-                .x_label_formatter(&xfmt)
-                .y_label_formatter(&yfmt)
-                .bold_line_style(rgb(crate::colors::GRID_RGB))
-                .light_line_style(TRANSPARENT)
-                .axis_style(BLACK)
-                .set_all_tick_mark_size(m.tick_len)
-                .label_style(font(m.tick))
-                .axis_desc_style(font(p.y_label.1))
-                .y_desc(p.y_label.0.clone());
-            if last && !x_label.0.is_empty() {
-                mesh.x_desc(x_label.0.clone());
-            }
-            mesh.draw().map_err(chart_err)?;
+            crate::figure::stacked_panel_mesh(
+                &mut chart,
+                (&xticks, last, &x_label),
+                (&p.yticks, &p.y_label),
+                &m,
+            )?;
             let rect = plot_rect(&chart);
             let spec = chart.as_coord_spec().clone();
             let to_px = |q: (f64, f64)| {
