@@ -670,9 +670,21 @@ fn draw_panels(
             draw_legend(chart, l)?;
         }
     }
+    Ok(layout_of(fig, plans, (&rects, inset), x, line_points))
+}
+
+/// Where the figure's parts went: its panels' boxes (`rects`, in the order of `plans`), the
+/// inset's, the legends', the ranges, and how many points each of the main panel's lines kept.
+fn layout_of(
+    fig: &Figure,
+    plans: &[PanelPlan<'_>],
+    (rects, inset): (&[PixelRect], Option<PixelRect>),
+    x: AxisRange,
+    line_points: Vec<usize>,
+) -> FigureLayout {
     let residual_at = fig.residual.as_ref().map(|_| plans.len() - 1);
     let history_at = fig.history.as_ref().map(|_| 1);
-    Ok(FigureLayout {
+    FigureLayout {
         width: fig.width,
         height: fig.height,
         main: rects[0],
@@ -685,7 +697,7 @@ fn draw_panels(
         main_y_range: (plans[0].y.min, plans[0].y.max),
         residual_y_range: residual_at.map(|k| (plans[k].y.min, plans[k].y.max)),
         main_line_points: line_points,
-    })
+    }
 }
 
 /// Lines, then markers over them.
