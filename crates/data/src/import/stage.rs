@@ -5,7 +5,8 @@
 
 use std::path::Path;
 
-use super::{Col, ImportSpec};
+use super::columns::Col;
+use super::ImportSpec;
 use crate::error::{DataError, InputProblem};
 use crate::plausible::Warning;
 
