@@ -1,0 +1,99 @@
+//! The α_t decision: the stiffness a fit starts from, fitted where the record resolves it and
+//! the request leaves α_t open, else held at what the sets publish.
+
+use super::prepare::free_not_fixed;
+use super::FitRequest;
+use crate::progress::Progress;
+use subfric_fit::{Param, PreparedTest};
+use subfric_model::{Model, Params};
+
+/// The stiffness the fit starts from, into `template`, and whether α_t is fitted: a series
+/// stiffness the loading slopes resolve (the machine's compliance in the slip column) is
+/// fitted, from the slopes' estimate, unless the request says what to do with α_t; else, where
+/// a first loading rises over several rows, from a trial (α_t free against α_t held, with the
+/// request's other parameters), kept when the rise decides it; else the stiffness the sets
+/// publish (`published`: each set's), with a note when they disagree. Returns the stiffness
+/// fitted, if any.
+pub(super) fn starting_stiffness(
+    req: &FitRequest,
+    tests: &[PreparedTest],
+    published: &[(String, Option<Params>)],
+    template: &mut Model,
+    progress: &dyn Progress,
+) -> Option<subfric_fit::Stiffness> {
+    let (alpha, why) = held_stiffness(published, template.params.alpha_t);
+    if let (Some(p), None) = (alpha, &req.start) {
+        template.params.alpha_t = p.alpha_t;
+        template.params.alpha_n = p.alpha_n;
+    }
+    let alpha_given = req.start.is_some()
+        || req.free.contains(&Param::AlphaT)
+        || req.fix.iter().any(|(p, _)| *p == Param::AlphaT);
+    let resolved = (!alpha_given)
+        .then(|| {
+            subfric_fit::resolved_stiffness(tests).or_else(|| {
+                let mut held = *template;
+                for (p, v) in &req.fix {
+                    p.set(&mut held, *v);
+                }
+                subfric_fit::stiffness_by_trial(tests, &held, &free_not_fixed(req), &req.options)
+            })
+        })
+        .flatten();
+    match (&resolved, why) {
+        (Some(s), _) => {
+            template.params.alpha_t = s.alpha_t;
+            template.params.alpha_n = s.alpha_t;
+        }
+        (None, Some(why)) if !alpha_given => progress.note(&why),
+        _ => {}
+    }
+    resolved
+}
+
+/// The contact stiffness a fit holds (α_t and α_n, which lab data rarely determine), from the
+/// published parameters of the sets `(name, published)`: a single set's, or the value every set
+/// of a joint fit publishes. Returns it (`None`: the sample values) and, when it does not come
+/// from a single set's publication, a note saying what is held and why.
+fn held_stiffness(
+    sets: &[(String, Option<Params>)],
+    sample: f64,
+) -> (Option<Params>, Option<String>) {
+    let published: Vec<(&String, Params)> =
+        sets.iter().filter_map(|(n, p)| p.map(|p| (n, p))).collect();
+    let agree = published.len() == sets.len()
+        && published
+            .windows(2)
+            .all(|w| w[0].1.alpha_t == w[1].1.alpha_t && w[0].1.alpha_n == w[1].1.alpha_n);
+    match (sets.len(), agree, published.first()) {
+        (1, true, Some((_, p))) => (Some(*p), None),
+        (_, true, Some((_, p))) => (
+            Some(*p),
+            Some(format!(
+                "alpha_t held at {} kN/mm³, the value every set publishes (free it with --free …,alpha_t, or set it with --fix alpha_t=…)",
+                p.alpha_t
+            )),
+        ),
+        _ if published.is_empty() => (
+            None,
+            Some(format!(
+                "alpha_t held at {sample} kN/mm³, a typical value: {} publish{} none (free it with --free …,alpha_t, or set it with --fix alpha_t=…)",
+                if sets.len() == 1 { "the set" } else { "the sets" },
+                if sets.len() == 1 { "es" } else { "" }
+            )),
+        ),
+        _ => (
+            None,
+            Some(format!(
+                "alpha_t held at {sample} kN/mm³, a typical value: the sets do not publish one value ({}) (free it with --free …,alpha_t, or set it with --fix alpha_t=…)",
+                sets.iter()
+                    .map(|(n, p)| match p {
+                        Some(p) => format!("{} {}", crate::visible(n), p.alpha_t),
+                        None => format!("{} none", crate::visible(n)),
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+        ),
+    }
+}
