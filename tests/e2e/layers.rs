@@ -2,7 +2,7 @@
 //! layer (`subfric-app`) without the command line's clap and indicatif, and the application
 //! layer gives the program's results.
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::process::Command;
 
 use serde_json::Value;
@@ -238,5 +238,145 @@ fn no_function_outside_tests_runs_over_a_hundred_lines() {
             .map(|(f, l, n, len)| format!("  {f}:{l} {n}: {len} lines"))
             .collect::<Vec<_>>()
             .join("\n")
+    );
+}
+
+/// The short name `docs/architecture.md` gives a workspace package (`subfric` is the command
+/// line, `subfric-py` the Python package, `subfric-<name>` the library `<name>`); `None` for
+/// the test crate.
+fn short_name(package: &str) -> Option<String> {
+    match package {
+        "subfric" => Some("cli".into()),
+        "subfric-py" => Some("python".into()),
+        "subfric-e2e" => None,
+        p => p.strip_prefix("subfric-").map(str::to_string),
+    }
+}
+
+/// Each crate's normal dependencies among the workspace's crates, by short name.
+fn workspace_edges(meta: &Value) -> BTreeMap<String, BTreeSet<String>> {
+    let members: BTreeSet<&str> = meta["workspace_members"]
+        .as_array()
+        .expect("workspace_members")
+        .iter()
+        .map(|m| m.as_str().unwrap())
+        .collect();
+    let packages: Vec<&Value> = meta["packages"]
+        .as_array()
+        .expect("packages")
+        .iter()
+        .filter(|p| members.contains(p["id"].as_str().unwrap()))
+        .collect();
+    let ours: BTreeSet<&str> = packages.iter().map(|p| p["name"].as_str().unwrap()).collect();
+    let mut edges = BTreeMap::new();
+    for p in packages {
+        let Some(from) = short_name(p["name"].as_str().unwrap()) else {
+            continue;
+        };
+        let to: BTreeSet<String> = p["dependencies"]
+            .as_array()
+            .expect("dependencies")
+            .iter()
+            .filter(|d| d["kind"].is_null() && ours.contains(d["name"].as_str().unwrap()))
+            .filter_map(|d| short_name(d["name"].as_str().unwrap()))
+            .collect();
+        edges.insert(from, to);
+    }
+    edges
+}
+
+/// The "Exact edges" list of `docs/architecture.md`: lines `- a → b, c (remark)` or
+/// `- a → nothing of ours`.
+fn documented_edges(doc: &str) -> BTreeMap<String, BTreeSet<String>> {
+    let list = doc
+        .split_once("Exact edges")
+        .expect("docs/architecture.md has its \"Exact edges\" list")
+        .1;
+    let mut edges = BTreeMap::new();
+    for line in list.lines().skip(1).skip_while(|l| !l.starts_with("- ")) {
+        let Some(item) = line.strip_prefix("- ") else {
+            break;
+        };
+        let (from, to) = item
+            .split_once('→')
+            .unwrap_or_else(|| panic!("an edge reads `a → b, c`: {line:?}"));
+        let to = to.split('(').next().unwrap().trim();
+        let targets: BTreeSet<String> = if to == "nothing of ours" {
+            BTreeSet::new()
+        } else {
+            to.split(',').map(|t| t.trim().to_string()).collect()
+        };
+        edges.insert(from.trim().to_string(), targets);
+    }
+    edges
+}
+
+#[test]
+fn the_documented_edges_are_read_as_written() {
+    let doc = "text\n\nExact edges (checked):\n\n- model → nothing of ours\n- fit → model, data\n- cli → app, fit (for types)\n\nnext paragraph\n- not → an edge\n";
+    let edges = documented_edges(doc);
+    assert_eq!(edges.len(), 3, "{edges:?}");
+    assert!(edges["model"].is_empty());
+    assert_eq!(edges["fit"], BTreeSet::from(["model".into(), "data".into()]));
+    assert_eq!(edges["cli"], BTreeSet::from(["app".into(), "fit".into()]));
+}
+
+#[test]
+fn the_architecture_doc_lists_the_crate_graph_cargo_resolves() {
+    let doc = std::fs::read_to_string(repo().join("docs/architecture.md")).unwrap();
+    let documented = documented_edges(&doc);
+    let actual = workspace_edges(&metadata());
+    let show = |m: &BTreeMap<String, BTreeSet<String>>| {
+        m.iter()
+            .map(|(k, v)| {
+                let v: Vec<&str> = v.iter().map(String::as_str).collect();
+                format!("  {k} → {}", v.join(", "))
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(
+        documented,
+        actual,
+        "docs/architecture.md's \"Exact edges\" differ from Cargo.toml's dependencies; the \
+         manifests say:\n{}",
+        show(&actual)
+    );
+}
+
+/// No source file of ours runs over this many lines (a file that long holds more than one
+/// thing: split it by what each part does).
+const MAX_FILE_LINES: usize = 800;
+
+#[test]
+fn no_source_file_runs_over_eight_hundred_lines() {
+    let mut long = Vec::new();
+    let mut stack = vec![
+        repo().join("crates"),
+        repo().join("python/src"),
+        repo().join("tests"),
+    ];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap().to_string_lossy().to_string();
+            if path.is_dir() {
+                if name != "target" {
+                    stack.push(path);
+                }
+            } else if name.ends_with(".rs") {
+                let lines = std::fs::read_to_string(&path).unwrap().lines().count();
+                if lines > MAX_FILE_LINES {
+                    let shown = path.strip_prefix(repo()).unwrap().display().to_string();
+                    long.push(format!("  {shown}: {lines} lines"));
+                }
+            }
+        }
+    }
+    long.sort();
+    assert!(
+        long.is_empty(),
+        "source files over {MAX_FILE_LINES} lines:\n{}",
+        long.join("\n")
     );
 }
