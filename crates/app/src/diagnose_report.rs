@@ -3,6 +3,7 @@
 //! noise variance" ([`crate::adequacy`]).
 
 use crate::adequacy::{misfit_number, Adequacy, MISFIT_LEGEND};
+use crate::truncate;
 use std::fmt::Write as _;
 use std::path::Path;
 use subfric_diagnose::confidence::Standing;
@@ -525,14 +526,6 @@ fn named_effect(s: &mut String, e: &NamedEffect) {
             "     extra held-out checks (share of the excess removed) — {}",
             checks.join(", ")
         );
-    }
-}
-
-pub(crate) fn truncate(s: &str, n: usize) -> String {
-    if s.chars().count() <= n {
-        s.to_string()
-    } else {
-        format!("{}…", s.chars().take(n - 1).collect::<String>())
     }
 }
 

@@ -64,7 +64,7 @@ pub(crate) fn levels(s: &mut String, l: &subfric_fit::LevelReadings) {
         let _ = writeln!(
             s,
             "   {:<18} {:>10.1} {:>12.3e} {:>26} {:>12} {:>26} {:>30}",
-            crate::diagnose_report::truncate(&t.test, 18),
+            crate::truncate(&t.test, 18),
             t.normal_kpa,
             t.rate_mm_s,
             or_dash(t.peak, 4),
@@ -148,7 +148,7 @@ fn steps(s: &mut String, e: &EventAnalysis) {
         let _ = writeln!(
             s,
             "   {:<18} {:>9.1} {:>8.2e}→{:<8.2e}  {:<6} {:>26} {:>26} {:>30} {:>28} {:>26} {:>8} {:>6.0}{}",
-            crate::diagnose_report::truncate(&st.test, 18),
+            crate::truncate(&st.test, 18),
             st.time_s,
             st.rate_before,
             st.rate_after,
@@ -221,7 +221,7 @@ fn holds(s: &mut String, e: &EventAnalysis) {
         let _ = writeln!(
             s,
             "   {:<18} {:>9.1} s hold   before {:.4}   relaxed {:+.4}   peak gain {}",
-            crate::diagnose_report::truncate(&h.test, 18),
+            crate::truncate(&h.test, 18),
             h.duration_s,
             h.before,
             -h.relaxation,

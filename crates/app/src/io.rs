@@ -66,7 +66,7 @@ pub fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<()> {
 /// and a symbolic link at `path` is replaced, not written through.
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        crate::output::refuse_link(dir, "the folder written")?;
+        refuse_link(dir, "the folder written")?;
         std::fs::create_dir_all(dir)
             .map_err(|e| anyhow!("{}: cannot create the folder: {e}", dir.display()))?;
     }
@@ -85,6 +85,20 @@ pub fn remove_earlier_files(dir: &Path, ext: &str) -> Result<()> {
             std::fs::remove_file(e.path())
                 .with_context(|| format!("{}: cannot remove it", e.path().display()))?;
         }
+    }
+    Ok(())
+}
+
+/// Refuses a symbolic link at `dir` (`what` names it): subfric writes its results into the
+/// folder it is given, never through a link planted at that name (which may lead anywhere).
+/// Folders above it may be links (`/tmp` on some systems, a home folder on another disk).
+pub fn refuse_link(dir: &Path, what: &str) -> Result<()> {
+    if std::fs::symlink_metadata(dir).is_ok_and(|m| m.file_type().is_symlink()) {
+        bail!(
+            "{}: {what} is a symbolic link (expected a folder: subfric never writes through a link; give the folder it leads to, {}, instead)",
+            dir.display(),
+            std::fs::read_link(dir).map_or_else(|_| "?".into(), |t| t.display().to_string())
+        );
     }
     Ok(())
 }

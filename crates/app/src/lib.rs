@@ -62,6 +62,15 @@ pub use io::load_model;
 pub use progress::{Progress, Silent};
 pub use subfric_data::visible;
 
+/// `s` cut to `n` characters, its last one an ellipsis when cut (a column of a text table).
+pub(crate) fn truncate(s: &str, n: usize) -> String {
+    if s.chars().count() <= n {
+        s.to_string()
+    } else {
+        format!("{}…", s.chars().take(n - 1).collect::<String>())
+    }
+}
+
 /// An error and its causes, each cause once: a cause whose text the message already holds
 /// (such as an OS error that a file error quotes) is not repeated.
 pub fn error_text(e: &anyhow::Error) -> String {

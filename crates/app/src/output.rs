@@ -109,7 +109,7 @@ fn first_missing(dir: &Path) -> Option<PathBuf> {
 /// Creates `dir` and proves it writable by writing and removing a probe file; returns the
 /// topmost folder created.
 fn create_writable(dir: &Path) -> Result<Option<PathBuf>> {
-    refuse_link(dir, "the output folder")?;
+    crate::io::refuse_link(dir, "the output folder")?;
     match PathKind::of(dir) {
         PathKind::Absent | PathKind::Folder => {}
         kind => bail!(
@@ -127,20 +127,6 @@ fn create_writable(dir: &Path) -> Result<Option<PathBuf>> {
     })?;
     let _ = std::fs::remove_file(probe);
     Ok(created)
-}
-
-/// Refuses a symbolic link at `dir` (`what` names it): subfric writes its results into the
-/// folder it is given, never through a link planted at that name (which may lead anywhere).
-/// Folders above it may be links (`/tmp` on some systems, a home folder on another disk).
-pub fn refuse_link(dir: &Path, what: &str) -> Result<()> {
-    if std::fs::symlink_metadata(dir).is_ok_and(|m| m.file_type().is_symlink()) {
-        bail!(
-            "{}: {what} is a symbolic link (expected a folder: subfric never writes through a link; give the folder it leads to, {}, instead)",
-            dir.display(),
-            std::fs::read_link(dir).map_or_else(|_| "?".into(), |t| t.display().to_string())
-        );
-    }
-    Ok(())
 }
 
 /// Removes the folders from `dir` up to `top` that `create_writable` created, if empty.

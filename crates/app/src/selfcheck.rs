@@ -4,9 +4,9 @@
 //! `truth.json`. `selfcheck --write DIR` writes a generated campaign for `--sets` to score.
 
 use crate::diagnose::check_diagnosis_finite;
-use crate::diagnose_report::truncate;
 use crate::io::write_json;
 use crate::progress::{Progress, Silent};
+use crate::truncate;
 use anyhow::{anyhow, bail, Result};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
