@@ -265,8 +265,8 @@ pub fn gap_remainder(test: &TestData, seg: &Segmentation, direction: f64) -> Opt
         if compliance.len() < 2 {
             return None;
         }
-        compliance.sort_by(f64::total_cmp);
-        let typical = compliance[compliance.len() / 2];
+        // Sorts `compliance` in place: the spread is read off its ends.
+        let typical = crate::stats::upper_median(&mut compliance)?;
         let spread = compliance[compliance.len() - 1] - compliance[0];
         let (r, _, i_level, travel, change) = reloads[first];
         let expected = typical * change;

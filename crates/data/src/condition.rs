@@ -183,7 +183,7 @@ fn flatten_holds(
         // less than the band that makes a motion an event but far more than one reading's
         // noise): that row keeps its reading, and the level starts after it.
         let mut hold_rows = values[s..=b].to_vec();
-        let level = crate::noise::median(&mut hold_rows);
+        let level = crate::stats::median(&mut hold_rows).unwrap_or(0.0);
         let a = if (values[s - 1] - level).abs() > off_level {
             s
         } else {

@@ -16,7 +16,8 @@
 //!
 //! Boundaries are then placed where the straight lines fitted to the two sides intersect.
 
-use crate::noise::{estimate_noise, median, NoiseEstimate};
+use crate::noise::{estimate_noise, NoiseEstimate};
+use crate::stats::median;
 use serde::{Deserialize, Serialize};
 
 /// Options of the event detection and segmentation.
@@ -115,9 +116,7 @@ pub(crate) fn median3(x: &[f64]) -> Vec<f64> {
             if i == 0 || i + 1 == n {
                 x[i]
             } else {
-                let mut w = [x[i - 1], x[i], x[i + 1]];
-                w.sort_by(f64::total_cmp);
-                w[1]
+                median(&mut [x[i - 1], x[i], x[i + 1]]).unwrap_or(x[i])
             }
         })
         .collect()
@@ -509,7 +508,7 @@ pub(crate) fn detect(t: &[f64], x: &[f64], opts: &SegmentOptions) -> Events {
     ev.slow_rate = travel_quantile(&all_chunks, 0.03);
     ev.chunk_travel = chunk_travel;
     let mut dts: Vec<f64> = t[..n].windows(2).map(|w| w[1] - w[0]).collect();
-    let median_dt = median(&mut dts);
+    let median_dt = median(&mut dts).unwrap_or(0.0);
     let min_duration = if ev.slow_rate > 0.0 {
         (5.0 * band / ev.slow_rate).max(3.0 * median_dt)
     } else {
@@ -538,7 +537,7 @@ pub(crate) fn detect(t: &[f64], x: &[f64], opts: &SegmentOptions) -> Events {
 /// the band between their median positions (a glitch of the transducer, a range reset): the
 /// hold goes on through it.
 fn merge_holds(t: &[f64], y: &[f64], holds: Vec<(usize, usize)>, band: f64) -> Vec<(usize, usize)> {
-    let position = |s: usize, e: usize| median(&mut y[s - 1..e].to_vec());
+    let position = |s: usize, e: usize| median(&mut y[s - 1..e].to_vec()).unwrap_or(0.0);
     let mut out: Vec<(usize, usize)> = Vec::with_capacity(holds.len());
     for (s, e) in holds {
         if let Some(last) = out.last_mut() {
@@ -647,8 +646,8 @@ fn backed_off_holds(
             continue;
         }
         let second_half = a + rows / 2;
-        let settled = median(&mut x[second_half..=b].to_vec());
-        let ended = median(&mut x[a..a + FIRST].to_vec());
+        let settled = median(&mut x[second_half..=b].to_vec()).unwrap_or(0.0);
+        let ended = median(&mut x[a..a + FIRST].to_vec()).unwrap_or(0.0);
         let back = -forward * (settled - ended);
         let m = (b + 1 - second_half) as f64;
         let sd_diff = 1.25 * sd * (1.0 / FIRST as f64 + 1.0 / m).sqrt();

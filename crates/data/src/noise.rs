@@ -11,6 +11,7 @@
 //! the estimate is never below the quantisation noise q/√12, and is then reported as a floor,
 //! not a measurement.
 
+use crate::stats::median;
 use serde::Serialize;
 
 /// Rows per block of the robust estimate.
@@ -55,11 +56,6 @@ impl NoiseEstimate {
     }
 }
 
-/// [`crate::stats::median`], 0 when empty (the readers' convention).
-pub(crate) fn median(v: &mut [f64]) -> f64 {
-    crate::stats::median(v).unwrap_or(0.0)
-}
-
 /// Scaled residuals of each reading from the linear interpolation of its two neighbours (white
 /// noise of SD σ gives residuals of SD σ), after collapsing runs of repeated values.
 fn second_differences(t: &[f64], x: &[f64]) -> Vec<f64> {
@@ -91,9 +87,9 @@ fn second_differences(t: &[f64], x: &[f64]) -> Vec<f64> {
 
 fn mad_sd(r: &[f64]) -> f64 {
     let mut v = r.to_vec();
-    let med = median(&mut v);
+    let med = median(&mut v).unwrap_or(0.0);
     let mut dev: Vec<f64> = r.iter().map(|v| (v - med).abs()).collect();
-    1.4826 * median(&mut dev)
+    1.4826 * median(&mut dev).unwrap_or(0.0)
 }
 
 /// Quantisation step of `x`: the smallest step of which most changes between consecutive rows
@@ -170,7 +166,7 @@ pub fn estimate_noise(t: &[f64], x: &[f64]) -> NoiseEstimate {
     }
     let lo = blocks.iter().cloned().fold(f64::INFINITY, f64::min);
     let hi = blocks.iter().cloned().fold(0.0, f64::max);
-    let measured = median(&mut blocks);
+    let measured = median(&mut blocks).unwrap_or(0.0);
     let (sd, floor) = if measured > floor_sd {
         (measured, false)
     } else {
@@ -284,7 +280,7 @@ pub fn slow_noise_ratio_over(
             i += window / 4;
         }
     }
-    (ratios.len() >= SLOW_MIN_WINDOWS).then(|| median(&mut ratios))
+    (ratios.len() >= SLOW_MIN_WINDOWS).then(|| median(&mut ratios).unwrap_or(0.0))
 }
 
 /// The semivariogram in time of a residual over stretches of steady driving, pooled over tests,

@@ -31,8 +31,9 @@ use crate::condition::{analyze, Analysis, Conditioned};
 use crate::events::velocity_steps;
 pub use crate::events::SegmentOptions;
 use crate::meta::{ControlColumn, InitialSpec};
-use crate::noise::{estimate_noise, median};
+use crate::noise::estimate_noise;
 use crate::set::TestData;
+use crate::stats::median;
 
 /// Kind of a loading phase.
 ///
@@ -594,7 +595,7 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
         .max(1);
     let shear0 = {
         let mut v: Vec<f64> = measured_shear[..still.min(n)].to_vec();
-        median(&mut v)
+        median(&mut v).unwrap_or(0.0)
     };
     let rate0 = seg
         .levels
@@ -637,7 +638,7 @@ fn decide_start(test: &TestData, seg: &Segmentation) -> Start {
     }
     let noise = estimate_noise(&test.time_s, measured_shear).sd;
     let mut mags: Vec<f64> = measured_shear.iter().map(|v| v.abs()).collect();
-    let level = median(&mut mags);
+    let level = median(&mut mags).unwrap_or(0.0);
     if shear0.abs() <= (REST_NOISE_SDS * noise).max(REST_SHARE_OF_LEVEL * level) {
         return make(
             StartKind::Rest,

@@ -121,15 +121,13 @@ fn distinct_rates(mut rates: Vec<f64>) -> Vec<f64> {
     for r in rates {
         if let Some(&first) = group.first() {
             if r > first * SAME_RATE_FACTOR {
-                out.push(group[group.len() / 2]);
+                out.extend(crate::stats::upper_median(&mut group));
                 group.clear();
             }
         }
         group.push(r);
     }
-    if !group.is_empty() {
-        out.push(group[group.len() / 2]);
-    }
+    out.extend(crate::stats::upper_median(&mut group));
     out
 }
 

@@ -2,6 +2,7 @@
 //! stress, sampling, slip range and noise the proposals are built from.
 
 use crate::outcome::Rig;
+use subfric_data::stats::median;
 use subfric_fit::{typical_rate, FitTest};
 use subfric_model::{Control, Model};
 
@@ -57,7 +58,7 @@ pub fn rig_of(tests: &[FitTest], fit: &Model) -> Rig {
                 periods.push(span / ups as f64);
             }
         }
-        (tmax, median(&mut periods))
+        (tmax, median(&mut periods).unwrap_or(0.0))
     } else {
         (0.0, 0.0)
     };
@@ -66,17 +67,12 @@ pub fn rig_of(tests: &[FitTest], fit: &Model) -> Rig {
     Rig {
         control,
         rate_mm_s: rate,
-        normal_stress_kpa: median(&mut normals),
-        dt_s: median(&mut steps),
+        normal_stress_kpa: median(&mut normals).unwrap_or(0.0),
+        dt_s: median(&mut steps).unwrap_or(0.0),
         slip_range_mm,
-        noise_sd: median(&mut noise),
+        noise_sd: median(&mut noise).unwrap_or(0.0),
         max_shear_kpa,
         period_s,
         decay_rate_per_mm: fit.params.kappa + fit.params.xi / rate.max(1e-300),
     }
-}
-
-/// [`subfric_data::stats::median`], 0 when empty.
-fn median(v: &mut [f64]) -> f64 {
-    subfric_data::stats::median(v).unwrap_or(0.0)
 }

@@ -272,8 +272,10 @@ fn closure_curve(
         .map(|k| t.imposed[0] + fl.sign * span * k as f64 / (RISE_POINTS - 1) as f64)
         .collect();
     let mut normal_rise: Vec<f64> = t.normal[..rise_end].to_vec();
-    normal_rise.sort_by(f64::total_cmp);
-    let normal = vec![normal_rise[rise_end / 2]; RISE_POINTS];
+    let Some(normal) = subfric_data::stats::upper_median(&mut normal_rise) else {
+        return Vec::new();
+    };
+    let normal = vec![normal; RISE_POINTS];
     let proto = subfric_model::Protocol {
         control: Control::Slip,
         time: &time,

@@ -38,12 +38,6 @@ pub struct FitTest {
     pub row_weight: Vec<f64>,
 }
 
-/// The median of `v` (sorted in place; the mean of the middle two for an even count; 0 when
-/// empty).
-pub(crate) fn median(v: &mut [f64]) -> f64 {
-    subfric_data::stats::median(v).unwrap_or(0.0)
-}
-
 impl FitTest {
     /// Builds a test and estimates its noise and scale.
     pub fn new(
@@ -168,7 +162,7 @@ pub fn typical_rate(tests: &[FitTest]) -> f64 {
             }
         }
     }
-    let r = median(&mut rates);
+    let r = subfric_data::stats::median(&mut rates).unwrap_or(0.0);
     if r > 0.0 && r.is_finite() {
         r
     } else {

@@ -16,10 +16,11 @@
 //! fresh specimens of one sand never agree more closely than that, so a trend across tests
 //! must be larger than what a second specimen could show.
 
-use crate::dataset::{median, FitTest};
+use crate::dataset::FitTest;
 use crate::estimate::Estimate;
 use crate::prepare::PreparedTest;
 use serde::Serialize;
+use subfric_data::stats::median;
 use subfric_model::{Control, Initial};
 
 /// Smallest standard deviation of a test's peak or residual stress ratio, as a share of it:
@@ -152,7 +153,7 @@ pub fn read_levels(tests: &[PreparedTest]) -> LevelReadings {
 fn levels_of(read: Vec<TestLevels>) -> LevelReadings {
     // One rate: the tests within SAME_RATE of the median rate of those read.
     let mut rates: Vec<f64> = read.iter().map(|t| t.rate_mm_s).collect();
-    let typical = median(&mut rates);
+    let typical = median(&mut rates).unwrap_or(0.0);
     let alike: Vec<&TestLevels> = read
         .iter()
         .filter(|t| t.rate_mm_s <= typical * SAME_RATE && t.rate_mm_s * SAME_RATE >= typical)
@@ -220,7 +221,7 @@ fn test_levels(t: &FitTest, step: Option<usize>) -> Option<TestLevels> {
     if !f.iter().chain(&u).all(|v| v.is_finite()) {
         return None;
     }
-    let normal_kpa = median(&mut t.normal[rows.clone()].to_vec());
+    let normal_kpa = median(&mut t.normal[rows.clone()].to_vec()).unwrap_or(0.0);
     if normal_kpa.is_nan() || normal_kpa <= 0.0 {
         return None;
     }

@@ -19,12 +19,13 @@
 //! between the parameter and the ratio is the model's shape; where it does not, the fit has
 //! traded them for something else, and the report says so.
 
-use crate::dataset::{median, FitTest};
+use crate::dataset::FitTest;
 use crate::guess::features;
 // After its peak a loading must slide this many decay lengths for its end to be read as the
 // residual stress ratio: one rule with the tests' level readings.
 use crate::levels::RESIDUAL_DECAYS;
 use serde::Serialize;
+use subfric_data::stats::median;
 use subfric_model::{Control, Initial, Model};
 
 /// The fitted model keeps a measured stress ratio when it lies within this share of it, or
@@ -172,7 +173,7 @@ pub fn read_off(tests: &[FitTest], model: &Model) -> Vec<ReadOff> {
         let Some(m) = features(&from(&predicted)) else {
             continue;
         };
-        let normal = median(&mut t.normal.clone());
+        let normal = median(&mut t.normal.clone()).unwrap_or(0.0);
         let noise = NOISE_MULTIPLE * t.noise_sd / normal;
         let reading = |measured: f64, model: f64| Reading {
             test: t.name.clone(),
@@ -211,8 +212,9 @@ fn compare(
     if readings.is_empty() || !fitted.is_finite() {
         return None;
     }
-    let measured = median(&mut readings.iter().map(|r| r.measured).collect::<Vec<_>>());
-    let model = median(&mut readings.iter().map(|r| r.model).collect::<Vec<_>>());
+    let measured =
+        median(&mut readings.iter().map(|r| r.measured).collect::<Vec<_>>()).unwrap_or(0.0);
+    let model = median(&mut readings.iter().map(|r| r.model).collect::<Vec<_>>()).unwrap_or(0.0);
     Some(ReadOff {
         param,
         measured_as,

@@ -18,6 +18,7 @@ use crate::dataset::{typical_rate, FitTest};
 use crate::prepare::PreparedTest;
 use crate::space::{Param, Space};
 use serde::Serialize;
+use subfric_data::stats::upper_median;
 use subfric_model::params::KN_PER_MM3_IN_KPA_PER_MM;
 use subfric_model::{Control, Model};
 
@@ -71,8 +72,7 @@ fn slopes(p: &PreparedTest) -> Slopes {
     let u = &t.imposed;
     let tau = &t.measured;
     let mut mags: Vec<f64> = tau.iter().map(|v| v.abs()).collect();
-    mags.sort_by(f64::total_cmp);
-    let typical = mags[mags.len() / 2];
+    let typical = upper_median(&mut mags).unwrap_or(0.0);
     let mut events: Vec<usize> = seg.reversals.clone();
     for &(s, e) in &seg.holds {
         let before = tau[s.saturating_sub(1)];
@@ -265,11 +265,7 @@ pub fn stiffness_by_trial(
         .map(|r| r.secant() / KN_PER_MM3_IN_KPA_PER_MM)
         .filter(|a| a.is_finite() && *a > 0.0)
         .collect();
-    if secants.is_empty() {
-        return None;
-    }
-    secants.sort_by(f64::total_cmp);
-    let secant = secants[secants.len() / 2];
+    let secant = upper_median(&mut secants)?;
     // A rise as steep as the held stiffness says nothing the held value does not.
     if secant >= 0.1 * template.params.alpha_t {
         return None;
@@ -330,11 +326,7 @@ pub fn resolved_stiffness(tests: &[PreparedTest]) -> Option<Stiffness> {
     }
     let from_unloads = !unloads.is_empty();
     let mut all = if from_unloads { unloads } else { reloads };
-    if all.is_empty() {
-        return None;
-    }
-    all.sort_by(f64::total_cmp);
-    let slope = all[all.len() / 2];
+    let slope = upper_median(&mut all)?;
     let alpha_t = slope / KN_PER_MM3_IN_KPA_PER_MM;
     Some(Stiffness {
         alpha_t,

@@ -452,15 +452,12 @@ pub fn tally(outcomes: &[CampaignOutcome]) -> Vec<CoverageRow> {
                 .iter()
                 .filter_map(|p| p.interval.map(|(a, b)| 50.0 * (b - a) / p.truth.abs()))
                 .collect();
-            widths.sort_by(f64::total_cmp);
             CoverageRow {
                 name: q.key().into(),
                 covered: of.iter().filter(|p| p.covered).count(),
                 total: of.len(),
                 determined: of.iter().filter(|p| p.status == Status::Determined).count(),
-                median_half_width_percent: widths
-                    .get(widths.len() / 2)
-                    .copied()
+                median_half_width_percent: subfric_data::stats::upper_median(&mut widths)
                     .unwrap_or(f64::NAN),
             }
         })

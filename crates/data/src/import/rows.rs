@@ -170,8 +170,7 @@ pub(super) fn spec_normal(spec: &ImportSpec, cols: &Columns, normal_kpa: &[f64])
                 .copied()
                 .filter(|x| x.is_finite())
                 .collect();
-            v.sort_by(f64::total_cmp);
-            v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+            crate::stats::upper_median(&mut v).unwrap_or(f64::NAN)
         }
         (None, None) => f64::NAN,
     }

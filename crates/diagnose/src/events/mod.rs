@@ -12,6 +12,7 @@ pub mod steps;
 
 use rayon::prelude::*;
 use serde::Serialize;
+use subfric_data::stats::upper_median;
 use subfric_fit::{PreparedTest, Stiffness};
 use subfric_model::Control;
 
@@ -106,8 +107,7 @@ fn view(p: &PreparedTest) -> Option<TestView<'_>> {
         return None;
     }
     let mut normals: Vec<f64> = t.normal.clone();
-    normals.sort_by(f64::total_cmp);
-    let typical = normals[normals.len() / 2];
+    let typical = upper_median(&mut normals)?;
     if !(typical > 0.0 && t.noise_sd.is_finite() && t.noise_sd > 0.0) {
         return None;
     }
@@ -166,7 +166,7 @@ impl EventAnalysis {
     /// factor of [`SPRING_AGREEMENT`] (one soft spring alone can stand in for another misfit).
     pub fn stiffness(&self) -> Option<Stiffness> {
         let shown: Vec<&StepFit> = self.steps.iter().filter(|s| s.significant()).collect();
-        let springs: Vec<f64> = shown
+        let mut springs: Vec<f64> = shown
             .iter()
             .filter(|s| s.stiffness_per_mm.is_finite())
             .map(|s| s.stiffness_per_mm * s.normal_kpa)
@@ -181,7 +181,7 @@ impl EventAnalysis {
             return None;
         }
         let n = springs.len();
-        let kpa_per_mm = median(springs);
+        let kpa_per_mm = upper_median(&mut springs).unwrap_or(f64::NAN);
         let alpha_t = kpa_per_mm / subfric_model::params::KN_PER_MM3_IN_KPA_PER_MM;
         Some(Stiffness {
             alpha_t,
@@ -264,11 +264,6 @@ impl EventAnalysis {
     }
 }
 
-/// [`subfric_data::stats::upper_median`] (a value of the events' readings), NaN when empty.
-fn median(mut v: Vec<f64>) -> f64 {
-    subfric_data::stats::upper_median(&mut v).unwrap_or(f64::NAN)
-}
-
 /// The steps' reading together.
 fn consensus(steps: &[StepFit]) -> Option<RateConsensus> {
     if steps.is_empty() {
@@ -286,9 +281,12 @@ fn consensus(steps: &[StepFit]) -> Option<RateConsensus> {
     Some(RateConsensus {
         steps: steps.len(),
         significant: significant.len(),
-        a: median(pool.iter().map(|s| s.a.value).collect()),
-        b: median(pool.iter().map(|s| s.b.value).collect()),
-        d_c_mm: median(pool.iter().map(|s| s.d_c_mm.value).collect()),
+        a: upper_median(&mut pool.iter().map(|s| s.a.value).collect::<Vec<_>>())
+            .unwrap_or(f64::NAN),
+        b: upper_median(&mut pool.iter().map(|s| s.b.value).collect::<Vec<_>>())
+            .unwrap_or(f64::NAN),
+        d_c_mm: upper_median(&mut pool.iter().map(|s| s.d_c_mm.value).collect::<Vec<_>>())
+            .unwrap_or(f64::NAN),
         signs_checked: checked.len(),
         signs_agree: checked.iter().filter(|&&x| x).count(),
         changes_measured: measured.len(),

@@ -3,6 +3,7 @@
 
 use super::Window;
 use crate::events::TestView;
+use subfric_data::stats::upper_median;
 
 /// The window of the step at row `c` of `t` (from the last half of the level before, at most
 /// as long as the level after, to the end of the level after); `None` when the step is not a
@@ -37,8 +38,7 @@ pub(in crate::events) fn window(t: &TestView, c: usize) -> Option<Window> {
         .map(|k| if k <= step { v0.abs() } else { v1.abs() })
         .collect();
     let mut normals: Vec<f64> = rows.clone().map(|i| t.normal[i]).collect();
-    normals.sort_by(f64::total_cmp);
-    let normal = normals[normals.len() / 2];
+    let normal = upper_median(&mut normals)?;
     Some(Window {
         normal,
         time,
@@ -112,9 +112,5 @@ pub(super) fn row_travel(w: &Window) -> f64 {
         .map(|p| (p[1] - p[0]).abs())
         .filter(|d| *d > 0.0)
         .collect();
-    if steps.is_empty() {
-        return 0.0;
-    }
-    steps.sort_by(f64::total_cmp);
-    steps[steps.len() / 2]
+    upper_median(&mut steps).unwrap_or(0.0)
 }
