@@ -271,8 +271,7 @@ fn closure_curve(
     let slip: Vec<f64> = (0..RISE_POINTS)
         .map(|k| t.imposed[0] + fl.sign * span * k as f64 / (RISE_POINTS - 1) as f64)
         .collect();
-    let mut normal_rise: Vec<f64> = t.normal[..rise_end].to_vec();
-    let Some(normal) = subfric_data::stats::upper_median(&mut normal_rise) else {
+    let Some(normal) = subfric_data::stats::upper_median(&mut t.normal[..rise_end].to_vec()) else {
         return Vec::new();
     };
     let normal = vec![normal; RISE_POINTS];
