@@ -267,7 +267,10 @@ fn workspace_edges(meta: &Value) -> BTreeMap<String, BTreeSet<String>> {
         .iter()
         .filter(|p| members.contains(p["id"].as_str().unwrap()))
         .collect();
-    let ours: BTreeSet<&str> = packages.iter().map(|p| p["name"].as_str().unwrap()).collect();
+    let ours: BTreeSet<&str> = packages
+        .iter()
+        .map(|p| p["name"].as_str().unwrap())
+        .collect();
     let mut edges = BTreeMap::new();
     for p in packages {
         let Some(from) = short_name(p["name"].as_str().unwrap()) else {
@@ -317,7 +320,10 @@ fn the_documented_edges_are_read_as_written() {
     let edges = documented_edges(doc);
     assert_eq!(edges.len(), 3, "{edges:?}");
     assert!(edges["model"].is_empty());
-    assert_eq!(edges["fit"], BTreeSet::from(["model".into(), "data".into()]));
+    assert_eq!(
+        edges["fit"],
+        BTreeSet::from(["model".into(), "data".into()])
+    );
     assert_eq!(edges["cli"], BTreeSet::from(["app".into(), "fit".into()]));
 }
 
@@ -379,4 +385,219 @@ fn no_source_file_runs_over_eight_hundred_lines() {
         "source files over {MAX_FILE_LINES} lines:\n{}",
         long.join("\n")
     );
+}
+
+/// The application layer's modules and where each names another: module → module it names →
+/// the `file:line` of each place. The modules are the top-level ones of `crates/app/src`
+/// (`fit.rs` and the files under `fit/` are `fit`).
+type ModuleGraph = BTreeMap<String, BTreeMap<String, Vec<String>>>;
+
+/// A file's text up to its test module (from the first `#[cfg(test)]` line on, left out).
+fn outside_tests(text: &str) -> String {
+    text.lines()
+        .take_while(|l| l.trim() != "#[cfg(test)]")
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The offsets where the items of the braced list opening at `open` start (its top level:
+/// `a` and `b` of `{a::x, b::{y, z}}`).
+fn list_items(text: &str, open: usize) -> Vec<usize> {
+    let (mut items, mut depth, mut expect) = (Vec::new(), 0, false);
+    for (i, c) in text[open..].char_indices() {
+        match c {
+            '{' => {
+                depth += 1;
+                expect = depth == 1;
+            }
+            '}' => {
+                depth -= 1;
+                if depth == 0 {
+                    break;
+                }
+            }
+            ',' if depth == 1 => expect = true,
+            c if expect && !c.is_whitespace() => {
+                items.push(open + i);
+                expect = false;
+            }
+            _ => {}
+        }
+    }
+    items
+}
+
+/// Where `text` (of the module `own`) names another of `modules` as `crate::<module>`, also
+/// in a `use crate::{a::x, b::y}` list over several lines: (module, line from 1) each.
+fn crate_references(text: &str, own: &str, modules: &BTreeSet<String>) -> Vec<(String, usize)> {
+    let name_at = |at: usize| {
+        let rest = &text[at..];
+        let end = rest
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .unwrap_or(rest.len());
+        &rest[..end]
+    };
+    let mut found = Vec::new();
+    for (at, prefix) in text.match_indices("crate::") {
+        // `subcrate::x` names no module of ours.
+        if text[..at]
+            .chars()
+            .next_back()
+            .is_some_and(|c| c.is_alphanumeric() || c == '_')
+        {
+            continue;
+        }
+        let after = at + prefix.len();
+        let heads = if text[after..].starts_with('{') {
+            list_items(text, after)
+        } else {
+            vec![after]
+        };
+        for h in heads {
+            let name = name_at(h);
+            if name != own && modules.contains(name) {
+                found.push((name.to_string(), text[..h].matches('\n').count() + 1));
+            }
+        }
+    }
+    found
+}
+
+/// The module graph of the application layer's sources under `root`, their tests left out.
+fn app_module_graph(root: &std::path::Path) -> ModuleGraph {
+    let mut files = Vec::new();
+    let mut stack = vec![root.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let first = path
+                    .strip_prefix(root)
+                    .unwrap()
+                    .components()
+                    .next()
+                    .unwrap();
+                let module = first
+                    .as_os_str()
+                    .to_string_lossy()
+                    .trim_end_matches(".rs")
+                    .to_string();
+                files.push((module, path));
+            }
+        }
+    }
+    let modules: BTreeSet<String> = files.iter().map(|(m, _)| m.clone()).collect();
+    let mut graph: ModuleGraph = modules
+        .iter()
+        .map(|m| (m.clone(), BTreeMap::new()))
+        .collect();
+    for (module, path) in &files {
+        let text = outside_tests(&std::fs::read_to_string(path).unwrap());
+        let shown = path
+            .strip_prefix(repo())
+            .unwrap_or(path)
+            .display()
+            .to_string();
+        for (to, line) in crate_references(&text, module, &modules) {
+            let places = graph.get_mut(module).unwrap().entry(to).or_default();
+            places.push(format!("{shown}:{line}"));
+        }
+    }
+    graph
+}
+
+/// A cycle of `graph`, if it has one: modules each of which names the next, the last the first.
+fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
+    /// Depth first from `m`: a module met again while still on `path` closes a cycle.
+    fn visit<'a>(
+        m: &'a str,
+        graph: &'a BTreeMap<String, BTreeSet<String>>,
+        path: &mut Vec<&'a str>,
+        seen: &mut BTreeSet<&'a str>,
+    ) -> Option<Vec<String>> {
+        if let Some(i) = path.iter().position(|p| *p == m) {
+            return Some(path[i..].iter().map(|p| p.to_string()).collect());
+        }
+        if !seen.insert(m) {
+            return None;
+        }
+        path.push(m);
+        for next in graph.get(m).into_iter().flatten() {
+            if let Some(cycle) = visit(next, graph, path, seen) {
+                return Some(cycle);
+            }
+        }
+        path.pop();
+        None
+    }
+    let mut seen = BTreeSet::new();
+    graph
+        .keys()
+        .find_map(|m| visit(m, graph, &mut Vec::new(), &mut seen))
+}
+
+#[test]
+fn the_cycle_finder_finds_a_circle_and_only_a_circle() {
+    let graph = |edges: &[(&str, &str)]| {
+        let mut g: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+        for (a, b) in edges {
+            g.entry(a.to_string()).or_default().insert(b.to_string());
+            g.entry(b.to_string()).or_default();
+        }
+        g
+    };
+    let circle = graph(&[("a", "b"), ("b", "c"), ("c", "a"), ("d", "a"), ("a", "e")]);
+    assert_eq!(
+        find_cycle(&circle),
+        Some(vec!["a".into(), "b".into(), "c".into()])
+    );
+    let two = graph(&[("plan", "report"), ("report", "plan")]);
+    assert_eq!(find_cycle(&two), Some(vec!["plan".into(), "report".into()]));
+    // A diamond is no circle.
+    let layers = graph(&[("a", "b"), ("a", "c"), ("b", "d"), ("c", "d"), ("e", "a")]);
+    assert_eq!(find_cycle(&layers), None);
+}
+
+#[test]
+fn the_references_are_read_in_use_lists_and_not_in_tests() {
+    let modules: BTreeSet<String> = ["fit", "io", "report", "plan", "outcome"]
+        .map(String::from)
+        .into();
+    let text = "use crate::{\n    fit::{a, b},\n    io::x,\n};\nuse crate::outcome::FitOutcome;\nlet _ = crate::report::X + crate::visible(subcrate::plan::y) + crate::plan_basis::z;\n#[cfg(test)]\nmod tests {\n    use crate::plan::y;\n}\n";
+    let found = crate_references(&outside_tests(text), "io", &modules);
+    let expected = [("fit", 2), ("outcome", 5), ("report", 6)];
+    assert_eq!(
+        found,
+        expected.map(|(m, l)| (m.to_string(), l)).to_vec(),
+        "{found:?}"
+    );
+}
+
+#[test]
+fn the_application_layer_has_no_import_circle() {
+    let graph = app_module_graph(&repo().join("crates/app/src"));
+    // The walk finds the references where they are: the fit's folder form renders a report.
+    assert!(
+        graph.get("fit").is_some_and(|to| to.contains_key("report")),
+        "the walk misses fit → report: {graph:?}"
+    );
+    let edges: BTreeMap<String, BTreeSet<String>> = graph
+        .iter()
+        .map(|(m, to)| (m.clone(), to.keys().cloned().collect()))
+        .collect();
+    if let Some(cycle) = find_cycle(&edges) {
+        let places: Vec<String> = cycle
+            .iter()
+            .zip(cycle.iter().cycle().skip(1))
+            .map(|(a, b)| format!("  {a} → {b}: {}", graph[a][b][0]))
+            .collect();
+        panic!(
+            "the application layer's modules name each other in a circle ({} → {}); outcomes go at the bottom, the reports above them, the folder forms on top (docs/architecture.md):\n{}",
+            cycle.join(" → "),
+            cycle[0],
+            places.join("\n")
+        );
+    }
 }

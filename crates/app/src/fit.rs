@@ -2,24 +2,26 @@
 //! bounds), the calibration run, its result withheld when it cannot be trusted, and `fit.json`.
 //! Everything in the request is checked before any output folder is claimed or any fitting
 //! done ([`setup`]); [`fit()`] returns the result, [`fit_to_folder`] writes it as `subfric fit`
-//! does.
+//! does. The result ([`FitOutcome`]) is defined below the tables and reports that read it;
+//! the folder form (`fit/folder.rs`) renders them, above both.
 
+mod folder;
 mod prepare;
 mod run;
 mod stiffness;
 
+pub use crate::outcome::{artifacts_of, Artifact, FitOutcome};
+pub use folder::{fit_to_folder, FitWritten};
 pub use prepare::setup;
 pub use run::{run_setup, MIN_NOISE_DEGREES_OF_FREEDOM};
 
-use crate::adequacy::Adequacy;
-use crate::io::{write_json, write_text};
-use crate::output::{default_results_dir, Destination, ResultsDir};
+use crate::io::write_json;
 use crate::posterior::{PosteriorRequest, Sampled};
 use crate::progress::Progress;
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 use subfric_data::Warning;
-use subfric_fit::{FitOptions, FitReport, FitTest, Param, PreparedTest, Space};
+use subfric_fit::{FitOptions, FitTest, Param, PreparedTest, Space};
 use subfric_model::Model;
 
 /// What to fit and how.
@@ -62,72 +64,6 @@ impl FitRequest {
             start: None,
         }
     }
-}
-
-/// A finished calibration with what produced it.
-pub struct FitOutcome {
-    /// The report.
-    pub report: FitReport,
-    /// Does the model describe the data: the misfit and where it misses most.
-    pub adequacy: Adequacy,
-    /// The set folders fitted (for the next-step lines).
-    pub dirs: Vec<PathBuf>,
-    /// Tests fitted.
-    pub tests: Vec<PreparedTest>,
-    /// Published model (single set with reference parameters).
-    pub published: Option<Model>,
-    /// Name used for output.
-    pub name: String,
-    /// Rig artifacts recognised in the record and what the fit did about them.
-    pub artifacts: Vec<Artifact>,
-    /// μ_s and μ_k beside the peak and residual stress ratios the record shows.
-    pub read_off: Vec<subfric_fit::ReadOff>,
-    /// Each test's peak and residual stress ratio, and their change with the normal stress.
-    pub levels: subfric_fit::LevelReadings,
-}
-
-/// A rig artifact recognised in a record, and what the fit did about it.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct Artifact {
-    /// The test it was found in (empty for the whole set).
-    pub test: String,
-    /// `seating-toe` or `compliance`.
-    pub kind: &'static str,
-    /// What was found and done, in words.
-    pub detail: String,
-}
-
-/// The rig artifacts of prepared tests: their seating toes (excluded), a normal-stress column
-/// held at its levels (its scatter the reading's) and a series stiffness the loading slopes
-/// resolve (fitted as α_t, unless the request fixes or frees α_t itself).
-pub fn artifacts_of(
-    tests: &[PreparedTest],
-    stiffness: Option<&subfric_fit::Stiffness>,
-) -> Vec<Artifact> {
-    let mut out: Vec<Artifact> = tests
-        .iter()
-        .flat_map(|t| {
-            let toe = t.toe.as_ref().map(|toe| Artifact {
-                test: t.full.name.clone(),
-                kind: "seating-toe",
-                detail: toe.reason.clone(),
-            });
-            let held = t.segmentation.normal.held_because().map(|why| Artifact {
-                test: t.full.name.clone(),
-                kind: "normal-reading-noise",
-                detail: why.to_string(),
-            });
-            toe.into_iter().chain(held)
-        })
-        .collect();
-    if let Some(s) = stiffness {
-        out.push(Artifact {
-            test: String::new(),
-            kind: "compliance",
-            detail: format!("α_t fitted: {}", s.evidence),
-        });
-    }
-    out
 }
 
 /// Sets loaded, checked and charted, ready for the long work.
@@ -210,92 +146,6 @@ fn with_posterior(
         o.insert("posterior".into(), p.json(&outcome.report)?);
     }
     Ok(json)
-}
-
-/// A fit written to its results folder.
-pub struct FitWritten {
-    /// The fit.
-    pub fitted: Fitted,
-    /// The `fit.json` written.
-    pub file: PathBuf,
-    /// Everything else written: `fit.txt`, one figure per test, `report.html` (with
-    /// `--posterior` also the chain, the corner plot and the band figures).
-    pub files: Vec<PathBuf>,
-}
-
-/// `subfric fit`: the request checked and the output folder (`fits/<set names>` unless
-/// given) claimed before the fit runs; `fit.json`, `fit.txt`, one figure per test (measured,
-/// published, fitted) and `report.html` written (with `--posterior` also the posterior's files,
-/// all in the same claim), then the folder's record of its sets.
-pub fn fit_to_folder(
-    req: &FitRequest,
-    to: &Destination,
-    progress: &dyn Progress,
-) -> Result<FitWritten> {
-    let setup = setup(req, progress)?;
-    let dir = to
-        .dir
-        .clone()
-        .unwrap_or_else(|| default_results_dir(&setup.name()));
-    let sampler = prepare_posterior(req, &setup)?;
-    let mut files: Vec<String> = ["fit.json", "fit.txt", crate::report::REPORT_FILE]
-        .map(String::from)
-        .to_vec();
-    files.extend(crate::figures::figure_files(&setup.tests));
-    if sampler.is_some() {
-        // fit.txt is already listed: the posterior's table goes into it.
-        files.extend(
-            crate::posterior::files(&setup.tests)
-                .into_iter()
-                .filter(|f| f != "fit.txt"),
-        );
-    }
-    let claim = ResultsDir::claim(&dir, &req.dirs, &files, to.force)?;
-    let warnings = setup.warnings.clone();
-    let outcome = run_setup(req, setup, progress)?;
-    let posterior = sampler.map(|s| s.sample(&outcome, progress)).transpose()?;
-    let json = with_posterior(fit_json(&outcome)?, &outcome, posterior.as_ref())?;
-    let file = dir.join("fit.json");
-    write_json(&file, &json)?;
-    progress.stage("drawing the figures and the report", None);
-    let txt = dir.join("fit.txt");
-    let table = crate::fit_report::report_table(&outcome);
-    match &posterior {
-        Some(p) => write_text(&txt, &format!("{table}\n\n{}", p.text(&outcome.report)))?,
-        None => write_text(&txt, &(table + "\n"))?,
-    }
-    let (plots, notes) = crate::figures::plot_set(
-        &outcome.name,
-        &outcome.tests,
-        outcome.published.as_ref(),
-        Some(&outcome.report.model),
-        &dir,
-    )?;
-    for n in &notes {
-        progress.warning(n);
-    }
-    let html = dir.join(crate::report::REPORT_FILE);
-    write_text(&html, &crate::report::fit_page(&outcome, &dir, &plots)?)?;
-    let mut posterior_files = Vec::new();
-    if let Some(p) = &posterior {
-        progress.stage("drawing the posterior's figures", None);
-        posterior_files = p.write(&outcome, &dir)?;
-    }
-    claim.commit()?;
-    let mut written = vec![txt];
-    written.extend(plots);
-    written.push(html);
-    written.extend(posterior_files);
-    Ok(FitWritten {
-        fitted: Fitted {
-            outcome,
-            json,
-            warnings,
-            posterior,
-        },
-        file,
-        files: written,
-    })
 }
 
 /// Writes `fit.json` under `dir` (atomically), without the wall time: a fit.json depends on the

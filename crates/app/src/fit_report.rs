@@ -7,7 +7,7 @@
 //! flat valley with a precise-looking difference from the published value.
 
 use crate::adequacy::{misfit_number, next_steps, MISFIT_LEGEND};
-use crate::fit::FitOutcome;
+use crate::outcome::FitOutcome;
 use std::fmt::Write as _;
 use subfric_fit::interval::short_number as fmt_num;
 use subfric_fit::{Combination, FitReport, ParamReport, Status};

@@ -2,7 +2,8 @@
 //! one, crisp at any zoom; else PNG), the style inline, no
 //! script and nothing fetched from the network, readable on a phone and on a desktop (a
 //! viewport, images no wider than the page, tables that scroll sideways). The reports of
-//! `fit`, `diagnose`, `plan` and `reproduce` are written with it ([`crate::report`]).
+//! `fit`, `diagnose`, `plan` and `reproduce` are written with it (in the `report` module, above
+//! this one).
 
 use anyhow::{anyhow, Result};
 use std::fmt::Write as _;

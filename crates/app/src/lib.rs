@@ -43,6 +43,7 @@ pub mod flags;
 pub mod html;
 pub mod io;
 pub mod lock;
+mod outcome;
 pub mod output;
 pub mod plan;
 pub mod plan_basis;

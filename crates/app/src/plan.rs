@@ -8,7 +8,9 @@
 //! `top-proposal.png`: the top proposal's predicted curve with the band the undetermined
 //! parameters still allow.
 
-use crate::adequacy::{misfit_number, Adequacy};
+pub use crate::plan_basis::misfit_warning;
+
+use crate::adequacy::misfit_number;
 use crate::fit::{run_setup, setup, FitOutcome, FitRequest};
 use crate::fit_report::INTERVAL_LEGEND;
 use crate::io::{write_json, write_text};
@@ -146,28 +148,6 @@ pub fn plan_to_folder(
         files,
         basis,
         outcome,
-    })
-}
-
-/// The warning of a plan on a model that does not describe the data (`None` when it does).
-pub fn misfit_warning(a: &Adequacy, basis: &Basis, set: &Path) -> Option<String> {
-    if a.describes() {
-        return None;
-    }
-    let model = basis.model_words();
-    let what = format!(
-        "{model} misses these data by {}× the noise variance: the proposals below assume a model that does not describe them",
-        misfit_number(a.reduced_chi2)
-    );
-    Some(if basis.diagnosis.is_none() {
-        format!(
-            "{what}; run `subfric diagnose {}` first, and `subfric plan` then plans on the model the diagnosis chooses",
-            set.display()
-        )
-    } else if basis.verdict.as_deref() == Some("cannot-judge") {
-        format!("{what}; the diagnosis could not judge which effect is missing, see its verdict")
-    } else {
-        format!("{what}; the diagnosis found no effect that closes the gap, see its report")
     })
 }
 

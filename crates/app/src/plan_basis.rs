@@ -3,7 +3,10 @@
 //! data would determine parameters that mean nothing, so `subfric plan` reads
 //! `fits/<set>/diagnosis/diagnosis.json` (or the file `--diagnosis` names) and fits the model
 //! with the effects it named.
+//! What a plan says when that model misses the data ([`misfit_warning`]) is here too, below
+//! both the plan and its report.
 
+use crate::adequacy::{misfit_number, Adequacy};
 use crate::output::{default_results_dir, holds_results_of};
 use anyhow::{anyhow, bail, Result};
 use std::path::{Path, PathBuf};
@@ -95,6 +98,28 @@ impl Basis {
         }
         lines
     }
+}
+
+/// The warning of a plan on a model that does not describe the data (`None` when it does).
+pub fn misfit_warning(a: &Adequacy, basis: &Basis, set: &Path) -> Option<String> {
+    if a.describes() {
+        return None;
+    }
+    let model = basis.model_words();
+    let what = format!(
+        "{model} misses these data by {}× the noise variance: the proposals below assume a model that does not describe them",
+        misfit_number(a.reduced_chi2)
+    );
+    Some(if basis.diagnosis.is_none() {
+        format!(
+            "{what}; run `subfric diagnose {}` first, and `subfric plan` then plans on the model the diagnosis chooses",
+            set.display()
+        )
+    } else if basis.verdict.as_deref() == Some("cannot-judge") {
+        format!("{what}; the diagnosis could not judge which effect is missing, see its verdict")
+    } else {
+        format!("{what}; the diagnosis found no effect that closes the gap, see its report")
+    })
 }
 
 /// The default diagnosis of a set: `fits/<set>/diagnosis/diagnosis.json`.

@@ -9,7 +9,7 @@
 //! that is not free, a budget too small to move the walkers once) is refused by [`prepare`],
 //! before any output folder is claimed or any fitting done.
 
-use crate::fit::FitOutcome;
+use crate::outcome::FitOutcome;
 use crate::progress::Progress;
 use anyhow::{anyhow, bail, Result};
 use std::fmt::Write as _;

@@ -4,12 +4,12 @@
 //! every figure the job wrote, the legend of the notation, and the next test.
 
 use crate::adequacy::{misfit_number, next_steps, MISFIT_LEGEND};
-use crate::fit::FitOutcome;
 use crate::fit_report::{
     determined_combinations, difference_text, estimate_interval_text, legend_items, std_error_text,
     value_text, verdict_lines,
 };
 use crate::html::{Cell, Mark, Page};
+use crate::outcome::FitOutcome;
 use crate::plan_basis::Basis;
 use anyhow::Result;
 use std::path::{Path, PathBuf};
@@ -266,7 +266,7 @@ pub fn plan_page(
         "verdict: {}",
         out.adequacy.sentence(&basis.model_words())
     )];
-    if let Some(w) = crate::plan::misfit_warning(&out.adequacy, basis, set) {
+    if let Some(w) = crate::plan_basis::misfit_warning(&out.adequacy, basis, set) {
         lines.push(format!("warning: {w}"));
     }
     lines.push(basis.line());

@@ -19,7 +19,7 @@ pub struct Checked {
     pub warnings: Vec<Warning>,
     /// Rig artifacts recognised in the records (a seating toe, a machine compliance), and what
     /// `fit` and `diagnose` do about them.
-    pub artifacts: Vec<crate::fit::Artifact>,
+    pub artifacts: Vec<crate::outcome::Artifact>,
 }
 
 impl Checked {
@@ -29,7 +29,7 @@ impl Checked {
         Checked {
             summary: summary(&set),
             warnings: plausibility(&set),
-            artifacts: crate::fit::artifacts_of(&prepared, stiffness.as_ref()),
+            artifacts: crate::outcome::artifacts_of(&prepared, stiffness.as_ref()),
             set,
         }
     }
