@@ -7,6 +7,7 @@ use crate::progress::Progress;
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 use subfric_data::load_set;
+use subfric_data::stats::upper_median;
 use subfric_fit::{prepare_set, FitTest, PreparedTest};
 use subfric_model::{Control, Model};
 use subfric_plot::{write_figure, Figure, Panel, Series, Style};
@@ -203,13 +204,10 @@ fn first_loading_window(p: &PreparedTest, friction: &[f64]) -> Option<f64> {
         .map(|i| {
             let a = i.saturating_sub(SMOOTHING_ROWS / 2);
             let mut w: Vec<f64> = friction[a..(a + SMOOTHING_ROWS).min(n)].to_vec();
-            w.sort_by(f64::total_cmp);
-            w[w.len() / 2]
+            upper_median(&mut w).unwrap_or(f64::NAN)
         })
         .collect();
-    let mut tail: Vec<f64> = smooth[n - n / 3..].to_vec();
-    tail.sort_by(f64::total_cmp);
-    let level = tail[tail.len() / 2];
+    let level = upper_median(&mut smooth[n - n / 3..].to_vec())?;
     let departure: Vec<f64> = smooth.iter().map(|v| (v - level).abs()).collect();
     let largest = departure.iter().copied().fold(0.0, f64::max);
     let last = departure

@@ -263,11 +263,7 @@ fn stress_figure(rows: &[Row]) -> IntervalFigure {
         |r| {
             let s = &r.normal_stresses_kpa;
             let (lo, hi) = (*s.first()?, *s.last()?);
-            let median = if s.len() % 2 == 1 {
-                s[s.len() / 2]
-            } else {
-                0.5 * (s[s.len() / 2 - 1] + s[s.len() / 2])
-            };
+            let median = subfric_data::stats::median(&mut s.clone())?;
             Some((median, (ranges && hi > lo).then_some((lo, hi))))
         },
         "normal stress",
