@@ -30,6 +30,10 @@ pub struct Case {
     pub weighed: Vec<subfric_diagnose::confidence::StageWeighing>,
     /// The verdict the evidence points to with the first loadings left out.
     pub without_first_loadings: Option<Vec<Effect>>,
+    /// The registered families the events read one by one show outright
+    /// ([`subfric_diagnose::events::shows`]), named or not: where they and the verdict part,
+    /// the confidence may be recalibrated on it offline.
+    pub shown_by_events: Vec<Effect>,
 }
 
 impl Case {
@@ -47,6 +51,10 @@ impl Case {
             confidence: d.verdict.confidence,
             weighed: d.verdict.weighed.clone(),
             without_first_loadings: d.verdict.without_first_loadings.clone(),
+            shown_by_events: (0..subfric_model::terms::FAMILIES.len())
+                .map(|i| Effect::Term(i as u8))
+                .filter(|&e| subfric_diagnose::events::shows(&d.events, e))
+                .collect(),
         }
     }
 
@@ -401,6 +409,7 @@ mod tests {
             confidence: None,
             weighed: Vec::new(),
             without_first_loadings: None,
+            shown_by_events: Vec::new(),
         }
     }
 
