@@ -234,51 +234,6 @@ impl<'a> Context<'a> {
         fitted
     }
 
-    /// `starts` each with the base parameters of every informed guess (the five read off the
-    /// record: μ_s and μ_k at the peak and residual stress ratios, the paper's Section 5,
-    /// item 2), the effects' values kept.
-    pub(super) fn on_readings(&self, starts: &[Model]) -> Vec<Model> {
-        starts
-            .iter()
-            .flat_map(|s| self.informed.iter().map(|g| with_base_of(s, g)))
-            .collect()
-    }
-
-    /// [`Context::fit_spec_to_convergence`] from `starts`, and again from `readings`
-    /// ([`Context::on_readings`]) on their own: the better of the two fits on all rows.
-    /// A fit runs only from the start that costs least, and the base fitted without the effect
-    /// costs least: where its parameters have bent to imitate the effect (μ_k driven to zero
-    /// with the recovery ξ taking the healing at rest, κ to zero taking a slow trend), the
-    /// effect polishes to nothing on it, and the valley where the base keeps the record's
-    /// peak and residual and the effect does the work is never entered. Fitted from both,
-    /// the data choose the valley.
-    pub(super) fn fit_from_both_valleys(
-        &self,
-        template: &Model,
-        spec: &Spec,
-        starts: &[Model],
-        readings: &[Model],
-        effort: Effort,
-    ) -> SpecFit {
-        let first = self.fit_spec_to_convergence(template, spec, starts, effort);
-        if readings.is_empty() {
-            return first;
-        }
-        let second = self.fit_spec_to_convergence(template, spec, readings, effort);
-        let on_all_rows =
-            |f: &SpecFit| ssr_of(&self.in_sample(&f.result.model, spec, &f.fit_tests));
-        let (a, b) = (on_all_rows(&first), on_all_rows(&second));
-        self.trace(&format!(
-            "{}: fitted from the fitted base {a:.1}, from the readings {b:.1}",
-            spec.describe()
-        ));
-        if b < a && second.result.ssr.is_finite() {
-            second
-        } else {
-            first
-        }
-    }
-
     /// [`Context::fit_spec`], reweighting only when `reweight`.
     pub(super) fn fit_spec_with(
         &self,
@@ -738,41 +693,5 @@ mod tests {
         assert_eq!(neutral, form.neutral);
         // The base parameters are untouched.
         assert_eq!(off.params, on.params);
-    }
-
-    #[test]
-    fn a_fit_from_both_valleys_keeps_the_one_that_fits_better_whichever_it_is() {
-        let prepared = crate::prepare_for_diagnosis(&shs_set(200));
-        let opts = DiagnoseOptions::default();
-        let (mut cx, _) = Context::new(&prepared, None, &opts, &quiet);
-        let truth = Model::base(subfric_model::Params::sample()).unwrap();
-        // A base bent away from the record: no residual level of its own, the recovery taking
-        // its place. No iteration is allowed, so each fit stays in the valley it starts in
-        // (what a fit does where two valleys are far apart).
-        let mut bent = truth;
-        (bent.params.mu_k, bent.params.xi, bent.params.kappa) = (1e-3, 0.5, 0.05);
-        let spec = Spec::base();
-        let effort = Effort::refit(0);
-        let on_all_rows =
-            |cx: &Context, f: &SpecFit| ssr_of(&cx.in_sample(&f.result.model, &spec, &f.fit_tests));
-        let from_bent = cx.fit_spec_to_convergence(&bent, &spec, &[bent], effort);
-        // The readings are the record's own parameters here.
-        cx.informed = vec![truth];
-        let readings = cx.on_readings(&[bent]);
-        assert_eq!(readings.len(), 1);
-        assert_eq!(readings[0].params.mu_k, truth.params.mu_k);
-        let both = cx.fit_from_both_valleys(&bent, &spec, &[bent], &readings, effort);
-        let (b, w) = (on_all_rows(&cx, &both), on_all_rows(&cx, &from_bent));
-        assert!(
-            b < 0.5 * w,
-            "from both valleys {b}, from the bent base alone {w}"
-        );
-        assert!((both.result.model.params.mu_k - truth.params.mu_k).abs() < 0.05);
-        // The other way round, the fitted valley is kept: the order of the two does not matter.
-        let swapped = cx.fit_from_both_valleys(&bent, &spec, &readings, &[bent], effort);
-        assert!((on_all_rows(&cx, &swapped) - b).abs() <= 1e-9 * b.max(1.0));
-        // No readings: just the fit from the starts.
-        let alone = cx.fit_from_both_valleys(&bent, &spec, &[bent], &[], effort);
-        assert_eq!(on_all_rows(&cx, &alone), w);
     }
 }

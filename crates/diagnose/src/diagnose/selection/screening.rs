@@ -153,43 +153,26 @@ pub(super) fn rescreen(
             ranked.into_iter().map(|(i, _, _, fitted)| (i, fitted))
         })
         .collect();
-    let singled_out = crate::diagnose::singled_out(lib, &cx.events);
     let polished: Vec<(usize, f64, SpecFit)> = to_polish
         .into_par_iter()
         .map(|(i, screened)| {
             let spec = current.spec.plus(&lib[i]);
-            let readings = if singled_out.contains(&i) {
-                on_readings_with_current(cx, first_stage, &lib[i], current)
-            } else {
-                Vec::new()
-            };
-            let fitted = cx.fit_from_both_valleys(
+            let fitted = cx.fit_spec_to_convergence(
                 &current.model,
                 &spec,
                 &[screened.result.model],
-                &readings,
                 Effort::refit(cx.opts.candidate_iterations),
             );
             let (score, _) = score_of(&fitted.result.model, &lib[i]);
             (i, score, fitted)
         })
         .collect();
-    best_of_each_family(cx, current, lib, polished)
-}
-
-/// The best polished form of each family on top of `current`, by (judged, score).
-/// A judged form (converged, or settled) comes before any form whose fit neither converged
-/// nor settled, even continued (its score says where the fit stopped, not what the form can
-/// do); such a form is taken only where its family has no other (a rate-and-state law
-/// behind slip hardening, slow to converge on steps of few rows, would otherwise leave its
-/// family untried; its report says it did not converge).
-fn best_of_each_family(
-    cx: &Context,
-    current: &Current,
-    lib: &[Form],
-    polished: Vec<(usize, f64, SpecFit)>,
-) -> Vec<Family> {
     let mut best: BTreeMap<Effect, (usize, f64, SpecFit)> = BTreeMap::new();
+    // A judged form (converged, or settled) comes before any form whose fit neither converged
+    // nor settled, even continued (its score says where the fit stopped, not what the form can
+    // do); such a form is taken only where its family has no other (a rate-and-state law
+    // behind slip hardening, slow to converge on steps of few rows, would otherwise leave its
+    // family untried; its report says it did not converge).
     for (i, score, fitted) in polished {
         cx.trace(&format!(
             "rescreened on {}: {} polished, score {score:.1}, judged {}, {:?}",
@@ -245,27 +228,6 @@ pub(super) fn alone_plus_current(
     Some(with_values(&alone.model, &current.spec, &values))
 }
 
-/// Starts for form `f` on top of `current` in the valley where the base keeps what the record
-/// reads: the base read off the record with the current effects at their values and `f`'s own
-/// first guesses, and `f`'s first-stage fit with the current effects added (see
-/// [`Context::fit_from_both_valleys`]; for a form the events single out).
-fn on_readings_with_current(
-    cx: &Context,
-    first_stage: &[FormReport],
-    f: &Form,
-    current: &Current,
-) -> Vec<Model> {
-    let alone = Spec::with(f);
-    let own: Vec<Model> = f
-        .starts
-        .iter()
-        .map(|v| with_values(&current.model, &alone, std::slice::from_ref(v)))
-        .collect();
-    let mut starts = cx.on_readings(&own);
-    starts.extend(alone_plus_current(first_stage, f, current));
-    starts
-}
-
 /// A family's best form with its fit alone on the base.
 #[derive(Clone)]
 pub(in crate::diagnose) struct Family {
@@ -316,19 +278,16 @@ pub(in crate::diagnose) fn screen_and_polish(
             // A form the events single out also starts from its own first guesses on the
             // base, among them what the events read (a, b and D_c of the velocity steps
             // fitted one by one): twenty screening iterations may have left it in another
-            // valley. And it is fitted again from those guesses on the base read off the
-            // record, the better fit kept: the fitted base may have bent to imitate it.
-            if !singled_out.contains(&i) {
-                return cx.fit_spec_to_convergence(base, &spec, &starts, cx.opts.polish);
+            // valley.
+            if singled_out.contains(&i) {
+                starts.extend(
+                    lib[i]
+                        .starts
+                        .iter()
+                        .map(|v| with_values(base, &spec, std::slice::from_ref(v))),
+                );
             }
-            let own: Vec<Model> = lib[i]
-                .starts
-                .iter()
-                .map(|v| with_values(base, &spec, std::slice::from_ref(v)))
-                .collect();
-            starts.extend(own.iter().copied());
-            let readings = cx.on_readings(&own);
-            cx.fit_from_both_valleys(base, &spec, &starts, &readings, cx.opts.polish)
+            cx.fit_spec_to_convergence(base, &spec, &starts, cx.opts.polish)
         })
         .collect();
     for (fit, &i) in polished.iter().zip(&to_polish) {
