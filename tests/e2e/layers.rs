@@ -211,24 +211,37 @@ fn the_length_count_finds_a_long_function_and_ignores_braces_in_literals_and_tes
     assert_eq!((found[0].2.as_str(), found[0].3), ("long", 122));
 }
 
-#[test]
-fn no_function_outside_tests_runs_over_a_hundred_lines() {
-    let mut long = Vec::new();
-    let mut stack = vec![repo().join("crates")];
+/// The `.rs` files under `roots`, sorted, not descending into folders named in `skip`.
+fn rust_files(roots: &[std::path::PathBuf], skip: &[&str]) -> Vec<std::path::PathBuf> {
+    let mut files = Vec::new();
+    let mut stack = roots.to_vec();
     while let Some(dir) = stack.pop() {
         for entry in std::fs::read_dir(&dir).unwrap() {
             let path = entry.unwrap().path();
             let name = path.file_name().unwrap().to_string_lossy().to_string();
             if path.is_dir() {
-                // Integration tests and benches are tests; `target` is no source.
-                if !matches!(name.as_str(), "tests" | "benches" | "target") {
+                if !skip.contains(&name.as_str()) {
                     stack.push(path);
                 }
-            } else if name.ends_with(".rs") && !name.ends_with("_tests.rs") && name != "tests.rs" {
-                let text = std::fs::read_to_string(&path).unwrap();
-                let shown = path.strip_prefix(repo()).unwrap().display().to_string();
-                long.extend(long_functions(&shown, &text, MAX_FUNCTION_LINES));
+            } else if name.ends_with(".rs") {
+                files.push(path);
             }
+        }
+    }
+    files.sort();
+    files
+}
+
+#[test]
+fn no_function_outside_tests_runs_over_a_hundred_lines() {
+    let mut long = Vec::new();
+    // Integration tests and benches are tests; `target` is no source.
+    for path in rust_files(&[repo().join("crates")], &["tests", "benches", "target"]) {
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if !name.ends_with("_tests.rs") && name != "tests.rs" {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let shown = path.strip_prefix(repo()).unwrap().display().to_string();
+            long.extend(long_functions(&shown, &text, MAX_FUNCTION_LINES));
         }
     }
     assert!(
@@ -357,26 +370,12 @@ const MAX_FILE_LINES: usize = 800;
 #[test]
 fn no_source_file_runs_over_eight_hundred_lines() {
     let mut long = Vec::new();
-    let mut stack = vec![
-        repo().join("crates"),
-        repo().join("python/src"),
-        repo().join("tests"),
-    ];
-    while let Some(dir) = stack.pop() {
-        for entry in std::fs::read_dir(&dir).unwrap() {
-            let path = entry.unwrap().path();
-            let name = path.file_name().unwrap().to_string_lossy().to_string();
-            if path.is_dir() {
-                if name != "target" {
-                    stack.push(path);
-                }
-            } else if name.ends_with(".rs") {
-                let lines = std::fs::read_to_string(&path).unwrap().lines().count();
-                if lines > MAX_FILE_LINES {
-                    let shown = path.strip_prefix(repo()).unwrap().display().to_string();
-                    long.push(format!("  {shown}: {lines} lines"));
-                }
-            }
+    let roots = ["crates", "python/src", "tests"].map(|r| repo().join(r));
+    for path in rust_files(&roots, &["target"]) {
+        let lines = std::fs::read_to_string(&path).unwrap().lines().count();
+        if lines > MAX_FILE_LINES {
+            let shown = path.strip_prefix(repo()).unwrap().display().to_string();
+            long.push(format!("  {shown}: {lines} lines"));
         }
     }
     long.sort();
@@ -465,29 +464,23 @@ fn crate_references(text: &str, own: &str, modules: &BTreeSet<String>) -> Vec<(S
 
 /// The module graph of the application layer's sources under `root`, their tests left out.
 fn app_module_graph(root: &std::path::Path) -> ModuleGraph {
-    let mut files = Vec::new();
-    let mut stack = vec![root.to_path_buf()];
-    while let Some(dir) = stack.pop() {
-        for entry in std::fs::read_dir(&dir).unwrap() {
-            let path = entry.unwrap().path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                let first = path
-                    .strip_prefix(root)
-                    .unwrap()
-                    .components()
-                    .next()
-                    .unwrap();
-                let module = first
-                    .as_os_str()
-                    .to_string_lossy()
-                    .trim_end_matches(".rs")
-                    .to_string();
-                files.push((module, path));
-            }
-        }
-    }
+    let files: Vec<(String, std::path::PathBuf)> = rust_files(&[root.to_path_buf()], &[])
+        .into_iter()
+        .map(|path| {
+            let first = path
+                .strip_prefix(root)
+                .unwrap()
+                .components()
+                .next()
+                .unwrap();
+            let module = first
+                .as_os_str()
+                .to_string_lossy()
+                .trim_end_matches(".rs")
+                .to_string();
+            (module, path)
+        })
+        .collect();
     let modules: BTreeSet<String> = files.iter().map(|(m, _)| m.clone()).collect();
     let mut graph: ModuleGraph = modules
         .iter()
