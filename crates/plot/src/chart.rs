@@ -27,6 +27,17 @@ pub(crate) type Chart2d<'a, 'b> = ChartContext<
     Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
 >;
 
+/// Where plotters draws a data point `(x, y)` of `chart`, in pixels: a mapping of its own
+/// (the chart's coordinates copied), for what is placed by hand beside the drawn series —
+/// markers, labels, the cells of the legend's occupancy.
+pub(crate) fn pixel_mapping(chart: &Chart2d<'_, '_>) -> impl Fn((f64, f64)) -> (f64, f64) {
+    let spec = chart.as_coord_spec().clone();
+    move |q| {
+        let c = spec.translate(&q);
+        (f64::from(c.0), f64::from(c.1))
+    }
+}
+
 /// Values whose magnitude exceeds this are treated like NaN (skipped), so
 /// that ranges and their padding stay finite.
 pub const MAX_ABS_VALUE: f64 = 1e300;

@@ -9,7 +9,6 @@
 
 use std::path::Path;
 
-use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 use plotters::style::FontTransform;
 
@@ -360,11 +359,7 @@ fn draw_intervals(
     (occupancy, plot): (&mut Occupancy, PixelRect),
     m: &Metrics,
 ) -> Result<(Vec<DrawnPoint>, bool), Invalid> {
-    let spec = chart.as_coord_spec().clone();
-    let to_px = |q: (f64, f64)| {
-        let c = spec.translate(&q);
-        (f64::from(c.0), f64::from(c.1))
-    };
+    let to_px = crate::chart::pixel_mapping(chart);
     let per_px = x.span() / f64::from(plot.width().max(1));
     let mut points = Vec::new();
     let mut open = false;

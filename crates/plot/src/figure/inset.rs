@@ -1,6 +1,5 @@
 //! The zoom drawn inside the main panel, and the outline of the region it shows.
 
-use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 
 use crate::chart::{
@@ -164,11 +163,7 @@ pub(super) fn draw_inset(
         .draw()
         .map_err(chart_err)?;
     let inner = plot_rect(&chart);
-    let spec = chart.as_coord_spec().clone();
-    let to_px = |q: (f64, f64)| {
-        let c = spec.translate(&q);
-        (f64::from(c.0), f64::from(c.1))
-    };
+    let to_px = crate::chart::pixel_mapping(&chart);
     let (lines, markers) = strokes(&fig.main.series, zx, zy, &to_px, &sm);
     draw_lines(&mut chart, lines, markers)?;
     frame(root, inner, INK_RGB)?;

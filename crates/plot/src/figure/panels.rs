@@ -1,6 +1,5 @@
 //! Drawing the planned panels: title, shared-axis meshes, curves, frames and legends.
 
-use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
@@ -160,11 +159,7 @@ pub(super) fn draw_panels(
             m,
         )?;
         let rect = plot_rect(&chart);
-        let spec = chart.as_coord_spec().clone();
-        let to_px = |q: (f64, f64)| {
-            let c = spec.translate(&q);
-            (f64::from(c.0), f64::from(c.1))
-        };
+        let to_px = crate::chart::pixel_mapping(&chart);
         if p.panel.zero_line && p.y.contains(0.0) {
             chart
                 .draw_series(std::iter::once(PathElement::new(

@@ -9,7 +9,6 @@
 
 use std::path::Path;
 
-use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 
 use crate::chart::{
@@ -527,11 +526,7 @@ fn draw(fig: &BandFigure) -> Result<Drawn, Invalid> {
                 &m,
             )?;
             let rect = plot_rect(&chart);
-            let spec = chart.as_coord_spec().clone();
-            let to_px = |q: (f64, f64)| {
-                let c = spec.translate(&q);
-                (f64::from(c.0), f64::from(c.1))
-            };
+            let to_px = crate::chart::pixel_mapping(&chart);
             let mut occupancy = Occupancy::new(rect, m.px(12.0).max(4));
             draw_band(root, &fig.x, p, &to_px, &mut occupancy)?;
             if p.zero_line && p.y.contains(0.0) {
