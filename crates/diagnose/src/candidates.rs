@@ -321,12 +321,20 @@ pub fn all_form_names() -> Vec<&'static str> {
 /// Every form of the library, whatever the data show: every family applies, every family
 /// registered is asked for.
 pub(crate) fn every_form() -> Vec<Form> {
-    let every_family = DataFeatures {
+    library_with(&every_form_features(), &registered_family_names_owned())
+}
+
+/// Features of a set in which every family applies: two rates, two stresses, a hold and a
+/// reversal.
+pub(crate) fn every_form_features() -> DataFeatures {
+    DataFeatures {
         seeds: Default::default(),
         v_ref: 0.01,
         p_ref: 100.0,
         pressure_levels: 2,
         sliding_rates: 2,
+        sliding_rate_range: Some((0.01, 0.1)),
+        friction_noise_sd: 1e-3,
         traction_tests: 0,
         holds: 1,
         reversals: 1,
@@ -339,8 +347,7 @@ pub(crate) fn every_form() -> Vec<Form> {
             decay_mm: 0.01,
             steps: 1,
         },
-    };
-    library_with(&every_family, &registered_family_names_owned())
+    }
 }
 
 fn registered_family_names_owned() -> Vec<String> {

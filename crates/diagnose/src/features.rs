@@ -31,6 +31,12 @@ pub struct DataFeatures {
     pub pressure_levels: usize,
     /// Distinct sliding rates (a factor 1.5 apart).
     pub sliding_rates: usize,
+    /// The slowest and the fastest rate the slip-controlled tests slide at over a stretch of
+    /// steady driving [mm/s] (holds and the turnarounds of reversals left out), when any.
+    pub sliding_rate_range: Option<(f64, f64)>,
+    /// The white noise of one reading of the stress ratio: the median over the tests of each
+    /// test's noise over its mean normal stress.
+    pub friction_noise_sd: f64,
     /// Tests under traction control.
     pub traction_tests: usize,
     /// Holds over all tests.
@@ -115,6 +121,17 @@ use subfric_data::stats::upper_median as median;
 
 fn mean_normal(t: &FitTest) -> f64 {
     t.normal.iter().sum::<f64>() / t.normal.len().max(1) as f64
+}
+
+/// The smallest and the largest of the finite positive values of `v`, when any.
+fn range_of_positive(v: &[f64]) -> Option<(f64, f64)> {
+    v.iter()
+        .copied()
+        .filter(|x| x.is_finite() && *x > 0.0)
+        .fold(None, |r, x| match r {
+            None => Some((x, x)),
+            Some((lo, hi)) => Some((f64::min(lo, x), f64::max(hi, x))),
+        })
 }
 
 /// Distinct values among `v` (sorted groups whose neighbours are within `ratio`).
@@ -251,7 +268,18 @@ pub fn data_features(tests: &[PreparedTest]) -> DataFeatures {
         } else {
             100.0
         },
-        pressure_levels: distinct(normals, 1.05),
+        pressure_levels: distinct(normals.clone(), 1.05),
+        sliding_rate_range: range_of_positive(&rates),
+        friction_noise_sd: {
+            let mut sd: Vec<f64> = tests
+                .iter()
+                .zip(&normals)
+                .filter(|(p, _)| p.full.control == Control::Slip)
+                .map(|(p, n)| p.full.noise_sd / n.abs())
+                .filter(|v| v.is_finite() && *v > 0.0)
+                .collect();
+            median(&mut sd).unwrap_or(f64::NAN)
+        },
         sliding_rates: distinct(rates, 1.5),
         traction_tests: tests
             .iter()

@@ -146,6 +146,35 @@ impl RateEffect {
         self.at_rest == AtRest::Locked && self.form != RateForm::SteadyState
     }
 
+    /// The largest change of the friction coefficient this law makes between sliding at
+    /// `v_lo` and at `v_hi` [mm/s] (both > 0), with μ_k `mu_k` for the forms that scale μ: the
+    /// jump of the direct effect, the evolution effect b ln(v_hi/v_lo) and the change of the
+    /// steady state, whichever is largest. What a record slid at those rates can see of the
+    /// law; what it does below them (the creep of a hold, the turnaround of a reversal) is not
+    /// a dependence on the rate the record shows.
+    pub fn largest_change_between(&self, v_lo: f64, v_hi: f64, mu_k: f64) -> f64 {
+        let ln_rates = (v_hi / v_lo).ln();
+        match self.form {
+            RateForm::LogDirect | RateForm::StateAgeing | RateForm::StateSlip => {
+                let direct = self.a * ((v_hi / self.v_c).ln_1p() - (v_lo / self.v_c).ln_1p());
+                if self.has_state() {
+                    let evolution = self.b * ln_rates;
+                    direct
+                        .abs()
+                        .max(evolution.abs())
+                        .max((direct - evolution).abs())
+                } else {
+                    direct.abs()
+                }
+            }
+            RateForm::Power => {
+                let factor = |v: f64| ((v + self.v_c) / (self.v_ref + self.v_c)).powf(self.n);
+                (mu_k * (factor(v_hi) - factor(v_lo))).abs()
+            }
+            RateForm::SteadyState => (self.a * ((v_hi + self.v_c) / (v_lo + self.v_c)).ln()).abs(),
+        }
+    }
+
     /// True for the forms with a state variable.
     pub fn has_state(&self) -> bool {
         matches!(self.form, RateForm::StateAgeing | RateForm::StateSlip)
@@ -769,5 +798,52 @@ mod tests {
                 "state-slip-locked"
             ]
         );
+    }
+
+    #[test]
+    fn the_largest_change_between_two_rates_is_what_the_law_does_there() {
+        let (lo, hi) = (0.01, 0.1);
+        // Steady sliding at each rate through the law's own terms (θ at its steady state).
+        let steady_add = |r: &RateEffect, v: f64| {
+            let dt = 1.0;
+            r.plastic_terms(r.steady_theta(v), dt, v * dt).add
+        };
+        let direct = law(RateForm::LogDirect, AtRest::Creep);
+        let want = steady_add(&direct, hi) - steady_add(&direct, lo);
+        assert!((direct.largest_change_between(lo, hi, 0.4) - want.abs()).abs() < 1e-12);
+        // Rate and state: the direct jump a ln 10 exceeds the steady change (a − b) ln 10
+        // and the evolution b ln 10 is larger still.
+        let state = law(RateForm::StateAgeing, AtRest::Creep);
+        let steady = steady_add(&state, hi) - steady_add(&state, lo);
+        assert!(
+            (steady - (0.011 - 0.013) * 10f64.ln()).abs() < 1e-5,
+            "{steady}"
+        );
+        let largest = state.largest_change_between(lo, hi, 0.4);
+        assert!((largest - 0.013 * 10f64.ln()).abs() < 1e-9, "{largest}");
+        // The order of the rates does not matter.
+        assert_eq!(largest, state.largest_change_between(hi, lo, 0.4));
+        // Steady state only: the shift of μ_k between the rates.
+        let ss = law(RateForm::SteadyState, AtRest::Creep);
+        let shift = |v: f64| ss.plastic_terms(1.0, 1.0, v).mu_k_shift;
+        let got = ss.largest_change_between(lo, hi, 0.4);
+        assert!((got - (shift(hi) - shift(lo)).abs()).abs() < 1e-15);
+        // The power law scales μ: μ_k times the change of its factor.
+        let power = law(RateForm::Power, AtRest::Creep);
+        let factor = |v: f64| power.plastic_terms(1.0, 1.0, v).factor;
+        let got = power.largest_change_between(lo, hi, 0.4);
+        assert!((got - 0.4 * (factor(hi) - factor(lo))).abs() < 1e-12);
+        // A law whose term lives below the rates slid at: a tiny slope with a cut-off far below
+        // them moves μ_k by a fraction of a thousandth between 0.01 and 0.02 mm/s, though at a
+        // near stop (1e-8 mm/s) it is ten times larger and more.
+        let stop_only = RateEffect {
+            a: -3e-4,
+            v_c: 2e-9,
+            v_ref: 0.01,
+            ..ss
+        };
+        let within = stop_only.largest_change_between(0.01, 0.02, 0.4);
+        assert!(within < 3e-4, "{within}");
+        assert!(stop_only.largest_change_between(1e-8, 0.01, 0.4) > 10.0 * within);
     }
 }

@@ -57,7 +57,7 @@ pub(in crate::diagnose) fn forward_selection(
                     c.score >= th.min_score
                         && c.excess_shrink > 0.0
                         && crate::events::corroborates(&cx.events, first.candidates[j].effect)
-                        && first.candidates[j].effect.varies_in(&cx.features)
+                        && super::stage::namable(cx, &first.candidates[j])
                 })
                 .max_by(|&a, &b| {
                     let score = |k: usize| first.candidates[k].held_out.score;

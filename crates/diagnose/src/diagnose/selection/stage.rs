@@ -51,7 +51,7 @@ pub(super) fn credited_on_events(
     let own: Vec<&crate::score::PieceScore> =
         c.shown_in.iter().flat_map(|k| &k.held_out.pieces).collect();
     crate::events::shows(&cx.events, c.effect)
-        && c.effect.varies_in(&cx.features)
+        && namable(cx, c)
         && own.len() >= SHOWN_MIN_PIECES
         && most_predicted_better(&own)
         && gains_where_it_lives(c, th)
@@ -75,6 +75,46 @@ pub(super) fn gains_where_it_lives(c: &CandidateScore, th: &crate::verdict::Thre
         || (!c.shown_in.is_empty()
             && (c.shown_in.iter().all(|k| k.held_out.score >= th.min_score)
                 || c.between_tests >= th.min_score))
+}
+
+/// Whether candidate `c` may be named: the variable its effect acts through varies in the
+/// data ([`Effect::varies_in`]), and, for a law of the slip rate, the fitted law changes the
+/// friction by at least one reading's white noise between the slowest and the fastest rate the
+/// record slides at ([`acts_over_sliding_rates`]).
+pub(super) fn namable(cx: &Context, c: &CandidateScore) -> bool {
+    c.effect.varies_in(&cx.features) && acts_over_sliding_rates(&cx.features, c.effect, &c.model)
+}
+
+/// Whether `model`, fitted as candidate `effect`, has a law of the slip rate that changes the friction visibly
+/// over the rates the record slides at: by at least the white noise of one reading of the
+/// stress ratio ([`crate::features::DataFeatures::friction_noise_sd`]) between the slowest and
+/// the fastest ([`subfric_model::RateEffect::largest_change_between`]). A law fitted with a
+/// cut-off far below those rates and a slope of a few ten-thousandths changes nothing there;
+/// what it fits is where the slip rate passes through zero — a hold's creep, a reversal's
+/// turnaround — where healing and the direction of sliding act, and naming it a dependence on
+/// the rate is a claim the record does not carry (a set with a direction effect, its tests at
+/// 0.01 and 0.02 mm/s: a steady-state slope of −2.8e-4 with v_c 4e-9 mm/s moved μ_k by
+/// 2e-4 between them, a tenth of a reading's noise, and was named at 97 %). Traction-controlled
+/// tests slide at the rates the interface chooses: no range is imposed, the law is not
+/// checked.
+pub(super) fn acts_over_sliding_rates(
+    f: &crate::features::DataFeatures,
+    effect: Effect,
+    model: &Model,
+) -> bool {
+    let reads_rate = match effect {
+        Effect::Term(i) => subfric_model::terms::family(i).reads_slip_rate(),
+        _ => false,
+    };
+    if !reads_rate || f.traction_tests > 0 || !f.friction_noise_sd.is_finite() {
+        return true;
+    }
+    match (model.ext.rate(), f.sliding_rate_range) {
+        (Some(law), Some((lo, hi))) => {
+            law.largest_change_between(lo, hi, model.params.mu_k) >= f.friction_noise_sd
+        }
+        _ => true,
+    }
 }
 
 /// One stage of the forward selection: every remaining family added to the current
@@ -115,10 +155,7 @@ pub(super) fn selection_stage(
     // One standard for every effect named, the first included: the variable it acts through
     // varies in the data (a rate law fitted to the holds of a record slid at one rate stands
     // for healing as well as for rate, and stays an alternative, weighed, never named).
-    let namable: Vec<bool> = candidates
-        .iter()
-        .map(|c| c.effect.varies_in(&cx.features))
-        .collect();
+    let namable: Vec<bool> = candidates.iter().map(|c| namable(cx, c)).collect();
     // ... and, after the first, the events read one by one do not speak against it.
     let corroborated: Vec<bool> = candidates
         .iter()

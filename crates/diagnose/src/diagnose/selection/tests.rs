@@ -304,3 +304,36 @@ fn an_effect_shown_is_weighed_where_it_lives_when_shapes_elsewhere_outvote_it() 
     // A family with no pieces where the events are read has only the whole to go by.
     assert!(!gains_where_it_lives(&candidate(-17.0, None), &th));
 }
+
+#[test]
+fn a_rate_law_is_namable_only_where_it_changes_friction_over_the_rates_slid_at() {
+    let rate = Effect::from_name("rate").unwrap();
+    let mut f = crate::candidates::every_form_features();
+    f.sliding_rate_range = Some((0.01, 0.02));
+    f.friction_noise_sd = 1.7e-3;
+    let with = |law: subfric_model::RateEffect| {
+        let base = Model::base(Params::sample()).unwrap();
+        Model::new(base.params, base.ext.with_rate(law)).unwrap()
+    };
+    // A direct effect of 0.005 per e-fold moves friction by 0.0035 between 0.01 and 0.02 mm/s,
+    // twice a reading's noise: it shows as a dependence on the rate.
+    let shown = with(subfric_model::RateEffect::log_direct(0.005, 1e-6));
+    assert!(stage::acts_over_sliding_rates(&f, rate, &shown));
+    // A slope of -3e-4 with its cut-off at 2e-9 mm/s moves it by 2e-4: what it fits lies below
+    // the rates slid at.
+    let stop_only = with(subfric_model::RateEffect::log_direct(-3e-4, 2e-9));
+    assert!(!stage::acts_over_sliding_rates(&f, rate, &stop_only));
+    // The same law seen over two decades of rates (0.001 to 0.1 mm/s) still moves friction by
+    // 1.4e-3, under the noise; over velocity steps of 0.01 to 10 mm/s it is 2.1e-3, over it.
+    f.sliding_rate_range = Some((0.001, 0.1));
+    assert!(!stage::acts_over_sliding_rates(&f, rate, &stop_only));
+    f.sliding_rate_range = Some((0.01, 10.0));
+    assert!(stage::acts_over_sliding_rates(&f, rate, &stop_only));
+    // Under traction control the interface chooses its rates: nothing is imposed to check.
+    f.sliding_rate_range = Some((0.01, 0.02));
+    f.traction_tests = 1;
+    assert!(stage::acts_over_sliding_rates(&f, rate, &stop_only));
+    // Other families are not laws of the rate.
+    f.traction_tests = 0;
+    assert!(stage::acts_over_sliding_rates(&f, healing(), &stop_only));
+}
