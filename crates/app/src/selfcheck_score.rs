@@ -34,6 +34,10 @@ pub struct Case {
     /// ([`subfric_diagnose::events::shows`]), named or not: where they and the verdict part,
     /// the confidence may be recalibrated on it offline.
     pub shown_by_events: Vec<Effect>,
+    /// The coordinates of the base fit that ended at a bound of their box (the base bent before
+    /// any candidate is tried: μ_k run to zero so that the recovery ξ carries the level, say),
+    /// to recalibrate the confidence on offline.
+    pub base_at_bounds: Vec<String>,
 }
 
 impl Case {
@@ -54,6 +58,12 @@ impl Case {
             shown_by_events: (0..subfric_model::terms::FAMILIES.len())
                 .map(|i| Effect::Term(i as u8))
                 .filter(|&e| subfric_diagnose::events::shows(&d.events, e))
+                .collect(),
+            base_at_bounds: d
+                .base
+                .at_bounds
+                .iter()
+                .map(|b| b.coordinate.clone())
                 .collect(),
         }
     }
