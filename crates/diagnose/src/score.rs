@@ -115,6 +115,24 @@ pub struct Comparison {
 }
 
 impl Comparison {
+    /// The comparison on no pieces: no evidence, no misfit, nothing removed.
+    pub fn of_no_pieces() -> Comparison {
+        Comparison {
+            score: 0.0,
+            shape_score: 0.0,
+            level_score: 0.0,
+            excess_shrink: 0.0,
+            relative_shrink: 0.0,
+            typical_shrink: 0.0,
+            reference_chi2: 0.0,
+            candidate_chi2: 0.0,
+            rows: 0,
+            n_eff: 0.0,
+            parameters: 0,
+            pieces: Vec::new(),
+        }
+    }
+
     /// The evidence D less ln(n_eff) per parameter the candidate adds (a BIC on the effective
     /// number of held-out observations): the price of its extra freedom, for comparing
     /// candidates of different sizes with one another (a four-parameter rate-and-state law

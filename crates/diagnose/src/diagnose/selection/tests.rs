@@ -337,3 +337,24 @@ fn a_rate_law_is_namable_only_where_it_changes_friction_over_the_rates_slid_at()
     f.traction_tests = 0;
     assert!(stage::acts_over_sliding_rates(&f, healing(), &stop_only));
 }
+
+#[test]
+fn a_further_effect_with_no_pieces_of_its_own_is_not_credited_however_much_it_gains() {
+    let th = crate::verdict::Thresholds::default();
+    let rate = Effect::from_name("rate").unwrap();
+    // A rate law behind a direction effect, on a record with no velocity step and no hold:
+    // D 169 and most of the excess removed, all of it on the reversals.
+    let mut all = comparison(169.0, 2000.0, vec![]);
+    all.excess_shrink = 0.82;
+    all.reference_chi2 = 2.3;
+    let judged = |own: Comparison| {
+        crate::verdict::decide_further(2.3, &[(rate, all.clone())], &[own], &[true], &th)
+    };
+    // Judged on all pieces for want of its own, it would be named ...
+    assert_eq!(judged(all.clone()), Decision::Named(0));
+    // ... judged on the pieces of its own kinds, of which there are none, it is not.
+    assert!(!matches!(
+        judged(Comparison::of_no_pieces()),
+        Decision::Named(_) | Decision::Tentative(_)
+    ));
+}
