@@ -420,6 +420,7 @@ mod tests {
             weighed: Vec::new(),
             without_first_loadings: None,
             shown_by_events: Vec::new(),
+            base_at_bounds: Vec::new(),
         }
     }
 
