@@ -123,6 +123,19 @@ fn mean_normal(t: &FitTest) -> f64 {
     t.normal.iter().sum::<f64>() / t.normal.len().max(1) as f64
 }
 
+/// [`DataFeatures::friction_noise_sd`] of the slip-controlled tests among `tests`, whose mean
+/// normal stresses are `normals` (NaN when none has a noise).
+fn friction_noise_sd(tests: &[PreparedTest], normals: &[f64]) -> f64 {
+    let mut sd: Vec<f64> = tests
+        .iter()
+        .zip(normals)
+        .filter(|(p, _)| p.full.control == Control::Slip)
+        .map(|(p, n)| p.full.noise_sd / n.abs())
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .collect();
+    median(&mut sd).unwrap_or(f64::NAN)
+}
+
 /// The smallest and the largest of the finite positive values of `v`, when any.
 fn range_of_positive(v: &[f64]) -> Option<(f64, f64)> {
     v.iter()
@@ -268,18 +281,9 @@ pub fn data_features(tests: &[PreparedTest]) -> DataFeatures {
         } else {
             100.0
         },
-        pressure_levels: distinct(normals.clone(), 1.05),
+        friction_noise_sd: friction_noise_sd(tests, &normals),
+        pressure_levels: distinct(normals, 1.05),
         sliding_rate_range: range_of_positive(&rates),
-        friction_noise_sd: {
-            let mut sd: Vec<f64> = tests
-                .iter()
-                .zip(&normals)
-                .filter(|(p, _)| p.full.control == Control::Slip)
-                .map(|(p, n)| p.full.noise_sd / n.abs())
-                .filter(|v| v.is_finite() && *v > 0.0)
-                .collect();
-            median(&mut sd).unwrap_or(f64::NAN)
-        },
         sliding_rates: distinct(rates, 1.5),
         traction_tests: tests
             .iter()

@@ -85,9 +85,9 @@ pub(super) fn namable(cx: &Context, c: &CandidateScore) -> bool {
     c.effect.varies_in(&cx.features) && acts_over_sliding_rates(&cx.features, c.effect, &c.model)
 }
 
-/// Whether `model`, fitted as candidate `effect`, has a law of the slip rate that changes the friction visibly
-/// over the rates the record slides at: by at least the white noise of one reading of the
-/// stress ratio ([`crate::features::DataFeatures::friction_noise_sd`]) between the slowest and
+/// Whether `model`, fitted as candidate `effect`, holds a law of the slip rate that changes the
+/// friction visibly over the rates the record slides at (true where it holds none): by at least
+/// the white noise of one reading of the stress ratio ([`crate::features::DataFeatures::friction_noise_sd`]) between the slowest and
 /// the fastest ([`subfric_model::RateEffect::largest_change_between`]). A law fitted with a
 /// cut-off far below those rates and a slope of a few ten-thousandths changes nothing there;
 /// what it fits is where the slip rate passes through zero — a hold's creep, a reversal's
