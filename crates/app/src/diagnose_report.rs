@@ -329,7 +329,7 @@ fn every_form(s: &mut String, d: &Diagnosis) {
     );
     let _ = writeln!(
         s,
-        "   (fit: screened = ranked by a short fit on a share of the rows, behind the polished forms of its family; converged or settled = polished on all rows; off = polished, and the fit wants none of the effect on the base; NOT conv. = polished, stopped by its limit, not judged)"
+        "   (fit: screened = ranked by a short fit on a share of the rows, behind the polished forms of its family; converged or settled = polished on all rows; off = polished, and the fit wants none of the effect on the base; NOT conv. = polished, stopped by its limit, not judged; ← best in-sample: of a family that acts on whole tests, every form is polished and its three best are predicted held out, and section 3 names the one that predicts the held-out tests best)"
     );
     for f in &d.forms {
         let _ = writeln!(
@@ -357,7 +357,7 @@ fn every_form(s: &mut String, d: &Diagnosis) {
                 format!("  (stopped: {}; not judged)", f.termination)
             },
             if f.chosen {
-                "  ← best of its family"
+                "  ← best in-sample of its family"
             } else {
                 ""
             }

@@ -77,6 +77,22 @@ pub(super) fn gains_where_it_lives(c: &CandidateScore, th: &crate::verdict::Thre
                 || c.between_tests >= th.min_score))
 }
 
+/// Whether candidate `c`'s held-out evidence is significant where its effect lives: D at
+/// least `min_score` over all pieces, or, favoured there (D > 0), at least as much on every kind
+/// of piece where the events show it or at the level of whole tests against the scatter between
+/// specimens: [`gains_where_it_lives`] with the evidence over all pieces, where it decides,
+/// asked to be significant too.
+pub(super) fn significant_where_it_lives(
+    c: &CandidateScore,
+    th: &crate::verdict::Thresholds,
+) -> bool {
+    c.held_out.score >= th.min_score
+        || (c.held_out.score > 0.0
+            && !c.shown_in.is_empty()
+            && (c.shown_in.iter().all(|k| k.held_out.score >= th.min_score)
+                || c.between_tests >= th.min_score))
+}
+
 /// Whether candidate `c` may be named: the variable its effect acts through varies in the
 /// data ([`Effect::varies_in`]), and, for a law of the slip rate, the fitted law changes the
 /// friction by at least one reading's white noise between the slowest and the fastest rate the

@@ -93,6 +93,79 @@ fn the_forms_polished_are_the_two_best_screened_of_each_family_best_first() {
     assert_eq!(ranked_by_family(&r, 1), vec![vec![1], vec![3]]);
 }
 
+#[test]
+fn every_form_of_a_family_that_acts_on_whole_tests_is_polished_whatever_its_screened_rank() {
+    let pressure = Effect::from_name("pressure").unwrap();
+    assert!(pressure.acts_on_whole_tests() && !healing().acts_on_whole_tests());
+    let r = vec![
+        report(pressure, "power law", -239.0, 8.6e5),
+        report(pressure, "linear", -191.4, 8.1e5),
+        report(pressure, "exponential", -191.8, 8.1e5),
+        report(pressure, "failed", 0.0, f64::NAN),
+        report(healing(), "a", 10.0, 5.0),
+        report(healing(), "b", 30.0, 4.0),
+        report(healing(), "c", 20.0, 4.5),
+    ];
+    // Pressure: all three that were fitted, best screened first (the failed fit never);
+    // healing: its two best.
+    let ranked = ranked_by_family(&r, 2);
+    assert!(ranked.contains(&vec![1, 2, 0]), "{ranked:?}");
+    assert!(ranked.contains(&vec![5, 6]), "{ranked:?}");
+    // A later stage: every form of pressure, however far behind; of healing, those the
+    // screening cannot tell from the best.
+    assert_eq!(polished_of_family(pressure, 3, || 1), 3);
+    assert_eq!(polished_of_family(healing(), 3, || 1), 1);
+    assert_eq!(polished_of_family(healing(), 2, || 5), 2);
+}
+
+#[test]
+fn a_whole_test_family_is_predicted_held_out_in_its_best_forms_and_the_tests_levels_choose() {
+    // Up to three forms of pressure are predicted held out (the best in-sample and the next
+    // two); any other family keeps its one form.
+    let pressure = Effect::from_name("pressure").unwrap();
+    let fit = || SpecFit {
+        result: crate::fits::FitResult {
+            model: Model::base(Params::sample()).unwrap(),
+            ssr: 1.0,
+            converged: true,
+            termination: subfric_fit::Termination::CostConverged,
+            starts: 1,
+        },
+        fit_tests: Vec::new(),
+        settled: false,
+    };
+    let forms = crate::candidates::every_form();
+    let of = |e: Effect| -> Vec<(Form, SpecFit)> {
+        forms
+            .iter()
+            .filter(|f| f.effect == e)
+            .map(|f| (f.clone(), fit()))
+            .collect()
+    };
+    let names =
+        |v: Vec<(Form, SpecFit)>| -> Vec<&'static str> { v.iter().map(|(f, _)| f.name).collect() };
+    let pressure_forms = of(pressure);
+    assert!(pressure_forms.len() > WHOLE_TEST_FORMS);
+    let expected: Vec<&str> = pressure_forms[..WHOLE_TEST_FORMS - 1]
+        .iter()
+        .map(|(f, _)| f.name)
+        .collect();
+    assert_eq!(
+        names(held_out_alternatives(pressure, of(pressure).into_iter())),
+        expected
+    );
+    assert!(held_out_alternatives(healing(), of(healing()).into_iter()).is_empty());
+    // The choice: the per-piece evidence plus the tests' levels against the scatter between
+    // specimens. By the pieces alone the first form would win (48.5), whose levels carried
+    // to the stresses held out are far off (−321).
+    let evidence = [(48.5, -321.4), (23.1, 119.1), (19.8, 148.8)];
+    assert_eq!(most_evidence(&evidence), Some(2));
+    // Of equal totals the first (the best in-sample); one form is its own choice; none, none.
+    assert_eq!(most_evidence(&[(10.0, 5.0), (5.0, 10.0)]), Some(0));
+    assert_eq!(most_evidence(&[(-3.0, 0.0)]), Some(0));
+    assert_eq!(most_evidence(&[]), None);
+}
+
 fn comparison(score: f64, n_eff: f64, pieces: Vec<PieceScore>) -> Comparison {
     Comparison {
         score,
@@ -303,6 +376,27 @@ fn an_effect_shown_is_weighed_where_it_lives_when_shapes_elsewhere_outvote_it() 
     ));
     // A family with no pieces where the events are read has only the whole to go by.
     assert!(!gains_where_it_lives(&candidate(-17.0, None), &th));
+
+    // Significant where it lives: over all pieces; or in favour there and significant where
+    // the events show it, or at the level of whole tests.
+    let m = th.min_score;
+    assert!(significant_where_it_lives(&candidate(m, None), &th));
+    assert!(!significant_where_it_lives(&candidate(m - 0.2, None), &th));
+    assert!(!significant_where_it_lives(
+        &candidate(m - 0.2, Some(m - 1.0)),
+        &th
+    ));
+    assert!(significant_where_it_lives(
+        &candidate(m - 0.2, Some(m + 1.0)),
+        &th
+    ));
+    let mut levels = candidate(m - 0.2, Some(1.0));
+    assert!(!significant_where_it_lives(&levels, &th));
+    levels.between_tests = m + 130.0;
+    assert!(significant_where_it_lives(&levels, &th));
+    // Against over all pieces, it is not, however much the tests' levels favour it.
+    levels.held_out = comparison(-5.0, 800.0, vec![]);
+    assert!(!significant_where_it_lives(&levels, &th));
 }
 
 #[test]
