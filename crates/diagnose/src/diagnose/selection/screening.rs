@@ -199,15 +199,23 @@ pub(super) fn rescreen(
             (i, score, fitted)
         })
         .collect();
-    let mut by_family: BTreeMap<Effect, Vec<(usize, f64, SpecFit)>> = BTreeMap::new();
-    for (i, score, fitted) in polished {
+    for (i, score, fitted) in &polished {
         cx.trace(&format!(
             "rescreened on {}: {} polished, score {score:.1}, judged {}, {:?}",
             current.spec.describe(),
-            lib[i].name,
+            lib[*i].name,
             fitted.judged(),
-            parameters_of(&fitted.result.model, std::slice::from_ref(&lib[i]))
+            parameters_of(&fitted.result.model, std::slice::from_ref(&lib[*i]))
         ));
+    }
+    families_of_polished(lib, polished)
+}
+
+/// The families of forms polished on the current model (form index, polished in-sample score,
+/// fit): each family's form is its best polished one.
+fn families_of_polished(lib: &[Form], polished: Vec<(usize, f64, SpecFit)>) -> Vec<Family> {
+    let mut by_family: BTreeMap<Effect, Vec<(usize, f64, SpecFit)>> = BTreeMap::new();
+    for (i, score, fitted) in polished {
         by_family
             .entry(lib[i].effect)
             .or_default()
@@ -376,8 +384,23 @@ pub(in crate::diagnose) fn screen_and_polish(
     // A form's screened score ranks it only roughly (a few iterations on a share of the rows):
     // the family's form is the best of its forms once polished.
     let chosen = choose_forms(&mut forms, &to_polish);
+    let families = families_of_chosen(&forms, lib, &to_polish, polished, &chosen);
+    cx.trace("best forms polished");
+    (forms, families)
+}
+
+/// The families of the forms `chosen` among those polished on the base (`to_polish`, their fits
+/// `polished` in the same order), each with the next best judged forms of its family where
+/// the held-out pieces choose among them ([`held_out_alternatives`]).
+fn families_of_chosen(
+    forms: &[FormReport],
+    lib: &[Form],
+    to_polish: &[usize],
+    polished: Vec<SpecFit>,
+    chosen: &[usize],
+) -> Vec<Family> {
     let mut polished: BTreeMap<usize, SpecFit> = to_polish.iter().copied().zip(polished).collect();
-    let families: Vec<Family> = chosen
+    chosen
         .iter()
         .map(|&i| {
             let mut others: Vec<usize> = to_polish
@@ -405,9 +428,7 @@ pub(in crate::diagnose) fn screen_and_polish(
                 alternatives,
             }
         })
-        .collect();
-    cx.trace("best forms polished");
-    (forms, families)
+        .collect()
 }
 
 /// Whether every parameter of `form` in `model` sits at the value that switches the effect
