@@ -634,7 +634,7 @@ fn plan(
             setup_hours,
             diagnosis,
         };
-        let to = api::output::Destination { dir: out, force };
+        let to = api::folders::output::Destination { dir: out, force };
         let p = api::plan::plan_to_folder(&req, &to, &Silent)?;
         let json_file = p
             .files
@@ -659,8 +659,8 @@ fn plot(
     force: bool,
 ) -> PyResult<(Vec<String>, Vec<String>)> {
     let run = py.detach(move || -> anyhow::Result<_> {
-        let to = api::output::Destination { dir: out, force };
-        let p = api::figures::plot(&dir, params.as_deref(), &to, &Silent)?;
+        let to = api::folders::output::Destination { dir: out, force };
+        let p = api::render::figures::plot(&dir, params.as_deref(), &to, &Silent)?;
         Ok((
             p.files.iter().map(|f| f.display().to_string()).collect(),
             p.notes,

@@ -4,11 +4,11 @@
 //! `subfric diagnose` does. A diagnosis that ends with a number that is not finite is refused,
 //! and nothing of it is written.
 
-use crate::diagnose_report::{effects_label, report_text};
-use crate::io::{write_json, write_text};
+use crate::folders::io::{write_json, write_text};
+use crate::folders::output::{default_results_dir, Destination, ResultsDir};
 use crate::located;
-use crate::output::{default_results_dir, Destination, ResultsDir};
 use crate::progress::Progress;
+use crate::render::diagnose_report::{effects_label, report_text};
 use anyhow::{bail, Result};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -24,7 +24,7 @@ use subfric_plot::{write_figure, BarFigure};
 const DIAGNOSIS_FILES: [&str; 8] = [
     "diagnosis.json",
     "diagnosis.txt",
-    crate::report::REPORT_FILE,
+    crate::render::report::REPORT_FILE,
     "residual-by-segment.png",
     "residual-by-segment.svg",
     "residual-by-test.png",
@@ -172,7 +172,7 @@ pub fn diagnose_to_folder(
     let diagnosed = diagnose_set(dir, set, warnings, opts, progress)?;
     let report = report_text(&diagnosed.name, dir, &diagnosed.diagnosis);
     let (json_file, mut figures) = write_diagnosis(&out, &diagnosed, &report)?;
-    let page = crate::report::diagnosis_page(
+    let page = crate::render::report::diagnosis_page(
         &diagnosed.name,
         dir,
         &diagnosed.diagnosis,
@@ -180,7 +180,7 @@ pub fn diagnose_to_folder(
         &out,
         &figures,
     )?;
-    let html = out.join(crate::report::REPORT_FILE);
+    let html = out.join(crate::render::report::REPORT_FILE);
     write_text(&html, &page)?;
     figures.push(html);
     claim.commit()?;
@@ -204,14 +204,14 @@ fn write_diagnosis(
     write_json(&json_file, &diagnosed.json)?;
     write_text(&out.join("diagnosis.txt"), &format!("{report}\n"))?;
     let label = effects_label(d);
-    let mut plots = crate::figures::diagnosis_figures(
+    let mut plots = crate::render::figures::diagnosis_figures(
         name,
         &diagnosed.prepared,
         &d.base.model,
         (!d.verdict.effects.is_empty()).then_some((&d.final_model, label.as_str())),
         &out.join("figures"),
     )?;
-    plots.extend(crate::events_figures::event_figures(
+    plots.extend(crate::render::events_figures::event_figures(
         name,
         &d.events,
         &out.join("figures"),

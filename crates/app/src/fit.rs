@@ -15,7 +15,7 @@ pub use folder::{fit_to_folder, FitWritten};
 pub use prepare::setup;
 pub use run::{run_setup, MIN_NOISE_DEGREES_OF_FREEDOM};
 
-use crate::io::write_json;
+use crate::folders::io::write_json;
 use crate::posterior::{PosteriorRequest, Sampled};
 use crate::progress::Progress;
 use anyhow::Result;

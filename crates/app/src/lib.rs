@@ -7,59 +7,56 @@
 //! progress through [`Progress`], and prints or converts the results; the same request gives
 //! the same result and the same files whichever front end made it.
 //!
+//! One room per command, and three below them that every command shares:
+//!
 //! - [`fit`](mod@fit): load and check sets, calibrate, `fit.json` ([`fit()`] returns values,
-//!   [`fit::fit_to_folder`] writes them); [`fit_report`] the readable table; [`adequacy`]
-//!   whether the model describes the data (the first thing every command that fits says).
+//!   [`fit::fit_to_folder`] writes them).
 //! - [`diagnose`](mod@diagnose): the diagnosis of a set and `diagnosis.json`, `diagnosis.txt`
 //!   and its figures; [`selfcheck`] the diagnosis scored on sets with a known truth.
 //! - [`plan`]: the next test to run (`plan.json`, `plan.txt`, scenarios, figure), on the model
-//!   the set's diagnosis chose ([`plan_basis`]), never a test the set holds ([`repeat`]).
-//! - [`report`]: the HTML reports (`report.html`, `fits/index.html`), pages of [`html`].
+//!   the set's diagnosis chose ([`outcome::plan_basis`]), never a test the set holds
+//!   ([`repeat`]).
 //! - [`posterior`]: the posterior of a fit's parameters (`fit --posterior`): summary beside
 //!   the profile intervals, predictive bands, corner plot, thinned chain.
 //! - [`reproduce`]: every bundled set fitted, the paper's tables beside the published values.
 //! - [`campaign`](mod@campaign): many sets at once, locally or by Slurm or Dask, and the
 //!   campaign table and figures.
-//! - [`simulate`], [`sets`] (check and import), [`figures`] (overlay plots), [`bench`](mod@bench).
-//! - [`output`]: where results go and what may be replaced there; [`io`] the file helpers
-//!   (atomic writes, the parameter-file reader).
+//! - [`simulate`], [`sets`] (check and import), [`bench`](mod@bench).
+//! - [`render`]: everything a person reads — the fit's table ([`render::fit_report`]), the
+//!   diagnosis's text ([`render::diagnose_report`]), the HTML reports ([`render::report`],
+//!   pages of [`render::html`]), the overlay figures ([`render::figures`]).
+//! - [`outcome`]: what a command found, below the reports that show it: the fit's outcome,
+//!   [`outcome::adequacy`] (whether the model describes the data, the first thing every
+//!   command that fits says) and the model a plan rests on.
+//! - [`folders`]: where results go and what may be replaced there ([`folders::output`]),
+//!   the lock on a results folder ([`folders::lock`]) and the file helpers ([`folders::io`]:
+//!   atomic writes, the parameter-file reader).
 //! - [`flags`]: values of `--fix`, `--bounds`, `--weight` and `--free` as both front ends take
 //!   them.
 //!
 //! Errors are `anyhow` errors whose text names the file, line and field and what was
 //! expected; [`error_text`] prints one with each cause once.
 
-pub mod adequacy;
 pub mod bench;
 pub mod campaign;
 pub mod diagnose;
-pub mod diagnose_report;
-mod events_figures;
-mod events_report;
-pub mod figures;
 pub mod fit;
-pub mod fit_report;
 pub mod flags;
-pub mod html;
-pub mod io;
-pub mod lock;
-mod outcome;
-pub mod output;
+pub mod folders;
+pub mod outcome;
 pub mod plan;
-pub mod plan_basis;
 pub mod posterior;
 pub mod progress;
+pub mod render;
 pub mod repeat;
-pub mod report;
 pub mod reproduce;
 pub mod selfcheck;
-mod selfcheck_score;
 pub mod sets;
 pub mod simulate;
 
 pub use diagnose::{diagnose, Diagnosed};
 pub use fit::{fit, FitOutcome, FitRequest, Fitted};
-pub use io::load_model;
+pub use folders::io::load_model;
 pub use progress::{Progress, Silent};
 pub use subfric_data::visible;
 

@@ -8,16 +8,16 @@
 //! `top-proposal.png`: the top proposal's predicted curve with the band the undetermined
 //! parameters still allow.
 
-pub use crate::plan_basis::misfit_warning;
+pub use crate::outcome::plan_basis::misfit_warning;
 
-use crate::adequacy::misfit_number;
 use crate::fit::{run_setup, setup, FitOutcome, FitRequest};
-use crate::fit_report::INTERVAL_LEGEND;
-use crate::io::{write_json, write_text};
+use crate::folders::io::{write_json, write_text};
+use crate::folders::output::{default_results_dir, Destination, ResultsDir};
 use crate::located;
-use crate::output::{default_results_dir, Destination, ResultsDir};
-use crate::plan_basis::{basis, Basis};
+use crate::outcome::adequacy::misfit_number;
+use crate::outcome::plan_basis::{basis, Basis};
 use crate::progress::Progress;
+use crate::render::fit_report::INTERVAL_LEGEND;
 use crate::repeat::{repeated_test, Protocol};
 use anyhow::{bail, Result};
 use std::fmt::Write as _;
@@ -41,7 +41,7 @@ fn plan_files() -> Vec<String> {
         "top-proposal.png",
         "top-proposal.svg",
         "scenarios",
-        crate::report::REPORT_FILE,
+        crate::render::report::REPORT_FILE,
     ]
     .map(String::from)
     .to_vec()
@@ -135,9 +135,16 @@ pub fn plan_to_folder(
         .filter(|f| f.extension().is_some_and(|x| x == "png"))
         .cloned()
         .collect();
-    let page =
-        crate::report::plan_page(&outcome, &basis, &req.set, &p, &text, claim.path(), &plots)?;
-    let report = claim.path().join(crate::report::REPORT_FILE);
+    let page = crate::render::report::plan_page(
+        &outcome,
+        &basis,
+        &req.set,
+        &p,
+        &text,
+        claim.path(),
+        &plots,
+    )?;
+    let report = claim.path().join(crate::render::report::REPORT_FILE);
     write_text(&report, &page)?;
     files.push(report);
     claim.commit()?;
@@ -207,7 +214,7 @@ pub fn write_plan(
 /// Removes the scenarios (`scenarios/*.json`) and the band figure (PNG and SVG) of an earlier
 /// plan in `dir`.
 fn clear_earlier_plan(dir: &Path) -> Result<()> {
-    crate::io::remove_earlier_files(&dir.join("scenarios"), "json")?;
+    crate::folders::io::remove_earlier_files(&dir.join("scenarios"), "json")?;
     for f in ["top-proposal.png", "top-proposal.svg"] {
         match std::fs::remove_file(dir.join(f)) {
             Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e.into()),

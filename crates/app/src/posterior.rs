@@ -192,7 +192,7 @@ pub fn files(tests: &[PreparedTest]) -> Vec<String> {
 /// One band figure per test: `posterior-band-<figure stem>.png`.
 fn band_files(tests: &[PreparedTest]) -> Vec<String> {
     let names: Vec<&str> = tests.iter().map(|t| t.fit.name.as_str()).collect();
-    crate::figures::figure_stems(&names)
+    crate::render::figures::figure_stems(&names)
         .into_iter()
         .map(|stem| format!("posterior-band-{stem}.png"))
         .collect()

@@ -5,17 +5,17 @@
 //! (no wall times), so that running the job on a clean checkout leaves it clean; the wall times
 //! go to the terminal and to `timings.txt`, which is not tracked.
 
-use crate::figures::{figure_stems, plot_set};
 use crate::fit::{run_fit, write_fit, FitOutcome, FitRequest};
-use crate::fit_report::{
+use crate::folders::io::write_text;
+use crate::folders::output::{safe_name, ResultsDir};
+use crate::plan::{next_test, NextTest, PLAN_DIR};
+use crate::progress::{Progress, Silent};
+use crate::render::figures::{figure_stems, plot_set};
+use crate::render::fit_report::{
     determined_combinations, difference_text, estimate_interval_text, legend_text, report_table,
     std_error_text, undetermined, value_text,
 };
-use crate::io::write_text;
-use crate::output::{safe_name, ResultsDir};
-use crate::plan::{next_test, NextTest, PLAN_DIR};
-use crate::progress::{Progress, Silent};
-use crate::report::{index_page, IndexEntry};
+use crate::render::report::{index_page, IndexEntry};
 use anyhow::{anyhow, bail, Result};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -56,7 +56,7 @@ struct Job {
 
 fn read_meta(dir: &Path) -> Result<ExperimentMeta> {
     let json = dir.join(EXPERIMENT_JSON);
-    let text = crate::io::read_settings_text(&json, EXPERIMENT_JSON)?;
+    let text = crate::folders::io::read_settings_text(&json, EXPERIMENT_JSON)?;
     Ok(parse_meta(&text, &json)?)
 }
 

@@ -3,8 +3,10 @@
 //! forms from the friction literature, rig and logger artifacts), or a folder of sets with a
 //! `truth.json`. `selfcheck --write DIR` writes a generated campaign for `--sets` to score.
 
+mod score;
+
 use crate::diagnose::check_diagnosis_finite;
-use crate::io::write_json;
+use crate::folders::io::write_json;
 use crate::progress::{Progress, Silent};
 use crate::truncate;
 use anyhow::{anyhow, bail, Result};
@@ -16,7 +18,7 @@ use subfric_harness::generator::{
     all_classes, campaign_set, classes_of, write_campaign, Class, Form, Generated, Options,
 };
 
-pub use crate::selfcheck_score::{score, Case, Scores};
+pub use score::{score, Case, Scores};
 
 pub use subfric_harness::generator::Layout;
 
@@ -292,7 +294,7 @@ pub fn score_folder(
     progress: &dyn Progress,
 ) -> Result<(Vec<Case>, Scores)> {
     let truth_path = root.join("truth.json");
-    let text = crate::io::read_settings_text(&truth_path, "the truth file")
+    let text = crate::folders::io::read_settings_text(&truth_path, "the truth file")
         .map_err(|e| anyhow!("{e}; expected {{\"set\": {{\"effect\": name}}}}"))?;
     let truth: Value = serde_json::from_str(&text)
         .map_err(|e| anyhow!("{}:{}:{}: {e}", truth_path.display(), e.line(), e.column()))?;

@@ -1,7 +1,7 @@
 //! A set as the lab made it: validated and summarised (`subfric check`), or made from a
 //! laboratory export (`subfric import`).
 
-use crate::output::LockedFolder;
+use crate::folders::output::LockedFolder;
 use anyhow::Result;
 use std::path::Path;
 use subfric_data::{
@@ -54,7 +54,7 @@ pub fn published(set: &ExperimentSet) -> Result<Option<subfric_model::Model>> {
     };
     subfric_model::model_from_value(v).map(Some).map_err(|e| {
         let json = set.dir.join(subfric_data::EXPERIMENT_JSON);
-        let line = crate::io::read_settings_text(&json, subfric_data::EXPERIMENT_JSON)
+        let line = crate::folders::io::read_settings_text(&json, subfric_data::EXPERIMENT_JSON)
             .ok()
             .and_then(|text| subfric_data::meta::field_line(&text, "reference_parameters"))
             .map_or(String::new(), |l| format!(":{l}"));
@@ -72,12 +72,12 @@ pub fn published(set: &ExperimentSet) -> Result<Option<subfric_model::Model>> {
 pub fn import_test(file: &Path, spec: &ImportSpec, out: &Path) -> Result<Checked> {
     // Measured data never go among results (as results never go among measured data): a fit
     // could never be written there again.
-    let record = out.join(crate::output::SOURCE_FILE);
+    let record = out.join(crate::folders::output::SOURCE_FILE);
     if PathKind::of(&record) != PathKind::Absent {
         anyhow::bail!(
             "{}: holds the results of a subfric command ({}); a set never goes into a results folder, where the command that wrote them could not write them again (expected a set folder, or a new --out folder)",
             out.display(),
-            crate::output::SOURCE_FILE
+            crate::folders::output::SOURCE_FILE
         );
     }
     let lock = match PathKind::of(out) {

@@ -1,9 +1,9 @@
 //! `subfric simulate`: drive the model through every test of a set, or a declarative scenario,
 //! and write the result as a new set. Never into the set simulated; an existing set in the
-//! output folder only with `--force` (see [`crate::output::SetDir`]).
+//! output folder only with `--force` (see [`crate::folders::output::SetDir`]).
 
-use crate::io::load_model;
-use crate::output::SetDir;
+use crate::folders::io::load_model;
+use crate::folders::output::SetDir;
 use anyhow::{anyhow, Result};
 use std::path::{Path, PathBuf};
 use subfric_data::import::file_name_for;
@@ -151,7 +151,7 @@ pub fn simulate_scenario(
             kind.describe()
         );
     }
-    let text = crate::io::read_settings_text(path, "the scenario")?;
+    let text = crate::folders::io::read_settings_text(path, "the scenario")?;
     let sc: Scenario = serde_json::from_str(&text)
         .map_err(|e| anyhow!("{}:{}:{}: {e}", path.display(), e.line(), e.column()))?;
     let rows = sc.rows_with_limit(max_rows).map_err(|e| {

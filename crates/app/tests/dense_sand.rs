@@ -169,7 +169,7 @@ fn a_fit_of_a_dense_sand_programme_reads_the_box_stiffness_and_says_one_mu_s_can
     let top = peaks.iter().cloned().fold(f64::MIN, f64::max);
     let mu_s = out.report.model.params.mu_s;
     assert!(mu_s < 1.2 * top, "μ_s {mu_s} against peaks {peaks:?}");
-    let text = subfric_app::fit_report::report_table(&out);
+    let text = subfric_app::render::fit_report::report_table(&out);
     assert!(
         text.contains("the peak stress ratio falls with the normal stress")
             && text.contains("one μ_s cannot keep every test's peak"),

@@ -19,16 +19,17 @@ use print::{err, out};
 use progress::{Progress, ProgressMode};
 use std::process::ExitCode;
 use subfric_app::fit::{fit_to_folder, FitRequest};
-use subfric_app::fit_report::report_table_timed;
-use subfric_app::output::Destination;
+use subfric_app::folders::output::Destination;
 use subfric_app::plan::{plan_to_folder, PlanRequest};
 use subfric_app::posterior::PosteriorRequest;
+use subfric_app::render::figures;
+use subfric_app::render::fit_report::report_table_timed;
 use subfric_app::reproduce::{reproduce, ReproduceRequest, TIMINGS_FILE};
 use subfric_app::selfcheck::{
     case_line, class_list, write_generated, Campaign, Case, SelfcheckRequest, SelfcheckSource,
 };
 use subfric_app::simulate::{SimulateRequest, SimulateSource};
-use subfric_app::{diagnose, figures, sets};
+use subfric_app::{diagnose, sets};
 use subfric_data::{ColumnRef, ImportSpec, Warning};
 use subfric_diagnose::DiagnoseOptions;
 use subfric_fit::FitOptions;

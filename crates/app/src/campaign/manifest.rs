@@ -36,7 +36,7 @@ const EXPECTED: Expected = Expected {
 };
 use super::SetOptions;
 use crate::flags::{parse_bound, parse_fix, parse_param};
-use crate::output::safe_name;
+use crate::folders::output::safe_name;
 use anyhow::{anyhow, Result};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -123,7 +123,7 @@ const OPTION_KEYS: [&str; 9] = [
 /// Reads and checks the manifest at `path`, its options laid over `defaults` to check each
 /// set's (a `fix` in one place and a `free` of the same parameter in another are found too).
 pub fn load(path: &Path, defaults: &SetOptions) -> Result<Manifest> {
-    let text = crate::io::read_settings_text(path, "the manifest")?;
+    let text = crate::folders::io::read_settings_text(path, "the manifest")?;
     parse(&text, path, defaults)
 }
 

@@ -31,8 +31,8 @@ pub use run::{SetOutcome, SetRun};
 pub use table::{ParamCell, Row, RowStatus};
 
 use crate::flags::{conflicts, parse_bound, parse_fix, parse_param};
-use crate::io::{write_json, write_text};
-use crate::output::{safe_name, ResultsDir};
+use crate::folders::io::{write_json, write_text};
+use crate::folders::output::{safe_name, ResultsDir};
 use crate::progress::Progress;
 use crate::FitRequest;
 use anyhow::{anyhow, bail, Result};
@@ -211,9 +211,10 @@ impl Plan {
     /// The plan in the campaign folder `out`.
     pub fn read(out: &Path) -> Result<Plan> {
         let file = out.join(PLAN_FILE);
-        let text = crate::io::read_settings_text(&file, "the campaign plan").map_err(|e| {
-            anyhow!("{e} (expected a folder written by `subfric campaign` or `--emit-slurm`)")
-        })?;
+        let text =
+            crate::folders::io::read_settings_text(&file, "the campaign plan").map_err(|e| {
+                anyhow!("{e} (expected a folder written by `subfric campaign` or `--emit-slurm`)")
+            })?;
         serde_json::from_str(&text).map_err(|e| {
             anyhow!(
                 "{}:{}: not a campaign plan: {e} (expected the file `subfric campaign` writes; run it again)",

@@ -4,7 +4,7 @@
 //! so that whoever collected the results writes the same page.
 
 use super::table::{self, Row, RowStatus};
-use crate::html::{Cell, Page};
+use crate::render::html::{Cell, Page};
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 
@@ -94,7 +94,8 @@ fn reports(out: &Path, r: &Row) -> Vec<(String, String)> {
         ("fit.json", dir.join("fit.json")),
         (
             "diagnosis",
-            dir.join("diagnosis").join(crate::report::REPORT_FILE),
+            dir.join("diagnosis")
+                .join(crate::render::report::REPORT_FILE),
         ),
     ]
     .into_iter()

@@ -6,7 +6,7 @@
 //! results it describes: a folder whose record matches the inputs and options of today holds
 //! their results.
 
-use crate::io::write_json;
+use crate::folders::io::write_json;
 use anyhow::{anyhow, Result};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -72,7 +72,8 @@ impl SetRecord {
     /// The record in `dir`, if there is a readable one (an unreadable one is as none: the set
     /// runs again).
     pub fn read(dir: &Path) -> Option<SetRecord> {
-        let text = crate::io::read_settings_text(&dir.join(RECORD_FILE), "the record").ok()?;
+        let text =
+            crate::folders::io::read_settings_text(&dir.join(RECORD_FILE), "the record").ok()?;
         serde_json::from_str(&text).ok()
     }
 

@@ -172,8 +172,8 @@ fn part_status(record: Option<&PartRecord>, key: &str) -> (RowStatus, Option<Str
 }
 
 fn read_json(path: &std::path::Path) -> Result<Value, String> {
-    let text =
-        crate::io::read_settings_text(path, "the results file").map_err(|e| e.to_string())?;
+    let text = crate::folders::io::read_settings_text(path, "the results file")
+        .map_err(|e| e.to_string())?;
     serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
 }
 

@@ -3,8 +3,8 @@
 //! values and the reports it renders from them.
 
 use super::{fit_json, prepare_posterior, run_setup, setup, with_posterior, FitRequest, Fitted};
-use crate::io::{write_json, write_text};
-use crate::output::{default_results_dir, Destination, ResultsDir};
+use crate::folders::io::{write_json, write_text};
+use crate::folders::output::{default_results_dir, Destination, ResultsDir};
 use crate::progress::Progress;
 use anyhow::Result;
 use std::path::PathBuf;
@@ -35,10 +35,10 @@ pub fn fit_to_folder(
         .clone()
         .unwrap_or_else(|| default_results_dir(&setup.name()));
     let sampler = prepare_posterior(req, &setup)?;
-    let mut files: Vec<String> = ["fit.json", "fit.txt", crate::report::REPORT_FILE]
+    let mut files: Vec<String> = ["fit.json", "fit.txt", crate::render::report::REPORT_FILE]
         .map(String::from)
         .to_vec();
-    files.extend(crate::figures::figure_files(&setup.tests));
+    files.extend(crate::render::figures::figure_files(&setup.tests));
     if sampler.is_some() {
         // fit.txt is already listed: the posterior's table goes into it.
         files.extend(
@@ -56,12 +56,12 @@ pub fn fit_to_folder(
     write_json(&file, &json)?;
     progress.stage("drawing the figures and the report", None);
     let txt = dir.join("fit.txt");
-    let table = crate::fit_report::report_table(&outcome);
+    let table = crate::render::fit_report::report_table(&outcome);
     match &posterior {
         Some(p) => write_text(&txt, &format!("{table}\n\n{}", p.text(&outcome.report)))?,
         None => write_text(&txt, &(table + "\n"))?,
     }
-    let (plots, notes) = crate::figures::plot_set(
+    let (plots, notes) = crate::render::figures::plot_set(
         &outcome.name,
         &outcome.tests,
         outcome.published.as_ref(),
@@ -71,8 +71,11 @@ pub fn fit_to_folder(
     for n in &notes {
         progress.warning(n);
     }
-    let html = dir.join(crate::report::REPORT_FILE);
-    write_text(&html, &crate::report::fit_page(&outcome, &dir, &plots)?)?;
+    let html = dir.join(crate::render::report::REPORT_FILE);
+    write_text(
+        &html,
+        &crate::render::report::fit_page(&outcome, &dir, &plots)?,
+    )?;
     let mut posterior_files = Vec::new();
     if let Some(p) = &posterior {
         progress.stage("drawing the posterior's figures", None);

@@ -3,8 +3,8 @@
 //! measured, and the stress ratios read off beside it.
 
 use super::{FitOutcome, FitRequest, FitSetup};
-use crate::adequacy::Adequacy;
 use crate::located;
+use crate::outcome::adequacy::Adequacy;
 use crate::progress::Progress;
 use anyhow::{bail, Result};
 use subfric_fit::{calibrate_from, compare_with_published, FitReport, FitTest, PreparedTest};

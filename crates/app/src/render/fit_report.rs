@@ -6,7 +6,7 @@
 //! as "not determined (≤ 0.47)" — the bound the data set, never the optimiser's point in a
 //! flat valley with a precise-looking difference from the published value.
 
-use crate::adequacy::{misfit_number, next_steps, MISFIT_LEGEND};
+use crate::outcome::adequacy::{misfit_number, next_steps, MISFIT_LEGEND};
 use crate::outcome::FitOutcome;
 use std::fmt::Write as _;
 use subfric_fit::interval::short_number as fmt_num;
@@ -115,7 +115,7 @@ fn table(out: &FitOutcome, timed: bool) -> String {
     for l in verdict_lines(out) {
         let _ = writeln!(s, "{l}");
     }
-    let misfit = if out.adequacy.level == crate::adequacy::Level::CannotJudge {
+    let misfit = if out.adequacy.level == crate::outcome::adequacy::Level::CannotJudge {
         "misfit not judged (the noise is not measured)".to_string()
     } else {
         format!(

@@ -1,8 +1,8 @@
 //! The terminal report of `subfric diagnose` (also written as diagnosis.txt): the verdict and
 //! the next step first, then one section per step of the diagnosis. Every misfit is "× the
-//! noise variance" ([`crate::adequacy`]).
+//! noise variance" ([`crate::outcome::adequacy`]).
 
-use crate::adequacy::{misfit_number, Adequacy, MISFIT_LEGEND};
+use crate::outcome::adequacy::{misfit_number, Adequacy, MISFIT_LEGEND};
 use crate::truncate;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -26,7 +26,7 @@ pub fn report_text(name: &str, dir: &Path, d: &Diagnosis) -> String {
     let _ = writeln!(s);
     header(&mut s, name, d);
     where_it_misses(&mut s, d);
-    crate::events_report::events_section(&mut s, d);
+    crate::render::events_report::events_section(&mut s, d);
     every_form(&mut s, d);
     held_out_selection(&mut s, d);
     let _ = writeln!(
@@ -80,7 +80,7 @@ pub fn verdict_lines(dir: &Path, d: &Diagnosis) -> Vec<String> {
                     "unexplained",
                     "no candidate effect is taken, and the data give \"unexplained\" only"
                 ),
-                crate::adequacy::diagnosed_effects()
+                crate::outcome::adequacy::diagnosed_effects()
             )),
         }
         if let Some(sure) = d.verdict.certainty_sentence() {

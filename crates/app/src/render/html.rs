@@ -40,12 +40,12 @@ pub enum Mark {
 
 impl Mark {
     /// The mark of an adequacy level.
-    pub fn of(level: crate::adequacy::Level) -> Mark {
+    pub fn of(level: crate::outcome::adequacy::Level) -> Mark {
         match level {
-            crate::adequacy::Level::AtNoise => Mark::Ok,
-            crate::adequacy::Level::AboveNoise => Mark::Rough,
-            crate::adequacy::Level::Fails => Mark::Fails,
-            crate::adequacy::Level::CannotJudge => Mark::Rough,
+            crate::outcome::adequacy::Level::AtNoise => Mark::Ok,
+            crate::outcome::adequacy::Level::AboveNoise => Mark::Rough,
+            crate::outcome::adequacy::Level::Fails => Mark::Fails,
+            crate::outcome::adequacy::Level::CannotJudge => Mark::Rough,
         }
     }
 

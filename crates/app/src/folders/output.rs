@@ -6,7 +6,7 @@
 //!   (paths relative to the folder, so the record is the same on every checkout). Results are
 //!   replaced only for the same sets; results of other sets, or files subfric did not write,
 //!   are replaced only with `--force`. A folder holding a set never receives results.
-//! - One command at a time writes a folder ([`crate::lock`]); the record is written before the
+//! - One command at a time writes a folder ([`crate::folders::lock`]); the record is written before the
 //!   results ([`ResultsDir`]), so a job killed while writing leaves a folder the same command
 //!   writes again, and temporary files of killed writes are removed by the next claim.
 //! - A folder receiving a simulated set must not be the set simulated (not even with
@@ -15,7 +15,7 @@
 //! - Every output folder is created and test-written before the long work starts, and a folder
 //!   created for a job that then fails is removed again (when still empty).
 
-use crate::lock::FolderLock;
+use crate::folders::lock::FolderLock;
 use anyhow::{anyhow, bail, Result};
 use std::path::{Component, Path, PathBuf};
 use subfric_data::fsio::{set_file_problem, stage_file, temp_file_writer};
@@ -39,7 +39,7 @@ pub struct Destination {
 /// file), an empty result becomes `set`.
 ///
 /// ```
-/// # use subfric_app::output::safe_name;
+/// # use subfric_app::folders::output::safe_name;
 /// assert_eq!(safe_name("table1-medium"), "table1-medium");
 /// assert_eq!(safe_name("../../victim"), "victim");
 /// assert_eq!(safe_name("/etc/passwd"), "etc-passwd");
@@ -109,7 +109,7 @@ fn first_missing(dir: &Path) -> Option<PathBuf> {
 /// Creates `dir` and proves it writable by writing and removing a probe file; returns the
 /// topmost folder created.
 fn create_writable(dir: &Path) -> Result<Option<PathBuf>> {
-    crate::io::refuse_link(dir, "the output folder")?;
+    crate::folders::io::refuse_link(dir, "the output folder")?;
     match PathKind::of(dir) {
         PathKind::Absent | PathKind::Folder => {}
         kind => bail!(
@@ -308,7 +308,7 @@ impl ResultsDir {
         match recorded {
             Some(text) if records_these(dir, &claim.sources) => {
                 if text != claim.record() {
-                    crate::io::write_text(&marker, &claim.record())?;
+                    crate::folders::io::write_text(&marker, &claim.record())?;
                     claim.undo = Undo::Restore(text);
                 }
             }
@@ -319,7 +319,7 @@ impl ResultsDir {
             }
             None => {
                 claim.undo = Undo::Remove;
-                crate::io::write_text(&marker, &claim.record())?;
+                crate::folders::io::write_text(&marker, &claim.record())?;
             }
         }
         Ok(claim)
@@ -346,7 +346,7 @@ impl ResultsDir {
 
     /// Records the sources once the results are written, and unlocks the folder.
     pub fn commit(mut self) -> Result<()> {
-        crate::io::write_text(&self.path().join(SOURCE_FILE), &self.record())?;
+        crate::folders::io::write_text(&self.path().join(SOURCE_FILE), &self.record())?;
         self.committed = true;
         Ok(())
     }
@@ -368,7 +368,7 @@ impl Drop for ResultsDir {
                     let _ = std::fs::remove_file(&marker);
                 }
                 Undo::Restore(text) => {
-                    let _ = crate::io::write_text(&marker, &text);
+                    let _ = crate::folders::io::write_text(&marker, &text);
                 }
             }
         }
@@ -391,7 +391,7 @@ fn refuse_set_folder(dir: &Path) -> Result<()> {
 
 /// The text of a results folder's [`SOURCE_FILE`], if it has one.
 fn recorded_text(dir: &Path) -> Option<String> {
-    crate::io::read_settings_text(&dir.join(SOURCE_FILE), "the record").ok()
+    crate::folders::io::read_settings_text(&dir.join(SOURCE_FILE), "the record").ok()
 }
 
 /// The sets recorded in a results folder's [`SOURCE_FILE`] (canonical; `Err` keeps a record
@@ -557,7 +557,7 @@ impl SetDir {
 /// CSV files of the set in `dir` (regular files inside it) that are not among `files`.
 fn old_csvs(dir: &Path, files: &[String]) -> Vec<PathBuf> {
     let json = dir.join(EXPERIMENT_JSON);
-    let Ok(text) = crate::io::read_settings_text(&json, EXPERIMENT_JSON) else {
+    let Ok(text) = crate::folders::io::read_settings_text(&json, EXPERIMENT_JSON) else {
         return Vec::new();
     };
     let Ok(meta) = parse_meta(&text, &json) else {
@@ -639,7 +639,7 @@ mod tests {
         assert_eq!(std::fs::read_to_string(&record).unwrap(), a_record);
         let d = ResultsDir::claim(&out, std::slice::from_ref(&b), &files, true).unwrap();
         std::thread::sleep(std::time::Duration::from_millis(20));
-        crate::io::write_text(&out.join("fit.json"), "{\"set\": \"b\"}").unwrap();
+        crate::folders::io::write_text(&out.join("fit.json"), "{\"set\": \"b\"}").unwrap();
         drop(d);
         assert!(!record.exists());
         // The folder is locked while claimed, and unlocked after.
@@ -653,7 +653,7 @@ mod tests {
             "{e}"
         );
         d.commit().unwrap();
-        assert!(!out.join(crate::lock::LOCK_FILE).exists());
+        assert!(!out.join(crate::folders::lock::LOCK_FILE).exists());
     }
 
     #[test]

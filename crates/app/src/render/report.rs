@@ -1,16 +1,16 @@
 //! The HTML reports: `report.html` of `fit`, `diagnose` and `plan` in their output folders,
-//! and `fits/index.html` of `reproduce`. Each is one self-contained page ([`crate::html`]):
+//! and `fits/index.html` of `reproduce`. Each is one self-contained page ([`crate::render::html`]):
 //! the verdict first (does the model describe the data, what to do next), then the tables,
 //! every figure the job wrote, the legend of the notation, and the next test.
 
-use crate::adequacy::{misfit_number, next_steps, MISFIT_LEGEND};
-use crate::fit_report::{
+use crate::outcome::adequacy::{misfit_number, next_steps, MISFIT_LEGEND};
+use crate::outcome::plan_basis::Basis;
+use crate::outcome::FitOutcome;
+use crate::render::fit_report::{
     determined_combinations, difference_text, estimate_interval_text, legend_items, std_error_text,
     value_text, verdict_lines,
 };
-use crate::html::{Cell, Mark, Page};
-use crate::outcome::FitOutcome;
-use crate::plan_basis::Basis;
+use crate::render::html::{Cell, Mark, Page};
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 use subfric_design::Plan;
@@ -148,13 +148,13 @@ pub fn diagnosis_page(
     plots: &[PathBuf],
 ) -> Result<String> {
     let mut page = Page::new(&format!("Diagnosis of {name}"));
-    let base = crate::diagnose_report::base_adequacy(d);
+    let base = crate::render::diagnose_report::base_adequacy(d);
     let mark = if d.verdict.effects.is_empty() {
         Mark::of(base.level)
     } else {
-        Mark::of(crate::diagnose_report::final_adequacy(d).level)
+        Mark::of(crate::render::diagnose_report::final_adequacy(d).level)
     };
-    page.verdict(mark, &crate::diagnose_report::verdict_lines(set, d));
+    page.verdict(mark, &crate::render::diagnose_report::verdict_lines(set, d));
     page.p(&d.verdict.explanation);
     page.link_line(
         "Files: ",
@@ -218,7 +218,7 @@ fn selection_section(page: &mut Page, d: &Diagnosis) {
             st.reference,
             misfit_number(st.reference_chi2)
         ));
-        let decided = crate::diagnose_report::decision_text(st.decision, k, &st.candidates);
+        let decided = crate::render::diagnose_report::decision_text(st.decision, k, &st.candidates);
         if st.candidates.is_empty() && st.drift.is_none() {
             // No candidate was left to try: the decision in words, not an empty table.
             page.p(&format!("→ {decided}"));
@@ -266,7 +266,7 @@ pub fn plan_page(
         "verdict: {}",
         out.adequacy.sentence(&basis.model_words())
     )];
-    if let Some(w) = crate::plan_basis::misfit_warning(&out.adequacy, basis, set) {
+    if let Some(w) = crate::outcome::plan_basis::misfit_warning(&out.adequacy, basis, set) {
         lines.push(format!("warning: {w}"));
     }
     lines.push(basis.line());

@@ -6,8 +6,8 @@
 //! What a plan says when that model misses the data ([`misfit_warning`]) is here too, below
 //! both the plan and its report.
 
-use crate::adequacy::{misfit_number, Adequacy};
-use crate::output::{default_results_dir, holds_results_of};
+use crate::folders::output::{default_results_dir, holds_results_of};
+use crate::outcome::adequacy::{misfit_number, Adequacy};
 use anyhow::{anyhow, bail, Result};
 use std::path::{Path, PathBuf};
 use subfric_fit::Param;
@@ -156,7 +156,7 @@ pub fn basis(set: &Path, name: &str, explicit: Option<&Path>) -> Result<Basis> {
 
 /// Reads a diagnosis.json written by `subfric diagnose` for the set `name`.
 fn read_basis(f: &Path, name: &str) -> Result<Basis> {
-    let text = crate::io::read_settings_text(f, "the diagnosis")?;
+    let text = crate::folders::io::read_settings_text(f, "the diagnosis")?;
     let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
         anyhow!(
             "{}:{}:{}: not valid JSON: {e} (expected a diagnosis.json written by subfric diagnose)",

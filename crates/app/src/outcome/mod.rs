@@ -4,7 +4,10 @@
 //! reverse; the fit makes them and gives them their public paths
 //! (`subfric_app::fit::FitOutcome`).
 
-use crate::adequacy::Adequacy;
+pub mod adequacy;
+pub mod plan_basis;
+
+use crate::outcome::adequacy::Adequacy;
 use std::path::PathBuf;
 use subfric_fit::{FitReport, PreparedTest};
 use subfric_model::Model;

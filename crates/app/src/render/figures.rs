@@ -1,8 +1,8 @@
 //! Overlay figures of a set: measured curve, published curve, fitted curve, residual below
 //! (`subfric plot`, and per set in `subfric reproduce`); and the figures of a diagnosis.
 
-use crate::io::load_model;
-use crate::output::{default_results_dir, holds_results_of, Destination, ResultsDir};
+use crate::folders::io::load_model;
+use crate::folders::output::{default_results_dir, holds_results_of, Destination, ResultsDir};
 use crate::progress::Progress;
 use anyhow::Result;
 use std::path::{Path, PathBuf};
@@ -249,7 +249,7 @@ const HASHED_SLUG: usize = 48;
 /// stays `x_y`; `é` → `_.` and its hash, while `_` stays `_`.
 ///
 /// ```
-/// use subfric_app::figures::figure_stems;
+/// use subfric_app::render::figures::figure_stems;
 /// let s = figure_stems(&["monotonic", "x y", "x_y", "a/b", "a_b", "é", "_"]);
 /// assert_eq!(&s[..1], ["monotonic"]);
 /// assert_eq!(s[2], "x_y");
@@ -401,8 +401,8 @@ pub fn diagnosis_figures(
 /// figures of an earlier diagnosis (other events, other tests) would be read as this one's.
 fn claim_folder(out: &Path) -> Result<()> {
     std::fs::create_dir_all(out)?;
-    crate::io::remove_earlier_files(out, "svg")?;
-    crate::io::remove_earlier_files(out, "png")
+    crate::folders::io::remove_earlier_files(out, "svg")?;
+    crate::folders::io::remove_earlier_files(out, "png")
 }
 
 /// The friction of one test: measured, of the base model and of the model with the effects.
