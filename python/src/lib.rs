@@ -320,17 +320,50 @@ fn residuals_of(s: &str) -> PyResult<ResidualModel> {
 /// (the columns of posterior-chain.csv).
 fn chain_dict<'py>(py: Python<'py>, p: &api::posterior::Posterior) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    let ints = |v: &[usize]| PyArray1::from_vec(py, v.iter().map(|&i| i as i64).collect());
-    d.set_item("step", ints(&p.chain.step))?;
-    d.set_item("walker", ints(&p.chain.walker))?;
+    d.set_item("step", ints(py, &p.chain.step))?;
+    d.set_item("walker", ints(py, &p.chain.walker))?;
     for (k, param) in p.parameters.iter().enumerate() {
         d.set_item(param.key(), array(py, p.chain.column(k)))?;
     }
     Ok(d)
 }
 
-/// What `fit` returns: the text of fit.json, the curves per test, the warnings, and the
-/// posterior's chain when sampled.
+fn ints<'py>(py: Python<'py>, v: &[usize]) -> Bound<'py, PyArray1<i64>> {
+    PyArray1::from_vec(py, v.iter().map(|&i| i as i64).collect())
+}
+
+/// What a sampled posterior adds beside the fit: `chain` (as [`chain_dict`]), `log_density`
+/// (per sample of the chain), and the posterior predictive sample — `predictive_samples` (the
+/// chain's samples drawn) and `predictive` (per test, the draws' measured columns with the noise
+/// added, draw after draw, flattened; NaN for a draw the model could not simulate).
+fn sampled_dict<'py>(
+    py: Python<'py>,
+    p: &api::posterior::Posterior,
+    predictive: &api::posterior::PredictiveDraws,
+    tests: &[(String, usize)],
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("chain", chain_dict(py, p)?)?;
+    d.set_item("log_density", array(py, p.chain.log_density.clone()))?;
+    d.set_item("predictive_samples", ints(py, &predictive.samples))?;
+    let per_test = PyDict::new(py);
+    for (t, (name, rows)) in tests.iter().enumerate() {
+        let flat: Vec<f64> = predictive
+            .curves
+            .iter()
+            .flat_map(|c| match &c[t] {
+                Some(curve) => curve.clone(),
+                None => vec![f64::NAN; *rows],
+            })
+            .collect();
+        per_test.set_item(name, array(py, flat))?;
+    }
+    d.set_item("predictive", per_test)?;
+    Ok(d)
+}
+
+/// What `fit` returns: the text of fit.json, the curves per test, the warnings, and what the
+/// posterior adds when sampled ([`sampled_dict`]).
 type FitResult<'py> = (
     String,
     Bound<'py, PyDict>,
@@ -341,7 +374,7 @@ type FitResult<'py> = (
 /// Calibrates one set, or several jointly, as `subfric fit` does (with `posterior`, as `subfric
 /// fit --posterior`). Returns the text of the fit.json it would write, the fitted curves per
 /// test (arrays; with the posterior's 95 % band), the plausibility warnings, and the
-/// posterior's thinned chain (arrays) when sampled.
+/// posterior's thinned chain, densities and predictive sample (arrays) when sampled.
 #[pyfunction]
 #[pyo3(signature = (dirs, *, tests, free, fix, bounds, weights, method, starts, seed, global_evals, profiles, posterior=false, priors=None, max_evals=None, residuals="correlated", progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -441,10 +474,29 @@ fn fit<'py>(
         }
         let text = serde_json::to_string(&fitted.json)?;
         let warnings: Vec<String> = fitted.warnings.iter().map(|w| w.to_string()).collect();
-        Ok((text, curves, warnings, fitted.posterior))
+        // The posterior predictive sample over every row: what new measurements would read
+        // (the model curve of each draw plus the noise), as ArviZ's posterior_predictive holds.
+        let predictive = fitted.posterior.as_ref().map(|s| {
+            let fulls: Vec<FitTest> = fitted
+                .outcome
+                .tests
+                .iter()
+                .map(|t| t.full.clone())
+                .collect();
+            let opts = api::posterior::BandOptions {
+                noise: true,
+                ..Default::default()
+            };
+            s.posterior.predictive_draws(&fulls, &opts)
+        });
+        Ok((text, curves, warnings, fitted.posterior, predictive))
     });
     progress.map_or(Ok(()), progress::Callback::finish)?;
-    let (text, curves, warnings, sampled) = run.map_err(error)?;
+    let (text, curves, warnings, sampled, predictive) = run.map_err(error)?;
+    let rows: Vec<(String, usize)> = curves
+        .iter()
+        .map(|(name, t, _)| (name.clone(), t.len()))
+        .collect();
     let out = PyDict::new(py);
     for (k, (name, t, traj)) in curves.into_iter().enumerate() {
         let d = curve_dict(py, t, traj)?;
@@ -455,11 +507,11 @@ fn fit<'py>(
         }
         out.set_item(name, d)?;
     }
-    let chain = sampled
-        .as_ref()
-        .map(|s| chain_dict(py, &s.posterior))
-        .transpose()?;
-    Ok((text, out, warnings, chain))
+    let sampled = match (&sampled, &predictive) {
+        (Some(s), Some(p)) => Some(sampled_dict(py, &s.posterior, p, &rows)?),
+        _ => None,
+    };
+    Ok((text, out, warnings, sampled))
 }
 
 /// Diagnoses a set as `subfric diagnose` does. Returns the text of the diagnosis.json it would

@@ -45,6 +45,7 @@ __all__ = [
     "import_file",
     "plan",
     "plot",
+    "to_inference_data",
     "campaign",
 ]
 
@@ -370,15 +371,21 @@ def fit(
     ``"independent"``. The result then holds ``posterior``, as in fit.json (``summary``: per
     parameter ``median``, ``lo``/``hi`` the 95 % credible interval beside ``profile_interval``;
     ``correlation``; ``convergence``; ``converged`` and ``message``), plus ``chain``: arrays
-    ``step``, ``walker`` and one per parameter (the thinned chain of posterior-chain.csv); and
-    each curve ``band_lo``, ``band_median``, ``band_hi`` (the 95 % band of the model curve). A
+    ``step``, ``walker`` and one per parameter (the thinned chain of posterior-chain.csv),
+    ``log_density`` (per sample of the chain: the log posterior density on the sampler's
+    coordinates, up to a constant), ``predictive_samples`` and ``predictive`` (per test, an
+    array of draws × rows: the measured column as new measurements would read it, each draw's
+    model curve plus the noise, for the chain's samples ``predictive_samples``); and each curve
+    ``band_lo``, ``band_median``, ``band_hi`` (the 95 % band of the model curve). When arviz is
+    installed the result also holds ``inference_data``, the same posterior as an ArviZ
+    ``InferenceData`` (see :func:`to_inference_data`). A
     run that has not converged issues a :class:`SubfricWarning` saying how large a
     ``max_evals`` it needs. A prior file with an error raises :class:`SubfricError` naming
     its line and field.
     """
     if priors is not None and not isinstance(priors, (str, os.PathLike)):
         raise SubfricError(f"priors: {type(priors).__name__} {priors!r} is not a path (expected a str or a path)")
-    text, curves, warns, chain = _native.fit(
+    text, curves, warns, sampled = _native.fit(
         _set_paths(sets),
         tests=_names("tests", tests) or [],
         free=_names("free", free),
@@ -399,13 +406,112 @@ def fit(
     _warn(warns)
     result = json.loads(text)
     result["curves"] = curves
-    if chain is not None:
+    if sampled is not None:
         p = result["posterior"]
-        p["chain"] = chain
+        p["chain"] = sampled["chain"]
+        p["log_density"] = sampled["log_density"]
+        p["predictive_samples"] = sampled["predictive_samples"]
+        p["predictive"] = {
+            name: flat.reshape(-1, len(curves[name]["time_s"]))
+            for name, flat in sampled["predictive"].items()
+        }
         if not p["converged"]:
             need = p["max_evals_needed"]
             _warn([p["message"].replace(f"--max-evals {need}", f"max_evals={need}")])
+        arviz = _arviz()
+        if arviz is not None:
+            result["inference_data"] = to_inference_data(result, arviz=arviz)
     return result
+
+
+def _arviz():
+    """ArviZ when it is installed, else None (imported quietly: its import announces a
+    refactor in a FutureWarning that is not the user's business here)."""
+    with _warnings.catch_warnings():
+        _warnings.simplefilter("ignore", FutureWarning)
+        try:
+            import arviz
+        except ImportError:
+            return None
+    return arviz
+
+
+def to_inference_data(result, *, arviz=None):
+    """The posterior of ``fit(..., posterior=True)`` as an ArviZ ``InferenceData``, the object
+    Python users analyse posteriors with (``az.summary``, ``az.plot_trace``, ``az.plot_pair``,
+    ``az.plot_ppc``, ``az.ess``, ``az.rhat``). ``fit`` adds it to its result as
+    ``inference_data`` when arviz is installed (``pip install arviz``, or ``./python[arviz]``).
+
+    Groups:
+
+    - ``posterior``: every free parameter (``mu_s``, ...) in its natural units, dims
+      ``(chain, draw)``: one chain per walker of the ensemble, one draw per thinned step after
+      the burn-in (emcee's convention, as ``az.from_emcee``); the ``draw`` coordinates are the
+      steps.
+    - ``sample_stats``: ``lp``, the log posterior density of each sample on the sampler's
+      coordinates, up to a constant.
+    - ``posterior_predictive``: per test, the measured column (shear [kPa] under slip control,
+      slip [mm] under traction control) as new measurements would read it — each draw's model
+      curve plus the noise — dims ``(chain, draw, <test>_row)``; the draws
+      (``predictive_samples`` of the result, spread evenly over the thinned chain) are one chain,
+      so that ``az.plot_ppc`` can compare them with the data. A draw the model could not
+      simulate is NaN.
+    - ``observed_data``: per test, the measured column.
+    - ``constant_data``: per test, ``<test>_time_s``, ``<test>_imposed`` and
+      ``<test>_normal_kpa``, as the model was driven.
+
+    Raises :class:`SubfricError` when the result has no posterior, or when arviz is not
+    installed.
+    """
+    if arviz is None:
+        arviz = _arviz()
+    if arviz is None:
+        raise SubfricError(
+            "to_inference_data: arviz is not installed (expected `pip install arviz`, "
+            "or the package's `arviz` extra)"
+        )
+    p = result.get("posterior") if isinstance(result, dict) else None
+    if not p or "chain" not in p:
+        raise SubfricError(
+            "to_inference_data: the result has no posterior (expected the result of "
+            "subfric.fit(..., posterior=True))"
+        )
+    chain = p["chain"]
+    walkers = int(chain["walker"].max()) + 1
+    steps = np.unique(chain["step"])
+    # The thinned chain is step after step, every walker at each: (draw, chain) → (chain, draw).
+    def per_walker(a):
+        return np.asarray(a).reshape(len(steps), walkers).T
+
+    posterior = {k: per_walker(chain[k]) for k in p["parameters"]}
+    stats = {"lp": per_walker(p["log_density"])}
+    curves = result["curves"]
+    predictive, observed, constant, dims = {}, {}, {}, {}
+    for name, draws in p["predictive"].items():
+        c = curves[name]
+        row = f"{name}_row"
+        predictive[name] = draws[np.newaxis, :, :]
+        observed[name] = np.asarray(c["measured"])
+        dims[name] = [row]
+        for k in ("time_s", "imposed", "normal_kpa"):
+            constant[f"{name}_{k}"] = np.asarray(c[k])
+            dims[f"{name}_{k}"] = [row]
+    with _warnings.catch_warnings():
+        # ArviZ guesses a transposed array when there are more chains than draws; an ensemble
+        # of many walkers on a short run has them, by construction.
+        _warnings.filterwarnings("ignore", message="More chains", category=UserWarning)
+        data = arviz.from_dict(
+            posterior=posterior,
+            sample_stats=stats,
+            posterior_predictive=predictive,
+            observed_data=observed,
+            constant_data=constant,
+            dims=dims,
+        )
+    # The draws of the chain are its thinned steps (the predictive draws keep their own count).
+    data.posterior = data.posterior.assign_coords(draw=steps)
+    data.sample_stats = data.sample_stats.assign_coords(draw=steps)
+    return data
 
 
 def diagnose(set, *, seed=1, progress=None):

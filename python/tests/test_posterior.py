@@ -54,7 +54,9 @@ def test_the_posterior_is_what_the_command_writes_plus_its_chain_and_bands(cli, 
         "--no-profiles", "--posterior", "--max-evals", BUDGET, "--out", out,
     )
     written = cli.json(out / "fit.json")
-    del p["chain"]
+    for k in ("chain", "log_density", "predictive_samples", "predictive"):
+        del p[k]
+    del r["inference_data"]
     assert {k: v for k, v in r.items() if k != "curves"} == written
 
 
@@ -83,3 +85,48 @@ def test_posterior_options_without_the_posterior_or_with_bad_values_are_refused(
         subfric.fit(s, posterior=True, residuals="gaussian", **QUICK)
     with pytest.raises(subfric.SubfricError, match="expected at least 64"):
         subfric.fit(s, posterior=True, max_evals=10, **QUICK)
+
+
+def test_the_posterior_is_an_arviz_inference_data_with_the_chains_the_densities_and_the_predictive():
+    import arviz as az
+
+    r, _ = quick_posterior()
+    p, data = r["posterior"], r["inference_data"]
+    assert isinstance(data, az.InferenceData)
+    for g in ("posterior", "sample_stats", "posterior_predictive", "observed_data", "constant_data"):
+        assert g in data.groups(), (g, data.groups())
+    chain = p["chain"]
+    walkers = p["convergence"]["walkers"]
+    steps = np.unique(chain["step"])
+    # One chain per walker, one draw per thinned step: every sample where the chain puts it.
+    for k in FREE:
+        assert data.posterior[k].shape == (walkers, len(steps)), k
+    for i in range(0, p["chain_samples"], 37):
+        at = dict(chain=chain["walker"][i], draw=chain["step"][i])
+        assert data.posterior["mu_s"].sel(**at).item() == chain["mu_s"][i]
+        assert data.sample_stats["lp"].sel(**at).item() == p["log_density"][i]
+    assert np.all(np.isfinite(p["log_density"]))
+    # The predictive sample: draws × rows per test, with the noise (wider than the band of the
+    # model curve alone), and the data it is compared with.
+    c = r["curves"]["monotonic"]
+    rows = len(c["time_s"])
+    draws = p["predictive"]["monotonic"]
+    assert draws.shape == (len(p["predictive_samples"]), rows)
+    pp = data.posterior_predictive["monotonic"]
+    assert pp.shape == (1, draws.shape[0], rows)
+    assert np.array_equal(data.observed_data["monotonic"].values, c["measured"])
+    assert np.array_equal(data.constant_data["monotonic_time_s"].values, c["time_s"])
+    lo, hi = np.percentile(draws, [2.5, 97.5], axis=0)
+    assert np.mean(hi - lo) > 1.5 * np.mean(c["band_hi"] - c["band_lo"])
+    inside = np.mean((lo <= c["measured"]) & (c["measured"] <= hi))
+    assert inside > 0.8, inside
+    # ArviZ's own summaries read it.
+    table = az.summary(data, kind="stats")
+    assert list(table.index) == FREE
+
+
+def test_to_inference_data_refuses_a_result_without_a_posterior():
+    r = subfric.fit(EXPERIMENTS / "table1-medium", **QUICK)
+    assert "inference_data" not in r
+    with pytest.raises(subfric.SubfricError, match="no posterior"):
+        subfric.to_inference_data(r)

@@ -1,12 +1,13 @@
 //! The Python package (`python/`), installed as a user installs it and tested against this
 //! subfric program: a fresh virtual environment under `target/python/`, `pip install
 //! ./python[test]` from the repository's files (pip builds the wheel with maturin, which
-//! compiles the extension with cargo into the same `target/`), then the pytest suite of
-//! `python/tests`, which compares the package with the program whose path Cargo hands this test
+//! compiles the extension with cargo into the same `target/`), the README's Python example
+//! (without matplotlib), the `arviz` extra, then the pytest suite of `python/tests`, which
+//! compares the package with the program whose path Cargo hands this test
 //! (`CARGO_BIN_EXE_subfric-e2e`).
 //!
 //! Needs CPython ≥ 3.9 with `venv` (`python3`, or the interpreter named by `SUBFRIC_PYTHON`) and
-//! PyPI (maturin, numpy, pytest). Without them the test fails, it does not skip. pip's
+//! PyPI (maturin, numpy, pytest, dask, arviz). Without them the test fails, it does not skip. pip's
 //! downloads are cached in `target/python/pip-cache`; nothing is written outside `target/`.
 
 use std::path::{Path, PathBuf};
@@ -94,36 +95,9 @@ fn the_python_package_installs_from_the_repository_and_its_tests_pass() {
     // built), so a clean clone compiles the dependency tree once, not twice.
     install.env("CARGO_TARGET_DIR", target);
     run("pip install ./python[test] (maturin build)", &mut install);
-    // pytest from target/python, so that `import subfric` is the installed package, not the
-    // source folder python/subfric (which has no compiled module); no cache in the repository.
-    let mut pytest = Command::new(&python);
-    pytest
-        .args(["-m", "pytest", "-p", "no:cacheprovider", "-q", "-rA"])
-        .arg(repo.join("python").join("tests"))
-        .env("SUBFRIC_BIN", &program)
-        .env("PYTHONDONTWRITEBYTECODE", "1")
-        .current_dir(&work);
-    let o = run("pytest python/tests", &mut pytest);
-    let out = text(&o);
-    println!("{out}");
-    let summary = out
-        .lines()
-        .rev()
-        .find(|l| l.contains(" passed"))
-        .unwrap_or_else(|| panic!("pytest printed no summary of passed tests:\n{out}"));
-    for bad in ["failed", "error", "skipped", "xfail", "no tests ran"] {
-        assert!(!summary.contains(bad), "pytest: {summary}\n{out}");
-    }
-    let passed: usize = summary
-        .split_whitespace()
-        .zip(summary.split_whitespace().skip(1))
-        .find(|(_, w)| w.trim_end_matches(',') == "passed")
-        .and_then(|(n, _)| n.trim_start_matches('=').parse().ok())
-        .unwrap_or(0);
-    assert!(passed >= 20, "expected the whole suite to run: {summary}");
     // The README's example runs as written after the README's install line: that line is
-    // `pip install ./python` (this venv has the same package, plus pytest), and nothing else,
-    // matplotlib in particular, is needed.
+    // `pip install ./python` (this venv has the same package, plus pytest and dask so far), and
+    // nothing else, matplotlib in particular, is needed.
     let readme = std::fs::read_to_string(repo.join("README.md")).unwrap();
     assert!(
         readme.contains("pip install ./python\n") || readme.contains("pip install ./python "),
@@ -162,6 +136,51 @@ fn the_python_package_installs_from_the_repository_and_its_tests_pass() {
         "the README's example printed:\n{printed}"
     );
 
+    // ArviZ for the posterior's InferenceData (the `arviz` extra): installed after the README's
+    // example has run without matplotlib, which arviz brings. Its requirement is read from
+    // pyproject.toml, so that the test installs what the extra names.
+    let pyproject = std::fs::read_to_string(repo.join("python").join("pyproject.toml")).unwrap();
+    let arviz: Vec<String> = pyproject
+        .lines()
+        .find(|l| l.trim_start().starts_with("arviz = ["))
+        .expect("an `arviz` extra in python/pyproject.toml")
+        .split('"')
+        .skip(1)
+        .step_by(2)
+        .map(String::from)
+        .collect();
+    assert!(!arviz.is_empty(), "the `arviz` extra names no requirement");
+    let mut extra = Command::new(&python);
+    extra.args(["-m", "pip", "install"]).args(&arviz);
+    pip_env(&mut extra);
+    run("pip install the arviz extra", &mut extra);
+    // pytest from target/python, so that `import subfric` is the installed package, not the
+    // source folder python/subfric (which has no compiled module); no cache in the repository.
+    let mut pytest = Command::new(&python);
+    pytest
+        .args(["-m", "pytest", "-p", "no:cacheprovider", "-q", "-rA"])
+        .arg(repo.join("python").join("tests"))
+        .env("SUBFRIC_BIN", &program)
+        .env("PYTHONDONTWRITEBYTECODE", "1")
+        .current_dir(&work);
+    let o = run("pytest python/tests", &mut pytest);
+    let out = text(&o);
+    println!("{out}");
+    let summary = out
+        .lines()
+        .rev()
+        .find(|l| l.contains(" passed"))
+        .unwrap_or_else(|| panic!("pytest printed no summary of passed tests:\n{out}"));
+    for bad in ["failed", "error", "skipped", "xfail", "no tests ran"] {
+        assert!(!summary.contains(bad), "pytest: {summary}\n{out}");
+    }
+    let passed: usize = summary
+        .split_whitespace()
+        .zip(summary.split_whitespace().skip(1))
+        .find(|(_, w)| w.trim_end_matches(',') == "passed")
+        .and_then(|(n, _)| n.trim_start_matches('=').parse().ok())
+        .unwrap_or(0);
+    assert!(passed >= 20, "expected the whole suite to run: {summary}");
     // The package is the one this repository builds: its version is the workspace's.
     let v = run(
         "import subfric",

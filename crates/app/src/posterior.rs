@@ -17,8 +17,8 @@ use std::path::{Path, PathBuf};
 use subfric_data::write_atomic;
 use subfric_fit::interval::short_number as fmt_num;
 use subfric_fit::{FitReport, FitTest, Param, PreparedTest, Space, Status};
-use subfric_posterior::{figures, sample, BandOptions, PosteriorOptions, Priors, Verdict};
-pub use subfric_posterior::{Posterior, ResidualModel, TestBand};
+use subfric_posterior::{figures, sample, PosteriorOptions, Priors, Verdict};
+pub use subfric_posterior::{BandOptions, Posterior, PredictiveDraws, ResidualModel, TestBand};
 
 /// The thinned chain, for notebooks: `step,walker,<parameter keys>`, one line per sample.
 pub const CHAIN_FILE: &str = "posterior-chain.csv";

@@ -28,7 +28,9 @@ use hammer_and_sample::{sample, Model, Parallel, Schedule, Stretch};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
+use std::collections::HashMap;
 use std::ops::ControlFlow;
+use std::sync::Mutex;
 
 /// A target density, in the sampler's coordinates.
 pub trait LogDensity: Sync {
@@ -138,6 +140,10 @@ pub struct Run {
     pub quantity_names: Vec<String>,
     /// Quantities of every sample, `[step][walker][quantity]` flattened.
     pub quantities: Vec<f64>,
+    /// Log density of every sample (as [`LogDensity::log_density`] gave it when the sample was
+    /// proposed; −∞ never appears, a sample is always a state the walk accepted),
+    /// `[step][walker]` flattened.
+    pub log_density: Vec<f64>,
     /// Convergence over the whole run (burn-in included in `convergence.burn_in`).
     pub convergence: Convergence,
     /// Moves accepted (of steps × walkers proposed).
@@ -166,6 +172,11 @@ impl Run {
     pub fn coords_at(&self, s: usize, w: usize) -> &[f64] {
         let i = (s * self.walkers + w) * self.dim;
         &self.coords[i..i + self.dim]
+    }
+
+    /// Log density of walker `w` at step `s`.
+    pub fn log_density_at(&self, s: usize, w: usize) -> f64 {
+        self.log_density[s * self.walkers + w]
     }
 
     /// Quantities of walker `w` at step `s`.
@@ -224,8 +235,11 @@ pub fn run_ensemble<D: LogDensity>(
     let judged: Vec<bool> = (0..names.len())
         .map(|q| opts.judged.as_ref().is_none_or(|j| j.contains(&q)))
         .collect();
+    let seen = Mutex::new(HashMap::new());
     let mut monitor = Monitor {
         density,
+        seen: &seen,
+        densities: Vec::new(),
         walkers,
         names: &names,
         judged: &judged,
@@ -237,7 +251,10 @@ pub fn run_ensemble<D: LogDensity>(
         next_check: FIRST_CHECK,
         stopped: Stop::Budget,
     };
-    let model = Adapter(density);
+    let model = Adapter {
+        density,
+        seen: &seen,
+    };
     let seeded = start.into_iter().enumerate().map(|(w, x)| {
         let seed = opts
             .seed
@@ -251,6 +268,7 @@ pub fn run_ensemble<D: LogDensity>(
     let convergence = monitor.judge();
     let stopped = monitor.stopped;
     let record = monitor.record;
+    let log_density = monitor.densities;
     Ok(Run {
         walkers,
         dim,
@@ -258,6 +276,7 @@ pub fn run_ensemble<D: LogDensity>(
         coords: chain.into_iter().flatten().collect(),
         quantity_names: names,
         quantities: record,
+        log_density,
         convergence,
         accepted,
         evaluations: walkers * (steps + 1),
@@ -265,25 +284,43 @@ pub fn run_ensemble<D: LogDensity>(
     })
 }
 
-/// The density as hammer-and-sample sees it (NaN folded into −∞).
-struct Adapter<'a, D>(&'a D);
+/// The density as hammer-and-sample sees it (NaN folded into −∞). The crate keeps each
+/// walker's log density to itself, so every value is also noted in `seen` by the state's bits,
+/// for [`Monitor`] to record beside the sample (the posterior's `lp`, ArviZ's sample
+/// statistics) without running the model again.
+struct Adapter<'a, D> {
+    density: &'a D,
+    seen: &'a Seen,
+}
+
+/// Log densities of the states proposed since the last step was recorded, by their bits.
+type Seen = Mutex<HashMap<Vec<u64>, f64>>;
+
+fn bits(x: &[f64]) -> Vec<u64> {
+    x.iter().map(|v| v.to_bits()).collect()
+}
 
 impl<D: LogDensity> Model for Adapter<'_, D> {
     type Params = Vec<f64>;
 
     fn log_prob(&self, state: &Vec<f64>) -> f64 {
-        let v = self.0.log_density(state);
-        if v.is_nan() {
-            f64::NEG_INFINITY
-        } else {
-            v
-        }
+        let v = self.density.log_density(state);
+        let v = if v.is_nan() { f64::NEG_INFINITY } else { v };
+        self.seen
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+            .insert(bits(state), v);
+        v
     }
 }
 
 /// Records the quantities of every new step, reports progress, and stops the run.
 struct Monitor<'a, D> {
     density: &'a D,
+    /// What the adapter noted since the last step was recorded.
+    seen: &'a Seen,
+    /// Log density of every recorded sample, `[step][walker]`.
+    densities: Vec<f64>,
     walkers: usize,
     names: &'a [String],
     judged: &'a [bool],
@@ -300,9 +337,24 @@ impl<D: LogDensity> Monitor<'_, D> {
     /// Records the steps of `chain` not yet recorded.
     fn catch_up(&mut self, chain: &[Vec<f64>]) {
         let done = chain.len() / self.walkers;
+        if done == self.steps {
+            // Nothing new (the first call, before any step): the starts' densities stay noted.
+            return;
+        }
+        let mut seen = self.seen.lock().unwrap_or_else(|p| p.into_inner());
         for x in &chain[self.steps * self.walkers..done * self.walkers] {
             self.record.extend(self.density.quantities(x));
+            // A state was either proposed in this step (noted) or is the walker's state of the
+            // step before (a rejected move), whose density is already recorded.
+            let before = self.densities.len().checked_sub(self.walkers);
+            let lp = seen
+                .get(&bits(x))
+                .copied()
+                .or_else(|| before.map(|b| self.densities[b]))
+                .unwrap_or(f64::NAN);
+            self.densities.push(lp);
         }
+        seen.clear();
         self.steps = done;
     }
 

@@ -37,7 +37,7 @@ pub mod target;
 
 pub use convergence::{Convergence, Targets, Verdict};
 pub use ensemble::{SamplerError, Stop};
-pub use predictive::{BandOptions, TestBand};
+pub use predictive::{BandOptions, PredictiveDraws, TestBand};
 pub use prior::{Prior, PriorError, Priors};
 pub use summary::{ParamSummary, Posterior};
 pub use target::{NoiseScale, ResidualModel};

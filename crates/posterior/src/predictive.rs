@@ -1,5 +1,6 @@
-//! Posterior predictive bands: for each test, the 2.5 / 50 / 97.5 % of the model curve over a
-//! thinned set of posterior draws, optionally with the measurement noise added.
+//! Posterior predictive draws and bands: for each test, the model curve of a thinned set of
+//! posterior draws (optionally with the measurement noise added), and its 2.5 / 50 / 97.5 % per
+//! row.
 
 use crate::summary::{quantile, Posterior};
 use rand::{RngExt, SeedableRng};
@@ -50,19 +51,67 @@ pub struct TestBand {
     pub with_noise: bool,
 }
 
+/// The posterior predictive draws of every test: the model curve of each draw (with the
+/// measurement noise when asked), what the bands summarise and what ArviZ's
+/// `posterior_predictive` group holds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PredictiveDraws {
+    /// The thinned chain's sample of each draw (spread evenly over the chain).
+    pub samples: Vec<usize>,
+    /// `curves[d][t]`: draw `d`'s prediction of test `t`'s measured column, row by row; `None`
+    /// where the model could not simulate the test with that draw's parameters.
+    pub curves: Vec<Vec<Option<Vec<f64>>>>,
+    /// Whether the noise was added.
+    pub with_noise: bool,
+}
+
 impl Posterior {
     /// The posterior predictive band of every test (the tests need not be the fitted ones:
     /// give the full records to draw bands over every row). Empty bands (all NaN) for a test no
     /// draw could simulate.
     pub fn predictive_bands(&self, tests: &[FitTest], opts: &BandOptions) -> Vec<TestBand> {
+        let draws = self.predictive_draws(tests, opts);
+        tests
+            .iter()
+            .enumerate()
+            .map(|(ti, t)| {
+                let ok: Vec<&Vec<f64>> =
+                    draws.curves.iter().filter_map(|c| c[ti].as_ref()).collect();
+                let rows = t.len();
+                let mut band = TestBand {
+                    name: t.name.clone(),
+                    lo: vec![f64::NAN; rows],
+                    median: vec![f64::NAN; rows],
+                    hi: vec![f64::NAN; rows],
+                    draws: ok.len(),
+                    failed_draws: draws.samples.len() - ok.len(),
+                    with_noise: opts.noise,
+                };
+                let mut column = Vec::with_capacity(ok.len());
+                for r in 0..rows {
+                    column.clear();
+                    column.extend(ok.iter().map(|c| c[r]));
+                    column.sort_by(f64::total_cmp);
+                    band.lo[r] = quantile(&column, 0.025);
+                    band.median[r] = quantile(&column, 0.5);
+                    band.hi[r] = quantile(&column, 0.975);
+                }
+                band
+            })
+            .collect()
+    }
+
+    /// The model curve of every test for `opts.draws` samples spread evenly over the thinned
+    /// chain, each with the measurement noise added when `opts.noise` (each test's noise SD
+    /// times √max(1, reduced χ²), per row as the row is weighted). Deterministic for a seed.
+    pub fn predictive_draws(&self, tests: &[FitTest], opts: &BandOptions) -> PredictiveDraws {
         let n = self.chain.len();
         let draws = opts.draws.min(n);
-        let picks: Vec<usize> = (0..draws)
+        let samples: Vec<usize> = (0..draws)
             .map(|i| ((i as f64 + 0.5) * n as f64 / draws as f64) as usize)
             .collect();
         let s = self.noise.variance_scale.sqrt();
-        // curves[d][t]: draw d's prediction of test t (None when it could not be simulated).
-        let curves: Vec<Vec<Option<Vec<f64>>>> = picks
+        let curves = samples
             .par_iter()
             .enumerate()
             .map(|(d, &i)| {
@@ -90,33 +139,11 @@ impl Posterior {
                     .collect()
             })
             .collect();
-        tests
-            .iter()
-            .enumerate()
-            .map(|(ti, t)| {
-                let ok: Vec<&Vec<f64>> = curves.iter().filter_map(|c| c[ti].as_ref()).collect();
-                let rows = t.len();
-                let mut band = TestBand {
-                    name: t.name.clone(),
-                    lo: vec![f64::NAN; rows],
-                    median: vec![f64::NAN; rows],
-                    hi: vec![f64::NAN; rows],
-                    draws: ok.len(),
-                    failed_draws: draws - ok.len(),
-                    with_noise: opts.noise,
-                };
-                let mut column = Vec::with_capacity(ok.len());
-                for r in 0..rows {
-                    column.clear();
-                    column.extend(ok.iter().map(|c| c[r]));
-                    column.sort_by(f64::total_cmp);
-                    band.lo[r] = quantile(&column, 0.025);
-                    band.median[r] = quantile(&column, 0.5);
-                    band.hi[r] = quantile(&column, 0.975);
-                }
-                band
-            })
-            .collect()
+        PredictiveDraws {
+            samples,
+            curves,
+            with_noise: opts.noise,
+        }
     }
 }
 

@@ -83,6 +83,8 @@ pub struct Chain {
     pub values: Vec<Vec<f64>>,
     /// Optimiser coordinates of each sample.
     pub coords: Vec<Vec<f64>>,
+    /// Log posterior density of each sample on the optimiser coordinates (up to a constant).
+    pub log_density: Vec<f64>,
 }
 
 impl Chain {
@@ -205,6 +207,7 @@ impl Assembly<'_> {
                 chain.walker.push(w);
                 chain.values.push(natural(run.quantities_at(s, w)));
                 chain.coords.push(run.coords_at(s, w).to_vec());
+                chain.log_density.push(run.log_density_at(s, w));
             }
             s += thin;
         }

@@ -253,6 +253,36 @@ fn the_run_is_deterministic_for_a_seed() {
 }
 
 #[test]
+fn every_sample_carries_the_log_density_it_was_accepted_with() {
+    // The sampler keeps each walker's density to itself; the run records it beside the sample
+    // (ArviZ's `lp`). A rejected move leaves the walker where it was: then the density is the
+    // previous step's, which must be the density of the same point.
+    let target = Banana;
+    let opts = RunOptions {
+        seed: 9,
+        max_evals: 16 * 301,
+        stop_when_converged: false,
+        ..RunOptions::default()
+    };
+    let run = run_ensemble(&target, ball(&[1.0, 1.0], 0.1, 16), &opts, &no_progress).unwrap();
+    assert_eq!(run.log_density.len(), run.steps * run.walkers);
+    let mut stayed = 0;
+    for s in 0..run.steps {
+        for w in 0..run.walkers {
+            let x = run.coords_at(s, w);
+            let lp = run.log_density_at(s, w);
+            assert_eq!(lp, target.log_density(x), "step {s} walker {w} at {x:?}");
+            stayed += usize::from(s > 0 && run.coords_at(s - 1, w) == x);
+        }
+    }
+    // Both paths were walked: moves accepted and moves rejected.
+    assert!(
+        stayed > 0 && stayed < (run.steps - 1) * run.walkers,
+        "{stayed}"
+    );
+}
+
+#[test]
 fn walkers_stuck_in_two_modes_give_a_large_split_rhat_and_no_convergence() {
     let mut start = ball(&[20.0, 0.0], 0.5, 16);
     start.extend(ball(&[-20.0, 0.0], 0.5, 16));

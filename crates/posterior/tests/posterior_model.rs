@@ -253,6 +253,67 @@ fn the_noisy_predictive_band_covers_the_measurements_at_its_nominal_rate() {
 }
 
 #[test]
+fn the_predictive_draws_are_the_models_of_their_samples_with_the_noise_asked_for() {
+    let f = fixture();
+    let post = sample(
+        &f.tests,
+        &f.space,
+        &f.fit.model,
+        &Priors::default(),
+        &options(),
+        &|_, _| {},
+    )
+    .unwrap();
+    let opts = BandOptions {
+        draws: 40,
+        ..BandOptions::default()
+    };
+    let clean = post.predictive_draws(&f.tests, &opts);
+    assert_eq!(clean.samples.len(), 40);
+    assert!(clean.samples.windows(2).all(|w| w[0] < w[1]));
+    assert!(*clean.samples.last().unwrap() < post.chain.len());
+    // Each draw is its sample's model curve, and every sample's density is on the chain.
+    for (d, &i) in clean.samples.iter().enumerate() {
+        let expected = f.tests[0].predict(&post.model_of(i)).unwrap();
+        assert_eq!(
+            clean.curves[d][0].as_deref(),
+            Some(&expected[..]),
+            "draw {d}"
+        );
+        assert!(post.chain.log_density[i].is_finite());
+    }
+    assert_eq!(post.chain.log_density.len(), post.chain.len());
+    // With the noise: the same curves plus deviations of the test's noise SD (the fit's
+    // variance scale, here near one) — no bias, and neither the curve nor a noise ten times off.
+    let noisy = post.predictive_draws(
+        &f.tests,
+        &BandOptions {
+            noise: true,
+            ..opts
+        },
+    );
+    let t = &f.tests[0];
+    let dev: Vec<f64> = (0..40)
+        .flat_map(|d| {
+            let (a, b) = (
+                noisy.curves[d][0].as_ref().unwrap(),
+                clean.curves[d][0].as_ref().unwrap(),
+            );
+            (0..t.len()).map(move |r| a[r] - b[r])
+        })
+        .collect();
+    let n = dev.len() as f64;
+    let mean = dev.iter().sum::<f64>() / n;
+    let sd = (dev.iter().map(|v| v * v).sum::<f64>() / n).sqrt();
+    let expected_sd = post.noise.variance_scale.sqrt() * t.noise_sd;
+    assert!(mean.abs() < 4.0 * expected_sd / n.sqrt(), "mean {mean}");
+    assert!(
+        (sd / expected_sd - 1.0).abs() < 0.1,
+        "sd {sd} against {expected_sd}"
+    );
+}
+
+#[test]
 fn the_chain_csv_has_a_header_and_one_line_per_thinned_sample() {
     let f = fixture();
     let post = sample(
