@@ -250,6 +250,13 @@ fn header(s: &mut String, name: &str, d: &Diagnosis) {
             hits.join(", ")
         );
     }
+    if !d.base.unlike_fit.is_empty() {
+        let _ = writeln!(
+            s,
+            "   unlike `subfric fit` on these data (so its parameters can differ): {}",
+            d.base.unlike_fit.join("; ")
+        );
+    }
     read_off(s, "base model", &d.base.read_off);
     if d.final_model != d.base.model {
         read_off(s, "final model", &d.final_read_off);

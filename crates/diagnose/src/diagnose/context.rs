@@ -414,6 +414,51 @@ pub(super) fn fit_base(cx: &mut Context, calibrated: Model) -> Result<Current, F
     })
 }
 
+/// How the diagnosis fits its base unlike `subfric fit` with its defaults on the same data, in
+/// sentences (issue 43: the two commands' parameters differ, and the diagnosis says why). Each
+/// is a fact of this run: the rows kept, the weights, where α_t came from, the search.
+pub(super) fn unlike_fit(
+    cx: &Context,
+    rows: usize,
+    fitted_rows: usize,
+    alpha_from_steps: bool,
+    reduced_chi2: f64,
+) -> Vec<String> {
+    let fit_prepare = subfric_fit::PrepareOptions::default();
+    let fit_options = subfric_fit::FitOptions::default();
+    let mut out = Vec::new();
+    if rows > super::DIAGNOSIS_BUDGET_ROWS && fitted_rows < rows.min(fit_prepare.budget_rows) {
+        out.push(format!(
+            "it is fitted on {fitted_rows} rows binned from the record's {rows} (the diagnosis bins a record to about {} rows, `fit` to about {})",
+            super::DIAGNOSIS_BUDGET_ROWS,
+            fit_prepare.budget_rows
+        ));
+    }
+    if cx.reweight {
+        out.push(format!(
+            "each piece weighs by its own misfit (one variance per piece), because the model misses by {:.1}× the noise variance; `fit` weighs every row by the noise alone",
+            reduced_chi2
+        ));
+    }
+    if alpha_from_steps {
+        out.push(
+            "α_t is the spring the velocity steps needed one by one; `fit` holds it, or frees it where unloads or a first loading resolve it".to_string(),
+        );
+    }
+    if cx.opts.global_evaluations != fit_options.global_evaluations
+        || cx.opts.starts != fit_options.starts
+    {
+        out.push(format!(
+            "its global search is {} model runs and {} local starts (`fit`: {} and {})",
+            cx.opts.global_evaluations,
+            cx.opts.starts,
+            fit_options.global_evaluations,
+            fit_options.starts
+        ));
+    }
+    out
+}
+
 /// The base calibration (global stage and polish), with α_t free when the data resolve it,
 /// from `starts` as well as from the informed guesses.
 pub(super) fn calibrated_base(
@@ -605,6 +650,43 @@ mod tests {
             (template.params.alpha_t, template.params.alpha_n),
             (123.0, 123.0)
         );
+    }
+
+    #[test]
+    fn the_base_says_each_way_it_is_fitted_unlike_the_fit_command_and_no_other() {
+        let reasons =
+            |rows_per_slide: usize, opts: &DiagnoseOptions, reweight: bool, steps: bool| {
+                let prepared = crate::prepare_for_diagnosis(&shs_set(rows_per_slide));
+                let (mut cx, _) = Context::new(&prepared, None, opts, &quiet);
+                cx.reweight = reweight;
+                let rows = prepared[0].full.len();
+                let fitted = cx.tests[0].len();
+                (unlike_fit(&cx, rows, fitted, steps, 26.7), rows, fitted)
+            };
+        let fit_like = DiagnoseOptions {
+            global_evaluations: subfric_fit::FitOptions::default().global_evaluations,
+            starts: subfric_fit::FitOptions::default().starts,
+            ..DiagnoseOptions::default()
+        };
+        // A short record, the fit's search, plain weights, α_t not from steps: nothing differs.
+        let (none, rows, fitted) = reasons(200, &fit_like, false, false);
+        assert_eq!(rows, fitted);
+        assert!(none.is_empty(), "{none:?}");
+        // The diagnosis's own, shorter search is said with both budgets.
+        let (search, ..) = reasons(200, &DiagnoseOptions::default(), false, false);
+        assert_eq!(search.len(), 1, "{search:?}");
+        assert!(search[0].contains("1000 model runs and 4 local starts (`fit`: 3000 and 8)"));
+        // A record longer than the diagnosis's budget but not the fit's: binned, and said with
+        // the rows; weights per piece and α_t from the steps each said once.
+        let (all, rows, fitted) = reasons(2000, &fit_like, true, true);
+        assert!(
+            rows > crate::DIAGNOSIS_BUDGET_ROWS && fitted < rows,
+            "{rows} {fitted}"
+        );
+        assert_eq!(all.len(), 3, "{all:?}");
+        assert!(all[0].contains(&format!("{fitted} rows binned from the record's {rows}")));
+        assert!(all[1].contains("one variance per piece") && all[1].contains("26.7×"));
+        assert!(all[2].starts_with("α_t is the spring the velocity steps needed"));
     }
 
     #[test]

@@ -183,24 +183,23 @@ pub fn diagnose(
 /// rise decides it); `None` when nothing decides it.
 fn elastic_stiffness(
     prepared: &[PreparedTest],
+    resolved: Option<subfric_fit::Stiffness>,
     events: &crate::events::EventAnalysis,
     opts: &DiagnoseOptions,
 ) -> Option<subfric_fit::Stiffness> {
-    resolved_stiffness(prepared)
-        .or_else(|| events.stiffness())
-        .or_else(|| {
-            subfric_fit::stiffness_by_trial(
-                prepared,
-                &opts.template,
-                &subfric_fit::Param::BASE,
-                &subfric_fit::FitOptions {
-                    seed: opts.seed,
-                    global_evaluations: opts.global_evaluations,
-                    starts: opts.starts,
-                    ..subfric_fit::FitOptions::default()
-                },
-            )
-        })
+    resolved.or_else(|| events.stiffness()).or_else(|| {
+        subfric_fit::stiffness_by_trial(
+            prepared,
+            &opts.template,
+            &subfric_fit::Param::BASE,
+            &subfric_fit::FitOptions {
+                seed: opts.seed,
+                global_evaluations: opts.global_evaluations,
+                starts: opts.starts,
+                ..subfric_fit::FitOptions::default()
+            },
+        )
+    })
 }
 
 /// [`diagnose`](fn@diagnose), telling `report` where it is ([`Step`]) as it goes.
@@ -212,8 +211,12 @@ pub fn diagnose_reporting(
     if prepared.iter().all(|p| p.full.len() < MIN_ROWS) {
         return Err(DiagnoseError::TooLittleData);
     }
-    let events = crate::events::analyse(prepared, resolved_stiffness(prepared).as_ref());
-    let stiffness = elastic_stiffness(prepared, &events, opts);
+    let resolved = resolved_stiffness(prepared);
+    let events = crate::events::analyse(prepared, resolved.as_ref());
+    // `fit` reads α_t off unloads and reloads or tries it on the first loadings; the springs of
+    // the velocity steps are the diagnosis's own reading.
+    let alpha_from_steps = resolved.is_none() && events.stiffness().is_some();
+    let stiffness = elastic_stiffness(prepared, resolved, &events, opts);
     let (cx, template) = Context::new(prepared, stiffness.as_ref(), opts, report);
     cx.step(1, 0, 0);
     let calibrated = calibrated_base(&cx, &template, &[])?;
@@ -278,7 +281,7 @@ pub fn diagnose_reporting(
         .unwrap_or_default();
     Ok(Diagnosis {
         verdict,
-        base: base_report(&cx, &fulls, &base),
+        base: base_report(&cx, &fulls, &base, alpha_from_steps),
         data: cx.features.clone(),
         starts: test_starts(prepared),
         stiffness,
@@ -365,21 +368,25 @@ pub(super) fn singled_out(
 const SHORTLIST_PER_FAMILY: usize = 2;
 
 /// The base fit as reported: its misfit on all rows of the record, per test and in total.
-fn base_report(cx: &Context, fulls: &[FitTest], base: &Current) -> BaseFit {
+fn base_report(cx: &Context, fulls: &[FitTest], base: &Current, alpha_from_steps: bool) -> BaseFit {
     let rows: usize = fulls.iter().map(|t| t.len()).sum();
+    let fitted_rows = cx.tests.iter().map(|t| t.len()).sum();
     let all_ssr = ssr_of(&residuals(fulls, &base.model, None));
+    let reduced_chi2 = all_ssr / (rows as f64 - cx.base_free.len() as f64).max(1.0);
+    let unlike_fit = context::unlike_fit(cx, rows, fitted_rows, alpha_from_steps, reduced_chi2);
     BaseFit {
         model: base.model,
         free: cx.base_free.iter().map(|p| p.key().to_string()).collect(),
         ssr: ssr_of(&cx.base_residuals),
         rows,
-        fitted_rows: cx.tests.iter().map(|t| t.len()).sum(),
-        reduced_chi2: all_ssr / (rows as f64 - cx.base_free.len() as f64).max(1.0),
+        fitted_rows,
+        reduced_chi2,
         tests: misfits(fulls, &base.model),
         read_off: subfric_fit::read_off(fulls, &base.model),
         at_bounds: cx
             .space(&base.model, &crate::fits::Spec::base())
             .at_bounds(&base.model),
+        unlike_fit,
     }
 }
 

@@ -272,6 +272,9 @@ pub struct BaseFit {
     /// Coordinates of the base fit that ended at a bound of their box: the candidates are
     /// judged against a base the box stopped, which the report says.
     pub at_bounds: Vec<subfric_fit::AtBound>,
+    /// How this base is fitted unlike `subfric fit` with its defaults on the same data, each
+    /// a sentence: why the two commands' parameters can differ.
+    pub unlike_fit: Vec<String>,
 }
 
 /// How each test starts.
