@@ -54,8 +54,14 @@ pub fn diagnose(dir: &Path, opts: &DiagnoseOptions, progress: &dyn Progress) -> 
     diagnose_set(dir, set, warnings, opts, progress)
 }
 
-/// The set's plausibility warnings, given to `progress` as well.
+/// The set's plausibility warnings, given to `progress` as well, after what was made of the
+/// columns (units, further channels) as notes.
 fn warn(set: &ExperimentSet, progress: &dyn Progress) -> Vec<Warning> {
+    for t in &set.tests {
+        for line in subfric_data::reading_lines(t) {
+            progress.note(&format!("{}: {line}", crate::visible(&t.spec.name)));
+        }
+    }
     let warnings = plausibility(set);
     for w in &warnings {
         progress.warning(&w.to_string());

@@ -71,5 +71,7 @@ pub use set::{
     load_set, load_test, write_set, Channel, ExperimentSet, TestData, ACCEPTED_COLUMNS,
     CHANNEL_COLUMNS, EXPERIMENT_JSON,
 };
-pub use summary::{summary, summary_with, HoldSummary, SetSummary, StepSummary, TestSummary};
+pub use summary::{
+    reading_lines, summary, summary_with, HoldSummary, SetSummary, StepSummary, TestSummary,
+};
 pub use text::{visible, MAX_NAME_BYTES};

@@ -81,6 +81,9 @@ pub struct TestSummary {
     /// The units the CSV's columns were written in, where the set declares them (`units` of
     /// experiment.json), as read and converted: e.g. "stress MPa → kPa ×1000".
     pub units_read: Vec<String>,
+    /// The further channels the test carries (dilation, temperature, forces, area), each with
+    /// its range and its missing samples: e.g. "normal_disp_mm 0..0.06".
+    pub channels: Vec<String>,
 }
 
 /// Summary of an experiment set.
@@ -176,6 +179,7 @@ pub fn summarize_test(test: &TestData, opts: &SegmentOptions) -> TestSummary {
         normal_range_kpa: range(&test.normal_kpa),
         friction_given: test.friction_given,
         units_read: units_read(&test.spec),
+        channels: channels_carried(test),
         imposed_noise_sd: seg.conditioned.noise_sd,
         imposed_conditioned: seg.conditioned.changed,
         sliding_rates: distinct_rates(rates),
@@ -234,7 +238,7 @@ pub fn summary_with(set: &ExperimentSet, opts: &SegmentOptions) -> SetSummary {
 }
 
 /// Formats a number with about 4 significant digits, without exponent for usual magnitudes.
-fn num(x: f64) -> String {
+pub(crate) fn num(x: f64) -> String {
     if !x.is_finite() {
         return format!("{x}");
     }
@@ -353,29 +357,59 @@ fn write_table(f: &mut fmt::Formatter<'_>, rows: &[[String; 15]]) -> fmt::Result
     Ok(())
 }
 
-/// The lines under the table about one test: why its start was decided so, its holds and
-/// its velocity steps.
 /// The declared units of a test's columns and the factor each was converted by.
 fn units_read(spec: &crate::TestSpec) -> Vec<String> {
-    let Some(u) = &spec.units else {
-        return Vec::new();
-    };
-    let Ok(scale) = u.scale() else {
-        return Vec::new();
-    };
-    [
-        ("stress", &u.stress, "kPa", scale.stress),
-        ("displacement", &u.displacement, "mm", scale.displacement),
-        ("time", &u.time, "s", scale.time),
-    ]
-    .into_iter()
-    .filter_map(|(what, unit, own, factor)| {
-        unit.as_ref()
-            .map(|unit| format!("{what} {unit} → {own} ×{}", num(factor)))
-    })
-    .collect()
+    spec.units
+        .as_ref()
+        .map(|u| u.conversions())
+        .unwrap_or_default()
 }
 
+/// What was made of a test's columns beyond the format's own, as `fit` and `diagnose` note it
+/// (`check` shows the same under its table): the units they were read in and the further
+/// channels carried.
+pub fn reading_lines(test: &crate::TestData) -> Vec<String> {
+    let mut out = Vec::new();
+    let units = units_read(&test.spec);
+    if !units.is_empty() {
+        out.push(format!(
+            "columns read in the set's units: {}",
+            units.join(", ")
+        ));
+    }
+    let channels = channels_carried(test);
+    if !channels.is_empty() {
+        out.push(format!(
+            "further channels carried, not used by the model: {}",
+            channels.join(", ")
+        ));
+    }
+    out
+}
+
+/// Each further channel of a test with the range of its values and its missing samples.
+fn channels_carried(test: &crate::TestData) -> Vec<String> {
+    test.channels
+        .iter()
+        .map(|c| {
+            let read: Vec<f64> = c.values.iter().copied().filter(|v| v.is_finite()).collect();
+            let missing = c.values.len() - read.len();
+            let (lo, hi) = range(&read);
+            let span = if read.is_empty() {
+                "no value".to_string()
+            } else {
+                format!("{}..{}", num(lo), num(hi))
+            };
+            match missing {
+                0 => format!("{} {span}", c.name),
+                m => format!("{} {span} ({m} missing samples)", c.name),
+            }
+        })
+        .collect()
+}
+
+/// The lines under the table about one test: the units its columns were read in, the further
+/// channels it carries, why its start was decided so, its holds and its velocity steps.
 fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result {
     if !t.units_read.is_empty() {
         writeln!(
@@ -383,6 +417,15 @@ fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result 
             "  {}: columns read in the set's units: {}",
             visible(&t.name),
             t.units_read.join(", ")
+        )?;
+    }
+    // The words of `reading_lines`, from the summary's fields.
+    if !t.channels.is_empty() {
+        writeln!(
+            f,
+            "  {}: further channels carried, not used by the model: {}",
+            visible(&t.name),
+            t.channels.join(", ")
         )?;
     }
     if !t.start.from_spec && t.start.kind != StartKind::Rest {

@@ -54,6 +54,9 @@ fn read_sets(dirs: &[PathBuf], progress: &dyn Progress) -> Result<ReadSets> {
             } else {
                 t.spec.name.clone()
             };
+            for line in subfric_data::reading_lines(t) {
+                progress.note(&format!("{}: {line}", crate::visible(&name)));
+            }
             read.contents
                 .push((name.clone(), t.path.clone(), t.content_hash()));
             read.files.push((name, t.path.clone()));

@@ -98,4 +98,24 @@ impl ColumnUnits {
             time: factor("time", &self.time, time_factor)?,
         })
     }
+
+    /// Each declared unit with the factor its columns were converted by, in the words `check`,
+    /// `fit` and `diagnose` print: "stress MPa → kPa ×1000". Empty when nothing is declared or
+    /// a unit is unknown (the set is then refused where it is read).
+    pub fn conversions(&self) -> Vec<String> {
+        let Ok(scale) = self.scale() else {
+            return Vec::new();
+        };
+        [
+            ("stress", &self.stress, "kPa", scale.stress),
+            ("displacement", &self.displacement, "mm", scale.displacement),
+            ("time", &self.time, "s", scale.time),
+        ]
+        .into_iter()
+        .filter_map(|(what, unit, own, factor)| {
+            unit.as_ref()
+                .map(|unit| format!("{what} {unit} → {own} ×{}", crate::summary::num(factor)))
+        })
+        .collect()
+    }
 }
