@@ -1,5 +1,6 @@
 //! Levenberg–Marquardt in a box (projected steps), with a forward-difference Jacobian.
-//! argmin offers Gauss–Newton but no damped, bounded least squares, hence this small solver.
+//! argmin offers Gauss–Newton but no damped, bounded least squares, hence this small solver —
+//! written as an argmin `Solver` and run by its `Executor`, as the crate's Nelder–Mead is.
 //!
 //! The damped step solves min ‖J δ + r‖² + λ ‖D δ‖² as a least-squares problem by QR
 //! (J = QR once per iteration, then a small QR of [R; √λ D] per damping trial), as MINPACK does,
@@ -8,6 +9,9 @@
 //! every digit of the step.
 
 use crate::residuals::Residuals;
+use argmin::core::{
+    Error as ArgminError, Executor, IterState, Problem, Solver, State, TerminationReason, KV,
+};
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
@@ -266,7 +270,10 @@ fn distance(a: &[f64], b: &[f64]) -> f64 {
 /// Minimises the SSR from `x0` within the box; coordinates with `fixed[k]` true are held.
 ///
 /// Each iteration holds the coordinates pressed against a wall by the gradient, solves the
-/// damped step of the others, and projects the trial point into the box.
+/// damped step of the others, and projects the trial point into the box. The iterations are
+/// [`LevenbergMarquardt`]'s, run by argmin's `Executor` (as Nelder–Mead is): the iteration
+/// limit is the executor's, every other stop is the solver's, and both come back as a
+/// [`Termination`].
 pub fn levenberg_marquardt<R: Residuals + ?Sized>(
     p: &R,
     x0: &[f64],
@@ -274,76 +281,183 @@ pub fn levenberg_marquardt<R: Residuals + ?Sized>(
     opts: &LmOptions,
 ) -> LmResult {
     let m = x0.len();
-    let (lo, hi) = p.bounds();
-    let mut x = x0.to_vec();
-    p.clamp_into_box(&mut x);
-    let mut r = Vec::new();
-    p.residuals_at(&x, &mut r);
-    let mut ssr: f64 = r.iter().map(|v| v * v).sum();
     let free_mask: Vec<bool> = (0..m).map(|k| fixed.is_none_or(|f| !f[k])).collect();
-    let free: Vec<usize> = (0..m).filter(|&k| free_mask[k]).collect();
-    let done = |x: Vec<f64>, ssr: f64, iterations: usize, termination: Termination| LmResult {
-        x,
-        ssr,
-        iterations,
-        termination,
-    };
-    if free.is_empty() {
-        return done(x, ssr, 0, Termination::StepConverged);
-    }
-    let mut lambda = opts.initial_damping;
-    let mut rt = Vec::new();
-    let mut stalls = 0;
-    for it in 1..=opts.max_iterations {
-        let j = jacobian(p, &x, &r, Some(&free_mask));
-        let active = movable(&j, &r, &x, lo, hi, &free);
-        if active.is_empty() || gradient_cosine(&j, &r, &active) <= opts.gradient_tolerance {
-            return done(x, ssr, it, Termination::GradientConverged);
+    let solver = LevenbergMarquardt::new(*opts, free_mask);
+    let run = Executor::new(p, solver)
+        .configure(|s| s.param(x0.to_vec()).max_iters(opts.max_iterations as u64))
+        .timer(false)
+        .run();
+    match run {
+        Ok(mut res) => {
+            let iterations = res.state().get_iter() as usize;
+            let termination = match res.solver().stopped.clone() {
+                Some(t) => t,
+                None => match res.state().get_termination_reason() {
+                    Some(TerminationReason::MaxItersReached) => Termination::MaxIterations,
+                    other => Termination::Failed(format!("{other:?}")),
+                },
+            };
+            let ssr = res.state().get_cost();
+            let x = res.state.take_param().unwrap_or_else(|| x0.to_vec());
+            LmResult {
+                x,
+                ssr,
+                iterations,
+                termination,
+            }
         }
-        let lin = Linearisation::new(&j, &r, active);
+        Err(e) => {
+            let mut x = x0.to_vec();
+            p.clamp_into_box(&mut x);
+            let mut r = Vec::new();
+            p.residuals_at(&x, &mut r);
+            LmResult {
+                ssr: r.iter().map(|v| v * v).sum(),
+                x,
+                iterations: 0,
+                termination: Termination::Failed(e.to_string()),
+            }
+        }
+    }
+}
+
+/// The state argmin keeps for [`LevenbergMarquardt`]: the point and its SSR (the cost).
+pub type LmState = IterState<Vec<f64>, (), (), (), (), f64>;
+
+/// Bounded Levenberg–Marquardt as an argmin [`Solver`] over any [`Residuals`] problem: one
+/// `next_iter` is one Jacobian and the damping trials until a step lowers the cost (or a stop).
+/// Its own stops end the run with argmin's `SolverExit` and are kept in `stopped`.
+#[derive(Clone, Debug)]
+pub struct LevenbergMarquardt {
+    opts: LmOptions,
+    /// Coordinates the run may move (the others are held).
+    free_mask: Vec<bool>,
+    free: Vec<usize>,
+    /// Damping of the next trial.
+    lambda: f64,
+    /// Accepted steps in a row with a tiny relative decrease.
+    stalls: usize,
+    /// Residuals at the current point, and scratch for a trial's.
+    r: Vec<f64>,
+    rt: Vec<f64>,
+    /// Why the solver stopped the run, when it did (an iteration limit is the executor's).
+    pub stopped: Option<Termination>,
+}
+
+impl LevenbergMarquardt {
+    /// A solver with `opts` moving the coordinates `free_mask` marks.
+    pub fn new(opts: LmOptions, free_mask: Vec<bool>) -> LevenbergMarquardt {
+        let free = (0..free_mask.len()).filter(|&k| free_mask[k]).collect();
+        LevenbergMarquardt {
+            opts,
+            free_mask,
+            free,
+            lambda: opts.initial_damping,
+            stalls: 0,
+            r: Vec::new(),
+            rt: Vec::new(),
+            stopped: None,
+        }
+    }
+
+    fn stop(&mut self, state: LmState, x: Vec<f64>, ssr: f64, why: Termination) -> LmState {
+        let reason = TerminationReason::SolverExit(why.to_string());
+        self.stopped = Some(why);
+        state.param(x).cost(ssr).terminate_with(reason)
+    }
+}
+
+/// The problem argmin hands the solver (an error, never a panic, should it hold none).
+fn the_problem<O>(problem: &Problem<O>) -> Result<&O, ArgminError> {
+    problem.problem.as_ref().ok_or_else(|| {
+        argmin::core::ArgminError::NotInitialized {
+            text: "the problem".into(),
+        }
+        .into()
+    })
+}
+
+impl<R: Residuals + ?Sized> Solver<&R, LmState> for LevenbergMarquardt {
+    const NAME: &'static str = "Levenberg-Marquardt in a box";
+
+    fn init(
+        &mut self,
+        problem: &mut Problem<&R>,
+        mut state: LmState,
+    ) -> Result<(LmState, Option<KV>), ArgminError> {
+        let p = *the_problem(problem)?;
+        let mut x = state.take_param().unwrap_or_default();
+        p.clamp_into_box(&mut x);
+        p.residuals_at(&x, &mut self.r);
+        let ssr: f64 = self.r.iter().map(|v| v * v).sum();
+        if self.free.is_empty() {
+            return Ok((self.stop(state, x, ssr, Termination::StepConverged), None));
+        }
+        Ok((state.param(x).cost(ssr), None))
+    }
+
+    fn next_iter(
+        &mut self,
+        problem: &mut Problem<&R>,
+        mut state: LmState,
+    ) -> Result<(LmState, Option<KV>), ArgminError> {
+        let p = *the_problem(problem)?;
+        let (lo, hi) = p.bounds();
+        let opts = self.opts;
+        let mut ssr = state.get_cost();
+        let mut x = state.take_param().unwrap_or_default();
+        let m = x.len();
+        let j = jacobian(p, &x, &self.r, Some(&self.free_mask));
+        let active = movable(&j, &self.r, &x, lo, hi, &self.free);
+        if active.is_empty() || gradient_cosine(&j, &self.r, &active) <= opts.gradient_tolerance {
+            return Ok((
+                self.stop(state, x, ssr, Termination::GradientConverged),
+                None,
+            ));
+        }
+        let lin = Linearisation::new(&j, &self.r, active);
         // Damping trials until a step lowers the cost.
         loop {
-            let Some(delta) = lin.step(lambda, m) else {
-                lambda *= opts.damping_increase;
-                if lambda > opts.max_damping {
-                    return done(x, ssr, it, Termination::DampingLimit);
+            let Some(delta) = lin.step(self.lambda, m) else {
+                self.lambda *= opts.damping_increase;
+                if self.lambda > opts.max_damping {
+                    return Ok((self.stop(state, x, ssr, Termination::DampingLimit), None));
                 }
                 continue;
             };
             let mut xt: Vec<f64> = x.iter().zip(&delta).map(|(a, b)| a + b).collect();
             p.clamp_into_box(&mut xt);
             let step = distance(&xt, &x);
-            p.residuals_at(&xt, &mut rt);
-            let ssr_t: f64 = rt.iter().map(|v| v * v).sum();
+            p.residuals_at(&xt, &mut self.rt);
+            let ssr_t: f64 = self.rt.iter().map(|v| v * v).sum();
             if ssr_t.is_finite() && ssr_t < ssr {
                 let rel = (ssr - ssr_t) / ssr.max(f64::MIN_POSITIVE);
                 x = xt;
-                std::mem::swap(&mut r, &mut rt);
+                std::mem::swap(&mut self.r, &mut self.rt);
                 ssr = ssr_t;
-                lambda = (lambda / opts.damping_decrease).max(opts.min_damping);
-                stalls = if rel < opts.cost_tolerance {
-                    stalls + 1
+                self.lambda = (self.lambda / opts.damping_decrease).max(opts.min_damping);
+                self.stalls = if rel < opts.cost_tolerance {
+                    self.stalls + 1
                 } else {
                     0
                 };
-                if stalls >= opts.stall_steps {
-                    return done(x, ssr, it, Termination::CostConverged);
+                if self.stalls >= opts.stall_steps {
+                    return Ok((self.stop(state, x, ssr, Termination::CostConverged), None));
                 }
                 if step < opts.step_tolerance {
-                    return done(x, ssr, it, Termination::StepConverged);
+                    return Ok((self.stop(state, x, ssr, Termination::StepConverged), None));
                 }
-                break;
+                return Ok((state.param(x).cost(ssr), None));
             }
             if step < opts.step_tolerance {
-                return done(x, ssr, it, Termination::StepConverged);
+                return Ok((self.stop(state, x, ssr, Termination::StepConverged), None));
             }
-            lambda *= opts.damping_increase;
-            if lambda > opts.max_damping {
-                return done(x, ssr, it, Termination::DampingLimit);
+            self.lambda *= opts.damping_increase;
+            if self.lambda > opts.max_damping {
+                return Ok((self.stop(state, x, ssr, Termination::DampingLimit), None));
             }
         }
     }
-    done(x, ssr, opts.max_iterations, Termination::MaxIterations)
 }
 
 #[cfg(test)]
@@ -367,6 +481,59 @@ mod tests {
         assert_close(&r.x, &[1.0, 1.0], 1e-6);
         assert!(r.ssr < 1e-20, "{r:?}");
         assert!(r.iterations < 40, "{r:?}");
+    }
+
+    #[test]
+    fn the_solver_runs_under_argmins_executor_and_its_observers_see_every_iteration() {
+        use argmin::core::observers::{Observe, ObserverMode};
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        use std::sync::Arc;
+        // An observer counting iterations and checking the cost never rises: what a progress
+        // display or a log would be given.
+        struct Watch(Arc<AtomicUsize>, f64);
+        impl Observe<LmState> for Watch {
+            fn observe_iter(&mut self, state: &LmState, _kv: &KV) -> Result<(), ArgminError> {
+                assert!(state.get_cost() <= self.1, "the cost rose");
+                self.1 = state.get_cost();
+                self.0.fetch_add(1, Ordering::SeqCst);
+                Ok(())
+            }
+        }
+        let p = rosenbrock();
+        let seen = Arc::new(AtomicUsize::new(0));
+        let solver = LevenbergMarquardt::new(LmOptions::default(), vec![true, true]);
+        let res = Executor::new(&p, solver)
+            .configure(|s| s.param(vec![-1.2, 1.0]).max_iters(100))
+            .add_observer(Watch(seen.clone(), f64::INFINITY), ObserverMode::Always)
+            .run()
+            .unwrap();
+        let iterations = res.state().get_iter() as usize;
+        assert_eq!(seen.load(Ordering::SeqCst), iterations);
+        // The same run as the function's, which reports the solver's own stop.
+        let direct = run(&p, &[-1.2, 1.0], None);
+        assert_eq!(direct.iterations, iterations);
+        assert_eq!(res.state().get_param().unwrap(), &direct.x);
+        assert!(direct.termination.converged(), "{direct:?}");
+        assert_eq!(
+            res.state().get_termination_reason(),
+            Some(&TerminationReason::SolverExit(
+                direct.termination.to_string()
+            ))
+        );
+        // An iteration limit is the executor's, and says so.
+        let short = levenberg_marquardt(
+            &p,
+            &[-1.2, 1.0],
+            None,
+            &LmOptions {
+                max_iterations: 3,
+                ..LmOptions::default()
+            },
+        );
+        assert_eq!(
+            (short.iterations, short.termination),
+            (3, Termination::MaxIterations)
+        );
     }
 
     #[test]
