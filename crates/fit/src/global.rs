@@ -1,7 +1,12 @@
 //! Global stage: Latin-hypercube sampling and differential evolution in the transformed box,
-//! evaluated in parallel with rayon and deterministic for a given seed.
+//! evaluated in parallel with rayon and deterministic for a given seed. Differential evolution
+//! is an argmin `Solver` run by its `Executor`, as the local methods are.
 
 use crate::residuals::Residuals;
+use argmin::core::{
+    Error as ArgminError, Executor, IterState, Problem, Solver, State, TerminationReason,
+    TerminationStatus, KV,
+};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -131,28 +136,151 @@ pub struct Population {
 /// Differential evolution started from `seeds` (kept as members) plus Latin-hypercube points.
 ///
 /// Deterministic for a `seed`: every random draw is made in order on one thread; only the
-/// evaluations run in parallel.
+/// evaluations run in parallel. The generations are [`DifferentialEvolution`]'s, run by
+/// argmin's `Executor`.
 pub fn differential_evolution<R: Residuals + ?Sized>(
     p: &R,
     seeds: &[Vec<f64>],
     opts: &DeOptions,
     seed: u64,
 ) -> Population {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let np = opts.population.max(MIN_POPULATION);
-    let m = p.dim();
-    let (lo, hi) = p.bounds();
-    let mut pop: Vec<Vec<f64>> = seeds.iter().take(np / 2).cloned().collect();
-    let need = np - pop.len();
-    pop.extend(latin_hypercube(p, need, &mut rng));
-    for x in pop.iter_mut() {
-        p.clamp_into_box(x);
+    let solver = DifferentialEvolution::new(*opts, seeds, seed);
+    let run = Executor::new(p, solver)
+        .configure(|s| s.max_iters(u64::MAX))
+        .timer(false)
+        .run();
+    let (de, generations) = match run {
+        Ok(mut res) => {
+            let generations = res.state().get_iter() as usize;
+            (std::mem::take(&mut res.solver), generations)
+        }
+        // Its steps fail only without a problem, which the executor always gives: should one
+        // fail all the same, the seeds are the population (evaluated), never a panic.
+        Err(_) => {
+            let mut pop = seeds.to_vec();
+            for x in pop.iter_mut() {
+                p.clamp_into_box(x);
+            }
+            let cost = evaluate_all(p, &pop);
+            let evaluations = pop.len();
+            let de = DifferentialEvolution {
+                pop,
+                cost,
+                evaluations,
+                ..DifferentialEvolution::default()
+            };
+            (de, 0)
+        }
+    };
+    let mut idx: Vec<usize> = (0..de.pop.len()).collect();
+    idx.sort_by(|&a, &b| de.cost[a].total_cmp(&de.cost[b]));
+    Population {
+        members: idx.iter().map(|&i| de.pop[i].clone()).collect(),
+        costs: idx.iter().map(|&i| de.cost[i]).collect(),
+        generations,
+        evaluations: de.evaluations,
     }
-    let mut cost = evaluate_all(p, &pop);
-    let mut evals = np;
-    let mut generations = 0;
-    while m > 0 && evals + np <= opts.max_evaluations {
-        generations += 1;
+}
+
+/// The state argmin keeps for [`DifferentialEvolution`]: the best member and its SSR.
+pub type DeState = IterState<Vec<f64>, (), (), (), (), f64>;
+
+/// Differential evolution (rand/1/bin) as an argmin [`Solver`]: `init` draws and evaluates the
+/// population, each `next_iter` is one generation. It stops when the next generation would
+/// exceed the budget of model runs, or when the population's costs agree within the
+/// tolerance (argmin's `SolverExit` with the reason).
+#[derive(Clone, Debug, Default)]
+pub struct DifferentialEvolution {
+    opts: Option<DeOptions>,
+    seeds: Vec<Vec<f64>>,
+    rng: Option<ChaCha8Rng>,
+    /// The population and the SSR of each member.
+    pub pop: Vec<Vec<f64>>,
+    /// SSR of each member.
+    pub cost: Vec<f64>,
+    /// Model runs spent.
+    pub evaluations: usize,
+}
+
+impl DifferentialEvolution {
+    /// A solver with `opts`, keeping up to half the population from `seeds`, seeded by `seed`.
+    pub fn new(opts: DeOptions, seeds: &[Vec<f64>], seed: u64) -> DifferentialEvolution {
+        DifferentialEvolution {
+            opts: Some(opts),
+            seeds: seeds.to_vec(),
+            rng: Some(ChaCha8Rng::seed_from_u64(seed)),
+            ..DifferentialEvolution::default()
+        }
+    }
+
+    fn best(&self) -> (Vec<f64>, f64) {
+        let mut b = 0;
+        for i in 1..self.cost.len() {
+            if self.cost[i] < self.cost[b] {
+                b = i;
+            }
+        }
+        (self.pop[b].clone(), self.cost[b])
+    }
+
+    /// The options and the generator, taken out for a step (given back by the step).
+    fn take_parts(&mut self) -> Result<(DeOptions, ChaCha8Rng), ArgminError> {
+        match (self.opts, self.rng.take()) {
+            (Some(o), Some(r)) => Ok((o, r)),
+            _ => Err(argmin::core::ArgminError::NotInitialized {
+                text: "differential evolution built without options".into(),
+            }
+            .into()),
+        }
+    }
+}
+
+fn the_problem<O>(problem: &Problem<O>) -> Result<&O, ArgminError> {
+    problem.problem.as_ref().ok_or_else(|| {
+        argmin::core::ArgminError::NotInitialized {
+            text: "the problem".into(),
+        }
+        .into()
+    })
+}
+
+impl<R: Residuals + ?Sized> Solver<&R, DeState> for DifferentialEvolution {
+    const NAME: &'static str = "differential evolution (rand/1/bin)";
+
+    fn init(
+        &mut self,
+        problem: &mut Problem<&R>,
+        state: DeState,
+    ) -> Result<(DeState, Option<KV>), ArgminError> {
+        let p = *the_problem(problem)?;
+        let (opts, mut rng) = self.take_parts()?;
+        let np = opts.population.max(MIN_POPULATION);
+        let mut pop: Vec<Vec<f64>> = self.seeds.iter().take(np / 2).cloned().collect();
+        let need = np - pop.len();
+        pop.extend(latin_hypercube(p, need, &mut rng));
+        self.rng = Some(rng);
+        for x in pop.iter_mut() {
+            p.clamp_into_box(x);
+        }
+        self.cost = evaluate_all(p, &pop);
+        self.pop = pop;
+        self.evaluations = np;
+        let (x, c) = self.best();
+        Ok((state.param(x).cost(c), None))
+    }
+
+    fn next_iter(
+        &mut self,
+        problem: &mut Problem<&R>,
+        state: DeState,
+    ) -> Result<(DeState, Option<KV>), ArgminError> {
+        let p = *the_problem(problem)?;
+        let (lo, hi) = p.bounds();
+        let m = p.dim();
+        let (opts, mut generator) = self.take_parts()?;
+        let rng = &mut generator;
+        let pop = &self.pop;
+        let np = pop.len();
         let trials: Vec<Vec<f64>> = (0..np)
             .map(|i| {
                 let pick = |rng: &mut ChaCha8Rng, not: &[usize]| loop {
@@ -161,9 +289,9 @@ pub fn differential_evolution<R: Residuals + ?Sized>(
                         break c;
                     }
                 };
-                let a = pick(&mut rng, &[i]);
-                let b = pick(&mut rng, &[i, a]);
-                let c = pick(&mut rng, &[i, a, b]);
+                let a = pick(rng, &[i]);
+                let b = pick(rng, &[i, a]);
+                let c = pick(rng, &[i, a, b]);
                 let jr = rng.gen_range(0..m);
                 let mut t = pop[i].clone();
                 for k in 0..m {
@@ -182,27 +310,39 @@ pub fn differential_evolution<R: Residuals + ?Sized>(
                 t
             })
             .collect();
+        self.rng = Some(generator);
         let tc = evaluate_all(p, &trials);
-        evals += np;
+        self.evaluations += np;
         for (i, (t, c)) in trials.into_iter().zip(tc).enumerate() {
-            if c <= cost[i] {
-                pop[i] = t;
-                cost[i] = c;
+            if c <= self.cost[i] {
+                self.pop[i] = t;
+                self.cost[i] = c;
             }
         }
-        let best = cost.iter().cloned().fold(f64::MAX, f64::min);
-        let worst = cost.iter().cloned().fold(0.0, f64::max);
+        let best = self.cost.iter().cloned().fold(f64::MAX, f64::min);
+        let worst = self.cost.iter().cloned().fold(0.0, f64::max);
+        let (x, c) = self.best();
+        let state = state.param(x).cost(c);
         if (worst - best) <= opts.tolerance * best.max(1e-300) {
-            break;
+            let why = TerminationReason::SolverExit("the population's costs agree".into());
+            return Ok((state.terminate_with(why), None));
         }
+        Ok((state, None))
     }
-    let mut idx: Vec<usize> = (0..np).collect();
-    idx.sort_by(|&a, &b| cost[a].total_cmp(&cost[b]));
-    Population {
-        members: idx.iter().map(|&i| pop[i].clone()).collect(),
-        costs: idx.iter().map(|&i| cost[i]).collect(),
-        generations,
-        evaluations: evals,
+
+    fn terminate(&mut self, _state: &DeState) -> TerminationStatus {
+        let Some(opts) = self.opts else {
+            return TerminationStatus::NotTerminated;
+        };
+        let np = self.pop.len();
+        let dim = self.pop.first().map_or(0, Vec::len);
+        if dim == 0 || self.evaluations + np > opts.max_evaluations {
+            TerminationStatus::Terminated(TerminationReason::SolverExit(
+                "the budget of model runs is spent".into(),
+            ))
+        } else {
+            TerminationStatus::NotTerminated
+        }
     }
 }
 
@@ -240,6 +380,44 @@ mod tests {
         );
         let c = differential_evolution(&p, &[], &opts(0.0), 8);
         assert_ne!(a.members, c.members, "the seed should matter");
+    }
+
+    #[test]
+    fn evolution_runs_under_argmins_executor_generation_by_generation_within_its_budget() {
+        use argmin::core::observers::{Observe, ObserverMode};
+        use std::sync::{Arc, Mutex};
+        // An observer keeping the best cost of each generation: it never rises.
+        struct Best(Arc<Mutex<Vec<f64>>>);
+        impl Observe<DeState> for Best {
+            fn observe_iter(&mut self, state: &DeState, _kv: &KV) -> Result<(), ArgminError> {
+                self.0.lock().unwrap().push(state.get_cost());
+                Ok(())
+            }
+        }
+        let p = walled_sphere();
+        let seen = Arc::new(Mutex::new(Vec::new()));
+        let o = opts(0.0);
+        let res = Executor::new(&p, DifferentialEvolution::new(o, &[], 7))
+            .configure(|s| s.max_iters(u64::MAX))
+            .add_observer(Best(seen.clone()), ObserverMode::Always)
+            .run()
+            .unwrap();
+        let costs = seen.lock().unwrap().clone();
+        assert!(costs.windows(2).all(|w| w[1] <= w[0]), "{costs:?}");
+        // The function's result is this run's: as many generations, the same best member.
+        let pop = differential_evolution(&p, &[], &o, 7);
+        assert_eq!(costs.len(), pop.generations);
+        assert_eq!(res.state().get_param().unwrap(), &pop.members[0]);
+        assert_eq!(*costs.last().unwrap(), pop.costs[0]);
+        // The budget: one population to start, one per generation, never beyond it.
+        assert_eq!(pop.evaluations, 30 * (1 + pop.generations));
+        assert!(pop.evaluations <= o.max_evaluations && pop.evaluations + 30 > o.max_evaluations);
+        assert_eq!(
+            res.state().get_termination_reason(),
+            Some(&TerminationReason::SolverExit(
+                "the budget of model runs is spent".into()
+            ))
+        );
     }
 
     #[test]
