@@ -1,6 +1,8 @@
 //! The few statistics every crate of subfric reads records with, in one place: the median
 //! (the mean of the middle two of an even count) and the upper median (a value of the data
-//! itself: the middle one, or the upper of the middle two). NaN sorts last, by `total_cmp`.
+//! itself: the middle one, or the upper of the middle two), NaN sorting last by `total_cmp`;
+//! and the autocorrelation of a series by FFT with its integrated time (Sokal's window), which
+//! the fit's correlated-residual intervals and the posterior's convergence both read.
 
 /// The median of `v` (sorted in place): the middle value, the mean of the middle two for an
 /// even count; `None` when empty.
@@ -62,5 +64,129 @@ pub fn quantile(sorted: &[f64], q: f64) -> f64 {
     match sorted.get(i + 1) {
         Some(next) => sorted[i] + f * (next - sorted[i]),
         None => sorted[i],
+    }
+}
+
+/// Sokal's window constant: the autocorrelation function is summed up to the first lag M with
+/// M ≥ c·τ(M) (emcee's `c = 5`).
+pub const SOKAL_WINDOW: f64 = 5.0;
+
+/// Integrated autocorrelation time of an ensemble's series (one slice per walker, equal
+/// lengths), as emcee's `integrated_time`: the normalised autocorrelation function of each
+/// walker, averaged over the walkers, summed as τ(M) = 1 + 2 Σ_{k=1}^{M} ρ_k up to Sokal's
+/// window (the first M with M ≥ 5 τ(M)). A walker that never moves counts as perfectly
+/// correlated (ρ_k = 1); if none moves, τ is infinite.
+///
+/// ```
+/// use subfric_data::stats::integrated_time;
+/// // White noise has τ = 1.
+/// let mut state = 7u64;
+/// let mut next = || { state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407); (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5 };
+/// let walkers: Vec<Vec<f64>> = (0..8).map(|_| (0..4000).map(|_| next()).collect()).collect();
+/// let views: Vec<&[f64]> = walkers.iter().map(|w| w.as_slice()).collect();
+/// assert!((integrated_time(&views) - 1.0).abs() < 0.2);
+/// ```
+pub fn integrated_time(walkers: &[&[f64]]) -> f64 {
+    let n = walkers.iter().map(|w| w.len()).min().unwrap_or(0);
+    integrated_time_within(walkers, n)
+}
+
+/// [`integrated_time`] with the sum stopped at lag `max_lag` at the latest (where Sokal's
+/// window has not closed by then, τ so far).
+pub fn integrated_time_within(walkers: &[&[f64]], max_lag: usize) -> f64 {
+    let n = walkers.iter().map(|w| w.len()).min().unwrap_or(0);
+    if n < 2 || walkers.is_empty() {
+        return f64::INFINITY;
+    }
+    let mut mean_acf = vec![0.0; n];
+    let mut moving = 0;
+    for w in walkers {
+        match autocorrelation(&w[..n]) {
+            Some(acf) => {
+                moving += 1;
+                for (m, a) in mean_acf.iter_mut().zip(&acf) {
+                    *m += a;
+                }
+            }
+            None => mean_acf.iter_mut().for_each(|m| *m += 1.0),
+        }
+    }
+    if moving == 0 {
+        return f64::INFINITY;
+    }
+    let count = walkers.len() as f64;
+    let mut tau = 1.0;
+    for (k, a) in mean_acf.iter().enumerate().take(max_lag).skip(1) {
+        tau += 2.0 * a / count;
+        if k as f64 >= SOKAL_WINDOW * tau {
+            return tau;
+        }
+    }
+    tau
+}
+
+/// Normalised autocorrelation ρ_k (k = 0..n) of a series by FFT (the `realfft` crate: the
+/// power spectrum of the zero-padded series, transformed back); `None` when it is constant.
+pub fn autocorrelation(x: &[f64]) -> Option<Vec<f64>> {
+    let n = x.len();
+    let mean = x.iter().sum::<f64>() / n as f64;
+    // Zero-padded to at least 2n: the circular correlation then holds the linear one.
+    let size = (2 * n).next_power_of_two();
+    let mut planner = realfft::RealFftPlanner::<f64>::new();
+    let forward = planner.plan_fft_forward(size);
+    let inverse = planner.plan_fft_inverse(size);
+    let mut series = forward.make_input_vec();
+    for (r, v) in series.iter_mut().zip(x) {
+        *r = v - mean;
+    }
+    let mut spectrum = forward.make_output_vec();
+    forward.process(&mut series, &mut spectrum).ok()?;
+    for c in spectrum.iter_mut() {
+        *c = realfft::num_complex::Complex::new(c.norm_sqr(), 0.0);
+    }
+    // The inverse is unnormalised: dividing by lag 0 cancels the scale.
+    let mut correlation = inverse.make_output_vec();
+    inverse.process(&mut spectrum, &mut correlation).ok()?;
+    let c0 = correlation[0];
+    if !(c0 > 0.0 && c0.is_finite()) {
+        return None;
+    }
+    Some(correlation[..n].iter().map(|c| c / c0).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_integrated_time_sums_the_autocorrelation_up_to_its_lag_limit() {
+        // A deterministic, strongly correlated series (a slow sine with a small wiggle).
+        let x: Vec<f64> = (0..400)
+            .map(|i| (i as f64 / 40.0).sin() + 0.1 * ((i * 7919 % 13) as f64 - 6.0) / 6.0)
+            .collect();
+        let rho = autocorrelation(&x).unwrap();
+        // The direct sum of the normalised autocorrelation at lag 1 and 2.
+        let mean = x.iter().sum::<f64>() / x.len() as f64;
+        let d: Vec<f64> = x.iter().map(|v| v - mean).collect();
+        let c = |k: usize| -> f64 {
+            d[..d.len() - k]
+                .iter()
+                .zip(&d[k..])
+                .map(|(a, b)| a * b)
+                .sum()
+        };
+        for k in 1..3 {
+            assert!((rho[k] - c(k) / c(0)).abs() < 1e-12, "lag {k}");
+        }
+        // Stopped at lag 3 (lags 1 and 2 summed): τ = 1 + 2 (ρ₁ + ρ₂), the window still open.
+        let tau = integrated_time_within(&[&x], 3);
+        assert!(
+            (tau - (1.0 + 2.0 * (rho[1] + rho[2]))).abs() < 1e-12,
+            "{tau}"
+        );
+        // Without the limit the sum goes on until Sokal's window closes, or to the end.
+        assert!(integrated_time(&[&x]) > tau);
+        // A constant series has no autocorrelation: infinite time.
+        assert!(integrated_time(&[&[1.0; 30][..]]).is_infinite());
     }
 }

@@ -64,17 +64,13 @@ pub fn variance_scale(ssr: f64, rows: usize, m: usize) -> f64 {
     (ssr / (rows.saturating_sub(m)).max(1) as f64).max(1.0)
 }
 
-/// Sokal's window constant: the autocorrelations are summed up to the first lag W with
-/// W ≥ c·τ(W), where the sum has settled and the noise of further terms would only add
-/// variance.
-const SOKAL_WINDOW: f64 = 5.0;
-
 /// Fewest residuals of a test for its autocorrelation to be estimated (fewer: taken as
 /// independent).
 const MIN_CORRELATION_ROWS: usize = 20;
 
 /// Integrated autocorrelation time τ = 1 + 2 Σ_{k=1}^{W} ρ_k of a residual sequence (rows, in
-/// row order), with Sokal's automatic window; at least 1. For independent residuals τ ≈ 1;
+/// row order), with Sokal's automatic window ([`subfric_data::stats::integrated_time`], the one
+/// the posterior's convergence reads, summed to half the series at most); at least 1. For independent residuals τ ≈ 1;
 /// for residuals correlated over many rows τ is the number of rows that carry as much
 /// information as one independent row: n_eff = n/τ (for an AR(1) sequence of lag-one
 /// correlation ρ, τ = (1 + ρ)/(1 − ρ)).
@@ -99,21 +95,13 @@ pub fn correlation_time(r: &[f64]) -> f64 {
     if n < MIN_CORRELATION_ROWS {
         return 1.0;
     }
-    let mean = v.iter().sum::<f64>() / n as f64;
-    let d: Vec<f64> = v.iter().map(|x| x - mean).collect();
-    let c0 = d.iter().map(|x| x * x).sum::<f64>();
-    if c0 <= 0.0 {
-        return 1.0;
+    let tau = subfric_data::stats::integrated_time_within(&[&v], n / 2);
+    // A constant sequence has no autocorrelation to read: independent.
+    if tau.is_finite() {
+        tau.max(1.0)
+    } else {
+        1.0
     }
-    let mut tau = 1.0;
-    for k in 1..n / 2 {
-        let ck: f64 = d[..n - k].iter().zip(&d[k..]).map(|(a, b)| a * b).sum();
-        tau += 2.0 * ck / c0;
-        if k as f64 >= SOKAL_WINDOW * tau {
-            break;
-        }
-    }
-    tau.max(1.0)
 }
 
 /// The variance inflation for correlated residuals of a joint fit: each test's

@@ -6,9 +6,7 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// Sokal's window constant: the autocorrelation function is summed up to the first lag M with
-/// M ≥ c·τ(M) (emcee's `c = 5`).
-pub const SOKAL_WINDOW: f64 = 5.0;
+pub use subfric_data::stats::{integrated_time, SOKAL_WINDOW};
 
 /// Groups of walkers the split R̂ compares (each group split into two halves in time).
 pub const RHAT_GROUPS: usize = 4;
@@ -261,53 +259,6 @@ fn shortfall(
     (out, need)
 }
 
-/// Integrated autocorrelation time of an ensemble's series (one slice per walker, equal
-/// lengths), as emcee's `integrated_time`: the normalised autocorrelation function of each
-/// walker, averaged over the walkers, summed as τ(M) = 1 + 2 Σ_{k=1}^{M} ρ_k up to Sokal's
-/// window (the first M with M ≥ 5 τ(M)). A walker that never moves counts as perfectly
-/// correlated (ρ_k = 1); if none moves, τ is infinite.
-///
-/// ```
-/// use subfric_posterior::convergence::integrated_time;
-/// // White noise has τ = 1.
-/// let mut state = 7u64;
-/// let mut next = || { state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407); (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5 };
-/// let walkers: Vec<Vec<f64>> = (0..8).map(|_| (0..4000).map(|_| next()).collect()).collect();
-/// let views: Vec<&[f64]> = walkers.iter().map(|w| w.as_slice()).collect();
-/// assert!((integrated_time(&views) - 1.0).abs() < 0.2);
-/// ```
-pub fn integrated_time(walkers: &[&[f64]]) -> f64 {
-    let n = walkers.iter().map(|w| w.len()).min().unwrap_or(0);
-    if n < 2 || walkers.is_empty() {
-        return f64::INFINITY;
-    }
-    let mut mean_acf = vec![0.0; n];
-    let mut moving = 0;
-    for w in walkers {
-        match autocorrelation(&w[..n]) {
-            Some(acf) => {
-                moving += 1;
-                for (m, a) in mean_acf.iter_mut().zip(&acf) {
-                    *m += a;
-                }
-            }
-            None => mean_acf.iter_mut().for_each(|m| *m += 1.0),
-        }
-    }
-    if moving == 0 {
-        return f64::INFINITY;
-    }
-    let count = walkers.len() as f64;
-    let mut tau = 1.0;
-    for (k, a) in mean_acf.iter().enumerate().skip(1) {
-        tau += 2.0 * a / count;
-        if k as f64 >= SOKAL_WINDOW * tau {
-            return tau;
-        }
-    }
-    tau
-}
-
 /// Split R̂ (Gelman et al.) with groups of walkers as the chains: the walkers are cut into
 /// `groups` contiguous groups, each group's series into a first and a second half, and the
 /// 2 × groups pooled chains are compared (between-chain against within-chain variance).
@@ -364,40 +315,12 @@ fn mean_var(x: &[f64]) -> (f64, f64) {
     (m, v)
 }
 
-/// Normalised autocorrelation ρ_k (k = 0..n) of a series by FFT (the `realfft` crate: the
-/// power spectrum of the zero-padded series, transformed back); `None` when it is constant.
-fn autocorrelation(x: &[f64]) -> Option<Vec<f64>> {
-    let n = x.len();
-    let mean = x.iter().sum::<f64>() / n as f64;
-    // Zero-padded to at least 2n: the circular correlation then holds the linear one.
-    let size = (2 * n).next_power_of_two();
-    let mut planner = realfft::RealFftPlanner::<f64>::new();
-    let forward = planner.plan_fft_forward(size);
-    let inverse = planner.plan_fft_inverse(size);
-    let mut series = forward.make_input_vec();
-    for (r, v) in series.iter_mut().zip(x) {
-        *r = v - mean;
-    }
-    let mut spectrum = forward.make_output_vec();
-    forward.process(&mut series, &mut spectrum).ok()?;
-    for c in spectrum.iter_mut() {
-        *c = realfft::num_complex::Complex::new(c.norm_sqr(), 0.0);
-    }
-    // The inverse is unnormalised: dividing by lag 0 cancels the scale.
-    let mut correlation = inverse.make_output_vec();
-    inverse.process(&mut spectrum, &mut correlation).ok()?;
-    let c0 = correlation[0];
-    if !(c0 > 0.0 && c0.is_finite()) {
-        return None;
-    }
-    Some(correlation[..n].iter().map(|c| c / c0).collect())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
+    use subfric_data::stats::autocorrelation;
 
     use crate::predictive::normal;
 
