@@ -175,8 +175,8 @@ mod tests {
                 .map(|(a, b)| a * b)
                 .sum()
         };
-        for k in 1..3 {
-            assert!((rho[k] - c(k) / c(0)).abs() < 1e-12, "lag {k}");
+        for (k, r) in rho.iter().enumerate().take(3).skip(1) {
+            assert!((r - c(k) / c(0)).abs() < 1e-12, "lag {k}");
         }
         // Stopped at lag 3 (lags 1 and 2 summed): τ = 1 + 2 (ρ₁ + ρ₂), the window still open.
         let tau = integrated_time_within(&[&x], 3);
