@@ -6,6 +6,9 @@ use crate::lm::{jacobian, levenberg_marquardt, LmOptions};
 use crate::problem::Problem;
 use crate::residuals::Residuals;
 use crate::space::Space;
+use argmin::core::{
+    Error as ArgminError, Executor, IterState, Solver, State, TerminationReason, KV,
+};
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -448,7 +451,9 @@ struct ProfileWalk<'a> {
 impl ProfileWalk<'_> {
     /// Walks from the optimum towards the wall on `side` (−1 or +1), doubling the offset, until
     /// the SSR rises past the threshold (then the crossing is interpolated) or the wall is
-    /// reached; records the points in `trace` and any better optimum in `better`.
+    /// reached; records the points in `trace` and any better optimum in `better`. The steps
+    /// are [`ProfileSide`]'s, run by argmin's `Executor`; a side that takes its
+    /// [`PROFILE_STEPS`] without either is open.
     fn side<R: Residuals + ?Sized>(
         &self,
         p: &R,
@@ -456,77 +461,150 @@ impl ProfileWalk<'_> {
         trace: &mut Vec<TracePoint>,
         better: &mut Option<(Vec<f64>, f64)>,
     ) -> ProfileEnd {
-        let (x, k, ssr, s2) = (self.x, self.k, self.ssr, self.s2);
-        let threshold = CHI2_1_95 * s2;
-        let m = x.len();
-        let fixed: Vec<bool> = (0..m).map(|i| i == k).collect();
-        let opts = LmOptions {
-            max_iterations: PROFILE_LM_ITERATIONS,
-            ..LmOptions::default()
-        };
         let (lo, hi) = p.bounds();
+        let k = self.k;
         let wall = if side < 0.0 { lo[k] } else { hi[k] };
-        let room = (wall - x[k]).abs();
         let first = if self.se.is_finite() {
             FIRST_STEP_SE * self.se
         } else {
             FIRST_STEP_FLAT
         };
-        let mut delta = first.max(FIRST_STEP_RANGE.0).min(FIRST_STEP_RANGE.1);
-        let mut prev_x = x.to_vec();
-        let mut prev_d = 0.0f64;
-        for _ in 0..PROFILE_STEPS {
-            let xk = if room <= delta {
-                wall
-            } else {
-                x[k] + side * delta
-            };
-            let res = levenberg_marquardt(p, &with(&prev_x, k, xk), Some(&fixed), &opts);
-            let d = res.ssr - ssr;
-            if d < -BETTER_BY * ssr.max(1.0) && better.as_ref().is_none_or(|b| res.ssr < b.1) {
-                *better = Some((res.x.clone(), res.ssr));
-            }
-            if d >= threshold {
-                // Interpolate in √ΔSSR, linear in the offset for a quadratic profile.
-                let (a, b) = (prev_d.max(0.0).sqrt(), d.sqrt());
-                let w = ((threshold.sqrt() - a) / (b - a)).clamp(0.0, 1.0);
-                let xi: Vec<f64> = prev_x
-                    .iter()
-                    .zip(&res.x)
-                    .map(|(u, v)| u + w * (v - u))
-                    .collect();
-                trace.push(TracePoint {
-                    x: xi.clone(),
-                    delta: threshold / s2,
-                    open_wall: false,
-                });
-                trace.push(TracePoint {
-                    x: res.x,
-                    delta: d / s2,
-                    open_wall: false,
-                });
-                return ProfileEnd { x: xi, open: false };
-            }
-            let at_wall = xk == wall;
-            trace.push(TracePoint {
-                x: res.x.clone(),
-                delta: d.max(0.0) / s2,
-                open_wall: at_wall,
-            });
-            if at_wall {
-                return ProfileEnd {
-                    x: res.x,
-                    open: true,
-                };
-            }
-            prev_x = res.x;
-            prev_d = d;
-            delta *= 2.0;
-        }
-        ProfileEnd {
-            x: with(x, k, wall),
+        let solver = ProfileSide {
+            x: self.x.to_vec(),
+            k,
+            ssr: self.ssr,
+            s2: self.s2,
+            side,
+            wall,
+            delta: first.max(FIRST_STEP_RANGE.0).min(FIRST_STEP_RANGE.1),
+            prev_x: self.x.to_vec(),
+            prev_d: 0.0,
+            trace: Vec::new(),
+            better: better.take(),
+            end: None,
+        };
+        let open = ProfileEnd {
+            x: with(self.x, k, wall),
             open: true,
+        };
+        let run = Executor::new(p, solver)
+            .configure(|s| s.param(self.x.to_vec()).max_iters(PROFILE_STEPS as u64))
+            .timer(false)
+            .run();
+        match run {
+            Ok(res) => {
+                let walked = res.solver;
+                trace.extend(walked.trace);
+                *better = walked.better;
+                walked.end.unwrap_or(open)
+            }
+            // Its steps fail only without a problem, which the executor always gives: should
+            // one fail all the same, the side is open (no bound claimed), never a panic.
+            Err(_) => open,
         }
+    }
+}
+
+/// The state argmin keeps for [`ProfileSide`]: the last profile point and its SSR.
+pub type ProfileState = IterState<Vec<f64>, (), (), (), (), f64>;
+
+/// One side of a coordinate's profile as an argmin [`Solver`]: each `next_iter` sets the
+/// coordinate one offset further (doubling it) and re-minimises the others with
+/// Levenberg–Marquardt from the previous point; it stops where the SSR has risen by
+/// χ²₁(0.95)·s² (the crossing interpolated) or at the wall (open).
+#[derive(Clone, Debug)]
+pub struct ProfileSide {
+    x: Vec<f64>,
+    k: usize,
+    ssr: f64,
+    s2: f64,
+    side: f64,
+    wall: f64,
+    delta: f64,
+    prev_x: Vec<f64>,
+    prev_d: f64,
+    /// Points visited.
+    pub trace: Vec<TracePoint>,
+    /// A point with a lower SSR than the optimum, if one was found.
+    pub better: Option<(Vec<f64>, f64)>,
+    /// Where the side ended, when it crossed the threshold or reached the wall.
+    pub end: Option<ProfileEnd>,
+}
+
+impl<R: Residuals + ?Sized> Solver<&R, ProfileState> for ProfileSide {
+    const NAME: &'static str = "profile walk";
+
+    fn next_iter(
+        &mut self,
+        problem: &mut argmin::core::Problem<&R>,
+        state: ProfileState,
+    ) -> Result<(ProfileState, Option<KV>), ArgminError> {
+        let p = *problem.problem.as_ref().ok_or_else(|| {
+            ArgminError::from(argmin::core::ArgminError::NotInitialized {
+                text: "the problem".into(),
+            })
+        })?;
+        let (x, k, ssr, s2) = (&self.x, self.k, self.ssr, self.s2);
+        let threshold = CHI2_1_95 * s2;
+        let fixed: Vec<bool> = (0..x.len()).map(|i| i == k).collect();
+        let opts = LmOptions {
+            max_iterations: PROFILE_LM_ITERATIONS,
+            ..LmOptions::default()
+        };
+        let room = (self.wall - x[k]).abs();
+        let xk = if room <= self.delta {
+            self.wall
+        } else {
+            x[k] + self.side * self.delta
+        };
+        let res = levenberg_marquardt(p, &with(&self.prev_x, k, xk), Some(&fixed), &opts);
+        let d = res.ssr - ssr;
+        if d < -BETTER_BY * ssr.max(1.0) && self.better.as_ref().is_none_or(|b| res.ssr < b.1) {
+            self.better = Some((res.x.clone(), res.ssr));
+        }
+        let state = state.param(res.x.clone()).cost(res.ssr);
+        if d >= threshold {
+            // Interpolate in √ΔSSR, linear in the offset for a quadratic profile.
+            let (a, b) = (self.prev_d.max(0.0).sqrt(), d.sqrt());
+            let w = ((threshold.sqrt() - a) / (b - a)).clamp(0.0, 1.0);
+            let xi: Vec<f64> = self
+                .prev_x
+                .iter()
+                .zip(&res.x)
+                .map(|(u, v)| u + w * (v - u))
+                .collect();
+            self.trace.push(TracePoint {
+                x: xi.clone(),
+                delta: threshold / s2,
+                open_wall: false,
+            });
+            self.trace.push(TracePoint {
+                x: res.x,
+                delta: d / s2,
+                open_wall: false,
+            });
+            self.end = Some(ProfileEnd { x: xi, open: false });
+            let why = TerminationReason::SolverExit("the threshold is crossed".into());
+            return Ok((state.terminate_with(why), None));
+        }
+        let at_wall = xk == self.wall;
+        self.trace.push(TracePoint {
+            x: res.x.clone(),
+            delta: d.max(0.0) / s2,
+            open_wall: at_wall,
+        });
+        if at_wall {
+            self.end = Some(ProfileEnd {
+                x: res.x,
+                open: true,
+            });
+            let why = TerminationReason::SolverExit("the wall is reached".into());
+            return Ok((state.terminate_with(why), None));
+        }
+        self.prev_x = res.x;
+        self.prev_d = d;
+        self.delta *= 2.0;
+        Ok((state, None))
     }
 }
 
