@@ -202,6 +202,24 @@ fn elastic_stiffness(
     })
 }
 
+/// The events read one by one, the elastic stiffness the diagnosis holds, and whether that
+/// stiffness is the velocity steps' springs (`fit` reads α_t off unloads and reloads or tries it
+/// on the first loadings; the springs are the diagnosis's own reading).
+fn events_and_stiffness(
+    prepared: &[PreparedTest],
+    opts: &DiagnoseOptions,
+) -> (
+    crate::events::EventAnalysis,
+    Option<subfric_fit::Stiffness>,
+    bool,
+) {
+    let resolved = resolved_stiffness(prepared);
+    let events = crate::events::analyse(prepared, resolved.as_ref());
+    let alpha_from_steps = resolved.is_none() && events.stiffness().is_some();
+    let stiffness = elastic_stiffness(prepared, resolved, &events, opts);
+    (events, stiffness, alpha_from_steps)
+}
+
 /// [`diagnose`](fn@diagnose), telling `report` where it is ([`Step`]) as it goes.
 pub fn diagnose_reporting(
     prepared: &[PreparedTest],
@@ -211,12 +229,7 @@ pub fn diagnose_reporting(
     if prepared.iter().all(|p| p.full.len() < MIN_ROWS) {
         return Err(DiagnoseError::TooLittleData);
     }
-    let resolved = resolved_stiffness(prepared);
-    let events = crate::events::analyse(prepared, resolved.as_ref());
-    // `fit` reads α_t off unloads and reloads or tries it on the first loadings; the springs of
-    // the velocity steps are the diagnosis's own reading.
-    let alpha_from_steps = resolved.is_none() && events.stiffness().is_some();
-    let stiffness = elastic_stiffness(prepared, resolved, &events, opts);
+    let (events, stiffness, alpha_from_steps) = events_and_stiffness(prepared, opts);
     let (cx, template) = Context::new(prepared, stiffness.as_ref(), opts, report);
     cx.step(1, 0, 0);
     let calibrated = calibrated_base(&cx, &template, &[])?;
