@@ -235,15 +235,6 @@ impl DifferentialEvolution {
     }
 }
 
-fn the_problem<O>(problem: &Problem<O>) -> Result<&O, ArgminError> {
-    problem.problem.as_ref().ok_or_else(|| {
-        argmin::core::ArgminError::NotInitialized {
-            text: "the problem".into(),
-        }
-        .into()
-    })
-}
-
 impl<R: Residuals + ?Sized> Solver<&R, DeState> for DifferentialEvolution {
     const NAME: &'static str = "differential evolution (rand/1/bin)";
 
@@ -252,7 +243,7 @@ impl<R: Residuals + ?Sized> Solver<&R, DeState> for DifferentialEvolution {
         problem: &mut Problem<&R>,
         state: DeState,
     ) -> Result<(DeState, Option<KV>), ArgminError> {
-        let p = *the_problem(problem)?;
+        let p = *crate::residuals::given(problem)?;
         let (opts, mut rng) = self.take_parts()?;
         let np = opts.population.max(MIN_POPULATION);
         let mut pop: Vec<Vec<f64>> = self.seeds.iter().take(np / 2).cloned().collect();
@@ -274,7 +265,7 @@ impl<R: Residuals + ?Sized> Solver<&R, DeState> for DifferentialEvolution {
         problem: &mut Problem<&R>,
         state: DeState,
     ) -> Result<(DeState, Option<KV>), ArgminError> {
-        let p = *the_problem(problem)?;
+        let p = *crate::residuals::given(problem)?;
         let (lo, hi) = p.bounds();
         let m = p.dim();
         let (opts, mut generator) = self.take_parts()?;

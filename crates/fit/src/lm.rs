@@ -367,16 +367,6 @@ impl LevenbergMarquardt {
     }
 }
 
-/// The problem argmin hands the solver (an error, never a panic, should it hold none).
-fn the_problem<O>(problem: &Problem<O>) -> Result<&O, ArgminError> {
-    problem.problem.as_ref().ok_or_else(|| {
-        argmin::core::ArgminError::NotInitialized {
-            text: "the problem".into(),
-        }
-        .into()
-    })
-}
-
 impl<R: Residuals + ?Sized> Solver<&R, LmState> for LevenbergMarquardt {
     const NAME: &'static str = "Levenberg-Marquardt in a box";
 
@@ -385,7 +375,7 @@ impl<R: Residuals + ?Sized> Solver<&R, LmState> for LevenbergMarquardt {
         problem: &mut Problem<&R>,
         mut state: LmState,
     ) -> Result<(LmState, Option<KV>), ArgminError> {
-        let p = *the_problem(problem)?;
+        let p = *crate::residuals::given(problem)?;
         let mut x = state.take_param().unwrap_or_default();
         p.clamp_into_box(&mut x);
         p.residuals_at(&x, &mut self.r);
@@ -401,7 +391,7 @@ impl<R: Residuals + ?Sized> Solver<&R, LmState> for LevenbergMarquardt {
         problem: &mut Problem<&R>,
         mut state: LmState,
     ) -> Result<(LmState, Option<KV>), ArgminError> {
-        let p = *the_problem(problem)?;
+        let p = *crate::residuals::given(problem)?;
         let (lo, hi) = p.bounds();
         let opts = self.opts;
         let mut ssr = state.get_cost();

@@ -539,11 +539,7 @@ impl<R: Residuals + ?Sized> Solver<&R, ProfileState> for ProfileSide {
         problem: &mut argmin::core::Problem<&R>,
         state: ProfileState,
     ) -> Result<(ProfileState, Option<KV>), ArgminError> {
-        let p = *problem.problem.as_ref().ok_or_else(|| {
-            ArgminError::from(argmin::core::ArgminError::NotInitialized {
-                text: "the problem".into(),
-            })
-        })?;
+        let p = *crate::residuals::given(problem)?;
         let (x, k, ssr, s2) = (&self.x, self.k, self.ssr, self.s2);
         let threshold = CHI2_1_95 * s2;
         let fixed: Vec<bool> = (0..x.len()).map(|i| i == k).collect();
