@@ -7,13 +7,15 @@ use subfric_e2e::{args, assert_mentions, copy_set, subfric, text};
 
 /// `table1-medium` as an interface lab's logger writes it: stresses in MPa (declared in
 /// experiment.json's `units`), a dilation channel, three missing shear samples, and a clock that
-/// ticks once a second while the logger samples at 16.7 Hz.
+/// ticks once a second while the logger samples at 16.7 Hz; the test is described as one of
+/// constant normal stiffness.
 fn lab_logger_set(tmp: &Path) -> std::path::PathBuf {
     let set = copy_set("table1-medium", &tmp.join("logger"));
     let meta = set.join("experiment.json");
     let mut m: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&meta).unwrap()).unwrap();
     m["units"] = serde_json::json!({"stress": "MPa"});
+    m["tests"][0]["normal_stiffness_kpa_per_mm"] = serde_json::json!(500);
     std::fs::write(&meta, serde_json::to_string_pretty(&m).unwrap()).unwrap();
     let csv = set.join("monotonic.csv");
     let (header, rows) = subfric_e2e::read_data_csv(&csv);
@@ -44,6 +46,7 @@ fn a_logger_set_in_mpa_with_dilation_gaps_and_a_coarse_clock_checks_fits_and_dia
     let said = [
         "monotonic: columns read in the set's units: stress MPa → kPa ×1000",
         "monotonic: further channels carried, not used by the model: normal_disp_mm 0..0.06",
+        "monotonic: constant normal stiffness 500 kPa/mm (metadata): the model is driven by the normal stress each row carries",
         "3 rows without a value (an empty cell, NaN or NA) read as gaps, left out of the record: lines 102–103 and 302",
         "a clock coarser than the sampling (a tick of 1 s); the rows within a tick are spread evenly over it",
     ];

@@ -84,6 +84,8 @@ pub struct TestSummary {
     /// The further channels the test carries (dilation, temperature, forces, area), each with
     /// its range and its missing samples: e.g. "normal_disp_mm 0..0.06".
     pub channels: Vec<String>,
+    /// A constant-normal-stiffness test's stiffness [kPa/mm], when the test gives one.
+    pub normal_stiffness_kpa_per_mm: Option<f64>,
 }
 
 /// Summary of an experiment set.
@@ -180,6 +182,7 @@ pub fn summarize_test(test: &TestData, opts: &SegmentOptions) -> TestSummary {
         friction_given: test.friction_given,
         units_read: units_read(&test.spec),
         channels: channels_carried(test),
+        normal_stiffness_kpa_per_mm: test.spec.normal_stiffness_kpa_per_mm(),
         imposed_noise_sd: seg.conditioned.noise_sd,
         imposed_conditioned: seg.conditioned.changed,
         sliding_rates: distinct_rates(rates),
@@ -384,7 +387,21 @@ pub fn reading_lines(test: &crate::TestData) -> Vec<String> {
             channels.join(", ")
         ));
     }
+    out.extend(normal_stiffness_line(&test.spec));
     out
+}
+
+/// What a constant-normal-stiffness test's stiffness means here, when it gives one.
+fn normal_stiffness_line(spec: &crate::TestSpec) -> Option<String> {
+    spec.normal_stiffness_kpa_per_mm()
+        .map(normal_stiffness_words)
+}
+
+fn normal_stiffness_words(k: f64) -> String {
+    format!(
+        "constant normal stiffness {} kPa/mm (metadata): the model is driven by the normal stress each row carries",
+        num(k)
+    )
 }
 
 /// Each further channel of a test with the range of its values and its missing samples.
@@ -420,6 +437,9 @@ fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result 
         )?;
     }
     // The words of `reading_lines`, from the summary's fields.
+    if let Some(k) = t.normal_stiffness_kpa_per_mm {
+        writeln!(f, "  {}: {}", visible(&t.name), normal_stiffness_words(k))?;
+    }
     if !t.channels.is_empty() {
         writeln!(
             f,

@@ -132,7 +132,20 @@ pub enum InitialSpec {
     Sliding,
 }
 
+/// The optional field of a constant-normal-stiffness test: the stiffness of the springs that
+/// set its normal stress as the specimen dilates [kPa/mm]. Metadata: the model is driven by the
+/// normal stress each row carries (`normal_kpa`), which is what such a test records.
+pub const NORMAL_STIFFNESS_FIELD: &str = "normal_stiffness_kpa_per_mm";
+
 impl TestSpec {
+    /// The normal stiffness of a constant-normal-stiffness test [kPa/mm], when the test gives
+    /// one ([`NORMAL_STIFFNESS_FIELD`]).
+    pub fn normal_stiffness_kpa_per_mm(&self) -> Option<f64> {
+        self.extra
+            .get(NORMAL_STIFFNESS_FIELD)
+            .and_then(Value::as_f64)
+    }
+
     /// A test spec without extra fields.
     pub fn new(name: &str, file: &str, control: ControlColumn, normal_stress_kpa: f64) -> Self {
         TestSpec {
@@ -348,6 +361,26 @@ mod tests {
         let all = problems(bad).join("\n");
         assert!(
             all.contains(":2: field `tests[0].initial`: unknown initial state `moving` (expected \"rest\" or \"sliding\")"),
+            "{all}"
+        );
+    }
+
+    #[test]
+    fn a_constant_normal_stiffness_is_a_positive_number_kept_as_metadata() {
+        let ok = r#"{"name": "s", "title": "t", "source": "x", "tests": [
+            {"name": "a", "file": "a.csv", "control": "slip", "normal_stress_kpa": 100, "normal_stiffness_kpa_per_mm": 500},
+            {"name": "b", "file": "b.csv", "control": "slip", "normal_stress_kpa": 100}]}"#;
+        let meta = parse_meta(ok, Path::new("e.json")).unwrap();
+        assert_eq!(meta.tests[0].normal_stiffness_kpa_per_mm(), Some(500.0));
+        assert_eq!(meta.tests[1].normal_stiffness_kpa_per_mm(), None);
+        let bad = "{\"name\": \"s\", \"title\": \"t\", \"source\": \"x\", \"tests\": [\n{\"name\": \"a\", \"file\": \"a.csv\", \"control\": \"slip\", \"normal_stress_kpa\": 100, \"normal_stiffness_kpa_per_mm\": -5},\n{\"name\": \"b\", \"file\": \"b.csv\", \"control\": \"slip\", \"normal_stress_kpa\": 100, \"normal_stiffness_kpa_per_mm\": \"stiff\"}]}";
+        let all = problems(bad).join("\n");
+        assert!(
+            all.contains(":2: field `tests[0].normal_stiffness_kpa_per_mm`: normal stiffness -5 kPa/mm (expected a number > 0"),
+            "{all}"
+        );
+        assert!(
+            all.contains(":3: field `tests[1].normal_stiffness_kpa_per_mm`: found a string (expected a number, kPa/mm)"),
             "{all}"
         );
     }

@@ -6,7 +6,7 @@ use std::path::Path;
 use serde_json::{Map, Value};
 
 use super::units::{STRESS_UNITS, UNIT_FIELDS};
-use super::{file_name_problem, INTERFACE_NUMBERS};
+use super::{file_name_problem, INTERFACE_NUMBERS, NORMAL_STIFFNESS_FIELD};
 use crate::error::Problems;
 use crate::set::MAX_MAGNITUDE;
 use crate::text::name_too_long;
@@ -137,6 +137,7 @@ pub(super) fn check_shape(
         cx.check_control(t, &prefix, pr);
         cx.check_initial(t, &prefix, pr);
         cx.check_normal_stress(t, &prefix, pr);
+        cx.check_normal_stiffness(t, &prefix, pr);
         cx.check_units(t, &prefix, pr);
     }
 }
@@ -430,5 +431,23 @@ impl Ctx<'_> {
                 "missing required field `normal_stress_kpa` (expected a number, kPa)",
             ),
         }
+    }
+
+    /// A constant-normal-stiffness test's optional `normal_stiffness_kpa_per_mm`: a finite
+    /// number > 0 (metadata: the model is driven by the normal stress the rows carry).
+    fn check_normal_stiffness(&self, t: &Map<String, Value>, prefix: &str, pr: &mut Problems) {
+        let field = format!("{prefix}.{NORMAL_STIFFNESS_FIELD}");
+        let problem = match t.get(NORMAL_STIFFNESS_FIELD) {
+            None => return,
+            Some(Value::Number(n)) => match n.as_f64() {
+                Some(x) if x > 0.0 && x.is_finite() && x <= MAX_MAGNITUDE => return,
+                _ => format!(
+                    "normal stiffness {} kPa/mm (expected a number > 0 and at most {MAX_MAGNITUDE:e}: the stiffness of the springs of a constant-normal-stiffness test)",
+                    n.as_f64().map_or_else(|| n.to_string(), crate::text::short_number)
+                ),
+            },
+            Some(v) => format!("found {} (expected a number, kPa/mm)", kind_of(v)),
+        };
+        self.problem(pr, &field, problem);
     }
 }
