@@ -10,7 +10,8 @@ use subfric_model::{simulate, Control, Model, Params, Protocol};
 use subfric_posterior::ensemble::{run_ensemble, LogDensity, RunOptions};
 use subfric_posterior::target::Target;
 use subfric_posterior::{
-    figures, sample, BandOptions, PosteriorError, PosteriorOptions, Prior, Priors, Verdict,
+    figures, sample, BandOptions, Posterior, PosteriorError, PosteriorOptions, Prior, Priors,
+    Verdict,
 };
 
 fn normal(rng: &mut ChaCha8Rng) -> f64 {
@@ -75,6 +76,21 @@ fn fixture() -> Fixture {
     }
 }
 
+impl Fixture {
+    /// The posterior of the fixture's fit under the default priors.
+    fn sampled(&self, opts: &PosteriorOptions) -> Posterior {
+        sample(
+            &self.tests,
+            &self.space,
+            &self.fit.model,
+            &Priors::default(),
+            opts,
+            &|_, _| {},
+        )
+        .unwrap()
+    }
+}
+
 fn options() -> PosteriorOptions {
     PosteriorOptions {
         walkers: 16,
@@ -87,15 +103,7 @@ fn options() -> PosteriorOptions {
 #[test]
 fn the_credible_intervals_hold_the_truth_and_match_the_linearised_errors() {
     let f = fixture();
-    let post = sample(
-        &f.tests,
-        &f.space,
-        &f.fit.model,
-        &Priors::default(),
-        &options(),
-        &|_, _| {},
-    )
-    .unwrap();
+    let post = f.sampled(&options());
     assert!(
         post.convergence.converged(),
         "{}",
@@ -153,24 +161,8 @@ fn the_same_seed_gives_the_same_posterior() {
         stop_when_converged: false,
         ..options()
     };
-    let a = sample(
-        &f.tests,
-        &f.space,
-        &f.fit.model,
-        &Priors::default(),
-        &opts,
-        &|_, _| {},
-    )
-    .unwrap();
-    let b = sample(
-        &f.tests,
-        &f.space,
-        &f.fit.model,
-        &Priors::default(),
-        &opts,
-        &|_, _| {},
-    )
-    .unwrap();
+    let a = f.sampled(&opts);
+    let b = f.sampled(&opts);
     assert_eq!(a.chain.values, b.chain.values);
     assert_eq!(a.summary, b.summary);
 }
@@ -182,15 +174,7 @@ fn a_tiny_budget_on_the_real_model_is_reported_as_not_converged() {
         max_evals: 16 * 41,
         ..options()
     };
-    let post = sample(
-        &f.tests,
-        &f.space,
-        &f.fit.model,
-        &Priors::default(),
-        &opts,
-        &|_, _| {},
-    )
-    .unwrap();
+    let post = f.sampled(&opts);
     assert_eq!(post.convergence.steps, 40);
     match post.convergence.verdict {
         Verdict::NotConverged {
@@ -211,15 +195,7 @@ fn a_tiny_budget_on_the_real_model_is_reported_as_not_converged() {
 #[test]
 fn the_noisy_predictive_band_covers_the_measurements_at_its_nominal_rate() {
     let f = fixture();
-    let post = sample(
-        &f.tests,
-        &f.space,
-        &f.fit.model,
-        &Priors::default(),
-        &options(),
-        &|_, _| {},
-    )
-    .unwrap();
+    let post = f.sampled(&options());
     let noisy = post.predictive_bands(
         &f.tests,
         &BandOptions {
@@ -255,15 +231,7 @@ fn the_noisy_predictive_band_covers_the_measurements_at_its_nominal_rate() {
 #[test]
 fn the_predictive_draws_are_the_models_of_their_samples_with_the_noise_asked_for() {
     let f = fixture();
-    let post = sample(
-        &f.tests,
-        &f.space,
-        &f.fit.model,
-        &Priors::default(),
-        &options(),
-        &|_, _| {},
-    )
-    .unwrap();
+    let post = f.sampled(&options());
     let opts = BandOptions {
         draws: 40,
         ..BandOptions::default()
@@ -316,15 +284,7 @@ fn the_predictive_draws_are_the_models_of_their_samples_with_the_noise_asked_for
 #[test]
 fn the_chain_csv_has_a_header_and_one_line_per_thinned_sample() {
     let f = fixture();
-    let post = sample(
-        &f.tests,
-        &f.space,
-        &f.fit.model,
-        &Priors::default(),
-        &options(),
-        &|_, _| {},
-    )
-    .unwrap();
+    let post = f.sampled(&options());
     let mut out = Vec::new();
     post.write_chain_csv(&mut out).unwrap();
     let text = String::from_utf8(out).unwrap();
