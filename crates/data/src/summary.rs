@@ -369,39 +369,38 @@ fn units_read(spec: &crate::TestSpec) -> Vec<String> {
 }
 
 /// What was made of a test's columns beyond the format's own, as `fit` and `diagnose` note it
-/// (`check` shows the same under its table): the units they were read in and the further
-/// channels carried.
+/// (`check` writes the same lines under its table): the units they were read in, the further
+/// channels carried, and a constant-normal-stiffness test's stiffness.
 pub fn reading_lines(test: &crate::TestData) -> Vec<String> {
+    reading_sentences(
+        &units_read(&test.spec),
+        &channels_carried(test),
+        test.spec.normal_stiffness_kpa_per_mm(),
+    )
+}
+
+/// The sentences of [`reading_lines`] from their parts (a test's, or its summary's).
+fn reading_sentences(units: &[String], channels: &[String], stiffness: Option<f64>) -> Vec<String> {
     let mut out = Vec::new();
-    let units = units_read(&test.spec);
     if !units.is_empty() {
         out.push(format!(
             "columns read in the set's units: {}",
             units.join(", ")
         ));
     }
-    let channels = channels_carried(test);
     if !channels.is_empty() {
         out.push(format!(
             "further channels carried, not used by the model: {}",
             channels.join(", ")
         ));
     }
-    out.extend(normal_stiffness_line(&test.spec));
+    out.extend(stiffness.map(|k| {
+        format!(
+            "constant normal stiffness {} kPa/mm (metadata): the model is driven by the normal stress each row carries",
+            num(k)
+        )
+    }));
     out
-}
-
-/// What a constant-normal-stiffness test's stiffness means here, when it gives one.
-fn normal_stiffness_line(spec: &crate::TestSpec) -> Option<String> {
-    spec.normal_stiffness_kpa_per_mm()
-        .map(normal_stiffness_words)
-}
-
-fn normal_stiffness_words(k: f64) -> String {
-    format!(
-        "constant normal stiffness {} kPa/mm (metadata): the model is driven by the normal stress each row carries",
-        num(k)
-    )
 }
 
 /// Each further channel of a test with the range of its values and its missing samples.
@@ -428,25 +427,9 @@ fn channels_carried(test: &crate::TestData) -> Vec<String> {
 /// The lines under the table about one test: the units its columns were read in, the further
 /// channels it carries, why its start was decided so, its holds and its velocity steps.
 fn write_test_notes(f: &mut fmt::Formatter<'_>, t: &TestSummary) -> fmt::Result {
-    if !t.units_read.is_empty() {
-        writeln!(
-            f,
-            "  {}: columns read in the set's units: {}",
-            visible(&t.name),
-            t.units_read.join(", ")
-        )?;
-    }
-    // The words of `reading_lines`, from the summary's fields.
-    if let Some(k) = t.normal_stiffness_kpa_per_mm {
-        writeln!(f, "  {}: {}", visible(&t.name), normal_stiffness_words(k))?;
-    }
-    if !t.channels.is_empty() {
-        writeln!(
-            f,
-            "  {}: further channels carried, not used by the model: {}",
-            visible(&t.name),
-            t.channels.join(", ")
-        )?;
+    let read = reading_sentences(&t.units_read, &t.channels, t.normal_stiffness_kpa_per_mm);
+    for line in read {
+        writeln!(f, "  {}: {line}", visible(&t.name))?;
     }
     if !t.start.from_spec && t.start.kind != StartKind::Rest {
         writeln!(f, "  {}: {}", visible(&t.name), t.start.reason)?;
