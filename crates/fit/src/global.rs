@@ -310,10 +310,9 @@ impl<R: Residuals + ?Sized> Solver<&R, DeState> for DifferentialEvolution {
                 self.cost[i] = c;
             }
         }
-        let best = self.cost.iter().cloned().fold(f64::MAX, f64::min);
+        let (x, best) = self.best();
         let worst = self.cost.iter().cloned().fold(0.0, f64::max);
-        let (x, c) = self.best();
-        let state = state.param(x).cost(c);
+        let state = state.param(x).cost(best);
         if (worst - best) <= opts.tolerance * best.max(1e-300) {
             let why = TerminationReason::SolverExit("the population's costs agree".into());
             return Ok((state.terminate_with(why), None));
