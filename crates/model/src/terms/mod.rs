@@ -412,6 +412,19 @@ pub trait TermFamily: Sync + std::fmt::Debug {
     fn shown(&self, _events: &EventReadings) -> bool {
         false
     }
+    /// Whether the family's term in form `form` with parameters `p` moves what the events read
+    /// one by one show moving, the way they show it (for pressure: the peak or the residual
+    /// read changing with the normal stress, and the form changing μ_s or μ_k with the same
+    /// sign): a family shown outright is credited on those readings only through a law that
+    /// follows them. True where the family reads nothing of the kind.
+    fn follows_readings(
+        &self,
+        _form: usize,
+        _p: &[f64; MAX_TERM_PARAMS],
+        _events: &EventReadings,
+    ) -> bool {
+        true
+    }
     /// Where the events that show the family outright ([`TermFamily::shown`]) were read: the
     /// held-out pieces a candidate shown that way must each predict better. By default where
     /// its effect shows ([`TermFamily::shows`]).

@@ -359,6 +359,39 @@ impl TermFamily for Pressure {
         .any(|r| r.excludes_zero())
     }
 
+    fn follows_readings(
+        &self,
+        form: usize,
+        p: &[f64; MAX_TERM_PARAMS],
+        events: &super::EventReadings,
+    ) -> bool {
+        // The relative change per e-fold of normal stress at the reference that the form gives
+        // μ_s (read as the peak) and μ_k (read as the residual): −β for each it scales (every
+        // shape's slope in ln p at p = p_ref).
+        let Some(&(_, target)) = SHAPES.get(form) else {
+            return false;
+        };
+        let (on_s, on_k) = match target {
+            Target::Friction => (-p[BETA], -p[BETA]),
+            Target::MuS => (-p[BETA], 0.0),
+            Target::MuK => (0.0, -p[BETA]),
+            Target::Bounds => (-p[BETA], -p[BETA_K]),
+            // No pressure form scales κ or ũ: such a law moves neither reading.
+            Target::Kappa | Target::UTilde => (0.0, 0.0),
+        };
+        let shown = [
+            (events.peak_change_per_efold, on_s),
+            (events.residual_change_per_efold, on_k),
+        ];
+        let shown: Vec<(f64, f64)> = shown
+            .iter()
+            .filter_map(|(r, change)| r.filter(|r| r.excludes_zero()).map(|r| (r.value, *change)))
+            .collect();
+        // One reading that changes followed in its sign, and none moved against its sign.
+        shown.iter().any(|(read, law)| read * law > 0.0)
+            && shown.iter().all(|(read, law)| read * law >= 0.0)
+    }
+
     fn shown_in(&self) -> &'static [Shows] {
         // The peak and residual stress ratios are read on the tests' first loadings.
         &[Shows::FirstLoadings]
@@ -539,5 +572,43 @@ mod tests {
         ] {
             assert!(!Pressure.shown(&e) && !Pressure.contradicted(&e), "{e:?}");
         }
+    }
+    #[test]
+    fn a_law_follows_the_readings_when_it_moves_what_they_show_moving_their_way() {
+        let read = |lo: f64, hi: f64| super::super::Reading {
+            value: 0.5 * (lo + hi),
+            lo,
+            hi,
+        };
+        let events = |peak, residual| super::super::EventReadings {
+            peak_change_per_efold: peak,
+            residual_change_per_efold: residual,
+            ..super::super::EventReadings::default()
+        };
+        let form = |key: &str| FORMS.iter().position(|f| f.key == key).unwrap();
+        let law = |beta: f64, beta_k: f64| {
+            let mut p = [0.0; MAX_TERM_PARAMS];
+            (p[BETA], p[BETA_K], p[P_REF]) = (beta, beta_k, 100.0);
+            p
+        };
+        // Peaks flat, residuals rising 3.5 % per e-fold (`lab-like` pair-42).
+        let rising = events(Some(read(-0.021, 0.019)), Some(read(0.015, 0.055)));
+        // A law on μ_s only moves what is read flat: it does not follow them, whatever β.
+        assert!(!Pressure.follows_readings(form("power-mu-s"), &law(0.05, 0.0), &rising));
+        assert!(!Pressure.follows_readings(form("power-mu-s"), &law(-0.05, 0.0), &rising));
+        // On μ_k, rising with the stress (β < 0): it does; falling: it does not.
+        assert!(Pressure.follows_readings(form("power-mu-k"), &law(-0.03, 0.0), &rising));
+        assert!(!Pressure.follows_readings(form("power-mu-k"), &law(0.03, 0.0), &rising));
+        // Both falling 6 % per e-fold: a law on μ falling follows; one on both with μ_k rising
+        // moves a reading against its sign.
+        let falling = events(Some(read(-0.075, -0.049)), Some(read(-0.076, -0.049)));
+        assert!(Pressure.follows_readings(form("power-friction"), &law(0.06, 0.0), &falling));
+        assert!(!Pressure.follows_readings(form("power-bounds"), &law(0.06, -0.02), &falling));
+        // Nothing read changing: nothing followed.
+        assert!(!Pressure.follows_readings(
+            form("power-friction"),
+            &law(0.06, 0.0),
+            &super::super::EventReadings::default()
+        ));
     }
 }
