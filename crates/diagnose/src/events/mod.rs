@@ -217,6 +217,18 @@ pub fn shows(e: &EventAnalysis, effect: crate::Effect) -> bool {
     }
 }
 
+/// Whether `model`'s term of family `effect` follows what the events read one by one show, as
+/// its module says ([`subfric_model::terms::TermFamily::follows_readings`]); true for a model
+/// without such a term and for anything but a registered family.
+pub fn followed_by(e: &EventAnalysis, effect: crate::Effect, model: &subfric_model::Model) -> bool {
+    match effect {
+        crate::Effect::Term(i) => model.ext.terms.of(i).is_none_or(|t| {
+            subfric_model::terms::family(i).follows_readings(t.form as usize, &t.p, &e.readings())
+        }),
+        _ => true,
+    }
+}
+
 /// Whether the events read one by one leave room for a family, as its module says
 /// ([`subfric_model::terms::TermFamily::corroborated`]: velocity steps that mostly show a direct
 /// effect for rate, a positive healing rate over the holds for healing, an asymmetry of the

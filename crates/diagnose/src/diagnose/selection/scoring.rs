@@ -119,6 +119,13 @@ pub(super) fn candidate_score(
         .collect();
     let between_tests =
         crate::score::between_tests(&shown_pieces, &cx.weights, reference, held, &cx.scatter);
+    let between_tests_shrink = crate::score::between_tests_shrink(
+        &shown_pieces,
+        &cx.weights,
+        reference,
+        held,
+        &cx.scatter,
+    );
     let shown_in = score_kinds(shown_kinds);
     CandidateScore {
         effect,
@@ -131,6 +138,7 @@ pub(super) fn candidate_score(
         own_kinds,
         shown_in,
         between_tests,
+        between_tests_shrink,
         without_first_loadings,
     }
 }
