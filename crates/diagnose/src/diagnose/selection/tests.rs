@@ -454,6 +454,25 @@ fn a_further_effect_with_no_pieces_of_its_own_is_not_credited_however_much_it_ga
     ));
 }
 
+/// A held-out piece of `kind` from test `test`, its misfits under the reference and the
+/// candidate; a smooth misfit, one effective row in ten.
+fn piece_score(
+    kind: PieceKind,
+    test: usize,
+    rows: usize,
+    reference_ssr: f64,
+    candidate_ssr: f64,
+) -> PieceScore {
+    PieceScore {
+        kind,
+        test,
+        rows,
+        n_eff: rows as f64 / 10.0,
+        reference_ssr,
+        candidate_ssr,
+    }
+}
+
 /// A rate-law candidate whose family the velocity steps show outright, held out over all pieces
 /// (`all`) and over the five steps (`steps`, their (reference, candidate) misfits).
 fn shown_rate(all: Comparison, steps: Comparison) -> CandidateScore {
@@ -479,13 +498,14 @@ fn shown_rate(all: Comparison, steps: Comparison) -> CandidateScore {
 #[test]
 fn an_effect_the_events_show_explains_enough_when_a_typical_piece_of_its_kind_loses_its_excess() {
     let th = crate::verdict::Thresholds::default();
-    let step = |test: usize, reference_ssr: f64, candidate_ssr: f64| PieceScore {
-        kind: PieceKind::VelocityStep,
-        test,
-        rows: 64,
-        n_eff: 6.0,
-        reference_ssr,
-        candidate_ssr,
+    let step = |test, reference_ssr, candidate_ssr| {
+        piece_score(
+            PieceKind::VelocityStep,
+            test,
+            64,
+            reference_ssr,
+            candidate_ssr,
+        )
     };
     // As on a fresh set (rate + slip softening, after slip softening): four of five steps
     // predicted better, 46 % of the steps' summed excess removed, a typical step's misfit
@@ -617,13 +637,14 @@ fn a_further_effect_whose_own_pieces_are_all_claimed_is_judged_where_its_events_
 #[test]
 fn an_effect_on_whole_tests_is_confirmed_by_the_stress_levels_not_by_each_test() {
     let th = crate::verdict::Thresholds::default();
-    let first_loading = |test: usize, reference_ssr: f64, candidate_ssr: f64| PieceScore {
-        kind: PieceKind::InitialLoading,
-        test,
-        rows: 300,
-        n_eff: 5.0,
-        reference_ssr,
-        candidate_ssr,
+    let first_loading = |test, reference_ssr, candidate_ssr| {
+        piece_score(
+            PieceKind::InitialLoading,
+            test,
+            300,
+            reference_ssr,
+            candidate_ssr,
+        )
     };
     // As on a fresh set (log-healing + pressure): tests at 50 and 400 kPa predicted 1.3× and
     // 3.6× better, the slide-hold-slide and the cyclic test, both at 100 kPa, worse.
