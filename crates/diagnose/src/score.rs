@@ -326,32 +326,43 @@ pub fn between_tests(
     candidate: &HeldOut,
     scatter: &[f64],
 ) -> f64 {
-    test_levels(pieces, weights, reference, candidate, scatter)
-        .iter()
-        .map(|(b, c, v)| (b - c) / v)
-        .sum()
+    TestLevels::of(pieces, weights, reference, candidate, scatter).evidence()
 }
 
-/// The share of the held-out tests' level misfit, judged against the scatter between specimens
-/// as [`between_tests`] judges it, that the candidate removes: Σ (m_ref² − m_cand²)/v over
-/// Σ m_ref²/v, v = s² + 1/Σ w (0 where no test has a level). How much of what the tests' levels
-/// miss an effect on whole tests explains, counted once per test whatever its rows: a
-/// pressure law that brings the tests at 50 and 400 kPa to their levels removes most of it,
-/// where the summed excess of the pieces also weighs the shapes along each test.
-pub fn between_tests_shrink(
-    pieces: &[Piece],
-    weights: &Weights,
-    reference: &HeldOut,
-    candidate: &HeldOut,
-    scatter: &[f64],
-) -> f64 {
-    let levels = test_levels(pieces, weights, reference, candidate, scatter);
-    let missed: f64 = levels.iter().map(|(b, _, v)| b / v).sum();
-    let removed: f64 = levels.iter().map(|(b, c, v)| (b - c) / v).sum();
-    if missed > 0.0 {
-        removed / missed
-    } else {
-        0.0
+/// The held-out tests' levels under a reference and a candidate, each judged against the
+/// scatter between specimens ([`between_tests`]): per test with a finite positive scatter,
+/// (m_ref², m_cand², v = s² + 1/Σ w).
+pub struct TestLevels(Vec<(f64, f64, f64)>);
+
+impl TestLevels {
+    /// The levels of the tests of `pieces` ([`between_tests`]).
+    pub fn of(
+        pieces: &[Piece],
+        weights: &Weights,
+        reference: &HeldOut,
+        candidate: &HeldOut,
+        scatter: &[f64],
+    ) -> TestLevels {
+        TestLevels(test_levels(pieces, weights, reference, candidate, scatter))
+    }
+
+    /// D_tests = Σ (m_ref² − m_cand²)/v ([`between_tests`]).
+    pub fn evidence(&self) -> f64 {
+        self.0.iter().map(|(b, c, v)| (b - c) / v).sum()
+    }
+
+    /// The share of the tests' level misfit that the candidate removes: Σ (m_ref² − m_cand²)/v
+    /// over Σ m_ref²/v (0 where no test has a level). How much of what the tests' levels miss
+    /// an effect on whole tests explains, counted once per test whatever its rows: a pressure
+    /// law that brings the tests at 50 and 400 kPa to their levels removes most of it, where the
+    /// summed excess of the pieces also weighs the shapes along each test.
+    pub fn shrink(&self) -> f64 {
+        let missed: f64 = self.0.iter().map(|(b, _, v)| b / v).sum();
+        if missed > 0.0 {
+            self.evidence() / missed
+        } else {
+            0.0
+        }
     }
 }
 
@@ -512,18 +523,19 @@ mod tests {
         let c = compare(&pieces, &weights, &reference, &candidate);
         assert!(c.level_score < 20.0 && d > 100.0, "{}", c.level_score);
         // Of the levels' misfit, 899 of 900 parts removed in each test.
-        let shrink = between_tests_shrink(&pieces, &weights, &reference, &candidate, &[3.0, 3.0]);
+        let shrink =
+            TestLevels::of(&pieces, &weights, &reference, &candidate, &[3.0, 3.0]).shrink();
         assert!((shrink - 899.0 / 900.0).abs() < 1e-9, "{shrink}");
         // One test brought to its level, the other moved twice as far off: more lost than won.
         let worse = vec![wiggle(1.0), wiggle(-60.0)];
-        let shrink = between_tests_shrink(&pieces, &weights, &reference, &worse, &[3.0, 3.0]);
+        let shrink = TestLevels::of(&pieces, &weights, &reference, &worse, &[3.0, 3.0]).shrink();
         assert!(
             (shrink - (899.0 - 2700.0) / 1800.0).abs() < 1e-9,
             "{shrink}"
         );
         // No test with a scatter: nothing to share.
         assert_eq!(
-            between_tests_shrink(&pieces, &weights, &reference, &candidate, &[]),
+            TestLevels::of(&pieces, &weights, &reference, &candidate, &[]).shrink(),
             0.0
         );
         // Within the scatter, a level earns almost nothing; a candidate that moves a level

@@ -84,7 +84,7 @@ pub struct CandidateScore {
     pub between_tests: f64,
     /// The share of the held-out tests' level misfit on the pieces of `shown_in`, against the
     /// scatter between specimens, that the candidate removes
-    /// ([`crate::score::between_tests_shrink`]).
+    /// ([`crate::score::TestLevels::shrink`]).
     pub between_tests_shrink: f64,
     /// Held-out evidence D with the first loadings left out (0 where every piece is one).
     pub without_first_loadings: f64,

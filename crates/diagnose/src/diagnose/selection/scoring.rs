@@ -117,15 +117,10 @@ pub(super) fn candidate_score(
         .iter()
         .flat_map(|(_, own)| own.iter().cloned())
         .collect();
-    let between_tests =
-        crate::score::between_tests(&shown_pieces, &cx.weights, reference, held, &cx.scatter);
-    let between_tests_shrink = crate::score::between_tests_shrink(
-        &shown_pieces,
-        &cx.weights,
-        reference,
-        held,
-        &cx.scatter,
-    );
+    // The shown pieces' test levels walked once, for the evidence and the share removed.
+    let levels =
+        crate::score::TestLevels::of(&shown_pieces, &cx.weights, reference, held, &cx.scatter);
+    let (between_tests, between_tests_shrink) = (levels.evidence(), levels.shrink());
     let shown_in = score_kinds(shown_kinds);
     CandidateScore {
         effect,
