@@ -148,6 +148,10 @@ fn range_of_positive(v: &[f64]) -> Option<(f64, f64)> {
 }
 
 /// Distinct values among `v` (sorted groups whose neighbours are within `ratio`).
+/// Ratio within which two normal stresses are one level (a test logged at 101 kPa beside one at
+/// 100 kPa was run at the same stress).
+pub const STRESS_LEVEL_RATIO: f64 = 1.05;
+
 fn distinct(mut v: Vec<f64>, ratio: f64) -> usize {
     v.retain(|x| x.is_finite() && *x > 0.0);
     v.sort_by(f64::total_cmp);
@@ -282,7 +286,7 @@ pub fn data_features(tests: &[PreparedTest]) -> DataFeatures {
             100.0
         },
         friction_noise_sd: friction_noise_sd(tests, &normals),
-        pressure_levels: distinct(normals, 1.05),
+        pressure_levels: distinct(normals, STRESS_LEVEL_RATIO),
         sliding_rate_range: range_of_positive(&rates),
         sliding_rates: distinct(rates, 1.5),
         traction_tests: tests

@@ -119,7 +119,7 @@ pub(super) fn by_stress_level(
     let mut levels: Vec<(f64, crate::score::PieceScore)> = Vec::new();
     for p in sorted {
         match levels.last_mut() {
-            Some((first, level)) if stress(p) <= *first * STRESS_LEVEL_RATIO => {
+            Some((first, level)) if stress(p) <= *first * crate::features::STRESS_LEVEL_RATIO => {
                 level.rows += p.rows;
                 level.n_eff += p.n_eff;
                 level.reference_ssr += p.reference_ssr;
@@ -130,9 +130,6 @@ pub(super) fn by_stress_level(
     }
     levels.into_iter().map(|(_, p)| p).collect()
 }
-
-/// Ratio within which two normal stresses are one level (as the set's features count them).
-const STRESS_LEVEL_RATIO: f64 = 1.05;
 
 /// Whether candidate `c`'s held-out evidence favours it at the level where its effect lives:
 /// over all pieces (D > 0), or, significant on the pieces where the events show it — D at
