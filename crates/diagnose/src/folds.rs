@@ -59,6 +59,87 @@ pub struct Piece {
     pub end: usize,
     /// The situation it holds.
     pub kind: PieceKind,
+    /// Where along the variable its kind is read at the piece lies ([`read_at`]): a hold's
+    /// duration, the slip rate a velocity step goes to; `None` for kinds read at no variable.
+    pub at: Option<f64>,
+    /// Held out in a fold whose training pieces of its kind all lie on one side of it
+    /// ([`mark_beyond_training`]): its prediction carries the fitted law beyond every reading
+    /// of its like, an extrapolation.
+    pub beyond_training: bool,
+}
+
+impl Piece {
+    /// A piece of `kind`, rows `start..end` of test `test`, read at no variable.
+    pub fn new(test: usize, start: usize, end: usize, kind: PieceKind) -> Piece {
+        Piece {
+            test,
+            start,
+            end,
+            kind,
+            at: None,
+            beyond_training: false,
+        }
+    }
+}
+
+/// Where piece `kind` (rows `rows` of `p`'s fitted rows) lies along the variable its kind is
+/// read at: a hold's duration in s (the time its rows at rest span), the natural log of the
+/// slip rate after a velocity step (the median rate over the piece, slip control only). Other
+/// kinds, and pieces too short to read, give `None`.
+fn read_at(p: &PreparedTest, kind: PieceKind, rows: std::ops::Range<usize>) -> Option<f64> {
+    let t = &p.fit;
+    match kind {
+        PieceKind::Hold => {
+            let at_rest: Vec<f64> = rows
+                .filter(|&i| p.kind_of_fit_row(i) == SegmentKind::Hold)
+                .filter_map(|i| t.time.get(i).copied())
+                .collect();
+            let (first, last) = (at_rest.first()?, at_rest.last()?);
+            (last > first).then(|| last - first)
+        }
+        PieceKind::VelocityStep if t.control == subfric_model::Control::Slip => {
+            let mut rates: Vec<f64> = rows
+                .collect::<Vec<_>>()
+                .windows(2)
+                .filter_map(|w| {
+                    let dt = t.time.get(w[1])? - t.time.get(w[0])?;
+                    let du = t.imposed.get(w[1])? - t.imposed.get(w[0])?;
+                    (dt > 0.0).then(|| (du / dt).abs())
+                })
+                .filter(|v| v.is_finite())
+                .collect();
+            let v = subfric_data::stats::median(&mut rates)?;
+            (v > 0.0).then(|| v.ln())
+        }
+        _ => None,
+    }
+}
+
+/// Marks each held-out piece whose fold trains on pieces of its kind that all lie on one side
+/// of it along their variable ([`Piece::at`]): the longest of three holds predicted from the
+/// two shorter ones, the step to the highest rate from steps to lower ones. A fitted law is
+/// tested there on its extrapolation, a matter of its form; between readings of its like it
+/// is tested on what the readings share. A piece whose kind has no reading in its fold's
+/// training is not marked.
+pub fn mark_beyond_training(all: &mut [Piece], folds: &[Fold]) {
+    for f in folds {
+        for &k in &f.held {
+            let (kind, Some(at)) = (all[k].kind, all[k].at) else {
+                continue;
+            };
+            let trained: Vec<f64> = (0..all.len())
+                .filter(|j| !f.held.contains(j))
+                .filter(|&j| all[j].kind == kind)
+                .filter_map(|j| all[j].at)
+                .collect();
+            if trained.is_empty() {
+                continue;
+            }
+            let below = trained.iter().any(|&v| v <= at);
+            let above = trained.iter().any(|&v| v >= at);
+            all[k].beyond_training = !(below && above);
+        }
+    }
 }
 
 /// Cuts every test's fitted rows into pieces at its events.
@@ -82,10 +163,8 @@ pub fn pieces(tests: &[PreparedTest]) -> Vec<Piece> {
                 .filter(|_| !(prev == SegmentKind::Hold && k == SegmentKind::AfterHold));
             if let Some(nk) = new {
                 out.push(Piece {
-                    test: ti,
-                    start,
-                    end: i,
-                    kind,
+                    at: read_at(p, kind, start..i),
+                    ..Piece::new(ti, start, i, kind)
                 });
                 start = i;
                 kind = nk;
@@ -93,10 +172,8 @@ pub fn pieces(tests: &[PreparedTest]) -> Vec<Piece> {
             prev = k;
         }
         out.push(Piece {
-            test: ti,
-            start,
-            end: n,
-            kind,
+            at: read_at(p, kind, start..n),
+            ..Piece::new(ti, start, n, kind)
         });
     }
     out
@@ -206,4 +283,60 @@ pub fn extra_folds(tests: &[FitTest], fraction: f64) -> (Vec<Fold>, Vec<Fold>) {
         }
     }
     (tail, loto)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(kind: PieceKind, at: Option<f64>) -> Piece {
+        Piece {
+            at,
+            ..Piece::new(0, 0, 1, kind)
+        }
+    }
+
+    fn holding(held: Vec<usize>) -> Fold {
+        Fold {
+            name: format!("{held:?}"),
+            held,
+            held_rows: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn a_piece_predicted_beyond_every_reading_of_its_like_is_marked_and_one_between_them_is_not() {
+        // Holds of 10, 100 and 1000 s, one per fold, and a reversal read at no variable.
+        let mut all = vec![
+            read(PieceKind::Hold, Some(10.0)),
+            read(PieceKind::Hold, Some(100.0)),
+            read(PieceKind::Hold, Some(1000.0)),
+            read(PieceKind::Reversal, None),
+        ];
+        let folds = vec![holding(vec![0]), holding(vec![1, 3]), holding(vec![2])];
+        mark_beyond_training(&mut all, &folds);
+        let marked: Vec<bool> = all.iter().map(|p| p.beyond_training).collect();
+        assert_eq!(marked, [true, false, true, false]);
+        // A reading equal to a trained one is not beyond it (two steps to the same rate).
+        let mut same = vec![
+            read(PieceKind::VelocityStep, Some(0.0)),
+            read(PieceKind::VelocityStep, Some(0.0)),
+        ];
+        mark_beyond_training(&mut same, &[holding(vec![0]), holding(vec![1])]);
+        assert!(same.iter().all(|p| !p.beyond_training));
+        // Of two holds each is predicted from the other alone: both beyond.
+        let mut two = vec![
+            read(PieceKind::Hold, Some(10.0)),
+            read(PieceKind::Hold, Some(100.0)),
+        ];
+        mark_beyond_training(&mut two, &[holding(vec![0]), holding(vec![1])]);
+        assert!(two.iter().all(|p| p.beyond_training));
+        // Held out with every piece of its kind: no reading trained, nothing to be beyond.
+        let mut alone = vec![
+            read(PieceKind::Hold, Some(10.0)),
+            read(PieceKind::Hold, Some(100.0)),
+        ];
+        mark_beyond_training(&mut alone, &[holding(vec![0, 1])]);
+        assert!(alone.iter().all(|p| !p.beyond_training));
+    }
 }

@@ -80,6 +80,9 @@ pub struct PieceScore {
     pub reference_ssr: f64,
     /// Candidate SSR.
     pub candidate_ssr: f64,
+    /// Predicted beyond every reading of its kind its fold trained on
+    /// ([`crate::folds::Piece::beyond_training`]).
+    pub beyond_training: bool,
 }
 
 /// A candidate against a reference model on the held-out pieces.
@@ -195,7 +198,7 @@ fn piece_rows<'a>(
 /// ```
 /// use subfric_diagnose::folds::{Piece, PieceKind};
 /// use subfric_diagnose::score::compare;
-/// let pieces = vec![Piece { test: 0, start: 0, end: 4, kind: PieceKind::Hold }];
+/// let pieces = vec![Piece::new(0, 0, 4, PieceKind::Hold)];
 /// let reference = vec![vec![3.0, -3.0, 3.0, -3.0]];
 /// let candidate = vec![vec![1.0, -1.0, 1.0, -1.0]];
 /// let weights = vec![vec![1.0; 4]];
@@ -260,6 +263,7 @@ pub fn compare(
             n_eff: ne,
             reference_ssr: b,
             candidate_ssr: c,
+            beyond_training: p.beyond_training,
         });
     }
     for lv in levels.values() {
@@ -419,12 +423,7 @@ mod tests {
     use super::*;
 
     fn piece(start: usize, end: usize) -> Piece {
-        Piece {
-            test: 0,
-            start,
-            end,
-            kind: PieceKind::VelocityStep,
-        }
+        Piece::new(0, start, end, PieceKind::VelocityStep)
     }
 
     #[test]
@@ -495,18 +494,8 @@ mod tests {
         // reference misses each by a level of 30 noise units, the candidate by 1; the scatter
         // between specimens is 3 noise units.
         let pieces = vec![
-            Piece {
-                test: 0,
-                start: 0,
-                end: 500,
-                kind: PieceKind::InitialLoading,
-            },
-            Piece {
-                test: 1,
-                start: 0,
-                end: 500,
-                kind: PieceKind::InitialLoading,
-            },
+            Piece::new(0, 0, 500, PieceKind::InitialLoading),
+            Piece::new(1, 0, 500, PieceKind::InitialLoading),
         ];
         let weights = vec![vec![1.0; 500]; 2];
         let wiggle = |level: f64| -> Vec<f64> {

@@ -48,12 +48,7 @@ fn extra_shrinks(
             .tests
             .iter()
             .enumerate()
-            .map(|(i, t)| Piece {
-                test: i,
-                start: 0,
-                end: t.len(),
-                kind: PieceKind::InitialLoading,
-            })
+            .map(|(i, t)| Piece::new(i, 0, t.len(), PieceKind::InitialLoading))
             .collect();
         Some(cx.compare(&whole, &b, &c).excess_shrink)
     };

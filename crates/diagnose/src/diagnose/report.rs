@@ -66,6 +66,10 @@ pub struct CandidateScore {
     pub model: Model,
     /// Held-out comparison with the reference.
     pub held_out: Comparison,
+    /// The same comparison on the pieces predicted between readings of their like: those
+    /// predicted beyond every training piece of their kind ([`crate::folds::Piece::beyond_training`])
+    /// left out; `None` where no piece is.
+    pub held_out_within: Option<Comparison>,
     /// Fraction of the held-out excess removed (= `held_out.excess_shrink`), for scripts.
     pub held_out_shrink: f64,
     /// Shrink per kind of piece: (kind, reference χ², candidate χ²).
@@ -97,6 +101,27 @@ pub struct OwnKindScore {
     pub kind: crate::candidates::OwnKind,
     /// The comparison on those pieces.
     pub held_out: Comparison,
+    /// The comparison on those of them predicted between readings of their like, where some
+    /// are predicted beyond them ([`crate::folds::Piece::beyond_training`]) and some not;
+    /// `None` otherwise.
+    pub within: Option<Comparison>,
+}
+
+impl OwnKindScore {
+    /// The comparison the kind is judged on: between readings of its like where it has
+    /// pieces there and beyond ([`OwnKindScore::within`]), else on all its pieces.
+    pub fn judged(&self) -> &Comparison {
+        self.within.as_ref().unwrap_or(&self.held_out)
+    }
+}
+
+impl CandidateScore {
+    /// The comparison over all pieces a candidate is judged on where the events show its
+    /// family: the pieces predicted beyond every reading of their like left out
+    /// ([`CandidateScore::held_out_within`]).
+    pub fn judged_within(&self) -> &Comparison {
+        self.held_out_within.as_ref().unwrap_or(&self.held_out)
+    }
 }
 
 impl CandidateScore {

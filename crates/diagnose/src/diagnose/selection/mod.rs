@@ -37,4 +37,6 @@ pub(super) use forward::{forward_selection, Selection};
 pub(super) use screening::screen_and_polish;
 
 #[cfg(test)]
+mod shown_tests;
+#[cfg(test)]
 mod tests;

@@ -77,6 +77,18 @@ pub(super) fn own_kind_gap(cx: &Context, current: &Current, families: &[Family])
         })
 }
 
+/// Of `pieces`, those predicted between readings of their like
+/// ([`crate::folds::Piece::beyond_training`] not set), where some are and some are not; `None`
+/// otherwise (nothing to leave out, or nothing left).
+pub(super) fn within_readings(pieces: &[Piece]) -> Option<Vec<Piece>> {
+    let within: Vec<Piece> = pieces
+        .iter()
+        .filter(|p| !p.beyond_training)
+        .cloned()
+        .collect();
+    (!within.is_empty() && within.len() < pieces.len()).then_some(within)
+}
+
 pub(super) fn candidate_score(
     cx: &Context,
     effect: Effect,
@@ -99,18 +111,21 @@ pub(super) fn candidate_score(
         .cloned()
         .collect();
     let without_first_loadings = cx.compare(&later, reference, held).score;
+    let compared = |pieces: &[Piece]| Comparison {
+        parameters,
+        ..cx.compare(pieces, reference, held)
+    };
     let score_kinds = |kinds: Vec<(OwnKind, Vec<Piece>)>| -> Vec<OwnKindScore> {
         kinds
             .into_iter()
             .map(|(kind, own)| OwnKindScore {
                 kind,
-                held_out: Comparison {
-                    parameters,
-                    ..cx.compare(&own, reference, held)
-                },
+                held_out: compared(&own),
+                within: within_readings(&own).map(|w| compared(&w)),
             })
             .collect()
     };
+    let held_out_within = within_readings(&cx.pieces).map(|w| compared(&w));
     let own_kinds = score_kinds(own_pieces(cx, effect, spec));
     let shown_kinds = pieces_of_kinds(cx, effect, effect.shown_kinds(), spec);
     let shown_pieces: Vec<Piece> = shown_kinds
@@ -130,6 +145,7 @@ pub(super) fn candidate_score(
         held_out_shrink: c.excess_shrink,
         by_kind: kind_shrinks(&c),
         held_out: c,
+        held_out_within,
         own_kinds,
         shown_in,
         between_tests,

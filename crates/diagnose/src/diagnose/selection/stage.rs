@@ -3,19 +3,22 @@
 
 use super::*;
 
-/// Fewest held-out pieces of its own kind a candidate shown by the events must predict better
-/// (every one of them): one piece improved by chance says nothing.
+/// Fewest readings — held-out pieces of its own kind, or stress levels — a candidate shown by
+/// the events must be confirmed on: one piece improved by chance says nothing.
 pub(super) const SHOWN_MIN_PIECES: usize = 2;
 
-/// Whether most of `pieces` — two thirds of them, and [`SHOWN_MIN_PIECES`] at least — are
-/// predicted better by the candidate: one test at the reference stress, which a pressure
-/// effect leaves as it was, or one reversal a hair worse must not outvote the readings.
-pub(super) fn most_predicted_better(pieces: &[&crate::score::PieceScore]) -> bool {
+/// Whether most of `pieces` — two thirds of them, one at least — are predicted better by the
+/// candidate, of `readings` pieces read ([`SHOWN_MIN_PIECES`] at least): one test at the
+/// reference stress, which a pressure effect leaves as it was, or one reversal a hair worse
+/// must not outvote the readings. `pieces` are the readings predicted between their like where
+/// some are predicted beyond them ([`super::scoring::within_readings`]): of three holds, the
+/// middle one.
+pub(super) fn most_predicted_better(pieces: &[&crate::score::PieceScore], readings: usize) -> bool {
     let better = pieces
         .iter()
         .filter(|p| p.candidate_ssr < p.reference_ssr)
         .count();
-    better >= SHOWN_MIN_PIECES && 3 * better >= 2 * pieces.len()
+    readings >= SHOWN_MIN_PIECES && better >= 1 && 3 * better >= 2 * pieces.len()
 }
 
 /// The candidate, among those whose family the events read one by one show outright
@@ -72,19 +75,30 @@ pub(super) fn confirmed_where_shown(
     stresses: &[f64],
     th: &crate::verdict::Thresholds,
 ) -> bool {
+    // Where the events were read, a piece predicted beyond every reading of its like (the
+    // longest of three holds from the two shorter ones) tests the fitted form's extrapolation,
+    // not the family the readings show: the law is confirmed between readings
+    // ([`OwnKindScore::judged`], [`CandidateScore::judged_within`]). Healing the three holds
+    // showed (0.02 per decade, clear of zero) predicted the 100 s hold from the 10 s and
+    // 1000 s ones with 97 % of its misfit gone, and was left unnamed beside a pressure law
+    // because the 1000 s hold, predicted from the two shorter ones, came out 2–4× worse (fresh
+    // seeds 32003–32005).
     let pieces: Vec<&crate::score::PieceScore> =
-        c.shown_in.iter().flat_map(|k| &k.held_out.pieces).collect();
+        c.shown_in.iter().flat_map(|k| &k.judged().pieces).collect();
+    let read: usize = c.shown_in.iter().map(|k| k.held_out.pieces.len()).sum();
     // An effect on whole tests is read across the normal stresses, and the tests at one stress
     // are one reading of it: two tests at 100 kPa a little worse (a refit moves them, the law
     // does not) outvoted the tests at 50 and 400 kPa, each predicted 1.3–3.6× better, and a
     // pressure law the tests' levels showed was left unnamed (fresh seed 30003).
     let merged: Vec<crate::score::PieceScore>;
-    let own: Vec<&crate::score::PieceScore> = if c.effect.acts_on_whole_tests() {
+    let (own, readings): (Vec<&crate::score::PieceScore>, usize) = if c.effect.acts_on_whole_tests()
+    {
         merged = by_stress_level(&pieces, stresses);
-        merged.iter().collect()
+        (merged.iter().collect(), merged.len())
     } else {
-        pieces
+        (pieces, read)
     };
+    let all = c.judged_within();
     // On the pieces where the events were read, "enough" is the first effect's standard, a
     // typical piece's share of the excess: a summed share hangs on the worst piece, and each
     // such piece is predicted from the others (a velocity step from steps at other rates). A
@@ -95,14 +109,13 @@ pub(super) fn confirmed_where_shown(
     // miss against the scatter between specimens: a pressure law took 72 % and 23 % off the
     // tests at 400 and 50 kPa, 60 % of the summed excess, while a typical piece got worse in
     // the shapes along the tests it does not touch (fresh seed 30003).
-    own.len() >= SHOWN_MIN_PIECES
-        && most_predicted_better(&own)
+    most_predicted_better(&own, readings)
         && gains_where_it_lives(c, th)
-        && c.held_out.excess_shrink > 0.0
-        && (material(&c.held_out, th)
+        && all.excess_shrink > 0.0
+        && (material(all, th)
             || c.shown_in
                 .iter()
-                .all(|k| crate::verdict::material_over_base(&k.held_out, th))
+                .all(|k| crate::verdict::material_over_base(k.judged(), th))
             || (c.effect.acts_on_whole_tests() && c.between_tests_shrink >= th.min_excess_shrink))
         && drift.is_none_or(|d| !drift_outweighs(&d.held_out, &c.held_out))
 }
@@ -142,9 +155,9 @@ pub(super) fn by_stress_level(
 /// then fall below zero for an effect that predicts nearly every piece better (a wear
 /// softening: 11 of 13 pieces better, 64 % of the held-out excess removed, D −17).
 pub(super) fn gains_where_it_lives(c: &CandidateScore, th: &crate::verdict::Thresholds) -> bool {
-    c.held_out.score > 0.0
+    c.judged_within().score > 0.0
         || (!c.shown_in.is_empty()
-            && (c.shown_in.iter().all(|k| k.held_out.score >= th.min_score)
+            && (c.shown_in.iter().all(|k| k.judged().score >= th.min_score)
                 || c.between_tests >= th.min_score))
 }
 
@@ -286,31 +299,42 @@ pub(super) fn selection_stage(
 
 /// The comparison candidate `c` is judged on besides all pieces.
 ///
-/// A further effect is judged on the pieces of its own kinds, and where the record holds none
-/// of them — or every one is claimed by an effect named already — on those where the
-/// events that show its family are read, when no effect claims them: what it gains on
-/// pieces another family acts on may only take up what that family's form leaves (a
-/// rate-and-state law, with no velocity step or hold in the record, fitting the transient
-/// after each reversal behind a direction effect: D 169, the reversals' misfit 10.6 → 1.6,
-/// named "direction + rate"), while a slip softening behind a rate law, its own kinds of
-/// piece all velocity steps, is judged on the first loadings where its slope is read (D 138
-/// there, 75 % of their excess; fresh seed 30004). The first effect has no such family
-/// before it and is judged on all pieces when it has no kind of its own.
+/// An effect is judged on the pieces of its own kinds and on those where the events that show
+/// its family are read ([`CandidateScore::shown_in`], those no effect named already claims):
+/// the kind with the most evidence among those where it passes, else the kind with the most
+/// evidence. What it gains on pieces another family acts on may only take up what that
+/// family's form leaves (a rate-and-state law, with no velocity step or hold in the record,
+/// fitting the transient after each reversal behind a direction effect: D 169, the reversals'
+/// misfit 10.6 → 1.6, named "direction + rate"). A slip softening acts over the slip of a test
+/// and is read on its first loadings: behind a rate law it took 98 % of the first loadings'
+/// held-out excess (D 59) and 94 % of all pieces', while the sliding after them, where the
+/// rate law had moved the holds and reversals, came out worse, and judged there alone it was
+/// left out (fresh seed 33003; behind a rate law that claimed every later piece it was judged
+/// on the first loadings already, fresh seed 30004). The first effect has no family before it
+/// to take up what another leaves: it is judged on its own kinds, and on all pieces when it has
+/// none.
 pub(super) fn own_standard(
     c: &CandidateScore,
     th: &crate::verdict::Thresholds,
     first_stage: bool,
 ) -> Comparison {
-    match c.best_own_kind(th) {
-        Some(k) => k.clone(),
+    let shown: &[OwnKindScore] = if first_stage { &[] } else { &c.shown_in };
+    let kinds: Vec<&Comparison> = c
+        .own_kinds
+        .iter()
+        .chain(shown)
+        .map(|k| &k.held_out)
+        .collect();
+    let most = |a: &&&Comparison, b: &&&Comparison| a.score.total_cmp(&b.score);
+    match kinds
+        .iter()
+        .filter(|k| crate::verdict::passes(k, th))
+        .max_by(most)
+        .or_else(|| kinds.iter().max_by(most))
+    {
+        Some(k) => (*k).clone(),
         None if first_stage => c.held_out.clone(),
-        None => c
-            .shown_in
-            .iter()
-            .map(|k| &k.held_out)
-            .max_by(|a, b| a.score.total_cmp(&b.score))
-            .cloned()
-            .unwrap_or_else(Comparison::of_no_pieces),
+        None => Comparison::of_no_pieces(),
     }
 }
 

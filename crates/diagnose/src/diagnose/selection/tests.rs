@@ -4,7 +4,7 @@ use crate::folds::PieceKind;
 use crate::score::PieceScore;
 use subfric_model::Params;
 
-fn healing() -> Effect {
+pub(super) fn healing() -> Effect {
     Effect::from_name("log-healing").unwrap()
 }
 
@@ -166,7 +166,7 @@ fn a_whole_test_family_is_predicted_held_out_in_its_best_forms_and_the_tests_lev
     assert_eq!(most_evidence(&[]), None);
 }
 
-fn comparison(score: f64, n_eff: f64, pieces: Vec<PieceScore>) -> Comparison {
+pub(super) fn comparison(score: f64, n_eff: f64, pieces: Vec<PieceScore>) -> Comparison {
     Comparison {
         score,
         shape_score: score,
@@ -202,6 +202,7 @@ fn the_shrink_by_kind_of_piece_is_the_share_of_its_misfit_removed() {
         n_eff: rows as f64,
         reference_ssr: b,
         candidate_ssr: c,
+        beyond_training: false,
     };
     let c = comparison(
         40.0,
@@ -250,6 +251,7 @@ fn an_effect_the_events_show_needs_most_of_their_pieces_predicted_better_not_eve
         n_eff: 4.0,
         reference_ssr,
         candidate_ssr,
+        beyond_training: false,
     };
     // Four tests of five predicted better; the one at the reference stress a little worse.
     let four_of_five: Vec<_> = (0..5)
@@ -262,18 +264,26 @@ fn an_effect_the_events_show_needs_most_of_their_pieces_predicted_better_not_eve
         })
         .collect();
     assert!(most_predicted_better(
-        &four_of_five.iter().collect::<Vec<_>>()
+        &four_of_five.iter().collect::<Vec<_>>(),
+        5
     ));
     // Three of five is not two thirds.
     let three_of_five: Vec<_> = (0..5)
         .map(|t| piece(t, 100.0, if t < 3 { 60.0 } else { 120.0 }))
         .collect();
     assert!(!most_predicted_better(
-        &three_of_five.iter().collect::<Vec<_>>()
+        &three_of_five.iter().collect::<Vec<_>>(),
+        5
     ));
-    // One piece, however much better, says nothing.
+    // One piece read, however much better, says nothing ...
     let one = [piece(0, 100.0, 1.0)];
-    assert!(!most_predicted_better(&one.iter().collect::<Vec<_>>()));
+    assert!(!most_predicted_better(&one.iter().collect::<Vec<_>>(), 1));
+    // ... one judged of three read (the middle of three holds, the others predicted beyond
+    // their like) is judged on its own, better ...
+    assert!(most_predicted_better(&one.iter().collect::<Vec<_>>(), 3));
+    // ... or worse.
+    let worse = [piece(0, 100.0, 101.0)];
+    assert!(!most_predicted_better(&worse.iter().collect::<Vec<_>>(), 3));
 }
 
 #[test]
@@ -340,6 +350,48 @@ fn a_later_stage_starts_a_form_from_its_fit_alone_with_the_current_effects_added
 }
 
 #[test]
+fn a_later_stage_starts_a_form_off_zero_never_from_the_current_model_with_it_switched_off() {
+    let lib = crate::candidates::every_form();
+    let rate = lib
+        .iter()
+        .find(|f| f.effect == Effect::from_name("rate").unwrap() && f.params.len() == 4)
+        .expect("a rate-and-state form");
+    let current = Current {
+        spec: Spec::base(),
+        model: Model::base(Params::sample()).unwrap(),
+        fit_tests: Vec::new(),
+        held: Vec::new(),
+    };
+    let switched_off = switched_off(
+        &with_values(
+            &current.model,
+            &Spec::with(rate),
+            std::slice::from_ref(&rate.neutral),
+        ),
+        &Spec::with(rate),
+    );
+    // Its own starts and its fit alone with the current effects: none is the form switched
+    // off, each moves the friction (a ≠ 0).
+    let mut alone = report(rate.effect, rate.name, 10.0, 1.0);
+    alone.model = with_values(
+        &current.model,
+        &Spec::with(rate),
+        std::slice::from_ref(&rate.starts[0]),
+    );
+    let starts = rescreen_starts(&[alone], rate, &current);
+    assert_eq!(starts.len(), rate.starts.len() + 1);
+    assert!(starts.iter().all(|s| *s != switched_off));
+    assert!(starts
+        .iter()
+        .all(|s| rate.params[0].get(s).is_some_and(|a| a != 0.0)));
+    // A form with no start of its own and no fit alone starts switched off: there is nothing
+    // else to start from.
+    let mut bare = rate.clone();
+    bare.starts.clear();
+    assert_eq!(rescreen_starts(&[], &bare, &current), vec![switched_off]);
+}
+
+#[test]
 fn an_effect_shown_is_weighed_where_it_lives_when_shapes_elsewhere_outvote_it() {
     let th = crate::verdict::Thresholds::default();
     let candidate = |overall: f64, shown: Option<f64>| CandidateScore {
@@ -348,6 +400,7 @@ fn an_effect_shown_is_weighed_where_it_lives_when_shapes_elsewhere_outvote_it() 
         extra_parameters: BTreeMap::new(),
         model: Model::base(Params::sample()).unwrap(),
         held_out: comparison(overall, 800.0, vec![]),
+        held_out_within: None,
         held_out_shrink: 0.5,
         by_kind: vec![],
         own_kinds: vec![],
@@ -355,6 +408,7 @@ fn an_effect_shown_is_weighed_where_it_lives_when_shapes_elsewhere_outvote_it() 
             .map(|d| OwnKindScore {
                 kind: crate::candidates::OwnKind::Piece(PieceKind::InitialLoading),
                 held_out: comparison(d, 30.0, vec![]),
+                within: None,
             })
             .into_iter()
             .collect(),
@@ -452,230 +506,4 @@ fn a_further_effect_with_no_pieces_of_its_own_is_not_credited_however_much_it_ga
         judged(Comparison::of_no_pieces()),
         Decision::Named(_) | Decision::Tentative(_)
     ));
-}
-
-/// A held-out piece of `kind` from test `test`, its misfits under the reference and the
-/// candidate; a smooth misfit, one effective row in ten.
-fn piece_score(
-    kind: PieceKind,
-    test: usize,
-    rows: usize,
-    reference_ssr: f64,
-    candidate_ssr: f64,
-) -> PieceScore {
-    PieceScore {
-        kind,
-        test,
-        rows,
-        n_eff: rows as f64 / 10.0,
-        reference_ssr,
-        candidate_ssr,
-    }
-}
-
-/// A rate-law candidate whose family the velocity steps show outright, held out over all pieces
-/// (`all`) and over the five steps (`steps`, their (reference, candidate) misfits).
-fn shown_rate(all: Comparison, steps: Comparison) -> CandidateScore {
-    CandidateScore {
-        effect: Effect::from_name("rate").unwrap(),
-        spec: "slip-hardening + rate".into(),
-        extra_parameters: BTreeMap::new(),
-        model: Model::base(Params::sample()).unwrap(),
-        held_out_shrink: all.excess_shrink,
-        held_out: all,
-        by_kind: vec![],
-        own_kinds: vec![],
-        shown_in: vec![OwnKindScore {
-            kind: crate::candidates::OwnKind::Piece(PieceKind::VelocityStep),
-            held_out: steps,
-        }],
-        between_tests: 0.0,
-        between_tests_shrink: 0.0,
-        without_first_loadings: 0.0,
-    }
-}
-
-#[test]
-fn an_effect_the_events_show_explains_enough_when_a_typical_piece_of_its_kind_loses_its_excess() {
-    let th = crate::verdict::Thresholds::default();
-    let step = |test, reference_ssr, candidate_ssr| {
-        piece_score(
-            PieceKind::VelocityStep,
-            test,
-            64,
-            reference_ssr,
-            candidate_ssr,
-        )
-    };
-    // As on a fresh set (rate + slip softening, after slip softening): four of five steps
-    // predicted better, 46 % of the steps' summed excess removed, a typical step's misfit
-    // down 37 % at 6.6× the noise (44 % of its excess); over all pieces D 34, 34 % of the
-    // excess, a typical piece 5 % — under the 70 % a summed share must reach.
-    let pieces = vec![
-        step(0, 1111.0, 317.0),
-        step(0, 645.0, 1302.0),
-        step(0, 615.0, 494.0),
-        step(0, 1194.0, 134.0),
-        step(0, 1946.0, 871.0),
-    ];
-    let mut steps = comparison(15.9, 30.0, pieces);
-    (
-        steps.excess_shrink,
-        steps.typical_shrink,
-        steps.reference_chi2,
-    ) = (0.46, 0.37, 6.56);
-    let mut all = comparison(34.2, 1500.0, vec![]);
-    (all.excess_shrink, all.typical_shrink, all.reference_chi2) = (0.34, 0.05, 2.34);
-    assert!(!crate::verdict::material(&steps.clone(), &th));
-    let stresses = [100.0];
-    assert!(confirmed_where_shown(
-        &shown_rate(all.clone(), steps.clone()),
-        None,
-        &stresses,
-        &th
-    ));
-    // A typical step hardly better (4 %, 5 % of its excess): the summed share alone would
-    // hang on the two steps much better; not enough.
-    let mut barely = steps.clone();
-    barely.typical_shrink = 0.04;
-    assert!(!confirmed_where_shown(
-        &shown_rate(all.clone(), barely),
-        None,
-        &stresses,
-        &th
-    ));
-    // The held-out misfit of all pieces together raised: not confirmed however the steps go.
-    let mut raised = all.clone();
-    raised.excess_shrink = -0.1;
-    assert!(!confirmed_where_shown(
-        &shown_rate(raised, steps.clone()),
-        None,
-        &stresses,
-        &th
-    ));
-    // Two steps of five better is not most of them.
-    let mut two_of_five = steps;
-    for p in &mut two_of_five.pieces[2..] {
-        p.candidate_ssr = 2.0 * p.reference_ssr;
-    }
-    assert!(!confirmed_where_shown(
-        &shown_rate(all, two_of_five),
-        None,
-        &stresses,
-        &th
-    ));
-}
-
-#[test]
-fn a_first_effect_that_raises_the_held_out_misfit_yields_to_one_the_events_show() {
-    let with_excess = |excess: f64| {
-        let mut c = comparison(100.0, 800.0, vec![]);
-        c.excess_shrink = excess;
-        shown_rate(c.clone(), c)
-    };
-    // Named on D while the summed held-out misfit rises by 66 %; the runner-up is shown by
-    // the events and confirmed by its pieces: it is named instead, at the first stage.
-    let candidates = [with_excess(-0.66), with_excess(0.51)];
-    let named = Decision::Named(0);
-    assert_eq!(
-        read_with_the_events(&candidates, Some(1), named, true),
-        Decision::Named(1)
-    );
-    // Nothing the events show: the first stays.
-    assert_eq!(read_with_the_events(&candidates, None, named, true), named);
-    // The named effect is itself the one shown, or lowers the misfit: it stays.
-    assert_eq!(
-        read_with_the_events(&candidates, Some(0), named, true),
-        named
-    );
-    let lowers = [with_excess(0.2), with_excess(0.51)];
-    assert_eq!(read_with_the_events(&lowers, Some(1), named, true), named);
-    // At a later stage the further effect's own standard applies (`decide_further`).
-    assert_eq!(
-        read_with_the_events(&candidates, Some(1), named, false),
-        Decision::Named(0)
-    );
-    // Where nothing is named, the effect shown is.
-    assert_eq!(
-        read_with_the_events(&candidates, Some(1), Decision::Unexplained, false),
-        Decision::Named(1)
-    );
-    assert_eq!(
-        read_with_the_events(&candidates, None, Decision::Tentative(0), true),
-        Decision::Tentative(0)
-    );
-}
-
-#[test]
-fn a_further_effect_whose_own_pieces_are_all_claimed_is_judged_where_its_events_are_read() {
-    let th = crate::verdict::Thresholds::default();
-    let all = comparison(206.9, 2000.0, vec![]);
-    let first_loadings = comparison(137.7, 60.0, vec![]);
-    // Slip softening behind a rate law: its own kinds (every piece after a first loading) are
-    // all velocity steps, claimed by the rate law; its slope is read on the first loadings.
-    let mut softening = shown_rate(all.clone(), first_loadings.clone());
-    softening.effect = Effect::from_name("slip-hardening").unwrap();
-    softening.shown_in[0].kind = crate::candidates::OwnKind::Piece(PieceKind::InitialLoading);
-    assert_eq!(own_standard(&softening, &th, false), first_loadings);
-    // A first effect without own pieces is judged on all of them.
-    assert_eq!(own_standard(&softening, &th, true), all);
-    // With neither own pieces nor unclaimed ones where its events are read (healing behind a
-    // rate law that claims the holds): nothing to be credited on.
-    softening.shown_in.clear();
-    assert_eq!(
-        own_standard(&softening, &th, false),
-        Comparison::of_no_pieces()
-    );
-    // Own pieces come first.
-    softening.own_kinds = vec![OwnKindScore {
-        kind: crate::candidates::OwnKind::AfterFirstLoading,
-        held_out: comparison(30.0, 100.0, vec![]),
-    }];
-    assert_eq!(own_standard(&softening, &th, false).score, 30.0);
-}
-
-#[test]
-fn an_effect_on_whole_tests_is_confirmed_by_the_stress_levels_not_by_each_test() {
-    let th = crate::verdict::Thresholds::default();
-    let first_loading = |test, reference_ssr, candidate_ssr| {
-        piece_score(
-            PieceKind::InitialLoading,
-            test,
-            300,
-            reference_ssr,
-            candidate_ssr,
-        )
-    };
-    // As on a fresh set (log-healing + pressure): tests at 50 and 400 kPa predicted 1.3× and
-    // 3.6× better, the slide-hold-slide and the cyclic test, both at 100 kPa, worse.
-    let pieces = vec![
-        first_loading(0, 681_163.0, 523_901.0),
-        first_loading(1, 2_507_277.0, 705_892.0),
-        first_loading(2, 3_544.0, 6_514.0),
-        first_loading(3, 6_047.0, 24_326.0),
-    ];
-    let stresses = [50.0, 400.0, 100.0, 101.0];
-    let refs: Vec<&PieceScore> = pieces.iter().collect();
-    let levels = by_stress_level(&refs, &stresses);
-    assert_eq!(levels.len(), 3);
-    assert_eq!(levels[1].reference_ssr, 3_544.0 + 6_047.0);
-    assert_eq!(levels[1].rows, 600);
-    // Test by test, two of four is not most; level by level, two of three is.
-    assert!(!most_predicted_better(&refs));
-    assert!(most_predicted_better(&levels.iter().collect::<Vec<_>>()));
-    let mut readings = comparison(40.0, 20.0, pieces);
-    (
-        readings.excess_shrink,
-        readings.typical_shrink,
-        readings.reference_chi2,
-    ) = (0.61, 0.2, 500.0);
-    let mut all = comparison(30.0, 1500.0, vec![]);
-    all.excess_shrink = 0.6;
-    let mut pressure = shown_rate(all, readings);
-    pressure.effect = Effect::from_name("pressure").unwrap();
-    pressure.shown_in[0].kind = crate::candidates::OwnKind::Piece(PieceKind::InitialLoading);
-    assert!(confirmed_where_shown(&pressure, None, &stresses, &th));
-    // A family that does not act on whole tests is still counted piece by piece.
-    pressure.effect = healing();
-    assert!(!confirmed_where_shown(&pressure, None, &stresses, &th));
 }
