@@ -102,7 +102,7 @@ pub fn plan_to_folder(
     if let Some(n) = &basis.note {
         progress.note(n);
     }
-    let mut fit = FitRequest::of_set(req.set.clone(), options);
+    let mut fit = FitRequest::of_set(req.set.clone(), options.clone());
     fit.free.extend(basis.extra_free.iter().copied());
     fit.start = basis.start;
     let setup = setup(&fit, progress)?;

@@ -103,8 +103,11 @@ fn jobs(experiments: &Path) -> Result<Vec<Job>> {
 }
 
 /// Fits one set and writes its fit.json, fit.txt and figures into its claimed folder.
-fn fit_one(job: &Job, claim: ResultsDir, options: FitOptions) -> Result<(SetResult, Vec<String>)> {
-    let outcome = run_fit(&FitRequest::of_set(job.dir.clone(), options), &Silent)?;
+fn fit_one(job: &Job, claim: ResultsDir, options: &FitOptions) -> Result<(SetResult, Vec<String>)> {
+    let outcome = run_fit(
+        &FitRequest::of_set(job.dir.clone(), options.clone()),
+        &Silent,
+    )?;
     let set_out = claim.path().to_path_buf();
     write_fit(&set_out, &outcome)?;
     write_text(&set_out.join("fit.txt"), &(report_table(&outcome) + "\n"))?;
@@ -242,7 +245,7 @@ fn fit_all(
         .par_iter()
         .zip(claims)
         .map(|(j, claim)| {
-            let r = fit_one(j, claim, options);
+            let r = fit_one(j, claim, &options);
             let k = done.fetch_add(1, Ordering::Relaxed) + 1;
             progress.stage(&format!("fitting {total} sets: {k} done"), None);
             r

@@ -390,6 +390,7 @@ pub(super) fn fit_base(cx: &mut Context, calibrated: Model) -> Result<Current, F
         &cx.screening,
         &cx.space(&base, &Spec::base()),
         INFORMED_STARTS,
+        None,
     );
     cx.base_residuals = residuals(&cx.tests, &base, None);
     cx.reweight = model_error_dominates(cx);
