@@ -12,7 +12,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use subfric_fit::{
     best_informed_guesses, calibrate_from, with_base_of, FitError, FitOptions, FitTest, Param,
-    PreparedTest, Space, Stiffness,
+    PreparedTest, RunCounter, Space, Stiffness,
 };
 use subfric_model::Model;
 
@@ -58,6 +58,9 @@ pub(super) struct Context<'a> {
     pub(super) started: Instant,
     /// Told where the diagnosis is ([`Context::step`]).
     report: &'a (dyn Fn(Step) + Sync),
+    /// The diagnosis's model runs: every fit it makes counts here (for its caller's progress
+    /// display and [`Context::trace`]).
+    pub(super) run_counter: RunCounter,
     /// Candidate forms screened so far.
     forms_done: AtomicUsize,
 }
@@ -81,12 +84,14 @@ impl SpecFit {
 
 impl<'a> Context<'a> {
     /// The tests, pieces and folds of `prepared`, and the template the base fit starts from
-    /// (α_t from the data when they resolve it, then also fitted).
+    /// (α_t from the data when they resolve it, then also fitted). Its fits count their model
+    /// runs into `run_counter`.
     pub(super) fn new(
         prepared: &[PreparedTest],
         stiffness: Option<&Stiffness>,
         opts: &'a DiagnoseOptions,
         report: &'a (dyn Fn(Step) + Sync),
+        run_counter: &RunCounter,
     ) -> (Self, Model) {
         let tests: Vec<FitTest> = prepared.iter().map(|p| p.fit.clone()).collect();
         let screening = screening_tests(prepared);
@@ -119,6 +124,7 @@ impl<'a> Context<'a> {
             opts,
             started: Instant::now(),
             report,
+            run_counter: run_counter.clone(),
             forms_done: AtomicUsize::new(0),
         };
         (cx, template)
@@ -136,13 +142,14 @@ impl<'a> Context<'a> {
         self.step(2, done, total);
     }
 
-    /// Prints the time of each stage to stderr when `SUBFRIC_TRACE` is set (for tuning).
+    /// Prints the time and this diagnosis's model runs at each stage to stderr when
+    /// `SUBFRIC_TRACE` is set (for tuning).
     pub(super) fn trace(&self, what: &str) {
         if std::env::var_os("SUBFRIC_TRACE").is_some() {
             eprintln!(
                 "[{:7.2} s, {:6} model runs] {what}",
                 self.started.elapsed().as_secs_f64(),
-                subfric_fit::problem::model_runs()
+                self.run_counter.runs()
             );
         }
     }
@@ -224,6 +231,7 @@ impl<'a> Context<'a> {
                 &space,
                 &[fitted.result.model],
                 Effort::refit(effort.iterations),
+                &self.run_counter,
             );
             if !result.ssr.is_finite() || result.ssr > before {
                 break;
@@ -253,7 +261,7 @@ impl<'a> Context<'a> {
         // Plain least squares first: weights from another model's residuals would make the
         // pieces where this one differs most weightless, and the fit would never see them.
         let mut fit_tests = detrended(self.tests.clone());
-        let mut result = fit(&fit_tests, &space, starts, effort);
+        let mut result = fit(&fit_tests, &space, starts, effort, &self.run_counter);
         if reweight {
             for _ in 0..REWEIGHTING_ROUNDS {
                 let own = residuals(
@@ -263,7 +271,13 @@ impl<'a> Context<'a> {
                 );
                 fit_tests = detrended(self.weighted_for(&own));
                 let refit = Effort::refit(effort.iterations / 2 + 1);
-                result = fit(&fit_tests, &space, &[result.model], refit);
+                result = fit(
+                    &fit_tests,
+                    &space,
+                    &[result.model],
+                    refit,
+                    &self.run_counter,
+                );
             }
         }
         SpecFit {
@@ -287,7 +301,7 @@ impl<'a> Context<'a> {
         for s in starts {
             all.extend(self.informed.iter().map(|g| with_base_of(s, g)));
         }
-        let result = fit(&self.screening, &space, &all, effort);
+        let result = fit(&self.screening, &space, &all, effort, &self.run_counter);
         SpecFit {
             result,
             fit_tests: self.screening.clone(),
@@ -311,6 +325,7 @@ impl<'a> Context<'a> {
             starts,
             self.opts.fold_iterations,
             spec.drift,
+            &self.run_counter,
         )
     }
 
@@ -390,7 +405,7 @@ pub(super) fn fit_base(cx: &mut Context, calibrated: Model) -> Result<Current, F
         &cx.screening,
         &cx.space(&base, &Spec::base()),
         INFORMED_STARTS,
-        None,
+        Some(&cx.run_counter),
     );
     cx.base_residuals = residuals(&cx.tests, &base, None);
     cx.reweight = model_error_dominates(cx);
@@ -477,6 +492,7 @@ pub(super) fn calibrated_base(
             global_evaluations: cx.opts.global_evaluations,
             starts: cx.opts.starts,
             profiles: false,
+            run_counter: Some(cx.run_counter.clone()),
             ..FitOptions::default()
         },
         &|_| {},
@@ -607,7 +623,7 @@ mod tests {
     fn the_context_cuts_pieces_that_tile_the_rows_and_folds_that_hold_each_out_once() {
         let prepared = crate::prepare_for_diagnosis(&shs_set(200));
         let opts = DiagnoseOptions::default();
-        let (cx, template) = Context::new(&prepared, None, &opts, &quiet);
+        let (cx, template) = Context::new(&prepared, None, &opts, &quiet, &RunCounter::new());
         // No stiffness: the five base parameters are free and α_t stays the template's.
         assert_eq!(cx.base_free, Param::BASE.to_vec());
         assert_eq!(template.params.alpha_t, opts.template.params.alpha_t);
@@ -645,7 +661,7 @@ mod tests {
             events: 2,
             evidence: "made in the test".into(),
         };
-        let (cx, template) = Context::new(&prepared, Some(&s), &opts, &quiet);
+        let (cx, template) = Context::new(&prepared, Some(&s), &opts, &quiet, &RunCounter::new());
         assert_eq!(cx.base_free.last(), Some(&Param::AlphaT));
         assert_eq!(
             (template.params.alpha_t, template.params.alpha_n),
@@ -658,7 +674,7 @@ mod tests {
         let reasons =
             |rows_per_slide: usize, opts: &DiagnoseOptions, reweight: bool, steps: bool| {
                 let prepared = crate::prepare_for_diagnosis(&shs_set(rows_per_slide));
-                let (mut cx, _) = Context::new(&prepared, None, opts, &quiet);
+                let (mut cx, _) = Context::new(&prepared, None, opts, &quiet, &RunCounter::new());
                 cx.reweight = reweight;
                 let rows = prepared[0].full.len();
                 let fitted = cx.tests[0].len();
@@ -694,7 +710,7 @@ mod tests {
     fn reweighting_moves_weight_off_the_piece_the_model_misses_and_keeps_the_total() {
         let prepared = crate::prepare_for_diagnosis(&shs_set(200));
         let opts = DiagnoseOptions::default();
-        let (mut cx, _) = Context::new(&prepared, None, &opts, &quiet);
+        let (mut cx, _) = Context::new(&prepared, None, &opts, &quiet, &RunCounter::new());
         // Residuals of one noise SD everywhere but ten on the first piece.
         let missed = 0;
         let mut res: HeldOut = cx.tests.iter().map(|t| vec![1.0; t.len()]).collect();
@@ -724,7 +740,7 @@ mod tests {
     fn model_error_dominates_only_beyond_the_threshold_of_the_noise() {
         let prepared = crate::prepare_for_diagnosis(&shs_set(200));
         let opts = DiagnoseOptions::default();
-        let (mut cx, _) = Context::new(&prepared, None, &opts, &quiet);
+        let (mut cx, _) = Context::new(&prepared, None, &opts, &quiet, &RunCounter::new());
         let at = |cx: &mut Context, r: f64| {
             cx.base_residuals = cx.tests.iter().map(|t| vec![r; t.len()]).collect();
             model_error_dominates(cx)
