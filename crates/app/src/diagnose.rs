@@ -81,6 +81,7 @@ fn diagnose_set(
     let prepared = prepare_for_diagnosis(&set);
     let report = |s: Step| progress.stage(&step_text(s), None);
     let run_counter = RunCounter::new();
+    progress.watch_runs(&run_counter);
     let d = diagnose_reporting(&prepared, opts, &report, &run_counter)
         .map_err(|e| located(e.into(), dir))?;
     check_diagnosis_finite(dir, &d)?;
