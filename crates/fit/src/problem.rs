@@ -9,15 +9,6 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 use subfric_model::Model;
 
-/// Model runs of every problem of this process (for progress displays).
-static MODEL_RUNS: AtomicUsize = AtomicUsize::new(0);
-
-/// Model runs (all tests simulated once) made by every [`Problem`] of this process so far: a
-/// progress display samples it while a calibration or diagnosis runs.
-pub fn model_runs() -> usize {
-    MODEL_RUNS.load(Ordering::Relaxed)
-}
-
 /// The model runs of one job (a calibration, a diagnosis, a plan): every [`Problem`] the job
 /// creates [`Problem::counting`] into it adds its runs here. A progress display or a trace reads
 /// the job's own count, so two jobs in one process (tests on parallel threads, a campaign's
@@ -96,7 +87,6 @@ impl<'a> Problem<'a> {
     /// Residual vector at `x` (transformed coordinates).
     pub fn residuals(&self, x: &[f64], out: &mut Vec<f64>, scratch: &mut Vec<f64>) {
         self.evaluations.fetch_add(1, Ordering::Relaxed);
-        MODEL_RUNS.fetch_add(1, Ordering::Relaxed);
         if let Some(job) = &self.job_runs {
             job.add_one();
         }
