@@ -16,7 +16,7 @@ use subfric_data::{load_set, plausibility, ExperimentSet, Warning};
 use subfric_diagnose::{
     diagnose_reporting, prepare_for_diagnosis, DiagnoseOptions, Diagnosis, Step,
 };
-use subfric_fit::PreparedTest;
+use subfric_fit::{PreparedTest, RunCounter};
 use subfric_plot::{write_figure, BarFigure};
 
 /// What a diagnosis folder holds; the per-test and per-event figures go to `figures/`,
@@ -80,7 +80,10 @@ fn diagnose_set(
     progress.stage("diagnosis: preparing the tests", None);
     let prepared = prepare_for_diagnosis(&set);
     let report = |s: Step| progress.stage(&step_text(s), None);
-    let d = diagnose_reporting(&prepared, opts, &report).map_err(|e| located(e.into(), dir))?;
+    let run_counter = RunCounter::new();
+    progress.watch_runs(&run_counter);
+    let d = diagnose_reporting(&prepared, opts, &report, &run_counter)
+        .map_err(|e| located(e.into(), dir))?;
     check_diagnosis_finite(dir, &d)?;
     let json = diagnosis_json(&set.meta.name, &d);
     // The figures draw the tests as diagnosed (any bedding taken out of the travel).

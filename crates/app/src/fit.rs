@@ -81,6 +81,9 @@ pub struct FitSetup {
     pub artifacts: Vec<Artifact>,
     /// Starting models beside the informed guesses (the request's `start`).
     starts: Vec<Model>,
+    /// The request's options with the counter of the job's model runs, which its progress
+    /// display was handed.
+    options: FitOptions,
 }
 
 impl FitSetup {

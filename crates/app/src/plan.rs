@@ -26,7 +26,7 @@ use subfric_design::{
     plan_excluding, Band, Check, Plan, PlanOptions, PredictedParam, Proposal, NARROWS_MIN_SHRINK,
 };
 use subfric_fit::interval::short_number as num;
-use subfric_fit::{FitOptions, FitTest, Param, Status};
+use subfric_fit::{FitOptions, FitTest, Param, RunCounter, Status};
 use subfric_model::Control;
 use subfric_plot::{write_figure, Figure, Panel, Series, Style};
 
@@ -93,8 +93,10 @@ pub fn plan_to_folder(
             req.setup_hours
         );
     }
+    // The fit and the planning are one job: their model runs count together.
     let options = FitOptions {
         seed: req.seed,
+        run_counter: Some(RunCounter::new()),
         ..FitOptions::default()
     };
     let set_name = subfric_data::load_set(&req.set)?.meta.name;
@@ -102,7 +104,7 @@ pub fn plan_to_folder(
     if let Some(n) = &basis.note {
         progress.note(n);
     }
-    let mut fit = FitRequest::of_set(req.set.clone(), options);
+    let mut fit = FitRequest::of_set(req.set.clone(), options.clone());
     fit.free.extend(basis.extra_free.iter().copied());
     fit.start = basis.start;
     let setup = setup(&fit, progress)?;
@@ -577,8 +579,13 @@ impl NextTest {
 }
 
 /// Plans the next test of a fitted set for `reproduce` (no check fit, to keep it quick), and
-/// writes the plan under `dir`; `None` when the fit determines every parameter.
-pub fn next_test(outcome: &FitOutcome, dir: &Path) -> Result<Option<NextTest>> {
+/// writes the plan under `dir`; `None` when the fit determines every parameter. Its model runs
+/// count into `run_counter` when given (the job's).
+pub fn next_test(
+    outcome: &FitOutcome,
+    dir: &Path,
+    run_counter: Option<&RunCounter>,
+) -> Result<Option<NextTest>> {
     let r = &outcome.report;
     if r.parameters
         .iter()
@@ -590,6 +597,10 @@ pub fn next_test(outcome: &FitOutcome, dir: &Path) -> Result<Option<NextTest>> {
         outcome,
         &PlanOptions {
             check: 0,
+            fit: FitOptions {
+                run_counter: run_counter.cloned(),
+                ..FitOptions::default()
+            },
             ..PlanOptions::default()
         },
     )?;

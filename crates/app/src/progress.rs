@@ -3,7 +3,7 @@
 //! them: the command line draws a live bar on a terminal and prints warnings on stderr; the
 //! Python package shows nothing ([`Silent`]) and returns the warnings with the result.
 
-use subfric_fit::CalibrationStage;
+use subfric_fit::{CalibrationStage, RunCounter};
 
 /// The caller's side of a long job. Called from the job's worker threads too (hence `Sync`);
 /// every method should return quickly.
@@ -24,6 +24,11 @@ pub trait Progress: Sync {
     /// stage's budget (model runs of the posterior sampler). Called often, from worker threads;
     /// the default shows nothing.
     fn count(&self, _done: usize, _total: usize) {}
+
+    /// A job reporting here counts its model runs in `runs` (a fit, a diagnosis, a plan hands
+    /// its counter over as it starts): a display that shows model runs reads them from the
+    /// counters it was handed, never from other jobs of the process. The default shows none.
+    fn watch_runs(&self, _runs: &RunCounter) {}
 
     /// A stage of a calibration, as [`Progress::stage`] shows it (`global_budget`: the model
     /// runs of the global stage).

@@ -24,7 +24,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use subfric_data::{parse_meta, ExperimentMeta, EXPERIMENT_JSON};
-use subfric_fit::{FitOptions, Status};
+use subfric_fit::{FitOptions, RunCounter, Status};
 
 /// The file of wall times written beside the results (not tracked by git).
 pub const TIMINGS_FILE: &str = "timings.txt";
@@ -103,8 +103,11 @@ fn jobs(experiments: &Path) -> Result<Vec<Job>> {
 }
 
 /// Fits one set and writes its fit.json, fit.txt and figures into its claimed folder.
-fn fit_one(job: &Job, claim: ResultsDir, options: FitOptions) -> Result<(SetResult, Vec<String>)> {
-    let outcome = run_fit(&FitRequest::of_set(job.dir.clone(), options), &Silent)?;
+fn fit_one(job: &Job, claim: ResultsDir, options: &FitOptions) -> Result<(SetResult, Vec<String>)> {
+    let outcome = run_fit(
+        &FitRequest::of_set(job.dir.clone(), options.clone()),
+        &Silent,
+    )?;
     let set_out = claim.path().to_path_buf();
     write_fit(&set_out, &outcome)?;
     write_text(&set_out.join("fit.txt"), &(report_table(&outcome) + "\n"))?;
@@ -115,7 +118,11 @@ fn fit_one(job: &Job, claim: ResultsDir, options: FitOptions) -> Result<(SetResu
         Some(&outcome.report.model),
         &set_out,
     )?;
-    let next = next_test(&outcome, &set_out.join(PLAN_DIR))?;
+    let next = next_test(
+        &outcome,
+        &set_out.join(PLAN_DIR),
+        options.run_counter.as_ref(),
+    )?;
     claim.commit()?;
     Ok((
         SetResult {
@@ -157,8 +164,13 @@ pub struct Reproduced {
 /// times in [`TIMINGS_FILE`].
 pub fn reproduce(req: &ReproduceRequest, progress: &dyn Progress) -> Result<Reproduced> {
     let t0 = Instant::now();
+    // The sets' fits are one job: the display shows their runs together (each set's own are in
+    // its report).
+    let run_counter = RunCounter::new();
+    progress.watch_runs(&run_counter);
     let options = FitOptions {
         seed: req.seed,
+        run_counter: Some(run_counter),
         ..FitOptions::default()
     };
     let sets = fit_all(&req.experiments, &req.out, options, req.force, progress)?;
@@ -242,7 +254,7 @@ fn fit_all(
         .par_iter()
         .zip(claims)
         .map(|(j, claim)| {
-            let r = fit_one(j, claim, options);
+            let r = fit_one(j, claim, &options);
             let k = done.fetch_add(1, Ordering::Relaxed) + 1;
             progress.stage(&format!("fitting {total} sets: {k} done"), None);
             r

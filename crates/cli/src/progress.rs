@@ -1,5 +1,6 @@
 //! Progress on stderr for the long jobs (fit, diagnose, plan, reproduce): the stage, the model
-//! runs done (sampled from [`subfric_fit::model_runs`]) and the elapsed time. A live bar
+//! runs done (sampled from the counters the job handed over, [`subfric_app::Progress::watch_runs`])
+//! and the elapsed time. A live bar
 //! (indicatif) on a terminal; nothing when stderr is not a terminal, unless asked for with
 //! `--progress always`, which then prints one plain line per stage. Warnings and notes of the
 //! job are printed on stderr in every mode, without garbling the bar. This is the command
@@ -17,7 +18,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
-use subfric_fit::model_runs;
+use subfric_fit::RunCounter;
 
 /// When to show progress.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -86,14 +87,23 @@ pub fn time_left(done: usize, total: usize, skipped: usize, elapsed: f64) -> Opt
 
 struct Shared {
     t0: Instant,
-    runs0: usize,
+    /// The counters of the jobs shown (one per fit or diagnosis; a campaign's sets each hand
+    /// theirs): the runs shown are theirs, not those of other jobs of the process.
+    job_runs: Mutex<Vec<RunCounter>>,
     state: Mutex<State>,
     stop: AtomicBool,
 }
 
 impl Shared {
+    /// Model runs of the jobs shown so far.
+    fn runs(&self) -> usize {
+        self.job_runs
+            .lock()
+            .map_or(0, |jobs| jobs.iter().map(RunCounter::runs).sum())
+    }
+
     fn line(&self) -> String {
-        let runs = model_runs().saturating_sub(self.runs0);
+        let runs = self.runs();
         let elapsed = self.t0.elapsed().as_secs_f64();
         if let Ok(s) = self.state.lock() {
             if s.eta {
@@ -107,7 +117,7 @@ impl Shared {
             }
         }
         let s = self.state.lock().map(|s| {
-            let in_stage = model_runs().saturating_sub(s.runs_at_stage);
+            let in_stage = self.runs().saturating_sub(s.runs_at_stage);
             match (s.counted, s.budget) {
                 (Some((done, total)), _) => format!(
                     "{} ({done}/{total} {}, {:.0} %)",
@@ -161,7 +171,7 @@ impl Progress {
         }
         let shared = Arc::new(Shared {
             t0: Instant::now(),
-            runs0: model_runs(),
+            job_runs: Mutex::new(Vec::new()),
             state: Mutex::new(state),
             stop: AtomicBool::new(false),
         });
@@ -222,7 +232,7 @@ impl Progress {
             }
             s.stage = stage;
             s.budget = budget;
-            s.runs_at_stage = model_runs();
+            s.runs_at_stage = self.shared.runs();
             // A counted job's units run across its stages (each stage line says how many).
             if !s.eta {
                 s.counted = None;
@@ -273,6 +283,16 @@ impl subfric_app::Progress for Progress {
         self.show_stage(stage, budget);
     }
 
+    fn watch_runs(&self, runs: &RunCounter) {
+        if let Ok(mut jobs) = self.shared.job_runs.lock() {
+            // A counter handed over again (by a job and by the fits it shares it with) counts
+            // once.
+            if !jobs.iter().any(|j| j.same_count(runs)) {
+                jobs.push(runs.clone());
+            }
+        }
+    }
+
     /// The live display picks the count up at its next tick; a log gets a line at every
     /// tenth of the total (a counted job's, at each of its stages instead).
     fn count(&self, done: usize, total: usize) {
@@ -316,5 +336,60 @@ impl subfric_app::Progress for Progress {
 
     fn note(&self, text: &str) {
         self.println(&format!("note: {text}"));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subfric_app::Progress as _;
+    use subfric_fit::{FitTest, Param, Problem, Space};
+    use subfric_model::{Control, Model, Params};
+
+    /// `runs` model runs of a small problem, counted into `job`.
+    fn run_model(job: &RunCounter, runs: usize) {
+        let time: Vec<f64> = (0..20).map(f64::from).collect();
+        let slip: Vec<f64> = time.iter().map(|t| 0.01 * t).collect();
+        let tests = [FitTest::new(
+            "t",
+            Control::Slip,
+            time,
+            slip,
+            vec![10.0; 20],
+            vec![100.0; 20],
+        )];
+        let space = Space::new(Model::base(Params::sample()).unwrap(), &[Param::MuS], &[]);
+        let p = Problem::new(&tests, space).counting(Some(job));
+        let x = p.space.point_of(&p.space.base);
+        for _ in 0..runs {
+            p.ssr(&x);
+        }
+    }
+
+    #[test]
+    fn a_display_shows_the_runs_of_the_jobs_handed_to_it_and_of_no_other() {
+        let (shown, other) = (
+            Progress::new(ProgressMode::Never),
+            Progress::new(ProgressMode::Never),
+        );
+        let (fit, diagnosis, elsewhere) = (RunCounter::new(), RunCounter::new(), RunCounter::new());
+        shown.watch_runs(&fit);
+        shown.watch_runs(&diagnosis);
+        // Handed over again by a job that shares it: counted once.
+        shown.watch_runs(&fit.clone());
+        other.watch_runs(&elsewhere);
+        run_model(&fit, 3);
+        run_model(&diagnosis, 2);
+        run_model(&elsewhere, 7);
+        assert_eq!(shown.shared.runs(), 5);
+        assert_eq!(other.shared.runs(), 7);
+        assert!(
+            shown.shared.line().contains(" 5 model runs"),
+            "{}",
+            shown.shared.line()
+        );
+        // Runs made after the hand-over are shown as they are made.
+        run_model(&diagnosis, 1);
+        assert_eq!(shown.shared.runs(), 6);
     }
 }

@@ -12,7 +12,7 @@ use subfric_fit::interval::DETERMINED_HALF_WIDTH;
 use subfric_fit::lm::jacobian;
 use subfric_fit::space::Scale;
 use subfric_fit::uncertainty::{linearise_stats, stats_of_information};
-use subfric_fit::{FitTest, Interval, Param, Problem, Space};
+use subfric_fit::{FitTest, Interval, Param, Problem, RunCounter, Space};
 use subfric_model::{Model, Scenario};
 
 /// z of a two-sided 95 % interval.
@@ -80,9 +80,14 @@ fn half_width(q: Param, value: f64, se: f64) -> f64 {
 }
 
 /// JᵀJ of the noise-normalised residuals of `tests` at `x` (`None` when a test cannot be
-/// simulated there).
-pub(crate) fn information(tests: &[FitTest], space: &Space, x: &[f64]) -> Option<DMatrix<f64>> {
-    let p = Problem::new(tests, space.clone());
+/// simulated there); the Jacobian's model runs count into `run_counter` when given.
+pub(crate) fn information(
+    tests: &[FitTest],
+    space: &Space,
+    x: &[f64],
+    run_counter: Option<&RunCounter>,
+) -> Option<DMatrix<f64>> {
+    let p = Problem::new(tests, space.clone()).counting(run_counter);
     let mut r = Vec::new();
     let mut scratch = Vec::new();
     if residuals_into(tests, &space.model_at(x), &mut r, &mut scratch) > 0 {
@@ -109,6 +114,8 @@ pub(crate) struct PredictionContext<'a> {
     pub(crate) s2: f64,
     pub(crate) planning_point: &'a Model,
     pub(crate) setup_hours: f64,
+    /// The plan's counter of model runs (the options' [`subfric_fit::FitOptions::run_counter`]).
+    pub(crate) run_counter: Option<&'a RunCounter>,
 }
 
 impl PredictionContext<'_> {
@@ -156,7 +163,10 @@ impl PredictionContext<'_> {
     /// tests or the proposal cannot be simulated there).
     fn predict_at(&self, one: &[FitTest], j: usize) -> Option<ValleyPrediction> {
         let x = &self.valley.xs[j];
-        let (Some(now), Some(add)) = (&self.a_now[j], information(one, self.space, x)) else {
+        let (Some(now), Some(add)) = (
+            &self.a_now[j],
+            information(one, self.space, x, self.run_counter),
+        ) else {
             return None;
         };
         let joint = now + add;

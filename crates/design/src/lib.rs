@@ -111,7 +111,7 @@ pub fn plan_excluding(
         a_now: valley
             .xs
             .par_iter()
-            .map(|x| information(tests, &space, x))
+            .map(|x| information(tests, &space, x, opts.fit.run_counter.as_ref()))
             .collect(),
         free: &free,
         undetermined: &undetermined,
@@ -122,6 +122,7 @@ pub fn plan_excluding(
         s2: report_variance_scale(report),
         planning_point: &planning_point,
         setup_hours: opts.setup_hours,
+        run_counter: opts.fit.run_counter.as_ref(),
     };
     let proposals: Vec<Proposal> = built
         .into_par_iter()

@@ -8,7 +8,7 @@ use subfric_fit::{FitOptions, Interval, Param, Status};
 use subfric_model::{Control, Model, Scenario};
 
 /// Options of a plan.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct PlanOptions {
     /// Lab time of a new test beyond its duration: specimen preparation, consolidation,
     /// set-up [h].

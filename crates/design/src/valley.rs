@@ -104,11 +104,12 @@ pub(crate) fn walk_valley(
     opts: &PlanOptions,
 ) -> Valley {
     let fit = report.model;
-    let problem = Problem::new(tests, space.clone());
+    let run_counter = opts.fit.run_counter.as_ref();
+    let problem = Problem::new(tests, space.clone()).counting(run_counter);
     let x_fit = space.point_of(&fit);
     let ssr_fit = problem.ssr(&x_fit);
     let s2 = report_variance_scale(report);
-    let se_x: Vec<f64> = match information(tests, space, &x_fit) {
+    let se_x: Vec<f64> = match information(tests, space, &x_fit, run_counter) {
         Some(a) => stats_of_information(&a, s2).std_errors,
         None => vec![f64::INFINITY; space.dim()],
     };

@@ -7,7 +7,7 @@ use crate::score::HeldOut;
 use rayon::prelude::*;
 use serde::Serialize;
 use subfric_fit::lm::{LmOptions, Termination};
-use subfric_fit::{calibrate_from, FitOptions, FitTest, Param, Space};
+use subfric_fit::{calibrate_from, FitOptions, FitTest, Param, RunCounter, Space};
 use subfric_model::{Extensions, Model};
 
 /// A model: the base plus some candidate forms (none: the base model).
@@ -148,8 +148,15 @@ pub struct FitResult {
 }
 
 /// Fits `space` to `tests` from `starts` (and the informed guesses when asked) with the
-/// calibration engine; a fit that cannot run is a failed result, not an error.
-pub fn fit(tests: &[FitTest], space: &Space, starts: &[Model], effort: Effort) -> FitResult {
+/// calibration engine, its model runs counted into `run_counter` (the diagnosis's); a fit that
+/// cannot run is a failed result, not an error.
+pub fn fit(
+    tests: &[FitTest],
+    space: &Space,
+    starts: &[Model],
+    effort: Effort,
+    run_counter: &RunCounter,
+) -> FitResult {
     let opts = FitOptions {
         starts: effort.local_runs.max(1),
         global_evaluations: effort.global_evaluations,
@@ -160,6 +167,7 @@ pub fn fit(tests: &[FitTest], space: &Space, starts: &[Model], effort: Effort) -
             max_iterations: effort.iterations,
             ..LmOptions::default()
         },
+        run_counter: Some(run_counter.clone()),
         ..FitOptions::default()
     };
     let failed = |why: String| FitResult {
@@ -200,7 +208,10 @@ pub fn fit(tests: &[FitTest], space: &Space, starts: &[Model], effort: Effort) -
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .expect("starts is not empty");
         if best_ssr < ssr_on(tests, &result.model) {
-            let both = FitOptions { starts: 2, ..opts };
+            let both = FitOptions {
+                starts: 2,
+                ..opts.clone()
+            };
             let again = run(std::slice::from_ref(&starts[best]), &both);
             if again.ssr < result.ssr {
                 return again;
@@ -252,7 +263,11 @@ pub fn residuals(tests: &[FitTest], m: &Model, drift: Option<&[FitTest]>) -> Hel
 
 /// Held-out residuals of a spec: for each fold, refit `fit_tests` on the rows it keeps (from
 /// the best of `starts` on those rows) and predict the rows of `tests` it holds out
-/// (`fit_tests` are `tests` with the weights the fits use).
+/// (`fit_tests` are `tests` with the weights the fits use). The refits' model runs count into
+/// `run_counter`.
+// Each argument is a different input of the folds' refits; bundling them would only move the
+// list into a struct built at both call sites.
+#[allow(clippy::too_many_arguments)]
 pub fn cross_validate(
     fit_tests: &[FitTest],
     tests: &[FitTest],
@@ -261,6 +276,7 @@ pub fn cross_validate(
     starts: &[Model],
     iterations: usize,
     drift: bool,
+    run_counter: &RunCounter,
 ) -> HeldOut {
     let effort = Effort::refit(iterations);
     let per_fold: Vec<HeldOut> = folds
@@ -272,7 +288,7 @@ pub fn cross_validate(
             }
             // The starts are ranked on the training rows by one run each; the best is refitted
             // (the effect switched off wins where the training rows cannot see it).
-            let r = fit(&train, space, starts, effort);
+            let r = fit(&train, space, starts, effort, run_counter);
             let mut res = residuals(tests, &r.model, drift.then_some(&train[..]));
             for (rt, held) in res.iter_mut().zip(&f.held_rows) {
                 for (v, h) in rt.iter_mut().zip(held) {

@@ -524,7 +524,7 @@ pub fn seat(
         statistics: false,
         global_evaluations: options.global_evaluations.min(SEAT_EVALUATIONS),
         starts: options.starts.min(SEAT_STARTS),
-        ..*options
+        ..options.clone()
     };
     let Ok(base) = crate::calibrate(&fits, space.clone(), &opts, &|_| {}) else {
         return unchanged();

@@ -6,7 +6,7 @@ use crate::global::{differential_evolution, evaluate_all, GlobalTuning};
 use crate::guess::first_guesses;
 use crate::interval::Interval;
 use crate::lm::{levenberg_marquardt, LmOptions, LmResult, Termination};
-use crate::problem::{fold_into_box, Problem};
+use crate::problem::{fold_into_box, Problem, RunCounter};
 use crate::sampling::{global_sample, informed_guess_budget, spread, GLOBAL_STAGE_ROWS};
 use crate::space::{Coord, Param, Space};
 use crate::uncertainty::{
@@ -32,7 +32,7 @@ pub enum Method {
 }
 
 /// Options of a calibration.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct FitOptions {
     /// Local method.
     pub method: Method,
@@ -54,6 +54,10 @@ pub struct FitOptions {
     pub statistics: bool,
     /// Least-squares settings.
     pub lm: LmOptions,
+    /// The counter of the job this calibration is part of: every problem it creates counts its
+    /// model runs there too, for the job's progress display. `None`: counted only in the
+    /// report's `evaluations`.
+    pub run_counter: Option<RunCounter>,
 }
 
 impl Default for FitOptions {
@@ -68,6 +72,7 @@ impl Default for FitOptions {
             informed_guesses: true,
             statistics: true,
             lm: LmOptions::default(),
+            run_counter: None,
         }
     }
 }
@@ -268,9 +273,14 @@ fn ranked_guesses(
 
 /// The `n` first guesses read off the curves that fit `tests` best in `space` (its model's
 /// extensions kept as they are), best first: computed once, they can start many fits of models
-/// that share the base (see [`with_base_of`]).
-pub fn best_informed_guesses(tests: &[FitTest], space: &Space, n: usize) -> Vec<Model> {
-    let p = Problem::new(tests, space.clone());
+/// that share the base (see [`with_base_of`]). Their runs count into `run_counter` when given.
+pub fn best_informed_guesses(
+    tests: &[FitTest],
+    space: &Space,
+    n: usize,
+    run_counter: Option<&RunCounter>,
+) -> Vec<Model> {
+    let p = Problem::new(tests, space.clone()).counting(run_counter);
     let guesses: Vec<Model> = first_guesses(tests, &space.base)
         .into_iter()
         .filter(|g| Model::new(g.params, g.ext).is_ok())
@@ -606,11 +616,14 @@ pub fn calibrate_from(
     }
     let base = space.base;
     Model::new(base.params, base.ext)?;
-    let p = Problem::new(tests, space);
+    let job_runs = opts.run_counter.as_ref();
+    let p = Problem::new(tests, space).counting(job_runs);
     let m = p.space.dim();
     // A large problem explores on a spread share of its tests (see `sampling`).
     let sample = global_sample(tests, GLOBAL_STAGE_ROWS);
-    let share = sample.as_deref().map(|s| Problem::new(s, p.space.clone()));
+    let share = sample
+        .as_deref()
+        .map(|s| Problem::new(s, p.space.clone()).counting(job_runs));
     let explore = share.as_ref().unwrap_or(&p);
 
     // 1. Informed guesses, plus the given model.

@@ -49,7 +49,7 @@ pub use prepare::{
     control_of, prepare_set, prepare_set_with, prepare_test, reference_model, thin_prepared,
     PrepareOptions, PreparedTest,
 };
-pub use problem::{model_runs, Problem};
+pub use problem::{Problem, RunCounter};
 pub use read_off::{read_off, ReadOff};
 pub use residuals::Residuals;
 pub use space::{AtBound, Coord, Param, Space};

@@ -6,15 +6,36 @@ use crate::space::Space;
 use argmin::core::{CostFunction, Error as ArgminError};
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
 use subfric_model::Model;
 
-/// Model runs of every problem of this process (for progress displays).
-static MODEL_RUNS: AtomicUsize = AtomicUsize::new(0);
+/// The model runs of one job (a calibration, a diagnosis, a plan): every [`Problem`] the job
+/// creates [`Problem::counting`] into it adds its runs here. A progress display or a trace reads
+/// the job's own count, so two jobs in one process (tests on parallel threads, a campaign's
+/// sets) never see each other's runs. Clones share the count.
+#[derive(Clone, Debug, Default)]
+pub struct RunCounter(Arc<AtomicUsize>);
 
-/// Model runs (all tests simulated once) made by every [`Problem`] of this process so far: a
-/// progress display samples it while a calibration or diagnosis runs.
-pub fn model_runs() -> usize {
-    MODEL_RUNS.load(Ordering::Relaxed)
+impl RunCounter {
+    /// A counter at zero, shared by nothing yet.
+    pub fn new() -> RunCounter {
+        RunCounter::default()
+    }
+
+    /// Model runs (all tests simulated once) counted so far.
+    pub fn runs(&self) -> usize {
+        self.0.load(Ordering::Relaxed)
+    }
+
+    /// Whether `other` is a handle of this same count (a display handed one job's counter
+    /// twice must not count its runs twice).
+    pub fn same_count(&self, other: &RunCounter) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
+
+    fn add_one(&self) {
+        self.0.fetch_add(1, Ordering::Relaxed);
+    }
 }
 
 /// Contribution to the SSR of one row whose residual is not finite: the square of
@@ -30,16 +51,27 @@ pub struct Problem<'a> {
     /// Free parameters and their boxes.
     pub space: Space,
     evaluations: AtomicUsize,
+    /// The job's counter this problem's runs count into as well, if any.
+    job_runs: Option<RunCounter>,
 }
 
 impl<'a> Problem<'a> {
-    /// A problem fitting `tests` over `space`.
+    /// A problem fitting `tests` over `space`; it counts its runs in [`Problem::evaluations`]
+    /// only.
     pub fn new(tests: &'a [FitTest], space: Space) -> Self {
         Problem {
             tests,
             space,
             evaluations: AtomicUsize::new(0),
+            job_runs: None,
         }
+    }
+
+    /// This problem with its runs counted into `job_runs` as well (`None`: its own count only),
+    /// for the problems of a job someone watches.
+    pub fn counting(mut self, job_runs: Option<&RunCounter>) -> Self {
+        self.job_runs = job_runs.cloned();
+        self
     }
 
     /// Number of rows that count in the fit (held-out rows excluded).
@@ -55,7 +87,9 @@ impl<'a> Problem<'a> {
     /// Residual vector at `x` (transformed coordinates).
     pub fn residuals(&self, x: &[f64], out: &mut Vec<f64>, scratch: &mut Vec<f64>) {
         self.evaluations.fetch_add(1, Ordering::Relaxed);
-        MODEL_RUNS.fetch_add(1, Ordering::Relaxed);
+        if let Some(job) = &self.job_runs {
+            job.add_one();
+        }
         let m = self.space.model_at(x);
         residuals_into(self.tests, &m, out, scratch);
     }

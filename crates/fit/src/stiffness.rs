@@ -278,7 +278,7 @@ pub fn stiffness_by_trial(
         statistics: false,
         global_evaluations: options.global_evaluations.min(TRIAL_EVALUATIONS),
         starts: options.starts.min(TRIAL_STARTS),
-        ..*options
+        ..options.clone()
     };
     let rate = typical_rate(&fits);
     let held = Space::try_with_rate(*template, free, &[], rate).ok()?;

@@ -424,7 +424,7 @@ pub fn measure_coverage(
             index,
             &FitOptions {
                 seed: seed.wrapping_add(index as u64),
-                ..*opts
+                ..opts.clone()
             },
         );
         progress(&o);

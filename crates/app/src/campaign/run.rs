@@ -86,6 +86,9 @@ struct SetProgress<'a> {
 
 impl Progress for SetProgress<'_> {
     fn stage(&self, _stage: &str, _budget: Option<usize>) {}
+    fn watch_runs(&self, runs: &subfric_fit::RunCounter) {
+        self.inner.watch_runs(runs);
+    }
     fn warning(&self, text: &str) {
         self.inner.warning(&format!("{}: {text}", self.id));
     }

@@ -7,7 +7,7 @@ use crate::progress::Progress;
 use anyhow::{anyhow, bail, Result};
 use std::path::PathBuf;
 use subfric_data::{load_set, plausibility, Warning};
-use subfric_fit::{prepare_set, typical_rate, FitTest, Param, PreparedTest, Space};
+use subfric_fit::{prepare_set, typical_rate, FitOptions, FitTest, Param, PreparedTest, Space};
 use subfric_model::{Model, Params};
 
 /// The sets of a request as read: their tests prepared, what they publish and what they warn.
@@ -82,13 +82,15 @@ pub(super) fn free_not_fixed(req: &FitRequest) -> Vec<Param> {
 
 /// Loads the sets, selects and weights the tests, and checks fixed values and bounds: every
 /// mistake in the request is found here, before any output is prepared or any fitting done.
-/// The sets' plausibility warnings go to `progress` (and into the setup).
+/// The sets' plausibility warnings go to `progress` (and into the setup), and so does the
+/// counter of the job's model runs ([`counted_options`]).
 pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
     if req.dirs.is_empty() {
         bail!("no set folder given");
     }
     crate::flags::conflicts(None, &req.fix, &req.bounds, &req.weights).map_err(|e| anyhow!(e))?;
     refuse_repeated_sets(&req.dirs)?;
+    let options = counted_options(req, progress);
     let ReadSets {
         mut tests,
         published,
@@ -107,7 +109,7 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         Some(m) => m,
         None => Model::base(Params::sample())?,
     };
-    let resolved = starting_stiffness(req, &tests, &stiffness, &mut template, progress);
+    let resolved = starting_stiffness(req, &options, &tests, &stiffness, &mut template, progress);
     for (p, v) in &req.fix {
         p.set(&mut template, *v);
     }
@@ -118,7 +120,7 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
     }
     // Bedding: a closure of the rig on first loading is taken out of the travel, as the
     // diagnosis does (subfric_fit::bedding).
-    let seated = subfric_fit::seat(&tests, &template, &free, &req.options);
+    let seated = subfric_fit::seat(&tests, &template, &free, &options);
     let tests = seated.tests;
     let mut artifacts = artifacts_of(&tests, resolved.as_ref());
     artifacts.extend(seated.bedding.iter().map(|b| Artifact {
@@ -155,7 +157,20 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         warnings,
         artifacts,
         starts: req.start.iter().copied().collect(),
+        options,
     })
+}
+
+/// The request's options counting the job's model runs: into the counter the caller put in
+/// them (a job of several fits, as `reproduce` and `plan`), else into a new one, which is the
+/// fit's own. `progress` is handed it, to show the runs as they go.
+fn counted_options(req: &FitRequest, progress: &dyn Progress) -> FitOptions {
+    let run_counter = req.options.run_counter.clone().unwrap_or_default();
+    progress.watch_runs(&run_counter);
+    FitOptions {
+        run_counter: Some(run_counter),
+        ..req.options.clone()
+    }
 }
 
 /// Refuses a set folder given twice (`fit s s`, or `s` and `./s/`, or a link to it): its rows

@@ -22,14 +22,14 @@ fn calibrate_setup(
     setup: FitSetup,
     progress: &dyn Progress,
 ) -> Result<FitOutcome> {
-    let budget = req.options.global_evaluations;
+    let budget = setup.options.global_evaluations;
     let stage = |s| progress.calibration_stage(s, budget);
     let name = setup.name();
     let mut report = calibrate_from(
         &setup.fits,
         setup.space.clone(),
         &setup.starts,
-        &req.options,
+        &setup.options,
         &stage,
     )?;
     // Fitted on bins of a long record: the misfit is reported on every row.

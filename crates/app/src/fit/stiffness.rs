@@ -4,7 +4,7 @@
 use super::prepare::free_not_fixed;
 use super::FitRequest;
 use crate::progress::Progress;
-use subfric_fit::{Param, PreparedTest};
+use subfric_fit::{FitOptions, Param, PreparedTest};
 use subfric_model::{Model, Params};
 
 /// The stiffness the fit starts from, into `template`, and whether α_t is fitted: a series
@@ -13,9 +13,10 @@ use subfric_model::{Model, Params};
 /// a first loading rises over several rows, from a trial (α_t free against α_t held, with the
 /// request's other parameters), kept when the rise decides it; else the stiffness the sets
 /// publish (`published`: each set's), with a note when they disagree. Returns the stiffness
-/// fitted, if any.
+/// fitted, if any. The trial calibrates with `options` (the request's, counting the job's runs).
 pub(super) fn starting_stiffness(
     req: &FitRequest,
+    options: &FitOptions,
     tests: &[PreparedTest],
     published: &[(String, Option<Params>)],
     template: &mut Model,
@@ -36,7 +37,7 @@ pub(super) fn starting_stiffness(
                 for (p, v) in &req.fix {
                     p.set(&mut held, *v);
                 }
-                subfric_fit::stiffness_by_trial(tests, &held, &free_not_fixed(req), &req.options)
+                subfric_fit::stiffness_by_trial(tests, &held, &free_not_fixed(req), options)
             })
         })
         .flatten();

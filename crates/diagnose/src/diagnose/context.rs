@@ -12,7 +12,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use subfric_fit::{
     best_informed_guesses, calibrate_from, with_base_of, FitError, FitOptions, FitTest, Param,
-    PreparedTest, Space, Stiffness,
+    PreparedTest, RunCounter, Space, Stiffness,
 };
 use subfric_model::Model;
 
@@ -61,6 +61,9 @@ pub(super) struct Context<'a> {
     pub(super) started: Instant,
     /// Told where the diagnosis is ([`Context::step`]).
     report: &'a (dyn Fn(Step) + Sync),
+    /// The diagnosis's model runs: every fit it makes counts here (for its caller's progress
+    /// display and [`Context::trace`]).
+    pub(super) run_counter: RunCounter,
     /// Candidate forms screened so far.
     forms_done: AtomicUsize,
 }
@@ -84,12 +87,14 @@ impl SpecFit {
 
 impl<'a> Context<'a> {
     /// The tests, pieces and folds of `prepared`, and the template the base fit starts from
-    /// (α_t from the data when they resolve it, then also fitted).
+    /// (α_t from the data when they resolve it, then also fitted). Its fits count their model
+    /// runs into `run_counter`.
     pub(super) fn new(
         prepared: &[PreparedTest],
         stiffness: Option<&Stiffness>,
         opts: &'a DiagnoseOptions,
         report: &'a (dyn Fn(Step) + Sync),
+        run_counter: &RunCounter,
     ) -> (Self, Model) {
         let tests: Vec<FitTest> = prepared.iter().map(|p| p.fit.clone()).collect();
         let screening = screening_tests(prepared);
@@ -124,6 +129,7 @@ impl<'a> Context<'a> {
             opts,
             started: Instant::now(),
             report,
+            run_counter: run_counter.clone(),
             forms_done: AtomicUsize::new(0),
         };
         (cx, template)
@@ -141,13 +147,14 @@ impl<'a> Context<'a> {
         self.step(2, done, total);
     }
 
-    /// Prints the time of each stage to stderr when `SUBFRIC_TRACE` is set (for tuning).
+    /// Prints the time and this diagnosis's model runs at each stage to stderr when
+    /// `SUBFRIC_TRACE` is set (for tuning).
     pub(super) fn trace(&self, what: &str) {
         if std::env::var_os("SUBFRIC_TRACE").is_some() {
             eprintln!(
                 "[{:7.2} s, {:6} model runs] {what}",
                 self.started.elapsed().as_secs_f64(),
-                subfric_fit::problem::model_runs()
+                self.run_counter.runs()
             );
         }
     }
@@ -229,6 +236,7 @@ impl<'a> Context<'a> {
                 &space,
                 &[fitted.result.model],
                 Effort::refit(effort.iterations),
+                &self.run_counter,
             );
             if !result.ssr.is_finite() || result.ssr > before {
                 break;
@@ -258,7 +266,7 @@ impl<'a> Context<'a> {
         // Plain least squares first: weights from another model's residuals would make the
         // pieces where this one differs most weightless, and the fit would never see them.
         let mut fit_tests = detrended(self.tests.clone());
-        let mut result = fit(&fit_tests, &space, starts, effort);
+        let mut result = fit(&fit_tests, &space, starts, effort, &self.run_counter);
         if reweight {
             for _ in 0..REWEIGHTING_ROUNDS {
                 let own = residuals(
@@ -268,7 +276,13 @@ impl<'a> Context<'a> {
                 );
                 fit_tests = detrended(self.weighted_for(&own));
                 let refit = Effort::refit(effort.iterations / 2 + 1);
-                result = fit(&fit_tests, &space, &[result.model], refit);
+                result = fit(
+                    &fit_tests,
+                    &space,
+                    &[result.model],
+                    refit,
+                    &self.run_counter,
+                );
             }
         }
         SpecFit {
@@ -292,7 +306,7 @@ impl<'a> Context<'a> {
         for s in starts {
             all.extend(self.informed.iter().map(|g| with_base_of(s, g)));
         }
-        let result = fit(&self.screening, &space, &all, effort);
+        let result = fit(&self.screening, &space, &all, effort, &self.run_counter);
         SpecFit {
             result,
             fit_tests: self.screening.clone(),
@@ -316,6 +330,7 @@ impl<'a> Context<'a> {
             starts,
             self.opts.fold_iterations,
             spec.drift,
+            &self.run_counter,
         )
     }
 
@@ -395,6 +410,7 @@ pub(super) fn fit_base(cx: &mut Context, calibrated: Model) -> Result<Current, F
         &cx.screening,
         &cx.space(&base, &Spec::base()),
         INFORMED_STARTS,
+        Some(&cx.run_counter),
     );
     cx.base_residuals = residuals(&cx.tests, &base, None);
     cx.reweight = model_error_dominates(cx);
@@ -482,6 +498,7 @@ pub(super) fn calibrated_base(
             global_evaluations: cx.opts.global_evaluations,
             starts: cx.opts.starts,
             profiles: false,
+            run_counter: Some(cx.run_counter.clone()),
             ..FitOptions::default()
         },
         &|_| {},

@@ -112,7 +112,7 @@ fn a_hold_is_read_at_its_duration_and_a_velocity_step_at_the_rate_it_goes_to() {
 fn the_context_cuts_pieces_that_tile_the_rows_and_folds_that_hold_each_out_once() {
     let prepared = crate::prepare_for_diagnosis(&shs_set(200));
     let opts = DiagnoseOptions::default();
-    let (cx, template) = Context::new(&prepared, None, &opts, &quiet);
+    let (cx, template) = Context::new(&prepared, None, &opts, &quiet, &RunCounter::new());
     // No stiffness: the five base parameters are free and α_t stays the template's.
     assert_eq!(cx.base_free, Param::BASE.to_vec());
     assert_eq!(template.params.alpha_t, opts.template.params.alpha_t);
@@ -145,7 +145,7 @@ fn the_context_cuts_pieces_that_tile_the_rows_and_folds_that_hold_each_out_once(
 fn a_base_bent_to_the_wall_of_its_recovery_share_is_refitted_with_mu_k_at_the_residual() {
     let prepared = crate::prepare_for_diagnosis(&shs_set(200));
     let opts = DiagnoseOptions::default();
-    let (mut cx, mut template) = Context::new(&prepared, None, &opts, &quiet);
+    let (mut cx, mut template) = Context::new(&prepared, None, &opts, &quiet, &RunCounter::new());
     let residual = subfric_fit::read_off(&cx.tests, &template)
         .into_iter()
         .find(|r| r.param == "mu_k")
@@ -187,7 +187,7 @@ fn a_stiffness_the_data_resolve_frees_alpha_t_from_its_value() {
         events: 2,
         evidence: "made in the test".into(),
     };
-    let (cx, template) = Context::new(&prepared, Some(&s), &opts, &quiet);
+    let (cx, template) = Context::new(&prepared, Some(&s), &opts, &quiet, &RunCounter::new());
     assert_eq!(cx.base_free.last(), Some(&Param::AlphaT));
     assert_eq!(
         (template.params.alpha_t, template.params.alpha_n),
@@ -199,7 +199,7 @@ fn a_stiffness_the_data_resolve_frees_alpha_t_from_its_value() {
 fn the_base_says_each_way_it_is_fitted_unlike_the_fit_command_and_no_other() {
     let reasons = |rows_per_slide: usize, opts: &DiagnoseOptions, reweight: bool, steps: bool| {
         let prepared = crate::prepare_for_diagnosis(&shs_set(rows_per_slide));
-        let (mut cx, _) = Context::new(&prepared, None, opts, &quiet);
+        let (mut cx, _) = Context::new(&prepared, None, opts, &quiet, &RunCounter::new());
         cx.reweight = reweight;
         let rows = prepared[0].full.len();
         let fitted = cx.tests[0].len();
@@ -235,7 +235,7 @@ fn the_base_says_each_way_it_is_fitted_unlike_the_fit_command_and_no_other() {
 fn reweighting_moves_weight_off_the_piece_the_model_misses_and_keeps_the_total() {
     let prepared = crate::prepare_for_diagnosis(&shs_set(200));
     let opts = DiagnoseOptions::default();
-    let (mut cx, _) = Context::new(&prepared, None, &opts, &quiet);
+    let (mut cx, _) = Context::new(&prepared, None, &opts, &quiet, &RunCounter::new());
     // Residuals of one noise SD everywhere but ten on the first piece.
     let missed = 0;
     let mut res: HeldOut = cx.tests.iter().map(|t| vec![1.0; t.len()]).collect();
@@ -265,7 +265,7 @@ fn reweighting_moves_weight_off_the_piece_the_model_misses_and_keeps_the_total()
 fn model_error_dominates_only_beyond_the_threshold_of_the_noise() {
     let prepared = crate::prepare_for_diagnosis(&shs_set(200));
     let opts = DiagnoseOptions::default();
-    let (mut cx, _) = Context::new(&prepared, None, &opts, &quiet);
+    let (mut cx, _) = Context::new(&prepared, None, &opts, &quiet, &RunCounter::new());
     let at = |cx: &mut Context, r: f64| {
         cx.base_residuals = cx.tests.iter().map(|t| vec![r; t.len()]).collect();
         model_error_dominates(cx)

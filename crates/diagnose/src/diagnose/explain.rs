@@ -40,6 +40,7 @@ fn extra_shrinks(
                 starts,
                 cx.opts.fold_iterations,
                 false,
+                &cx.run_counter,
             )
         };
         let b = cv(&Spec::base(), &base.fit_tests, &[base.model]);

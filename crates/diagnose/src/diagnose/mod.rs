@@ -22,7 +22,7 @@ use context::{calibrated_base, fit_base, fold_index, ssr_of, Context, Current};
 use explain::make_verdict;
 use selection::{forward_selection, screen_and_polish};
 use std::collections::BTreeMap;
-use subfric_fit::{misfits, resolved_stiffness, FitError, FitTest, PreparedTest};
+use subfric_fit::{misfits, resolved_stiffness, FitError, FitTest, PreparedTest, RunCounter};
 use subfric_model::Model;
 
 /// Rows the longest test must reach for a diagnosis to run at all.
@@ -174,18 +174,19 @@ pub fn diagnose(
     prepared: &[PreparedTest],
     opts: &DiagnoseOptions,
 ) -> Result<Diagnosis, DiagnoseError> {
-    diagnose_reporting(prepared, opts, &|_| {})
+    diagnose_reporting(prepared, opts, &|_| {}, &RunCounter::new())
 }
 
 /// The elastic stiffness α_t the diagnosis holds: from unloads and reloads when the record
 /// resolves it there, else from the springs the velocity steps needed one by one, else, where a
 /// first loading rises over several rows, from a trial (α_t free against α_t held, kept when the
-/// rise decides it); `None` when nothing decides it.
+/// rise decides it); `None` when nothing decides it. The trial's runs count into `run_counter`.
 fn elastic_stiffness(
     prepared: &[PreparedTest],
     resolved: Option<subfric_fit::Stiffness>,
     events: &crate::events::EventAnalysis,
     opts: &DiagnoseOptions,
+    run_counter: &RunCounter,
 ) -> Option<subfric_fit::Stiffness> {
     resolved.or_else(|| events.stiffness()).or_else(|| {
         subfric_fit::stiffness_by_trial(
@@ -196,6 +197,7 @@ fn elastic_stiffness(
                 seed: opts.seed,
                 global_evaluations: opts.global_evaluations,
                 starts: opts.starts,
+                run_counter: Some(run_counter.clone()),
                 ..subfric_fit::FitOptions::default()
             },
         )
@@ -208,6 +210,7 @@ fn elastic_stiffness(
 fn events_and_stiffness(
     prepared: &[PreparedTest],
     opts: &DiagnoseOptions,
+    run_counter: &RunCounter,
 ) -> (
     crate::events::EventAnalysis,
     Option<subfric_fit::Stiffness>,
@@ -216,44 +219,57 @@ fn events_and_stiffness(
     let resolved = resolved_stiffness(prepared);
     let events = crate::events::analyse(prepared, resolved.as_ref());
     let alpha_from_steps = resolved.is_none() && events.stiffness().is_some();
-    let stiffness = elastic_stiffness(prepared, resolved, &events, opts);
+    let stiffness = elastic_stiffness(prepared, resolved, &events, opts, run_counter);
     (events, stiffness, alpha_from_steps)
 }
 
-/// [`diagnose`](fn@diagnose), telling `report` where it is ([`Step`]) as it goes.
+/// `prepared` with the bedding of each first loading taken out of its travel where the rise is
+/// a closure of the rig ([`subfric_fit::fit_bedding`], each refit of the base a polish from
+/// `calibrated`), and the bedding found.
+fn bedding_taken_out(
+    cx: &Context,
+    template: &Model,
+    prepared: &[PreparedTest],
+    calibrated: &Model,
+) -> (Vec<PreparedTest>, Vec<subfric_fit::Bedding>) {
+    let space = cx.space(template, &crate::fits::Spec::base());
+    let refit = |fits: &[FitTest], start: &Model| {
+        crate::fits::fit(
+            fits,
+            &space,
+            &[*start],
+            Effort::refit(cx.opts.polish.iterations),
+            &cx.run_counter,
+        )
+        .model
+    };
+    subfric_fit::fit_bedding(prepared, calibrated, &refit)
+}
+
+/// [`diagnose`](fn@diagnose), telling `report` where it is ([`Step`]) as it goes and counting
+/// its model runs into `run_counter` (the caller's progress display reads them there).
 pub fn diagnose_reporting(
     prepared: &[PreparedTest],
     opts: &DiagnoseOptions,
     report: &(dyn Fn(Step) + Sync),
+    run_counter: &RunCounter,
 ) -> Result<Diagnosis, DiagnoseError> {
     if prepared.iter().all(|p| p.full.len() < MIN_ROWS) {
         return Err(DiagnoseError::TooLittleData);
     }
-    let (events, stiffness, alpha_from_steps) = events_and_stiffness(prepared, opts);
-    let (cx, template) = Context::new(prepared, stiffness.as_ref(), opts, report);
+    let (events, stiffness, alpha_from_steps) = events_and_stiffness(prepared, opts, run_counter);
+    let (cx, template) = Context::new(prepared, stiffness.as_ref(), opts, report, run_counter);
     cx.step(1, 0, 0);
     let calibrated = calibrated_base(&cx, &template, &[])?;
     cx.trace("base fit");
     // Bedding: where a first loading's rise is a closure of the rig rather than the
     // interface's, it is taken out of the travel, and the diagnosis runs on the corrected tests
     // (see subfric_fit::bedding); the base is calibrated again on them.
-    let (seated, bedding) = {
-        let space = cx.space(&template, &crate::fits::Spec::base());
-        let refit = |fits: &[FitTest], start: &Model| {
-            crate::fits::fit(
-                fits,
-                &space,
-                &[*start],
-                Effort::refit(opts.polish.iterations),
-            )
-            .model
-        };
-        subfric_fit::fit_bedding(prepared, &calibrated, &refit)
-    };
+    let (seated, bedding) = bedding_taken_out(&cx, &template, prepared, &calibrated);
     let (prepared, mut cx, calibrated) = if bedding.is_empty() {
         (prepared, cx, calibrated)
     } else {
-        let (cx, _) = Context::new(&seated, stiffness.as_ref(), opts, report);
+        let (cx, _) = Context::new(&seated, stiffness.as_ref(), opts, report, run_counter);
         let start = calibrated_base(&cx, &template, &[calibrated])?;
         cx.trace("base fit on the travel with the bedding taken out");
         (&seated[..], cx, start)
