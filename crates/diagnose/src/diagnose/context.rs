@@ -46,9 +46,6 @@ pub(super) struct Context<'a> {
     pub(super) base_residuals: HeldOut,
     pub(super) features: DataFeatures,
     pub(super) base_free: Vec<Param>,
-    /// Why μ_k is held at the record's residual stress ratio, where it is
-    /// ([`anchored_at_the_residual`]).
-    pub(super) anchored: Option<String>,
     pub(super) pieces: Vec<Piece>,
     pub(super) folds: Vec<Fold>,
     /// Rows of the record each fitted row stands for.
@@ -123,7 +120,6 @@ impl<'a> Context<'a> {
             events: Default::default(),
             features: data_features(prepared),
             base_free,
-            anchored: None,
             pieces: all_pieces,
             folds,
             opts,
@@ -461,7 +457,6 @@ pub(super) fn unlike_fit(
             reduced_chi2
         ));
     }
-    out.extend(cx.anchored.clone());
     if alpha_from_steps {
         out.push(
             "α_t is the spring the velocity steps needed one by one; `fit` holds it, or frees it where unloads or a first loading resolve it".to_string(),
@@ -504,69 +499,6 @@ pub(super) fn calibrated_base(
         &|_| {},
     )?;
     Ok(report.model)
-}
-
-/// The base calibrated with μ_k held at the residual stress ratio the record shows, where the
-/// base fitted free (`calibrated`) sits at the wall of its recovery share or with μ_k at its
-/// floor, and the record reads a residual below the fitted μ_s: `cx` and `template` then hold
-/// μ_k there for every fit that follows, and `cx.anchored` says why.
-///
-/// The paper reads μ_k off the residual stress ratio (its Section 5, item 2). Fitted free, the
-/// base can put μ_k at zero and let the recovery ξ hold the steady friction up, κ + ξ/v
-/// small: a valley of the κ–ξ chart in which the decay from the peak stretches over the whole
-/// test and the steady friction falls with the rate, and the base bends to imitate a slip
-/// softening or a rate effect it lacks (μ_k 0.000, κ 0.06–0.08 /mm against 2.2–2.6 in the
-/// generating model, on fresh sets with rate and slip softening). Candidates judged against
-/// that base are judged against a model that has taken their effect already. Elsewhere the
-/// base is left as fitted.
-pub(super) fn anchored_at_the_residual(
-    cx: &mut Context,
-    template: &mut Model,
-    calibrated: Model,
-) -> Result<Model, FitError> {
-    let walls: Vec<subfric_fit::AtBound> = cx
-        .space(template, &Spec::base())
-        .at_bounds(&calibrated)
-        .into_iter()
-        .filter(|b| {
-            (b.coordinate == "recovery share" && b.upper)
-                || (b.coordinate == Param::MuK.key() && !b.upper)
-        })
-        .collect();
-    if walls.is_empty() {
-        return Ok(calibrated);
-    }
-    let Some(residual) = subfric_fit::read_off(&cx.tests, &calibrated)
-        .into_iter()
-        .find(|r| r.param == "mu_k" && !r.readings.is_empty())
-    else {
-        return Ok(calibrated);
-    };
-    let mu_k = residual.measured;
-    if !(mu_k.is_finite() && mu_k > 0.0 && mu_k < calibrated.params.mu_s) {
-        return Ok(calibrated);
-    }
-    cx.base_free.retain(|p| *p != Param::MuK);
-    let mut start = calibrated;
-    start.params.mu_k = mu_k;
-    // The template carries the held μ_k into every fit, with the base fitted free around it
-    // (its μ_s above it).
-    template.params = start.params;
-    let anchored = calibrated_base(cx, template, &[start])?;
-    cx.anchored = Some(format!(
-        "μ_k is held at {mu_k:.4}, the residual stress ratio the record shows ({}), as the paper reads it (its Section 5, item 2): fitted free, the base put μ_k at {:.4} with {} — a valley of κ and ξ in which the base bends to imitate what it lacks",
-        match residual.readings.len() {
-            1 => residual.readings[0].test.clone(),
-            n => format!("median of {n} tests"),
-        },
-        calibrated.params.mu_k,
-        walls
-            .iter()
-            .map(|b| b.sentence())
-            .collect::<Vec<_>>()
-            .join(" and ")
-    ));
-    Ok(anchored)
 }
 
 /// What a second specimen tested alike could differ by in test `t`'s level, in units of its

@@ -142,43 +142,6 @@ fn the_context_cuts_pieces_that_tile_the_rows_and_folds_that_hold_each_out_once(
 }
 
 #[test]
-fn a_base_bent_to_the_wall_of_its_recovery_share_is_refitted_with_mu_k_at_the_residual() {
-    let prepared = crate::prepare_for_diagnosis(&shs_set(200));
-    let opts = DiagnoseOptions::default();
-    let (mut cx, mut template) = Context::new(&prepared, None, &opts, &quiet, &RunCounter::new());
-    let residual = subfric_fit::read_off(&cx.tests, &template)
-        .into_iter()
-        .find(|r| r.param == "mu_k")
-        .expect("the slides read a residual")
-        .measured;
-    // A base inside its box is left as fitted, μ_k free.
-    let inside = Model::base(Params::sample()).unwrap();
-    let kept = anchored_at_the_residual(&mut cx, &mut template, inside).unwrap();
-    assert_eq!(kept, inside);
-    assert!(cx.base_free.contains(&Param::MuK) && cx.anchored.is_none());
-    // μ_k at zero with the steady friction held up by ξ: the recovery share at its wall.
-    let mut bent = Params::sample();
-    (bent.mu_k, bent.kappa, bent.xi) = (1e-6, 0.06, 3e-3);
-    let bent = Model::base(bent).unwrap();
-    let walls = cx.space(&template, &Spec::base()).at_bounds(&bent);
-    assert!(
-        walls.iter().any(|b| b.coordinate == "recovery share"),
-        "{walls:?}"
-    );
-    let anchored = anchored_at_the_residual(&mut cx, &mut template, bent).unwrap();
-    // Every fit from here holds μ_k at the record's residual, and the report says why.
-    assert!(!cx.base_free.contains(&Param::MuK));
-    assert_eq!(anchored.params.mu_k, residual);
-    assert_eq!(template.params.mu_k, residual);
-    assert!(anchored.params.mu_s > residual);
-    let why = cx.anchored.as_deref().expect("a reason");
-    assert!(
-        why.contains("recovery share") && why.contains("residual"),
-        "{why}"
-    );
-}
-
-#[test]
 fn a_stiffness_the_data_resolve_frees_alpha_t_from_its_value() {
     let prepared = crate::prepare_for_diagnosis(&shs_set(200));
     let opts = DiagnoseOptions::default();

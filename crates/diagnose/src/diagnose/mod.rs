@@ -274,8 +274,6 @@ pub fn diagnose_reporting(
         cx.trace("base fit on the travel with the bedding taken out");
         (&seated[..], cx, start)
     };
-    let mut template = template;
-    let calibrated = context::anchored_at_the_residual(&mut cx, &mut template, calibrated)?;
     cx.features.seeds = crate::features::EventSeeds::from_events(&events);
     cx.events = events.clone();
     let base = fit_base(&mut cx, calibrated)?;
