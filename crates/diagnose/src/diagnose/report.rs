@@ -128,15 +128,23 @@ impl CandidateScore {
     /// The comparison on the own kind with most evidence among those that pass `th`, else on
     /// the own kind with most evidence; `None` for a family without own kinds.
     pub fn best_own_kind(&self, th: &crate::verdict::Thresholds) -> Option<&Comparison> {
-        let by_score =
-            |a: &&OwnKindScore, b: &&OwnKindScore| a.held_out.score.total_cmp(&b.held_out.score);
-        self.own_kinds
-            .iter()
-            .filter(|k| crate::verdict::passes(&k.held_out, th))
-            .max_by(by_score)
-            .or_else(|| self.own_kinds.iter().max_by(by_score))
-            .map(|k| &k.held_out)
+        best_kind(self.own_kinds.iter(), th)
     }
+}
+
+/// Of the comparisons on `kinds`, the one with most evidence among those that pass `th`, else
+/// the one with most evidence; `None` of no kinds.
+pub fn best_kind<'a>(
+    kinds: impl Iterator<Item = &'a OwnKindScore> + Clone,
+    th: &crate::verdict::Thresholds,
+) -> Option<&'a Comparison> {
+    let by_score = |a: &&Comparison, b: &&Comparison| a.score.total_cmp(&b.score);
+    let comparisons = kinds.map(|k| &k.held_out);
+    comparisons
+        .clone()
+        .filter(|c| crate::verdict::passes(c, th))
+        .max_by(by_score)
+        .or_else(|| comparisons.max_by(by_score))
 }
 
 /// Held-out misfit of the reference and a candidate on one kind of piece.

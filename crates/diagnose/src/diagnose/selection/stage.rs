@@ -319,20 +319,8 @@ pub(super) fn own_standard(
     first_stage: bool,
 ) -> Comparison {
     let shown: &[OwnKindScore] = if first_stage { &[] } else { &c.shown_in };
-    let kinds: Vec<&Comparison> = c
-        .own_kinds
-        .iter()
-        .chain(shown)
-        .map(|k| &k.held_out)
-        .collect();
-    let most = |a: &&&Comparison, b: &&&Comparison| a.score.total_cmp(&b.score);
-    match kinds
-        .iter()
-        .filter(|k| crate::verdict::passes(k, th))
-        .max_by(most)
-        .or_else(|| kinds.iter().max_by(most))
-    {
-        Some(k) => (*k).clone(),
+    match super::super::report::best_kind(c.own_kinds.iter().chain(shown), th) {
+        Some(k) => k.clone(),
         None if first_stage => c.held_out.clone(),
         None => Comparison::of_no_pieces(),
     }
