@@ -59,8 +59,9 @@ pub struct Piece {
     pub end: usize,
     /// The situation it holds.
     pub kind: PieceKind,
-    /// Where along the variable its kind is read at the piece lies ([`read_at`]): a hold's
-    /// duration, the slip rate a velocity step goes to; `None` for kinds read at no variable.
+    /// Where along the variable its kind is read at the piece lies ([`read_at`]), as a natural
+    /// log: a hold's duration in s, the slip rate a velocity step goes to in mm/s; `None` for
+    /// kinds read at no variable.
     pub at: Option<f64>,
     /// Held out in a fold whose training pieces of its kind all lie on one side of it
     /// ([`mark_beyond_training`]): its prediction carries the fitted law beyond every reading
@@ -83,37 +84,39 @@ impl Piece {
 }
 
 /// Where piece `kind` (rows `rows` of `p`'s fitted rows) lies along the variable its kind is
-/// read at: a hold's duration in s (the time its rows at rest span), the natural log of the
-/// slip rate after a velocity step (the median rate over the piece, slip control only). Other
-/// kinds, and pieces too short to read, give `None`.
+/// read at, as the segmentation read it: the natural log of a hold's duration in s (the hold's
+/// rows of the full record), the natural log of the slip rate after a velocity step (the rate
+/// level the piece starts, slip control only). Other kinds, and pieces the segmentation holds no
+/// such reading for, give `None`.
 fn read_at(p: &PreparedTest, kind: PieceKind, rows: std::ops::Range<usize>) -> Option<f64> {
-    let t = &p.fit;
+    let seg = &p.segmentation;
+    let time = &p.full.time;
+    // The record's row of the piece's first fitted row of `of` kind.
+    let first = |of: SegmentKind| {
+        rows.clone()
+            .find(|&i| p.kind_of_fit_row(i) == of)
+            .and_then(|i| p.kept.get(i).copied())
+    };
+    let positive_ln = |v: f64| (v.is_finite() && v > 0.0).then(|| v.ln());
     match kind {
         PieceKind::Hold => {
-            let at_rest: Vec<f64> = rows
-                .filter(|&i| p.kind_of_fit_row(i) == SegmentKind::Hold)
-                .filter_map(|i| t.time.get(i).copied())
-                .collect();
-            let (first, last) = (at_rest.first()?, at_rest.last()?);
-            (last > first).then(|| last - first)
+            let r = first(SegmentKind::Hold)?;
+            let &(a, b) = seg.holds.iter().find(|h| h.0 <= r && r < h.1)?;
+            positive_ln(time.get(b.checked_sub(1)?)? - time.get(a)?)
         }
-        PieceKind::VelocityStep if t.control == subfric_model::Control::Slip => {
-            let mut rates: Vec<f64> = rows
-                .collect::<Vec<_>>()
-                .windows(2)
-                .filter_map(|w| {
-                    let dt = t.time.get(w[1])? - t.time.get(w[0])?;
-                    let du = t.imposed.get(w[1])? - t.imposed.get(w[0])?;
-                    (dt > 0.0).then(|| (du / dt).abs())
-                })
-                .filter(|v| v.is_finite())
-                .collect();
-            let v = subfric_data::stats::median(&mut rates)?;
-            (v > 0.0).then(|| v.ln())
+        PieceKind::VelocityStep if p.full.control == subfric_model::Control::Slip => {
+            let r = first(SegmentKind::AfterVelocityStep)?;
+            let level = seg.levels.iter().find(|l| l.start <= r && r < l.end)?;
+            positive_ln(level.rate.abs())
         }
         _ => None,
     }
 }
+
+/// Readings of a kind whose ratio is within this are one reading (a 10 s hold logged as 9.8 s
+/// beside one of 10.1 s, two steps to 0.030 and 0.0301 mm/s): the ratio within which the
+/// features read normal stresses as one level ([`crate::features::STRESS_LEVEL_RATIO`]).
+const SAME_READING_RATIO: f64 = crate::features::STRESS_LEVEL_RATIO;
 
 /// Marks each held-out piece whose fold trains on pieces of its kind that all lie on one side
 /// of it along their variable ([`Piece::at`]): the longest of three holds predicted from the
@@ -135,8 +138,9 @@ pub fn mark_beyond_training(all: &mut [Piece], folds: &[Fold]) {
             if trained.is_empty() {
                 continue;
             }
-            let below = trained.iter().any(|&v| v <= at);
-            let above = trained.iter().any(|&v| v >= at);
+            let same = SAME_READING_RATIO.ln();
+            let below = trained.iter().any(|&v| v <= at + same);
+            let above = trained.iter().any(|&v| v >= at - same);
             all[k].beyond_training = !(below && above);
         }
     }
@@ -308,33 +312,41 @@ mod tests {
     fn a_piece_predicted_beyond_every_reading_of_its_like_is_marked_and_one_between_them_is_not() {
         // Holds of 10, 100 and 1000 s, one per fold, and a reversal read at no variable.
         let mut all = vec![
-            read(PieceKind::Hold, Some(10.0)),
-            read(PieceKind::Hold, Some(100.0)),
-            read(PieceKind::Hold, Some(1000.0)),
+            read(PieceKind::Hold, Some(10f64.ln())),
+            read(PieceKind::Hold, Some(100f64.ln())),
+            read(PieceKind::Hold, Some(1000f64.ln())),
             read(PieceKind::Reversal, None),
         ];
         let folds = vec![holding(vec![0]), holding(vec![1, 3]), holding(vec![2])];
         mark_beyond_training(&mut all, &folds);
         let marked: Vec<bool> = all.iter().map(|p| p.beyond_training).collect();
         assert_eq!(marked, [true, false, true, false]);
-        // A reading equal to a trained one is not beyond it (two steps to the same rate).
+        // A reading equal to a trained one, or within a level of it, is not beyond it (two
+        // steps to 0.003 mm/s read as 0.00300 and 0.00303).
         let mut same = vec![
-            read(PieceKind::VelocityStep, Some(0.0)),
-            read(PieceKind::VelocityStep, Some(0.0)),
+            read(PieceKind::VelocityStep, Some(0.003f64.ln())),
+            read(PieceKind::VelocityStep, Some(0.00303f64.ln())),
         ];
         mark_beyond_training(&mut same, &[holding(vec![0]), holding(vec![1])]);
         assert!(same.iter().all(|p| !p.beyond_training));
+        // Twice as fast is another reading.
+        let mut apart = vec![
+            read(PieceKind::VelocityStep, Some(0.003f64.ln())),
+            read(PieceKind::VelocityStep, Some(0.006f64.ln())),
+        ];
+        mark_beyond_training(&mut apart, &[holding(vec![0]), holding(vec![1])]);
+        assert!(apart.iter().all(|p| p.beyond_training));
         // Of two holds each is predicted from the other alone: both beyond.
         let mut two = vec![
-            read(PieceKind::Hold, Some(10.0)),
-            read(PieceKind::Hold, Some(100.0)),
+            read(PieceKind::Hold, Some(10f64.ln())),
+            read(PieceKind::Hold, Some(100f64.ln())),
         ];
         mark_beyond_training(&mut two, &[holding(vec![0]), holding(vec![1])]);
         assert!(two.iter().all(|p| p.beyond_training));
         // Held out with every piece of its kind: no reading trained, nothing to be beyond.
         let mut alone = vec![
-            read(PieceKind::Hold, Some(10.0)),
-            read(PieceKind::Hold, Some(100.0)),
+            read(PieceKind::Hold, Some(10f64.ln())),
+            read(PieceKind::Hold, Some(100f64.ln())),
         ];
         mark_beyond_training(&mut alone, &[holding(vec![0, 1])]);
         assert!(alone.iter().all(|p| !p.beyond_training));

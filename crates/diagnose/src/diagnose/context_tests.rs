@@ -83,7 +83,7 @@ fn a_hold_is_read_at_its_duration_and_a_velocity_step_at_the_rate_it_goes_to() {
     // The hold of `shs_set`: 50 rows 4 s apart after the first slide.
     let pieces = crate::folds::pieces(&crate::prepare_for_diagnosis(&shs_set(200)));
     let hold = pieces.iter().find(|p| p.kind == PieceKind::Hold).unwrap();
-    let at = hold.at.expect("a hold is read at its duration");
+    let at = hold.at.expect("a hold is read at its duration").exp();
     assert!((150.0..=200.0).contains(&at), "{at}");
     assert!(pieces
         .iter()
