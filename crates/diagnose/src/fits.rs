@@ -236,18 +236,7 @@ fn ssr_on(tests: &[FitTest], m: &Model) -> f64 {
 /// simulate), with the set's drift of the measurement, fitted on the rows that weigh in `train`,
 /// removed when `drift` is set.
 pub fn residuals(tests: &[FitTest], m: &Model, drift: Option<&[FitTest]>) -> HeldOut {
-    let mut out: HeldOut = tests
-        .iter()
-        .map(|t| {
-            let k = t.weight.sqrt() / t.noise_sd;
-            match t.predict(m) {
-                Ok(p) => (0..t.len())
-                    .map(|i| k * t.weight_of(i).sqrt() * (p[i] - t.measured[i]))
-                    .collect(),
-                Err(_) => vec![f64::NAN; t.len()],
-            }
-        })
-        .collect();
+    let mut out: HeldOut = subfric_fit::dataset::residuals_in_noise_units(tests, m);
     if let Some(train) = drift {
         // The drift is learned where the training weighs, and applied everywhere.
         let mut slices: Vec<&mut [f64]> = out.iter_mut().map(|r| &mut r[..]).collect();

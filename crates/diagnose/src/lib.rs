@@ -16,7 +16,7 @@ pub mod evidence;
 pub mod features;
 pub mod fits;
 pub mod folds;
-pub mod localise;
+
 pub mod score;
 pub mod verdict;
 

@@ -23,18 +23,7 @@ use serde::Serialize;
 /// Held-out residuals: per test, per fitted row, in noise units (NaN where never held out).
 pub type HeldOut = Vec<Vec<f64>>;
 
-/// Squared residual (noise units) counted for a row the model cannot simulate (NaN): large,
-/// so a model that fails somewhere never looks better for it, but finite, so sums stay usable.
-pub const FAILED_ROW: f64 = 1e6;
-
-/// The squared residual `v`, or [`FAILED_ROW`] where the model failed.
-pub fn squared_or_failed(v: f64) -> f64 {
-    if v.is_finite() {
-        v * v
-    } else {
-        FAILED_ROW
-    }
-}
+pub use subfric_fit::localise::{squared_or_failed, FAILED_ROW};
 
 /// Sum of squares and count of the finite values of `r[a..b]`.
 fn ssr(r: &[f64]) -> (f64, usize) {

@@ -36,8 +36,10 @@ impl Default for Thresholds {
             min_score: 20.0,
             min_excess_shrink: 0.7,
             min_typical_shrink: 0.15,
-            model_error_chi2: 10.0,
-            gap_chi2: 1.3,
+            // The levels at which `fit` says a model misses (subfric_fit::adequacy): one
+            // reading of "at the noise" and "model error dominates" for every command.
+            model_error_chi2: subfric_fit::adequacy::MODEL_ERROR_CHI2,
+            gap_chi2: subfric_fit::adequacy::GAP_CHI2,
             near_noise_excess_shrink: 0.5,
             max_effects: 3,
         }

@@ -285,6 +285,24 @@ pub struct TestMisfit {
     pub unit: &'static str,
 }
 
+/// Per-row residuals k √w (prediction − measurement) of every test in noise units (k the
+/// test's weight over its noise SD, w the row's weight), NaN on every row of a test the model
+/// cannot simulate: what the reports' misfits and [`crate::localise`] are made of.
+pub fn residuals_in_noise_units(tests: &[FitTest], m: &Model) -> Vec<Vec<f64>> {
+    tests
+        .iter()
+        .map(|t| {
+            let k = t.weight.sqrt() / t.noise_sd;
+            match t.predict(m) {
+                Ok(p) => (0..t.len())
+                    .map(|i| k * t.weight_of(i).sqrt() * (p[i] - t.measured[i]))
+                    .collect(),
+                Err(_) => vec![f64::NAN; t.len()],
+            }
+        })
+        .collect()
+}
+
 /// Per-test misfit of a model.
 pub fn misfits(tests: &[FitTest], m: &Model) -> Vec<TestMisfit> {
     tests

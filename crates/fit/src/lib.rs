@@ -9,6 +9,7 @@
 //! tests at different normal stresses and controls weigh fairly and a reduced χ² of 1 means
 //! "at the noise level".
 
+pub mod adequacy;
 pub mod bedding;
 pub mod calibrate;
 pub mod dataset;
@@ -19,6 +20,7 @@ pub mod guess;
 pub mod interval;
 pub mod levels;
 pub mod lm;
+pub mod localise;
 pub mod prepare;
 pub mod problem;
 pub mod read_off;
@@ -39,7 +41,7 @@ pub use calibrate::{
     CalibrationStage, Combination, FitError, FitOptions, FitReport, LocalRun, Method, ParamReport,
     Status,
 };
-pub use dataset::{misfits, typical_rate, FitTest, TestMisfit};
+pub use dataset::{misfits, residuals_in_noise_units, typical_rate, FitTest, TestMisfit};
 pub use drift::{drift_coefficients, remove_drift, FittedDrift};
 pub use estimate::Estimate;
 pub use interval::Interval;

@@ -7,9 +7,9 @@ use crate::truncate;
 use std::fmt::Write as _;
 use std::path::Path;
 use subfric_diagnose::confidence::Standing;
-use subfric_diagnose::localise::GroupMisfit;
 use subfric_diagnose::verdict::Decision;
 use subfric_diagnose::{Diagnosis, NamedEffect};
+use subfric_fit::localise::GroupMisfit;
 
 /// Localised groups listed in section 1 (the largest shares of the gap first).
 const WORST_GROUPS_SHOWN: usize = 8;

@@ -16,12 +16,12 @@ pub use report::{
 use crate::candidates::library_with;
 use crate::evidence::residual_evidence;
 use crate::fits::{residuals, Effort};
-use crate::localise::localise;
 use crate::verdict::Thresholds;
 use context::{calibrated_base, fit_base, fold_index, ssr_of, Context, Current};
 use explain::make_verdict;
 use selection::{forward_selection, screen_and_polish};
 use std::collections::BTreeMap;
+use subfric_fit::localise::localise;
 use subfric_fit::{misfits, resolved_stiffness, FitError, FitTest, PreparedTest, RunCounter};
 use subfric_model::Model;
 

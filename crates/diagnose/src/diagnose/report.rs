@@ -3,11 +3,11 @@
 use crate::candidates::Effect;
 use crate::evidence::ResidualEvidence;
 use crate::features::DataFeatures;
-use crate::localise::{GroupMisfit, Localisation};
 use crate::score::Comparison;
 use crate::verdict::{Decision, Thresholds};
 use serde::Serialize;
 use std::collections::BTreeMap;
+use subfric_fit::localise::{GroupMisfit, Localisation};
 use subfric_fit::{Stiffness, TestMisfit};
 use subfric_model::Model;
 

@@ -1,11 +1,27 @@
 //! Where the model misses: its residual on every row of the record, grouped per test, per kind
 //! of segment, per test and segment, early against late cycles, and per normal-stress level, as
-//! a share of the excess over the noise.
+//! a share of the excess over the noise. `fit` says with it where a fitted model misses
+//! ([`crate::adequacy`]), the diagnosis where its base and final models do.
 
-use crate::score::{squared_or_failed, HeldOut};
+use crate::PreparedTest;
 use serde::Serialize;
 use std::collections::BTreeMap;
-use subfric_fit::PreparedTest;
+
+/// Residuals of every row of each test, in noise units (NaN where the model failed).
+pub type RowResiduals = Vec<Vec<f64>>;
+
+/// Squared residual (noise units) counted for a row the model cannot simulate (NaN): large,
+/// so a model that fails somewhere never looks better for it, but finite, so sums stay usable.
+pub const FAILED_ROW: f64 = 1e6;
+
+/// The squared residual `v`, or [`FAILED_ROW`] where the model failed.
+pub fn squared_or_failed(v: f64) -> f64 {
+    if v.is_finite() {
+        v * v
+    } else {
+        FAILED_ROW
+    }
+}
 
 /// Misfit of a group of rows.
 #[derive(Clone, Debug, Serialize)]
@@ -40,7 +56,10 @@ pub struct Localisation {
     pub total_excess: f64,
 }
 
-fn group_misfit<F: Fn(usize, usize) -> Option<String>>(res: &HeldOut, key: F) -> Vec<GroupMisfit> {
+fn group_misfit<F: Fn(usize, usize) -> Option<String>>(
+    res: &RowResiduals,
+    key: F,
+) -> Vec<GroupMisfit> {
     let mut acc: BTreeMap<String, (usize, f64)> = BTreeMap::new();
     for (t, r) in res.iter().enumerate() {
         for (i, v) in r.iter().enumerate() {
@@ -68,7 +87,7 @@ fn group_misfit<F: Fn(usize, usize) -> Option<String>>(res: &HeldOut, key: F) ->
 }
 
 /// Groups the residuals `res` of every row of each test (noise units).
-pub fn localise(prepared: &[PreparedTest], res: &HeldOut) -> Localisation {
+pub fn localise(prepared: &[PreparedTest], res: &RowResiduals) -> Localisation {
     let name = |t: usize| prepared[t].full.name.clone();
     let kind = |t: usize, i: usize| {
         prepared[t]
