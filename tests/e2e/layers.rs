@@ -594,3 +594,181 @@ fn the_application_layer_has_no_import_circle() {
         );
     }
 }
+
+/// The module path of an application-layer source file under `root` (`fit/run.rs` →
+/// `[fit, run]`, `render/mod.rs` → `[render]`, `lib.rs` → `[]`).
+fn module_path(root: &std::path::Path, file: &std::path::Path) -> Vec<String> {
+    let rel = file.strip_prefix(root).unwrap();
+    let mut parts: Vec<String> = rel
+        .components()
+        .map(|c| {
+            c.as_os_str()
+                .to_string_lossy()
+                .trim_end_matches(".rs")
+                .to_string()
+        })
+        .collect();
+    if parts.last().is_some_and(|p| p == "mod" || p == "lib") {
+        parts.pop();
+    }
+    parts
+}
+
+/// The source file of the longest prefix of module path `path` under `root` that is a file
+/// of its own (`[render, fit_report, report_table]` → `render/fit_report.rs`).
+fn file_of(root: &std::path::Path, path: &[String]) -> Option<std::path::PathBuf> {
+    (1..=path.len()).rev().find_map(|k| {
+        let dir = path[..k].iter().fold(root.to_path_buf(), |d, p| d.join(p));
+        [dir.with_extension("rs"), dir.join("mod.rs")]
+            .into_iter()
+            .find(|f| f.is_file())
+    })
+}
+
+/// The module paths `text` (of the module at `own`) names: `crate::a::b`, `super::c`,
+/// `self::d` and `e::f` of a child module `e` it declares, also inside `use` lists over
+/// several lines (`crate::{a::x, b::{y, z}}`).
+fn named_paths(text: &str, own: &[String]) -> Vec<Vec<String>> {
+    fn segments(text: &str, at: usize, prefix: Vec<String>, out: &mut Vec<Vec<String>>) {
+        let mut path = prefix;
+        let mut i = at;
+        loop {
+            let rest = &text[i..];
+            let end = rest
+                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                .unwrap_or(rest.len());
+            if end > 0 {
+                path.push(rest[..end].to_string());
+            }
+            i += end;
+            if text[i..].starts_with("::{") {
+                for item in list_items(text, i + 2) {
+                    segments(text, item, path.clone(), out);
+                }
+                return;
+            }
+            if text[i..].starts_with("::") {
+                i += 2;
+                continue;
+            }
+            break;
+        }
+        out.push(path);
+    }
+    let mut out = Vec::new();
+    for (word, base) in [
+        ("crate::", Vec::new()),
+        ("super::", own[..own.len().saturating_sub(1)].to_vec()),
+        ("self::", own.to_vec()),
+    ] {
+        for (at, _) in text.match_indices(word) {
+            if text[..at]
+                .chars()
+                .next_back()
+                .is_some_and(|c| c.is_alphanumeric() || c == '_')
+            {
+                continue;
+            }
+            if text[at + word.len()..].starts_with('{') {
+                for item in list_items(text, at + word.len()) {
+                    segments(text, item, base.clone(), &mut out);
+                }
+            } else {
+                segments(text, at + word.len(), base.clone(), &mut out);
+            }
+        }
+    }
+    // A child module the file declares (`mod e;`) is named by its own name (`e::x`, `use
+    // e::{..}`): declaring it is not using it.
+    let children: Vec<String> = text
+        .lines()
+        .filter_map(|line| {
+            let l = line.trim();
+            let l = l.strip_prefix("pub ").unwrap_or(l);
+            let l = l.strip_prefix("pub(crate) ").unwrap_or(l);
+            l.strip_prefix("mod ")
+                .and_then(|r| r.strip_suffix(';'))
+                .map(|n| n.trim().to_string())
+        })
+        .collect();
+    for child in &children {
+        let word = format!("{child}::");
+        for (at, _) in text.match_indices(&word) {
+            if text[..at]
+                .chars()
+                .next_back()
+                .is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':')
+            {
+                continue;
+            }
+            segments(text, at, own.to_vec(), &mut out);
+        }
+    }
+    out
+}
+
+/// The application layer's source files a command's walk reaches from `start` (files under
+/// `root`), following what each names outside its tests.
+fn walk_files(root: &std::path::Path, start: &[&str]) -> BTreeSet<std::path::PathBuf> {
+    let mut seen: BTreeSet<std::path::PathBuf> = BTreeSet::new();
+    let mut todo: Vec<std::path::PathBuf> = start.iter().map(|s| root.join(s)).collect();
+    while let Some(file) = todo.pop() {
+        if !seen.insert(file.clone()) {
+            continue;
+        }
+        // Comments name modules too (intra-doc links) without using them.
+        let text: String = outside_tests(&std::fs::read_to_string(&file).unwrap())
+            .lines()
+            .map(|l| l.split("//").next().unwrap_or_default())
+            .collect::<Vec<_>>()
+            .join("\n");
+        for path in named_paths(&text, &module_path(root, &file)) {
+            if let Some(f) = file_of(root, &path) {
+                if !seen.contains(&f) {
+                    todo.push(f);
+                }
+            }
+        }
+    }
+    seen
+}
+
+/// The files of `walk` that name the diagnosis crate.
+fn naming_the_diagnosis(walk: &BTreeSet<std::path::PathBuf>) -> Vec<String> {
+    walk.iter()
+        .filter(|f| {
+            outside_tests(&std::fs::read_to_string(f).unwrap()).contains("subfric_diagnose")
+        })
+        .map(|f| f.strip_prefix(repo()).unwrap_or(f).display().to_string())
+        .collect()
+}
+
+#[test]
+fn the_walk_of_a_fit_does_not_pass_through_the_diagnosis() {
+    let root = repo().join("crates/app/src");
+    let walk = walk_files(&root, &["fit.rs"]);
+    // The walk follows `use` lists, `super::` and the modules a file declares: it reaches
+    // the fit's folder, the adequacy it reports and the page it writes.
+    for reached in [
+        "fit/run.rs",
+        "outcome/adequacy.rs",
+        "render/fit_report.rs",
+        "render/report.rs",
+    ] {
+        assert!(
+            walk.contains(&root.join(reached)),
+            "the walk from fit.rs misses {reached}: {walk:?}"
+        );
+    }
+    let through = naming_the_diagnosis(&walk);
+    assert!(
+        through.is_empty(),
+        "a fit's walk passes through the diagnosis (whether a model describes its data is the fitting crate's, subfric_fit::adequacy; the diagnosis's pages are render/diagnosis_page.rs): {through:?}"
+    );
+    // The same walk from the diagnosis command does reach it: the check can fail.
+    let diagnose = walk_files(&root, &["diagnose.rs"]);
+    assert!(
+        !naming_the_diagnosis(&diagnose).is_empty(),
+        "the walk from diagnose.rs never names the diagnosis: the walk is broken"
+    );
+}

@@ -181,7 +181,7 @@ pub fn diagnose_to_folder(
     let diagnosed = diagnose_set(dir, set, warnings, opts, progress)?;
     let report = report_text(&diagnosed.name, dir, &diagnosed.diagnosis);
     let (json_file, mut figures) = write_diagnosis(&out, &diagnosed, &report)?;
-    let page = crate::render::report::diagnosis_page(
+    let page = crate::render::diagnosis_page::diagnosis_page(
         &diagnosed.name,
         dir,
         &diagnosed.diagnosis,

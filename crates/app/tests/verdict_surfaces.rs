@@ -6,7 +6,7 @@
 use std::path::Path;
 use subfric_app::diagnose::diagnosis_json;
 use subfric_app::render::diagnose_report::{report_text, verdict_lines};
-use subfric_app::render::report::diagnosis_page;
+use subfric_app::render::diagnosis_page::diagnosis_page;
 use subfric_diagnose::{diagnose, prepare_for_diagnosis, DiagnoseOptions, Effect};
 
 #[test]
