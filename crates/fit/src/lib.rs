@@ -55,4 +55,6 @@ pub use problem::{Problem, RunCounter};
 pub use read_off::{read_off, ReadOff};
 pub use residuals::Residuals;
 pub use space::{AtBound, Coord, Param, Space};
-pub use stiffness::{resolved_stiffness, stiffness_by_trial, Stiffness};
+pub use stiffness::{
+    decide_stiffness, resolved_stiffness, stiffness_by_trial, Stiffness, StiffnessReadings,
+};

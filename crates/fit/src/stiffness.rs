@@ -316,6 +316,29 @@ const SOFT_TRANSIENT_MM: f64 = 3.0;
 /// The second fifth of a straight rise needs at most this many times the travel of the first.
 const LINEAR_RISE: f64 = 1.5;
 
+/// What a record says of the elastic stiffness α_t before any trial, best first (see
+/// [`decide_stiffness`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StiffnessReadings {
+    /// From the unloads and reloads some test resolves ([`resolved_stiffness`]).
+    pub resolved: Option<Stiffness>,
+    /// From the springs the velocity steps needed, each step fitted with a spring-slider on
+    /// its own (the diagnosis reads the steps one by one; `fit` does not, and gives none).
+    pub springs: Option<Stiffness>,
+}
+
+/// The α_t decision, one order for `fit` and the diagnosis alike: what unloads and reloads
+/// resolve; else what the velocity steps' springs read; else `trial` (where a first loading
+/// rises over several rows, α_t free against α_t held with the caller's other parameters —
+/// [`stiffness_by_trial`] — kept when the rise decides it); `None` when nothing decides it,
+/// and α_t is held. The trial runs only when nothing before it decides.
+pub fn decide_stiffness(
+    readings: StiffnessReadings,
+    trial: impl FnOnce() -> Option<Stiffness>,
+) -> Option<Stiffness> {
+    readings.resolved.or(readings.springs).or_else(trial)
+}
+
 /// The elastic stiffness, when some test of the set resolves it.
 pub fn resolved_stiffness(tests: &[PreparedTest]) -> Option<Stiffness> {
     let (mut unloads, mut reloads) = (Vec::new(), Vec::new());
@@ -357,6 +380,44 @@ pub fn resolved_stiffness(tests: &[PreparedTest]) -> Option<Stiffness> {
 mod tests {
     use super::*;
     use crate::prepare::prepare_test;
+
+    fn reading(alpha_t: f64, evidence: &str) -> Stiffness {
+        Stiffness {
+            alpha_t,
+            events: 2,
+            evidence: evidence.into(),
+        }
+    }
+
+    #[test]
+    fn the_stiffness_is_decided_in_one_order_and_the_trial_runs_only_when_nothing_decides() {
+        let tried = std::cell::Cell::new(0);
+        let trial = || {
+            tried.set(tried.get() + 1);
+            Some(reading(3.0, "trial"))
+        };
+        let both = StiffnessReadings {
+            resolved: Some(reading(1.0, "unloads")),
+            springs: Some(reading(2.0, "springs")),
+        };
+        assert_eq!(decide_stiffness(both, trial).unwrap().evidence, "unloads");
+        let springs = StiffnessReadings {
+            resolved: None,
+            springs: Some(reading(2.0, "springs")),
+        };
+        assert_eq!(
+            decide_stiffness(springs, trial).unwrap().evidence,
+            "springs"
+        );
+        assert_eq!(tried.get(), 0, "a trial ran where the readings decided");
+        let none = StiffnessReadings::default();
+        assert_eq!(
+            decide_stiffness(none.clone(), trial).unwrap().evidence,
+            "trial"
+        );
+        assert_eq!(tried.get(), 1);
+        assert_eq!(decide_stiffness(none, || None), None);
+    }
     use rand::SeedableRng;
     use rand_distr::{Distribution, Normal};
     use subfric_data::{ControlColumn, SegmentOptions, TestData, TestSpec};

@@ -32,7 +32,12 @@ pub(super) fn starting_stiffness(
         || req.fix.iter().any(|(p, _)| *p == Param::AlphaT);
     let resolved = (!alpha_given)
         .then(|| {
-            subfric_fit::resolved_stiffness(tests).or_else(|| {
+            // `fit` reads no velocity step one by one: no springs.
+            let readings = subfric_fit::StiffnessReadings {
+                resolved: subfric_fit::resolved_stiffness(tests),
+                springs: None,
+            };
+            subfric_fit::decide_stiffness(readings, || {
                 let mut held = *template;
                 for (p, v) in &req.fix {
                     p.set(&mut held, *v);

@@ -177,10 +177,10 @@ pub fn diagnose(
     diagnose_reporting(prepared, opts, &|_| {}, &RunCounter::new())
 }
 
-/// The elastic stiffness α_t the diagnosis holds: from unloads and reloads when the record
-/// resolves it there, else from the springs the velocity steps needed one by one, else, where a
-/// first loading rises over several rows, from a trial (α_t free against α_t held, kept when the
-/// rise decides it); `None` when nothing decides it. The trial's runs count into `run_counter`.
+/// The elastic stiffness α_t the diagnosis holds, decided as `fit` decides it
+/// ([`subfric_fit::decide_stiffness`]: unloads and reloads, then the springs the velocity steps
+/// needed one by one — the diagnosis's own reading — then a trial on the first loadings); the
+/// trial's runs count into `run_counter`.
 fn elastic_stiffness(
     prepared: &[PreparedTest],
     resolved: Option<subfric_fit::Stiffness>,
@@ -188,7 +188,11 @@ fn elastic_stiffness(
     opts: &DiagnoseOptions,
     run_counter: &RunCounter,
 ) -> Option<subfric_fit::Stiffness> {
-    resolved.or_else(|| events.stiffness()).or_else(|| {
+    let readings = subfric_fit::StiffnessReadings {
+        resolved,
+        springs: events.stiffness(),
+    };
+    subfric_fit::decide_stiffness(readings, || {
         subfric_fit::stiffness_by_trial(
             prepared,
             &opts.template,
