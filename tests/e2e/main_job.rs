@@ -3,7 +3,7 @@
 //! the subfric program on copies of `experiments/` in temporary folders.
 //!
 //! A whole `bench` or `selfcheck` run is too slow for a test: `bench` is run on its quick parts
-//! (`--only`), `selfcheck` is only checked through `--help`.
+//! (`--only`, in `bench.rs`), `selfcheck` is only checked through `--help`.
 
 use std::collections::BTreeMap;
 use std::ffi::OsStr;
@@ -623,49 +623,6 @@ fn options_with_values(help: &str) -> Vec<(String, String)> {
     }
     out.retain(|(h, _)| !h.is_empty());
     out
-}
-
-#[test]
-fn bench_runs_the_parts_asked_for_and_only_those() {
-    let tmp = tempfile::tempdir().unwrap();
-    let experiments = tmp.path().join("experiments");
-    copy_set("table1-medium", &experiments);
-    let json: Value = serde_json::from_str(&run_ok(args![
-        "bench",
-        "--experiments",
-        &experiments,
-        "--only",
-        "step,fits",
-        "--json"
-    ]))
-    .unwrap();
-    let sps = json["steps_per_second"].as_f64().unwrap();
-    assert!(sps > 1e5, "{json}");
-    assert_eq!(json["identical_to_simulate"], true, "{json}");
-    let fits = json["fit_seconds"].as_array().unwrap();
-    assert_eq!(fits.len(), 1, "{json}");
-    assert_eq!(fits[0][0], "table1-medium");
-    assert!(fits[0][1].as_f64().unwrap() > 0.0);
-    for absent in ["multistart", "many_tests", "diagnoses", "sampler"] {
-        assert!(
-            json.get(absent).is_none(),
-            "{absent} was not asked for: {json}"
-        );
-    }
-    // The step alone reads no set: a folder that does not exist is no error then.
-    let step = run_ok(args![
-        "bench",
-        "--experiments",
-        &tmp.path().join("nosuch"),
-        "--only",
-        "step"
-    ]);
-    assert!(step.starts_with("model step: "), "{step}");
-    assert_eq!(step.lines().count(), 2, "{step}");
-    // A part that does not exist is a usage error naming the parts there are.
-    let o = run(args!["bench", "--only", "steps"]);
-    assert_eq!(o.status.code(), Some(2));
-    assert_mentions(&text(&o.stderr), &["step", "many-tests", "diagnoses"]);
 }
 
 #[test]

@@ -75,6 +75,39 @@ pub struct BenchReport {
     /// The posterior sampler's model runs per second.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sampler: Option<SamplerSpeed>,
+    /// The model step against a peer script run in the same benchmark (`--peer`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peer: Option<PeerStep>,
+    /// Whole diagnoses of the records asked for (`--record`), from the folder to the verdict.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub records: Option<Vec<DiagnosisTime>>,
+}
+
+/// What `subfric bench` measures beyond its parts: the step against a peer, and diagnoses of
+/// records the user names (a lab's own, or `../shared/real-dev`'s).
+#[derive(Clone, Debug, Default)]
+pub struct BenchExtras {
+    /// A peer script that prints `… X steps/s` for the step protocol of [`step_case`] (the
+    /// numba peer `peer_numba.py`), run with `python3`.
+    pub peer: Option<PathBuf>,
+    /// Set folders to diagnose, each timed.
+    pub records: Vec<PathBuf>,
+}
+
+/// The model step against a peer, alternated round by round in one run (ours, the peer's, …),
+/// the best of each kept: on a shared machine the two then see the same load.
+#[derive(Debug, Serialize)]
+pub struct PeerStep {
+    /// The peer script.
+    pub peer: String,
+    /// Rounds of the alternation.
+    pub rounds: usize,
+    /// Our steps per second (best round).
+    pub steps_per_second: f64,
+    /// The peer's steps per second (best round).
+    pub peer_steps_per_second: f64,
+    /// Ours over the peer's.
+    pub ratio: f64,
 }
 
 /// Speed of the posterior sampler (`fit --posterior`): a fixed number of steps of the ensemble
@@ -149,8 +182,112 @@ pub struct DiagnosisTime {
     pub seconds: f64,
     /// Peak resident memory of the process after it [MB].
     pub peak_memory_mb: f64,
+    /// Processor time of the process during it, all threads [s] (Linux; 0 elsewhere): over
+    /// `seconds`, how many cores it kept busy.
+    pub cpu_seconds: f64,
+    /// Threads it could use.
+    pub threads: usize,
     /// The verdict.
     pub verdict: String,
+}
+
+/// The verdict of a diagnosis as the benchmark prints it (`none` for no effect).
+fn verdict_words(d: &subfric_diagnose::Diagnosis) -> String {
+    let v = d
+        .verdict
+        .effects
+        .iter()
+        .map(|e| e.effect.to_string())
+        .collect::<Vec<_>>()
+        .join(" + ");
+    if v.is_empty() {
+        "none".into()
+    } else {
+        v
+    }
+}
+
+/// Times a whole diagnosis of each set folder of `records`, from loading it to the verdict, as
+/// `subfric diagnose` runs it; an error names the folder.
+fn record_diagnoses(records: &[PathBuf]) -> Result<Vec<DiagnosisTime>> {
+    records
+        .iter()
+        .map(|dir| {
+            let (t0, cpu0) = (Instant::now(), cpu_seconds());
+            let d = crate::diagnose::diagnose(
+                dir,
+                &subfric_diagnose::DiagnoseOptions::default(),
+                &Silent,
+            )?;
+            Ok(DiagnosisTime {
+                case: folder_name(dir),
+                rows: d.diagnosis.prepared.iter().map(|p| p.full.len()).sum(),
+                tests: d.diagnosis.prepared.len(),
+                seconds: t0.elapsed().as_secs_f64(),
+                peak_memory_mb: peak_memory_mb(),
+                cpu_seconds: cpu_seconds() - cpu0,
+                threads: rayon::current_num_threads(),
+                verdict: verdict_words(&d.diagnosis),
+            })
+        })
+        .collect()
+}
+
+/// Rounds of the step's alternation with a peer.
+const PEER_ROUNDS: usize = 3;
+
+/// The peer's steps per second, from the last `… X steps/s` line it prints.
+fn peer_steps_per_second(peer: &Path) -> Result<f64> {
+    let out = std::process::Command::new("python3")
+        .arg(peer)
+        .output()
+        .map_err(|e| anyhow::anyhow!("{}: cannot run python3 on the peer: {e}", peer.display()))?;
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    if !out.status.success() {
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let tail: Vec<&str> = stderr.lines().rev().take(3).collect();
+        bail!(
+            "{}: the peer failed ({}): {} (the numba peer needs numpy and numba: pip install numpy numba)",
+            peer.display(),
+            out.status,
+            tail.into_iter().rev().collect::<Vec<_>>().join(" / ")
+        );
+    }
+    stdout
+        .lines()
+        .rev()
+        .find_map(|l| {
+            let before = l.trim().strip_suffix("steps/s")?;
+            before.split_whitespace().last()?.parse::<f64>().ok()
+        })
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .ok_or_else(|| {
+            anyhow::anyhow!(
+                "{}: the peer printed no `… X steps/s` line (it printed: {})",
+                peer.display(),
+                stdout.trim()
+            )
+        })
+}
+
+/// Our step and the peer's, alternated for [`PEER_ROUNDS`] rounds, the best of each.
+fn step_against_peer(peer: &Path) -> Result<PeerStep> {
+    let (mut ours, mut theirs) = (0.0f64, 0.0f64);
+    for _ in 0..PEER_ROUNDS {
+        let (sps, identical) = steps_per_second(3);
+        if !identical {
+            bail!("the step benchmark's hot loop differs from the general simulate path");
+        }
+        ours = ours.max(sps);
+        theirs = theirs.max(peer_steps_per_second(peer)?);
+    }
+    Ok(PeerStep {
+        peer: peer.display().to_string(),
+        rounds: PEER_ROUNDS,
+        steps_per_second: ours,
+        peer_steps_per_second: theirs,
+        ratio: ours / theirs,
+    })
 }
 
 /// Peak resident memory of this process [MB] (Linux; 0 elsewhere).
@@ -191,15 +328,9 @@ fn diagnoses() -> Result<Vec<DiagnosisTime>> {
     .into_iter()
     .map(|(case, set)| {
         let rows: usize = set.tests.iter().map(|t| t.len()).sum();
-        let t0 = Instant::now();
+        let (t0, cpu0) = (Instant::now(), cpu_seconds());
         let verdict = match diagnose(&prepare_for_diagnosis(&set), &DiagnoseOptions::default()) {
-            Ok(d) => d
-                .verdict
-                .effects
-                .iter()
-                .map(|e| e.effect.to_string())
-                .collect::<Vec<_>>()
-                .join(" + "),
+            Ok(d) => verdict_words(&d),
             Err(e) => format!("error: {e}"),
         };
         DiagnosisTime {
@@ -208,11 +339,9 @@ fn diagnoses() -> Result<Vec<DiagnosisTime>> {
             tests: set.tests.len(),
             seconds: t0.elapsed().as_secs_f64(),
             peak_memory_mb: peak_memory_mb(),
-            verdict: if verdict.is_empty() {
-                "none".into()
-            } else {
-                verdict
-            },
+            cpu_seconds: cpu_seconds() - cpu0,
+            threads: rayon::current_num_threads(),
+            verdict,
         }
     })
     .collect())
@@ -466,6 +595,26 @@ fn request(dir: PathBuf) -> FitRequest {
 /// Runs the benchmark's `parts` (every part when empty); the sets of `experiments` are read
 /// only by the parts that fit them.
 pub fn measure(experiments: &Path, parts: &[BenchPart]) -> Result<BenchReport> {
+    measure_with(experiments, parts, &BenchExtras::default())
+}
+
+/// [`measure`], then the step against `extras.peer` and the diagnoses of `extras.records`.
+pub fn measure_with(
+    experiments: &Path,
+    parts: &[BenchPart],
+    extras: &BenchExtras,
+) -> Result<BenchReport> {
+    let mut r = measure_parts(experiments, parts)?;
+    if let Some(peer) = &extras.peer {
+        r.peer = Some(step_against_peer(peer)?);
+    }
+    if !extras.records.is_empty() {
+        r.records = Some(record_diagnoses(&extras.records)?);
+    }
+    Ok(r)
+}
+
+fn measure_parts(experiments: &Path, parts: &[BenchPart]) -> Result<BenchReport> {
     let parts: Vec<BenchPart> = if parts.is_empty() {
         BenchPart::ALL.to_vec()
     } else {
@@ -486,6 +635,8 @@ pub fn measure(experiments: &Path, parts: &[BenchPart]) -> Result<BenchReport> {
         diagnoses: None,
         many_tests: None,
         sampler: None,
+        peer: None,
+        records: None,
     };
     if wants(BenchPart::Step) {
         let (sps, identical) = steps_per_second(10);

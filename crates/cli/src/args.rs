@@ -650,6 +650,15 @@ pub struct BenchArgs {
     /// seconds).
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = BenchPartArg::all())]
     pub only: Vec<BenchPartArg>,
+    /// Also time the model step against this peer script, run with python3 and alternated
+    /// with ours round by round (the numba peer `../shared/peers/peer_numba.py`; pin the whole
+    /// benchmark to one core with `taskset -c 0`).
+    #[arg(long, value_name = "SCRIPT")]
+    pub peer: Option<PathBuf>,
+    /// Also time a whole diagnosis of this set folder, from loading it to the verdict (a real
+    /// record, e.g. `../shared/real-dev/psu_p446_till_gouge`); repeat for several.
+    #[arg(long = "record", value_name = "SET")]
+    pub records: Vec<PathBuf>,
 }
 
 /// A part of `subfric bench`.

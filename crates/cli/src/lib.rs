@@ -374,7 +374,11 @@ fn selfcheck(a: SelfcheckArgs) -> Result<()> {
 /// `subfric bench`: the figures, as text or JSON.
 fn bench(a: BenchArgs) -> Result<()> {
     let parts: Vec<_> = a.only.iter().map(|p| p.part()).collect();
-    let r = subfric_app::bench::measure(&a.experiments, &parts)?;
+    let extras = subfric_app::bench::BenchExtras {
+        peer: a.peer.clone(),
+        records: a.records.clone(),
+    };
+    let r = subfric_app::bench::measure_with(&a.experiments, &parts, &extras)?;
     if a.json {
         out(serde_json::to_string_pretty(&r)?);
         return Ok(());
@@ -414,12 +418,39 @@ fn bench(a: BenchArgs) -> Result<()> {
             100.0 * f.worst_recovery
         ));
     }
-    if let Some(diagnoses) = &r.diagnoses {
-        out("whole diagnoses (prepare, fit every candidate, held-out folds, verdict):");
+    if let Some(p) = &r.peer {
+        out(format!(
+            "model step against the peer {} (same protocol, alternated {} rounds, best of each): {:.2} against {:.2} million steps/s: {:.2}× the peer",
+            p.peer,
+            p.rounds,
+            p.steps_per_second / 1e6,
+            p.peer_steps_per_second / 1e6,
+            p.ratio
+        ));
+    }
+    for (title, diagnoses) in [
+        (
+            "whole diagnoses (prepare, fit every candidate, held-out folds, verdict):",
+            &r.diagnoses,
+        ),
+        (
+            "whole diagnoses of the records asked for (load, prepare, fit, folds, verdict):",
+            &r.records,
+        ),
+    ] {
+        let Some(diagnoses) = diagnoses else { continue };
+        out(title);
         for d in diagnoses {
             out(format!(
-                "  {:<30} {:>7} rows in {} tests: {:6.2} s, peak memory {:.0} MB (verdict: {})",
-                d.case, d.rows, d.tests, d.seconds, d.peak_memory_mb, d.verdict
+                "  {:<30} {:>7} rows in {} tests: {:6.2} s at {:.0} % CPU on {} threads, peak memory {:.0} MB (verdict: {})",
+                d.case,
+                d.rows,
+                d.tests,
+                d.seconds,
+                100.0 * d.cpu_seconds / d.seconds.max(1e-9),
+                d.threads,
+                d.peak_memory_mb,
+                d.verdict
             ));
         }
     }
