@@ -652,11 +652,12 @@ pub struct BenchArgs {
     pub only: Vec<BenchPartArg>,
     /// Also time the model step against this peer script, run with python3 and alternated
     /// with ours round by round (the numba peer `../shared/peers/peer_numba.py`; pin the whole
-    /// benchmark to one core with `taskset -c 0`).
+    /// benchmark to one core with `taskset -c 0`) [default: none].
     #[arg(long, value_name = "SCRIPT")]
     pub peer: Option<PathBuf>,
     /// Also time a whole diagnosis of this set folder, from loading it to the verdict (a real
-    /// record, e.g. `../shared/real-dev/psu_p446_till_gouge`); repeat for several.
+    /// record, e.g. `../shared/real-dev/psu_p446_till_gouge`); repeat for several [default:
+    /// none].
     #[arg(long = "record", value_name = "SET")]
     pub records: Vec<PathBuf>,
 }
