@@ -3,6 +3,7 @@
 //! a share of the excess over the noise. `fit` says with it where a fitted model misses
 //! ([`crate::adequacy`]), the diagnosis where its base and final models do.
 
+use crate::dataset::FAILED_RESIDUAL;
 use crate::PreparedTest;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -12,7 +13,9 @@ pub type RowResiduals = Vec<Vec<f64>>;
 
 /// Squared residual (noise units) counted for a row the model cannot simulate (NaN): large,
 /// so a model that fails somewhere never looks better for it, but finite, so sums stay usable.
-pub const FAILED_ROW: f64 = 1e6;
+/// The square of the fit's [`FAILED_RESIDUAL`], so that such a row weighs the same wherever it
+/// is counted (1e6).
+pub const FAILED_ROW: f64 = FAILED_RESIDUAL * FAILED_RESIDUAL;
 
 /// The squared residual `v`, or [`FAILED_ROW`] where the model failed.
 pub fn squared_or_failed(v: f64) -> f64 {

@@ -1,6 +1,6 @@
 //! The calibration problem: tests, the parameter space, and evaluation counting.
 
-use crate::dataset::{residuals_into, FitTest, FAILED_RESIDUAL};
+use crate::dataset::{residuals_into, FitTest};
 use crate::residuals::Residuals;
 use crate::space::Space;
 use argmin::core::{CostFunction, Error as ArgminError};
@@ -37,10 +37,6 @@ impl RunCounter {
         self.0.fetch_add(1, Ordering::Relaxed);
     }
 }
-
-/// Contribution to the SSR of one row whose residual is not finite: the square of
-/// [`FAILED_RESIDUAL`], so a row that cannot be simulated weighs the same wherever it is counted.
-pub const FAILED_ROW_SQUARED: f64 = FAILED_RESIDUAL * FAILED_RESIDUAL;
 
 /// A least-squares problem over a [`Space`]: residuals are the noise-normalised errors of
 /// every row of every test.
