@@ -145,6 +145,17 @@ pub fn drift_outweighs(drift: &Comparison, candidate: &Comparison) -> bool {
     drift.score > candidate.score && drift.candidate_chi2 <= candidate.candidate_chi2
 }
 
+/// Whether the effects a selection took without the drift of the measurement are named over
+/// the drift `drift` (compared with the base), where the drift outweighed each of them alone
+/// at the first stage: `joint` compares the base with the model holding all of them (`None`
+/// when none is named). The drift is the null of the physical explanation as a whole: the
+/// effects are named unless it outweighs them together ([`drift_outweighs`]), as a single
+/// candidate is (a slip softening behind a rate law traces a trend in time as much as in slip,
+/// and each alone explained less than the drift: thirty-fifth session, docs/diagnosis.md).
+pub fn named_over_drift(drift: &Comparison, joint: Option<&Comparison>) -> bool {
+    joint.is_some_and(|j| !drift_outweighs(drift, j))
+}
+
 /// True when comparison `c` is both significant and material.
 pub fn passes(c: &Comparison, th: &Thresholds) -> bool {
     c.score >= th.min_score && material(c, th)
@@ -673,6 +684,39 @@ mod tests {
             decide(9.7, &[(slip(), softening)], Some(&ahead_but_coarser), &th),
             Decision::Named(0)
         );
+    }
+
+    #[test]
+    fn effects_each_outweighed_by_the_drift_are_named_when_together_they_outweigh_it() {
+        // Rate + slip softening on velocity steps (fresh seeds 33005, 36002): the drift D 132
+        // leaving 3.2× the noise, the rate law D 76 and the softening D 70 each leaving more;
+        // the two together D 170 leaving 2.4×.
+        let th = Thresholds::default();
+        let drift = Comparison {
+            candidate_chi2: 3.2,
+            ..cmp(132.0, 0.7, 0.5, 9.0)
+        };
+        let single = |score: f64, chi2: f64| Comparison {
+            candidate_chi2: chi2,
+            ..cmp(score, 0.55, 0.4, 9.0)
+        };
+        let rate = (Effect::from_name("rate").unwrap(), single(76.0, 4.1));
+        let softening = (
+            Effect::from_name("slip-hardening").unwrap(),
+            single(70.0, 4.3),
+        );
+        assert_eq!(
+            decide(9.0, &[rate, softening], Some(&drift), &th),
+            Decision::Drift
+        );
+        let together = single(170.0, 2.4);
+        assert!(named_over_drift(&drift, Some(&together)));
+        // Together still behind the drift on both counts: unexplained, as before.
+        assert!(!named_over_drift(&drift, Some(&single(120.0, 3.5))));
+        // Ahead in evidence but leaving more of the misfit: named (the drift must dominate).
+        assert!(named_over_drift(&drift, Some(&single(120.0, 2.9))));
+        // Nothing named without the drift: nothing to name over it.
+        assert!(!named_over_drift(&drift, None));
     }
 
     #[test]

@@ -427,6 +427,19 @@ fn held_out_selection(s: &mut String, d: &Diagnosis) {
             "     → {}",
             decision_text(st.decision, k, &st.candidates)
         );
+        if let (Decision::Named(i) | Decision::Tentative(i), Some(drift)) = (st.decision, &st.drift)
+        {
+            if subfric_diagnose::verdict::drift_outweighs(
+                &drift.held_out,
+                &st.candidates[i].held_out,
+            ) {
+                let _ = writeln!(
+                    s,
+                    "       the drift of the measurement outweighs it alone (D {:.1}); the effects the selection takes with it outweigh the drift together, and are followed",
+                    drift.held_out.score
+                );
+            }
+        }
         if let Decision::Named(i) | Decision::Tentative(i) = st.decision {
             for x in &st.candidates[i].by_kind {
                 let _ = writeln!(

@@ -43,6 +43,56 @@ pub(in crate::diagnose) fn forward_selection(
     cx.trace("selection stage 1");
     cx.step(4, 1, cx.opts.thresholds.max_effects);
     let th = &cx.opts.thresholds;
+    let mut path = follow(cx, base, lib, first_stage, &first, &kept);
+    // The drift of the measurement is the null of the physical explanation as a whole, not of
+    // each effect alone: where it outweighs every single candidate, the effects the selection
+    // takes without it are followed too, and they are named together when the drift does not
+    // outweigh them together (a slip softening behind a rate law traces a trend in time as
+    // much as in slip, and each alone explained less than the drift).
+    if first.decision == Decision::Drift {
+        let physical = stage_decision(cx, first.reference_chi2, &first.candidates, None, true);
+        if matches!(physical, Decision::Named(_) | Decision::Tentative(_)) {
+            let mut stage = first.clone();
+            stage.decision = physical;
+            let alternative = follow(cx, base, lib, first_stage, &stage, &kept);
+            let named = alternative.named_count(th);
+            let joint = named.checked_sub(1).map(|n| &alternative.joint[n]);
+            if first
+                .drift
+                .as_ref()
+                .is_some_and(|d| named_over_drift(&d.held_out, joint))
+            {
+                path = alternative;
+            }
+        }
+    }
+    path.selected.truncate(path.named_count(th));
+    let current = path
+        .selected
+        .last()
+        .map_or_else(|| base.clone(), |s| s.at.clone());
+    let mut selection = Selection {
+        stages: path.stages,
+        named: path.selected,
+        current,
+        dropped: Vec::new(),
+    };
+    backward_elimination(cx, base, &mut selection);
+    selection
+}
+
+/// The paths the forward selection follows from its first stage `first` (the models of its
+/// candidates `kept`): the effect it took, and when it took one only tentatively the runner-up
+/// too; the path whose named effects explain the gap with most held-out evidence.
+fn follow(
+    cx: &Context,
+    base: &Current,
+    lib: &[Form],
+    first_stage: &[FormReport],
+    first: &SelectionStage,
+    kept: &[Current],
+) -> Path {
+    let th = &cx.opts.thresholds;
     let firsts: Vec<usize> = match first.decision {
         Decision::Named(i) => vec![i],
         Decision::Tentative(i) => {
@@ -86,26 +136,13 @@ pub(in crate::diagnose) fn forward_selection(
     let best = (0..paths.len())
         .filter(|&k| paths[k].named_count(th) > 0)
         .max_by(|&a, &b| paths[a].evidence(th).total_cmp(&paths[b].evidence(th)));
-    let mut path = match best {
+    match best {
         Some(k) => paths.into_iter().nth(k).expect("index of a path"),
         None => paths.into_iter().next().unwrap_or_else(|| Path {
-            stages: vec![first],
+            stages: vec![first.clone()],
             ..Path::default()
         }),
-    };
-    path.selected.truncate(path.named_count(th));
-    let current = path
-        .selected
-        .last()
-        .map_or_else(|| base.clone(), |s| s.at.clone());
-    let mut selection = Selection {
-        stages: path.stages,
-        named: path.selected,
-        current,
-        dropped: Vec::new(),
-    };
-    backward_elimination(cx, base, &mut selection);
-    selection
+    }
 }
 
 /// One path of the forward selection: its stages, the effects taken in turn, and the base

@@ -18,7 +18,8 @@ use crate::fits::{residuals, with_values, Effort, Spec};
 use crate::folds::{Piece, PieceKind};
 use crate::score::{by_kind, Comparison, HeldOut};
 use crate::verdict::{
-    decide_among, decide_further, drift_outweighs, material, named_count, Decision,
+    decide_among, decide_further, drift_outweighs, material, named_count, named_over_drift,
+    Decision,
 };
 use rayon::prelude::*;
 use std::collections::BTreeMap;

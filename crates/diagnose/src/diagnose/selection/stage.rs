@@ -247,6 +247,29 @@ pub(super) fn selection_stage(
     }
     let (candidates, kept) = candidates_added_to(cx, current, families);
     let drift = with_drift.then(|| drift_candidate(cx, current));
+    let decision = stage_decision(cx, reference_chi2, &candidates, drift.as_ref(), first_stage);
+    (
+        SelectionStage {
+            reference: current.spec.describe(),
+            reference_chi2,
+            candidates,
+            drift,
+            decision,
+        },
+        kept,
+    )
+}
+
+/// The decision of a stage whose reference predicts the held-out pieces at `reference_chi2`,
+/// among its `candidates`, against the drift of the measurement `drift` where one is weighed
+/// (the first stage); `first_stage`: the reference is the base.
+pub(super) fn stage_decision(
+    cx: &Context,
+    reference_chi2: f64,
+    candidates: &[CandidateScore],
+    drift: Option<&CandidateScore>,
+    first_stage: bool,
+) -> Decision {
     let pairs: Vec<(Effect, Comparison)> = candidates
         .iter()
         .map(|c| (c.effect, c.held_out.clone()))
@@ -273,28 +296,18 @@ pub(super) fn selection_stage(
             &pairs,
             &namable,
             (&own, &corroborated),
-            drift.as_ref(),
+            drift,
         )
     } else {
         decide_further(reference_chi2, &pairs, &own, &corroborated, th)
     };
-    let shown = shown_and_predicted(cx, &candidates, drift.as_ref());
-    let decision = read_with_the_events(&candidates, shown, decision, first_stage);
-    let decision = if first_stage {
+    let shown = shown_and_predicted(cx, candidates, drift);
+    let decision = read_with_the_events(candidates, shown, decision, first_stage);
+    if first_stage {
         within_unseen_noise(cx, reference_chi2, &pairs, decision)
     } else {
         decision
-    };
-    (
-        SelectionStage {
-            reference: current.spec.describe(),
-            reference_chi2,
-            candidates,
-            drift,
-            decision,
-        },
-        kept,
-    )
+    }
 }
 
 /// The comparison candidate `c` is judged on besides all pieces.
