@@ -10,6 +10,7 @@
 use std::path::Path;
 
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::FontTransform;
 
 use crate::chart::{
@@ -486,7 +487,17 @@ fn draw(fig: &IntervalFigure) -> Result<Drawn, Invalid> {
             .x_label_area_size(x_area)
             .build_cartesian_2d(x.min..x.max, y.min..y.max)
             .map_err(chart_err)?;
-        let xfmt = |v: &f64| xticks.label(*v);
+        // Upright category labels are drawn below, each hanging from its tick: plotters
+        // centres a rotated label on the point under the axis, so half of a long one stood in
+        // the plotting area, over the data (a campaign's verdict figure of 200 sets).
+        let upright = categories.as_ref().is_some_and(|c| c.2);
+        let xfmt = |v: &f64| {
+            if upright {
+                String::new()
+            } else {
+                xticks.label(*v)
+            }
+        };
         let yfmt = |v: &f64| yticks.label(*v);
         let x_style = match &categories {
             Some((_, size, true)) => font(*size).transform(FontTransform::Rotate270),
@@ -511,6 +522,17 @@ fn draw(fig: &IntervalFigure) -> Result<Drawn, Invalid> {
         }
         mesh.draw().map_err(chart_err)?;
         let plot = plot_rect(&chart);
+        if let Some((labels, size, true)) = &categories {
+            let style = font(*size)
+                .transform(FontTransform::Rotate270)
+                .pos(Pos::new(HPos::Right, VPos::Center));
+            let top = plot.bottom + 2 * m.tick_len;
+            for (i, label) in labels.iter().enumerate() {
+                let (px, _) = chart.backend_coord(&(i as f64, y.min));
+                root.draw_text(label, &style, (px, top))
+                    .map_err(chart_err)?;
+            }
+        }
         let mut occupancy = Occupancy::new(plot, m.px(12.0).max(4));
         let (points, open) = draw_intervals(
             &mut chart,
@@ -619,6 +641,51 @@ mod tests {
             .with_group("none", vec![IntervalPoint::at(0.0, 1.0)])
             .with_categories(vec!["pair-1".into(), "pair-2".into()]);
         assert!(!interval_layout(&few).unwrap().upright_categories);
+    }
+
+    #[test]
+    fn upright_category_labels_hang_below_the_plotting_area_never_over_the_data() {
+        // plotters centres a rotated tick label on its point: half of a long label stood in the
+        // plotting area, over the points (a campaign's verdict figure of 200 sets).
+        let labels: Vec<String> = (0..12)
+            .map(|i| format!("log-healing + pressure ({i})"))
+            .collect();
+        let pts = (0..12)
+            .map(|i| IntervalPoint::at(i as f64, 10.0 * i as f64))
+            .collect();
+        let fig = IntervalFigure::new("verdicts", "verdict (sets)", "shrink [%]")
+            .with_group("", pts)
+            .with_categories(labels.clone());
+        let d = draw(&fig).unwrap();
+        assert!(d.layout.upright_categories);
+        let bottom = d.layout.plot.bottom as f64;
+        let mut seen = 0;
+        // Each text element: its attributes on the tag's line, its content on the next.
+        for block in d.svg.split("<text ").skip(1) {
+            let mut lines = block.lines();
+            let (tag, content) = (lines.next().unwrap_or(""), lines.next().unwrap_or(""));
+            if !labels.iter().any(|l| l == content.trim()) {
+                continue;
+            }
+            seen += 1;
+            let at = tag.split("rotate(270, ").nth(1).expect("upright");
+            let y: f64 = at
+                .split(')')
+                .next()
+                .unwrap()
+                .split(", ")
+                .nth(1)
+                .unwrap()
+                .parse()
+                .unwrap();
+            assert!(
+                y > bottom,
+                "{content}: anchored at {y}, the plot ends at {bottom}"
+            );
+            // Anchored at its end: the text runs down from the axis.
+            assert!(tag.contains("text-anchor=\"end\""), "{tag}");
+        }
+        assert_eq!(seen, labels.len(), "every label drawn once");
     }
 
     #[test]
