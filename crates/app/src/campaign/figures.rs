@@ -99,7 +99,7 @@ fn verdict_figure(rows: &[Row], title: String) -> IntervalFigure {
         let points = rows
             .iter()
             .enumerate()
-            .filter(|(_, r)| r.verdict.as_deref() == Some(v))
+            .filter(|(_, r)| verdict_of(r).as_ref() == Some(&v))
             .map(|(i, r)| IntervalPoint::at(i as f64, 100.0 * r.held_out_shrink.unwrap_or(0.0)))
             .collect();
         fig = fig.with_group(v, points);
@@ -134,9 +134,20 @@ fn verdict_page_figure(rows: &[Row], title: String) -> IntervalFigure {
     fig.with_group("", points)
 }
 
-/// The verdicts of the campaign, sorted.
-fn verdicts(rows: &[Row]) -> Vec<&str> {
-    let mut v: Vec<&str> = rows.iter().filter_map(|r| r.verdict.as_deref()).collect();
+/// The verdict of `row` as the figures group it: its effects in alphabetical order. The table
+/// keeps the diagnosis's order (the effect named first explained most), but "pressure +
+/// log-healing" and "log-healing + pressure" are one verdict, not two groups.
+fn verdict_of(row: &Row) -> Option<String> {
+    row.verdict.as_deref().map(|v| {
+        let mut effects: Vec<&str> = v.split(" + ").map(str::trim).collect();
+        effects.sort_unstable();
+        effects.join(" + ")
+    })
+}
+
+/// The verdicts of the campaign ([`verdict_of`]), sorted.
+fn verdicts(rows: &[Row]) -> Vec<String> {
+    let mut v: Vec<String> = rows.iter().filter_map(verdict_of).collect();
     v.sort();
     v.dedup();
     v
@@ -154,7 +165,7 @@ fn verdict_overview(rows: &[Row], pages: usize) -> IntervalFigure {
         .map(|v| {
             let n = rows
                 .iter()
-                .filter(|r| r.verdict.as_deref() == Some(*v))
+                .filter(|r| verdict_of(r).as_ref() == Some(v))
                 .count();
             format!("{v} ({n})")
         })
@@ -167,7 +178,7 @@ fn verdict_overview(rows: &[Row], pages: usize) -> IntervalFigure {
             verdict_page(pages)
         ),
         "verdict (sets)",
-        "held-out misfit removed [%]: median, bar over the middle half of the sets",
+        "held-out misfit removed [%] (median, bar: middle half)",
     )
     .with_categories(labels);
     fig.y_include = vec![0.0, 100.0];
@@ -177,7 +188,7 @@ fn verdict_overview(rows: &[Row], pages: usize) -> IntervalFigure {
         .map(|(i, v)| {
             let mut shrink: Vec<f64> = rows
                 .iter()
-                .filter(|r| r.verdict.as_deref() == Some(*v))
+                .filter(|r| verdict_of(r).as_ref() == Some(v))
                 .map(|r| 100.0 * r.held_out_shrink.unwrap_or(0.0))
                 .collect();
             shrink.sort_by(f64::total_cmp);
@@ -366,6 +377,27 @@ mod tests {
         assert_eq!(f.len(), 1);
         assert_eq!(f[0].0, VERDICT_FIGURE);
         assert_eq!(f[0].1.categories.as_ref().unwrap().len(), VERDICT_PAGE);
+    }
+
+    #[test]
+    fn the_same_effects_named_in_either_order_are_one_verdict_on_the_figures() {
+        // The diagnosis names its effects in the order it took them; a 200-set campaign drew
+        // "pressure + log-healing" (10 sets) and "log-healing + pressure" (5) as two verdicts.
+        let mut rows = rows(60);
+        for (i, r) in rows.iter_mut().enumerate() {
+            r.verdict =
+                Some(["pressure + log-healing", "log-healing + pressure", "rate"][i % 3].into());
+        }
+        let overview = verdict_overview(&rows, 2);
+        assert_eq!(
+            overview.categories.as_deref().unwrap(),
+            ["log-healing + pressure (40)", "rate (20)"]
+        );
+        let page = verdict_figure(&rows[..VERDICT_PAGE], "page".into());
+        let groups: Vec<&str> = page.groups.iter().map(|g| g.label.as_str()).collect();
+        assert_eq!(groups, ["log-healing + pressure", "rate"]);
+        // The table keeps the diagnosis's own order.
+        assert_eq!(rows[0].verdict.as_deref(), Some("pressure + log-healing"));
     }
 
     #[test]
