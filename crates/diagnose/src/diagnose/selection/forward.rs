@@ -31,7 +31,10 @@ pub(in crate::diagnose) struct Selection {
 /// names or keeps tentatively; at the end the smallest set that explains the gap is named.
 /// When the first step is only tentative, the two most significant candidates are both
 /// followed (two effects of similar size can rank either way alone) and the path whose named
-/// effects explain the gap with the most held-out evidence is kept.
+/// effects explain the gap with the most held-out evidence is kept. When the drift of the
+/// measurement took the first stage, the path the selection takes without it is followed too
+/// and kept where its named effects together are not outweighed by the drift
+/// ([`named_over_drift`]).
 pub(in crate::diagnose) fn forward_selection(
     cx: &Context,
     base: &Current,
