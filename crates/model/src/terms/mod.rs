@@ -1,4 +1,5 @@
-//! Registered effect families: one module each, listed in [`FAMILIES`].
+//! Registered effect families: one folder each (`terms/<family>/`, its law in `mod.rs`, its
+//! unit tests in `tests.rs`), listed in [`FAMILIES`].
 //!
 //! A registered family adds a term T(s, t) to the friction of the cone, μ_eff = … + T, where s is
 //! the accumulated plastic slip [mm] and t the time since the contact started [s], scales μ,
@@ -13,8 +14,8 @@
 //! same engine as the base model, and parameter files carry it under its key — none of them
 //! names the family.
 //!
-//! Adding a family: write its module (a unit struct implementing [`TermFamily`], with its unit
-//! tests), and add one line to [`FAMILIES`]. Every effect family of subfric is registered:
+//! Adding a family: write its folder (a unit struct implementing [`TermFamily`] in `mod.rs`,
+//! its unit tests beside it), and add one line to [`FAMILIES`]. Every effect family of subfric is registered:
 //! rate, time healing, pressure, slip hardening, the time trend and the direction effect. A
 //! family whose friction depends on the plastic slip rate gives the return mapping its law as a
 //! [`RateEffect`] (the rate family), one that gains friction at rest its gain
