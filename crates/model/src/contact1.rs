@@ -1,8 +1,7 @@
 //! One-dimensional contact: the paper's tests (direct shear, ring torsion, cyclic shear).
 
-use crate::integrator::{
-    return_shear, return_slip, Consts, Local, Plastic, RateHeld, StepError, StepInput,
-};
+use crate::integrator::{return_shear, return_slip, Consts, Local, Plastic, StepError, StepInput};
+use crate::terms::StateSlots;
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
 
@@ -23,20 +22,16 @@ pub struct State1 {
     pub sin_r: f64,
     /// Accumulated plastic slip ∫‖u̇^p‖ dt [mm].
     pub slip_path: f64,
-    /// Time since plastic sliding last occurred [s] (used by time healing).
-    pub age: f64,
     /// Time since the contact started [s] (used by registered terms, see [`crate::terms`]).
     pub time: f64,
-    /// Healing gain of its own, on top of μ ([`crate::TermFamily::erased_over`]; 0 otherwise).
-    pub healed: f64,
     /// Plastic slip increment of the last step [mm] (signed).
     pub last_plastic: f64,
-    /// State variable θ of the rate-and-state forms [s] (unused otherwise).
-    pub theta: f64,
     /// Time increment of the last step [s].
     pub last_dt: f64,
-    /// The rate terms of the last plastic step (kept at rest by a locked rate form).
-    pub rate_held: RateHeld,
+    /// The state variables of the families that integrate one (rate, time healing; see
+    /// [`crate::terms::StateLaw`]), addressed through the families: e.g.
+    /// `model.ext.terms.state_value(&st.slots, "theta")`.
+    pub slots: StateSlots,
 }
 
 impl State1 {
@@ -50,13 +45,10 @@ impl State1 {
             cos_r: 1.0,
             sin_r: 0.0,
             slip_path: 0.0,
-            age: 0.0,
             time: 0.0,
-            healed: 0.0,
             last_plastic: 0.0,
-            theta: model.ext.rate().map_or(0.0, |r| r.neutral_theta()),
             last_dt: 0.0,
-            rate_held: RateHeld::NEUTRAL,
+            slots: model.ext.terms.initial_state(),
         }
     }
 
@@ -139,8 +131,7 @@ impl Contact1 {
         mu_eff: f64,
         p: f64,
         dt: f64,
-        theta: f64,
-        healed: f64,
+        slots: StateSlots,
     ) -> State1 {
         let r = (shear.abs() / (mu_eff * p)).min(1.0);
         let (sin_r, cos_r) = (FRAC_PI_2 * r).sin_cos();
@@ -152,27 +143,24 @@ impl Contact1 {
             cos_r,
             sin_r,
             slip_path: st.slip_path,
-            age: st.age + dt,
             time: st.time + dt,
-            healed,
             last_plastic: 0.0,
-            theta,
             last_dt: dt,
-            rate_held: st.rate_held,
+            slots,
         }
     }
 
     /// The part both controls share: from the traction the step would reach elastically,
     /// either the elastic end state, or what the plastic return starts from.
     #[inline]
-    fn begin(
+    fn begin<'s>(
         &mut self,
-        st: &State1,
+        st: &'s State1,
         traction: f64,
         slip_if_elastic: f64,
         p: f64,
         dt: f64,
-    ) -> Begin {
+    ) -> Begin<'s> {
         // The direction of the step decides the constants (direction effects); at zero
         // traction the contact keeps the direction it had.
         let sign = if traction != 0.0 {
@@ -184,9 +172,8 @@ impl Contact1 {
         };
         let local = self.local(p, sign);
         let exp_xi_dt = self.exp_xi_dt(dt);
-        let mu_el = self.k.rest_mu(&local, st.mu, st.age, dt, exp_xi_dt);
-        let theta_el = self.k.rest_theta(st.theta, dt);
-        let healed_el = self.k.rest_healed(st.healed, st.age, dt);
+        let (slots_el, gain) = self.k.rest_state(&st.slots, dt);
+        let mu_el = self.k.rest_mu(&local, st.mu, gain, exp_xi_dt);
         if traction == 0.0 {
             return Begin::Elastic(Self::elastic(
                 st,
@@ -196,20 +183,13 @@ impl Contact1 {
                 1.0,
                 p,
                 dt,
-                theta_el,
-                healed_el,
+                slots_el,
             ));
         }
         let (r0, c0, s0) = Self::start_surface(st, sign);
-        let mu_eff0 = self.k.elastic_mu_eff(
-            &local,
-            mu_el,
-            theta_el,
-            st.slip_path,
-            st.time + dt,
-            healed_el,
-            st.rate_held,
-        );
+        let mu_eff0 = self
+            .k
+            .elastic_mu_eff(&local, mu_el, &slots_el, st.slip_path, st.time + dt);
         let magnitude = traction.abs();
         let excess = magnitude - r0 * mu_eff0 * p;
         if excess <= self.k.rest_tolerance(magnitude, p) {
@@ -221,8 +201,7 @@ impl Contact1 {
                 mu_eff0,
                 p,
                 dt,
-                theta_el,
-                healed_el,
+                slots_el,
             ));
         }
         let (xi_dt, exp_xi_dt) = if self.k.recovery() {
@@ -245,8 +224,7 @@ impl Contact1 {
                 exp_xi_dt,
                 s_acc: st.slip_path,
                 time: st.time + dt,
-                healed: st.healed,
-                theta: st.theta,
+                slots: &st.slots,
                 local,
                 lam_guess: if self.k.rate.is_some() && st.last_dt > 0.0 {
                     st.last_plastic.abs() * dt / st.last_dt
@@ -269,6 +247,7 @@ impl Contact1 {
         pl: &Plastic,
     ) -> State1 {
         let local = &input.local;
+        let slots = self.k.plastic_state(input, pl);
         State1 {
             slip,
             shear,
@@ -277,13 +256,10 @@ impl Contact1 {
             cos_r: pl.c,
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
-            age: 0.0,
             time: st.time + input.dt,
-            healed: self.k.slid_healed(input.healed, pl.lam).0,
             last_plastic: sign * pl.lam,
-            theta: pl.theta,
             last_dt: input.dt,
-            rate_held: pl.held,
+            slots,
         }
     }
 
@@ -339,13 +315,13 @@ impl Contact1 {
     }
 }
 
-/// How a step begins: elastic all the way, or plastic from a surface.
-enum Begin {
+/// How a step begins: elastic all the way, or plastic from a surface (from the state `'s`).
+enum Begin<'s> {
     Elastic(State1),
     Plastic {
         sign: f64,
         magnitude: f64,
         excess: f64,
-        input: StepInput,
+        input: StepInput<'s>,
     },
 }

@@ -11,6 +11,7 @@
 //! value so the caller can retry with substeps.
 
 use crate::extensions::MIN_MU_EFF_FRACTION;
+use crate::terms::StateSlots;
 use std::f64::consts::FRAC_PI_2;
 
 mod consts;
@@ -44,28 +45,9 @@ const MAX_ITERATIONS: usize = 80;
 /// stress.
 pub(crate) const RETURN_TOLERANCE: f64 = 1e-10;
 
-/// The rate terms of friction at the end of a plastic step: the additive R (direct and
-/// state terms) and the factor V (power law). A locked rate form ([`crate::AtRest::Locked`])
-/// keeps them while the contact rests.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RateHeld {
-    /// Additive term R.
-    pub add: f64,
-    /// Factor V on μ.
-    pub factor: f64,
-}
-
-impl RateHeld {
-    /// No rate term: a contact that has not slid, or sliding at the reference rate.
-    pub const NEUTRAL: RateHeld = RateHeld {
-        add: 0.0,
-        factor: 1.0,
-    };
-}
-
 /// What the scalar return needs to know about one step.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct StepInput {
+pub(crate) struct StepInput<'a> {
     /// μ at the start of the step.
     pub mu_n: f64,
     /// cos(π r₀ / 2) of the surface the step starts from.
@@ -86,10 +68,9 @@ pub(crate) struct StepInput {
     pub s_acc: f64,
     /// Time at the end of the step, since the contact started [s] (registered terms).
     pub time: f64,
-    /// Healing gain of its own at the start ([`crate::TermFamily::erased_over`]).
-    pub healed: f64,
-    /// State variable θ at the start [s] (rate and state).
-    pub theta: f64,
+    /// The families' state at the start ([`crate::terms::StateLaw`]), by reference: the input
+    /// is moved about in every step, and a model without state never reads it.
+    pub slots: &'a StateSlots,
     /// The step's constants.
     pub local: Local,
     /// A first guess of λ (0: none), e.g. the previous plastic rate over this step.
@@ -107,8 +88,6 @@ pub(crate) struct Eval {
     pub dmu: f64,
     pub mu_eff: f64,
     pub dmu_eff: f64,
-    pub theta: f64,
-    pub held: RateHeld,
 }
 
 /// e^(−x) for x ≥ 0; a degree-8 Taylor polynomial below 0.01 (error < 1e-20, i.e. exact in
@@ -152,7 +131,7 @@ pub(crate) fn relax_weight(x: f64, e: f64) -> (f64, f64) {
 }
 
 #[inline(always)]
-fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
+fn eval<const STATE: bool>(k: &Consts, s: &StepInput, lam: f64) -> Eval {
     let l = &s.local;
     // cos θ = cos θ₀ · exp(−kr λ) with θ = πr/2; dr/dλ = ũ cot θ = ũ c / sin θ.
     // θ − θ₀ = asin(sin θ cos θ₀ − cos θ sin θ₀): small within a step, so no inverse cosine.
@@ -166,9 +145,15 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
         f64::INFINITY
     };
 
-    let rate = k.rate.map(|rate| rate.plastic_terms(s.theta, s.dt, lam));
-    // The kinetic bound; the steady-state rate form moves it with v = λ/Δt.
-    let (mu_k, dmu_k) = match &rate {
+    // The families that integrate a state: their terms of friction at λ. Their state at λ is
+    // left behind (the end state evaluates it once, `Consts::plastic_state`): the iterates
+    // carry no state, so a model without one moves no slots in the loop.
+    let state = STATE.then(|| {
+        let mut end = *s.slots;
+        k.slide_state(s.slots, s.dt, lam, &mut end)
+    });
+    // The kinetic bound; a rate law may move it with v = λ/Δt.
+    let (mu_k, dmu_k) = match &state {
         Some(t) if t.dmu_k != 0.0 => {
             let m = l.mu_k + t.mu_k_shift;
             if m > 0.0 && m < l.mu_s {
@@ -194,29 +179,22 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
     let mu = s.mu_n * e + w * n;
     let dmu = l.kappa * (-s.mu_n * e + e_minus_w_over_a * n + w * (mu_k + lam * dmu_k));
 
+    // μ_eff = μ·m·V + R + T(s, t) + G (see `StateTerms`).
     let (mut mu_eff, mut dmu_eff) = (mu * l.mult, dmu * l.mult);
-    let mut theta = s.theta;
-    let mut held = RateHeld::NEUTRAL;
-    if let Some(t) = rate {
+    if let Some(t) = state {
         (mu_eff, dmu_eff) = (
             mu_eff * t.factor + t.add,
             dmu_eff * t.factor + mu * l.mult * t.dfactor + t.dadd,
         );
-        theta = t.theta;
-        held = RateHeld {
-            add: t.add,
-            factor: t.factor,
-        };
     }
     if k.has_path_terms() {
         let (h, dh) = k.path_terms(s.s_acc + lam, s.time);
         mu_eff += h;
         dmu_eff += dh;
     }
-    if s.healed != 0.0 {
-        let (h, dh) = k.slid_healed(s.healed, lam);
-        mu_eff += h;
-        dmu_eff += dh;
+    if let Some(t) = state {
+        mu_eff += t.own;
+        dmu_eff += t.down;
     }
     let floor = MIN_MU_EFF_FRACTION * l.mu_s;
     if mu_eff < floor {
@@ -231,8 +209,6 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
         dmu,
         mu_eff,
         dmu_eff,
-        theta,
-        held,
     }
 }
 
@@ -244,8 +220,9 @@ pub(crate) struct Plastic {
     pub c: f64,
     pub s: f64,
     pub mu: f64,
-    pub theta: f64,
-    pub held: RateHeld,
+    /// The λ of the return's last evaluation, where the families' state of the end of the
+    /// step is evaluated (see [`Consts::plastic_state`]).
+    pub lam_state: f64,
 }
 
 impl Plastic {
@@ -256,17 +233,35 @@ impl Plastic {
             c: e.c,
             s: e.sin,
             mu: e.mu,
-            theta: e.theta,
-            held: e.held,
+            lam_state: lam,
         }
     }
 }
 
 /// Slip control: find λ ≥ 0 with T − α λ = r(λ) μ_eff(λ) p, where T = ‖f_trial‖ exceeds the
 /// starting surface (the caller has checked that the step is plastic).
-#[inline]
 /// `excess` is T − r₀ μ_eff(0) p > 0, the trial's distance outside the starting surface.
+///
+/// The return is compiled twice, for a model whose families integrate a state and for one
+/// whose do not: the second (the base model's, the step the benchmark times) then carries no
+/// trace of the state's terms in its Newton loop, not even a test of whether there are any.
+#[inline]
 pub(crate) fn return_slip(
+    k: &Consts,
+    s: &StepInput,
+    trial: f64,
+    excess: f64,
+) -> Result<Plastic, StepError> {
+    if k.has_state() {
+        return_slip_as::<true>(k, s, trial, excess)
+    } else {
+        return_slip_as::<false>(k, s, trial, excess)
+    }
+}
+
+/// [`return_slip`] for a model with (`STATE`) or without a state.
+#[inline]
+fn return_slip_as<const STATE: bool>(
     k: &Consts,
     s: &StepInput,
     trial: f64,
@@ -296,7 +291,7 @@ pub(crate) fn return_slip(
     }
     let mut g = f64::NAN;
     for _ in 0..MAX_ITERATIONS {
-        let e = eval(k, s, lam);
+        let e = eval::<STATE>(k, s, lam);
         g = trial - alpha * lam - e.r * e.mu_eff * s.p;
         if g.abs() <= tol {
             return Ok(Plastic::at(lam, &e));
@@ -318,9 +313,9 @@ pub(crate) fn return_slip(
                 c: e.c * (1.0 - s.local.kr * delta),
                 s: e.sin + e.c * FRAC_PI_2 * e.dr * delta,
                 mu: e.mu + e.dmu * delta,
-                // θ and the rate terms move by O(δ) ≪ their own scale: kept at λ.
-                theta: e.theta,
-                held: e.held,
+                // The families' state moves by O(δ) ≪ its own scale: evaluated at λ unless a
+                // family settles it at λ + δ (`Consts::plastic_state`).
+                lam_state: lam,
             });
         }
         let next = lam + delta;
@@ -330,7 +325,7 @@ pub(crate) fn return_slip(
             0.5 * (lo + hi)
         };
         if hi - lo <= 4.0 * f64::EPSILON * hi {
-            let e = eval(k, s, lam);
+            let e = eval::<STATE>(k, s, lam);
             return Ok(Plastic::at(lam, &e));
         }
     }
@@ -340,8 +335,23 @@ pub(crate) fn return_slip(
     })
 }
 
-/// Traction control: find the smallest λ ≥ 0 with r(λ) μ_eff(λ) p = target.
+/// Traction control: find the smallest λ ≥ 0 with r(λ) μ_eff(λ) p = target (compiled twice,
+/// as [`return_slip`]).
 pub(crate) fn return_shear(
+    k: &Consts,
+    s: &StepInput,
+    target: f64,
+    guess: f64,
+) -> Result<Plastic, StepError> {
+    if k.has_state() {
+        return_shear_as::<true>(k, s, target, guess)
+    } else {
+        return_shear_as::<false>(k, s, target, guess)
+    }
+}
+
+/// [`return_shear`] for a model with (`STATE`) or without a state.
+fn return_shear_as<const STATE: bool>(
     k: &Consts,
     s: &StepInput,
     target: f64,
@@ -361,7 +371,7 @@ pub(crate) fn return_shear(
     let mut hi: f64;
     let mut best_capacity: f64 = 0.0;
     loop {
-        let e = eval(k, s, lam);
+        let e = eval::<STATE>(k, s, lam);
         let hv = h(&e);
         best_capacity = best_capacity.max(e.r * e.mu_eff * s.p);
         if hv >= 0.0 {
@@ -381,7 +391,7 @@ pub(crate) fn return_shear(
     let mut lam = 0.5 * (lo + hi);
     let mut res = f64::NAN;
     for _ in 0..MAX_ITERATIONS {
-        let e = eval(k, s, lam);
+        let e = eval::<STATE>(k, s, lam);
         res = h(&e);
         if res.abs() <= tol || hi - lo <= 4.0 * f64::EPSILON * hi {
             return Ok(Plastic::at(lam, &e));
@@ -410,7 +420,11 @@ pub(crate) fn return_shear(
 /// h = p ∂F/∂λ) and with respect to the starting ratio r₀ at fixed λ (μ_eff does not depend
 /// on r₀; cos θ = cos θ₀ e^(−kr λ) with θ = πr/2 gives ∂r/∂r₀ = sin θ₀ e^(−kr λ) / sin θ).
 pub(crate) fn surface(k: &Consts, s: &StepInput, lam: f64) -> Surface {
-    let e = eval(k, s, lam);
+    let e = if k.has_state() {
+        eval::<true>(k, s, lam)
+    } else {
+        eval::<false>(k, s, lam)
+    };
     let dr_dr0 = if e.r < 1.0 && e.sin > 0.0 {
         s.s_start * exp_neg(s.local.kr * lam) / e.sin
     } else {

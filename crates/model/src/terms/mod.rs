@@ -15,11 +15,16 @@
 //! names the family.
 //!
 //! Adding a family: write its folder (a unit struct implementing [`TermFamily`] in `mod.rs`,
-//! its unit tests beside it), and add one line to [`FAMILIES`]. Every effect family of subfric is registered:
-//! rate, time healing, pressure, slip hardening, the time trend and the direction effect. A
-//! family whose friction depends on the plastic slip rate gives the return mapping its law as a
-//! [`RateEffect`] (the rate family), one that gains friction at rest its gain
-//! ([`TermFamily::rest_gain`], time healing); the integrator reads them through the trait.
+//! its unit tests beside it), and add one line to [`FAMILIES`]. Every effect family of subfric
+//! is registered: rate, time healing, pressure, slip hardening, the time trend and the
+//! direction effect. A family whose friction depends on its history integrates a state: it
+//! declares its variables and their law ([`TermFamily::state`], a [`StateLaw`]: how they
+//! start, evolve at rest and while sliding, act on friction and what values are valid), and
+//! the contact states carry them in generic slots ([`StateSlots`]) that neither the integrator
+//! nor the C interface names — rate (θ, the rate terms a locked form holds) and time healing
+//! (the contact's age, a gain of its own) do so. A family whose friction depends on the plastic
+//! slip rate also gives the return mapping its law as a [`RateEffect`] (the rate family), for
+//! what steady sliding at a rate gives.
 //!
 //! In a parameter file each family switched on is an object under its key (its name in
 //! snake_case), `"ext": {"slip_hardening": {"form": "capped", "h": 0.01, "s_h": 2}}`; the
@@ -37,6 +42,7 @@ mod pressure;
 mod rate;
 mod slip_hardening;
 mod slots;
+mod state;
 mod time_trend;
 
 pub use direction::Direction;
@@ -45,6 +51,7 @@ pub use pressure::Pressure;
 pub use rate::{AtRest, Rate, RateEffect, RateForm};
 pub use slip_hardening::SlipHardening;
 pub use slots::Terms;
+pub use state::{FamilyState, StateLaw, StateSlots, StateTerms, StateVar, MAX_STATE_SLOTS};
 pub use time_trend::TimeTrend;
 
 /// The registered families, in the order the diagnosis tries them.
@@ -459,19 +466,14 @@ pub trait TermFamily: Sync + std::fmt::Debug {
     fn gains_at_rest(&self) -> bool {
         false
     }
-    /// The friction form `form` gains at rest between contact ages `age` and `age + dt` [s].
-    fn rest_gain(&self, _form: usize, _p: &[f64; MAX_TERM_PARAMS], _age: f64, _dt: f64) -> f64 {
-        0.0
-    }
     /// Whether form `form`'s gain at rest replaces the exponential recovery ξ(μ_s − μ) of
     /// Eq. (24) (which then acts neither at rest nor while sliding).
     fn replaces_recovery(&self, _form: usize) -> bool {
         false
     }
-    /// The slip [mm] over which form `form`'s gain at rest, a friction of its own on top of μ,
-    /// decays (e-fold) while the contact slides; `None` when the gain adds to μ itself, up to
-    /// μ_s.
-    fn erased_over(&self, _form: usize, _p: &[f64; MAX_TERM_PARAMS]) -> Option<f64> {
+    /// The state the family integrates, for a family whose friction depends on its history
+    /// (see [`StateLaw`]); `None` for one without state.
+    fn state(&self) -> Option<&dyn StateLaw> {
         None
     }
     /// Whether the family makes friction depend on the plastic slip rate (the return mapping

@@ -26,7 +26,7 @@
 //! for none).
 
 use super::{
-    DataScales, EventReadings, FormGuess, Shows, TermFamily, TermForm, TermParam, ANY,
+    DataScales, EventReadings, FormGuess, Shows, StateLaw, TermFamily, TermForm, TermParam, ANY,
     MAX_TERM_PARAMS,
 };
 use serde_json::{Map, Value};
@@ -436,8 +436,25 @@ impl TermFamily for TimeHealing {
         true
     }
 
+    fn replaces_recovery(&self, form: usize) -> bool {
+        SHAPES[form].1 == Role::Replaces
+    }
+
+    fn state(&self) -> Option<&dyn StateLaw> {
+        Some(self)
+    }
+}
+
+impl TimeHealing {
+    /// The friction form `form` gains at rest between contact ages `age` and `age + dt` [s].
     #[inline]
-    fn rest_gain(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], age: f64, dt: f64) -> f64 {
+    pub(crate) fn rest_gain(
+        &self,
+        form: usize,
+        p: &[f64; MAX_TERM_PARAMS],
+        age: f64,
+        dt: f64,
+    ) -> f64 {
         let (b, t_c, n) = (p[B], p[T_C], p[N]);
         match SHAPES[form].0 {
             Law::Log => b * ((t_c + age + dt) / (t_c + age)).ln(),
@@ -446,14 +463,16 @@ impl TermFamily for TimeHealing {
         }
     }
 
-    fn replaces_recovery(&self, form: usize) -> bool {
-        SHAPES[form].1 == Role::Replaces
-    }
-
-    fn erased_over(&self, form: usize, p: &[f64; MAX_TERM_PARAMS]) -> Option<f64> {
+    /// The slip [mm] over which form `form`'s gain at rest, a friction of its own on top of μ,
+    /// decays (e-fold) while the contact slides; `None` when the gain adds to μ itself, up to
+    /// μ_s.
+    #[inline]
+    pub(crate) fn erased_over(&self, form: usize, p: &[f64; MAX_TERM_PARAMS]) -> Option<f64> {
         (SHAPES[form].1 == Role::Erased).then_some(p[D_H])
     }
 }
+
+mod state;
 
 #[cfg(test)]
 mod tests;
