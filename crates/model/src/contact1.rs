@@ -153,14 +153,14 @@ impl Contact1 {
     /// The part both controls share: from the traction the step would reach elastically,
     /// either the elastic end state, or what the plastic return starts from.
     #[inline]
-    fn begin<'s>(
+    fn begin(
         &mut self,
-        st: &'s State1,
+        st: &State1,
         traction: f64,
         slip_if_elastic: f64,
         p: f64,
         dt: f64,
-    ) -> Begin<'s> {
+    ) -> Begin {
         // The direction of the step decides the constants (direction effects); at zero
         // traction the contact keeps the direction it had.
         let sign = if traction != 0.0 {
@@ -224,7 +224,6 @@ impl Contact1 {
                 exp_xi_dt,
                 s_acc: st.slip_path,
                 time: st.time + dt,
-                slots: &st.slots,
                 local,
                 lam_guess: if self.k.rate.is_some() && st.last_dt > 0.0 {
                     st.last_plastic.abs() * dt / st.last_dt
@@ -247,7 +246,7 @@ impl Contact1 {
         pl: &Plastic,
     ) -> State1 {
         let local = &input.local;
-        let slots = self.k.plastic_state(input, pl);
+        let slots = self.k.plastic_state(&st.slots, input, pl);
         State1 {
             slip,
             shear,
@@ -282,7 +281,7 @@ impl Contact1 {
                 excess,
                 input,
             } => {
-                let pl = return_slip(&self.k, &input, magnitude, excess)?;
+                let pl = return_slip(&self.k, &input, &st.slots, magnitude, excess)?;
                 let shear = sign * (magnitude - self.k.alpha * pl.lam);
                 Ok(self.plastic(st, slip, shear, sign, &input, &pl))
             }
@@ -308,20 +307,21 @@ impl Contact1 {
                 input,
                 ..
             } => {
-                let pl = return_shear(&self.k, &input, magnitude, st.last_plastic.abs())?;
+                let guess = st.last_plastic.abs();
+                let pl = return_shear(&self.k, &input, &st.slots, magnitude, guess)?;
                 Ok(self.plastic(st, elastic_slip + sign * pl.lam, shear, sign, &input, &pl))
             }
         }
     }
 }
 
-/// How a step begins: elastic all the way, or plastic from a surface (from the state `'s`).
-enum Begin<'s> {
+/// How a step begins: elastic all the way, or plastic from a surface.
+enum Begin {
     Elastic(State1),
     Plastic {
         sign: f64,
         magnitude: f64,
         excess: f64,
-        input: StepInput<'s>,
+        input: StepInput,
     },
 }

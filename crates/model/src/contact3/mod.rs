@@ -202,14 +202,14 @@ impl Contact3 {
     /// The input of the plastic return of a step of `dt` from `st` at normal stress `p`, from
     /// the surface `(r₀, cos(πr₀/2), sin(πr₀/2))` under the step constants `local`.
     #[inline]
-    fn plastic_input<'s>(
+    fn plastic_input(
         &self,
-        st: &'s State3,
+        st: &State3,
         local: Local,
         (r_start, c_start, s_start): (f64, f64, f64),
         p: f64,
         dt: f64,
-    ) -> StepInput<'s> {
+    ) -> StepInput {
         let xi_dt = self.k.plastic_recovery(dt);
         StepInput {
             mu_n: st.mu,
@@ -222,7 +222,6 @@ impl Contact3 {
             exp_xi_dt: (-xi_dt).exp(),
             s_acc: st.slip_path,
             time: st.time + dt,
-            slots: &st.slots,
             local,
             lam_guess: 0.0,
         }
@@ -353,8 +352,9 @@ impl Contact3 {
             return Ok(elastic_end(trial, mu_el, r));
         }
         let input = self.plastic_input(st, local, (r0, c0, s0), p, dt);
-        let pl = return_slip(&self.k, &input, magnitude, magnitude - r0 * mu_eff0 * p)?;
-        let slots = self.k.plastic_state(&input, &pl);
+        let excess = magnitude - r0 * mu_eff0 * p;
+        let pl = return_slip(&self.k, &input, &st.slots, magnitude, excess)?;
+        let slots = self.k.plastic_state(&st.slots, &input, &pl);
         Ok(State3 {
             slip,
             shear: scale(magnitude - self.k.alpha * pl.lam, &dir),
@@ -437,14 +437,15 @@ impl Contact3 {
         // λ from the end state: the return converged, so g(λ) = 0 there.
         let shear = norm(&next.shear);
         let lam = (magnitude - shear) / alpha;
-        let surf = surface(&self.k, &input, lam);
+        let surf = surface(&self.k, &input, &st.slots, lam);
         let h = p * surf.dlam;
         let a = if h.is_finite() {
             alpha / (alpha + h)
         } else {
             0.0
         };
-        let (grad_f, df_dp) = self.surface_sensitivity(&t, &input, lam, surf.dr0, start.sens);
+        let (grad_f, df_dp) =
+            self.surface_sensitivity(&t, (&input, &st.slots), lam, surf.dr0, start.sens);
         Tangent3 {
             d_slip: plastic_d_slip(alpha, a, p, &t.dir, &grad_f, shear / magnitude, &plane),
             d_pressure: scale(a * (surf.value + p * df_dp), &t.dir),
@@ -598,14 +599,14 @@ impl Contact3 {
     fn surface_sensitivity(
         &self,
         t: &TrialTraction,
-        input: &StepInput,
+        (input, slots): (&StepInput, &StateSlots),
         lam: f64,
         dr0: f64,
         r0_sens: Option<(Vec3, f64)>,
     ) -> (Vec3, f64) {
         let f_at = |p: f64, ct: f64| {
             let l = self.k.local(p, ct);
-            surface(&self.k, &StepInput { local: l, ..*input }, lam).value
+            surface(&self.k, &StepInput { local: l, ..*input }, slots, lam).value
         };
         let (mut grad_f, mut df_dp) = match r0_sens {
             Some((g, dp)) => (scale(dr0, &g), dr0 * dp),

@@ -29,6 +29,8 @@ pub(crate) struct Consts {
     states: [Option<FamilyState>; MAX_STATE_SLOTS],
     /// How many families integrate a state (0: the step skips the state altogether).
     state_count: usize,
+    /// How many slots they take; the rest the step writes as zeros.
+    state_len: usize,
     /// Whether the recovery ξ(μ_s − μ) of Eq. (24) acts ([`Extensions::recovery`]).
     recovery: bool,
     /// The slip-rate law of the family that reads the slip rate (rate), read once.
@@ -75,6 +77,7 @@ impl Consts {
             varies_bounds: ext.varies_bounds(),
             states,
             state_count,
+            state_len: ext.terms.state_len().min(MAX_STATE_SLOTS),
             recovery: ext.recovery(),
             rate: ext.rate(),
             path_terms: ext.terms.adds_terms(),
@@ -149,26 +152,30 @@ impl Consts {
     }
 
     /// The state after an elastic step of `dt` from `slots`, and the friction μ itself gains
-    /// over it, if a family adds to μ at rest (see [`Consts::rest_mu`]).
+    /// over it, if a family adds to μ at rest (see [`Consts::rest_mu`]). Slots no family uses
+    /// come out zero.
     #[inline]
     pub fn rest_state(&self, slots: &StateSlots, dt: f64) -> (StateSlots, Option<f64>) {
         if !self.has_state() {
-            return (*slots, None);
+            return (StateSlots::default(), None);
         }
-        self.evolve_at_rest(slots, dt)
+        // A copy, as everywhere the families are called out of line: a reference into the
+        // contact's state would let its address escape (see `StepInput::slots`).
+        self.evolve_at_rest(*slots, dt)
     }
 
     // Out of line, as the families' other calls below: the model without state, whose step
     // the benchmark times, keeps a lean loop.
     #[inline(never)]
-    fn evolve_at_rest(&self, slots: &StateSlots, dt: f64) -> (StateSlots, Option<f64>) {
-        let mut out = *slots;
+    fn evolve_at_rest(&self, slots: StateSlots, dt: f64) -> (StateSlots, Option<f64>) {
+        let mut out = slots;
         let mut gain: Option<f64> = None;
         for f in self.states() {
             if let Some(g) = f.law.rest(f.form, &f.p, &mut out.0[f.slots()], dt) {
                 gain = Some(gain.map_or(g, |sum| sum + g));
             }
         }
+        out.0[self.state_len..].fill(0.0);
         (out, gain)
     }
 
@@ -199,28 +206,31 @@ impl Consts {
         })
     }
 
-    /// The state a plastic step `input` ends with, its return `pl` done: the families' state
+    /// The state a plastic step `input` from the state `start` ends with, its return `pl` done:
+    /// the families' state
     /// at the λ of the return's last evaluation, settled at the final λ by the families that
-    /// evaluate it there ([`crate::terms::StateLaw::settle`]).
+    /// evaluate it there ([`crate::terms::StateLaw::settle`]). Slots no family uses come out
+    /// zero (see [`Consts::rest_state`]).
     #[inline]
-    pub fn plastic_state(&self, input: &StepInput, pl: &Plastic) -> StateSlots {
+    pub fn plastic_state(&self, start: &StateSlots, input: &StepInput, pl: &Plastic) -> StateSlots {
         if !self.has_state() {
-            return *input.slots;
+            return StateSlots::default();
         }
-        self.settle_state(input.slots, input.dt, pl.lam_state, pl.lam)
+        self.settle_state(*start, input.dt, pl.lam_state, pl.lam)
     }
 
-    // Given the start state, not the step's input: the input's address then never leaves the
-    // inlined step, which keeps it in registers.
+    // Given the start state by value, not the step's input: the input's address then never
+    // leaves the inlined step.
     #[inline(never)]
-    fn settle_state(&self, start: &StateSlots, dt: f64, lam_state: f64, lam: f64) -> StateSlots {
-        let mut end = *start;
-        self.slide_state(start, dt, lam_state, &mut end);
+    fn settle_state(&self, start: StateSlots, dt: f64, lam_state: f64, lam: f64) -> StateSlots {
+        let mut end = start;
+        self.slide_state(&start, dt, lam_state, &mut end);
         for f in self.states() {
             let r = f.slots();
             f.law
                 .settle(f.form, &f.p, &start.0[r.clone()], lam, &mut end.0[r]);
         }
+        end.0[self.state_len..].fill(0.0);
         end
     }
 

@@ -47,7 +47,7 @@ pub(crate) const RETURN_TOLERANCE: f64 = 1e-10;
 
 /// What the scalar return needs to know about one step.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct StepInput<'a> {
+pub(crate) struct StepInput {
     /// μ at the start of the step.
     pub mu_n: f64,
     /// cos(π r₀ / 2) of the surface the step starts from.
@@ -68,9 +68,6 @@ pub(crate) struct StepInput<'a> {
     pub s_acc: f64,
     /// Time at the end of the step, since the contact started [s] (registered terms).
     pub time: f64,
-    /// The families' state at the start ([`crate::terms::StateLaw`]), by reference: the input
-    /// is moved about in every step, and a model without state never reads it.
-    pub slots: &'a StateSlots,
     /// The step's constants.
     pub local: Local,
     /// A first guess of λ (0: none), e.g. the previous plastic rate over this step.
@@ -131,7 +128,7 @@ pub(crate) fn relax_weight(x: f64, e: f64) -> (f64, f64) {
 }
 
 #[inline(always)]
-fn eval<const STATE: bool>(k: &Consts, s: &StepInput, lam: f64) -> Eval {
+fn eval<const STATE: bool>(k: &Consts, s: &StepInput, start: &StateSlots, lam: f64) -> Eval {
     let l = &s.local;
     // cos θ = cos θ₀ · exp(−kr λ) with θ = πr/2; dr/dλ = ũ cot θ = ũ c / sin θ.
     // θ − θ₀ = asin(sin θ cos θ₀ − cos θ sin θ₀): small within a step, so no inverse cosine.
@@ -149,8 +146,8 @@ fn eval<const STATE: bool>(k: &Consts, s: &StepInput, lam: f64) -> Eval {
     // left behind (the end state evaluates it once, `Consts::plastic_state`): the iterates
     // carry no state, so a model without one moves no slots in the loop.
     let state = STATE.then(|| {
-        let mut end = *s.slots;
-        k.slide_state(s.slots, s.dt, lam, &mut end)
+        let mut end = *start;
+        k.slide_state(start, s.dt, lam, &mut end)
     });
     // The kinetic bound; a rate law may move it with v = λ/Δt.
     let (mu_k, dmu_k) = match &state {
@@ -242,20 +239,26 @@ impl Plastic {
 /// starting surface (the caller has checked that the step is plastic).
 /// `excess` is T − r₀ μ_eff(0) p > 0, the trial's distance outside the starting surface.
 ///
+/// `slots` is the families' state at the start of the step.
+///
 /// The return is compiled twice, for a model whose families integrate a state and for one
 /// whose do not: the second (the base model's, the step the benchmark times) then carries no
 /// trace of the state's terms in its Newton loop, not even a test of whether there are any.
+/// The first works on a copy of the state: were the address of the contact's state to reach
+/// the families' calls (out of line), the step could no longer keep that state in registers,
+/// with or without a state (the benchmark's step lost 8 % so).
 #[inline]
 pub(crate) fn return_slip(
     k: &Consts,
     s: &StepInput,
+    slots: &StateSlots,
     trial: f64,
     excess: f64,
 ) -> Result<Plastic, StepError> {
     if k.has_state() {
-        return_slip_as::<true>(k, s, trial, excess)
+        return_slip_as::<true>(k, s, &{ *slots }, trial, excess)
     } else {
-        return_slip_as::<false>(k, s, trial, excess)
+        return_slip_as::<false>(k, s, slots, trial, excess)
     }
 }
 
@@ -264,6 +267,7 @@ pub(crate) fn return_slip(
 fn return_slip_as<const STATE: bool>(
     k: &Consts,
     s: &StepInput,
+    start: &StateSlots,
     trial: f64,
     excess: f64,
 ) -> Result<Plastic, StepError> {
@@ -291,7 +295,7 @@ fn return_slip_as<const STATE: bool>(
     }
     let mut g = f64::NAN;
     for _ in 0..MAX_ITERATIONS {
-        let e = eval::<STATE>(k, s, lam);
+        let e = eval::<STATE>(k, s, start, lam);
         g = trial - alpha * lam - e.r * e.mu_eff * s.p;
         if g.abs() <= tol {
             return Ok(Plastic::at(lam, &e));
@@ -325,7 +329,7 @@ fn return_slip_as<const STATE: bool>(
             0.5 * (lo + hi)
         };
         if hi - lo <= 4.0 * f64::EPSILON * hi {
-            let e = eval::<STATE>(k, s, lam);
+            let e = eval::<STATE>(k, s, start, lam);
             return Ok(Plastic::at(lam, &e));
         }
     }
@@ -340,13 +344,14 @@ fn return_slip_as<const STATE: bool>(
 pub(crate) fn return_shear(
     k: &Consts,
     s: &StepInput,
+    slots: &StateSlots,
     target: f64,
     guess: f64,
 ) -> Result<Plastic, StepError> {
     if k.has_state() {
-        return_shear_as::<true>(k, s, target, guess)
+        return_shear_as::<true>(k, s, &{ *slots }, target, guess)
     } else {
-        return_shear_as::<false>(k, s, target, guess)
+        return_shear_as::<false>(k, s, slots, target, guess)
     }
 }
 
@@ -354,6 +359,7 @@ pub(crate) fn return_shear(
 fn return_shear_as<const STATE: bool>(
     k: &Consts,
     s: &StepInput,
+    start: &StateSlots,
     target: f64,
     guess: f64,
 ) -> Result<Plastic, StepError> {
@@ -371,7 +377,7 @@ fn return_shear_as<const STATE: bool>(
     let mut hi: f64;
     let mut best_capacity: f64 = 0.0;
     loop {
-        let e = eval::<STATE>(k, s, lam);
+        let e = eval::<STATE>(k, s, start, lam);
         let hv = h(&e);
         best_capacity = best_capacity.max(e.r * e.mu_eff * s.p);
         if hv >= 0.0 {
@@ -391,7 +397,7 @@ fn return_shear_as<const STATE: bool>(
     let mut lam = 0.5 * (lo + hi);
     let mut res = f64::NAN;
     for _ in 0..MAX_ITERATIONS {
-        let e = eval::<STATE>(k, s, lam);
+        let e = eval::<STATE>(k, s, start, lam);
         res = h(&e);
         if res.abs() <= tol || hi - lo <= 4.0 * f64::EPSILON * hi {
             return Ok(Plastic::at(lam, &e));
@@ -419,11 +425,12 @@ fn return_shear_as<const STATE: bool>(
 /// tangent: F = r μ_eff, its derivative with respect to λ (so the hardening modulus is
 /// h = p ∂F/∂λ) and with respect to the starting ratio r₀ at fixed λ (μ_eff does not depend
 /// on r₀; cos θ = cos θ₀ e^(−kr λ) with θ = πr/2 gives ∂r/∂r₀ = sin θ₀ e^(−kr λ) / sin θ).
-pub(crate) fn surface(k: &Consts, s: &StepInput, lam: f64) -> Surface {
+/// `slots` is the families' state at the start of the step.
+pub(crate) fn surface(k: &Consts, s: &StepInput, slots: &StateSlots, lam: f64) -> Surface {
     let e = if k.has_state() {
-        eval::<true>(k, s, lam)
+        eval::<true>(k, s, &{ *slots }, lam)
     } else {
-        eval::<false>(k, s, lam)
+        eval::<false>(k, s, slots, lam)
     };
     let dr_dr0 = if e.r < 1.0 && e.sin > 0.0 {
         s.s_start * exp_neg(s.local.kr * lam) / e.sin
