@@ -15,7 +15,8 @@
 //! names the family.
 //!
 //! Adding a family: write its folder (a unit struct implementing [`TermFamily`] in `mod.rs`,
-//! its unit tests beside it), and add one line to [`FAMILIES`]. Every effect family of subfric
+//! its unit tests beside it), and add its line to the registry (`registry!`, which declares the
+//! folder and lists the family in [`FAMILIES`]). Every effect family of subfric
 //! is registered: rate, time healing, pressure, slip hardening, the time trend and the
 //! direction effect. A family whose friction depends on its history integrates a state: it
 //! declares its variables and their law ([`TermFamily::state`], a [`StateLaw`]: how they
@@ -36,14 +37,29 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::Target;
 
-mod direction;
-mod healing;
-mod pressure;
-mod rate;
-mod slip_hardening;
 mod slots;
 mod state;
-mod time_trend;
+
+/// The registry: declares each family's folder (`terms/<module>/`) and lists its unit struct in
+/// [`FAMILIES`], one line per family, so that a new family is its folder and one line here
+/// (a line may carry attributes, e.g. `#[cfg(test)]` for a family only the tests know).
+macro_rules! registry {
+    ($($(#[$attr:meta])* $module:ident::$family:ident,)*) => {
+        $($(#[$attr])* mod $module;)*
+
+        /// The registered families, in the order the diagnosis tries them.
+        pub static FAMILIES: &[&dyn TermFamily] = &[$($(#[$attr])* &$module::$family,)*];
+    };
+}
+
+registry! {
+    rate::Rate,
+    healing::TimeHealing,
+    pressure::Pressure,
+    slip_hardening::SlipHardening,
+    time_trend::TimeTrend,
+    direction::Direction,
+}
 
 pub use direction::Direction;
 pub use healing::TimeHealing;
@@ -53,16 +69,6 @@ pub use slip_hardening::SlipHardening;
 pub use slots::Terms;
 pub use state::{FamilyState, StateLaw, StateSlots, StateTerms, StateVar, MAX_STATE_SLOTS};
 pub use time_trend::TimeTrend;
-
-/// The registered families, in the order the diagnosis tries them.
-pub static FAMILIES: &[&dyn TermFamily] = &[
-    &Rate,
-    &TimeHealing,
-    &Pressure,
-    &SlipHardening,
-    &TimeTrend,
-    &Direction,
-];
 
 /// Most registered families a model may carry at once (one slot each in [`Terms`]).
 pub const MAX_FAMILIES: usize = 8;
