@@ -1,6 +1,8 @@
 //! One-dimensional contact: the paper's tests (direct shear, ring torsion, cyclic shear).
 
-use crate::integrator::{return_shear, return_slip, Consts, Local, Plastic, StepError, StepInput};
+use crate::integrator::{
+    return_shear_as, return_slip_as, Consts, Local, Plastic, StepError, StepInput,
+};
 use crate::terms::StateSlots;
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
@@ -151,9 +153,10 @@ impl Contact1 {
     }
 
     /// The part both controls share: from the traction the step would reach elastically,
-    /// either the elastic end state, or what the plastic return starts from.
-    #[inline]
-    fn begin(
+    /// either the elastic end state, or what the plastic return starts from. `STATE` false:
+    /// the model has no state (see [`Contact1::step_slip`]).
+    #[inline(always)]
+    fn begin<const STATE: bool>(
         &mut self,
         st: &State1,
         traction: f64,
@@ -172,7 +175,7 @@ impl Contact1 {
         };
         let local = self.local(p, sign);
         let exp_xi_dt = self.exp_xi_dt(dt);
-        let (slots_el, gain) = self.k.rest_state(&st.slots, dt);
+        let (slots_el, gain) = self.k.rest_state::<STATE>(&st.slots, dt);
         let mu_el = self.k.rest_mu(&local, st.mu, gain, exp_xi_dt);
         if traction == 0.0 {
             return Begin::Elastic(Self::elastic(
@@ -187,9 +190,9 @@ impl Contact1 {
             ));
         }
         let (r0, c0, s0) = Self::start_surface(st, sign);
-        let mu_eff0 = self
-            .k
-            .elastic_mu_eff(&local, mu_el, &slots_el, st.slip_path, st.time + dt);
+        let mu_eff0 =
+            self.k
+                .elastic_mu_eff::<STATE>(&local, mu_el, &slots_el, st.slip_path, st.time + dt);
         let magnitude = traction.abs();
         let excess = magnitude - r0 * mu_eff0 * p;
         if excess <= self.k.rest_tolerance(magnitude, p) {
@@ -246,7 +249,6 @@ impl Contact1 {
         pl: &Plastic,
     ) -> State1 {
         let local = &input.local;
-        let slots = self.k.plastic_state(&st.slots, input, pl);
         State1 {
             slip,
             shear,
@@ -258,12 +260,17 @@ impl Contact1 {
             time: st.time + input.dt,
             last_plastic: sign * pl.lam,
             last_dt: input.dt,
-            slots,
+            slots: pl.state,
         }
     }
 
     /// One step under slip control: impose the total slip `slip` at normal stress `p` [kPa]
     /// after `dt` seconds. Returns the end state, or an error value (retry with substeps).
+    ///
+    /// The step is compiled twice, for a model whose families integrate a state and for one
+    /// whose do not: the second (the base model's, the step the benchmark times) carries no
+    /// trace of the state, not even a test of whether there is one; the first has the
+    /// families' laws inlined in it, by their own types (built once, when the contact is).
     #[inline]
     pub fn step_slip(
         &mut self,
@@ -272,8 +279,24 @@ impl Contact1 {
         p: f64,
         dt: f64,
     ) -> Result<State1, StepError> {
+        if self.k.has_state() {
+            self.step_slip_as::<true>(st, slip, p, dt)
+        } else {
+            self.step_slip_as::<false>(st, slip, p, dt)
+        }
+    }
+
+    /// [`Contact1::step_slip`] for a model with (`STATE`) or without a state.
+    #[inline(always)]
+    fn step_slip_as<const STATE: bool>(
+        &mut self,
+        st: &State1,
+        slip: f64,
+        p: f64,
+        dt: f64,
+    ) -> Result<State1, StepError> {
         let trial = st.shear + self.k.alpha * (slip - st.slip);
-        match self.begin(st, trial, slip, p, dt) {
+        match self.begin::<STATE>(st, trial, slip, p, dt) {
             Begin::Elastic(end) => Ok(end),
             Begin::Plastic {
                 sign,
@@ -281,7 +304,7 @@ impl Contact1 {
                 excess,
                 input,
             } => {
-                let pl = return_slip(&self.k, &input, &st.slots, magnitude, excess)?;
+                let pl = return_slip_as::<STATE>(&self.k, &input, &st.slots, magnitude, excess)?;
                 let shear = sign * (magnitude - self.k.alpha * pl.lam);
                 Ok(self.plastic(st, slip, shear, sign, &input, &pl))
             }
@@ -290,7 +313,7 @@ impl Contact1 {
 
     /// One step under traction control: impose the shear `shear` [kPa] at normal stress `p`
     /// after `dt` seconds; the slip follows. A shear above the friction capacity is
-    /// [`StepError::Runaway`].
+    /// [`StepError::Runaway`]. Compiled twice, as [`Contact1::step_slip`].
     pub fn step_shear(
         &mut self,
         st: &State1,
@@ -298,8 +321,24 @@ impl Contact1 {
         p: f64,
         dt: f64,
     ) -> Result<State1, StepError> {
+        if self.k.has_state() {
+            self.step_shear_as::<true>(st, shear, p, dt)
+        } else {
+            self.step_shear_as::<false>(st, shear, p, dt)
+        }
+    }
+
+    /// [`Contact1::step_shear`] for a model with (`STATE`) or without a state.
+    #[inline(always)]
+    fn step_shear_as<const STATE: bool>(
+        &mut self,
+        st: &State1,
+        shear: f64,
+        p: f64,
+        dt: f64,
+    ) -> Result<State1, StepError> {
         let elastic_slip = st.slip + (shear - st.shear) / self.k.alpha;
-        match self.begin(st, shear, elastic_slip, p, dt) {
+        match self.begin::<STATE>(st, shear, elastic_slip, p, dt) {
             Begin::Elastic(end) => Ok(end),
             Begin::Plastic {
                 sign,
@@ -308,7 +347,7 @@ impl Contact1 {
                 ..
             } => {
                 let guess = st.last_plastic.abs();
-                let pl = return_shear(&self.k, &input, &st.slots, magnitude, guess)?;
+                let pl = return_shear_as::<STATE>(&self.k, &input, &st.slots, magnitude, guess)?;
                 Ok(self.plastic(st, elastic_slip + sign * pl.lam, shear, sign, &input, &pl))
             }
         }

@@ -414,7 +414,7 @@ fn start(model: &Model, proto: &Protocol) -> Result<(State1, Option<(f64, f64)>)
             (r, cap)
         }
         _ => {
-            let cap = k.elastic_mu_eff(&l, st.mu, &st.slots, 0.0, st.time) * p;
+            let cap = k.elastic_mu_eff::<true>(&l, st.mu, &st.slots, 0.0, st.time) * p;
             if shear.abs() > cap {
                 if control == Control::Shear {
                     return Err(SimError::Runaway {

@@ -232,7 +232,7 @@ impl Contact3 {
     #[inline]
     fn elastic_mu_eff(&self, st: &State3, l: &Local, mu: f64, slots: &StateSlots, dt: f64) -> f64 {
         self.k
-            .elastic_mu_eff(l, mu, slots, st.slip_path, st.time + dt)
+            .elastic_mu_eff::<true>(l, mu, slots, st.slip_path, st.time + dt)
     }
 
     /// Tangential part of a vector.
@@ -298,7 +298,7 @@ impl Contact3 {
     ) -> Result<State3, StepError> {
         let trial = axpy(self.k.alpha, du, &st.shear);
         let magnitude = norm(&trial);
-        let (slots_el, gain) = self.k.rest_state(&st.slots, dt);
+        let (slots_el, gain) = self.k.rest_state::<true>(&st.slots, dt);
         let exp_xi_dt = (-self.k.xi * dt).exp();
         let elastic_end = |shear: Vec3, mu: f64, r: f64| {
             let (sin_r, cos_r) = (FRAC_PI_2 * r).sin_cos();
@@ -354,7 +354,6 @@ impl Contact3 {
         let input = self.plastic_input(st, local, (r0, c0, s0), p, dt);
         let excess = magnitude - r0 * mu_eff0 * p;
         let pl = return_slip(&self.k, &input, &st.slots, magnitude, excess)?;
-        let slots = self.k.plastic_state(&st.slots, &input, &pl);
         Ok(State3 {
             slip,
             shear: scale(magnitude - self.k.alpha * pl.lam, &dir),
@@ -364,7 +363,7 @@ impl Contact3 {
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
             time: st.time + dt,
-            slots,
+            slots: pl.state,
         })
     }
 
@@ -464,7 +463,7 @@ impl Contact3 {
         p: f64,
         dt: f64,
     ) -> TrialTraction {
-        let (slots_el, gain) = self.k.rest_state(&st.slots, dt);
+        let (slots_el, gain) = self.k.rest_state::<true>(&st.slots, dt);
         let exp_xi_dt = (-self.k.xi * dt).exp();
         let dir = scale(1.0 / magnitude, &trial);
         let cos_t = self.cos_forward(&dir);

@@ -2,10 +2,11 @@
 //! pressure and direction effects, friction at rest (recovery, healing), the additive terms of
 //! slip and time, and the surfaces of elastic steps and of steady sliding.
 
-use super::{Plastic, StepInput, RETURN_TOLERANCE};
+use super::states::{StateStep, States, WithStates};
+use super::RETURN_TOLERANCE;
 use crate::extensions::{Extensions, Target, MIN_MU_EFF_FRACTION};
 use crate::params::Params;
-use crate::terms::{FamilyState, RateEffect, StateSlots, StateTerms, MAX_STATE_SLOTS};
+use crate::terms::{RateEffect, StateSlots, StateTerms};
 use std::f64::consts::FRAC_PI_2;
 
 /// Constants of a model, precomputed once (units: kPa, mm, s).
@@ -24,13 +25,8 @@ pub(crate) struct Consts {
     scaled: bool,
     /// Whether one scales μ_s, μ_k, κ or ũ ([`Extensions::varies_bounds`]).
     varies_bounds: bool,
-    /// The families that integrate a state (rate, time healing), with their slots, read once:
-    /// the first `state_count`.
-    states: [Option<FamilyState>; MAX_STATE_SLOTS],
-    /// How many families integrate a state (0: the step skips the state altogether).
-    state_count: usize,
-    /// How many slots they take; the rest the step writes as zeros.
-    state_len: usize,
+    /// The families that integrate a state (rate, time healing), their laws built once.
+    states: States,
     /// Whether the recovery ξ(μ_s − μ) of Eq. (24) acts ([`Extensions::recovery`]).
     recovery: bool,
     /// The slip-rate law of the family that reads the slip rate (rate), read once.
@@ -56,12 +52,6 @@ pub(crate) struct Local {
 
 impl Consts {
     pub fn new(p: &Params, ext: &Extensions) -> Self {
-        let mut states = [None; MAX_STATE_SLOTS];
-        let mut state_count = 0;
-        for (slot, f) in states.iter_mut().zip(ext.terms.state_laws()) {
-            *slot = Some(f);
-            state_count += 1;
-        }
         Consts {
             mu_s: p.mu_s,
             mu_k: p.mu_k,
@@ -75,9 +65,7 @@ impl Consts {
                 .iter()
                 .any(|e| !e.family().targets(e.form as usize).is_empty()),
             varies_bounds: ext.varies_bounds(),
-            states,
-            state_count,
-            state_len: ext.terms.state_len().min(MAX_STATE_SLOTS),
+            states: States::new(&ext.terms),
             recovery: ext.recovery(),
             rate: ext.rate(),
             path_terms: ext.terms.adds_terms(),
@@ -142,103 +130,34 @@ impl Consts {
     /// True when a family on integrates a state.
     #[inline]
     pub fn has_state(&self) -> bool {
-        self.state_count > 0
+        self.states.any()
     }
 
-    /// The families that integrate a state, with their slots.
-    #[inline]
-    fn states(&self) -> impl Iterator<Item = &FamilyState> {
-        self.states[..self.state_count].iter().flatten()
+    /// The families that integrate a state.
+    #[inline(always)]
+    pub fn states(&self) -> &States {
+        &self.states
     }
 
     /// The state after an elastic step of `dt` from `slots`, and the friction μ itself gains
     /// over it, if a family adds to μ at rest (see [`Consts::rest_mu`]). Slots no family uses
-    /// come out zero.
-    #[inline]
-    pub fn rest_state(&self, slots: &StateSlots, dt: f64) -> (StateSlots, Option<f64>) {
-        if !self.has_state() {
+    /// come out zero. `STATE` false: the caller knows the model has no state, and the step
+    /// carries no trace of one (see [`super::return_slip_as`]).
+    #[inline(always)]
+    pub fn rest_state<const STATE: bool>(
+        &self,
+        slots: &StateSlots,
+        dt: f64,
+    ) -> (StateSlots, Option<f64>) {
+        if !STATE || !self.has_state() {
             return (StateSlots::default(), None);
         }
-        // A copy, as everywhere the families are called out of line: a reference into the
-        // contact's state would let its address escape (see `StepInput::slots`).
-        self.evolve_at_rest(*slots, dt)
-    }
-
-    // Out of line, as the families' other calls below: the model without state, whose step
-    // the benchmark times, keeps a lean loop.
-    #[inline(never)]
-    fn evolve_at_rest(&self, slots: StateSlots, dt: f64) -> (StateSlots, Option<f64>) {
-        let mut out = slots;
-        let mut gain: Option<f64> = None;
-        for f in self.states() {
-            if let Some(g) = f.law.rest(f.form, &f.p, &mut out.0[f.slots()], dt) {
-                gain = Some(gain.map_or(g, |sum| sum + g));
-            }
-        }
-        out.0[self.state_len..].fill(0.0);
-        (out, gain)
-    }
-
-    /// The families' terms of friction at rest with the state `slots`.
-    #[inline(never)]
-    fn rest_terms(&self, slots: &StateSlots) -> StateTerms {
-        self.states().fold(StateTerms::NONE, |t, f| {
-            t.and(f.law.at_rest(f.form, &f.p, &slots.0[f.slots()]))
-        })
-    }
-
-    /// The families' terms of friction at plastic increment `lam` over `dt` from the state
-    /// `start`, writing the state at the end of that increment to `end`.
-    #[inline(never)]
-    pub fn slide_state(
-        &self,
-        start: &StateSlots,
-        dt: f64,
-        lam: f64,
-        end: &mut StateSlots,
-    ) -> StateTerms {
-        self.states().fold(StateTerms::NONE, |t, f| {
-            let r = f.slots();
-            t.and(
-                f.law
-                    .slide(f.form, &f.p, &start.0[r.clone()], dt, lam, &mut end.0[r]),
-            )
-        })
-    }
-
-    /// The state a plastic step `input` from the state `start` ends with, its return `pl` done:
-    /// the families' state
-    /// at the λ of the return's last evaluation, settled at the final λ by the families that
-    /// evaluate it there ([`crate::terms::StateLaw::settle`]). Slots no family uses come out
-    /// zero (see [`Consts::rest_state`]).
-    #[inline]
-    pub fn plastic_state(&self, start: &StateSlots, input: &StepInput, pl: &Plastic) -> StateSlots {
-        if !self.has_state() {
-            return StateSlots::default();
-        }
-        self.settle_state(*start, input.dt, pl.lam_state, pl.lam)
-    }
-
-    // Given the start state by value, not the step's input: the input's address then never
-    // leaves the inlined step.
-    #[inline(never)]
-    fn settle_state(&self, start: StateSlots, dt: f64, lam_state: f64, lam: f64) -> StateSlots {
-        let mut end = start;
-        self.slide_state(&start, dt, lam_state, &mut end);
-        for f in self.states() {
-            let r = f.slots();
-            f.law
-                .settle(f.form, &f.p, &start.0[r.clone()], lam, &mut end.0[r]);
-        }
-        end.0[self.state_len..].fill(0.0);
-        end
+        self.states.with(RestOver { slots, dt })
     }
 
     /// The state of a contact that has slid steadily at rate `v`, from `slots`.
     pub fn steady_state(&self, slots: &mut StateSlots, v: f64) {
-        for f in self.states() {
-            f.law.steady(f.form, &f.p, v, &mut slots.0[f.slots()]);
-        }
+        self.states.steady(slots, v);
     }
 
     /// The additive terms of accumulated plastic slip `s` and time `t` (each registered
@@ -388,8 +307,9 @@ impl Consts {
     /// μ_eff of an elastic step (plastic slip rate zero) from μ at the step's end (time
     /// `time`), with the state `slots` at the step's end (the families' terms at rest: a rate
     /// law's, a healing gain of its own, ...).
-    #[inline]
-    pub fn elastic_mu_eff(
+    /// `STATE` as for [`Consts::rest_state`].
+    #[inline(always)]
+    pub fn elastic_mu_eff<const STATE: bool>(
         &self,
         l: &Local,
         mu: f64,
@@ -399,12 +319,43 @@ impl Consts {
     ) -> f64 {
         let mut mu_eff = mu * l.mult;
         let mut own = 0.0;
-        if self.has_state() {
-            let t = self.rest_terms(slots);
+        if STATE && self.has_state() {
+            let t = self.states.with(AtRestWith { slots });
             mu_eff = mu_eff * t.factor + t.add;
             own = t.own;
         }
         mu_eff += self.path_terms(slip_path, time).0 + own;
         mu_eff.max(MIN_MU_EFF_FRACTION * l.mu_s)
+    }
+}
+
+/// [`Consts::rest_state`] of a model with a state, as [`WithStates`].
+struct RestOver<'a> {
+    slots: &'a StateSlots,
+    dt: f64,
+}
+
+impl WithStates for RestOver<'_> {
+    type Output = (StateSlots, Option<f64>);
+
+    #[inline(always)]
+    fn run<S: StateStep>(self, states: S) -> Self::Output {
+        let mut out = *self.slots;
+        let gain = states.rest(&mut out, self.dt);
+        (out, gain)
+    }
+}
+
+/// The families' terms of friction at rest with the state `slots`, as [`WithStates`].
+struct AtRestWith<'a> {
+    slots: &'a StateSlots,
+}
+
+impl WithStates for AtRestWith<'_> {
+    type Output = StateTerms;
+
+    #[inline(always)]
+    fn run<S: StateStep>(self, states: S) -> StateTerms {
+        states.at_rest(self.slots)
     }
 }

@@ -15,6 +15,9 @@ use crate::terms::StateSlots;
 use std::f64::consts::FRAC_PI_2;
 
 mod consts;
+mod states;
+
+use states::{NoState, StateStep, WithStates};
 
 pub(crate) use consts::{Consts, Local};
 
@@ -85,6 +88,8 @@ pub(crate) struct Eval {
     pub dmu: f64,
     pub mu_eff: f64,
     pub dmu_eff: f64,
+    /// The families' state at λ (zero for a model without state).
+    pub state: StateSlots,
 }
 
 /// e^(−x) for x ≥ 0; a degree-8 Taylor polynomial below 0.01 (error < 1e-20, i.e. exact in
@@ -127,8 +132,10 @@ pub(crate) fn relax_weight(x: f64, e: f64) -> (f64, f64) {
     }
 }
 
+/// The evolution laws and the friction surface at plastic increment `lam`, with the families'
+/// state held as `states` ([`StateStep`]) starting from `start`.
 #[inline(always)]
-fn eval<const STATE: bool>(k: &Consts, s: &StepInput, start: &StateSlots, lam: f64) -> Eval {
+fn eval<S: StateStep>(k: &Consts, states: &S, s: &StepInput, start: &StateSlots, lam: f64) -> Eval {
     let l = &s.local;
     // cos θ = cos θ₀ · exp(−kr λ) with θ = πr/2; dr/dλ = ũ cot θ = ũ c / sin θ.
     // θ − θ₀ = asin(sin θ cos θ₀ − cos θ sin θ₀): small within a step, so no inverse cosine.
@@ -142,13 +149,15 @@ fn eval<const STATE: bool>(k: &Consts, s: &StepInput, start: &StateSlots, lam: f
         f64::INFINITY
     };
 
-    // The families that integrate a state: their terms of friction at λ. Their state at λ is
-    // left behind (the end state evaluates it once, `Consts::plastic_state`): the iterates
-    // carry no state, so a model without one moves no slots in the loop.
-    let state = STATE.then(|| {
-        let mut end = *start;
-        k.slide_state(start, s.dt, lam, &mut end)
-    });
+    // The families that integrate a state: their terms of friction at λ, and their state
+    // there, which the step ends with when λ is the return's last iterate. A model without a
+    // state moves no slots in the loop.
+    let mut end = if S::ANY {
+        *start
+    } else {
+        StateSlots::default()
+    };
+    let state = S::ANY.then(|| states.slide(start, s.dt, lam, &mut end));
     // The kinetic bound; a rate law may move it with v = λ/Δt.
     let (mu_k, dmu_k) = match &state {
         Some(t) if t.dmu_k != 0.0 => {
@@ -206,6 +215,7 @@ fn eval<const STATE: bool>(k: &Consts, s: &StepInput, start: &StateSlots, lam: f
         dmu,
         mu_eff,
         dmu_eff,
+        state: end,
     }
 }
 
@@ -217,9 +227,9 @@ pub(crate) struct Plastic {
     pub c: f64,
     pub s: f64,
     pub mu: f64,
-    /// The λ of the return's last evaluation, where the families' state of the end of the
-    /// step is evaluated (see [`Consts::plastic_state`]).
-    pub lam_state: f64,
+    /// The families' state the step ends with: the one at the return's last evaluation,
+    /// settled at `lam` ([`Consts::settle_state`]); zero for a model without state.
+    pub state: StateSlots,
 }
 
 impl Plastic {
@@ -230,7 +240,7 @@ impl Plastic {
             c: e.c,
             s: e.sin,
             mu: e.mu,
-            lam_state: lam,
+            state: e.state,
         }
     }
 }
@@ -239,14 +249,11 @@ impl Plastic {
 /// starting surface (the caller has checked that the step is plastic).
 /// `excess` is T − r₀ μ_eff(0) p > 0, the trial's distance outside the starting surface.
 ///
-/// `slots` is the families' state at the start of the step.
-///
-/// The return is compiled twice, for a model whose families integrate a state and for one
-/// whose do not: the second (the base model's, the step the benchmark times) then carries no
-/// trace of the state's terms in its Newton loop, not even a test of whether there are any.
-/// The first works on a copy of the state: were the address of the contact's state to reach
-/// the families' calls (out of line), the step could no longer keep that state in registers,
-/// with or without a state (the benchmark's step lost 8 % so).
+/// `slots` is the families' state at the start of the step. For a caller that does not compile
+/// its step for a model with and without a state apart (see [`return_slip_as`]): the return
+/// of a model with a state is out of line and works on copies of the step's input and state
+/// (were their addresses to reach a call out of line, the step could no longer keep them in
+/// registers, with or without a state).
 #[inline]
 pub(crate) fn return_slip(
     k: &Consts,
@@ -256,16 +263,74 @@ pub(crate) fn return_slip(
     excess: f64,
 ) -> Result<Plastic, StepError> {
     if k.has_state() {
-        return_slip_as::<true>(k, s, &{ *slots }, trial, excess)
+        return_slip_with_state(k, *s, *slots, trial, excess)
     } else {
         return_slip_as::<false>(k, s, slots, trial, excess)
     }
 }
 
-/// [`return_slip`] for a model with (`STATE`) or without a state.
-#[inline]
-fn return_slip_as<const STATE: bool>(
+/// [`return_slip`] of a model with a state.
+#[inline(never)]
+fn return_slip_with_state(
     k: &Consts,
+    s: StepInput,
+    slots: StateSlots,
+    trial: f64,
+    excess: f64,
+) -> Result<Plastic, StepError> {
+    return_slip_as::<true>(k, &s, &slots, trial, excess)
+}
+
+/// [`return_slip`] compiled for a model that may have a state (`STATE`) or that has none: the
+/// second (the base model's, the step the benchmark times) carries no trace of the state's
+/// terms in its Newton loop, not even a test of whether there are any; the first is compiled
+/// for each way the model may hold its families ([`states::States::with`]) and ends with their
+/// state settled ([`StateStep::settle`]).
+#[inline(always)]
+pub(crate) fn return_slip_as<const STATE: bool>(
+    k: &Consts,
+    s: &StepInput,
+    start: &StateSlots,
+    trial: f64,
+    excess: f64,
+) -> Result<Plastic, StepError> {
+    if !STATE {
+        return solve_slip(k, &NoState, s, start, trial, excess);
+    }
+    k.states().with(SlipReturn {
+        k,
+        s,
+        start,
+        trial,
+        excess,
+    })
+}
+
+/// [`return_slip_as`] of a model with a state, as [`WithStates`].
+struct SlipReturn<'a> {
+    k: &'a Consts,
+    s: &'a StepInput,
+    start: &'a StateSlots,
+    trial: f64,
+    excess: f64,
+}
+
+impl WithStates for SlipReturn<'_> {
+    type Output = Result<Plastic, StepError>;
+
+    #[inline(always)]
+    fn run<S: StateStep>(self, states: S) -> Self::Output {
+        let mut pl = solve_slip(self.k, &states, self.s, self.start, self.trial, self.excess)?;
+        states.settle(self.start, pl.lam, &mut pl.state);
+        Ok(pl)
+    }
+}
+
+/// The Newton iteration of [`return_slip_as`], with the families' state held as `states`.
+#[inline(always)]
+fn solve_slip<S: StateStep>(
+    k: &Consts,
+    states: &S,
     s: &StepInput,
     start: &StateSlots,
     trial: f64,
@@ -295,7 +360,7 @@ fn return_slip_as<const STATE: bool>(
     }
     let mut g = f64::NAN;
     for _ in 0..MAX_ITERATIONS {
-        let e = eval::<STATE>(k, s, start, lam);
+        let e = eval(k, states, s, start, lam);
         g = trial - alpha * lam - e.r * e.mu_eff * s.p;
         if g.abs() <= tol {
             return Ok(Plastic::at(lam, &e));
@@ -317,9 +382,9 @@ fn return_slip_as<const STATE: bool>(
                 c: e.c * (1.0 - s.local.kr * delta),
                 s: e.sin + e.c * FRAC_PI_2 * e.dr * delta,
                 mu: e.mu + e.dmu * delta,
-                // The families' state moves by O(δ) ≪ its own scale: evaluated at λ unless a
-                // family settles it at λ + δ (`Consts::plastic_state`).
-                lam_state: lam,
+                // The families' state moves by O(δ) ≪ its own scale: the one at λ, unless a
+                // family settles it at λ + δ (`StateStep::settle`).
+                state: e.state,
             });
         }
         let next = lam + delta;
@@ -329,7 +394,7 @@ fn return_slip_as<const STATE: bool>(
             0.5 * (lo + hi)
         };
         if hi - lo <= 4.0 * f64::EPSILON * hi {
-            let e = eval::<STATE>(k, s, start, lam);
+            let e = eval(k, states, s, start, lam);
             return Ok(Plastic::at(lam, &e));
         }
     }
@@ -339,25 +404,53 @@ fn return_slip_as<const STATE: bool>(
     })
 }
 
-/// Traction control: find the smallest λ ≥ 0 with r(λ) μ_eff(λ) p = target (compiled twice,
-/// as [`return_slip`]).
-pub(crate) fn return_shear(
+/// Traction control: find the smallest λ ≥ 0 with r(λ) μ_eff(λ) p = target, compiled for a
+/// model that may have a state (`STATE`) or that has none, as [`return_slip_as`].
+#[inline(always)]
+pub(crate) fn return_shear_as<const STATE: bool>(
     k: &Consts,
     s: &StepInput,
-    slots: &StateSlots,
+    start: &StateSlots,
     target: f64,
     guess: f64,
 ) -> Result<Plastic, StepError> {
-    if k.has_state() {
-        return_shear_as::<true>(k, s, &{ *slots }, target, guess)
-    } else {
-        return_shear_as::<false>(k, s, slots, target, guess)
+    if !STATE {
+        return solve_shear(k, &NoState, s, start, target, guess);
+    }
+    k.states().with(ShearReturn {
+        k,
+        s,
+        start,
+        target,
+        guess,
+    })
+}
+
+/// [`return_shear_as`] of a model with a state, as [`WithStates`].
+struct ShearReturn<'a> {
+    k: &'a Consts,
+    s: &'a StepInput,
+    start: &'a StateSlots,
+    target: f64,
+    guess: f64,
+}
+
+impl WithStates for ShearReturn<'_> {
+    type Output = Result<Plastic, StepError>;
+
+    #[inline(always)]
+    fn run<S: StateStep>(self, states: S) -> Self::Output {
+        let mut pl = solve_shear(self.k, &states, self.s, self.start, self.target, self.guess)?;
+        states.settle(self.start, pl.lam, &mut pl.state);
+        Ok(pl)
     }
 }
 
-/// [`return_shear`] for a model with (`STATE`) or without a state.
-fn return_shear_as<const STATE: bool>(
+/// The bracketing and Newton iteration of [`return_shear_as`], with the families' state held
+/// as `states`.
+fn solve_shear<S: StateStep>(
     k: &Consts,
+    states: &S,
     s: &StepInput,
     start: &StateSlots,
     target: f64,
@@ -377,7 +470,7 @@ fn return_shear_as<const STATE: bool>(
     let mut hi: f64;
     let mut best_capacity: f64 = 0.0;
     loop {
-        let e = eval::<STATE>(k, s, start, lam);
+        let e = eval(k, states, s, start, lam);
         let hv = h(&e);
         best_capacity = best_capacity.max(e.r * e.mu_eff * s.p);
         if hv >= 0.0 {
@@ -397,7 +490,7 @@ fn return_shear_as<const STATE: bool>(
     let mut lam = 0.5 * (lo + hi);
     let mut res = f64::NAN;
     for _ in 0..MAX_ITERATIONS {
-        let e = eval::<STATE>(k, s, start, lam);
+        let e = eval(k, states, s, start, lam);
         res = h(&e);
         if res.abs() <= tol || hi - lo <= 4.0 * f64::EPSILON * hi {
             return Ok(Plastic::at(lam, &e));
@@ -428,9 +521,14 @@ fn return_shear_as<const STATE: bool>(
 /// `slots` is the families' state at the start of the step.
 pub(crate) fn surface(k: &Consts, s: &StepInput, slots: &StateSlots, lam: f64) -> Surface {
     let e = if k.has_state() {
-        eval::<true>(k, s, &{ *slots }, lam)
+        k.states().with(EvalAt {
+            k,
+            s,
+            start: slots,
+            lam,
+        })
     } else {
-        eval::<false>(k, s, slots, lam)
+        eval(k, &NoState, s, slots, lam)
     };
     let dr_dr0 = if e.r < 1.0 && e.sin > 0.0 {
         s.s_start * exp_neg(s.local.kr * lam) / e.sin
@@ -441,6 +539,23 @@ pub(crate) fn surface(k: &Consts, s: &StepInput, slots: &StateSlots, lam: f64) -
         value: e.r * e.mu_eff,
         dlam: e.dr * e.mu_eff + e.r * e.dmu_eff,
         dr0: dr_dr0 * e.mu_eff,
+    }
+}
+
+/// [`eval`] of a model with a state, as [`WithStates`].
+struct EvalAt<'a> {
+    k: &'a Consts,
+    s: &'a StepInput,
+    start: &'a StateSlots,
+    lam: f64,
+}
+
+impl WithStates for EvalAt<'_> {
+    type Output = Eval;
+
+    #[inline(always)]
+    fn run<S: StateStep>(self, states: S) -> Eval {
+        eval(self.k, &states, self.s, self.start, self.lam)
     }
 }
 

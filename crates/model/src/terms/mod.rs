@@ -19,11 +19,12 @@
 //! folder and lists the family in [`FAMILIES`]). Every effect family of subfric
 //! is registered: rate, time healing, pressure, slip hardening, the time trend and the
 //! direction effect. A family whose friction depends on its history integrates a state: it
-//! declares its variables and their law ([`TermFamily::state`], a [`StateLaw`]: how they
-//! start, evolve at rest and while sliding, act on friction and what values are valid), and
-//! the contact states carry them in generic slots ([`StateSlots`]) that neither the integrator
-//! nor the C interface names — rate (θ, the rate terms a locked form holds) and time healing
-//! (the contact's age, a gain of its own) do so. A family whose friction depends on the plastic
+//! builds its law for a form and parameters ([`StateFamily`], a [`StateLaw`]: its variables,
+//! how they start, evolve at rest and while sliding, act on friction and what values are
+//! valid), its registry line ends `with state`, and the contact states carry its variables in
+//! generic slots ([`StateSlots`]) that neither the integrator nor the C interface names — rate
+//! (θ, the rate terms a locked form holds) and time healing (the contact's age, a gain of its
+//! own) do so. A family whose friction depends on the plastic
 //! slip rate also gives the return mapping its law as a [`RateEffect`] (the rate family), for
 //! what steady sliding at a rate gives.
 //!
@@ -37,24 +38,14 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::Target;
 
+#[macro_use]
+mod registry;
 mod slots;
 mod state;
 
-/// The registry: declares each family's folder (`terms/<module>/`) and lists its unit struct in
-/// [`FAMILIES`], one line per family, so that a new family is its folder and one line here
-/// (a line may carry attributes, e.g. `#[cfg(test)]` for a family only the tests know).
-macro_rules! registry {
-    ($($(#[$attr:meta])* $module:ident::$family:ident,)*) => {
-        $($(#[$attr])* mod $module;)*
-
-        /// The registered families, in the order the diagnosis tries them.
-        pub static FAMILIES: &[&dyn TermFamily] = &[$($(#[$attr])* &$module::$family,)*];
-    };
-}
-
 registry! {
-    rate::Rate,
-    healing::TimeHealing,
+    rate::Rate with state,
+    healing::TimeHealing with state,
     pressure::Pressure,
     slip_hardening::SlipHardening,
     time_trend::TimeTrend,
@@ -67,7 +58,10 @@ pub use pressure::Pressure;
 pub use rate::{AtRest, Rate, RateEffect, RateForm};
 pub use slip_hardening::SlipHardening;
 pub use slots::Terms;
-pub use state::{FamilyState, StateLaw, StateSlots, StateTerms, StateVar, MAX_STATE_SLOTS};
+pub(crate) use state::LawOp;
+pub use state::{
+    FamilyState, StateFamily, StateLaw, StateSlots, StateTerms, StateVar, MAX_STATE_SLOTS,
+};
 pub use time_trend::TimeTrend;
 
 /// Most registered families a model may carry at once (one slot each in [`Terms`]).
@@ -476,11 +470,6 @@ pub trait TermFamily: Sync + std::fmt::Debug {
     /// Eq. (24) (which then acts neither at rest nor while sliding).
     fn replaces_recovery(&self, _form: usize) -> bool {
         false
-    }
-    /// The state the family integrates, for a family whose friction depends on its history
-    /// (see [`StateLaw`]); `None` for one without state.
-    fn state(&self) -> Option<&dyn StateLaw> {
-        None
     }
     /// Whether the family makes friction depend on the plastic slip rate (the return mapping
     /// then solves for it). At most one such family is on in a model.

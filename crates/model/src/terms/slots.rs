@@ -4,7 +4,10 @@
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use super::{family_keyed, RateEffect, TermEffect, TermFamily, MAX_FAMILIES, MAX_STATE_SLOTS};
+use super::{
+    family_keyed, FamilyLaw, RateEffect, StateLaw, TermEffect, TermFamily, MAX_FAMILIES,
+    MAX_STATE_SLOTS,
+};
 use crate::Target;
 
 /// A kind of family a model may hold once.
@@ -96,7 +99,7 @@ impl Terms {
         // would go beyond them is named.
         let mut used = 0;
         for e in self.iter() {
-            used += e.family().state().map_or(0, |law| law.vars().len());
+            used += FamilyLaw::of(e).map_or(0, |law| law.vars().len());
             if used > MAX_STATE_SLOTS {
                 out.push((
                     e.family().params()[0].key,

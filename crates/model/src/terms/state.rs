@@ -9,8 +9,13 @@
 //! taking as many slots as it declares; the integrator and the C interface address them only
 //! through the family (its [`StateLaw`] and the slots' layout, [`Terms::state_laws`]), never
 //! by name. A fixed array keeps the states `Copy` and the step free of allocation.
+//!
+//! A family builds its law once for its form and parameters ([`StateFamily::law`], a type of
+//! its own), and the integrator keeps the built laws of a model in [`FamilyLaw`], the enum the
+//! registry generates from its lines marked `with state`: the step calls a law by its own type,
+//! inlined, with no call through a trait object and nothing rebuilt from the parameters.
 
-use super::{Terms, MAX_TERM_PARAMS};
+use super::{FamilyLaw, TermFamily, Terms, MAX_TERM_PARAMS};
 
 /// Most state variables the families switched on in one model may integrate together (rate
 /// takes three, time healing two); the C interface carries this many doubles.
@@ -110,76 +115,75 @@ impl StateTerms {
     }
 }
 
+/// A registered family whose friction depends on its history: it builds its state law for a
+/// form and parameters ([`StateFamily::law`]), once per model, and the integrator keeps that
+/// law by its own type (one arm of [`FamilyLaw`], which the registry generates from the lines
+/// marked `with state`), so that the return mapping calls it directly at each iterate.
+pub trait StateFamily: TermFamily {
+    /// The family's state law with a form and parameters fixed.
+    type Law: StateLaw;
+
+    /// The law of form `form` with parameters `p` (indexed as [`TermFamily::params`]).
+    fn law(&self, form: usize, p: &[f64; MAX_TERM_PARAMS]) -> Self::Law;
+}
+
 /// How a family's state variables start, evolve and act on friction, as the integrator asks
-/// it (see the module documentation). Every method receives the family's form and parameters
-/// (indexed as [`super::TermFamily::params`]) and only the family's own slots, `x`, in the
-/// order of [`StateLaw::vars`].
-pub trait StateLaw: Sync + std::fmt::Debug {
+/// it (see the module documentation), for one form and parameters ([`StateFamily::law`]).
+/// Every method receives only the family's own slots, `x`, in the order of
+/// [`StateLaw::vars`].
+pub trait StateLaw: Copy + std::fmt::Debug {
     /// The state variables, in slot order.
     fn vars(&self) -> &'static [StateVar];
 
     /// The values of a contact with no history.
-    fn initial(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], x: &mut [f64]);
+    fn initial(&self, x: &mut [f64]);
 
     /// The values of a contact that has slid steadily at rate `v` [mm/s] (a record that starts
     /// mid-slide), from the initial ones. By default the initial ones.
-    fn steady(&self, _form: usize, _p: &[f64; MAX_TERM_PARAMS], _v: f64, _x: &mut [f64]) {}
+    fn steady(&self, _v: f64, _x: &mut [f64]) {}
 
     /// The first variable of `x` that is not one the law can have, with what it allows; the
     /// values are finite (checked before).
-    fn invalid(
-        &self,
-        form: usize,
-        p: &[f64; MAX_TERM_PARAMS],
-        x: &[f64],
-    ) -> Option<(usize, &'static str)>;
+    fn invalid(&self, x: &[f64]) -> Option<(usize, &'static str)>;
 
     /// Evolves `x` over `dt` [s] at rest (an elastic step). Returns the friction μ itself
     /// gains over it, if the family adds to μ at rest (the integrator caps μ at μ_s).
-    fn rest(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], x: &mut [f64], dt: f64) -> Option<f64>;
+    fn rest(&self, x: &mut [f64], dt: f64) -> Option<f64>;
 
     /// The family's terms of friction at rest, with its variables `x` at the end of the rest.
-    fn at_rest(&self, _form: usize, _p: &[f64; MAX_TERM_PARAMS], _x: &[f64]) -> StateTerms {
+    fn at_rest(&self, _x: &[f64]) -> StateTerms {
         StateTerms::NONE
     }
 
     /// The family's terms of friction, and their slopes, at plastic increment `lam` [mm] over
     /// a step of `dt` [s] from `start`; writes the variables at the end of that increment to
     /// `end`. The return mapping calls it at each of its iterates.
-    fn slide(
-        &self,
-        form: usize,
-        p: &[f64; MAX_TERM_PARAMS],
-        start: &[f64],
-        dt: f64,
-        lam: f64,
-        end: &mut [f64],
-    ) -> StateTerms;
+    fn slide(&self, start: &[f64], dt: f64, lam: f64, end: &mut [f64]) -> StateTerms;
 
     /// The variables a plastic step ends with once the return has settled on `lam`: by default
     /// those of its last iterate (`end`, already written by [`StateLaw::slide`] at a λ within
     /// one first-order correction of `lam`, which moves them by far less than their scale); a
     /// family may evaluate them at `lam` itself.
-    fn settle(
-        &self,
-        _form: usize,
-        _p: &[f64; MAX_TERM_PARAMS],
-        _start: &[f64],
-        _lam: f64,
-        _end: &mut [f64],
-    ) {
-    }
+    fn settle(&self, _start: &[f64], _lam: f64, _end: &mut [f64]) {}
 }
 
-/// A family switched on in a model that integrates a state, and where its slots are.
+/// Something done with a family's state law by the law's own type
+/// ([`FamilyLaw::apply`](super::FamilyLaw::apply)): the integrator's steps, compiled for each
+/// family with its slots' length known.
+pub(crate) trait LawOp {
+    /// What it gives.
+    type Output;
+
+    /// Does it with `law`.
+    fn apply<L: StateLaw>(self, law: &L) -> Self::Output;
+}
+
+/// A family switched on in a model that integrates a state: its law, built, and where its
+/// slots are.
 #[derive(Clone, Copy, Debug)]
 pub struct FamilyState {
-    /// The family's state law.
-    pub law: &'static dyn StateLaw,
-    /// Its form.
-    pub form: usize,
-    /// Its parameters.
-    pub p: [f64; MAX_TERM_PARAMS],
+    /// The family's state law for its form and parameters.
+    pub law: FamilyLaw,
     /// The first of its slots.
     pub at: usize,
     /// How many slots it takes.
@@ -201,15 +205,9 @@ impl Terms {
     pub fn state_laws(&self) -> impl Iterator<Item = FamilyState> + '_ {
         let mut at = 0;
         self.iter().filter_map(move |e| {
-            let law = e.family().state()?;
+            let law = FamilyLaw::of(e)?;
             let len = law.vars().len();
-            let out = FamilyState {
-                law,
-                form: e.form as usize,
-                p: e.p,
-                at,
-                len,
-            };
+            let out = FamilyState { law, at, len };
             at += len;
             (at <= MAX_STATE_SLOTS).then_some(out)
         })
@@ -218,7 +216,7 @@ impl Terms {
     /// How many slots the families on need.
     pub fn state_len(&self) -> usize {
         self.iter()
-            .filter_map(|e| e.family().state())
+            .filter_map(FamilyLaw::of)
             .map(|law| law.vars().len())
             .sum()
     }
@@ -227,7 +225,7 @@ impl Terms {
     pub fn initial_state(&self) -> StateSlots {
         let mut out = StateSlots::default();
         for f in self.state_laws() {
-            f.law.initial(f.form, &f.p, &mut out.0[f.slots()]);
+            f.law.initial(&mut out.0[f.slots()]);
         }
         out
     }
@@ -264,7 +262,7 @@ impl Terms {
         self.state_laws().find_map(|f| {
             let x = &slots.0[f.slots()];
             f.law
-                .invalid(f.form, &f.p, x)
+                .invalid(x)
                 .map(|(i, expected)| (f.law.vars()[i].name, x[i], expected))
         })
     }

@@ -73,7 +73,7 @@ fn every_family_is_consistent() {
                     || !fam.targets(k).is_empty()
                     || fam.gains_at_rest()
                     || fam.reads_slip_rate()
-                    || fam.state().is_some(),
+                    || FamilyLaw::of(&e).is_some(),
                 "{}",
                 form.key
             );
@@ -159,7 +159,8 @@ fn several_families_are_written_under_their_keys_and_read_back() {
 fn every_state_is_declared_once_and_starts_as_its_law_allows() {
     let mut names: Vec<&str> = Vec::new();
     for (index, fam) in FAMILIES.iter().enumerate() {
-        let Some(law) = fam.state() else {
+        // Every form of a family with a state declares the same variables.
+        let Some(law) = FamilyLaw::of(&TermEffect::new(index as u8, 0)) else {
             continue;
         };
         let vars = law.vars();
@@ -178,7 +179,10 @@ fn every_state_is_declared_once_and_starts_as_its_law_allows() {
             names.push(v.name);
         }
         for (k, form) in fam.forms().iter().enumerate() {
-            let terms = Terms::one(TermEffect::new(index as u8, k as u8));
+            let e = TermEffect::new(index as u8, k as u8);
+            let form_vars = FamilyLaw::of(&e).map(|law| law.vars());
+            assert_eq!(form_vars.map(<[_]>::len), Some(vars.len()), "{}", form.key);
+            let terms = Terms::one(e);
             let start = terms.initial_state();
             assert_eq!(terms.invalid_state(&start), None, "{}", form.key);
             for (i, v) in vars.iter().enumerate() {

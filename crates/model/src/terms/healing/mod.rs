@@ -26,7 +26,7 @@
 //! for none).
 
 use super::{
-    DataScales, EventReadings, FormGuess, Shows, StateLaw, TermFamily, TermForm, TermParam, ANY,
+    DataScales, EventReadings, FormGuess, Shows, TermFamily, TermForm, TermParam, ANY,
     MAX_TERM_PARAMS,
 };
 use serde_json::{Map, Value};
@@ -438,10 +438,6 @@ impl TermFamily for TimeHealing {
 
     fn replaces_recovery(&self, form: usize) -> bool {
         SHAPES[form].1 == Role::Replaces
-    }
-
-    fn state(&self) -> Option<&dyn StateLaw> {
-        Some(self)
     }
 }
 

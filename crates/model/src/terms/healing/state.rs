@@ -3,7 +3,7 @@
 //! out.
 
 use super::TimeHealing;
-use crate::terms::{StateLaw, StateTerms, StateVar, MAX_TERM_PARAMS};
+use crate::terms::{StateFamily, StateLaw, StateTerms, StateVar, MAX_TERM_PARAMS};
 
 const AGE: usize = 0;
 const HEALED: usize = 1;
@@ -19,22 +19,40 @@ const VARS: [StateVar; 2] = [
     },
 ];
 
-impl StateLaw for TimeHealing {
+/// Time healing's law for one form and parameters ([`StateFamily::law`]).
+#[derive(Clone, Copy, Debug)]
+pub struct HealingLaw {
+    form: usize,
+    p: [f64; MAX_TERM_PARAMS],
+    /// The slip over which a gain of its own decays ([`TimeHealing::erased_over`]); `None`
+    /// when the form heals μ itself.
+    erased_over: Option<f64>,
+}
+
+impl StateFamily for TimeHealing {
+    type Law = HealingLaw;
+
+    fn law(&self, form: usize, p: &[f64; MAX_TERM_PARAMS]) -> HealingLaw {
+        HealingLaw {
+            form,
+            p: *p,
+            erased_over: self.erased_over(form, p),
+        }
+    }
+}
+
+impl StateLaw for HealingLaw {
+    #[inline]
     fn vars(&self) -> &'static [StateVar] {
         &VARS
     }
 
-    fn initial(&self, _form: usize, _p: &[f64; MAX_TERM_PARAMS], x: &mut [f64]) {
+    fn initial(&self, x: &mut [f64]) {
         x[AGE] = 0.0;
         x[HEALED] = 0.0;
     }
 
-    fn invalid(
-        &self,
-        _form: usize,
-        _p: &[f64; MAX_TERM_PARAMS],
-        x: &[f64],
-    ) -> Option<(usize, &'static str)> {
+    fn invalid(&self, x: &[f64]) -> Option<(usize, &'static str)> {
         // What only accumulates cannot be negative.
         if x[AGE] < 0.0 {
             Some((AGE, "a time >= 0 [s]"))
@@ -45,11 +63,11 @@ impl StateLaw for TimeHealing {
         }
     }
 
-    #[inline]
-    fn rest(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], x: &mut [f64], dt: f64) -> Option<f64> {
-        let gain = self.rest_gain(form, p, x[AGE], dt);
+    #[inline(always)]
+    fn rest(&self, x: &mut [f64], dt: f64) -> Option<f64> {
+        let gain = TimeHealing.rest_gain(self.form, &self.p, x[AGE], dt);
         x[AGE] += dt;
-        if self.erased_over(form, p).is_some() {
+        if self.erased_over.is_some() {
             // A gain of its own, on top of μ.
             x[HEALED] += gain;
             None
@@ -60,26 +78,18 @@ impl StateLaw for TimeHealing {
         }
     }
 
-    #[inline]
-    fn at_rest(&self, _form: usize, _p: &[f64; MAX_TERM_PARAMS], x: &[f64]) -> StateTerms {
+    #[inline(always)]
+    fn at_rest(&self, x: &[f64]) -> StateTerms {
         StateTerms {
             own: x[HEALED],
             ..StateTerms::NONE
         }
     }
 
-    #[inline]
-    fn slide(
-        &self,
-        form: usize,
-        p: &[f64; MAX_TERM_PARAMS],
-        start: &[f64],
-        _dt: f64,
-        lam: f64,
-        end: &mut [f64],
-    ) -> StateTerms {
-        self.settle(form, p, start, lam, end);
-        let d_h = self.erased_over(form, p).unwrap_or(f64::INFINITY);
+    #[inline(always)]
+    fn slide(&self, start: &[f64], _dt: f64, lam: f64, end: &mut [f64]) -> StateTerms {
+        self.settle(start, lam, end);
+        let d_h = self.erased_over.unwrap_or(f64::INFINITY);
         StateTerms {
             own: end[HEALED],
             down: -end[HEALED] / d_h,
@@ -88,17 +98,10 @@ impl StateLaw for TimeHealing {
     }
 
     /// The gain of its own decays in closed form: evaluated at the settled λ itself.
-    #[inline]
-    fn settle(
-        &self,
-        form: usize,
-        p: &[f64; MAX_TERM_PARAMS],
-        start: &[f64],
-        lam: f64,
-        end: &mut [f64],
-    ) {
+    #[inline(always)]
+    fn settle(&self, start: &[f64], lam: f64, end: &mut [f64]) {
         end[AGE] = 0.0;
-        end[HEALED] = match self.erased_over(form, p) {
+        end[HEALED] = match self.erased_over {
             Some(d_h) => start[HEALED] * (-lam / d_h).exp(),
             None => 0.0,
         };

@@ -275,7 +275,7 @@ impl RateEffect {
 
     /// The rate terms of a creeping form at rest (plastic slip rate zero) with state `theta`:
     /// the direct effect at a vanishing rate, the state term, the power law's factor at v = 0.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn creep_terms(&self, theta: f64) -> StateTerms {
         let mut t = StateTerms::NONE;
         match self.form {

@@ -22,7 +22,7 @@
 //! "b": 0.012, "d_c": 0.05, "v_c": 1e-6, "v_ref": 0.01}` (older files wrote every field).
 
 use super::{
-    DataScales, EventReadings, FormGuess, Shows, StateLaw, TermFamily, TermForm, TermParam, ANY,
+    DataScales, EventReadings, FormGuess, Shows, TermFamily, TermForm, TermParam, ANY,
     MAX_TERM_PARAMS,
 };
 use serde_json::{Map, Value};
@@ -409,10 +409,6 @@ impl TermFamily for Rate {
                 AtRest::Creep
             },
         })
-    }
-
-    fn state(&self) -> Option<&dyn StateLaw> {
-        Some(self)
     }
 }
 

@@ -2,7 +2,7 @@
 //! the last plastic step, which a locked form keeps while the contact rests.
 
 use super::{Rate, RateEffect, RateForm};
-use crate::terms::{StateLaw, StateTerms, StateVar, TermFamily, MAX_TERM_PARAMS};
+use crate::terms::{StateFamily, StateLaw, StateTerms, StateVar, TermFamily, MAX_TERM_PARAMS};
 
 const THETA: usize = 0;
 const HELD_ADD: usize = 1;
@@ -23,46 +23,44 @@ const VARS: [StateVar; 3] = [
     },
 ];
 
-/// The law of form `form` with parameters `p`.
-#[inline]
-fn law(form: usize, p: &[f64; MAX_TERM_PARAMS]) -> RateEffect {
-    Rate.slip_rate_law(form, p)
-        .expect("every form of the rate family is a slip-rate law")
+impl StateFamily for Rate {
+    type Law = RateEffect;
+
+    fn law(&self, form: usize, p: &[f64; MAX_TERM_PARAMS]) -> RateEffect {
+        self.slip_rate_law(form, p)
+            .expect("every form of the rate family is a slip-rate law")
+    }
 }
 
-impl StateLaw for Rate {
+/// The rate law as the return mapping solves it keeps its state.
+impl StateLaw for RateEffect {
+    #[inline]
     fn vars(&self) -> &'static [StateVar] {
         &VARS
     }
 
-    fn initial(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], x: &mut [f64]) {
+    fn initial(&self, x: &mut [f64]) {
         // θ steady at the reference rate; no rate term held.
-        x[THETA] = law(form, p).neutral_theta();
+        x[THETA] = self.neutral_theta();
         x[HELD_ADD] = 0.0;
         x[HELD_FACTOR] = 1.0;
     }
 
-    fn steady(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], v: f64, x: &mut [f64]) {
-        let law = law(form, p);
-        if law.has_state() && v > 0.0 {
-            x[THETA] = law.steady_theta(v);
+    fn steady(&self, v: f64, x: &mut [f64]) {
+        if self.has_state() && v > 0.0 {
+            x[THETA] = self.steady_theta(v);
         }
-        (x[HELD_FACTOR], x[HELD_ADD]) = law.steady_terms(v, 1.0, 0.0);
+        (x[HELD_FACTOR], x[HELD_ADD]) = self.steady_terms(v, 1.0, 0.0);
     }
 
-    fn invalid(
-        &self,
-        form: usize,
-        p: &[f64; MAX_TERM_PARAMS],
-        x: &[f64],
-    ) -> Option<(usize, &'static str)> {
+    fn invalid(&self, x: &[f64]) -> Option<(usize, &'static str)> {
         if !(x[HELD_FACTOR] > 0.0 && x[HELD_FACTOR].is_finite()) {
             return Some((
                 HELD_FACTOR,
                 "a finite number > 0 (1 for a new contact point)",
             ));
         }
-        if law(form, p).has_state() && x[THETA] <= 0.0 {
+        if self.has_state() && x[THETA] <= 0.0 {
             return Some((
                 THETA,
                 "a state variable > 0 [s] (the model has a rate-and-state form)",
@@ -71,41 +69,32 @@ impl StateLaw for Rate {
         None
     }
 
-    #[inline]
-    fn rest(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], x: &mut [f64], dt: f64) -> Option<f64> {
+    #[inline(always)]
+    fn rest(&self, x: &mut [f64], dt: f64) -> Option<f64> {
         // The ageing law ages the contact at rest (θ̇ = 1); the slip law's θ does not move,
         // and the held terms are kept.
-        if law(form, p).form == RateForm::StateAgeing {
+        if self.form == RateForm::StateAgeing {
             x[THETA] += dt;
         }
         None
     }
 
-    #[inline]
-    fn at_rest(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], x: &[f64]) -> StateTerms {
-        let law = law(form, p);
-        if law.locked() {
+    #[inline(always)]
+    fn at_rest(&self, x: &[f64]) -> StateTerms {
+        if self.locked() {
             StateTerms {
                 factor: x[HELD_FACTOR],
                 add: x[HELD_ADD],
                 ..StateTerms::NONE
             }
         } else {
-            law.creep_terms(x[THETA])
+            self.creep_terms(x[THETA])
         }
     }
 
-    #[inline]
-    fn slide(
-        &self,
-        form: usize,
-        p: &[f64; MAX_TERM_PARAMS],
-        start: &[f64],
-        dt: f64,
-        lam: f64,
-        end: &mut [f64],
-    ) -> StateTerms {
-        let t = law(form, p).plastic_terms(start[THETA], dt, lam);
+    #[inline(always)]
+    fn slide(&self, start: &[f64], dt: f64, lam: f64, end: &mut [f64]) -> StateTerms {
+        let t = self.plastic_terms(start[THETA], dt, lam);
         end[THETA] = t.theta;
         end[HELD_ADD] = t.add;
         end[HELD_FACTOR] = t.factor;
