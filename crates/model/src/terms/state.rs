@@ -79,16 +79,18 @@ pub struct StateTerms {
 }
 
 impl StateTerms {
-    /// No effect on friction.
+    /// No effect on friction. What adds is −0, the exact additive identity (x + (−0) is x for
+    /// every x, +0 and −0 alike), and what multiplies is 1: where the step knows a family's
+    /// terms, the compiler drops those it leaves as they are.
     pub const NONE: StateTerms = StateTerms {
         factor: 1.0,
         dfactor: 0.0,
-        add: 0.0,
-        dadd: 0.0,
-        mu_k_shift: 0.0,
-        dmu_k: 0.0,
-        own: 0.0,
-        down: 0.0,
+        add: -0.0,
+        dadd: -0.0,
+        mu_k_shift: -0.0,
+        dmu_k: -0.0,
+        own: -0.0,
+        down: -0.0,
     };
 
     /// These terms and `other` together: factors multiply, the rest adds up. Identity parts
