@@ -88,7 +88,12 @@ impl StateLaw for HealingLaw {
 
     #[inline(always)]
     fn slide(&self, start: &[f64], _dt: f64, lam: f64, end: &mut [f64]) -> StateTerms {
-        self.settle(start, lam, end);
+        // No gain of its own to erase: none at any λ (the step's end settles it all the same).
+        end[AGE] = 0.0;
+        end[HEALED] = 0.0;
+        if start[HEALED] != 0.0 {
+            self.settle(start, lam, end);
+        }
         let d_h = self.erased_over.unwrap_or(f64::INFINITY);
         StateTerms {
             own: end[HEALED],
