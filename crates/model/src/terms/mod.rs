@@ -50,6 +50,7 @@ registry! {
     slip_hardening::SlipHardening,
     time_trend::TimeTrend,
     direction::Direction,
+    #[cfg(test)] run_in::RunIn with state,
 }
 
 pub use direction::Direction;
