@@ -228,7 +228,7 @@ pub(crate) struct Plastic {
     pub s: f64,
     pub mu: f64,
     /// The families' state the step ends with: the one at the return's last evaluation,
-    /// settled at `lam` ([`Consts::settle_state`]); zero for a model without state.
+    /// settled at `lam` ([`StateStep::settle`]); zero for a model without state.
     pub state: StateSlots,
 }
 
