@@ -13,9 +13,15 @@
 
 /**
  * Number of doubles in a [`SubfricState`] (the number of solution-dependent state variables
- * of a friction subroutine that stores it).
+ * of a friction subroutine that stores it): 12 of the contact and [`SUBFRIC_STATE_SLOTS`].
  */
 #define SUBFRIC_STATE_LEN 17
+
+/**
+ * Number of slots in a [`SubfricState`] for the state variables of the model's effect
+ * families (θ of rate and state, the contact's age under time healing, ...).
+ */
+#define SUBFRIC_STATE_SLOTS 5
 
 /**
  * Largest model file read [bytes]: a fit.json of a joint fit of ten thousand tests is a few
@@ -140,30 +146,19 @@ typedef struct SubfricState {
    */
   double slip_path;
   /**
-   * Time since plastic sliding [s].
-   */
-  double age;
-  /**
    * Time since the point started [s] (a registered term of time reads it).
    */
   double time;
   /**
-   * Healing gain of its own on top of μ (time healing erased by slip; 0 otherwise).
+   * The state variables of the model's effect families that integrate one, in the order
+   * the families are registered, as many as each declares: rate and state its θ [s] and the
+   * rate terms R and V of the last plastic step (kept at rest by a form locked at rest),
+   * time healing the time since plastic sliding [s] and its gain of its own on top of μ.
+   * Unused slots are 0. What they hold is the model's business, as the rest of the state:
+   * store them and hand them back; a message about one names it as its family does
+   * (`state_in.theta = ...`).
    */
-  double healed;
-  /**
-   * State variable θ of the rate-and-state extension [s] (unused otherwise).
-   */
-  double theta;
-  /**
-   * Additive rate term R of the last plastic step (kept at rest by a rate extension that is
-   * locked at rest; 0 for a new state).
-   */
-  double rate_add;
-  /**
-   * Rate factor V of the last plastic step (as `rate_add`; 1 for a new state).
-   */
-  double rate_factor;
+  double slots[SUBFRIC_STATE_SLOTS];
 } SubfricState;
 
 /**

@@ -3,6 +3,7 @@
 //! numbers would not be finite.
 
 use crate::{Failure, SubfricResponse, SubfricState, SubfricStatus, SUBFRIC_MAX_MODEL_FILE_BYTES};
+use subfric_model::Model;
 
 /// Smallest share of the forward axis that must lie in the contact plane: below it the axis
 /// is parallel to the normal to round-off and its projection, the direction of "forward", is
@@ -73,8 +74,12 @@ pub(crate) fn read_model_file(path: &str) -> Result<String, Failure> {
 }
 
 /// Every number of a state, by name, in the order of the struct: destructured, so that a field
-/// added to [`SubfricState`] cannot be left out of a guard (it would not compile).
-pub(crate) fn state_numbers(s: &SubfricState) -> [(&'static str, f64); crate::SUBFRIC_STATE_LEN] {
+/// added to [`SubfricState`] cannot be left out of a guard (it would not compile). The slots are
+/// named as the families of `model` name their state variables (`slots[i]` for unused ones).
+pub(crate) fn state_numbers(
+    s: &SubfricState,
+    model: &Model,
+) -> [(&'static str, f64); crate::SUBFRIC_STATE_LEN] {
     let SubfricState {
         slip,
         shear,
@@ -83,14 +88,10 @@ pub(crate) fn state_numbers(s: &SubfricState) -> [(&'static str, f64); crate::SU
         cos_r,
         sin_r,
         slip_path,
-        age,
         time,
-        healed,
-        theta,
-        rate_add,
-        rate_factor,
+        slots,
     } = *s;
-    [
+    let contact = [
         ("slip[0]", slip[0]),
         ("slip[1]", slip[1]),
         ("slip[2]", slip[2]),
@@ -102,23 +103,27 @@ pub(crate) fn state_numbers(s: &SubfricState) -> [(&'static str, f64); crate::SU
         ("cos_r", cos_r),
         ("sin_r", sin_r),
         ("slip_path", slip_path),
-        ("age", age),
         ("time", time),
-        ("healed", healed),
-        ("theta", theta),
-        ("rate_add", rate_add),
-        ("rate_factor", rate_factor),
-    ]
+    ];
+    const _: () = assert!(12 + crate::SUBFRIC_STATE_SLOTS == crate::SUBFRIC_STATE_LEN);
+    let names = model.ext.terms.slot_names();
+    std::array::from_fn(|i| match i.checked_sub(contact.len()) {
+        None => contact[i],
+        Some(k) => (names[k], slots[k]),
+    })
 }
 
-/// The first field of a state that is not a finite number, by name, with its value.
-pub(crate) fn first_not_finite(s: &SubfricState) -> Option<(&'static str, f64)> {
-    state_numbers(s).into_iter().find(|(_, x)| !x.is_finite())
+/// The first field of a state that is not a finite number, by name (as `model` names its
+/// slots), with its value.
+pub(crate) fn first_not_finite(s: &SubfricState, model: &Model) -> Option<(&'static str, f64)> {
+    state_numbers(s, model)
+        .into_iter()
+        .find(|(_, x)| !x.is_finite())
 }
 
 /// Whether every number of a step's result (state and response) is finite.
-pub(crate) fn all_finite(out: &SubfricState, r: &SubfricResponse) -> bool {
-    first_not_finite(out).is_none()
+pub(crate) fn all_finite(out: &SubfricState, model: &Model, r: &SubfricResponse) -> bool {
+    first_not_finite(out, model).is_none()
         && r.shear
             .iter()
             .chain(&r.traction)

@@ -28,11 +28,18 @@ mod guards;
 use guards::{all_finite, in_plane, read_model_file};
 use std::ffi::{c_char, c_int, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use subfric_model::{Contact3, Model, ModelJsonError, Params, RateHeld, State3, StepError};
+use subfric_model::{Contact3, Model, ModelJsonError, Params, State3, StateSlots, StepError};
 
 /// Number of doubles in a [`SubfricState`] (the number of solution-dependent state variables
-/// of a friction subroutine that stores it).
+/// of a friction subroutine that stores it): 12 of the contact and [`SUBFRIC_STATE_SLOTS`].
 pub const SUBFRIC_STATE_LEN: usize = 17;
+
+/// Number of slots in a [`SubfricState`] for the state variables of the model's effect
+/// families (θ of rate and state, the contact's age under time healing, ...).
+pub const SUBFRIC_STATE_SLOTS: usize = 5;
+
+// The slots are the model's own, one for one.
+const _: () = assert!(SUBFRIC_STATE_SLOTS == subfric_model::MAX_STATE_SLOTS);
 
 /// What a call did.
 #[repr(C)]
@@ -99,19 +106,16 @@ pub struct SubfricState {
     pub sin_r: f64,
     /// Accumulated plastic slip [mm].
     pub slip_path: f64,
-    /// Time since plastic sliding [s].
-    pub age: f64,
     /// Time since the point started [s] (a registered term of time reads it).
     pub time: f64,
-    /// Healing gain of its own on top of μ (time healing erased by slip; 0 otherwise).
-    pub healed: f64,
-    /// State variable θ of the rate-and-state extension [s] (unused otherwise).
-    pub theta: f64,
-    /// Additive rate term R of the last plastic step (kept at rest by a rate extension that is
-    /// locked at rest; 0 for a new state).
-    pub rate_add: f64,
-    /// Rate factor V of the last plastic step (as `rate_add`; 1 for a new state).
-    pub rate_factor: f64,
+    /// The state variables of the model's effect families that integrate one, in the order
+    /// the families are registered, as many as each declares: rate and state its θ [s] and the
+    /// rate terms R and V of the last plastic step (kept at rest by a form locked at rest),
+    /// time healing the time since plastic sliding [s] and its gain of its own on top of μ.
+    /// Unused slots are 0. What they hold is the model's business, as the rest of the state:
+    /// store them and hand them back; a message about one names it as its family does
+    /// (`state_in.theta = ...`).
+    pub slots: [f64; SUBFRIC_STATE_SLOTS],
 }
 
 /// What one step returns besides the new state.
@@ -352,7 +356,7 @@ fn probe_steps(model: &Model, contact: &Contact3) -> Result<(), Failure> {
             })?;
         slid += du;
         let out = to_c(&next);
-        if let Some((field, x)) = guards::first_not_finite(&out) {
+        if let Some((field, x)) = guards::first_not_finite(&out, model) {
             return Err(refuse(format!(
                 "a slip of {du} mm in 1 s at 100 kPa gives {field} = {x}"
             )));
@@ -362,7 +366,7 @@ fn probe_steps(model: &Model, contact: &Contact3) -> Result<(), Failure> {
     let (held, _) = contact
         .step_increment_with_tangent(&st, &[0.0; 3], 100.0, 1000.0)
         .map_err(|e| refuse(format!("a hold of 1000 s after {slid} mm: {e}")))?;
-    if let Some((field, x)) = guards::first_not_finite(&to_c(&held)) {
+    if let Some((field, x)) = guards::first_not_finite(&to_c(&held), model) {
         return Err(refuse(format!(
             "a hold of 1000 s after {slid} mm gives {field} = {x}"
         )));
@@ -612,18 +616,14 @@ fn to_c(s: &State3) -> SubfricState {
         cos_r: s.cos_r,
         sin_r: s.sin_r,
         slip_path: s.slip_path,
-        age: s.age,
         time: s.time,
-        healed: s.healed,
-        theta: s.theta,
-        rate_add: s.rate_held.add,
-        rate_factor: s.rate_held.factor,
+        slots: s.slots.0,
     }
 }
 
 /// The state of `s`, if it is one the model can have (see [`Contact3::check_state`]).
 fn from_c(m: &SubfricModel, s: &SubfricState) -> Result<State3, Failure> {
-    if let Some((field, x)) = guards::first_not_finite(s) {
+    if let Some((field, x)) = guards::first_not_finite(s, &m.model) {
         return Err(Failure(
             SubfricStatus::InvalidInput,
             format!(
@@ -639,14 +639,8 @@ fn from_c(m: &SubfricModel, s: &SubfricState) -> Result<State3, Failure> {
         cos_r: s.cos_r,
         sin_r: s.sin_r,
         slip_path: s.slip_path,
-        age: s.age,
         time: s.time,
-        healed: s.healed,
-        theta: s.theta,
-        rate_held: RateHeld {
-            add: s.rate_add,
-            factor: s.rate_factor,
-        },
+        slots: StateSlots(s.slots),
     };
     m.contact.check_state(&st).map_err(|e| {
         Failure(
@@ -756,7 +750,7 @@ pub unsafe extern "C" fn subfric_step(
         // Never a success with a number that is not one: a state at the edge of the doubles
         // (a slip record near 1e308, say) is refused rather than stepped into infinity.
         let out = to_c(&next);
-        if !all_finite(&out, &r) {
+        if !all_finite(&out, &m.model, &r) {
             return fail(
                 SubfricStatus::InvalidInput,
                 format!(

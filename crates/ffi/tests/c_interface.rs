@@ -283,19 +283,10 @@ fn write_cases(cases: &[Case]) -> (String, usize) {
             for x in n.slip.iter().chain(&n.shear) {
                 num(&mut out, *x);
             }
-            for x in [
-                n.mu,
-                n.r,
-                n.cos_r,
-                n.sin_r,
-                n.slip_path,
-                n.age,
-                n.time,
-                n.healed,
-                n.theta,
-                n.rate_held.add,
-                n.rate_held.factor,
-            ] {
+            for x in [n.mu, n.r, n.cos_r, n.sin_r, n.slip_path, n.time]
+                .into_iter()
+                .chain(n.slots.0)
+            {
                 num(&mut out, x);
             }
             tan.d_slip.iter().flatten().for_each(|&x| num(&mut out, x));

@@ -38,6 +38,8 @@ fn committed_header_is_up_to_date() {
         "subfric_version",
         "SUBFRIC_STATUS_NO_CONVERGENCE",
         "#define SUBFRIC_STATE_LEN 17",
+        "#define SUBFRIC_STATE_SLOTS 5",
+        "double slots[SUBFRIC_STATE_SLOTS];",
         "double dshear_dslip[3][3];",
     ] {
         assert!(generated.contains(name), "the header lacks {name}");

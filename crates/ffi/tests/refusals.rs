@@ -80,12 +80,8 @@ fn step(
         cos_r: f64::NAN,
         sin_r: f64::NAN,
         slip_path: f64::NAN,
-        age: f64::NAN,
         time: f64::NAN,
-        healed: f64::NAN,
-        theta: f64::NAN,
-        rate_add: f64::NAN,
-        rate_factor: f64::NAN,
+        slots: [f64::NAN; SUBFRIC_STATE_SLOTS],
     };
     let mut r = SubfricResponse {
         shear: [f64::NAN; 3],
@@ -118,12 +114,8 @@ fn an_all_zero_state_is_no_state_and_is_refused() {
         cos_r: 0.0,
         sin_r: 0.0,
         slip_path: 0.0,
-        age: 0.0,
         time: 0.0,
-        healed: 0.0,
-        theta: 0.0,
-        rate_add: 0.0,
-        rate_factor: 0.0,
+        slots: [0.0; SUBFRIC_STATE_SLOTS],
     };
     let (status, msg, next, _) = step(m, &zero, [0.01, 0.0, 0.0], 100.0, 1.0);
     assert_eq!(status, SubfricStatus::InvalidInput, "{msg}");
@@ -308,8 +300,9 @@ fn no_garbage_state_steps_to_a_success_with_a_number_that_is_not_one() {
                 8 => st.cos_r = v,
                 9 => st.sin_r = v,
                 10 => st.slip_path = v,
-                11 => st.age = v,
-                _ => st.theta = v,
+                11 => st.time = v,
+                // θ of the rate-and-state form (its first slot), or a slot of none.
+                _ => st.slots[rng.next() as usize % 2] = v,
             }
         }
         let du = [rng.garbage() * 1e-3, rng.garbage() * 1e-3, rng.garbage()];
@@ -331,9 +324,9 @@ fn no_garbage_state_steps_to_a_success_with_a_number_that_is_not_one() {
                 next.cos_r,
                 next.sin_r,
                 next.slip_path,
-                next.age,
+                next.time,
             ]);
-            all.extend([next.theta]);
+            all.extend(next.slots);
             all.extend(r.shear.iter().chain(&r.traction).chain(&r.dshear_dpressure));
             all.extend(r.dshear_dslip.iter().flatten().chain(&r.plastic_slip));
             assert!(
@@ -448,32 +441,48 @@ fn from_json(text: &str) -> (SubfricStatus, String, *mut SubfricModel) {
 
 #[test]
 fn every_state_field_time_included_is_guarded_in_and_out() {
-    let (_, _, m) = model(&sample_params(), None, None);
+    // Rate and state beside time healing: their state variables fill the first slots, in the
+    // order the families are registered, and are named as the families name them.
+    let (status, msg, m) = from_json(
+        r#"{"params": {"mu_s":0.45,"mu_k":0.3,"kappa":1.2,"xi":0.003,"u_tilde":15,"alpha_t":1000},
+            "ext": {"rate": {"form": "state-ageing", "a": 0.01, "b": 0.008, "d_c": 0.02, "v_c": 1e-6, "v_ref": 0.001},
+                    "healing": {"form": "log", "b": 0.02, "t_c": 1, "d_h": 0.01}}}"#,
+    );
+    assert_eq!(status, SubfricStatus::Ok, "{msg}");
     // In: each field of a real state made infinite (or NaN) in turn is refused, by name.
-    let names = [
-        "time",
-        "healed",
-        "rate_add",
-        "rate_factor",
-        "age",
-        "theta",
-        "slip_path",
-    ];
-    for (k, name) in names.iter().enumerate() {
+    let slots = ["theta", "rate_add", "rate_factor", "age", "healed"];
+    assert_eq!(slots.len(), SUBFRIC_STATE_SLOTS);
+    for (k, name) in ["time", "slip_path"].iter().chain(&slots).enumerate() {
         let mut st = init(m);
         let bad = if k % 2 == 0 { f64::INFINITY } else { f64::NAN };
         match *name {
             "time" => st.time = bad,
-            "healed" => st.healed = bad,
-            "rate_add" => st.rate_add = bad,
-            "rate_factor" => st.rate_factor = bad,
-            "age" => st.age = bad,
-            "theta" => st.theta = bad,
-            _ => st.slip_path = bad,
+            "slip_path" => st.slip_path = bad,
+            _ => st.slots[k - 2] = bad,
         }
         let (status, msg, _, _) = step(m, &st, [1e-3, 0.0, 0.0], 100.0, 1.0);
         assert_eq!(status, SubfricStatus::InvalidInput, "{name}: {msg}");
         assert!(msg.contains(&format!("state_in.{name} = ")), "{msg}");
+    }
+    // A slot no family of the model uses is named by its place.
+    let (_, _, base) = model(&sample_params(), None, None);
+    let mut st = init(base);
+    assert_eq!(st.slots, [0.0; SUBFRIC_STATE_SLOTS]);
+    st.slots[4] = f64::NAN;
+    let (status, msg, _, _) = step(base, &st, [1e-3, 0.0, 0.0], 100.0, 1.0);
+    assert_eq!(status, SubfricStatus::InvalidInput, "{msg}");
+    assert!(msg.contains("state_in.slots[4] = NaN"), "{msg}");
+    free(base);
+    // What the families allow of their variables is theirs to say.
+    for (slot, bad, expected) in [(0, 0.0, "> 0 [s]"), (3, -1.0, "a time >= 0")] {
+        let mut st = init(m);
+        st.slots[slot] = bad;
+        let (status, msg, _, _) = step(m, &st, [1e-3, 0.0, 0.0], 100.0, 1.0);
+        assert_eq!(status, SubfricStatus::InvalidInput, "{msg}");
+        assert!(
+            msg.contains(&format!("state.{} = ", slots[slot])) && msg.contains(expected),
+            "{msg}"
+        );
     }
     // Out: a time at the edge of the doubles plus a step of them is no success with time = inf.
     let mut st = init(m);

@@ -1,8 +1,9 @@
 //! One-dimensional contact: the paper's tests (direct shear, ring torsion, cyclic shear).
 
 use crate::integrator::{
-    return_shear, return_slip, Consts, Local, Plastic, RateHeld, StepError, StepInput,
+    return_shear_as, return_slip_as, Consts, Local, Plastic, StepError, StepInput,
 };
+use crate::terms::StateSlots;
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
 
@@ -23,20 +24,16 @@ pub struct State1 {
     pub sin_r: f64,
     /// Accumulated plastic slip ∫‖u̇^p‖ dt [mm].
     pub slip_path: f64,
-    /// Time since plastic sliding last occurred [s] (used by time healing).
-    pub age: f64,
     /// Time since the contact started [s] (used by registered terms, see [`crate::terms`]).
     pub time: f64,
-    /// Healing gain of its own, on top of μ ([`crate::TermFamily::erased_over`]; 0 otherwise).
-    pub healed: f64,
     /// Plastic slip increment of the last step [mm] (signed).
     pub last_plastic: f64,
-    /// State variable θ of the rate-and-state forms [s] (unused otherwise).
-    pub theta: f64,
     /// Time increment of the last step [s].
     pub last_dt: f64,
-    /// The rate terms of the last plastic step (kept at rest by a locked rate form).
-    pub rate_held: RateHeld,
+    /// The state variables of the families that integrate one (rate, time healing; see
+    /// [`crate::terms::StateLaw`]), addressed through the families: e.g.
+    /// `model.ext.terms.state_value(&st.slots, "theta")`.
+    pub slots: StateSlots,
 }
 
 impl State1 {
@@ -50,13 +47,10 @@ impl State1 {
             cos_r: 1.0,
             sin_r: 0.0,
             slip_path: 0.0,
-            age: 0.0,
             time: 0.0,
-            healed: 0.0,
             last_plastic: 0.0,
-            theta: model.ext.rate().map_or(0.0, |r| r.neutral_theta()),
             last_dt: 0.0,
-            rate_held: RateHeld::NEUTRAL,
+            slots: model.ext.terms.initial_state(),
         }
     }
 
@@ -139,8 +133,7 @@ impl Contact1 {
         mu_eff: f64,
         p: f64,
         dt: f64,
-        theta: f64,
-        healed: f64,
+        slots: StateSlots,
     ) -> State1 {
         let r = (shear.abs() / (mu_eff * p)).min(1.0);
         let (sin_r, cos_r) = (FRAC_PI_2 * r).sin_cos();
@@ -152,20 +145,18 @@ impl Contact1 {
             cos_r,
             sin_r,
             slip_path: st.slip_path,
-            age: st.age + dt,
             time: st.time + dt,
-            healed,
             last_plastic: 0.0,
-            theta,
             last_dt: dt,
-            rate_held: st.rate_held,
+            slots,
         }
     }
 
     /// The part both controls share: from the traction the step would reach elastically,
-    /// either the elastic end state, or what the plastic return starts from.
-    #[inline]
-    fn begin(
+    /// either the elastic end state, or what the plastic return starts from. `STATE` false:
+    /// the model has no state (see [`Contact1::step_slip`]).
+    #[inline(always)]
+    fn begin<const STATE: bool>(
         &mut self,
         st: &State1,
         traction: f64,
@@ -184,9 +175,8 @@ impl Contact1 {
         };
         let local = self.local(p, sign);
         let exp_xi_dt = self.exp_xi_dt(dt);
-        let mu_el = self.k.rest_mu(&local, st.mu, st.age, dt, exp_xi_dt);
-        let theta_el = self.k.rest_theta(st.theta, dt);
-        let healed_el = self.k.rest_healed(st.healed, st.age, dt);
+        let (slots_el, gain) = self.k.rest_state::<STATE>(&st.slots, dt);
+        let mu_el = self.k.rest_mu(&local, st.mu, gain, exp_xi_dt);
         if traction == 0.0 {
             return Begin::Elastic(Self::elastic(
                 st,
@@ -196,20 +186,13 @@ impl Contact1 {
                 1.0,
                 p,
                 dt,
-                theta_el,
-                healed_el,
+                slots_el,
             ));
         }
         let (r0, c0, s0) = Self::start_surface(st, sign);
-        let mu_eff0 = self.k.elastic_mu_eff(
-            &local,
-            mu_el,
-            theta_el,
-            st.slip_path,
-            st.time + dt,
-            healed_el,
-            st.rate_held,
-        );
+        let mu_eff0 =
+            self.k
+                .elastic_mu_eff::<STATE>(&local, mu_el, &slots_el, st.slip_path, st.time + dt);
         let magnitude = traction.abs();
         let excess = magnitude - r0 * mu_eff0 * p;
         if excess <= self.k.rest_tolerance(magnitude, p) {
@@ -221,8 +204,7 @@ impl Contact1 {
                 mu_eff0,
                 p,
                 dt,
-                theta_el,
-                healed_el,
+                slots_el,
             ));
         }
         let (xi_dt, exp_xi_dt) = if self.k.recovery() {
@@ -245,8 +227,6 @@ impl Contact1 {
                 exp_xi_dt,
                 s_acc: st.slip_path,
                 time: st.time + dt,
-                healed: st.healed,
-                theta: st.theta,
                 local,
                 lam_guess: if self.k.rate.is_some() && st.last_dt > 0.0 {
                     st.last_plastic.abs() * dt / st.last_dt
@@ -277,18 +257,20 @@ impl Contact1 {
             cos_r: pl.c,
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
-            age: 0.0,
             time: st.time + input.dt,
-            healed: self.k.slid_healed(input.healed, pl.lam).0,
             last_plastic: sign * pl.lam,
-            theta: pl.theta,
             last_dt: input.dt,
-            rate_held: pl.held,
+            slots: pl.state,
         }
     }
 
     /// One step under slip control: impose the total slip `slip` at normal stress `p` [kPa]
     /// after `dt` seconds. Returns the end state, or an error value (retry with substeps).
+    ///
+    /// The step is compiled twice, for a model whose families integrate a state and for one
+    /// whose do not: the second (the base model's, the step the benchmark times) carries no
+    /// trace of the state, not even a test of whether there is one; the first has the
+    /// families' laws inlined in it, by their own types (built once, when the contact is).
     #[inline]
     pub fn step_slip(
         &mut self,
@@ -297,8 +279,24 @@ impl Contact1 {
         p: f64,
         dt: f64,
     ) -> Result<State1, StepError> {
+        if self.k.has_state() {
+            self.step_slip_as::<true>(st, slip, p, dt)
+        } else {
+            self.step_slip_as::<false>(st, slip, p, dt)
+        }
+    }
+
+    /// [`Contact1::step_slip`] for a model with (`STATE`) or without a state.
+    #[inline(always)]
+    fn step_slip_as<const STATE: bool>(
+        &mut self,
+        st: &State1,
+        slip: f64,
+        p: f64,
+        dt: f64,
+    ) -> Result<State1, StepError> {
         let trial = st.shear + self.k.alpha * (slip - st.slip);
-        match self.begin(st, trial, slip, p, dt) {
+        match self.begin::<STATE>(st, trial, slip, p, dt) {
             Begin::Elastic(end) => Ok(end),
             Begin::Plastic {
                 sign,
@@ -306,7 +304,7 @@ impl Contact1 {
                 excess,
                 input,
             } => {
-                let pl = return_slip(&self.k, &input, magnitude, excess)?;
+                let pl = return_slip_as::<STATE>(&self.k, &input, &st.slots, magnitude, excess)?;
                 let shear = sign * (magnitude - self.k.alpha * pl.lam);
                 Ok(self.plastic(st, slip, shear, sign, &input, &pl))
             }
@@ -315,7 +313,7 @@ impl Contact1 {
 
     /// One step under traction control: impose the shear `shear` [kPa] at normal stress `p`
     /// after `dt` seconds; the slip follows. A shear above the friction capacity is
-    /// [`StepError::Runaway`].
+    /// [`StepError::Runaway`]. Compiled twice, as [`Contact1::step_slip`].
     pub fn step_shear(
         &mut self,
         st: &State1,
@@ -323,8 +321,24 @@ impl Contact1 {
         p: f64,
         dt: f64,
     ) -> Result<State1, StepError> {
+        if self.k.has_state() {
+            self.step_shear_as::<true>(st, shear, p, dt)
+        } else {
+            self.step_shear_as::<false>(st, shear, p, dt)
+        }
+    }
+
+    /// [`Contact1::step_shear`] for a model with (`STATE`) or without a state.
+    #[inline(always)]
+    fn step_shear_as<const STATE: bool>(
+        &mut self,
+        st: &State1,
+        shear: f64,
+        p: f64,
+        dt: f64,
+    ) -> Result<State1, StepError> {
         let elastic_slip = st.slip + (shear - st.shear) / self.k.alpha;
-        match self.begin(st, shear, elastic_slip, p, dt) {
+        match self.begin::<STATE>(st, shear, elastic_slip, p, dt) {
             Begin::Elastic(end) => Ok(end),
             Begin::Plastic {
                 sign,
@@ -332,7 +346,8 @@ impl Contact1 {
                 input,
                 ..
             } => {
-                let pl = return_shear(&self.k, &input, magnitude, st.last_plastic.abs())?;
+                let guess = st.last_plastic.abs();
+                let pl = return_shear_as::<STATE>(&self.k, &input, &st.slots, magnitude, guess)?;
                 Ok(self.plastic(st, elastic_slip + sign * pl.lam, shear, sign, &input, &pl))
             }
         }

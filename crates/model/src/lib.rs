@@ -27,7 +27,7 @@ pub mod terms;
 pub use contact1::{Contact1, State1};
 pub use contact3::{Contact3, State3, StateError, Tangent3, Vec3};
 pub use extensions::{Extensions, Target};
-pub use integrator::{RateHeld, StepError};
+pub use integrator::StepError;
 pub use json::{model_from_json, model_from_value, ModelJsonError};
 pub use params::{ParamError, ParamIssue, Params, MAX_ALPHA};
 pub use scenario::{Scenario, ScenarioError, Stage, MAX_SCENARIO_ROWS};
@@ -35,7 +35,10 @@ pub use simulate::{
     check_start, simulate, simulate_predicted_into, Control, Initial, Protocol, SimError,
     Trajectory, SLIP_RESOLUTION_SHARE,
 };
-pub use terms::{AtRest, RateEffect, RateForm, TermEffect, TermFamily, Terms};
+pub use terms::{
+    AtRest, RateEffect, RateForm, StateLaw, StateSlots, TermEffect, TermFamily, Terms,
+    MAX_STATE_SLOTS,
+};
 
 /// A validated model: the paper's parameters plus optional extensions.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

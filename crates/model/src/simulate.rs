@@ -390,11 +390,6 @@ fn start(model: &Model, proto: &Protocol) -> Result<(State1, Option<(f64, f64)>)
     let (r, cap) = match proto.initial {
         Initial::Sliding { rate_mm_s, .. } => {
             let v = rate_mm_s.abs();
-            if let Some(rate) = model.ext.rate() {
-                if rate.has_state() && v > 0.0 {
-                    st.theta = rate.steady_theta(v);
-                }
-            }
             // A segment of a long run: steady at its rate. With slip hardening the traction
             // then tells the slip accumulated before the file began; otherwise μ is taken from
             // the traction.
@@ -405,7 +400,8 @@ fn start(model: &Model, proto: &Protocol) -> Result<(State1, Option<(f64, f64)>)
                 }
                 None => st.mu = k.sliding_mu(&l, shear.abs() / p, v),
             }
-            st.rate_held = k.steady_rate_terms(v);
+            // The families' state too (θ at its steady state, the rate terms of the slide).
+            k.steady_state(&mut st.slots, v);
             // The surface of a contact sliding at that rate (not the one at rest, which a
             // velocity-weakening form puts higher).
             let cap = k.sliding_mu_eff(&l, st.mu, v, st.slip_path, st.time) * p;
@@ -418,8 +414,7 @@ fn start(model: &Model, proto: &Protocol) -> Result<(State1, Option<(f64, f64)>)
             (r, cap)
         }
         _ => {
-            let cap =
-                k.elastic_mu_eff(&l, st.mu, st.theta, 0.0, st.time, st.healed, st.rate_held) * p;
+            let cap = k.elastic_mu_eff::<true>(&l, st.mu, &st.slots, 0.0, st.time) * p;
             if shear.abs() > cap {
                 if control == Control::Shear {
                     return Err(SimError::Runaway {

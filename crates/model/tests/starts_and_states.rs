@@ -5,7 +5,7 @@
 
 use subfric_model::{
     check_start, simulate, Contact3, Control, Extensions, Initial, Model, Params, Protocol,
-    RateHeld, SimError, State3, TermEffect, Terms,
+    SimError, State3, StateSlots, TermEffect, Terms,
 };
 
 /// μ_s = 0.45 at 100 kPa: a capacity of 45 kPa.
@@ -173,11 +173,8 @@ fn a_state_the_model_cannot_have_is_refused_and_its_own_states_are_not() {
         cos_r: 0.0,
         sin_r: 0.0,
         slip_path: 0.0,
-        age: 0.0,
         time: 0.0,
-        healed: 0.0,
-        theta: 0.0,
-        rate_held: RateHeld::NEUTRAL,
+        slots: StateSlots::default(),
     };
     let e = c.check_state(&zero).unwrap_err();
     assert!(
@@ -200,13 +197,6 @@ fn a_state_the_model_cannot_have_is_refused_and_its_own_states_are_not() {
             "slip_path",
             State3 {
                 slip_path: -1.0,
-                ..virgin
-            },
-        ),
-        (
-            "age",
-            State3 {
-                age: -1.0,
                 ..virgin
             },
         ),
@@ -254,4 +244,53 @@ fn a_state_the_model_cannot_have_is_refused_and_its_own_states_are_not() {
                 .unwrap_or_else(|e| panic!("step {k}: the model's own state is refused: {e}"));
         }
     }
+}
+
+#[test]
+fn a_family_names_its_own_state_variables_and_says_what_they_allow() {
+    // Rate and state beside time healing: θ, the rate terms held and the contact's age live in
+    // the families' slots, and a state that breaks their law is refused by the name the family
+    // gives the variable.
+    let rate = TermEffect::named("rate", "state-ageing", &[0.01, 0.012, 0.05, 1e-6, 0.01]).unwrap();
+    let healing = TermEffect::named("healing", "log-erased", &[0.02, 1.0, 0.01]).unwrap();
+    let m = Model::new(
+        Params::sample(),
+        Extensions {
+            terms: Terms::one(rate).with(healing),
+        },
+    )
+    .unwrap();
+    let terms = &m.ext.terms;
+    let c = Contact3::new(&m, [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]);
+    let virgin = State3::virgin(&m, [0.0; 3]);
+    c.check_state(&virgin).unwrap();
+    // θ starts steady at the reference rate, D_c / v_ref.
+    let theta = terms.state_value(&virgin.slots, "theta").unwrap();
+    assert!((theta - 0.05 / 0.01).abs() < 1e-12, "{theta}");
+    for (name, bad, expected) in [
+        ("theta", 0.0, "> 0 [s]"),
+        ("rate_factor", -1.0, "> 0"),
+        ("age", -1.0, "a time >= 0"),
+        ("healed", -0.5, "a healing gain >= 0"),
+        ("theta", f64::NAN, "a finite number"),
+    ] {
+        let mut st = virgin;
+        st.slots.0[terms.slot_of(name).unwrap()] = bad;
+        let e = c.check_state(&st).unwrap_err();
+        assert_eq!(e.field, name, "{e}");
+        assert!(e.expected.contains(expected), "{e}");
+    }
+    // A slot no family on uses is named by its place.
+    let base = sample();
+    let mut st = State3::virgin(&base, [0.0; 3]);
+    st.slots.0[2] = f64::INFINITY;
+    let e = Contact3::new(&base, [0.0, 0.0, 1.0], [1.0, 0.0, 0.0])
+        .check_state(&st)
+        .unwrap_err();
+    assert_eq!(e.field, "slots[2]", "{e}");
+    // The age counts the time at rest (a hold), and a slide resets it.
+    let st = c.step_slip(&virgin, &[0.0; 3], 100.0, 2.5).unwrap();
+    assert_eq!(terms.state_value(&st.slots, "age"), Some(2.5));
+    let st = c.step_slip(&st, &[1.0, 0.0, 0.0], 100.0, 1.0).unwrap();
+    assert_eq!(terms.state_value(&st.slots, "age"), Some(0.0));
 }

@@ -5,7 +5,7 @@
 
 use crate::extensions::Target;
 use crate::integrator::{return_slip, surface, Consts, Local, StepError, StepInput};
-use crate::terms::RateForm;
+use crate::terms::StateSlots;
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
 
@@ -116,10 +116,10 @@ struct TrialTraction {
     local: Local,
     /// μ after the elastic (resting) part of the step.
     mu_el: f64,
-    /// θ after the elastic part of the step.
-    theta_el: f64,
-    /// The healing gain of its own after the elastic part of the step.
-    healed_el: f64,
+    /// The families' state after the elastic part of the step.
+    slots_el: StateSlots,
+    /// The friction μ gains at rest over the step, if a family adds to it (time healing).
+    gain: Option<f64>,
     /// exp(−ξ dt).
     exp_xi_dt: f64,
     /// The step constants depend on the sliding direction.
@@ -193,7 +193,7 @@ impl Contact3 {
         let (lo_s, hi_s) = ext.bound_factor_range(Target::MuS);
         let (lo_k, _) = ext.bound_factor_range(Target::MuK);
         let floor = match self.k.rate {
-            Some(r) if r.form == RateForm::SteadyState => 0.0,
+            Some(r) if r.moves_kinetic_bound() => 0.0,
             _ => (self.k.mu_k * lo_k).min(self.k.mu_s * lo_s),
         };
         (floor, self.k.mu_s * hi_s)
@@ -222,34 +222,17 @@ impl Contact3 {
             exp_xi_dt: (-xi_dt).exp(),
             s_acc: st.slip_path,
             time: st.time + dt,
-            healed: st.healed,
-            theta: st.theta,
             local,
             lam_guess: 0.0,
         }
     }
 
-    /// μ_eff of an elastic step of `dt` from `st` that ends with μ = `mu`, θ = `theta` and the
-    /// healing gain `healed`, under the step constants `l`.
+    /// μ_eff of an elastic step of `dt` from `st` that ends with μ = `mu` and the families'
+    /// state `slots`, under the step constants `l`.
     #[inline]
-    fn elastic_mu_eff(
-        &self,
-        st: &State3,
-        l: &Local,
-        mu: f64,
-        theta: f64,
-        healed: f64,
-        dt: f64,
-    ) -> f64 {
-        self.k.elastic_mu_eff(
-            l,
-            mu,
-            theta,
-            st.slip_path,
-            st.time + dt,
-            healed,
-            st.rate_held,
-        )
+    fn elastic_mu_eff(&self, st: &State3, l: &Local, mu: f64, slots: &StateSlots, dt: f64) -> f64 {
+        self.k
+            .elastic_mu_eff::<true>(l, mu, slots, st.slip_path, st.time + dt)
     }
 
     /// Tangential part of a vector.
@@ -315,8 +298,7 @@ impl Contact3 {
     ) -> Result<State3, StepError> {
         let trial = axpy(self.k.alpha, du, &st.shear);
         let magnitude = norm(&trial);
-        let theta_el = self.k.rest_theta(st.theta, dt);
-        let healed_el = self.k.rest_healed(st.healed, st.age, dt);
+        let (slots_el, gain) = self.k.rest_state::<true>(&st.slots, dt);
         let exp_xi_dt = (-self.k.xi * dt).exp();
         let elastic_end = |shear: Vec3, mu: f64, r: f64| {
             let (sin_r, cos_r) = (FRAC_PI_2 * r).sin_cos();
@@ -328,24 +310,21 @@ impl Contact3 {
                 cos_r,
                 sin_r,
                 slip_path: st.slip_path,
-                age: st.age + dt,
                 time: st.time + dt,
-                healed: healed_el,
-                theta: theta_el,
-                rate_held: st.rate_held,
+                slots: slots_el,
             }
         };
         if magnitude == 0.0 {
             let l = self.k.local(p, 1.0);
             return Ok(elastic_end(
                 [0.0; 3],
-                self.k.rest_mu(&l, st.mu, st.age, dt, exp_xi_dt),
+                self.k.rest_mu(&l, st.mu, gain, exp_xi_dt),
                 0.0,
             ));
         }
         let dir = scale(1.0 / magnitude, &trial);
         let local = self.k.local(p, self.cos_forward(&dir));
-        let mu_el = self.k.rest_mu(&local, st.mu, st.age, dt, exp_xi_dt);
+        let mu_el = self.k.rest_mu(&local, st.mu, gain, exp_xi_dt);
         // The elastic path from the current to the trial traction may pass closer to the
         // origin than both ends (unloading then reloading, e.g. a reversal): the subloading
         // surface shrinks to that point, and loading restarts from there.
@@ -359,7 +338,7 @@ impl Contact3 {
                 let fm = norm(&f_min);
                 let mu_eff = if fm > 0.0 {
                     let l = self.k.local(p, self.cos_forward(&scale(1.0 / fm, &f_min)));
-                    self.elastic_mu_eff(st, &l, mu_el, theta_el, healed_el, dt)
+                    self.elastic_mu_eff(st, &l, mu_el, &slots_el, dt)
                 } else {
                     1.0
                 };
@@ -367,13 +346,14 @@ impl Contact3 {
                 (s0, c0) = (FRAC_PI_2 * r0).sin_cos();
             }
         }
-        let mu_eff0 = self.elastic_mu_eff(st, &local, mu_el, theta_el, healed_el, dt);
+        let mu_eff0 = self.elastic_mu_eff(st, &local, mu_el, &slots_el, dt);
         if magnitude - r0 * mu_eff0 * p <= self.k.rest_tolerance(magnitude, p) {
             let r = (magnitude / (mu_eff0 * p)).min(1.0);
             return Ok(elastic_end(trial, mu_el, r));
         }
         let input = self.plastic_input(st, local, (r0, c0, s0), p, dt);
-        let pl = return_slip(&self.k, &input, magnitude, magnitude - r0 * mu_eff0 * p)?;
+        let excess = magnitude - r0 * mu_eff0 * p;
+        let pl = return_slip(&self.k, &input, &st.slots, magnitude, excess)?;
         Ok(State3 {
             slip,
             shear: scale(magnitude - self.k.alpha * pl.lam, &dir),
@@ -382,11 +362,8 @@ impl Contact3 {
             cos_r: pl.c,
             sin_r: pl.s,
             slip_path: st.slip_path + pl.lam,
-            age: 0.0,
             time: st.time + dt,
-            healed: self.k.slid_healed(st.healed, pl.lam).0,
-            theta: pl.theta,
-            rate_held: pl.held,
+            slots: pl.state,
         })
     }
 
@@ -451,7 +428,7 @@ impl Contact3 {
         }
         let t = self.trial_traction(st, trial, magnitude, p, dt);
         let start = self.restart_point(st, &t);
-        let mu_eff0 = self.elastic_mu_eff(st, &t.local, t.mu_el, t.theta_el, t.healed_el, t.dt);
+        let mu_eff0 = self.elastic_mu_eff(st, &t.local, t.mu_el, &t.slots_el, t.dt);
         if magnitude - start.r0 * mu_eff0 * p <= self.k.rest_tolerance(magnitude, p) {
             return elastic;
         }
@@ -459,14 +436,15 @@ impl Contact3 {
         // λ from the end state: the return converged, so g(λ) = 0 there.
         let shear = norm(&next.shear);
         let lam = (magnitude - shear) / alpha;
-        let surf = surface(&self.k, &input, lam);
+        let surf = surface(&self.k, &input, &st.slots, lam);
         let h = p * surf.dlam;
         let a = if h.is_finite() {
             alpha / (alpha + h)
         } else {
             0.0
         };
-        let (grad_f, df_dp) = self.surface_sensitivity(&t, &input, lam, surf.dr0, start.sens);
+        let (grad_f, df_dp) =
+            self.surface_sensitivity(&t, (&input, &st.slots), lam, surf.dr0, start.sens);
         Tangent3 {
             d_slip: plastic_d_slip(alpha, a, p, &t.dir, &grad_f, shear / magnitude, &plane),
             d_pressure: scale(a * (surf.value + p * df_dp), &t.dir),
@@ -485,12 +463,12 @@ impl Contact3 {
         p: f64,
         dt: f64,
     ) -> TrialTraction {
-        let theta_el = self.k.rest_theta(st.theta, dt);
+        let (slots_el, gain) = self.k.rest_state::<true>(&st.slots, dt);
         let exp_xi_dt = (-self.k.xi * dt).exp();
         let dir = scale(1.0 / magnitude, &trial);
         let cos_t = self.cos_forward(&dir);
         let local = self.k.local(p, cos_t);
-        let mu_el = self.k.rest_mu(&local, st.mu, st.age, dt, exp_xi_dt);
+        let mu_el = self.k.rest_mu(&local, st.mu, gain, exp_xi_dt);
         TrialTraction {
             p,
             dt,
@@ -500,8 +478,8 @@ impl Contact3 {
             cos_t,
             local,
             mu_el,
-            theta_el,
-            healed_el: self.k.rest_healed(st.healed, st.age, dt),
+            slots_el,
+            gain,
             exp_xi_dt,
             with_direction: self.k.ext.terms.reads_direction() && self.forward != [0.0; 3],
             with_pressure: self.k.ext.terms.reads_normal_stress(),
@@ -513,9 +491,9 @@ impl Contact3 {
     #[inline]
     fn closest_mu_eff(&self, st: &State3, t: &TrialTraction, p: f64, ct: f64, cm: f64) -> f64 {
         let lt = self.k.local(p, ct);
-        let mu = self.k.rest_mu(&lt, st.mu, st.age, t.dt, t.exp_xi_dt);
+        let mu = self.k.rest_mu(&lt, st.mu, t.gain, t.exp_xi_dt);
         let lm = self.k.local(p, cm);
-        self.elastic_mu_eff(st, &lm, mu, t.theta_el, t.healed_el, t.dt)
+        self.elastic_mu_eff(st, &lm, mu, &t.slots_el, t.dt)
     }
 
     /// ∇ of the direction cosine of a vector `v` of length `len` with respect to `v`
@@ -558,7 +536,7 @@ impl Contact3 {
         let fm = norm(&f_min);
         let mu_eff = if fm > 0.0 {
             let l = self.k.local(p, self.cos_forward(&scale(1.0 / fm, &f_min)));
-            self.elastic_mu_eff(st, &l, t.mu_el, t.theta_el, t.healed_el, t.dt)
+            self.elastic_mu_eff(st, &l, t.mu_el, &t.slots_el, t.dt)
         } else {
             1.0
         };
@@ -620,14 +598,14 @@ impl Contact3 {
     fn surface_sensitivity(
         &self,
         t: &TrialTraction,
-        input: &StepInput,
+        (input, slots): (&StepInput, &StateSlots),
         lam: f64,
         dr0: f64,
         r0_sens: Option<(Vec3, f64)>,
     ) -> (Vec3, f64) {
         let f_at = |p: f64, ct: f64| {
             let l = self.k.local(p, ct);
-            surface(&self.k, &StepInput { local: l, ..*input }, lam).value
+            surface(&self.k, &StepInput { local: l, ..*input }, slots, lam).value
         };
         let (mut grad_f, mut df_dp) = match r0_sens {
             Some((g, dp)) => (scale(dr0, &g), dr0 * dp),

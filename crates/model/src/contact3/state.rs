@@ -2,7 +2,7 @@
 //! finite-element code's state array).
 
 use super::{norm, Contact3, Vec3};
-use crate::integrator::RateHeld;
+use crate::terms::StateSlots;
 use crate::Model;
 use std::f64::consts::FRAC_PI_2;
 
@@ -23,16 +23,11 @@ pub struct State3 {
     pub sin_r: f64,
     /// Accumulated plastic slip [mm].
     pub slip_path: f64,
-    /// Time since plastic sliding [s].
-    pub age: f64,
     /// Time since the contact started [s] (used by registered terms, see [`crate::terms`]).
     pub time: f64,
-    /// Healing gain of its own, on top of μ ([`crate::TermFamily::erased_over`]; 0 otherwise).
-    pub healed: f64,
-    /// State variable θ of the rate-and-state forms [s] (unused otherwise).
-    pub theta: f64,
-    /// The rate terms of the last plastic step (kept at rest by a locked rate form).
-    pub rate_held: RateHeld,
+    /// The state variables of the families that integrate one (rate, time healing; see
+    /// [`crate::terms::StateLaw`]), addressed through the families.
+    pub slots: StateSlots,
 }
 
 impl State3 {
@@ -46,11 +41,8 @@ impl State3 {
             cos_r: 1.0,
             sin_r: 0.0,
             slip_path: 0.0,
-            age: 0.0,
             time: 0.0,
-            healed: 0.0,
-            theta: model.ext.rate().map_or(0.0, |r| r.neutral_theta()),
-            rate_held: RateHeld::NEUTRAL,
+            slots: model.ext.terms.initial_state(),
         }
     }
 }
@@ -78,9 +70,11 @@ const STATE_MU_SLACK: f64 = 1e-9;
 
 impl Contact3 {
     /// Checks a state handed in from outside: finite, r in [0, 1] with cos_r and sin_r its
-    /// cosine and sine of πr/2, μ within [`Contact3::mu_range`], accumulated slip and age ≥ 0,
-    /// θ > 0 under a rate-and-state form. An all-zero array fails (cos_r = 0 is not cos 0): it
-    /// is no state, and a new contact point starts from [`State3::virgin`].
+    /// cosine and sine of πr/2, μ within [`Contact3::mu_range`], accumulated slip and time ≥ 0,
+    /// and each family's state variables what the family allows (age ≥ 0, θ > 0 under a
+    /// rate-and-state form, ...; [`crate::terms::StateLaw::invalid`]), named as the family
+    /// names them. An all-zero array fails (cos_r = 0 is not cos 0): it is no state, and a new
+    /// contact point starts from [`State3::virgin`].
     pub fn check_state(&self, st: &State3) -> Result<(), StateError> {
         let bad = |field, value: String, expected: &str| {
             Err(StateError {
@@ -101,13 +95,10 @@ impl Contact3 {
             ("cos_r", st.cos_r),
             ("sin_r", st.sin_r),
             ("slip_path", st.slip_path),
-            ("age", st.age),
             ("time", st.time),
-            ("healed", st.healed),
-            ("theta", st.theta),
-            ("rate_add", st.rate_held.add),
         ];
-        for (field, v) in scalars {
+        let slots = self.k.ext.terms.slot_names().into_iter().zip(st.slots.0);
+        for (field, v) in scalars.into_iter().chain(slots) {
             if !v.is_finite() {
                 return bad(field, v.to_string(), "a finite number");
             }
@@ -141,27 +132,15 @@ impl Contact3 {
         // What only accumulates cannot be negative.
         for (field, v, expected) in [
             ("slip_path", st.slip_path, "an accumulated slip >= 0 [mm]"),
-            ("age", st.age, "a time >= 0 [s]"),
             ("time", st.time, "a time >= 0 [s]"),
-            ("healed", st.healed, "a healing gain >= 0"),
         ] {
             if v < 0.0 {
                 return bad(field, v.to_string(), expected);
             }
         }
-        if !(st.rate_held.factor > 0.0 && st.rate_held.factor.is_finite()) {
-            return bad(
-                "rate_factor",
-                st.rate_held.factor.to_string(),
-                "a finite number > 0 (1 for a new contact point)",
-            );
-        }
-        if self.k.rate.is_some_and(|r| r.has_state()) && st.theta <= 0.0 {
-            return bad(
-                "theta",
-                st.theta.to_string(),
-                "a state variable > 0 [s] (the model has a rate-and-state form)",
-            );
+        // Each family's variables, as the family allows them.
+        if let Some((field, v, expected)) = self.k.ext.terms.invalid_state(&st.slots) {
+            return bad(field, v.to_string(), expected);
         }
         Ok(())
     }

@@ -2,10 +2,11 @@
 //! pressure and direction effects, friction at rest (recovery, healing), the additive terms of
 //! slip and time, and the surfaces of elastic steps and of steady sliding.
 
-use super::{RateHeld, RETURN_TOLERANCE};
+use super::states::{StateStep, States, WithStates};
+use super::RETURN_TOLERANCE;
 use crate::extensions::{Extensions, Target, MIN_MU_EFF_FRACTION};
 use crate::params::Params;
-use crate::terms::{RateEffect, RateForm, TermEffect};
+use crate::terms::{RateEffect, StateSlots, StateTerms};
 use std::f64::consts::FRAC_PI_2;
 
 /// Constants of a model, precomputed once (units: kPa, mm, s).
@@ -24,8 +25,8 @@ pub(crate) struct Consts {
     scaled: bool,
     /// Whether one scales μ_s, μ_k, κ or ũ ([`Extensions::varies_bounds`]).
     varies_bounds: bool,
-    /// The family that gains friction at rest (time healing), read once.
-    rest_gain: Option<RestGain>,
+    /// The families that integrate a state (rate, time healing), their laws built once.
+    states: States,
     /// Whether the recovery ξ(μ_s − μ) of Eq. (24) acts ([`Extensions::recovery`]).
     recovery: bool,
     /// The slip-rate law of the family that reads the slip rate (rate), read once.
@@ -33,22 +34,6 @@ pub(crate) struct Consts {
     /// Whether a family adds a term T(s, t) (read once: the return mapping asks at every
     /// iteration).
     path_terms: bool,
-}
-
-/// A family that gains friction at rest, and where its gain goes.
-#[derive(Clone, Copy, Debug)]
-struct RestGain {
-    effect: TermEffect,
-    /// The slip that erases a gain of its own (e-fold) [mm]; `None`: the gain adds to μ.
-    erased_over: Option<f64>,
-}
-
-impl RestGain {
-    #[inline]
-    fn gain(&self, age: f64, dt: f64) -> f64 {
-        let e = &self.effect;
-        e.family().rest_gain(e.form as usize, &e.p, age, dt)
-    }
 }
 
 /// The constants of one step: μ_s, μ_k, κ, ũ after the pressure and direction effects that act
@@ -80,10 +65,7 @@ impl Consts {
                 .iter()
                 .any(|e| !e.family().targets(e.form as usize).is_empty()),
             varies_bounds: ext.varies_bounds(),
-            rest_gain: ext.terms.rest_gain().map(|effect| RestGain {
-                effect,
-                erased_over: effect.family().erased_over(effect.form as usize, &effect.p),
-            }),
+            states: States::new(&ext.terms),
             recovery: ext.recovery(),
             rate: ext.rate(),
             path_terms: ext.terms.adds_terms(),
@@ -129,42 +111,53 @@ impl Consts {
         }
     }
 
-    /// μ after an elastic step (no sliding) of `dt` at contact age `age`: exponential recovery
-    /// towards μ_s (Eq. 24), time healing instead, or time healing on top of it.
+    /// μ after an elastic step (no sliding) whose recovery towards μ_s (Eq. 24) is
+    /// `exp_xi_dt` = exp(−ξΔt), and in which a family gains `gain` at rest (time healing, see
+    /// [`Consts::rest_state`]): the recovery, the gain instead, or the gain on top of it.
     #[inline]
-    pub fn rest_mu(&self, l: &Local, mu: f64, age: f64, dt: f64, exp_xi_dt: f64) -> f64 {
+    pub fn rest_mu(&self, l: &Local, mu: f64, gain: Option<f64>, exp_xi_dt: f64) -> f64 {
         let recovered = if self.recovery {
             l.mu_s - (l.mu_s - mu) * exp_xi_dt
         } else {
             mu
         };
-        match self.rest_gain {
-            Some(h) if h.erased_over.is_none() => (recovered + h.gain(age, dt)).min(l.mu_s),
-            _ => recovered,
+        match gain {
+            Some(g) => (recovered + g).min(l.mu_s),
+            None => recovered,
         }
     }
 
-    /// The healing gain of its own ([`crate::TermFamily::erased_over`]) after an elastic step
-    /// of `dt` at contact age `age` (zero without one).
+    /// True when a family on integrates a state.
     #[inline]
-    pub fn rest_healed(&self, healed: f64, age: f64, dt: f64) -> f64 {
-        match self.rest_gain {
-            Some(h) if h.erased_over.is_some() => healed + h.gain(age, dt),
-            _ => 0.0,
-        }
+    pub fn has_state(&self) -> bool {
+        self.states.any()
     }
 
-    /// The healing gain of its own after a plastic slip `lam` (it decays as exp(−λ/d_h)), and
-    /// its derivative in λ.
-    #[inline]
-    pub fn slid_healed(&self, healed: f64, lam: f64) -> (f64, f64) {
-        match self.rest_gain.and_then(|h| h.erased_over) {
-            Some(d_h) => {
-                let v = healed * (-lam / d_h).exp();
-                (v, -v / d_h)
-            }
-            None => (0.0, 0.0),
+    /// The families that integrate a state.
+    #[inline(always)]
+    pub fn states(&self) -> &States {
+        &self.states
+    }
+
+    /// The state after an elastic step of `dt` from `slots`, and the friction μ itself gains
+    /// over it, if a family adds to μ at rest (see [`Consts::rest_mu`]). Slots no family uses
+    /// come out zero. `STATE` false: the caller knows the model has no state, and the step
+    /// carries no trace of one (see [`super::return_slip_as`]).
+    #[inline(always)]
+    pub fn rest_state<const STATE: bool>(
+        &self,
+        slots: &StateSlots,
+        dt: f64,
+    ) -> (StateSlots, Option<f64>) {
+        if !STATE || !self.has_state() {
+            return (StateSlots::default(), None);
         }
+        self.states.with(RestOver { slots, dt })
+    }
+
+    /// The state of a contact that has slid steadily at rate `v`, from `slots`.
+    pub fn steady_state(&self, slots: &mut StateSlots, v: f64) {
+        self.states.steady(slots, v);
     }
 
     /// The additive terms of accumulated plastic slip `s` and time `t` (each registered
@@ -193,44 +186,23 @@ impl Consts {
         }
     }
 
-    /// Lowest bound of μ after a plastic step (the steady-state rate form moves μ_k with v).
+    /// Lowest bound of μ after a plastic step (a rate law may move μ_k with v).
     #[inline]
     pub fn mu_floor(&self, l: &Local) -> f64 {
         match self.rate {
-            Some(r) if r.form == RateForm::SteadyState => 0.0,
+            Some(r) if r.moves_kinetic_bound() => 0.0,
             _ => l.mu_k,
-        }
-    }
-
-    /// The state variable θ after an elastic step of `dt` (ageing law: the contact ages).
-    #[inline]
-    pub fn rest_theta(&self, theta: f64, dt: f64) -> f64 {
-        match self.rate {
-            Some(r) if r.form == RateForm::StateAgeing => theta + dt,
-            _ => theta,
         }
     }
 
     /// The terms of μ_eff = μ · factor + add of a contact sliding steadily at rate `v` with
     /// θ = θ_ss(v), after an accumulated plastic slip `slip_path` at time `time`.
     fn sliding_terms(&self, l: &Local, v: f64, slip_path: f64, time: f64) -> (f64, f64) {
-        let mut add = self.path_terms(slip_path, time).0;
-        let mut factor = l.mult;
-        if let Some(rate) = self.rate {
-            match rate.form {
-                RateForm::LogDirect | RateForm::StateAgeing | RateForm::StateSlip => {
-                    add += rate.a * ((v / rate.v_c).ln_1p() - rate.direct_at_ref());
-                    if rate.has_state() {
-                        add += rate.b * (rate.steady_theta(v) * rate.state_ref() / rate.d_c).ln();
-                    }
-                }
-                RateForm::Power => {
-                    factor *= ((v + rate.v_c) / (rate.v_ref + rate.v_c)).powf(rate.n);
-                }
-                RateForm::SteadyState => {}
-            }
+        let add = self.path_terms(slip_path, time).0;
+        match self.rate {
+            Some(rate) => rate.steady_terms(v, l.mult, add),
+            None => (l.mult, add),
         }
-        (factor, add)
     }
 
     /// μ that puts a contact sliding steadily at rate `v` with θ = θ_ss(v) on a surface of
@@ -243,13 +215,9 @@ impl Consts {
     /// Steady μ at slip rate `v` (Eq. 24 at its fixed point; no recovery while sliding under
     /// time healing).
     pub fn steady_mu(&self, l: &Local, v: f64) -> f64 {
-        let mut mu_k = l.mu_k;
-        if let Some(rate) = self.rate {
-            if rate.form == RateForm::SteadyState {
-                mu_k = (mu_k + rate.a * ((v + rate.v_c) / (rate.v_ref + rate.v_c)).ln())
-                    .clamp(0.0, l.mu_s);
-            }
-        }
+        let mu_k = self
+            .rate
+            .map_or(l.mu_k, |rate| rate.steady_kinetic(l.mu_k, v, l.mu_s));
         let xi = if self.recovery { self.xi } else { 0.0 };
         let kv = l.kappa * v;
         if kv + xi > 0.0 {
@@ -336,64 +304,58 @@ impl Consts {
         }
     }
 
-    /// The rate terms (additive R, factor V) of a contact sliding steadily at rate `v` with
-    /// θ = θ_ss(v): what a locked rate form keeps at rest after such a slide.
-    pub fn steady_rate_terms(&self, v: f64) -> RateHeld {
-        let Some(rate) = self.rate else {
-            return RateHeld::NEUTRAL;
-        };
-        let mut held = RateHeld::NEUTRAL;
-        match rate.form {
-            RateForm::LogDirect | RateForm::StateAgeing | RateForm::StateSlip => {
-                held.add = rate.a * ((v / rate.v_c).ln_1p() - rate.direct_at_ref());
-                if rate.has_state() {
-                    held.add += rate.b * (rate.steady_theta(v) * rate.state_ref() / rate.d_c).ln();
-                }
-            }
-            RateForm::Power => {
-                held.factor = ((v + rate.v_c) / (rate.v_ref + rate.v_c)).powf(rate.n);
-            }
-            RateForm::SteadyState => {}
-        }
-        held
-    }
-
     /// μ_eff of an elastic step (plastic slip rate zero) from μ at the step's end (time
-    /// `time`); `held` are the rate terms of the last plastic step, which a locked rate form
-    /// keeps at rest.
-    /// `healed` is the healing gain of its own at the step's end.
-    #[inline]
-    #[allow(clippy::too_many_arguments)]
-    pub fn elastic_mu_eff(
+    /// `time`), with the state `slots` at the step's end (the families' terms at rest: a rate
+    /// law's, a healing gain of its own, ...).
+    /// `STATE` as for [`Consts::rest_state`].
+    #[inline(always)]
+    pub fn elastic_mu_eff<const STATE: bool>(
         &self,
         l: &Local,
         mu: f64,
-        theta: f64,
+        slots: &StateSlots,
         slip_path: f64,
         time: f64,
-        healed: f64,
-        held: RateHeld,
     ) -> f64 {
         let mut mu_eff = mu * l.mult;
-        if let Some(rate) = self.rate {
-            if rate.locked() {
-                mu_eff = mu_eff * held.factor + held.add;
-                mu_eff += self.path_terms(slip_path, time).0 + healed;
-                return mu_eff.max(MIN_MU_EFF_FRACTION * l.mu_s);
-            }
-            match rate.form {
-                RateForm::LogDirect => mu_eff -= rate.a * rate.direct_at_ref(),
-                RateForm::StateAgeing | RateForm::StateSlip => {
-                    mu_eff += -rate.a * rate.direct_at_ref()
-                        + rate.b * (theta * rate.state_ref() / rate.d_c).ln();
-                }
-                RateForm::Power => {
-                    mu_eff *= (rate.v_c / (rate.v_ref + rate.v_c)).powf(rate.n);
-                }
-                RateForm::SteadyState => {}
-            }
+        let mut own = 0.0;
+        if STATE && self.has_state() {
+            let t = self.states.with(AtRestWith { slots });
+            mu_eff = mu_eff * t.factor + t.add;
+            own = t.own;
         }
-        mu_eff += self.path_terms(slip_path, time).0 + healed;
+        mu_eff += self.path_terms(slip_path, time).0 + own;
         mu_eff.max(MIN_MU_EFF_FRACTION * l.mu_s)
+    }
+}
+
+/// [`Consts::rest_state`] of a model with a state, as [`WithStates`].
+struct RestOver<'a> {
+    slots: &'a StateSlots,
+    dt: f64,
+}
+
+impl WithStates for RestOver<'_> {
+    type Output = (StateSlots, Option<f64>);
+
+    #[inline(always)]
+    fn run<S: StateStep>(self, states: S) -> Self::Output {
+        let mut out = *self.slots;
+        let gain = states.rest(&mut out, self.dt);
+        (out, gain)
+    }
+}
+
+/// The families' terms of friction at rest with the state `slots`, as [`WithStates`].
+struct AtRestWith<'a> {
+    slots: &'a StateSlots,
+}
+
+impl WithStates for AtRestWith<'_> {
+    type Output = StateTerms;
+
+    #[inline(always)]
+    fn run<S: StateStep>(self, states: S) -> StateTerms {
+        states.at_rest(self.slots)
     }
 }

@@ -11,9 +11,13 @@
 //! value so the caller can retry with substeps.
 
 use crate::extensions::MIN_MU_EFF_FRACTION;
+use crate::terms::StateSlots;
 use std::f64::consts::FRAC_PI_2;
 
 mod consts;
+mod states;
+
+use states::{NoState, StateStep, WithStates};
 
 pub(crate) use consts::{Consts, Local};
 
@@ -44,25 +48,6 @@ const MAX_ITERATIONS: usize = 80;
 /// stress.
 pub(crate) const RETURN_TOLERANCE: f64 = 1e-10;
 
-/// The rate terms of friction at the end of a plastic step: the additive R (direct and
-/// state terms) and the factor V (power law). A locked rate form ([`crate::AtRest::Locked`])
-/// keeps them while the contact rests.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RateHeld {
-    /// Additive term R.
-    pub add: f64,
-    /// Factor V on μ.
-    pub factor: f64,
-}
-
-impl RateHeld {
-    /// No rate term: a contact that has not slid, or sliding at the reference rate.
-    pub const NEUTRAL: RateHeld = RateHeld {
-        add: 0.0,
-        factor: 1.0,
-    };
-}
-
 /// What the scalar return needs to know about one step.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct StepInput {
@@ -86,10 +71,6 @@ pub(crate) struct StepInput {
     pub s_acc: f64,
     /// Time at the end of the step, since the contact started [s] (registered terms).
     pub time: f64,
-    /// Healing gain of its own at the start ([`crate::TermFamily::erased_over`]).
-    pub healed: f64,
-    /// State variable θ at the start [s] (rate and state).
-    pub theta: f64,
     /// The step's constants.
     pub local: Local,
     /// A first guess of λ (0: none), e.g. the previous plastic rate over this step.
@@ -107,8 +88,8 @@ pub(crate) struct Eval {
     pub dmu: f64,
     pub mu_eff: f64,
     pub dmu_eff: f64,
-    pub theta: f64,
-    pub held: RateHeld,
+    /// The families' state at λ (zero for a model without state).
+    pub state: StateSlots,
 }
 
 /// e^(−x) for x ≥ 0; a degree-8 Taylor polynomial below 0.01 (error < 1e-20, i.e. exact in
@@ -151,8 +132,10 @@ pub(crate) fn relax_weight(x: f64, e: f64) -> (f64, f64) {
     }
 }
 
+/// The evolution laws and the friction surface at plastic increment `lam`, with the families'
+/// state held as `states` ([`StateStep`]) starting from `start`.
 #[inline(always)]
-fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
+fn eval<S: StateStep>(k: &Consts, states: &S, s: &StepInput, start: &StateSlots, lam: f64) -> Eval {
     let l = &s.local;
     // cos θ = cos θ₀ · exp(−kr λ) with θ = πr/2; dr/dλ = ũ cot θ = ũ c / sin θ.
     // θ − θ₀ = asin(sin θ cos θ₀ − cos θ sin θ₀): small within a step, so no inverse cosine.
@@ -166,9 +149,17 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
         f64::INFINITY
     };
 
-    let rate = k.rate.map(|rate| rate.plastic_terms(s.theta, s.dt, lam));
-    // The kinetic bound; the steady-state rate form moves it with v = λ/Δt.
-    let (mu_k, dmu_k) = match &rate {
+    // The families that integrate a state: their terms of friction at λ, and their state
+    // there, which the step ends with when λ is the return's last iterate. A model without a
+    // state moves no slots in the loop.
+    let mut end = if S::ANY {
+        *start
+    } else {
+        StateSlots::default()
+    };
+    let state = S::ANY.then(|| states.slide(start, s.dt, lam, &mut end));
+    // The kinetic bound; a rate law may move it with v = λ/Δt.
+    let (mu_k, dmu_k) = match &state {
         Some(t) if t.dmu_k != 0.0 => {
             let m = l.mu_k + t.mu_k_shift;
             if m > 0.0 && m < l.mu_s {
@@ -194,29 +185,22 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
     let mu = s.mu_n * e + w * n;
     let dmu = l.kappa * (-s.mu_n * e + e_minus_w_over_a * n + w * (mu_k + lam * dmu_k));
 
+    // μ_eff = μ·m·V + R + T(s, t) + G (see `StateTerms`).
     let (mut mu_eff, mut dmu_eff) = (mu * l.mult, dmu * l.mult);
-    let mut theta = s.theta;
-    let mut held = RateHeld::NEUTRAL;
-    if let Some(t) = rate {
+    if let Some(t) = state {
         (mu_eff, dmu_eff) = (
             mu_eff * t.factor + t.add,
             dmu_eff * t.factor + mu * l.mult * t.dfactor + t.dadd,
         );
-        theta = t.theta;
-        held = RateHeld {
-            add: t.add,
-            factor: t.factor,
-        };
     }
     if k.has_path_terms() {
         let (h, dh) = k.path_terms(s.s_acc + lam, s.time);
         mu_eff += h;
         dmu_eff += dh;
     }
-    if s.healed != 0.0 {
-        let (h, dh) = k.slid_healed(s.healed, lam);
-        mu_eff += h;
-        dmu_eff += dh;
+    if let Some(t) = state {
+        mu_eff += t.own;
+        dmu_eff += t.down;
     }
     let floor = MIN_MU_EFF_FRACTION * l.mu_s;
     if mu_eff < floor {
@@ -231,8 +215,7 @@ fn eval(k: &Consts, s: &StepInput, lam: f64) -> Eval {
         dmu,
         mu_eff,
         dmu_eff,
-        theta,
-        held,
+        state: end,
     }
 }
 
@@ -244,8 +227,9 @@ pub(crate) struct Plastic {
     pub c: f64,
     pub s: f64,
     pub mu: f64,
-    pub theta: f64,
-    pub held: RateHeld,
+    /// The families' state the step ends with: the one at the return's last evaluation,
+    /// settled at `lam` ([`StateStep::settle`]); zero for a model without state.
+    pub state: StateSlots,
 }
 
 impl Plastic {
@@ -256,19 +240,99 @@ impl Plastic {
             c: e.c,
             s: e.sin,
             mu: e.mu,
-            theta: e.theta,
-            held: e.held,
+            state: e.state,
         }
     }
 }
 
 /// Slip control: find λ ≥ 0 with T − α λ = r(λ) μ_eff(λ) p, where T = ‖f_trial‖ exceeds the
 /// starting surface (the caller has checked that the step is plastic).
-#[inline]
 /// `excess` is T − r₀ μ_eff(0) p > 0, the trial's distance outside the starting surface.
+///
+/// `slots` is the families' state at the start of the step. For a caller that does not compile
+/// its step for a model with and without a state apart (see [`return_slip_as`]): the return
+/// of a model with a state is out of line and works on copies of the step's input and state
+/// (were their addresses to reach a call out of line, the step could no longer keep them in
+/// registers, with or without a state).
+#[inline]
 pub(crate) fn return_slip(
     k: &Consts,
     s: &StepInput,
+    slots: &StateSlots,
+    trial: f64,
+    excess: f64,
+) -> Result<Plastic, StepError> {
+    if k.has_state() {
+        return_slip_with_state(k, *s, *slots, trial, excess)
+    } else {
+        return_slip_as::<false>(k, s, slots, trial, excess)
+    }
+}
+
+/// [`return_slip`] of a model with a state.
+#[inline(never)]
+fn return_slip_with_state(
+    k: &Consts,
+    s: StepInput,
+    slots: StateSlots,
+    trial: f64,
+    excess: f64,
+) -> Result<Plastic, StepError> {
+    return_slip_as::<true>(k, &s, &slots, trial, excess)
+}
+
+/// [`return_slip`] compiled for a model that may have a state (`STATE`) or that has none: the
+/// second (the base model's, the step the benchmark times) carries no trace of the state's
+/// terms in its Newton loop, not even a test of whether there are any; the first is compiled
+/// for each way the model may hold its families ([`states::States::with`]) and ends with their
+/// state settled ([`StateStep::settle`]).
+#[inline(always)]
+pub(crate) fn return_slip_as<const STATE: bool>(
+    k: &Consts,
+    s: &StepInput,
+    start: &StateSlots,
+    trial: f64,
+    excess: f64,
+) -> Result<Plastic, StepError> {
+    if !STATE {
+        return solve_slip(k, &NoState, s, start, trial, excess);
+    }
+    k.states().with(SlipReturn {
+        k,
+        s,
+        start,
+        trial,
+        excess,
+    })
+}
+
+/// [`return_slip_as`] of a model with a state, as [`WithStates`].
+struct SlipReturn<'a> {
+    k: &'a Consts,
+    s: &'a StepInput,
+    start: &'a StateSlots,
+    trial: f64,
+    excess: f64,
+}
+
+impl WithStates for SlipReturn<'_> {
+    type Output = Result<Plastic, StepError>;
+
+    #[inline(always)]
+    fn run<S: StateStep>(self, states: S) -> Self::Output {
+        let mut pl = solve_slip(self.k, &states, self.s, self.start, self.trial, self.excess)?;
+        states.settle(self.start, pl.lam, &mut pl.state);
+        Ok(pl)
+    }
+}
+
+/// The Newton iteration of [`return_slip_as`], with the families' state held as `states`.
+#[inline(always)]
+fn solve_slip<S: StateStep>(
+    k: &Consts,
+    states: &S,
+    s: &StepInput,
+    start: &StateSlots,
     trial: f64,
     excess: f64,
 ) -> Result<Plastic, StepError> {
@@ -296,7 +360,7 @@ pub(crate) fn return_slip(
     }
     let mut g = f64::NAN;
     for _ in 0..MAX_ITERATIONS {
-        let e = eval(k, s, lam);
+        let e = eval(k, states, s, start, lam);
         g = trial - alpha * lam - e.r * e.mu_eff * s.p;
         if g.abs() <= tol {
             return Ok(Plastic::at(lam, &e));
@@ -318,9 +382,9 @@ pub(crate) fn return_slip(
                 c: e.c * (1.0 - s.local.kr * delta),
                 s: e.sin + e.c * FRAC_PI_2 * e.dr * delta,
                 mu: e.mu + e.dmu * delta,
-                // θ and the rate terms move by O(δ) ≪ their own scale: kept at λ.
-                theta: e.theta,
-                held: e.held,
+                // The families' state moves by O(δ) ≪ its own scale: the one at λ, unless a
+                // family settles it at λ + δ (`StateStep::settle`).
+                state: e.state,
             });
         }
         let next = lam + delta;
@@ -330,7 +394,7 @@ pub(crate) fn return_slip(
             0.5 * (lo + hi)
         };
         if hi - lo <= 4.0 * f64::EPSILON * hi {
-            let e = eval(k, s, lam);
+            let e = eval(k, states, s, start, lam);
             return Ok(Plastic::at(lam, &e));
         }
     }
@@ -340,10 +404,55 @@ pub(crate) fn return_slip(
     })
 }
 
-/// Traction control: find the smallest λ ≥ 0 with r(λ) μ_eff(λ) p = target.
-pub(crate) fn return_shear(
+/// Traction control: find the smallest λ ≥ 0 with r(λ) μ_eff(λ) p = target, compiled for a
+/// model that may have a state (`STATE`) or that has none, as [`return_slip_as`].
+#[inline(always)]
+pub(crate) fn return_shear_as<const STATE: bool>(
     k: &Consts,
     s: &StepInput,
+    start: &StateSlots,
+    target: f64,
+    guess: f64,
+) -> Result<Plastic, StepError> {
+    if !STATE {
+        return solve_shear(k, &NoState, s, start, target, guess);
+    }
+    k.states().with(ShearReturn {
+        k,
+        s,
+        start,
+        target,
+        guess,
+    })
+}
+
+/// [`return_shear_as`] of a model with a state, as [`WithStates`].
+struct ShearReturn<'a> {
+    k: &'a Consts,
+    s: &'a StepInput,
+    start: &'a StateSlots,
+    target: f64,
+    guess: f64,
+}
+
+impl WithStates for ShearReturn<'_> {
+    type Output = Result<Plastic, StepError>;
+
+    #[inline(always)]
+    fn run<S: StateStep>(self, states: S) -> Self::Output {
+        let mut pl = solve_shear(self.k, &states, self.s, self.start, self.target, self.guess)?;
+        states.settle(self.start, pl.lam, &mut pl.state);
+        Ok(pl)
+    }
+}
+
+/// The bracketing and Newton iteration of [`return_shear_as`], with the families' state held
+/// as `states`.
+fn solve_shear<S: StateStep>(
+    k: &Consts,
+    states: &S,
+    s: &StepInput,
+    start: &StateSlots,
     target: f64,
     guess: f64,
 ) -> Result<Plastic, StepError> {
@@ -361,7 +470,7 @@ pub(crate) fn return_shear(
     let mut hi: f64;
     let mut best_capacity: f64 = 0.0;
     loop {
-        let e = eval(k, s, lam);
+        let e = eval(k, states, s, start, lam);
         let hv = h(&e);
         best_capacity = best_capacity.max(e.r * e.mu_eff * s.p);
         if hv >= 0.0 {
@@ -381,7 +490,7 @@ pub(crate) fn return_shear(
     let mut lam = 0.5 * (lo + hi);
     let mut res = f64::NAN;
     for _ in 0..MAX_ITERATIONS {
-        let e = eval(k, s, lam);
+        let e = eval(k, states, s, start, lam);
         res = h(&e);
         if res.abs() <= tol || hi - lo <= 4.0 * f64::EPSILON * hi {
             return Ok(Plastic::at(lam, &e));
@@ -409,8 +518,18 @@ pub(crate) fn return_shear(
 /// tangent: F = r μ_eff, its derivative with respect to λ (so the hardening modulus is
 /// h = p ∂F/∂λ) and with respect to the starting ratio r₀ at fixed λ (μ_eff does not depend
 /// on r₀; cos θ = cos θ₀ e^(−kr λ) with θ = πr/2 gives ∂r/∂r₀ = sin θ₀ e^(−kr λ) / sin θ).
-pub(crate) fn surface(k: &Consts, s: &StepInput, lam: f64) -> Surface {
-    let e = eval(k, s, lam);
+/// `slots` is the families' state at the start of the step.
+pub(crate) fn surface(k: &Consts, s: &StepInput, slots: &StateSlots, lam: f64) -> Surface {
+    let e = if k.has_state() {
+        k.states().with(EvalAt {
+            k,
+            s,
+            start: slots,
+            lam,
+        })
+    } else {
+        eval(k, &NoState, s, slots, lam)
+    };
     let dr_dr0 = if e.r < 1.0 && e.sin > 0.0 {
         s.s_start * exp_neg(s.local.kr * lam) / e.sin
     } else {
@@ -420,6 +539,23 @@ pub(crate) fn surface(k: &Consts, s: &StepInput, lam: f64) -> Surface {
         value: e.r * e.mu_eff,
         dlam: e.dr * e.mu_eff + e.r * e.dmu_eff,
         dr0: dr_dr0 * e.mu_eff,
+    }
+}
+
+/// [`eval`] of a model with a state, as [`WithStates`].
+struct EvalAt<'a> {
+    k: &'a Consts,
+    s: &'a StepInput,
+    start: &'a StateSlots,
+    lam: f64,
+}
+
+impl WithStates for EvalAt<'_> {
+    type Output = Eval;
+
+    #[inline(always)]
+    fn run<S: StateStep>(self, states: S) -> Eval {
+        eval(self.k, &states, self.s, self.start, self.lam)
     }
 }
 

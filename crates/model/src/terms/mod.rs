@@ -1,4 +1,5 @@
-//! Registered effect families: one module each, listed in [`FAMILIES`].
+//! Registered effect families: one folder each (`terms/<family>/`, its law in `mod.rs`, its
+//! unit tests in `tests.rs`), listed in [`FAMILIES`].
 //!
 //! A registered family adds a term T(s, t) to the friction of the cone, μ_eff = … + T, where s is
 //! the accumulated plastic slip [mm] and t the time since the contact started [s], scales μ,
@@ -13,12 +14,19 @@
 //! same engine as the base model, and parameter files carry it under its key — none of them
 //! names the family.
 //!
-//! Adding a family: write its module (a unit struct implementing [`TermFamily`], with its unit
-//! tests), and add one line to [`FAMILIES`]. Every effect family of subfric is registered:
-//! rate, time healing, pressure, slip hardening, the time trend and the direction effect. A
-//! family whose friction depends on the plastic slip rate gives the return mapping its law as a
-//! [`RateEffect`] (the rate family), one that gains friction at rest its gain
-//! ([`TermFamily::rest_gain`], time healing); the integrator reads them through the trait.
+//! Adding a family: write its folder (a unit struct implementing [`TermFamily`] in `mod.rs`,
+//! its unit tests beside it), and add its line to the registry (`registry!`, which declares the
+//! folder and lists the family in [`FAMILIES`]). Every effect family of subfric
+//! is registered: rate, time healing, pressure, slip hardening, the time trend and the
+//! direction effect. A family whose friction depends on its history integrates a state: it
+//! builds its law for a form and parameters ([`StateFamily`], a [`StateLaw`]: its variables,
+//! how they start, evolve at rest and while sliding, act on friction and what values are
+//! valid), its registry line ends `with state`, and the contact states carry its variables in
+//! generic slots ([`StateSlots`]) that neither the integrator nor the C interface names — rate
+//! (θ, the rate terms a locked form holds) and time healing (the contact's age, a gain of its
+//! own) do so. A family whose friction depends on the plastic
+//! slip rate also gives the return mapping its law as a [`RateEffect`] (the rate family), for
+//! what steady sliding at a rate gives.
 //!
 //! In a parameter file each family switched on is an object under its key (its name in
 //! snake_case), `"ext": {"slip_hardening": {"form": "capped", "h": 0.01, "s_h": 2}}`; the
@@ -30,13 +38,20 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::Target;
 
-mod direction;
-mod healing;
-mod pressure;
-mod rate;
-mod slip_hardening;
+#[macro_use]
+mod registry;
 mod slots;
-mod time_trend;
+mod state;
+
+registry! {
+    rate::Rate with state,
+    healing::TimeHealing with state,
+    pressure::Pressure,
+    slip_hardening::SlipHardening,
+    time_trend::TimeTrend,
+    direction::Direction,
+    #[cfg(test)] run_in::RunIn with state,
+}
 
 pub use direction::Direction;
 pub use healing::TimeHealing;
@@ -44,17 +59,11 @@ pub use pressure::Pressure;
 pub use rate::{AtRest, Rate, RateEffect, RateForm};
 pub use slip_hardening::SlipHardening;
 pub use slots::Terms;
+pub(crate) use state::LawOp;
+pub use state::{
+    FamilyState, StateFamily, StateLaw, StateSlots, StateTerms, StateVar, MAX_STATE_SLOTS,
+};
 pub use time_trend::TimeTrend;
-
-/// The registered families, in the order the diagnosis tries them.
-pub static FAMILIES: &[&dyn TermFamily] = &[
-    &Rate,
-    &TimeHealing,
-    &Pressure,
-    &SlipHardening,
-    &TimeTrend,
-    &Direction,
-];
 
 /// Most registered families a model may carry at once (one slot each in [`Terms`]).
 pub const MAX_FAMILIES: usize = 8;
@@ -458,20 +467,10 @@ pub trait TermFamily: Sync + std::fmt::Debug {
     fn gains_at_rest(&self) -> bool {
         false
     }
-    /// The friction form `form` gains at rest between contact ages `age` and `age + dt` [s].
-    fn rest_gain(&self, _form: usize, _p: &[f64; MAX_TERM_PARAMS], _age: f64, _dt: f64) -> f64 {
-        0.0
-    }
     /// Whether form `form`'s gain at rest replaces the exponential recovery ξ(μ_s − μ) of
     /// Eq. (24) (which then acts neither at rest nor while sliding).
     fn replaces_recovery(&self, _form: usize) -> bool {
         false
-    }
-    /// The slip [mm] over which form `form`'s gain at rest, a friction of its own on top of μ,
-    /// decays (e-fold) while the contact slides; `None` when the gain adds to μ itself, up to
-    /// μ_s.
-    fn erased_over(&self, _form: usize, _p: &[f64; MAX_TERM_PARAMS]) -> Option<f64> {
-        None
     }
     /// Whether the family makes friction depend on the plastic slip rate (the return mapping
     /// then solves for it). At most one such family is on in a model.

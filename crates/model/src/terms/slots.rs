@@ -4,7 +4,10 @@
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use super::{family_keyed, RateEffect, TermEffect, TermFamily, MAX_FAMILIES};
+use super::{
+    family_keyed, FamilyLaw, RateEffect, StateLaw, TermEffect, TermFamily, MAX_FAMILIES,
+    MAX_STATE_SLOTS,
+};
 use crate::Target;
 
 /// A kind of family a model may hold once.
@@ -72,9 +75,9 @@ impl Terms {
         out
     }
 
-    /// (key, value, expected) of every invalid parameter, and a second family that gains
-    /// friction at rest or reads the slip rate (the contact holds one gain of its own and one
-    /// rate law).
+    /// (key, value, expected) of every invalid parameter, a second family that gains friction
+    /// at rest or reads the slip rate (the contact holds one gain at rest and one rate law), and
+    /// a family whose state variables do not fit the contact's slots beside the others'.
     pub fn issues(&self) -> Vec<(&'static str, f64, &'static str)> {
         let mut out: Vec<_> = self.iter().flat_map(TermEffect::issues).collect();
         let single: [(Kind, &'static str); 2] = [
@@ -92,6 +95,20 @@ impl Terms {
                 out.push((second.family().params()[0].key, second.p[0], expected));
             }
         }
+        // The contact states hold MAX_STATE_SLOTS state variables: the family whose variables
+        // would go beyond them is named.
+        let mut used = 0;
+        for e in self.iter() {
+            used += FamilyLaw::of(e).map_or(0, |law| law.vars().len());
+            if used > MAX_STATE_SLOTS {
+                out.push((
+                    e.family().params()[0].key,
+                    e.p[0],
+                    "families whose state variables fit the contact's slots together",
+                ));
+                break;
+            }
+        }
         out
     }
 
@@ -100,12 +117,6 @@ impl Terms {
     pub fn rate_law(&self) -> Option<RateEffect> {
         self.iter()
             .find_map(|e| e.family().slip_rate_law(e.form as usize, &e.p))
-    }
-
-    /// The family on that gains friction at rest (time healing), if any.
-    #[inline]
-    pub fn rest_gain(&self) -> Option<TermEffect> {
-        self.iter().find(|e| e.family().gains_at_rest()).copied()
     }
 
     /// True unless a family on replaces the recovery ξ(μ_s − μ) of Eq. (24).

@@ -66,12 +66,14 @@ fn every_family_is_consistent() {
             for target in targets {
                 assert_eq!(fam.range_on(k, &e.p, target), (1.0, 1.0), "{}", form.key);
             }
-            // A family that adds no term says what it scales, gains at rest or reads the rate.
+            // A family that adds no term says what it scales, gains at rest or reads the rate,
+            // or acts through a state of its own.
             assert!(
                 fam.adds_term()
                     || !fam.targets(k).is_empty()
                     || fam.gains_at_rest()
-                    || fam.reads_slip_rate(),
+                    || fam.reads_slip_rate()
+                    || FamilyLaw::of(&e).is_some(),
                 "{}",
                 form.key
             );
@@ -151,4 +153,56 @@ fn several_families_are_written_under_their_keys_and_read_back() {
     let (s, t) = (0.7, 40.0);
     let sum: f64 = terms.iter().map(|e| e.term(s, t).0).sum();
     assert_eq!(terms.total(s, t).0, sum);
+}
+
+#[test]
+fn every_state_is_declared_once_and_starts_as_its_law_allows() {
+    let mut names: Vec<&str> = Vec::new();
+    for (index, fam) in FAMILIES.iter().enumerate() {
+        // Every form of a family with a state declares the same variables.
+        let Some(law) = FamilyLaw::of(&TermEffect::new(index as u8, 0)) else {
+            continue;
+        };
+        let vars = law.vars();
+        assert!(
+            !vars.is_empty() && vars.len() <= MAX_STATE_SLOTS,
+            "{}",
+            fam.name()
+        );
+        for v in vars {
+            // Messages and `Terms::slot_of` find a variable by its name: one family's each.
+            assert!(
+                !names.contains(&v.name),
+                "state variable `{}` twice",
+                v.name
+            );
+            names.push(v.name);
+        }
+        for (k, form) in fam.forms().iter().enumerate() {
+            let e = TermEffect::new(index as u8, k as u8);
+            let form_vars = FamilyLaw::of(&e).map(|law| law.vars());
+            assert_eq!(form_vars.map(<[_]>::len), Some(vars.len()), "{}", form.key);
+            let terms = Terms::one(e);
+            let start = terms.initial_state();
+            assert_eq!(terms.invalid_state(&start), None, "{}", form.key);
+            for (i, v) in vars.iter().enumerate() {
+                assert_eq!(terms.slot_of(v.name), Some(i), "{}", form.key);
+            }
+            // Unused slots stay zero, and are named by their place.
+            assert!(start.0[vars.len()..].iter().all(|&x| x == 0.0));
+            assert_eq!(
+                terms.slot_names()[MAX_STATE_SLOTS - 1],
+                if vars.len() < MAX_STATE_SLOTS {
+                    "slots[4]"
+                } else {
+                    vars[MAX_STATE_SLOTS - 1].name
+                }
+            );
+        }
+    }
+    // Rate and time healing are the families with a state.
+    assert!(
+        names.contains(&"theta") && names.contains(&"age"),
+        "{names:?}"
+    );
 }

@@ -1,0 +1,102 @@
+use super::*;
+
+#[test]
+fn a_change_with_slip_beyond_what_specimens_differ_by_shows_it_outright() {
+    let with = |lo: f64, hi: f64| super::super::EventReadings {
+        slip_change_relative: Some(super::super::Reading {
+            value: 0.5 * (lo + hi),
+            lo,
+            hi,
+        }),
+        ..Default::default()
+    };
+    let f = SlipHardening;
+    // Softening by 11 % over the slide, hardening by 5 %: shown.
+    assert!(f.shown(&with(-0.112, -0.107)));
+    assert!(f.shown(&with(0.03, 0.07)));
+    // Clear of zero but within what a second specimen (or a load cell's drift over a
+    // test) could show: not shown; nor an interval that reaches into the band.
+    assert!(!f.shown(&with(0.015, 0.018)));
+    assert!(!f.shown(&with(-0.08, -0.01)));
+    // Nothing read: nothing shown.
+    assert!(!f.shown(&super::super::EventReadings::default()));
+    // The reading lives on the first loadings.
+    assert_eq!(f.shown_in(), &[Shows::FirstLoadings]);
+}
+
+#[test]
+fn every_form_starts_with_slope_h_and_saturates() {
+    let mut p = [0.0; MAX_TERM_PARAMS];
+    p[0] = 0.02;
+    p[1] = 2.0;
+    for (form, shape) in FORMS.iter().enumerate() {
+        let f = SlipHardening;
+        let (h0, d0) = f.term(form, &p, 0.0, 0.0);
+        assert_eq!(h0, 0.0);
+        assert!((d0 - 0.02).abs() < 1e-12, "{}", shape.key);
+        let (h_far, d_far) = f.term(form, &p, 1e4, 0.0);
+        assert!(
+            h_far > 0.0 && h_far <= 0.04 + 1e-9,
+            "{}: {h_far}",
+            shape.key
+        );
+        assert!(d_far.abs() < 1e-6, "{}: {d_far}", shape.key);
+        // dH/ds by a central difference.
+        let (a, _) = f.term(form, &p, 0.9, 0.0);
+        let (b, _) = f.term(form, &p, 1.1, 0.0);
+        let (_, d) = f.term(form, &p, 1.0, 0.0);
+        assert!(((b - a) / 0.2 - d).abs() < 1e-4, "{}", shape.key);
+        // Time plays no part.
+        assert_eq!(f.term(form, &p, 1.0, 0.0), f.term(form, &p, 1.0, 1e5));
+    }
+}
+
+#[test]
+fn each_form_has_its_closed_form() {
+    let mut p = [0.0; MAX_TERM_PARAMS];
+    p[0] = -0.03;
+    p[1] = 0.5;
+    let f = SlipHardening;
+    let s = 0.8_f64;
+    let exp = -0.03 * 0.5 * (1.0 - (-s / 0.5).exp());
+    assert!((f.term(0, &p, s, 0.0).0 - exp).abs() < 1e-15);
+    assert!((f.term(1, &p, s, 0.0).0 - -0.03 * 0.5).abs() < 1e-15);
+    assert!((f.term(1, &p, 0.2, 0.0).0 - -0.03 * 0.2).abs() < 1e-15);
+    let hyp = -0.03 * s / (1.0 + s / 0.5);
+    assert!((f.term(2, &p, s, 0.0).0 - hyp).abs() < 1e-15);
+}
+
+#[test]
+fn first_guesses_scale_with_the_slip_of_a_test() {
+    let data = |slip_span_mm| DataScales {
+        v_ref: 0.01,
+        p_ref: 100.0,
+        slip_span_mm,
+        duration_s: 100.0,
+        holds: 0,
+        reversals: 0,
+        pressure_levels: 1,
+        sliding_rates: 1,
+        traction_tests: 0,
+        healing_per_decade: None,
+        steps: crate::terms::StepReading::default(),
+        rate_and_state: None,
+        stress_trend: Default::default(),
+        slip_slope_per_mm: None,
+    };
+    let short = SlipHardening.guess(0, &data(1.0));
+    let long = SlipHardening.guess(0, &data(10.0));
+    // Each start changes friction by the same amount over the slip of its test.
+    assert!((short.starts[0][0] * 1.0 - long.starts[0][0] * 10.0).abs() < 1e-15);
+    assert!((short.starts[0][1] * 10.0 - long.starts[0][1]).abs() < 1e-12);
+    // A test that barely slides still gets a usable saturation slip.
+    assert!(SlipHardening.guess(0, &data(0.0)).neutral[1] > 0.0);
+    // A slope read off the tests' residual comes first, its saturation beyond the test.
+    let read = DataScales {
+        slip_slope_per_mm: Some(-0.004),
+        ..data(5.0)
+    };
+    let g = SlipHardening.guess(1, &read);
+    assert_eq!(g.starts[0], vec![-0.004, 10.0]);
+    assert_eq!(g.starts.len(), 5);
+}
