@@ -14,7 +14,7 @@ use crate::Target;
 type Kind = fn(&dyn TermFamily) -> bool;
 
 /// The registered families switched on in a model, at most one form each (slot `i` holds
-/// family `i` of [`FAMILIES`]). In a parameter file each is an object under the family's key;
+/// family `i` of [`FAMILIES`](super::FAMILIES)). In a parameter file each is an object under the family's key;
 /// the reader also takes the `term` object of older files (`{"family": ..., ...}`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Terms([Option<TermEffect>; MAX_FAMILIES]);
