@@ -512,13 +512,15 @@ fn draw(fig: &IntervalFigure) -> Result<Drawn, Invalid> {
             .map_err(chart_err)?;
         // Upright category labels are drawn apart ([`draw_upright_categories`]).
         let upright = categories.as_ref().is_some_and(|c| c.2);
-        let xfmt = |v: &f64| (!upright).then(|| xticks.label(*v)).unwrap_or_default();
-        let yfmt = |v: &f64| yticks.label(*v);
-        let x_style = match &categories {
-            Some((_, size, true)) => font(*size).transform(FontTransform::Rotate270),
-            Some((_, size, false)) => font(*size),
-            None => font(m.tick),
+        let xfmt = |v: &f64| {
+            if upright {
+                String::new()
+            } else {
+                xticks.label(*v)
+            }
         };
+        let yfmt = |v: &f64| yticks.label(*v);
+        let x_style = font(categories.as_ref().map_or(m.tick, |c| c.1));
         let mut mesh = chart.configure_mesh();
         mesh.x_labels(xticks.values.len().max(1))
             .y_labels(yticks.values.len().max(1))
