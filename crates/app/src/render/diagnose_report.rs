@@ -433,10 +433,12 @@ fn held_out_selection(s: &mut String, d: &Diagnosis) {
                 &drift.held_out,
                 &st.candidates[i].held_out,
             ) {
+                // Only the fact: the effect can be taken here because another candidate is not
+                // outweighed, or because the effects taken after it outweigh the drift together.
                 let _ = writeln!(
                     s,
-                    "       the drift of the measurement outweighs it alone (D {:.1}); the effects the selection takes with it outweigh the drift together, and are followed",
-                    drift.held_out.score
+                    "       the drift of the measurement outweighs this effect alone (D {:.1} against {:.1}); section 5 says what is named",
+                    drift.held_out.score, st.candidates[i].held_out.score
                 );
             }
         }
