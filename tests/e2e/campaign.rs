@@ -482,3 +482,83 @@ fn submit_without_sbatch_says_so_and_wait_needs_submit() {
     let e = subfric!().usage_err(args!["campaign", &lab, "--slurm-cpus", "4"]);
     assert_mentions(&e, &["--emit-slurm", "--submit"]);
 }
+
+/// Ctrl-C during a campaign (issue 41): the set in progress finishes, no other starts, and the
+/// program says how many sets are done and how to resume, exiting with a failure; the same
+/// command then skips the sets done and completes the table.
+#[test]
+fn a_campaign_stopped_by_ctrl_c_says_so_and_resumes_where_it_stopped() {
+    let tmp = tempfile::tempdir().unwrap();
+    let lab = lab(tmp.path());
+    let out = tmp.path().join("out");
+    let runner = subfric!();
+    let a = args![
+        "campaign",
+        &lab,
+        "--out",
+        &out,
+        "--progress",
+        "never",
+        "--jobs",
+        "1"
+    ];
+    let child = runner
+        .command(a)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Interrupted once the first set is done: the second is then in progress.
+    let records = |out: &Path| -> usize {
+        std::fs::read_dir(out.join("sets"))
+            .map(|d| {
+                d.flatten()
+                    .filter(|e| e.path().join("campaign-set.json").is_file())
+                    .count()
+            })
+            .unwrap_or(0)
+    };
+    let start = std::time::Instant::now();
+    while records(&out) == 0 {
+        assert!(
+            start.elapsed().as_secs() < 300,
+            "no set finished in 5 minutes"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let sent = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let stopped = child.wait_with_output().unwrap();
+    let err = text(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    assert_mentions(
+        &err,
+        &[
+            "interrupted",
+            "of 3 sets done",
+            "run the same command again to resume",
+        ],
+    );
+    let done = records(&out);
+    assert!(
+        (1..3).contains(&done),
+        "{done} sets done after the interrupt: {err}"
+    );
+    assert!(
+        !out.join("campaign.csv").exists(),
+        "a table of an unfinished campaign"
+    );
+    // Resumed: the sets done are skipped, the others run, the table is complete.
+    let stdout = subfric!().ok(a);
+    assert_mentions(
+        &stdout,
+        &[&format!(
+            "3 sets: {} run, {done} skipped, 0 failed",
+            3 - done
+        )],
+    );
+    assert_eq!(csv_rows(&out).len(), 3);
+}

@@ -51,9 +51,12 @@ pub fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             err(format!("error: {}", error_text(&e)));
-            // A campaign whose table is written but some sets have no results: 3.
+            // A campaign whose table is written but some sets have no results: 3; one stopped
+            // by Ctrl-C: 130, as a program killed by SIGINT.
             ExitCode::from(if e.is::<campaign::SomeSetsFailed>() {
                 3
+            } else if e.is::<subfric_app::campaign::Interrupted>() {
+                130
             } else {
                 1
             })

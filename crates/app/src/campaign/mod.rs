@@ -27,7 +27,7 @@ mod table;
 
 pub use figures::{verdict_page, ROUGHNESS_FIGURE, STRESS_FIGURE, VERDICT_FIGURE, VERDICT_PAGE};
 pub use page::PAGE;
-pub use run::{SetOutcome, SetRun};
+pub use run::{Interrupted, SetOutcome, SetRun};
 pub use table::{ParamCell, Row, RowStatus};
 
 use crate::flags::{conflicts, parse_bound, parse_fix, parse_param};

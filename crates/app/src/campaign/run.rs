@@ -281,11 +281,34 @@ pub fn run_sets(
     let total = jobs.len();
     progress.count(0, total);
     progress.stage(&format!("campaign: 0 of {total} sets done"), None);
+    let interrupt = interrupt::Watch::install();
+    let workers = parallel.clamp(1, total.max(1));
+    let running = AtomicUsize::new(workers);
     std::thread::scope(|scope| {
-        for _ in 0..parallel.clamp(1, total.max(1)) {
+        // Says at once that a Ctrl-C was heard: the sets in progress may take a minute.
+        scope.spawn(|| {
+            while running.load(Ordering::Relaxed) > 0 {
+                if interrupt.heard() {
+                    let busy = running.load(Ordering::Relaxed);
+                    progress.warning(&format!(
+                        "interrupted: finishing the {busy} set(s) in progress, starting no other \
+                         (Ctrl-C again stops at once; a set stopped midway reruns when the \
+                         campaign is resumed)"
+                    ));
+                    break;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(50));
+            }
+        });
+        for _ in 0..workers {
             scope.spawn(|| loop {
+                if interrupt.heard() {
+                    running.fetch_sub(1, Ordering::Relaxed);
+                    break;
+                }
                 let k = next.fetch_add(1, Ordering::Relaxed);
                 let Some(&(index, job)) = jobs.get(k) else {
+                    running.fetch_sub(1, Ordering::Relaxed);
                     break;
                 };
                 let run =
@@ -303,7 +326,92 @@ pub fn run_sets(
     let runs = runs
         .into_inner()
         .map_err(|_| anyhow!("a campaign thread stopped"))?;
+    if interrupt.heard() {
+        return Err(Interrupted {
+            done: done.load(Ordering::Relaxed),
+            total,
+            out: out.to_path_buf(),
+        }
+        .into());
+    }
     runs.into_iter()
         .collect::<Option<Vec<_>>>()
         .ok_or_else(|| anyhow!("a set of the campaign was not run (a thread stopped)"))
+}
+
+/// A campaign stopped by Ctrl-C once the sets in progress had finished (exit code 130, as a
+/// program killed by SIGINT).
+#[derive(Debug)]
+pub struct Interrupted {
+    /// Sets done, this run and before.
+    pub done: usize,
+    /// Sets of the campaign.
+    pub total: usize,
+    /// The campaign folder.
+    pub out: PathBuf,
+}
+
+impl std::fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "interrupted (Ctrl-C) with {} of {} sets done: their results are kept in {}; run \
+             the same command again to resume (the sets done are skipped)",
+            self.done,
+            self.total,
+            self.out.display()
+        )
+    }
+}
+
+impl std::error::Error for Interrupted {}
+
+/// Ctrl-C (SIGINT) during a campaign: the first stops the campaign from starting another set and
+/// lets those in progress finish (each set's record is written last, so a resumed campaign
+/// skips exactly the sets that finished); the second stops the program at once, as without a
+/// handler.
+mod interrupt {
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    /// Set by the handler; read by the campaign's threads.
+    static HEARD: AtomicBool = AtomicBool::new(false);
+
+    extern "C" fn on_sigint(_: libc::c_int) {
+        HEARD.store(true, Ordering::SeqCst);
+        // `signal` is async-signal-safe: the next Ctrl-C gets the default action.
+        // SAFETY: restoring the default disposition of SIGINT from its handler.
+        unsafe {
+            libc::signal(libc::SIGINT, libc::SIG_DFL);
+        }
+    }
+
+    /// The handler, installed while a campaign runs its sets; the default disposition comes
+    /// back when it is dropped.
+    pub(super) struct Watch;
+
+    impl Watch {
+        pub(super) fn install() -> Watch {
+            HEARD.store(false, Ordering::SeqCst);
+            let handler = on_sigint as extern "C" fn(libc::c_int);
+            // SAFETY: the handler only stores to an atomic and calls `signal`.
+            unsafe {
+                libc::signal(libc::SIGINT, handler as libc::sighandler_t);
+            }
+            Watch
+        }
+
+        /// Whether a Ctrl-C came since [`Watch::install`].
+        pub(super) fn heard(&self) -> bool {
+            HEARD.load(Ordering::SeqCst)
+        }
+    }
+
+    impl Drop for Watch {
+        fn drop(&mut self) {
+            // SAFETY: restoring the default disposition.
+            unsafe {
+                libc::signal(libc::SIGINT, libc::SIG_DFL);
+            }
+        }
+    }
 }
