@@ -58,7 +58,7 @@ pub fn diagnose(dir: &Path, opts: &DiagnoseOptions, progress: &dyn Progress) -> 
 /// columns (units, further channels) as notes.
 fn warn(set: &ExperimentSet, progress: &dyn Progress) -> Vec<Warning> {
     for t in &set.tests {
-        for line in subfric_data::reading_lines(t) {
+        for line in subfric_reading::reading_lines(t) {
             progress.note(&format!("{}: {line}", crate::visible(&t.spec.name)));
         }
     }

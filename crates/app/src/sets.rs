@@ -4,10 +4,8 @@
 use crate::folders::output::LockedFolder;
 use anyhow::Result;
 use std::path::Path;
-use subfric_data::{
-    import, load_set, plausibility, summary, ExperimentSet, ImportSpec, PathKind, SetSummary,
-    Warning,
-};
+use subfric_data::{import, load_set, plausibility, ExperimentSet, ImportSpec, PathKind, Warning};
+use subfric_reading::{summary, SetSummary};
 
 /// A set read and looked over.
 pub struct Checked {

@@ -49,7 +49,7 @@ pub struct DataFeatures {
     pub duration_s: f64,
     /// How much more the record scatters over its steady stretches than its white noise shows
     /// (noise correlated in time, which a model's residual shows in full but the noise estimate
-    /// misses; [`subfric_data::noise::slow_noise_ratio`], median over the slip-controlled
+    /// misses; [`subfric_reading::noise::slow_noise_ratio`], median over the slip-controlled
     /// tests, within [1, [`MAX_UNSEEN_NOISE`]]; once the base model is fitted, the larger of
     /// that and the same measure on its residual over longer windows, [`unseen_noise_about`]):
     /// the misfit below which the gap is noise grows by this factor.
@@ -117,7 +117,7 @@ impl EventSeeds {
 }
 
 // The features read values of the record itself: the upper median, as they always have.
-use subfric_data::stats::upper_median as median;
+use subfric_reading::stats::upper_median as median;
 
 fn mean_normal(t: &FitTest) -> f64 {
     t.normal.iter().sum::<f64>() / t.normal.len().max(1) as f64
@@ -318,7 +318,7 @@ fn unseen_noise(tests: &[PreparedTest]) -> f64 {
         .map(|p| &p.full)
         .filter(|t| t.control == Control::Slip)
         .filter_map(|t| {
-            subfric_data::noise::slow_noise_ratio(&t.time, &t.imposed, &t.measured, t.noise_sd)
+            subfric_reading::noise::slow_noise_ratio(&t.time, &t.imposed, &t.measured, t.noise_sd)
         })
         .collect();
     median(&mut ratios).map_or(1.0, |r| r.clamp(1.0, MAX_UNSEEN_NOISE))
@@ -336,15 +336,15 @@ const RESIDUAL_WINDOW: usize = 240;
 /// parabola no longer follows the friction), so a window can span the wander that the raw
 /// windows absorb, and a line still takes out what the model misses slowly. Each test is
 /// measured over the longest windows it holds three of: [`RESIDUAL_WINDOW`] rows, else half as
-/// many, down to the raw record's [`subfric_data::noise::SLOW_WINDOW`]. The larger of the
+/// many, down to the raw record's [`subfric_reading::noise::SLOW_WINDOW`]. The larger of the
 /// median over the tests and the raw record's figure, and of the wander the residual's
-/// semivariogram within stretches of steady driving shows ([`subfric_data::noise::Variogram`],
+/// semivariogram within stretches of steady driving shows ([`subfric_reading::noise::Variogram`],
 /// for a wander slower than those windows), within [`MAX_UNSEEN_NOISE`].
 pub fn unseen_noise_about(tests: &[PreparedTest], residuals: &crate::score::HeldOut) -> f64 {
     let mut ratios = Vec::new();
     // A wander slower than those windows: the residual's semivariogram within each stretch of
     // steady driving, pooled over the tests (in units of each test's white noise).
-    let mut variogram = subfric_data::noise::Variogram::default();
+    let mut variogram = subfric_reading::noise::Variogram::default();
     for (t, r) in tests.iter().map(|p| &p.full).zip(residuals) {
         if t.control != Control::Slip || !r.iter().all(|v| v.is_finite()) {
             continue;
@@ -353,9 +353,9 @@ pub fn unseen_noise_about(tests: &[PreparedTest], residuals: &crate::score::Held
         // square root of the weight.
         let white = t.weight.sqrt();
         let longest = std::iter::successors(Some(RESIDUAL_WINDOW), |w| Some(w / 2))
-            .take_while(|&w| w >= subfric_data::noise::SLOW_WINDOW)
+            .take_while(|&w| w >= subfric_reading::noise::SLOW_WINDOW)
             .find_map(|w| {
-                subfric_data::noise::slow_noise_ratio_over(&t.time, &t.imposed, r, white, w, 2)
+                subfric_reading::noise::slow_noise_ratio_over(&t.time, &t.imposed, r, white, w, 2)
             });
         ratios.extend(longest);
         let scaled: Vec<f64> = r.iter().map(|v| v / white).collect();

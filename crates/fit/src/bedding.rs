@@ -271,7 +271,8 @@ fn closure_curve(
     let slip: Vec<f64> = (0..RISE_POINTS)
         .map(|k| t.imposed[0] + fl.sign * span * k as f64 / (RISE_POINTS - 1) as f64)
         .collect();
-    let Some(normal) = subfric_data::stats::upper_median(&mut t.normal[..rise_end].to_vec()) else {
+    let Some(normal) = subfric_reading::stats::upper_median(&mut t.normal[..rise_end].to_vec())
+    else {
         return Vec::new();
     };
     let normal = vec![normal; RISE_POINTS];
@@ -631,7 +632,7 @@ mod tests {
             reading_notes: Vec::new(),
             channels: Vec::new(),
         };
-        let segmentation = subfric_data::segment(&data, &Default::default());
+        let segmentation = subfric_reading::segment(&data, &Default::default());
         let t = FitTest::new("mono", Control::Slip, time, recorded, measured, normal);
         PreparedTest {
             full: t.clone(),

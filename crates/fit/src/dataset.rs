@@ -59,7 +59,7 @@ impl FitTest {
         }
         .max(1e-12);
         // A floor keeps noise-free (synthetic) data from getting infinite weight.
-        let noise = subfric_data::condition::noise_sd(&time, &measured).max(1e-4 * scale);
+        let noise = subfric_reading::condition::noise_sd(&time, &measured).max(1e-4 * scale);
         FitTest {
             name: name.into(),
             control,
@@ -162,7 +162,7 @@ pub fn typical_rate(tests: &[FitTest]) -> f64 {
             }
         }
     }
-    let r = subfric_data::stats::median(&mut rates).unwrap_or(0.0);
+    let r = subfric_reading::stats::median(&mut rates).unwrap_or(0.0);
     if r > 0.0 && r.is_finite() {
         r
     } else {

@@ -4,11 +4,12 @@
 
 use crate::dataset::FitTest;
 use crate::thin::{bins, scale_for_budget, thin_test};
-use subfric_data::{
-    close_gap, gap_remainder, seating_toe, segment, ExperimentSet, SeatingToe, SegmentKind,
-    SegmentOptions, Segmentation, StartKind, TestData,
-};
+use subfric_data::{ExperimentSet, TestData};
 use subfric_model::{Control, Initial, Model};
+use subfric_reading::{
+    close_gap, gap_remainder, seating_toe, segment, SeatingToe, SegmentKind, SegmentOptions,
+    Segmentation, StartKind,
+};
 
 /// A test ready for fitting, with the segmentation its residuals are localised by.
 #[derive(Clone, Debug)]

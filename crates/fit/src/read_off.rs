@@ -25,8 +25,8 @@ use crate::guess::features;
 // residual stress ratio: one rule with the tests' level readings.
 use crate::levels::RESIDUAL_DECAYS;
 use serde::Serialize;
-use subfric_data::stats::median;
 use subfric_model::{Control, Initial, Model};
+use subfric_reading::stats::median;
 
 /// The fitted model keeps a measured stress ratio when it lies within this share of it, or
 /// within [`NOISE_MULTIPLE`] noise SDs when the noise is larger: a peak or residual missed by

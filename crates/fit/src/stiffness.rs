@@ -18,9 +18,9 @@ use crate::dataset::{typical_rate, FitTest};
 use crate::prepare::PreparedTest;
 use crate::space::{Param, Space};
 use serde::Serialize;
-use subfric_data::stats::upper_median;
 use subfric_model::params::KN_PER_MM3_IN_KPA_PER_MM;
 use subfric_model::{Control, Model};
+use subfric_reading::stats::upper_median;
 
 /// Evidence that the elastic stiffness is resolved.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -150,7 +150,7 @@ fn unload_slope(u: &[f64], tau: &[f64], r: usize, j: usize, band: f64) -> Option
     if end < r + 3 || (u[end] - u[r]).abs() < UNLOAD_BANDS * band {
         return None;
     }
-    let line = subfric_data::line::fit_line(&u[r..=end], &tau[r..=end])?;
+    let line = subfric_reading::stats::fit_line(&u[r..=end], &tau[r..=end])?;
     // The shear must fall as the travel reverses: a slope of the wrong sign is noise.
     (line.slope.is_finite() && line.slope > 0.0 && line.r2 >= UNLOAD_R2).then_some(line.slope)
 }
@@ -197,7 +197,7 @@ fn first_rise(p: &PreparedTest) -> Option<Rise> {
     let seg = &p.segmentation;
     // A test whose seating toe was excluded starts at rest under a quarter of its peak, on
     // the steep loading: the rest of that loading is as elastic as a loading from zero.
-    let from_rest = seg.start.kind == subfric_data::StartKind::Rest || p.toe.is_some();
+    let from_rest = seg.start.kind == subfric_reading::StartKind::Rest || p.toe.is_some();
     if !from_rest || t.len() < 10 {
         return None;
     }
@@ -420,8 +420,9 @@ mod tests {
     }
     use rand::SeedableRng;
     use rand_distr::{Distribution, Normal};
-    use subfric_data::{ControlColumn, SegmentOptions, TestData, TestSpec};
+    use subfric_data::{ControlColumn, TestData, TestSpec};
     use subfric_model::{simulate, Model, Params, Protocol};
+    use subfric_reading::SegmentOptions;
 
     /// A slide to 2 mm at 10 µm/s logged every 0.4 s, an unload of the load point by `back` mm
     /// over six rows 4 s apart, a hold of three rows and a reload, at 100 kPa on an interface

@@ -11,7 +11,7 @@
 //! the least squares over all rows (the misfit on all rows is reported separately).
 
 use crate::dataset::FitTest;
-use subfric_data::{SegmentKind, Segmentation};
+use subfric_reading::{SegmentKind, Segmentation};
 
 /// Bins per segment before scaling to the budget, by kind.
 fn base_bins(kind: SegmentKind) -> f64 {

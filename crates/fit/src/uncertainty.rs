@@ -72,7 +72,7 @@ pub fn variance_scale(ssr: f64, rows: usize, m: usize) -> f64 {
 const MIN_CORRELATION_ROWS: usize = 20;
 
 /// Integrated autocorrelation time τ = 1 + 2 Σ_{k=1}^{W} ρ_k of a residual sequence (rows, in
-/// row order), with Sokal's automatic window ([`subfric_data::stats::integrated_time`], the one
+/// row order), with Sokal's automatic window ([`subfric_reading::stats::integrated_time`], the one
 /// the posterior's convergence reads, summed to half the series at most); at least 1. For independent residuals τ ≈ 1;
 /// for residuals correlated over many rows τ is the number of rows that carry as much
 /// information as one independent row: n_eff = n/τ (for an AR(1) sequence of lag-one
@@ -98,7 +98,7 @@ pub fn correlation_time(r: &[f64]) -> f64 {
     if n < MIN_CORRELATION_ROWS {
         return 1.0;
     }
-    let tau = subfric_data::stats::integrated_time_within(&[&v], n / 2);
+    let tau = subfric_reading::stats::integrated_time_within(&[&v], n / 2);
     // A constant sequence has no autocorrelation to read: independent.
     if tau.is_finite() {
         tau.max(1.0)

@@ -457,7 +457,7 @@ pub fn tally(outcomes: &[CampaignOutcome]) -> Vec<CoverageRow> {
                 covered: of.iter().filter(|p| p.covered).count(),
                 total: of.len(),
                 determined: of.iter().filter(|p| p.status == Status::Determined).count(),
-                median_half_width_percent: subfric_data::stats::upper_median(&mut widths)
+                median_half_width_percent: subfric_reading::stats::upper_median(&mut widths)
                     .unwrap_or(f64::NAN),
             }
         })

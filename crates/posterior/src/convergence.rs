@@ -6,7 +6,7 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-pub use subfric_data::stats::{integrated_time, SOKAL_WINDOW};
+pub use subfric_reading::stats::{integrated_time, SOKAL_WINDOW};
 
 /// Groups of walkers the split R̂ compares (each group split into two halves in time).
 pub const RHAT_GROUPS: usize = 4;
@@ -320,7 +320,7 @@ mod tests {
     use super::*;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
-    use subfric_data::stats::autocorrelation;
+    use subfric_reading::stats::autocorrelation;
 
     use crate::predictive::normal;
 

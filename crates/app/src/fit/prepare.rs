@@ -54,7 +54,7 @@ fn read_sets(dirs: &[PathBuf], progress: &dyn Progress) -> Result<ReadSets> {
             } else {
                 t.spec.name.clone()
             };
-            for line in subfric_data::reading_lines(t) {
+            for line in subfric_reading::reading_lines(t) {
                 progress.note(&format!("{}: {line}", crate::visible(&name)));
             }
             read.contents

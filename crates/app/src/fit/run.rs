@@ -87,7 +87,7 @@ pub const MIN_NOISE_DEGREES_OF_FREEDOM: usize = 6;
 
 /// Why the intervals of a fit cannot be shown, if they cannot: every interval and the misfit
 /// are in units of each test's noise, which the test's own record measures (second
-/// differences, [`subfric_data::NoiseEstimate::degrees_of_freedom`]) and which weighs its
+/// differences, [`subfric_reading::NoiseEstimate::degrees_of_freedom`]) and which weighs its
 /// rows; a fit of no more rows than free parameters leaves no residual to check it. A short
 /// test gives a noise read off a handful of differences, or none (then a floor of 10⁻⁴ of the
 /// scale stands in and its rows weigh without measure): intervals computed from it exclude the
@@ -96,7 +96,7 @@ fn noise_not_measured(tests: &[PreparedTest], report: &FitReport) -> Option<Stri
     let (dof, test) = tests
         .iter()
         .map(|t| {
-            let e = subfric_data::estimate_noise(&t.full.time, &t.full.measured);
+            let e = subfric_reading::estimate_noise(&t.full.time, &t.full.measured);
             (e.degrees_of_freedom(), t.full.name.as_str())
         })
         .min()?;

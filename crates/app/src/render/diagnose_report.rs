@@ -214,7 +214,7 @@ fn header(s: &mut String, name: &str, d: &Diagnosis) {
         }
     );
     for st in &d.starts {
-        if !st.from_spec && st.start != subfric_data::StartKind::Rest {
+        if !st.from_spec && st.start != subfric_reading::StartKind::Rest {
             let _ = writeln!(s, "   {}: {}", st.test, st.reason);
         }
         if let Some(toe) = &st.seating_toe {

@@ -516,7 +516,7 @@ pub(super) fn specimen_scatter(t: &FitTest) -> f64 {
         .filter(|v| v.is_finite())
         .map(|v| v.abs())
         .collect();
-    let typical = subfric_data::stats::median(&mut shear).unwrap_or(0.0);
+    let typical = subfric_reading::stats::median(&mut shear).unwrap_or(0.0);
     subfric_fit::levels::REPRODUCIBILITY_SHARE * typical / t.noise_sd
 }
 

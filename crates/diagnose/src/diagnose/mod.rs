@@ -433,7 +433,7 @@ fn test_starts(prepared: &[PreparedTest]) -> Vec<TestStart> {
             from_spec: p.segmentation.start.from_spec,
             reason: p.segmentation.start.reason.clone(),
             noise_sd: p.full.noise_sd,
-            noise_floor: subfric_data::estimate_noise(&p.full.time, &p.full.measured).floor,
+            noise_floor: subfric_reading::estimate_noise(&p.full.time, &p.full.measured).floor,
             seating_toe: p.toe.clone(),
             normal_held: p.segmentation.normal.held_because().map(String::from),
         })

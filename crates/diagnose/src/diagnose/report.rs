@@ -320,7 +320,7 @@ pub struct TestStart {
     /// Test.
     pub test: String,
     /// The state.
-    pub start: subfric_data::StartKind,
+    pub start: subfric_reading::StartKind,
     /// From `experiment.json`, or decided from the data.
     pub from_spec: bool,
     /// Why.
@@ -330,7 +330,7 @@ pub struct TestStart {
     /// Noise is a floor.
     pub noise_floor: bool,
     /// A seating toe excluded from the start of the record (a rig artifact, not friction).
-    pub seating_toe: Option<subfric_data::SeatingToe>,
+    pub seating_toe: Option<subfric_reading::SeatingToe>,
     /// Why the normal-stress column was held at its levels (its scatter the reading's, not
     /// followed by the shear), when it was.
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -156,7 +156,7 @@ pub(super) fn healing_trend(holds: &[HoldHealing]) -> Option<HealingTrend> {
         return None;
     }
     let (x, y): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
-    let line = subfric_data::line::fit_line(&x, &y)?;
+    let line = subfric_reading::stats::fit_line(&x, &y)?;
     // Holds too close in duration (a spread of log10 hold time, Σ(x − x̄)², under 0.1) say
     // nothing of a trend per decade.
     if line.sxx < 0.1 {

@@ -12,9 +12,9 @@ pub mod steps;
 
 use rayon::prelude::*;
 use serde::Serialize;
-use subfric_data::stats::upper_median;
 use subfric_fit::{PreparedTest, Stiffness};
 use subfric_model::Control;
+use subfric_reading::stats::upper_median;
 
 pub use holds::{HealingTrend, HoldHealing};
 pub use reversals::{DirectionAsymmetry, ReversalChange};
@@ -89,7 +89,7 @@ pub(crate) struct TestView<'a> {
     pub slip: &'a [f64],
     pub shear: &'a [f64],
     pub normal: &'a [f64],
-    pub segmentation: &'a subfric_data::Segmentation,
+    pub segmentation: &'a subfric_reading::Segmentation,
     /// Noise SD in friction units.
     pub noise_friction: f64,
 }

@@ -3,12 +3,12 @@
 
 use super::Window;
 use crate::events::Estimate;
-use subfric_data::line::LineFit;
+use subfric_reading::stats::LineFit;
 
 /// The least-squares line of `y` on `x`; a level (slope 0 through the mean) when x does not
 /// vary.
 fn line(x: &[f64], y: &[f64]) -> LineFit {
-    subfric_data::line::fit_line(x, y).unwrap_or_else(|| {
+    subfric_reading::stats::fit_line(x, y).unwrap_or_else(|| {
         let n = y.len().max(1) as f64;
         let mean = y.iter().sum::<f64>() / n;
         LineFit {

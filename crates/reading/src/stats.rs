@@ -2,13 +2,18 @@
 //! (the mean of the middle two of an even count) and the upper median (a value of the data
 //! itself: the middle one, or the upper of the middle two), NaN sorting last by `total_cmp`;
 //! and the autocorrelation of a series by FFT with its integrated time (Sokal's window), which
-//! the fit's correlated-residual intervals and the posterior's convergence both read.
+//! the fit's correlated-residual intervals and the posterior's convergence both read; the
+//! least-squares straight line ([`line`]).
+
+pub mod line;
+
+pub use line::{fit_line, fit_weighted_line, LineFit, WeightedLine};
 
 /// The median of `v` (sorted in place): the middle value, the mean of the middle two for an
 /// even count; `None` when empty.
 ///
 /// ```
-/// use subfric_data::stats::median;
+/// use subfric_reading::stats::median;
 /// assert_eq!(median(&mut [3.0, 1.0, 2.0]), Some(2.0));
 /// assert_eq!(median(&mut [4.0, 1.0, 3.0, 2.0]), Some(2.5));
 /// assert_eq!(median(&mut []), None);
@@ -31,7 +36,7 @@ pub fn median(v: &mut [f64]) -> Option<f64> {
 /// wanted rather than a point between two; `None` when empty.
 ///
 /// ```
-/// use subfric_data::stats::upper_median;
+/// use subfric_reading::stats::upper_median;
 /// assert_eq!(upper_median(&mut [4.0, 1.0, 3.0, 2.0]), Some(3.0));
 /// assert_eq!(upper_median(&mut [3.0, 1.0, 2.0]), Some(2.0));
 /// ```
@@ -48,7 +53,7 @@ pub fn upper_median(v: &mut [f64]) -> Option<f64> {
 /// 0..=1; NaN when empty.
 ///
 /// ```
-/// use subfric_data::stats::quantile;
+/// use subfric_reading::stats::quantile;
 /// assert_eq!(quantile(&[1.0, 2.0, 3.0, 4.0], 0.5), 2.5);
 /// assert_eq!(quantile(&[1.0, 2.0, 3.0, 4.0], 0.25), 1.75);
 /// assert_eq!(quantile(&[7.0], 0.9), 7.0);
@@ -78,7 +83,7 @@ pub const SOKAL_WINDOW: f64 = 5.0;
 /// correlated (ρ_k = 1); if none moves, τ is infinite.
 ///
 /// ```
-/// use subfric_data::stats::integrated_time;
+/// use subfric_reading::stats::integrated_time;
 /// // White noise has τ = 1.
 /// let mut state = 7u64;
 /// let mut next = || { state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407); (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5 };
