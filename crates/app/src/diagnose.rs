@@ -16,8 +16,9 @@ use subfric_data::{load_set, plausibility, ExperimentSet, Warning};
 use subfric_diagnose::{
     diagnose_reporting, prepare_for_diagnosis, DiagnoseOptions, Diagnosis, Step,
 };
-use subfric_fit::{PreparedTest, RunCounter};
+use subfric_fit::RunCounter;
 use subfric_plot::{write_figure, BarFigure};
+use subfric_reading::PreparedTest;
 
 /// What a diagnosis folder holds; the per-test and per-event figures go to `figures/`,
 /// claimed as a whole.

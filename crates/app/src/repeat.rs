@@ -8,9 +8,9 @@
 //! each of its rates, holds and amplitude is one the test already has.
 
 use subfric_data::{ControlColumn, TestData, TestSpec};
-use subfric_fit::{FitTest, PreparedTest};
 use subfric_model::Control;
 use subfric_reading::{segment, SegmentOptions, Segmentation};
+use subfric_reading::{FitTest, PreparedTest};
 
 /// Two rates, holds or amplitudes within this factor are the same.
 const SAME_FACTOR: f64 = 1.3;

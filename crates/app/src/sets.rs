@@ -22,8 +22,8 @@ pub struct Checked {
 
 impl Checked {
     fn of(set: ExperimentSet) -> Checked {
-        let prepared = subfric_fit::prepare_set(&set, false);
-        let stiffness = subfric_fit::resolved_stiffness(&prepared);
+        let prepared = subfric_reading::prepare_set(&set, false);
+        let stiffness = subfric_reading::resolved_stiffness(&prepared);
         Checked {
             summary: summary(&set),
             warnings: plausibility(&set),

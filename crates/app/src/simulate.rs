@@ -11,8 +11,8 @@ use subfric_data::{
     load_set, write_set, ControlColumn, ExperimentMeta, ExperimentSet, Interface, PathKind,
     TestData, TestSpec, EXPERIMENT_JSON,
 };
-use subfric_fit::prepare_set;
 use subfric_model::{Control, Model, Scenario};
+use subfric_reading::prepare_set;
 
 /// What to simulate.
 #[derive(Clone, Debug)]

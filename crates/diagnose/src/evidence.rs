@@ -9,8 +9,8 @@ use crate::candidates::Effect;
 use crate::folds::Piece;
 use crate::score::HeldOut;
 use serde::Serialize;
-use subfric_fit::PreparedTest;
 use subfric_model::Control;
+use subfric_reading::PreparedTest;
 use subfric_reading::SegmentKind;
 
 /// A physical feature of a row.

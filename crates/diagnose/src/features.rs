@@ -3,8 +3,8 @@
 //! gives the direct effect a, the decay length D_c, the new steady level a − b).
 
 use serde::Serialize;
-use subfric_fit::{typical_rate, FitTest, PreparedTest};
 use subfric_model::Control;
+use subfric_reading::{typical_rate, FitTest, PreparedTest};
 
 /// Velocity-step signature, per e-fold of rate.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

@@ -112,7 +112,7 @@ pub fn correlation_time(r: &[f64]) -> f64 {
 /// the test's share of the sum of squares as weight (a test whose residuals carry more of the
 /// misfit matters more); at least 1. Multiplying s² by it widens every interval as if the fit
 /// had n/τ independent rows instead of n.
-pub fn noise_correlation(tests: &[crate::dataset::FitTest], residuals: &[f64]) -> f64 {
+pub fn noise_correlation(tests: &[subfric_reading::FitTest], residuals: &[f64]) -> f64 {
     let (mut num, mut den) = (0.0, 0.0);
     let mut start = 0;
     for t in tests {

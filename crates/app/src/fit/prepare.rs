@@ -7,8 +7,9 @@ use crate::progress::Progress;
 use anyhow::{anyhow, bail, Result};
 use std::path::PathBuf;
 use subfric_data::{load_set, plausibility, Warning};
-use subfric_fit::{prepare_set, typical_rate, FitOptions, FitTest, Param, PreparedTest, Space};
+use subfric_fit::{FitOptions, Param, Space};
 use subfric_model::{Model, Params};
+use subfric_reading::{prepare_set, typical_rate, FitTest, PreparedTest};
 
 /// The sets of a request as read: their tests prepared, what they publish and what they warn.
 struct ReadSets {

@@ -7,7 +7,8 @@ use crate::located;
 use crate::outcome::adequacy::Adequacy;
 use crate::progress::Progress;
 use anyhow::{bail, Result};
-use subfric_fit::{calibrate_from, compare_with_published, FitReport, FitTest, PreparedTest};
+use subfric_fit::{calibrate_from, compare_with_published, FitReport};
+use subfric_reading::{FitTest, PreparedTest};
 
 /// Runs the calibration of a checked setup; a single set's errors name its folder.
 pub fn run_setup(req: &FitRequest, setup: FitSetup, progress: &dyn Progress) -> Result<FitOutcome> {
@@ -57,7 +58,7 @@ fn calibrate_setup(
         }
         None => Adequacy::of_fit(&report, &setup.tests),
     };
-    let read_off = subfric_fit::read_off(&fulls, &report.model);
+    let read_off = subfric_reading::read_off(&fulls, &report.model);
     for r in read_off.iter().filter(|r| r.departs) {
         let reads = report
             .param(r.param)
@@ -66,7 +67,7 @@ fn calibrate_setup(
         progress.warning(&r.sentence_reading(reads.as_deref()));
     }
     Ok(FitOutcome {
-        levels: subfric_fit::read_levels(&setup.tests),
+        levels: subfric_reading::read_levels(&setup.tests),
         read_off,
         report,
         adequacy,

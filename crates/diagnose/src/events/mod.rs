@@ -12,9 +12,9 @@ pub mod steps;
 
 use rayon::prelude::*;
 use serde::Serialize;
-use subfric_fit::{PreparedTest, Stiffness};
 use subfric_model::Control;
 use subfric_reading::stats::upper_median;
+use subfric_reading::{PreparedTest, Stiffness};
 
 pub use holds::{HealingTrend, HoldHealing};
 pub use reversals::{DirectionAsymmetry, ReversalChange};
@@ -27,7 +27,7 @@ pub const STEP_EVIDENCE: f64 = 20.0;
 /// Largest ratio between the springs of the velocity steps that still counts as one machine.
 pub const SPRING_AGREEMENT: f64 = 3.0;
 
-pub use subfric_fit::Estimate;
+pub use subfric_reading::Estimate;
 
 /// What the per-event reading found, and what it says about each family.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -46,7 +46,7 @@ pub struct EventAnalysis {
     pub rate: Option<RateConsensus>,
     /// Every test's peak and residual stress ratio, and their change with the normal stress
     /// and with slip.
-    pub levels: subfric_fit::LevelReadings,
+    pub levels: subfric_reading::LevelReadings,
 }
 
 /// What the velocity steps say together.
@@ -149,7 +149,7 @@ pub fn analyse(prepared: &[PreparedTest], stiffness: Option<&Stiffness>) -> Even
     let reversal_changes: Vec<ReversalChange> =
         views.iter().flat_map(reversals::reversals).collect();
     EventAnalysis {
-        levels: subfric_fit::read_levels(prepared),
+        levels: subfric_reading::read_levels(prepared),
         rate: consensus(&step_fits),
         healing: holds::healing_trend(&holds),
         direction: reversals::asymmetry(&reversal_changes),
