@@ -5,6 +5,7 @@
 
 use rayon::prelude::*;
 use serde::Serialize;
+use subfric_reading::stats::mean_var;
 
 pub use subfric_reading::stats::{integrated_time, SOKAL_WINDOW};
 
@@ -301,18 +302,6 @@ pub fn split_rhat(walkers: &[&[f64]], groups: usize) -> f64 {
     }
     let pooled_var = (len - 1.0) / len * within + between_over_n;
     (pooled_var / within).sqrt()
-}
-
-/// Mean and unbiased variance.
-fn mean_var(x: &[f64]) -> (f64, f64) {
-    let n = x.len() as f64;
-    let m = x.iter().sum::<f64>() / n;
-    let v = if x.len() > 1 {
-        x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0)
-    } else {
-        0.0
-    };
-    (m, v)
 }
 
 #[cfg(test)]

@@ -19,7 +19,7 @@
 use crate::estimate::Estimate;
 use crate::fit_test::FitTest;
 use crate::prepare::PreparedTest;
-use crate::stats::median;
+use crate::stats::{median, Z95};
 use serde::Serialize;
 use subfric_model::{Control, Initial};
 
@@ -43,9 +43,6 @@ const RESIDUAL_SHARE: f64 = 0.2;
 /// The peak is read on a parabola over this share of the shorter of the rise and the decay
 /// lengths either side of the largest smoothed value.
 const PEAK_REGION_SHARE: f64 = 0.15;
-
-/// Two-sided 95 % quantile of the normal distribution.
-const Z95: f64 = 1.959_964;
 
 /// Fewest rows a reading is made from.
 const MIN_ROWS: usize = 8;
