@@ -17,7 +17,7 @@ use crate::prepare::PreparedTest;
 use crate::stats::upper_median;
 use serde::Serialize;
 use subfric_model::params::KN_PER_MM3_IN_KPA_PER_MM;
-use subfric_model::Control;
+use subfric_model::{Control, Model};
 
 /// Evidence that the elastic stiffness is resolved.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -28,6 +28,16 @@ pub struct Stiffness {
     pub events: usize,
     /// In words.
     pub evidence: String,
+}
+
+impl Stiffness {
+    /// The stiffness the decision goes with, into `model`: α_t, and α_n equal to it (lab data
+    /// do not resolve the normal stiffness apart). `fit` starts its calibration there and the
+    /// diagnosis its base fit, both after [`decide_stiffness`].
+    pub fn set_in(&self, model: &mut Model) {
+        model.params.alpha_t = self.alpha_t;
+        model.params.alpha_n = self.alpha_t;
+    }
 }
 
 /// Imposed travel, in bands, that the elastic change must need to count as resolved.
@@ -259,11 +269,15 @@ pub struct StiffnessReadings {
     pub springs: Option<Stiffness>,
 }
 
-/// The α_t decision, one order for `fit` and the diagnosis alike: what unloads and reloads
-/// resolve; else what the velocity steps' springs read; else `trial` (where a first loading
-/// rises over several rows, α_t free against α_t held with the caller's other parameters —
-/// `subfric_fit::stiffness_by_trial` — kept when the rise decides it); `None` when nothing decides it,
-/// and α_t is held. The trial runs only when nothing before it decides.
+/// The α_t decision, the one function `fit` and the diagnosis both call (the fit in the
+/// application layer, `subfric_app`'s `fit/stiffness.rs::starting_stiffness`; the diagnosis in
+/// `subfric_diagnose`'s `diagnose/mod.rs::elastic_stiffness`), in one order: what unloads and
+/// reloads resolve; else what the velocity steps' springs read (the diagnosis reads the steps
+/// one by one; `fit` does not, and gives none); else `trial` (where a first loading rises over
+/// several rows, α_t free against α_t held with the caller's other parameters —
+/// `subfric_fit::stiffness_by_trial` — kept when the rise decides it); `None` when nothing
+/// decides it, and α_t is held. The trial runs only when nothing before it decides. The
+/// stiffness that goes with the decision is set by [`Stiffness::set_in`].
 pub fn decide_stiffness(
     readings: StiffnessReadings,
     trial: impl FnOnce() -> Option<Stiffness>,

@@ -48,10 +48,7 @@ pub(super) fn starting_stiffness(
         })
         .flatten();
     match (&resolved, why) {
-        (Some(s), _) => {
-            template.params.alpha_t = s.alpha_t;
-            template.params.alpha_n = s.alpha_t;
-        }
+        (Some(s), _) => s.set_in(template),
         (None, Some(why)) if !alpha_given => progress.note(&why),
         _ => {}
     }

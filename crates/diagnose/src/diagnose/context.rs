@@ -99,8 +99,7 @@ impl<'a> Context<'a> {
         let mut template = opts.template;
         let mut base_free = Param::BASE.to_vec();
         if let Some(s) = stiffness {
-            template.params.alpha_t = s.alpha_t;
-            template.params.alpha_n = s.alpha_t;
+            s.set_in(&mut template);
             base_free.push(Param::AlphaT);
         }
         let mut all_pieces = pieces(prepared);
