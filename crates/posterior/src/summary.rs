@@ -246,7 +246,7 @@ fn thinning(c: &Convergence) -> usize {
 }
 
 /// The `q` quantile of sorted values (linear interpolation between order statistics): the
-/// one of [`subfric_data::stats`].
+/// one of [`subfric_reading::stats`].
 pub use subfric_reading::stats::quantile;
 
 fn summarise(p: Param, values: &[f64], prior: &str) -> ParamSummary {
