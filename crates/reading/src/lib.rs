@@ -17,6 +17,8 @@
 //!   guesses of the parameters read off the curves;
 //! - [`stiffness`]: what the record says of the elastic stiffness α_t, and the one decision
 //!   among those readings and a trial (`decide_stiffness`) that `fit` and the diagnosis share;
+//! - [`features`]: what the record shows the diagnosis's candidates (rates, normal stresses,
+//!   holds, reversals, steps, noise seen and unseen);
 //! - [`stats`]: the small statistics every reading shares (medians, quantiles, the
 //!   least-squares line, the autocorrelation).
 //!
@@ -28,6 +30,7 @@
 pub mod artifacts;
 pub mod condition;
 pub mod estimate;
+pub mod features;
 pub mod fit_test;
 pub mod guess;
 pub mod imposed;

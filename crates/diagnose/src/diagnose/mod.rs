@@ -279,7 +279,7 @@ pub fn diagnose_reporting(
         cx.trace("base fit on the travel with the bedding taken out");
         (&seated[..], cx, start)
     };
-    cx.features.seeds = crate::features::EventSeeds::from_events(&events);
+    cx.features.seeds = events.seeds();
     cx.events = events.clone();
     let base = fit_base(&mut cx, calibrated)?;
     let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();

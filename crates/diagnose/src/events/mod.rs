@@ -13,6 +13,7 @@ pub mod steps;
 use rayon::prelude::*;
 use serde::Serialize;
 use subfric_model::Control;
+use subfric_reading::features::EventSeeds;
 use subfric_reading::stats::upper_median;
 use subfric_reading::{PreparedTest, Stiffness};
 
@@ -314,4 +315,45 @@ fn consensus(steps: &[StepFit]) -> Option<RateConsensus> {
         // A step too fast for its rows says nothing for or against a direct effect.
         consistent: significant.len() >= 2 && 3 * significant.len() >= 2 * resolved,
     })
+}
+
+impl EventAnalysis {
+    /// The first guesses this analysis gives the global fits of the forms
+    /// ([`subfric_reading::features::EventSeeds`]).
+    pub fn seeds(&self) -> EventSeeds {
+        let e = self;
+        let finite = |v: f64| v.is_finite().then_some(v);
+        EventSeeds {
+            rate_and_state: e.rate.as_ref().and_then(|r| {
+                (r.a.is_finite() && r.b.is_finite() && r.d_c_mm.is_finite())
+                    .then_some((r.a, r.b, r.d_c_mm))
+            }),
+            healing_per_decade: e.healing.as_ref().and_then(|h| finite(h.per_decade.value)),
+            backward_weakening: e
+                .direction
+                .as_ref()
+                .and_then(|d| finite(d.backward_weakening.value)),
+            // A reading within its uncertainty of zero is no guess (the generic starts hold
+            // the neutral already): a start from it only moves the screening to another basin
+            // (a hyperbolic slip hardening at its bound, standing in for the rise the model
+            // lacks).
+            stress_trend: (
+                e.levels
+                    .peak
+                    .as_ref()
+                    .filter(|t| t.changes())
+                    .and_then(|t| finite(t.relative_per_efold.value)),
+                e.levels
+                    .residual
+                    .as_ref()
+                    .filter(|t| t.changes())
+                    .and_then(|t| finite(t.relative_per_efold.value)),
+            ),
+            slip_slope_per_mm: e
+                .levels
+                .slip_slope_per_mm
+                .filter(|s| s.excludes_zero())
+                .and_then(|s| finite(s.value)),
+        }
+    }
 }
