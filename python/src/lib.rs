@@ -22,8 +22,9 @@ use subfric_app::posterior::{PosteriorRequest, ResidualModel};
 use subfric_app::{self as api, FitRequest, Silent};
 use subfric_data::{load_set as load_set_rs, plausibility, InitialSpec};
 use subfric_diagnose::DiagnoseOptions;
-use subfric_fit::{control_of, FitOptions, FitTest, Method, Param};
+use subfric_fit::{FitOptions, Method, Param};
 use subfric_model::{simulate as simulate_rs, Control, Initial, Model, Protocol, Trajectory};
+use subfric_reading::{control_of, FitTest};
 
 create_exception!(
     subfric,

@@ -16,8 +16,9 @@ use subfric_data::{load_set, plausibility, ExperimentSet, Warning};
 use subfric_diagnose::{
     diagnose_reporting, prepare_for_diagnosis, DiagnoseOptions, Diagnosis, Step,
 };
-use subfric_fit::{PreparedTest, RunCounter};
+use subfric_fit::RunCounter;
 use subfric_plot::{write_figure, BarFigure};
+use subfric_reading::PreparedTest;
 
 /// What a diagnosis folder holds; the per-test and per-event figures go to `figures/`,
 /// claimed as a whole.
@@ -58,7 +59,7 @@ pub fn diagnose(dir: &Path, opts: &DiagnoseOptions, progress: &dyn Progress) -> 
 /// columns (units, further channels) as notes.
 fn warn(set: &ExperimentSet, progress: &dyn Progress) -> Vec<Warning> {
     for t in &set.tests {
-        for line in subfric_data::reading_lines(t) {
+        for line in subfric_reading::reading_lines(t) {
             progress.note(&format!("{}: {line}", crate::visible(&t.spec.name)));
         }
     }

@@ -21,8 +21,9 @@ use crate::progress::Progress;
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 use subfric_data::Warning;
-use subfric_fit::{FitOptions, FitTest, Param, PreparedTest, Space};
+use subfric_fit::{FitOptions, Param, Space};
 use subfric_model::Model;
+use subfric_reading::{FitTest, PreparedTest};
 
 /// What to fit and how.
 #[derive(Clone, Debug)]

@@ -26,9 +26,10 @@ use subfric_design::{
     plan_excluding, Band, Check, Plan, PlanOptions, PredictedParam, Proposal, NARROWS_MIN_SHRINK,
 };
 use subfric_fit::interval::short_number as num;
-use subfric_fit::{FitOptions, FitTest, Param, RunCounter, Status};
+use subfric_fit::{FitOptions, Param, RunCounter, Status};
 use subfric_model::Control;
 use subfric_plot::{write_figure, Figure, Panel, Series, Style};
+use subfric_reading::FitTest;
 
 /// The folder of a set's results that holds its plan.
 pub const PLAN_DIR: &str = "plan";

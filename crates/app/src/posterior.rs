@@ -16,9 +16,10 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use subfric_data::write_atomic;
 use subfric_fit::interval::short_number as fmt_num;
-use subfric_fit::{FitReport, FitTest, Param, PreparedTest, Space, Status};
+use subfric_fit::{FitReport, Param, Space, Status};
 use subfric_posterior::{figures, sample, PosteriorOptions, Priors, Verdict};
 pub use subfric_posterior::{BandOptions, Posterior, PredictiveDraws, ResidualModel, TestBand};
+use subfric_reading::{FitTest, PreparedTest};
 
 /// The thinned chain, for notebooks: `step,walker,<parameter keys>`, one line per sample.
 pub const CHAIN_FILE: &str = "posterior-chain.csv";

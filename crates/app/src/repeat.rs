@@ -7,9 +7,10 @@
 //! proposal repeats a test when the control, the normal stress and the kind are the same and
 //! each of its rates, holds and amplitude is one the test already has.
 
-use subfric_data::{segment, ControlColumn, SegmentOptions, Segmentation, TestData, TestSpec};
-use subfric_fit::{FitTest, PreparedTest};
+use subfric_data::{ControlColumn, TestData, TestSpec};
 use subfric_model::Control;
+use subfric_reading::{segment, SegmentOptions, Segmentation};
+use subfric_reading::{FitTest, PreparedTest};
 
 /// Two rates, holds or amplitudes within this factor are the same.
 const SAME_FACTOR: f64 = 1.3;

@@ -4,10 +4,8 @@
 use crate::folders::output::LockedFolder;
 use anyhow::Result;
 use std::path::Path;
-use subfric_data::{
-    import, load_set, plausibility, summary, ExperimentSet, ImportSpec, PathKind, SetSummary,
-    Warning,
-};
+use subfric_data::{import, load_set, plausibility, ExperimentSet, ImportSpec, PathKind, Warning};
+use subfric_reading::{summary, SetSummary};
 
 /// A set read and looked over.
 pub struct Checked {
@@ -24,8 +22,8 @@ pub struct Checked {
 
 impl Checked {
     fn of(set: ExperimentSet) -> Checked {
-        let prepared = subfric_fit::prepare_set(&set, false);
-        let stiffness = subfric_fit::resolved_stiffness(&prepared);
+        let prepared = subfric_reading::prepare_set(&set, false);
+        let stiffness = subfric_reading::resolved_stiffness(&prepared);
         Checked {
             summary: summary(&set),
             warnings: plausibility(&set),

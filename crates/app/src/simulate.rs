@@ -11,8 +11,8 @@ use subfric_data::{
     load_set, write_set, ControlColumn, ExperimentMeta, ExperimentSet, Interface, PathKind,
     TestData, TestSpec, EXPERIMENT_JSON,
 };
-use subfric_fit::prepare_set;
 use subfric_model::{Control, Model, Scenario};
+use subfric_reading::prepare_set;
 
 /// What to simulate.
 #[derive(Clone, Debug)]
@@ -92,7 +92,7 @@ pub fn simulate_set(dir: &Path, model: &Model, out: &Path, force: bool) -> Resul
             // The rows over which the rest of a gap closed are left out too; the slip column
             // stays the record's.
             if let Some(g) = &toe.remainder {
-                *t = subfric_data::without_gap_rows(t, g);
+                *t = subfric_reading::without_gap_rows(t, g);
             }
             format!(
                 "; the record's first {} rows (a seating toe over {:.3} mm) are left out: the model starts at rest under {:.2} kPa after them{}",

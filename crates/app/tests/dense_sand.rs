@@ -188,7 +188,7 @@ fn a_box_rise_no_straight_line_reads_is_freed_on_trial_and_the_misfit_falls() {
     // misfit falls about four times.
     let g = programme(true, 5);
     let prepared = subfric_diagnose::prepare_for_diagnosis(&g.set);
-    assert!(subfric_fit::resolved_stiffness(&prepared).is_none());
+    assert!(subfric_reading::resolved_stiffness(&prepared).is_none());
     let tmp = tempfile::tempdir().unwrap();
     subfric_harness::generator::write_campaign(tmp.path(), std::slice::from_ref(&g)).unwrap();
     let dir = tmp.path().join(&g.set.meta.name);

@@ -37,7 +37,7 @@ fn set_with_a_time_trend(rise: f64) -> (subfric_data::ExperimentSet, f64) {
         ..base
     };
     let mut set = g.set.clone();
-    let prepared = subfric_fit::prepare_set(&set, false);
+    let prepared = subfric_reading::prepare_set(&set, false);
     for (t, p) in set.tests.iter_mut().zip(&prepared) {
         assert!(p.toe.is_none(), "the clean profile has no seating toe");
         let (a, b) = (

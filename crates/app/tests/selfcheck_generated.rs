@@ -364,7 +364,7 @@ fn diagnosed_under_wander(tau_s: f64) -> subfric_diagnose::Diagnosis {
     let mut s = g.set.clone();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
     for t in &mut s.tests {
-        let white = subfric_data::estimate_noise(&t.time_s, &t.shear_kpa).sd;
+        let white = subfric_reading::estimate_noise(&t.time_s, &t.shear_kpa).sd;
         let mut wander = 0.0;
         for i in 0..t.shear_kpa.len() {
             let dt = if i == 0 {

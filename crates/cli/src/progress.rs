@@ -343,8 +343,9 @@ impl subfric_app::Progress for Progress {
 mod tests {
     use super::*;
     use subfric_app::Progress as _;
-    use subfric_fit::{FitTest, Param, Problem, Space};
+    use subfric_fit::{Param, Problem, Space};
     use subfric_model::{Control, Model, Params};
+    use subfric_reading::FitTest;
 
     /// `runs` model runs of a small problem, counted into `job`.
     fn run_model(job: &RunCounter, runs: usize) {

@@ -8,8 +8,9 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
-use subfric_fit::{calibrate, typical_rate, FitReport, FitTest, Param, Space, Status};
+use subfric_fit::{calibrate, FitReport, Param, Space, Status};
 use subfric_model::{simulate_predicted_into, Initial, Model, Protocol, Scenario};
+use subfric_reading::{typical_rate, FitTest};
 
 /// A proposal simulated with `model` plus white noise of SD `sd` (seeded).
 pub fn simulate_proposal(

@@ -12,8 +12,9 @@ use subfric_fit::interval::DETERMINED_HALF_WIDTH;
 use subfric_fit::lm::jacobian;
 use subfric_fit::space::Scale;
 use subfric_fit::uncertainty::{linearise_stats, stats_of_information};
-use subfric_fit::{FitTest, Interval, Param, Problem, RunCounter, Space};
+use subfric_fit::{Interval, Param, Problem, RunCounter, Space};
 use subfric_model::{Model, Scenario};
+use subfric_reading::FitTest;
 
 /// z of a two-sided 95 % interval.
 const Z95: f64 = 1.96;

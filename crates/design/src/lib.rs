@@ -60,7 +60,8 @@ use rank::rank;
 use rayon::prelude::*;
 use scenarios::build_candidates;
 use subfric_fit::calibrate::report_variance_scale;
-use subfric_fit::{typical_rate, FitReport, FitTest, Param, Space, Status};
+use subfric_fit::{FitReport, Param, Space, Status};
+use subfric_reading::{typical_rate, FitTest};
 use valley::walk_valley;
 
 /// Plans the next test for the data `tests` fitted as `report` (the five parameters of the

@@ -2,7 +2,7 @@
 //! the shorter test.
 
 use crate::outcome::Proposal;
-use subfric_fit::FitTest;
+use subfric_reading::FitTest;
 
 pub(crate) const MIN_HOURS: f64 = 1e-9;
 

@@ -2,9 +2,9 @@
 //! stress, sampling, slip range and noise the proposals are built from.
 
 use crate::outcome::Rig;
-use subfric_data::stats::median;
-use subfric_fit::{typical_rate, FitTest};
 use subfric_model::{Control, Model};
+use subfric_reading::stats::median;
+use subfric_reading::{typical_rate, FitTest};
 
 /// What a rig did, read off the tests and the fit.
 pub fn rig_of(tests: &[FitTest], fit: &Model) -> Rig {

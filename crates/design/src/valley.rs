@@ -7,7 +7,8 @@ use rayon::prelude::*;
 use subfric_fit::calibrate::report_variance_scale;
 use subfric_fit::lm::{levenberg_marquardt, LmOptions};
 use subfric_fit::uncertainty::{profile_one, stats_of_information, CHI2_1_95};
-use subfric_fit::{Coord, FitReport, FitTest, Problem, Space, Status};
+use subfric_fit::{Coord, FitReport, Problem, Space, Status};
+use subfric_reading::FitTest;
 
 /// Iterations of each held re-fit of a walk: it starts next to its answer (the previous
 /// point), so a few suffice.

@@ -13,11 +13,9 @@
 use std::path::Path;
 use subfric_data::load_set;
 use subfric_design::{plan, simulate_proposal, PlanOptions};
-use subfric_fit::{
-    calibrate, prepare_set, reference_model, typical_rate, FitOptions, FitReport, FitTest,
-    Interval, Param, Space, Status,
-};
+use subfric_fit::{calibrate, FitOptions, FitReport, Interval, Param, Space, Status};
 use subfric_model::{Model, Params};
+use subfric_reading::{prepare_set, reference_model, typical_rate, FitTest};
 
 /// Widening of a 95 % interval to the family-wise level over the 20 intervals of this file:
 /// z(1 − 0.05/40) / z(0.975) = 3.023 / 1.960.

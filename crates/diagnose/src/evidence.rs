@@ -9,9 +9,9 @@ use crate::candidates::Effect;
 use crate::folds::Piece;
 use crate::score::HeldOut;
 use serde::Serialize;
-use subfric_data::SegmentKind;
-use subfric_fit::PreparedTest;
 use subfric_model::Control;
+use subfric_reading::PreparedTest;
+use subfric_reading::SegmentKind;
 
 /// A physical feature of a row.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -119,7 +119,7 @@ fn row_features(tests: &[PreparedTest], v_ref: f64, p_ref: f64) -> Vec<Vec<[f64;
                     *r = l.rate;
                 }
             }
-            let fade = 0.05f64.max(0.25 * subfric_data::SegmentOptions::default().transient_mm);
+            let fade = 0.05f64.max(0.25 * subfric_reading::SegmentOptions::default().transient_mm);
             let forward = seg
                 .levels
                 .first()

@@ -7,8 +7,9 @@ use crate::score::HeldOut;
 use rayon::prelude::*;
 use serde::Serialize;
 use subfric_fit::lm::{LmOptions, Termination};
-use subfric_fit::{calibrate_from, FitOptions, FitTest, Param, RunCounter, Space};
+use subfric_fit::{calibrate_from, FitOptions, Param, RunCounter, Space};
 use subfric_model::{Extensions, Model};
+use subfric_reading::FitTest;
 
 /// A model: the base plus some candidate forms (none: the base model).
 #[derive(Clone, Debug, Default)]

@@ -5,8 +5,8 @@
 //! report.
 
 use serde::Serialize;
-use subfric_data::SegmentKind;
-use subfric_fit::{FitTest, PreparedTest};
+use subfric_reading::SegmentKind;
+use subfric_reading::{FitTest, PreparedTest};
 
 /// What kind of situation a piece holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]

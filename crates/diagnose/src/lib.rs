@@ -13,9 +13,10 @@ pub mod confidence;
 pub mod diagnose;
 pub mod events;
 pub mod evidence;
-pub mod features;
 pub mod fits;
 pub mod folds;
+// The data features the candidates read are subfric-reading's; `crate::features` names them.
+use subfric_reading::features;
 
 pub mod score;
 pub mod verdict;

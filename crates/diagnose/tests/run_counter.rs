@@ -5,8 +5,9 @@
 use std::sync::Mutex;
 use subfric_data::{ControlColumn, ExperimentMeta, ExperimentSet, Interface, TestData, TestSpec};
 use subfric_diagnose::{diagnose_reporting, prepare_for_diagnosis, DiagnoseOptions, Step};
-use subfric_fit::{calibrate, FitOptions, FitTest, Param, RunCounter, Space};
+use subfric_fit::{calibrate, FitOptions, Param, RunCounter, Space};
 use subfric_model::{simulate, Control, Model, Params, Protocol};
+use subfric_reading::FitTest;
 
 /// Slip then time of one slide–hold–slide, `rows_per_slide` rows each slide.
 fn slide_hold_slide(rows_per_slide: usize) -> (Vec<f64>, Vec<f64>) {

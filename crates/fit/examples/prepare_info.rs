@@ -11,7 +11,7 @@ fn main() {
             }
         };
         let t0 = std::time::Instant::now();
-        let prepared = subfric_fit::prepare_set(&set, false);
+        let prepared = subfric_reading::prepare_set(&set, false);
         println!("{} ({:.2} s)", set.meta.name, t0.elapsed().as_secs_f64());
         for p in &prepared {
             println!(
@@ -25,7 +25,7 @@ fn main() {
                 p.segmentation.conditioned.band
             );
         }
-        match subfric_fit::resolved_stiffness(&prepared) {
+        match subfric_reading::resolved_stiffness(&prepared) {
             Some(s) => println!("  stiffness: {}", s.evidence),
             None => println!("  stiffness: not resolved"),
         }

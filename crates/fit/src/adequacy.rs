@@ -10,9 +10,10 @@
 //! Decided here, in the fitting crate, so that a fit is judged without the diagnosis.
 
 use crate::localise::{localise, GroupMisfit};
-use crate::{FitReport, FitTest, PreparedTest};
+use crate::FitReport;
 use std::fmt::Write as _;
 use subfric_model::Model;
+use subfric_reading::{FitTest, PreparedTest};
 
 /// Reduced χ² (noise units) at or below which the gap between a model and its data is noise.
 pub const GAP_CHI2: f64 = 1.3;

@@ -26,11 +26,12 @@
 //! transformation of the imposed column once fitted: every later fit (candidates, folds) sees
 //! the corrected travel and needs no parameter of the rig.
 
-use crate::dataset::FitTest;
-use crate::prepare::PreparedTest;
 use crate::stiffness::TRIAL_SHARE;
 use serde::Serialize;
 use subfric_model::{simulate_predicted_into, Control, Initial, Model};
+use subfric_reading::guess::loading_end;
+use subfric_reading::stats::upper_median;
+use subfric_reading::{typical_rate, FitTest, PreparedTest};
 
 /// The closure is read on the rise up to this share of the peak shear and held beyond: near
 /// the peak the curve is flat, and a horizontal misfit there says nothing about the travel.
@@ -141,7 +142,7 @@ fn first_loading(t: &FitTest) -> Option<FirstLoading> {
     let u0 = t.imposed[0];
     let moved = t.imposed.iter().position(|u| (u - u0).abs() > 1e-9)?;
     let sign = (t.imposed[moved] - u0).signum();
-    let end = crate::guess::loading_end(t, moved.saturating_sub(1), sign);
+    let end = loading_end(t, moved.saturating_sub(1), sign);
     if end < MIN_ROWS || !t.measured.iter().all(|v| v.is_finite()) {
         return None;
     }
@@ -271,7 +272,7 @@ fn closure_curve(
     let slip: Vec<f64> = (0..RISE_POINTS)
         .map(|k| t.imposed[0] + fl.sign * span * k as f64 / (RISE_POINTS - 1) as f64)
         .collect();
-    let Some(normal) = subfric_data::stats::upper_median(&mut t.normal[..rise_end].to_vec()) else {
+    let Some(normal) = upper_median(&mut t.normal[..rise_end].to_vec()) else {
         return Vec::new();
     };
     let normal = vec![normal; RISE_POINTS];
@@ -514,8 +515,7 @@ pub fn seat(
         return unchanged();
     }
     let fits: Vec<FitTest> = tests.iter().map(|t| t.fit.clone()).collect();
-    let Ok(space) = crate::Space::try_with_rate(*template, free, &[], crate::typical_rate(&fits))
-    else {
+    let Ok(space) = crate::Space::try_with_rate(*template, free, &[], typical_rate(&fits)) else {
         return unchanged();
     };
     // A coarse calibration, as the stiffness trial's: the closures are read against its rise.
@@ -631,7 +631,7 @@ mod tests {
             reading_notes: Vec::new(),
             channels: Vec::new(),
         };
-        let segmentation = subfric_data::segment(&data, &Default::default());
+        let segmentation = subfric_reading::segment(&data, &Default::default());
         let t = FitTest::new("mono", Control::Slip, time, recorded, measured, normal);
         PreparedTest {
             full: t.clone(),

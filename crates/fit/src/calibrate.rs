@@ -1,9 +1,8 @@
 //! The calibration strategy: informed first guesses → global stage (differential evolution)
 //! → least-squares polish from several distinct starts in parallel → uncertainty and profiles.
 
-use crate::dataset::{misfits, FitTest};
+use crate::dataset::misfits;
 use crate::global::{differential_evolution, evaluate_all, GlobalTuning};
-use crate::guess::first_guesses;
 use crate::interval::Interval;
 use crate::lm::{levenberg_marquardt, LmOptions, LmResult, Termination};
 use crate::problem::{fold_into_box, Problem, RunCounter};
@@ -20,6 +19,8 @@ use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use subfric_model::Model;
+use subfric_reading::guess::first_guesses;
+use subfric_reading::FitTest;
 
 /// Local method used from each start.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -561,7 +562,8 @@ fn profile_traces(p: &Problem, profiles: &[Profile]) -> Vec<(String, Vec<(f64, f
 /// Calibrates the free parameters of `space` against `tests`.
 ///
 /// ```
-/// use subfric_fit::{calibrate, FitOptions, FitTest, Param, Space};
+/// use subfric_fit::{calibrate, FitOptions, Param, Space};
+/// use subfric_reading::FitTest;
 /// use subfric_model::{simulate, Control, Model, Params, Protocol};
 /// // A monotonic test from known parameters.
 /// let truth = Model::base(Params::sample()).unwrap();

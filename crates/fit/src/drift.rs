@@ -30,8 +30,8 @@
 //! The creep acts on a measured shear only: under traction control the measured column is the
 //! slip, and only the zero drift applies.
 
-use crate::dataset::FitTest;
 use subfric_model::Control;
+use subfric_reading::FitTest;
 
 /// Time constants of the creep's terms, as multiples of the longest test's duration.
 const CREEP_TIME_CONSTANTS: [f64; 4] = [0.1, 0.316, 1.0, 3.16];
@@ -39,14 +39,14 @@ const CREEP_TIME_CONSTANTS: [f64; 4] = [0.1, 0.316, 1.0, 3.16];
 /// Combinations of the drift's terms (each scaled to unit norm over the learned rows) whose
 /// norm is below this share of the largest are dropped: such a combination is a shape the
 /// terms trace alike to within the readings' reproducibility between specimens
-/// ([`crate::levels::REPRODUCIBILITY_SHARE`]), and its coefficient is not read from the data
+/// ([`subfric_reading::levels::REPRODUCIBILITY_SHARE`]), and its coefficient is not read from the data
 /// but from their noise and misfit. Kept, it carries large coefficients of opposite sign that
 /// cancel on the learned rows and not elsewhere: on a set whose long tests sit at one load, a
 /// zero drift and a slow creep term (both nearly linear in time) traded that way, and a test
 /// held out at another load was predicted 10 to 100× worse than by the model without any
 /// drift (five load-cell creep sets of seeds 15001–17005, with the cutoff at 1e-9 of the
 /// normal matrix, unscaled).
-const DRIFT_COLLINEAR_SHARE: f64 = crate::levels::REPRODUCIBILITY_SHARE;
+const DRIFT_COLLINEAR_SHARE: f64 = subfric_reading::levels::REPRODUCIBILITY_SHARE;
 
 /// The shear history `shear` of `t` low-passed with time constant `tau` (zero before the
 /// first row): what one creep term of the load cell adds, per unit of its coefficient.

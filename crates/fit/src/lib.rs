@@ -2,7 +2,7 @@
 //!
 //! Calibration of the subloading-friction model against one or many tests: a least-squares
 //! problem in a transformed parameter space ([`Space`]), solved by a global stage (informed
-//! first guesses read off the curves, then differential evolution) followed by
+//! first guesses read off the curves by `subfric-reading`, then differential evolution) followed by
 //! Levenberg–Marquardt (or argmin's Nelder–Mead) from several distinct starts in parallel,
 //! with standard errors, correlations, flat directions and profile intervals
 //! ([`calibrate`]). Residuals are normalised by the noise level estimated from each test, so
@@ -14,22 +14,16 @@ pub mod bedding;
 pub mod calibrate;
 pub mod dataset;
 pub mod drift;
-pub mod estimate;
 pub mod global;
-pub mod guess;
 pub mod interval;
-pub mod levels;
 pub mod lm;
 pub mod localise;
-pub mod prepare;
 pub mod problem;
-pub mod read_off;
 pub mod report;
 pub mod residuals;
 pub mod sampling;
 pub mod space;
 pub mod stiffness;
-pub mod thin;
 pub mod uncertainty;
 
 #[cfg(test)]
@@ -41,20 +35,11 @@ pub use calibrate::{
     CalibrationStage, Combination, FitError, FitOptions, FitReport, LocalRun, Method, ParamReport,
     Status,
 };
-pub use dataset::{misfits, residuals_in_noise_units, typical_rate, FitTest, TestMisfit};
+pub use dataset::{misfits, residuals_in_noise_units, TestMisfit};
 pub use drift::{drift_coefficients, remove_drift, FittedDrift};
-pub use estimate::Estimate;
 pub use interval::Interval;
-pub use levels::{read_levels, LevelReadings, StressTrend, TestLevels};
 pub use lm::Termination;
-pub use prepare::{
-    control_of, prepare_set, prepare_set_with, prepare_test, reference_model, thin_prepared,
-    PrepareOptions, PreparedTest,
-};
 pub use problem::{Problem, RunCounter};
-pub use read_off::{read_off, ReadOff};
 pub use residuals::Residuals;
 pub use space::{AtBound, Coord, Param, Space};
-pub use stiffness::{
-    decide_stiffness, resolved_stiffness, stiffness_by_trial, Stiffness, StiffnessReadings,
-};
+pub use stiffness::stiffness_by_trial;

@@ -4,9 +4,9 @@
 //! ([`crate::adequacy`]), the diagnosis where its base and final models do.
 
 use crate::dataset::FAILED_RESIDUAL;
-use crate::PreparedTest;
 use serde::Serialize;
 use std::collections::BTreeMap;
+use subfric_reading::PreparedTest;
 
 /// Residuals of every row of each test, in noise units (NaN where the model failed).
 pub type RowResiduals = Vec<Vec<f64>>;

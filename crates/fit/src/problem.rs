@@ -1,6 +1,6 @@
 //! The calibration problem: tests, the parameter space, and evaluation counting.
 
-use crate::dataset::{residuals_into, FitTest};
+use crate::dataset::residuals_into;
 use crate::residuals::Residuals;
 use crate::space::Space;
 use argmin::core::{CostFunction, Error as ArgminError};
@@ -8,6 +8,7 @@ use std::cell::RefCell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 use subfric_model::Model;
+use subfric_reading::FitTest;
 
 /// The model runs of one job (a calibration, a diagnosis, a plan): every [`Problem`] the job
 /// creates [`Problem::counting`] into it adds its runs here. A progress display or a trace reads

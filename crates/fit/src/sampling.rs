@@ -9,8 +9,8 @@
 //! rows gave 60 000 guesses of 390 000 rows each, and the fit's cost grew with the square of
 //! the number of tests.
 
-use crate::dataset::FitTest;
 use subfric_model::Model;
+use subfric_reading::FitTest;
 
 /// Rows the global stage simulates per model run at most: above every set of the paper and of
 /// a lab campaign after thinning (a few thousand rows), so their fits are unchanged; a problem

@@ -12,6 +12,7 @@ use argmin::core::{
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use rayon::prelude::*;
 use serde::Serialize;
+use subfric_reading::stats::correlation_time;
 
 /// χ²₁ quantile at 95 %: the rise of the (scaled) SSR that bounds a 95 % profile interval.
 pub const CHI2_1_95: f64 = 3.841;
@@ -67,52 +68,12 @@ pub fn variance_scale(ssr: f64, rows: usize, m: usize) -> f64 {
     (ssr / (rows.saturating_sub(m)).max(1) as f64).max(1.0)
 }
 
-/// Fewest residuals of a test for its autocorrelation to be estimated (fewer: taken as
-/// independent).
-const MIN_CORRELATION_ROWS: usize = 20;
-
-/// Integrated autocorrelation time τ = 1 + 2 Σ_{k=1}^{W} ρ_k of a residual sequence (rows, in
-/// row order), with Sokal's automatic window ([`subfric_data::stats::integrated_time`], the one
-/// the posterior's convergence reads, summed to half the series at most); at least 1. For independent residuals τ ≈ 1;
-/// for residuals correlated over many rows τ is the number of rows that carry as much
-/// information as one independent row: n_eff = n/τ (for an AR(1) sequence of lag-one
-/// correlation ρ, τ = (1 + ρ)/(1 − ρ)).
-///
-/// ```
-/// use subfric_fit::uncertainty::correlation_time;
-/// // An AR(1) sequence with ρ = 0.8 (τ = 9), from a small deterministic generator.
-/// let mut state = 12345u64;
-/// let mut uniform = || { state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407); (state >> 11) as f64 / (1u64 << 53) as f64 };
-/// let mut r = vec![0.0f64];
-/// for _ in 0..20_000 {
-///     let u: f64 = (0..12).map(|_| uniform()).sum::<f64>() - 6.0;
-///     let last = *r.last().unwrap();
-///     r.push(0.8 * last + 0.6 * u);
-/// }
-/// let tau = correlation_time(&r);
-/// assert!((tau - 9.0).abs() < 1.5, "{tau}");
-/// ```
-pub fn correlation_time(r: &[f64]) -> f64 {
-    let v: Vec<f64> = r.iter().copied().filter(|x| x.is_finite()).collect();
-    let n = v.len();
-    if n < MIN_CORRELATION_ROWS {
-        return 1.0;
-    }
-    let tau = subfric_data::stats::integrated_time_within(&[&v], n / 2);
-    // A constant sequence has no autocorrelation to read: independent.
-    if tau.is_finite() {
-        tau.max(1.0)
-    } else {
-        1.0
-    }
-}
-
 /// The variance inflation for correlated residuals of a joint fit: each test's
-/// [`correlation_time`] of its counted residuals (thinned tests: of their bins), averaged with
+/// [`correlation_time`] (`subfric_reading::stats`) of its counted residuals (thinned tests: of their bins), averaged with
 /// the test's share of the sum of squares as weight (a test whose residuals carry more of the
 /// misfit matters more); at least 1. Multiplying s² by it widens every interval as if the fit
 /// had n/τ independent rows instead of n.
-pub fn noise_correlation(tests: &[crate::dataset::FitTest], residuals: &[f64]) -> f64 {
+pub fn noise_correlation(tests: &[subfric_reading::FitTest], residuals: &[f64]) -> f64 {
     let (mut num, mut den) = (0.0, 0.0);
     let mut start = 0;
     for t in tests {

@@ -5,8 +5,9 @@
 //! `subfric bench` (a fit of 10 000 tests of 39 rows).
 
 use subfric_fit::sampling::informed_guess_budget;
-use subfric_fit::{calibrate, typical_rate, FitOptions, FitTest, Param, Space};
+use subfric_fit::{calibrate, FitOptions, Param, Space};
 use subfric_model::{simulate, Control, Model, Params, Protocol};
+use subfric_reading::{typical_rate, FitTest};
 
 fn truth() -> Model {
     Model::base(Params {

@@ -5,8 +5,9 @@
 //! ξ ∈ [0, (μ_ss/μ_s) λ v] only from above (the box, not the data, stops them at 0 through ψ's
 //! lower wall), κ ∈ [(1 − μ_ss/μ_s) λ, λ] closed (μ_k ≥ 0 and ξ ≥ 0 bound it).
 
-use subfric_fit::{calibrate, FitOptions, FitTest, Param, Space, Status};
+use subfric_fit::{calibrate, FitOptions, Param, Space, Status};
 use subfric_model::{simulate, Control, Model, Params, Protocol};
+use subfric_reading::FitTest;
 
 #[test]
 fn a_single_rate_bounds_kappa_xi_and_mu_k_as_the_chart_says() {

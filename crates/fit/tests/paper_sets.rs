@@ -4,11 +4,9 @@
 
 use std::path::Path;
 use subfric_data::load_set;
-use subfric_fit::{
-    calibrate, compare_with_published, prepare_set, reference_model, typical_rate, FitOptions,
-    FitReport, FitTest, Param, Space, Status,
-};
+use subfric_fit::{calibrate, compare_with_published, FitOptions, FitReport, Param, Space, Status};
 use subfric_model::{Model, Params};
+use subfric_reading::{prepare_set, reference_model, typical_rate, FitTest};
 
 fn fit_set(name: &str) -> (FitReport, Model) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -2,8 +2,9 @@
 //! and into no other, so two calibrations in one process (tests on parallel threads, a
 //! campaign's sets) never see each other's runs.
 
-use subfric_fit::{calibrate, FitOptions, FitTest, Param, Problem, RunCounter, Space};
+use subfric_fit::{calibrate, FitOptions, Param, Problem, RunCounter, Space};
 use subfric_model::{simulate, Control, Model, Params, Protocol};
+use subfric_reading::FitTest;
 
 /// A monotonic slip-controlled test of the sample parameters at `rate` mm/s.
 fn monotonic(rate: f64) -> FitTest {

@@ -3,8 +3,9 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use subfric_fit::{calibrate, typical_rate, FitOptions, FitTest, Method, Param, Space, Status};
+use subfric_fit::{calibrate, FitOptions, Method, Param, Space, Status};
 use subfric_model::{simulate, Control, Model, Params, Protocol, Scenario, Stage};
+use subfric_reading::{typical_rate, FitTest};
 
 fn truth() -> Model {
     Model::base(Params {

@@ -7,12 +7,11 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 use subfric_data::{ControlColumn, ExperimentMeta, ExperimentSet, Interface, TestData, TestSpec};
-use subfric_fit::{
-    calibrate, misfits, prepare_set_with, typical_rate, FitOptions, Param, PrepareOptions, Space,
-};
+use subfric_fit::{calibrate, misfits, FitOptions, Param, Space};
 use subfric_model::{
     simulate, Control, Extensions, Initial, Model, Params, Protocol, RateEffect, RateForm,
 };
+use subfric_reading::{prepare_set_with, typical_rate, PrepareOptions};
 
 fn gauss(rng: &mut ChaCha8Rng) -> f64 {
     StandardNormal.sample(rng)

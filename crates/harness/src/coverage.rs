@@ -17,11 +17,9 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 use serde::Serialize;
 use subfric_data::{ControlColumn, ExperimentMeta, ExperimentSet, Interface, TestData, TestSpec};
-use subfric_fit::{
-    calibrate, prepare_set_with, typical_rate, FitOptions, FitTest, Param, PrepareOptions, Space,
-    Status,
-};
+use subfric_fit::{calibrate, FitOptions, Param, Space, Status};
 use subfric_model::{simulate, Control, Model, Params, Protocol};
+use subfric_reading::{prepare_set_with, typical_rate, FitTest, PrepareOptions};
 
 /// The noise added to the measured shear of a campaign: white plus a stationary AR(1) process
 /// in time (an Ornstein–Uhlenbeck process sampled at the rows), and white noise on the imposed
@@ -457,7 +455,7 @@ pub fn tally(outcomes: &[CampaignOutcome]) -> Vec<CoverageRow> {
                 covered: of.iter().filter(|p| p.covered).count(),
                 total: of.len(),
                 determined: of.iter().filter(|p| p.status == Status::Determined).count(),
-                median_half_width_percent: subfric_data::stats::upper_median(&mut widths)
+                median_half_width_percent: subfric_reading::stats::upper_median(&mut widths)
                     .unwrap_or(f64::NAN),
             }
         })

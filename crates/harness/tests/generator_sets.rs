@@ -4,12 +4,13 @@
 //! files cut from a longer run, seating toes) are in the data as the truth says.
 
 use serde_json::Value;
-use subfric_data::{load_set, plausibility, summary};
+use subfric_data::{load_set, plausibility};
 use subfric_harness::generator::campaign::{profile_of, MIN_VISIBILITY};
 use subfric_harness::generator::{
     all_classes, campaign_set, classes_of, write_campaign, Form, Generated, Layout, Options,
     Profile,
 };
+use subfric_reading::summary;
 
 fn set(class_index: usize, k: usize) -> Generated {
     let classes = all_classes();

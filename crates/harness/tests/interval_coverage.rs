@@ -8,9 +8,9 @@
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use subfric_fit::uncertainty::correlation_time;
 use subfric_fit::FitOptions;
 use subfric_harness::coverage::{measure_coverage, CampaignRanges, NoiseModel};
+use subfric_reading::stats::correlation_time;
 
 /// White noise of SD 1 plus an Ornstein–Uhlenbeck part of SD `c` and correlation time
 /// `tau_s`, sampled every `dt` s, in units of the white SD (as the fit's residuals are).

@@ -11,11 +11,10 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::hint::black_box;
 use std::path::Path;
-use subfric_fit::{
-    calibrate, prepare_set, reference_model, typical_rate, FitOptions, FitTest, Param, Space,
-};
+use subfric_fit::{calibrate, FitOptions, Param, Space};
 use subfric_model::{Model, Params};
 use subfric_posterior::{sample, PosteriorOptions, Priors};
+use subfric_reading::{prepare_set, reference_model, typical_rate, FitTest};
 
 fn table4() -> (Vec<FitTest>, Space, Model) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments/table4-two-way");

@@ -12,12 +12,11 @@
 
 use serde::Serialize;
 use std::time::Instant;
-use subfric_fit::{
-    calibrate, prepare_set_with, typical_rate, FitOptions, FitTest, Param, PrepareOptions, Space,
-};
+use subfric_fit::{calibrate, FitOptions, Param, Space};
 use subfric_harness::coverage::{generate_campaign, CampaignRanges};
 use subfric_model::{Model, Params};
 use subfric_posterior::{sample, PosteriorOptions, Priors, ResidualModel};
+use subfric_reading::{prepare_set_with, typical_rate, FitTest, PrepareOptions};
 
 #[derive(Serialize)]
 struct Outcome {

@@ -10,12 +10,11 @@
 
 use std::path::PathBuf;
 use std::time::Instant;
-use subfric_fit::{
-    calibrate, prepare_set, reference_model, typical_rate, FitOptions, Param, Space, Status,
-};
+use subfric_fit::{calibrate, FitOptions, Param, Space, Status};
 use subfric_model::{Model, Params};
 use subfric_plot::write_figure;
 use subfric_posterior::{figures, sample, BandOptions, PosteriorOptions, Priors, ResidualModel};
+use subfric_reading::{prepare_set, reference_model, typical_rate};
 
 fn main() {
     let Args {
@@ -185,7 +184,7 @@ fn write_outputs(
     out: &std::path::Path,
     name: &str,
     post: &subfric_posterior::Posterior,
-    prepared: &[subfric_fit::PreparedTest],
+    prepared: &[subfric_reading::PreparedTest],
     model: &Model,
 ) {
     std::fs::create_dir_all(out).expect("output folder");

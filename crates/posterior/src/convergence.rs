@@ -5,8 +5,9 @@
 
 use rayon::prelude::*;
 use serde::Serialize;
+use subfric_reading::stats::mean_var;
 
-pub use subfric_data::stats::{integrated_time, SOKAL_WINDOW};
+pub use subfric_reading::stats::{integrated_time, SOKAL_WINDOW};
 
 /// Groups of walkers the split R̂ compares (each group split into two halves in time).
 pub const RHAT_GROUPS: usize = 4;
@@ -303,24 +304,12 @@ pub fn split_rhat(walkers: &[&[f64]], groups: usize) -> f64 {
     (pooled_var / within).sqrt()
 }
 
-/// Mean and unbiased variance.
-fn mean_var(x: &[f64]) -> (f64, f64) {
-    let n = x.len() as f64;
-    let m = x.iter().sum::<f64>() / n;
-    let v = if x.len() > 1 {
-        x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0)
-    } else {
-        0.0
-    };
-    (m, v)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
-    use subfric_data::stats::autocorrelation;
+    use subfric_reading::stats::autocorrelation;
 
     use crate::predictive::normal;
 

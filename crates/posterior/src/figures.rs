@@ -4,10 +4,10 @@
 use crate::predictive::TestBand;
 use crate::summary::Posterior;
 use crate::target::is_log;
-use subfric_fit::FitTest;
 use subfric_model::{Control, Model};
 use subfric_plot::posterior::{BandFigure, CornerFigure, CornerMarker};
 use subfric_plot::{Series, Style};
+use subfric_reading::FitTest;
 
 /// Samples of a parameter fitted on a logarithmic scale are drawn on a log₁₀ axis when they
 /// span more than this ratio (a valley over decades is then a band, not a corner).

@@ -47,8 +47,9 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
 use subfric_fit::uncertainty::coordinate_stats_scaled;
-use subfric_fit::{FitTest, Param, Problem, Space};
+use subfric_fit::{Param, Problem, Space};
 use subfric_model::Model;
+use subfric_reading::FitTest;
 use target::Target;
 
 /// How a posterior is sampled.
@@ -149,7 +150,7 @@ const BALL_TRIES: usize = 50;
 ///
 /// ```no_run
 /// use subfric_posterior::{sample, PosteriorOptions, Priors};
-/// # fn demo(tests: &[subfric_fit::FitTest], space: &subfric_fit::Space, fit: &subfric_model::Model) {
+/// # fn demo(tests: &[subfric_reading::FitTest], space: &subfric_fit::Space, fit: &subfric_model::Model) {
 /// let post = sample(tests, space, fit, &Priors::default(), &PosteriorOptions::default(), &|_, _| {}).unwrap();
 /// println!("{}", post.table());
 /// # }

@@ -7,7 +7,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::Serialize;
-use subfric_fit::FitTest;
+use subfric_reading::FitTest;
 
 /// How the bands are drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -246,8 +246,8 @@ fn thinning(c: &Convergence) -> usize {
 }
 
 /// The `q` quantile of sorted values (linear interpolation between order statistics): the
-/// one of [`subfric_data::stats`].
-pub use subfric_data::stats::quantile;
+/// one of [`subfric_reading::stats`].
+pub use subfric_reading::stats::quantile;
 
 fn summarise(p: Param, values: &[f64], prior: &str) -> ParamSummary {
     let mut sorted = values.to_vec();

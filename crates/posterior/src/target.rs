@@ -11,7 +11,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use subfric_fit::dataset::residuals_into;
 use subfric_fit::space::Scale;
 use subfric_fit::uncertainty::{noise_correlation, variance_scale};
-use subfric_fit::{FitTest, Param, Problem, Space};
+use subfric_fit::{Param, Problem, Space};
+use subfric_reading::FitTest;
 
 /// How the residuals' noise enters the likelihood.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]

@@ -5,7 +5,7 @@
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use subfric_fit::{calibrate, FitOptions, FitTest, Param, Space};
+use subfric_fit::{calibrate, FitOptions, Param, Space};
 use subfric_model::{simulate, Control, Model, Params, Protocol};
 use subfric_posterior::ensemble::{run_ensemble, LogDensity, RunOptions};
 use subfric_posterior::target::Target;
@@ -13,6 +13,7 @@ use subfric_posterior::{
     figures, sample, BandOptions, Posterior, PosteriorError, PosteriorOptions, Prior, Priors,
     Verdict,
 };
+use subfric_reading::FitTest;
 
 fn normal(rng: &mut ChaCha8Rng) -> f64 {
     let u1: f64 = rng.random::<f64>().max(1e-300);

@@ -153,7 +153,7 @@ fn verdicts(rows: &[Row]) -> Vec<String> {
     v
 }
 
-use subfric_data::stats::quantile;
+use subfric_reading::stats::quantile;
 
 /// The overview of a large campaign's verdicts: per verdict, its sets counted, the median
 /// share of the held-out misfit removed and the bar from the first to the third quartile.
@@ -274,7 +274,7 @@ fn stress_figure(rows: &[Row]) -> IntervalFigure {
         |r| {
             let s = &r.normal_stresses_kpa;
             let (lo, hi) = (*s.first()?, *s.last()?);
-            let median = subfric_data::stats::median(&mut s.clone())?;
+            let median = subfric_reading::stats::median(&mut s.clone())?;
             Some((median, (ranges && hi > lo).then_some((lo, hi))))
         },
         "normal stress",

@@ -7,8 +7,9 @@ use crate::progress::Progress;
 use anyhow::{anyhow, bail, Result};
 use std::path::PathBuf;
 use subfric_data::{load_set, plausibility, Warning};
-use subfric_fit::{prepare_set, typical_rate, FitOptions, FitTest, Param, PreparedTest, Space};
+use subfric_fit::{FitOptions, Param, Space};
 use subfric_model::{Model, Params};
+use subfric_reading::{prepare_set, typical_rate, FitTest, PreparedTest};
 
 /// The sets of a request as read: their tests prepared, what they publish and what they warn.
 struct ReadSets {
@@ -54,7 +55,7 @@ fn read_sets(dirs: &[PathBuf], progress: &dyn Progress) -> Result<ReadSets> {
             } else {
                 t.spec.name.clone()
             };
-            for line in subfric_data::reading_lines(t) {
+            for line in subfric_reading::reading_lines(t) {
                 progress.note(&format!("{}: {line}", crate::visible(&name)));
             }
             read.contents

@@ -7,7 +7,8 @@ use crate::located;
 use crate::outcome::adequacy::Adequacy;
 use crate::progress::Progress;
 use anyhow::{bail, Result};
-use subfric_fit::{calibrate_from, compare_with_published, FitReport, FitTest, PreparedTest};
+use subfric_fit::{calibrate_from, compare_with_published, FitReport};
+use subfric_reading::{FitTest, PreparedTest};
 
 /// Runs the calibration of a checked setup; a single set's errors name its folder.
 pub fn run_setup(req: &FitRequest, setup: FitSetup, progress: &dyn Progress) -> Result<FitOutcome> {
@@ -57,7 +58,7 @@ fn calibrate_setup(
         }
         None => Adequacy::of_fit(&report, &setup.tests),
     };
-    let read_off = subfric_fit::read_off(&fulls, &report.model);
+    let read_off = subfric_reading::read_off(&fulls, &report.model);
     for r in read_off.iter().filter(|r| r.departs) {
         let reads = report
             .param(r.param)
@@ -66,7 +67,7 @@ fn calibrate_setup(
         progress.warning(&r.sentence_reading(reads.as_deref()));
     }
     Ok(FitOutcome {
-        levels: subfric_fit::read_levels(&setup.tests),
+        levels: subfric_reading::read_levels(&setup.tests),
         read_off,
         report,
         adequacy,
@@ -87,7 +88,7 @@ pub const MIN_NOISE_DEGREES_OF_FREEDOM: usize = 6;
 
 /// Why the intervals of a fit cannot be shown, if they cannot: every interval and the misfit
 /// are in units of each test's noise, which the test's own record measures (second
-/// differences, [`subfric_data::NoiseEstimate::degrees_of_freedom`]) and which weighs its
+/// differences, [`subfric_reading::NoiseEstimate::degrees_of_freedom`]) and which weighs its
 /// rows; a fit of no more rows than free parameters leaves no residual to check it. A short
 /// test gives a noise read off a handful of differences, or none (then a floor of 10⁻⁴ of the
 /// scale stands in and its rows weigh without measure): intervals computed from it exclude the
@@ -96,7 +97,7 @@ fn noise_not_measured(tests: &[PreparedTest], report: &FitReport) -> Option<Stri
     let (dof, test) = tests
         .iter()
         .map(|t| {
-            let e = subfric_data::estimate_noise(&t.full.time, &t.full.measured);
+            let e = subfric_reading::estimate_noise(&t.full.time, &t.full.measured);
             (e.degrees_of_freedom(), t.full.name.as_str())
         })
         .min()?;

@@ -4,8 +4,9 @@
 use super::prepare::free_not_fixed;
 use super::FitRequest;
 use crate::progress::Progress;
-use subfric_fit::{FitOptions, Param, PreparedTest};
+use subfric_fit::{FitOptions, Param};
 use subfric_model::{Model, Params};
+use subfric_reading::PreparedTest;
 
 /// The stiffness the fit starts from, into `template`, and whether α_t is fitted: a series
 /// stiffness the loading slopes resolve (the machine's compliance in the slip column) is
@@ -21,7 +22,7 @@ pub(super) fn starting_stiffness(
     published: &[(String, Option<Params>)],
     template: &mut Model,
     progress: &dyn Progress,
-) -> Option<subfric_fit::Stiffness> {
+) -> Option<subfric_reading::Stiffness> {
     let (alpha, why) = held_stiffness(published, template.params.alpha_t);
     if let (Some(p), None) = (alpha, &req.start) {
         template.params.alpha_t = p.alpha_t;
@@ -33,11 +34,11 @@ pub(super) fn starting_stiffness(
     let resolved = (!alpha_given)
         .then(|| {
             // `fit` reads no velocity step one by one: no springs.
-            let readings = subfric_fit::StiffnessReadings {
-                resolved: subfric_fit::resolved_stiffness(tests),
+            let readings = subfric_reading::StiffnessReadings {
+                resolved: subfric_reading::resolved_stiffness(tests),
                 springs: None,
             };
-            subfric_fit::decide_stiffness(readings, || {
+            subfric_reading::decide_stiffness(readings, || {
                 let mut held = *template;
                 for (p, v) in &req.fix {
                     p.set(&mut held, *v);
@@ -47,10 +48,7 @@ pub(super) fn starting_stiffness(
         })
         .flatten();
     match (&resolved, why) {
-        (Some(s), _) => {
-            template.params.alpha_t = s.alpha_t;
-            template.params.alpha_n = s.alpha_t;
-        }
+        (Some(s), _) => s.set_in(template),
         (None, Some(why)) if !alpha_given => progress.note(&why),
         _ => {}
     }

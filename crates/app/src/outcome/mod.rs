@@ -9,8 +9,9 @@ pub mod plan_basis;
 
 use crate::outcome::adequacy::Adequacy;
 use std::path::PathBuf;
-use subfric_fit::{FitReport, PreparedTest};
+use subfric_fit::FitReport;
 use subfric_model::Model;
+use subfric_reading::PreparedTest;
 
 /// A finished calibration with what produced it.
 pub struct FitOutcome {
@@ -29,9 +30,9 @@ pub struct FitOutcome {
     /// Rig artifacts recognised in the record and what the fit did about them.
     pub artifacts: Vec<Artifact>,
     /// μ_s and μ_k beside the peak and residual stress ratios the record shows.
-    pub read_off: Vec<subfric_fit::ReadOff>,
+    pub read_off: Vec<subfric_reading::ReadOff>,
     /// Each test's peak and residual stress ratio, and their change with the normal stress.
-    pub levels: subfric_fit::LevelReadings,
+    pub levels: subfric_reading::LevelReadings,
 }
 
 /// A rig artifact recognised in a record, and what the fit did about it.
@@ -50,7 +51,7 @@ pub struct Artifact {
 /// resolve (fitted as α_t, unless the request fixes or frees α_t itself).
 pub fn artifacts_of(
     tests: &[PreparedTest],
-    stiffness: Option<&subfric_fit::Stiffness>,
+    stiffness: Option<&subfric_reading::Stiffness>,
 ) -> Vec<Artifact> {
     let mut out: Vec<Artifact> = tests
         .iter()

@@ -214,7 +214,7 @@ fn header(s: &mut String, name: &str, d: &Diagnosis) {
         }
     );
     for st in &d.starts {
-        if !st.from_spec && st.start != subfric_data::StartKind::Rest {
+        if !st.from_spec && st.start != subfric_reading::StartKind::Rest {
             let _ = writeln!(s, "   {}: {}", st.test, st.reason);
         }
         if let Some(toe) = &st.seating_toe {
@@ -264,7 +264,7 @@ fn header(s: &mut String, name: &str, d: &Diagnosis) {
 }
 
 /// μ_s and μ_k of a model beside the peak and residual stress ratios the record shows.
-fn read_off(s: &mut String, which: &str, r: &[subfric_fit::ReadOff]) {
+fn read_off(s: &mut String, which: &str, r: &[subfric_reading::ReadOff]) {
     if r.is_empty() {
         return;
     }

@@ -44,7 +44,7 @@ pub(crate) fn events_section(s: &mut String, d: &Diagnosis) {
 
 /// The tests' peak and residual stress ratios, and their change with the normal stress and
 /// with slip.
-pub(crate) fn levels(s: &mut String, l: &subfric_fit::LevelReadings) {
+pub(crate) fn levels(s: &mut String, l: &subfric_reading::LevelReadings) {
     if l.tests.is_empty() {
         return;
     }
@@ -57,7 +57,7 @@ pub(crate) fn levels(s: &mut String, l: &subfric_fit::LevelReadings) {
         "   {:<18} {:>10} {:>12} {:>26} {:>12} {:>26} {:>30}",
         "test", "σ_n [kPa]", "rate [mm/s]", "peak", "at [mm]", "residual", "residual slope [1/mm]"
     );
-    let or_dash = |e: Option<subfric_fit::Estimate>, digits: usize| {
+    let or_dash = |e: Option<subfric_reading::Estimate>, digits: usize| {
         e.map_or_else(|| "—".to_string(), |e| interval(&e, digits))
     };
     for t in &l.tests {

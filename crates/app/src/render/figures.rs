@@ -7,10 +7,10 @@ use crate::progress::Progress;
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 use subfric_data::load_set;
-use subfric_data::stats::upper_median;
-use subfric_fit::{prepare_set, FitTest, PreparedTest};
 use subfric_model::{Control, Model};
 use subfric_plot::{write_figure, Figure, Panel, Series, Style};
+use subfric_reading::stats::upper_median;
+use subfric_reading::{prepare_set, FitTest, PreparedTest};
 
 /// Figures drawn.
 pub struct Plotted {

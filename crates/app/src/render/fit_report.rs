@@ -189,13 +189,13 @@ fn write_read_off(s: &mut String, out: &FitOutcome) {
 
 /// A peak or residual stress ratio that changes with the normal stress across the tests: one
 /// μ_s (or μ_k) cannot keep them all, and the reader is told which way they go.
-fn write_stress_trends(s: &mut String, l: &subfric_fit::LevelReadings) {
+fn write_stress_trends(s: &mut String, l: &subfric_reading::LevelReadings) {
     for (what, param, trend, pick) in [
         (
             "peak",
             "μ_s",
             &l.peak,
-            (|t: &subfric_fit::TestLevels| t.peak) as fn(&subfric_fit::TestLevels) -> _,
+            (|t: &subfric_reading::TestLevels| t.peak) as fn(&subfric_reading::TestLevels) -> _,
         ),
         ("residual", "μ_k", &l.residual, |t| t.residual),
     ] {

@@ -193,7 +193,7 @@ fn calibration(cases: &[Case]) -> (Vec<CalibrationBin>, Option<f64>, (usize, usi
     (bins, brier, confident_right)
 }
 
-use subfric_data::stats::median;
+use subfric_reading::stats::median;
 
 /// Scores cases.
 pub fn score(cases: &[Case]) -> Scores {

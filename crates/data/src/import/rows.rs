@@ -170,7 +170,10 @@ pub(super) fn spec_normal(spec: &ImportSpec, cols: &Columns, normal_kpa: &[f64])
                 .copied()
                 .filter(|x| x.is_finite())
                 .collect();
-            crate::stats::upper_median(&mut v).unwrap_or(f64::NAN)
+            // The upper median (subfric-reading's `stats::upper_median`, which this crate
+            // sits below): the middle value, or the upper of the middle two.
+            v.sort_by(f64::total_cmp);
+            v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
         }
         (None, None) => f64::NAN,
     }

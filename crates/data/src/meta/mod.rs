@@ -17,7 +17,7 @@ use crate::jsonpos::value_positions;
 use shape::check_shape;
 
 /// Which column the apparatus imposed, as declared in `experiment.json` (the model's
-/// counterpart is `subfric_model::Control`; `subfric_fit::control_of` converts).
+/// counterpart is `subfric_model::Control`; `subfric_reading::control_of` converts).
 ///
 /// ```
 /// use subfric_data::ControlColumn;

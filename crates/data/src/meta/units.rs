@@ -114,7 +114,7 @@ impl ColumnUnits {
         .into_iter()
         .filter_map(|(what, unit, own, factor)| {
             unit.as_ref()
-                .map(|unit| format!("{what} {unit} → {own} ×{}", crate::summary::num(factor)))
+                .map(|unit| format!("{what} {unit} → {own} ×{}", crate::text::num(factor)))
         })
         .collect()
     }

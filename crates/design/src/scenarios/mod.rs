@@ -9,8 +9,9 @@ use shear::shear_candidates;
 use slip::{slip_candidates, slow_start};
 
 use crate::outcome::{PlanOptions, ProposalKind, Rig};
-use subfric_fit::{FitReport, FitTest};
+use subfric_fit::FitReport;
 use subfric_model::{simulate_predicted_into, Control, Initial, Model, Protocol, Scenario, Stage};
+use subfric_reading::FitTest;
 
 /// Cycles of a two-way (or traction) cycle proposal.
 const CYCLE_COUNT: u32 = 3;

@@ -11,10 +11,11 @@ use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use subfric_fit::{
-    best_informed_guesses, calibrate_from, with_base_of, FitError, FitOptions, FitTest, Param,
-    PreparedTest, RunCounter, Space, Stiffness,
+    best_informed_guesses, calibrate_from, with_base_of, FitError, FitOptions, Param, RunCounter,
+    Space,
 };
 use subfric_model::Model;
+use subfric_reading::{FitTest, PreparedTest, Stiffness};
 
 /// Rounds of reweighting when model error dominates.
 pub(super) const REWEIGHTING_ROUNDS: usize = 1;
@@ -98,8 +99,7 @@ impl<'a> Context<'a> {
         let mut template = opts.template;
         let mut base_free = Param::BASE.to_vec();
         if let Some(s) = stiffness {
-            template.params.alpha_t = s.alpha_t;
-            template.params.alpha_n = s.alpha_t;
+            s.set_in(&mut template);
             base_free.push(Param::AlphaT);
         }
         let mut all_pieces = pieces(prepared);
@@ -366,7 +366,7 @@ fn screening_tests(prepared: &[PreparedTest]) -> Vec<FitTest> {
             }
             let share = (SCREENING_ROWS as f64 * p.fit.len() as f64 / total as f64).ceil();
             let mut q = p.clone();
-            subfric_fit::thin_prepared(&mut q, (share as usize).max(100));
+            subfric_reading::thin_prepared(&mut q, (share as usize).max(100));
             q.fit
         })
         .collect()
@@ -441,7 +441,7 @@ pub(super) fn unlike_fit(
     alpha_from_steps: bool,
     reduced_chi2: f64,
 ) -> Vec<String> {
-    let fit_prepare = subfric_fit::PrepareOptions::default();
+    let fit_prepare = subfric_reading::PrepareOptions::default();
     let fit_options = subfric_fit::FitOptions::default();
     let mut out = Vec::new();
     if rows > super::DIAGNOSIS_BUDGET_ROWS && fitted_rows < rows.min(fit_prepare.budget_rows) {
@@ -502,7 +502,7 @@ pub(super) fn calibrated_base(
 }
 
 /// What a second specimen tested alike could differ by in test `t`'s level, in units of its
-/// noise: [`subfric_fit::levels::REPRODUCIBILITY_SHARE`] of its typical |shear| (the median
+/// noise: [`subfric_reading::levels::REPRODUCIBILITY_SHARE`] of its typical |shear| (the median
 /// over its rows) over its noise SD; infinite under traction control, where the measured
 /// column is a slip.
 pub(super) fn specimen_scatter(t: &FitTest) -> f64 {
@@ -516,8 +516,8 @@ pub(super) fn specimen_scatter(t: &FitTest) -> f64 {
         .filter(|v| v.is_finite())
         .map(|v| v.abs())
         .collect();
-    let typical = subfric_data::stats::median(&mut shear).unwrap_or(0.0);
-    subfric_fit::levels::REPRODUCIBILITY_SHARE * typical / t.noise_sd
+    let typical = subfric_reading::stats::median(&mut shear).unwrap_or(0.0);
+    subfric_reading::levels::REPRODUCIBILITY_SHARE * typical / t.noise_sd
 }
 
 /// The base misses by more than `model_error_chi2` × the noise variance per row.

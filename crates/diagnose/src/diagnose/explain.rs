@@ -9,8 +9,8 @@ use crate::evidence::ResidualEvidence;
 use crate::fits::{cross_validate, Spec};
 use crate::folds::{extra_folds, Fold, Piece, PieceKind};
 use crate::verdict::Decision;
-use subfric_fit::FitTest;
 use subfric_model::Model;
+use subfric_reading::FitTest;
 
 /// Reduced χ² of the final model above which the explanation says part of the gap remains.
 const REMAINING_GAP_CHI2: f64 = 2.0;

@@ -22,8 +22,9 @@ use explain::make_verdict;
 use selection::{forward_selection, screen_and_polish};
 use std::collections::BTreeMap;
 use subfric_fit::localise::localise;
-use subfric_fit::{misfits, resolved_stiffness, FitError, FitTest, PreparedTest, RunCounter};
+use subfric_fit::{misfits, FitError, RunCounter};
 use subfric_model::Model;
+use subfric_reading::{resolved_stiffness, FitTest, PreparedTest};
 
 /// Rows the longest test must reach for a diagnosis to run at all.
 const MIN_ROWS: usize = 20;
@@ -35,10 +36,10 @@ pub const DIAGNOSIS_BUDGET_ROWS: usize = 3000;
 /// Prepares a set for a diagnosis (conditioned, segmented, thinned to
 /// [`DIAGNOSIS_BUDGET_ROWS`]).
 pub fn prepare_for_diagnosis(set: &subfric_data::ExperimentSet) -> Vec<PreparedTest> {
-    subfric_fit::prepare_set_with(
+    subfric_reading::prepare_set_with(
         set,
         false,
-        &subfric_fit::PrepareOptions {
+        &subfric_reading::PrepareOptions {
             budget_rows: DIAGNOSIS_BUDGET_ROWS,
             ..Default::default()
         },
@@ -178,21 +179,21 @@ pub fn diagnose(
 }
 
 /// The elastic stiffness α_t the diagnosis holds, decided as `fit` decides it
-/// ([`subfric_fit::decide_stiffness`]: unloads and reloads, then the springs the velocity steps
+/// ([`subfric_reading::decide_stiffness`]: unloads and reloads, then the springs the velocity steps
 /// needed one by one — the diagnosis's own reading — then a trial on the first loadings); the
 /// trial's runs count into `run_counter`.
 fn elastic_stiffness(
     prepared: &[PreparedTest],
-    resolved: Option<subfric_fit::Stiffness>,
+    resolved: Option<subfric_reading::Stiffness>,
     events: &crate::events::EventAnalysis,
     opts: &DiagnoseOptions,
     run_counter: &RunCounter,
-) -> Option<subfric_fit::Stiffness> {
-    let readings = subfric_fit::StiffnessReadings {
+) -> Option<subfric_reading::Stiffness> {
+    let readings = subfric_reading::StiffnessReadings {
         resolved,
         springs: events.stiffness(),
     };
-    subfric_fit::decide_stiffness(readings, || {
+    subfric_reading::decide_stiffness(readings, || {
         subfric_fit::stiffness_by_trial(
             prepared,
             &opts.template,
@@ -217,7 +218,7 @@ fn events_and_stiffness(
     run_counter: &RunCounter,
 ) -> (
     crate::events::EventAnalysis,
-    Option<subfric_fit::Stiffness>,
+    Option<subfric_reading::Stiffness>,
     bool,
 ) {
     let resolved = resolved_stiffness(prepared);
@@ -278,7 +279,7 @@ pub fn diagnose_reporting(
         cx.trace("base fit on the travel with the bedding taken out");
         (&seated[..], cx, start)
     };
-    cx.features.seeds = crate::features::EventSeeds::from_events(&events);
+    cx.features.seeds = events.seeds();
     cx.events = events.clone();
     let base = fit_base(&mut cx, calibrated)?;
     let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();
@@ -328,7 +329,7 @@ pub fn diagnose_reporting(
         dropped: selection.dropped,
         evidence,
         remaining_by_segment: localise(prepared, &residuals(&fulls, &final_model, None)).by_segment,
-        final_read_off: subfric_fit::read_off(&fulls, &final_model),
+        final_read_off: subfric_reading::read_off(&fulls, &final_model),
         final_model,
         folds: cx.folds.iter().map(|f| f.name.clone()).collect(),
         pieces: pieces_by_kind(&cx),
@@ -415,7 +416,7 @@ fn base_report(cx: &Context, fulls: &[FitTest], base: &Current, alpha_from_steps
         fitted_rows,
         reduced_chi2,
         tests: misfits(fulls, &base.model),
-        read_off: subfric_fit::read_off(fulls, &base.model),
+        read_off: subfric_reading::read_off(fulls, &base.model),
         at_bounds: cx
             .space(&base.model, &crate::fits::Spec::base())
             .at_bounds(&base.model),
@@ -433,7 +434,7 @@ fn test_starts(prepared: &[PreparedTest]) -> Vec<TestStart> {
             from_spec: p.segmentation.start.from_spec,
             reason: p.segmentation.start.reason.clone(),
             noise_sd: p.full.noise_sd,
-            noise_floor: subfric_data::estimate_noise(&p.full.time, &p.full.measured).floor,
+            noise_floor: subfric_reading::estimate_noise(&p.full.time, &p.full.measured).floor,
             seating_toe: p.toe.clone(),
             normal_held: p.segmentation.normal.held_because().map(String::from),
         })

@@ -8,8 +8,9 @@ use crate::verdict::{Decision, Thresholds};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use subfric_fit::localise::{GroupMisfit, Localisation};
-use subfric_fit::{Stiffness, TestMisfit};
+use subfric_fit::TestMisfit;
 use subfric_model::Model;
+use subfric_reading::Stiffness;
 
 /// One form fitted to all data.
 #[derive(Clone, Debug, Serialize)]
@@ -305,7 +306,7 @@ pub struct BaseFit {
     pub tests: Vec<TestMisfit>,
     /// μ_s and μ_k beside the peak and residual stress ratios the record shows, and whether
     /// the base model keeps them.
-    pub read_off: Vec<subfric_fit::ReadOff>,
+    pub read_off: Vec<subfric_reading::ReadOff>,
     /// Coordinates of the base fit that ended at a bound of their box: the candidates are
     /// judged against a base the box stopped, which the report says.
     pub at_bounds: Vec<subfric_fit::AtBound>,
@@ -320,7 +321,7 @@ pub struct TestStart {
     /// Test.
     pub test: String,
     /// The state.
-    pub start: subfric_data::StartKind,
+    pub start: subfric_reading::StartKind,
     /// From `experiment.json`, or decided from the data.
     pub from_spec: bool,
     /// Why.
@@ -330,7 +331,7 @@ pub struct TestStart {
     /// Noise is a floor.
     pub noise_floor: bool,
     /// A seating toe excluded from the start of the record (a rig artifact, not friction).
-    pub seating_toe: Option<subfric_data::SeatingToe>,
+    pub seating_toe: Option<subfric_reading::SeatingToe>,
     /// Why the normal-stress column was held at its levels (its scatter the reading's, not
     /// followed by the shear), when it was.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -356,7 +357,7 @@ pub struct Diagnosis {
     /// The tests as diagnosed: prepared as given, with any bedding taken out of their travel
     /// (what the figures of the diagnosis draw).
     #[serde(skip)]
-    pub prepared: Vec<subfric_fit::PreparedTest>,
+    pub prepared: Vec<subfric_reading::PreparedTest>,
     /// Where the base residual lies (all rows).
     pub localisation: Localisation,
     /// Every velocity step, hold and reversal read on its own, and what they say together.
@@ -376,7 +377,7 @@ pub struct Diagnosis {
     /// The model with every named effect.
     pub final_model: Model,
     /// The final model's μ_s and μ_k beside the measured peak and residual.
-    pub final_read_off: Vec<subfric_fit::ReadOff>,
+    pub final_read_off: Vec<subfric_reading::ReadOff>,
     /// Held-out folds used.
     pub folds: Vec<String>,
     /// Pieces per kind.

@@ -4,6 +4,7 @@
 
 use super::{Estimate, TestView};
 use serde::Serialize;
+use subfric_reading::stats::student_t95;
 
 /// One hold and its reload.
 #[derive(Clone, Debug, Serialize)]
@@ -156,7 +157,7 @@ pub(super) fn healing_trend(holds: &[HoldHealing]) -> Option<HealingTrend> {
         return None;
     }
     let (x, y): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
-    let line = subfric_data::line::fit_line(&x, &y)?;
+    let line = subfric_reading::stats::fit_line(&x, &y)?;
     // Holds too close in duration (a spread of log10 hold time, Σ(x − x̄)², under 0.1) say
     // nothing of a trend per decade.
     if line.sxx < 0.1 {
@@ -178,19 +179,6 @@ pub(super) fn healing_trend(holds: &[HoldHealing]) -> Option<HealingTrend> {
         holds: pts.len(),
         per_decade,
     })
-}
-
-/// Two-sided 95 % quantile of Student's t with `dof` degrees of freedom.
-fn student_t95(dof: usize) -> f64 {
-    const TABLE: [f64; 10] = [
-        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
-    ];
-    match dof {
-        0 => f64::INFINITY,
-        1..=10 => TABLE[dof - 1],
-        11..=20 => 2.2 - 0.01 * (dof as f64 - 10.0).min(10.0) * 1.14,
-        _ => 1.96 + 2.4 / dof as f64,
-    }
 }
 
 #[cfg(test)]
@@ -235,13 +223,5 @@ mod tests {
         let tr = healing_trend(&[hold(10.0, 0.01), hold(100.0, 0.02)]).unwrap();
         assert!(tr.per_decade.lo.is_infinite());
         assert!(healing_trend(&[hold(10.0, 0.01), hold(10.0, 0.02)]).is_none());
-    }
-
-    #[test]
-    fn the_t_quantile_falls_towards_the_normal_one() {
-        assert!(student_t95(1) > student_t95(5));
-        assert!(student_t95(15) > student_t95(40));
-        assert!((student_t95(1000) - 1.96).abs() < 0.01);
-        assert!((student_t95(20) - 2.086).abs() < 0.05);
     }
 }

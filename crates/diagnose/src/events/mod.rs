@@ -12,9 +12,10 @@ pub mod steps;
 
 use rayon::prelude::*;
 use serde::Serialize;
-use subfric_data::stats::upper_median;
-use subfric_fit::{PreparedTest, Stiffness};
 use subfric_model::Control;
+use subfric_reading::features::EventSeeds;
+use subfric_reading::stats::upper_median;
+use subfric_reading::{PreparedTest, Stiffness};
 
 pub use holds::{HealingTrend, HoldHealing};
 pub use reversals::{DirectionAsymmetry, ReversalChange};
@@ -27,7 +28,7 @@ pub const STEP_EVIDENCE: f64 = 20.0;
 /// Largest ratio between the springs of the velocity steps that still counts as one machine.
 pub const SPRING_AGREEMENT: f64 = 3.0;
 
-pub use subfric_fit::Estimate;
+pub use subfric_reading::Estimate;
 
 /// What the per-event reading found, and what it says about each family.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -46,7 +47,7 @@ pub struct EventAnalysis {
     pub rate: Option<RateConsensus>,
     /// Every test's peak and residual stress ratio, and their change with the normal stress
     /// and with slip.
-    pub levels: subfric_fit::LevelReadings,
+    pub levels: subfric_reading::LevelReadings,
 }
 
 /// What the velocity steps say together.
@@ -89,7 +90,7 @@ pub(crate) struct TestView<'a> {
     pub slip: &'a [f64],
     pub shear: &'a [f64],
     pub normal: &'a [f64],
-    pub segmentation: &'a subfric_data::Segmentation,
+    pub segmentation: &'a subfric_reading::Segmentation,
     /// Noise SD in friction units.
     pub noise_friction: f64,
 }
@@ -149,7 +150,7 @@ pub fn analyse(prepared: &[PreparedTest], stiffness: Option<&Stiffness>) -> Even
     let reversal_changes: Vec<ReversalChange> =
         views.iter().flat_map(reversals::reversals).collect();
     EventAnalysis {
-        levels: subfric_fit::read_levels(prepared),
+        levels: subfric_reading::read_levels(prepared),
         rate: consensus(&step_fits),
         healing: holds::healing_trend(&holds),
         direction: reversals::asymmetry(&reversal_changes),
@@ -314,4 +315,45 @@ fn consensus(steps: &[StepFit]) -> Option<RateConsensus> {
         // A step too fast for its rows says nothing for or against a direct effect.
         consistent: significant.len() >= 2 && 3 * significant.len() >= 2 * resolved,
     })
+}
+
+impl EventAnalysis {
+    /// The first guesses this analysis gives the global fits of the forms
+    /// ([`subfric_reading::features::EventSeeds`]).
+    pub fn seeds(&self) -> EventSeeds {
+        let e = self;
+        let finite = |v: f64| v.is_finite().then_some(v);
+        EventSeeds {
+            rate_and_state: e.rate.as_ref().and_then(|r| {
+                (r.a.is_finite() && r.b.is_finite() && r.d_c_mm.is_finite())
+                    .then_some((r.a, r.b, r.d_c_mm))
+            }),
+            healing_per_decade: e.healing.as_ref().and_then(|h| finite(h.per_decade.value)),
+            backward_weakening: e
+                .direction
+                .as_ref()
+                .and_then(|d| finite(d.backward_weakening.value)),
+            // A reading within its uncertainty of zero is no guess (the generic starts hold
+            // the neutral already): a start from it only moves the screening to another basin
+            // (a hyperbolic slip hardening at its bound, standing in for the rise the model
+            // lacks).
+            stress_trend: (
+                e.levels
+                    .peak
+                    .as_ref()
+                    .filter(|t| t.changes())
+                    .and_then(|t| finite(t.relative_per_efold.value)),
+                e.levels
+                    .residual
+                    .as_ref()
+                    .filter(|t| t.changes())
+                    .and_then(|t| finite(t.relative_per_efold.value)),
+            ),
+            slip_slope_per_mm: e
+                .levels
+                .slip_slope_per_mm
+                .filter(|s| s.excludes_zero())
+                .and_then(|s| finite(s.value)),
+        }
+    }
 }

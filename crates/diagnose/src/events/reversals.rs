@@ -3,6 +3,7 @@
 
 use super::{Estimate, TestView};
 use serde::Serialize;
+use subfric_reading::stats::mean_var;
 
 /// The change of steady friction at one reversal.
 #[derive(Clone, Debug, Serialize)]
@@ -99,12 +100,7 @@ pub(super) fn asymmetry(changes: &[ReversalChange]) -> Option<DirectionAsymmetry
         return None;
     }
     let stats = |v: &[f64]| {
-        let m = v.iter().sum::<f64>() / v.len() as f64;
-        let var = if v.len() > 1 {
-            v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64
-        } else {
-            0.0
-        };
+        let (m, var) = mean_var(v);
         (m, var / v.len() as f64)
     };
     let (mf, vf) = stats(&fwd);

@@ -381,7 +381,7 @@ fn residuals_and_scale<R: Residuals>(p: &R, x: &[f64]) -> (Vec<f64>, f64, f64) {
     let mut r = Vec::new();
     p.residuals_at(x, &mut r);
     let ssr: f64 = r.iter().map(|v| v * v).sum();
-    let tau = subfric_fit::uncertainty::correlation_time(&r);
+    let tau = subfric_reading::stats::correlation_time(&r);
     let s2 = (ssr / (r.len().saturating_sub(x.len())).max(1) as f64).max(1.0) * tau;
     (r, ssr, s2)
 }

@@ -2,13 +2,20 @@
 //! (the mean of the middle two of an even count) and the upper median (a value of the data
 //! itself: the middle one, or the upper of the middle two), NaN sorting last by `total_cmp`;
 //! and the autocorrelation of a series by FFT with its integrated time (Sokal's window), which
-//! the fit's correlated-residual intervals and the posterior's convergence both read.
+//! the fit's correlated-residual intervals, the velocity steps' readings and the posterior's
+//! convergence read (`correlation_time`); the mean and unbiased variance, the two-sided 95 %
+//! quantiles of the normal and of Student's t; the
+//! least-squares straight line ([`line`]).
+
+pub mod line;
+
+pub use line::{fit_line, fit_weighted_line, LineFit, WeightedLine};
 
 /// The median of `v` (sorted in place): the middle value, the mean of the middle two for an
 /// even count; `None` when empty.
 ///
 /// ```
-/// use subfric_data::stats::median;
+/// use subfric_reading::stats::median;
 /// assert_eq!(median(&mut [3.0, 1.0, 2.0]), Some(2.0));
 /// assert_eq!(median(&mut [4.0, 1.0, 3.0, 2.0]), Some(2.5));
 /// assert_eq!(median(&mut []), None);
@@ -31,7 +38,7 @@ pub fn median(v: &mut [f64]) -> Option<f64> {
 /// wanted rather than a point between two; `None` when empty.
 ///
 /// ```
-/// use subfric_data::stats::upper_median;
+/// use subfric_reading::stats::upper_median;
 /// assert_eq!(upper_median(&mut [4.0, 1.0, 3.0, 2.0]), Some(3.0));
 /// assert_eq!(upper_median(&mut [3.0, 1.0, 2.0]), Some(2.0));
 /// ```
@@ -48,7 +55,7 @@ pub fn upper_median(v: &mut [f64]) -> Option<f64> {
 /// 0..=1; NaN when empty.
 ///
 /// ```
-/// use subfric_data::stats::quantile;
+/// use subfric_reading::stats::quantile;
 /// assert_eq!(quantile(&[1.0, 2.0, 3.0, 4.0], 0.5), 2.5);
 /// assert_eq!(quantile(&[1.0, 2.0, 3.0, 4.0], 0.25), 1.75);
 /// assert_eq!(quantile(&[7.0], 0.9), 7.0);
@@ -78,7 +85,7 @@ pub const SOKAL_WINDOW: f64 = 5.0;
 /// correlated (ρ_k = 1); if none moves, τ is infinite.
 ///
 /// ```
-/// use subfric_data::stats::integrated_time;
+/// use subfric_reading::stats::integrated_time;
 /// // White noise has τ = 1.
 /// let mut state = 7u64;
 /// let mut next = || { state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407); (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5 };
@@ -125,6 +132,76 @@ pub fn integrated_time_within(walkers: &[&[f64]], max_lag: usize) -> f64 {
     tau
 }
 
+/// The mean and the unbiased variance (n − 1 in the denominator; 0 for a single value) of
+/// `x`; the mean is NaN when `x` is empty.
+pub fn mean_var(x: &[f64]) -> (f64, f64) {
+    let n = x.len() as f64;
+    let m = x.iter().sum::<f64>() / n;
+    let v = if x.len() > 1 {
+        x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0)
+    } else {
+        0.0
+    };
+    (m, v)
+}
+
+/// Two-sided 95 % quantile of the normal distribution.
+pub const Z95: f64 = 1.959_964;
+
+/// Two-sided 95 % quantile of Student's t with `dof` degrees of freedom (a table to 10, then
+/// an approximation; infinite at none).
+pub fn student_t95(dof: usize) -> f64 {
+    const TABLE: [f64; 10] = [
+        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+    ];
+    match dof {
+        0 => f64::INFINITY,
+        1..=10 => TABLE[dof - 1],
+        11..=20 => 2.2 - 0.01 * (dof as f64 - 10.0).min(10.0) * 1.14,
+        _ => 1.96 + 2.4 / dof as f64,
+    }
+}
+
+/// Fewest residuals of a test for its autocorrelation to be estimated (fewer: taken as
+/// independent).
+const MIN_CORRELATION_ROWS: usize = 20;
+
+/// Integrated autocorrelation time τ = 1 + 2 Σ_{k=1}^{W} ρ_k of a residual sequence (rows, in
+/// row order), with Sokal's automatic window ([`integrated_time`], the one
+/// the posterior's convergence reads, summed to half the series at most); at least 1. For independent residuals τ ≈ 1;
+/// for residuals correlated over many rows τ is the number of rows that carry as much
+/// information as one independent row: n_eff = n/τ (for an AR(1) sequence of lag-one
+/// correlation ρ, τ = (1 + ρ)/(1 − ρ)).
+///
+/// ```
+/// use subfric_reading::stats::correlation_time;
+/// // An AR(1) sequence with ρ = 0.8 (τ = 9), from a small deterministic generator.
+/// let mut state = 12345u64;
+/// let mut uniform = || { state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407); (state >> 11) as f64 / (1u64 << 53) as f64 };
+/// let mut r = vec![0.0f64];
+/// for _ in 0..20_000 {
+///     let u: f64 = (0..12).map(|_| uniform()).sum::<f64>() - 6.0;
+///     let last = *r.last().unwrap();
+///     r.push(0.8 * last + 0.6 * u);
+/// }
+/// let tau = correlation_time(&r);
+/// assert!((tau - 9.0).abs() < 1.5, "{tau}");
+/// ```
+pub fn correlation_time(r: &[f64]) -> f64 {
+    let v: Vec<f64> = r.iter().copied().filter(|x| x.is_finite()).collect();
+    let n = v.len();
+    if n < MIN_CORRELATION_ROWS {
+        return 1.0;
+    }
+    let tau = integrated_time_within(&[&v], n / 2);
+    // A constant sequence has no autocorrelation to read: independent.
+    if tau.is_finite() {
+        tau.max(1.0)
+    } else {
+        1.0
+    }
+}
+
 /// Normalised autocorrelation ρ_k (k = 0..n) of a series by FFT (the `realfft` crate: the
 /// power spectrum of the zero-padded series, transformed back); `None` when it is constant.
 pub fn autocorrelation(x: &[f64]) -> Option<Vec<f64>> {
@@ -157,6 +234,14 @@ pub fn autocorrelation(x: &[f64]) -> Option<Vec<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_t_quantile_falls_towards_the_normal_one() {
+        assert!(student_t95(1) > student_t95(5));
+        assert!(student_t95(15) > student_t95(40));
+        assert!((student_t95(1000) - 1.96).abs() < 0.01);
+        assert!((student_t95(20) - 2.086).abs() < 0.05);
+    }
 
     #[test]
     fn the_integrated_time_sums_the_autocorrelation_up_to_its_lag_limit() {

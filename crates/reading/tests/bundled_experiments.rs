@@ -3,7 +3,8 @@
 
 use std::path::PathBuf;
 
-use subfric_data::{load_set, segment, ControlColumn, ExperimentSet, SegmentKind, SegmentOptions};
+use subfric_data::{load_set, ControlColumn, ExperimentSet};
+use subfric_reading::{segment, SegmentKind, SegmentOptions};
 
 fn experiments_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../experiments")

@@ -3,7 +3,8 @@
 
 use std::path::PathBuf;
 
-use subfric_data::{condition_imposed, load_set, segment, summary, SegmentKind, SegmentOptions};
+use subfric_data::load_set;
+use subfric_reading::{condition_imposed, segment, summary, SegmentKind, SegmentOptions};
 
 fn fixture() -> subfric_data::ExperimentSet {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/golden/pair-01");

@@ -44,10 +44,10 @@ impl LineFit {
 /// or when x does not vary.
 ///
 /// ```
-/// let l = subfric_data::line::fit_line(&[0.0, 1.0, 2.0], &[1.0, 3.0, 5.0]).unwrap();
+/// let l = subfric_reading::stats::fit_line(&[0.0, 1.0, 2.0], &[1.0, 3.0, 5.0]).unwrap();
 /// assert_eq!((l.intercept, l.slope, l.r2), (1.0, 2.0, 1.0));
 /// assert_eq!((l.x_mean, l.sxx, l.residual_ss, l.points), (1.0, 2.0, 0.0, 3));
-/// assert!(subfric_data::line::fit_line(&[1.0, 1.0], &[0.0, 1.0]).is_none());
+/// assert!(subfric_reading::stats::fit_line(&[1.0, 1.0], &[0.0, 1.0]).is_none());
 /// ```
 pub fn fit_line(x: &[f64], y: &[f64]) -> Option<LineFit> {
     let n = x.len().min(y.len());
@@ -107,7 +107,7 @@ pub struct WeightedLine {
 /// weights sum to nothing.
 ///
 /// ```
-/// let l = subfric_data::line::fit_weighted_line(&[0.0, 1.0], &[1.0, 3.0], &[1.0, 1.0]).unwrap();
+/// let l = subfric_reading::stats::fit_weighted_line(&[0.0, 1.0], &[1.0, 3.0], &[1.0, 1.0]).unwrap();
 /// assert_eq!((l.intercept, l.slope), (1.0, 2.0));
 /// // Two points of unit variance: var(slope) = 1/Σw(x − x̄)² = 2.
 /// assert_eq!(l.var_slope, 2.0);

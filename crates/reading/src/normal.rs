@@ -21,8 +21,8 @@
 
 use crate::noise::estimate_noise;
 use crate::segment::SegmentKind;
-use crate::set::TestData;
-use crate::ControlColumn;
+use subfric_data::set::TestData;
+use subfric_data::ControlColumn;
 
 /// The normal-stress column after conditioning.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -108,8 +108,8 @@ pub fn condition_normal(test: &TestData, row_kind: &[SegmentKind]) -> Conditione
 /// reading's scatter, which it does not.
 ///
 /// ```
-/// use subfric_data::normal::shear_follows;
-/// use subfric_data::SegmentKind;
+/// use subfric_reading::normal::shear_follows;
+/// use subfric_reading::SegmentKind;
 /// let kind = vec![SegmentKind::SteadySliding; 40];
 /// // A normal stress that wanders by ±1 kPa around 100.
 /// let normal: Vec<f64> = (0..40).map(|i| 100.0 + if i % 3 == 0 { 1.0 } else { -0.5 }).collect();
@@ -175,7 +175,7 @@ fn held_at_levels(x: &[f64], band: f64) -> (Vec<f64>, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::meta::TestSpec;
+    use subfric_data::meta::TestSpec;
 
     /// A pseudo-random reading's noise of SD about `sd`, reproducible.
     fn noise(i: usize, sd: f64) -> f64 {

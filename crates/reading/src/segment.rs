@@ -28,17 +28,17 @@
 use serde::{Deserialize, Serialize};
 
 use crate::condition::{analyze, Analysis, Conditioned};
-use crate::events::velocity_steps;
-pub use crate::events::SegmentOptions;
-use crate::meta::{ControlColumn, InitialSpec};
+use crate::imposed::velocity_steps;
+pub use crate::imposed::SegmentOptions;
 use crate::noise::estimate_noise;
-use crate::set::TestData;
 use crate::stats::median;
+use subfric_data::meta::{ControlColumn, InitialSpec};
+use subfric_data::set::TestData;
 
 /// Kind of a loading phase.
 ///
 /// ```
-/// use subfric_data::SegmentKind;
+/// use subfric_reading::SegmentKind;
 /// assert_eq!(SegmentKind::AfterVelocityStep.name(), "after-velocity-step");
 /// assert_eq!(serde_json::to_string(&SegmentKind::Hold).unwrap(), "\"hold\"");
 /// ```
@@ -243,7 +243,8 @@ fn rate_between(t: &[f64], y: &[f64], a: usize, b: usize) -> f64 {
 /// windowed rate estimates so that noise does not create segments.
 ///
 /// ```
-/// use subfric_data::{segment, ControlColumn, SegmentKind, SegmentOptions, TestData, TestSpec};
+/// use subfric_data::{ControlColumn, TestData, TestSpec};
+/// use subfric_reading::{segment, SegmentKind, SegmentOptions};
 /// // slip-controlled triangle 0 → 1 → -1 → 1 mm at 0.01 mm/s
 /// let time: Vec<f64> = (0..=500).map(|i| i as f64).collect();
 /// let slip: Vec<f64> = time.iter().map(|&t| {

@@ -3,9 +3,9 @@
 use proptest::prelude::*;
 use subfric_data::set::parse_test;
 use subfric_data::{
-    condition_imposed, import, load_set, parse_meta, segment, ControlColumn, ImportSpec,
-    SegmentOptions, StressUnit, TestData, TestSpec,
+    import, load_set, parse_meta, ControlColumn, ImportSpec, StressUnit, TestData, TestSpec,
 };
+use subfric_reading::{condition_imposed, segment, SegmentOptions};
 
 const VALID_CSV: &str = "# comment\ntime_s,slip_mm,shear_kpa,normal_kpa\n0,0,0,100\n0.5,0.005,20.5,100\n1.0,0.010,30.25,101\n1.5,0.0149,35,99\n2.0,0.0201,36.5,100\n";
 
@@ -131,7 +131,7 @@ proptest! {
         let s = segment(&d, &SegmentOptions::default());
         prop_assert_eq!(s.row_kind.len(), n);
         prop_assert_eq!(s.cycle_of_row.len(), n);
-        let _ = subfric_data::summary::summarize_test(&d, &SegmentOptions::default()).to_owned();
+        let _ = subfric_reading::summary::summarize_test(&d, &SegmentOptions::default()).to_owned();
     }
 
     #[test]
@@ -202,7 +202,7 @@ proptest! {
             for t in &set.tests {
                 check_invariants(t);
             }
-            let _ = subfric_data::summary(&set).to_string();
+            let _ = subfric_reading::summary(&set).to_string();
         }
         let lab = dir.path().join("a.csv");
         let spec = ImportSpec {

@@ -2,8 +2,8 @@
 //! has, and the signature of its velocity steps read off the curves (the jump right after a step
 //! gives the direct effect a, the decay length D_c, the new steady level a − b).
 
+use crate::{typical_rate, FitTest, PreparedTest};
 use serde::Serialize;
-use subfric_fit::{typical_rate, FitTest, PreparedTest};
 use subfric_model::Control;
 
 /// Velocity-step signature, per e-fold of rate.
@@ -49,14 +49,15 @@ pub struct DataFeatures {
     pub duration_s: f64,
     /// How much more the record scatters over its steady stretches than its white noise shows
     /// (noise correlated in time, which a model's residual shows in full but the noise estimate
-    /// misses; [`subfric_data::noise::slow_noise_ratio`], median over the slip-controlled
+    /// misses; [`crate::noise::slow_noise_ratio`], median over the slip-controlled
     /// tests, within [1, [`MAX_UNSEEN_NOISE`]]; once the base model is fitted, the larger of
     /// that and the same measure on its residual over longer windows, [`unseen_noise_about`]):
     /// the misfit below which the gap is noise grows by this factor.
     pub unseen_noise: f64,
     /// Velocity-step signature.
     pub steps: StepSignature,
-    /// First guesses from the per-event reading ([`crate::events`]), when it found them.
+    /// First guesses from the per-event reading (`subfric_diagnose::events`,
+    /// `EventAnalysis::seeds`), when it found them.
     pub seeds: EventSeeds,
 }
 
@@ -77,47 +78,8 @@ pub struct EventSeeds {
     pub slip_slope_per_mm: Option<f64>,
 }
 
-impl EventSeeds {
-    /// The seeds an event analysis gives.
-    pub fn from_events(e: &crate::events::EventAnalysis) -> EventSeeds {
-        let finite = |v: f64| v.is_finite().then_some(v);
-        EventSeeds {
-            rate_and_state: e.rate.as_ref().and_then(|r| {
-                (r.a.is_finite() && r.b.is_finite() && r.d_c_mm.is_finite())
-                    .then_some((r.a, r.b, r.d_c_mm))
-            }),
-            healing_per_decade: e.healing.as_ref().and_then(|h| finite(h.per_decade.value)),
-            backward_weakening: e
-                .direction
-                .as_ref()
-                .and_then(|d| finite(d.backward_weakening.value)),
-            // A reading within its uncertainty of zero is no guess (the generic starts hold
-            // the neutral already): a start from it only moves the screening to another basin
-            // (a hyperbolic slip hardening at its bound, standing in for the rise the model
-            // lacks).
-            stress_trend: (
-                e.levels
-                    .peak
-                    .as_ref()
-                    .filter(|t| t.changes())
-                    .and_then(|t| finite(t.relative_per_efold.value)),
-                e.levels
-                    .residual
-                    .as_ref()
-                    .filter(|t| t.changes())
-                    .and_then(|t| finite(t.relative_per_efold.value)),
-            ),
-            slip_slope_per_mm: e
-                .levels
-                .slip_slope_per_mm
-                .filter(|s| s.excludes_zero())
-                .and_then(|s| finite(s.value)),
-        }
-    }
-}
-
 // The features read values of the record itself: the upper median, as they always have.
-use subfric_data::stats::upper_median as median;
+use crate::stats::upper_median as median;
 
 fn mean_normal(t: &FitTest) -> f64 {
     t.normal.iter().sum::<f64>() / t.normal.len().max(1) as f64
@@ -318,7 +280,7 @@ fn unseen_noise(tests: &[PreparedTest]) -> f64 {
         .map(|p| &p.full)
         .filter(|t| t.control == Control::Slip)
         .filter_map(|t| {
-            subfric_data::noise::slow_noise_ratio(&t.time, &t.imposed, &t.measured, t.noise_sd)
+            crate::noise::slow_noise_ratio(&t.time, &t.imposed, &t.measured, t.noise_sd)
         })
         .collect();
     median(&mut ratios).map_or(1.0, |r| r.clamp(1.0, MAX_UNSEEN_NOISE))
@@ -330,21 +292,21 @@ const RESIDUAL_WINDOW: usize = 240;
 
 /// [`DataFeatures::unseen_noise`] measured again on the residual of the model fitted to the
 /// record (`residuals`: the base model's on every row of each test, in units of the test's
-/// noise as [`crate::fits::residuals`] gives them), over windows of steady driving with a
+/// noise as `subfric_diagnose::fits::residuals` gives them), over windows of steady driving with a
 /// straight line in time removed from each: the model has taken out the friction's own
 /// curvature, which is what keeps the raw record's windows short (over a longer window a
 /// parabola no longer follows the friction), so a window can span the wander that the raw
 /// windows absorb, and a line still takes out what the model misses slowly. Each test is
 /// measured over the longest windows it holds three of: [`RESIDUAL_WINDOW`] rows, else half as
-/// many, down to the raw record's [`subfric_data::noise::SLOW_WINDOW`]. The larger of the
+/// many, down to the raw record's [`crate::noise::SLOW_WINDOW`]. The larger of the
 /// median over the tests and the raw record's figure, and of the wander the residual's
-/// semivariogram within stretches of steady driving shows ([`subfric_data::noise::Variogram`],
+/// semivariogram within stretches of steady driving shows ([`crate::noise::Variogram`],
 /// for a wander slower than those windows), within [`MAX_UNSEEN_NOISE`].
-pub fn unseen_noise_about(tests: &[PreparedTest], residuals: &crate::score::HeldOut) -> f64 {
+pub fn unseen_noise_about(tests: &[PreparedTest], residuals: &[Vec<f64>]) -> f64 {
     let mut ratios = Vec::new();
     // A wander slower than those windows: the residual's semivariogram within each stretch of
     // steady driving, pooled over the tests (in units of each test's white noise).
-    let mut variogram = subfric_data::noise::Variogram::default();
+    let mut variogram = crate::noise::Variogram::default();
     for (t, r) in tests.iter().map(|p| &p.full).zip(residuals) {
         if t.control != Control::Slip || !r.iter().all(|v| v.is_finite()) {
             continue;
@@ -353,10 +315,8 @@ pub fn unseen_noise_about(tests: &[PreparedTest], residuals: &crate::score::Held
         // square root of the weight.
         let white = t.weight.sqrt();
         let longest = std::iter::successors(Some(RESIDUAL_WINDOW), |w| Some(w / 2))
-            .take_while(|&w| w >= subfric_data::noise::SLOW_WINDOW)
-            .find_map(|w| {
-                subfric_data::noise::slow_noise_ratio_over(&t.time, &t.imposed, r, white, w, 2)
-            });
+            .take_while(|&w| w >= crate::noise::SLOW_WINDOW)
+            .find_map(|w| crate::noise::slow_noise_ratio_over(&t.time, &t.imposed, r, white, w, 2));
         ratios.extend(longest);
         let scaled: Vec<f64> = r.iter().map(|v| v / white).collect();
         variogram.add(&t.time, &t.imposed, &scaled);

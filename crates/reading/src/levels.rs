@@ -16,11 +16,11 @@
 //! fresh specimens of one sand never agree more closely than that, so a trend across tests
 //! must be larger than what a second specimen could show.
 
-use crate::dataset::FitTest;
 use crate::estimate::Estimate;
+use crate::fit_test::FitTest;
 use crate::prepare::PreparedTest;
+use crate::stats::{median, Z95};
 use serde::Serialize;
-use subfric_data::stats::median;
 use subfric_model::{Control, Initial};
 
 /// Smallest standard deviation of a test's peak or residual stress ratio, as a share of it:
@@ -43,9 +43,6 @@ const RESIDUAL_SHARE: f64 = 0.2;
 /// The peak is read on a parabola over this share of the shorter of the rise and the decay
 /// lengths either side of the largest smoothed value.
 const PEAK_REGION_SHARE: f64 = 0.15;
-
-/// Two-sided 95 % quantile of the normal distribution.
-const Z95: f64 = 1.959_964;
 
 /// Fewest rows a reading is made from.
 const MIN_ROWS: usize = 8;
@@ -476,7 +473,7 @@ fn line_over(u: &[f64], f: &[f64], from: f64) -> Option<Line> {
     if n < MIN_ROWS {
         return None;
     }
-    let line = subfric_data::line::fit_line(x, y)?;
+    let line = crate::stats::fit_line(x, y)?;
     // The level at the stretch's middle, where it is read best.
     let my = line.at(line.x_mean);
     let slope = line.slope;
@@ -520,7 +517,7 @@ fn trend(points: &[(f64, Estimate)]) -> Option<StressTrend> {
     let x: Vec<f64> = points.iter().map(|(p, _)| p.ln()).collect();
     let y: Vec<f64> = points.iter().map(|(_, e)| e.value).collect();
     let w: Vec<f64> = points.iter().map(|(_, e)| se_of(e).powi(-2)).collect();
-    let line = subfric_data::line::fit_weighted_line(&x, &y, &w)?;
+    let line = crate::stats::fit_weighted_line(&x, &y, &w)?;
     let (b, var_b) = (line.slope, line.var_slope);
     let per_efold = Estimate::symmetric(b, Z95 * var_b.sqrt());
     let mean = y.iter().zip(&w).map(|(y, w)| y * w).sum::<f64>() / w.iter().sum::<f64>();
@@ -536,7 +533,7 @@ fn trend(points: &[(f64, Estimate)]) -> Option<StressTrend> {
         .iter()
         .map(|(p, e)| (p * se_of(e)).powi(-2))
         .collect();
-    let line = subfric_data::line::fit_weighted_line(&sx, &sy, &sw)?;
+    let line = crate::stats::fit_weighted_line(&sx, &sy, &sw)?;
     let (c, tan_phi, var_c, var_t) = (
         line.intercept,
         line.slope,

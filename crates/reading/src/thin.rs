@@ -10,8 +10,8 @@
 //! measurements, weighted by its size — the weighted least squares stays an honest estimate of
 //! the least squares over all rows (the misfit on all rows is reported separately).
 
-use crate::dataset::FitTest;
-use subfric_data::{SegmentKind, Segmentation};
+use crate::fit_test::FitTest;
+use crate::{SegmentKind, Segmentation};
 
 /// Bins per segment before scaling to the budget, by kind.
 fn base_bins(kind: SegmentKind) -> f64 {

@@ -4,11 +4,11 @@ use std::fmt;
 
 use serde::Serialize;
 
-use crate::meta::ControlColumn;
 use crate::noise::{estimate_noise, NoiseEstimate};
 use crate::segment::{segment, SegmentOptions, Start, StartKind};
-use crate::set::{ExperimentSet, TestData};
-use crate::text::visible;
+use subfric_data::meta::ControlColumn;
+use subfric_data::set::{ExperimentSet, TestData};
+use subfric_data::text::{num, visible};
 
 /// Summary of one hold.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -220,7 +220,7 @@ fn noise_text(n: &NoiseEstimate, unit: &str) -> String {
 /// for i in 0..100 { csv.push_str(&format!("{},{},{}\n", i, 0.01 * i as f64, 30.0)); }
 /// std::fs::write(dir.path().join("a.csv"), csv)?;
 /// let set = subfric_data::load_set(dir.path())?;
-/// let s = subfric_data::summary(&set);
+/// let s = subfric_reading::summary(&set);
 /// assert_eq!(s.tests[0].rows, 100);
 /// assert!((s.tests[0].sliding_rates[0] - 0.01).abs() < 1e-12);
 /// assert!(s.to_string().contains("demo"));
@@ -237,27 +237,6 @@ pub fn summary_with(set: &ExperimentSet, opts: &SegmentOptions) -> SetSummary {
         title: set.meta.title.clone(),
         provenance: set.meta.provenance.clone(),
         tests: set.tests.iter().map(|t| summarize_test(t, opts)).collect(),
-    }
-}
-
-/// Formats a number with about 4 significant digits, without exponent for usual magnitudes.
-pub(crate) fn num(x: f64) -> String {
-    if !x.is_finite() {
-        return format!("{x}");
-    }
-    if x == 0.0 {
-        return "0".into();
-    }
-    let a = x.abs();
-    if !(1e-4..1e6).contains(&a) {
-        return format!("{x:.3e}");
-    }
-    let decimals = (3 - a.log10().floor() as i32).clamp(0, 8) as usize;
-    let s = format!("{x:.decimals$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
     }
 }
 
@@ -361,7 +340,7 @@ fn write_table(f: &mut fmt::Formatter<'_>, rows: &[[String; 15]]) -> fmt::Result
 }
 
 /// The declared units of a test's columns and the factor each was converted by.
-fn units_read(spec: &crate::TestSpec) -> Vec<String> {
+fn units_read(spec: &subfric_data::TestSpec) -> Vec<String> {
     spec.units
         .as_ref()
         .map(|u| u.conversions())
@@ -371,7 +350,7 @@ fn units_read(spec: &crate::TestSpec) -> Vec<String> {
 /// What was made of a test's columns beyond the format's own, as `fit` and `diagnose` note it
 /// (`check` writes the same lines under its table): the units they were read in, the further
 /// channels carried, and a constant-normal-stiffness test's stiffness.
-pub fn reading_lines(test: &crate::TestData) -> Vec<String> {
+pub fn reading_lines(test: &subfric_data::TestData) -> Vec<String> {
     reading_sentences(
         &units_read(&test.spec),
         &channels_carried(test),
@@ -404,7 +383,7 @@ fn reading_sentences(units: &[String], channels: &[String], stiffness: Option<f6
 }
 
 /// Each further channel of a test with the range of its values and its missing samples.
-fn channels_carried(test: &crate::TestData) -> Vec<String> {
+fn channels_carried(test: &subfric_data::TestData) -> Vec<String> {
     test.channels
         .iter()
         .map(|c| {

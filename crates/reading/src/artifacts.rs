@@ -6,10 +6,10 @@
 //! not be closed at its end: what is left of it closes on the first reload in the same
 //! direction ([`gap_remainder`]), and that travel is taken out of the imposed column.
 
-use crate::meta::ControlColumn;
 use crate::segment::{Segmentation, StartKind};
-use crate::set::TestData;
 use serde::Serialize;
+use subfric_data::meta::ControlColumn;
+use subfric_data::set::TestData;
 
 /// A seating toe found at the start of a test.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -212,7 +212,7 @@ fn climb_reaches_back(
     // Shear on travel (the travel is the precise column: a line of travel on a noisy shear
     // would be flattened by the noise and reach back too far).
     (rows.len() >= LINE_ROWS)
-        .then(|| crate::line::fit_line(&travel, &shear))
+        .then(|| crate::stats::fit_line(&travel, &shear))
         .flatten()
         .filter(|l| l.slope > 0.0)
         .map_or(0.0, |l| -l.intercept / l.slope)
@@ -358,8 +358,8 @@ pub fn without_gap_rows(test: &TestData, gap: &GapRemainder) -> TestData {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::meta::TestSpec;
     use crate::segment::{segment, SegmentOptions};
+    use subfric_data::meta::TestSpec;
 
     /// A loading at 0.01 mm/s that closes a gap of `gap` mm first (shear 0.2 % of the peak per
     /// 0.1 mm there), then rises like tanh over 0.05 mm to 60 kPa.

@@ -6,7 +6,8 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
-use subfric_data::{segment, ControlColumn, SegmentOptions, StartKind, TestData, TestSpec};
+use subfric_data::{ControlColumn, TestData, TestSpec};
+use subfric_reading::{segment, SegmentOptions, StartKind};
 
 /// One stage of a generated protocol: slide at `rate` mm/s over `distance` mm, or hold.
 #[derive(Clone, Copy, Debug)]

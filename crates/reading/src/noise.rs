@@ -97,10 +97,10 @@ fn mad_sd(r: &[f64]) -> f64 {
 ///
 /// ```
 /// let x: Vec<f64> = (0..500).map(|i| ((i as f64 * 0.37).sin() * 40.0).round() * 0.1).collect();
-/// let q = subfric_data::noise::quantum(&x);
+/// let q = subfric_reading::noise::quantum(&x);
 /// assert!((q - 0.1).abs() < 1e-9, "{q}");
 /// let smooth: Vec<f64> = (0..500).map(|i| (i as f64 * 0.37).sin()).collect();
-/// assert_eq!(subfric_data::noise::quantum(&smooth), 0.0);
+/// assert_eq!(subfric_reading::noise::quantum(&smooth), 0.0);
 /// ```
 pub fn quantum(x: &[f64]) -> f64 {
     let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-300);
@@ -144,7 +144,7 @@ pub fn quantum(x: &[f64]) -> f64 {
 /// Estimates the noise of `x` sampled at `t` (see the module documentation).
 ///
 /// ```
-/// use subfric_data::noise::estimate_noise;
+/// use subfric_reading::noise::estimate_noise;
 /// let t: Vec<f64> = (0..30_000).map(|i| i as f64 * 0.1).collect();
 /// // A slowly drifting signal read by a 0.01-step converter: no scatter beyond quantisation.
 /// let x: Vec<f64> = t.iter().map(|t| (0.0003 * t / 0.01).round() * 0.01).collect();
@@ -236,8 +236,8 @@ fn polynomial_rms(t: &[f64], x: &[f64], terms: usize) -> f64 {
 ///     (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
 /// };
 /// let x: Vec<f64> = t.iter().map(|t| 50.0 + 0.01 * t * t + noise()).collect();
-/// let white = subfric_data::estimate_noise(&t, &x).sd;
-/// let ratio = subfric_data::noise::slow_noise_ratio(&t, &slip, &x, white).unwrap();
+/// let white = subfric_reading::estimate_noise(&t, &x).sd;
+/// let ratio = subfric_reading::noise::slow_noise_ratio(&t, &slip, &x, white).unwrap();
 /// assert!((0.7..1.4).contains(&ratio), "{ratio}");
 /// ```
 pub fn slow_noise_ratio(t: &[f64], imposed: &[f64], x: &[f64], white_sd: f64) -> Option<f64> {
@@ -418,7 +418,7 @@ impl Variogram {
 /// ```
 /// let t: Vec<f64> = (0..200).map(|i| i as f64 * 0.5).collect();
 /// let x: Vec<f64> = t.iter().map(|t| 0.01 * t).collect();
-/// assert!(subfric_data::noise::noise_sd(&t, &x) < 1e-12);
+/// assert!(subfric_reading::noise::noise_sd(&t, &x) < 1e-12);
 /// ```
 pub fn noise_sd(t: &[f64], x: &[f64]) -> f64 {
     estimate_noise(t, x).sd

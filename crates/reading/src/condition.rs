@@ -1,5 +1,5 @@
 //! Conditioning of the imposed column: isotonic fit per monotone run between the true reversals,
-//! flat holds (the events themselves are found by [`crate::events`]).
+//! flat holds (the events themselves are found by [`crate::imposed`]).
 //!
 //! Lab files carry measurement noise on the imposed column too: during a hold the slip jitters
 //! and goes backwards by a fraction of a micrometre. The friction model is elastically very
@@ -8,9 +8,9 @@
 //! column within each monotone run by its isotonic regression (PAVA), so that no spurious
 //! reversal remains; holds whose jitter stays within the threshold become exactly flat.
 
-use crate::events::{detect, run_directions, SegmentOptions};
+use crate::imposed::{detect, run_directions, SegmentOptions};
 use crate::noise::NoiseEstimate;
-use crate::set::TestData;
+use subfric_data::set::TestData;
 
 /// The imposed column after conditioning.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -27,12 +27,13 @@ pub struct Conditioned {
     pub changed: bool,
 }
 
-pub use crate::events::REVERSAL_SDS;
+pub use crate::imposed::REVERSAL_SDS;
 
 /// Conditions the imposed column of a test with the default [`SegmentOptions`].
 ///
 /// ```
-/// use subfric_data::{condition_imposed, ControlColumn, TestData, TestSpec};
+/// use subfric_data::{ControlColumn, TestData, TestSpec};
+/// use subfric_reading::condition_imposed;
 /// // a ramp, a noisy hold that goes backwards, a ramp
 /// let slip = [0.0, 0.1, 0.2, 0.3, 0.3002, 0.2998, 0.3001, 0.2999, 0.3003, 0.2997, 0.3, 0.4, 0.5, 0.6];
 /// let n = slip.len();
@@ -119,7 +120,7 @@ pub(crate) struct Analysis {
 /// ```
 /// let t: Vec<f64> = (0..200).map(|i| i as f64 * 0.5).collect();
 /// let x: Vec<f64> = t.iter().map(|t| 0.01 * t).collect();
-/// assert!(subfric_data::condition::noise_sd(&t, &x) < 1e-12);
+/// assert!(subfric_reading::condition::noise_sd(&t, &x) < 1e-12);
 /// ```
 pub fn noise_sd(t: &[f64], x: &[f64]) -> f64 {
     crate::noise::noise_sd(t, x)

@@ -2,9 +2,8 @@
 
 use rand::{Rng, SeedableRng};
 use rand_distr::{Distribution, StandardNormal};
-use subfric_data::{
-    condition_imposed, segment, ControlColumn, SegmentKind, SegmentOptions, TestData, TestSpec,
-};
+use subfric_data::{ControlColumn, TestData, TestSpec};
+use subfric_reading::{condition_imposed, segment, SegmentKind, SegmentOptions};
 
 fn gauss(rng: &mut impl Rng) -> f64 {
     StandardNormal.sample(rng)

@@ -19,13 +19,13 @@
 //! between the parameter and the ratio is the model's shape; where it does not, the fit has
 //! traded them for something else, and the report says so.
 
-use crate::dataset::FitTest;
+use crate::fit_test::FitTest;
 use crate::guess::features;
 // After its peak a loading must slide this many decay lengths for its end to be read as the
 // residual stress ratio: one rule with the tests' level readings.
 use crate::levels::RESIDUAL_DECAYS;
+use crate::stats::median;
 use serde::Serialize;
-use subfric_data::stats::median;
 use subfric_model::{Control, Initial, Model};
 
 /// The fitted model keeps a measured stress ratio when it lies within this share of it, or

@@ -2,12 +2,13 @@
 //! conditioned (measurement jitter removed), each test keeps its segmentation and its initial
 //! state, and long records are thinned to the rows that carry information ([`crate::thin`]).
 
-use crate::dataset::FitTest;
+use crate::fit_test::FitTest;
 use crate::thin::{bins, scale_for_budget, thin_test};
-use subfric_data::{
-    close_gap, gap_remainder, seating_toe, segment, ExperimentSet, SeatingToe, SegmentKind,
-    SegmentOptions, Segmentation, StartKind, TestData,
+use crate::{
+    close_gap, gap_remainder, seating_toe, segment, SeatingToe, SegmentKind, SegmentOptions,
+    Segmentation, StartKind,
 };
+use subfric_data::{ExperimentSet, TestData};
 use subfric_model::{Control, Initial, Model};
 
 /// A test ready for fitting, with the segmentation its residuals are localised by.

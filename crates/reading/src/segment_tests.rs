@@ -1,7 +1,7 @@
 //! Unit tests of `segment.rs` (kept beside it to keep that file short).
 
 use super::*;
-use crate::meta::TestSpec;
+use subfric_data::meta::TestSpec;
 
 pub(crate) fn data(control: ControlColumn, t: Vec<f64>, imposed: Vec<f64>) -> TestData {
     let n = t.len();

@@ -235,7 +235,7 @@ pub(crate) fn travel_quantile(chunks: &[Chunk], q: f64) -> f64 {
 
 /// Least-squares line y = a + b t through rows `rows`.
 fn line(t: &[f64], y: &[f64], rows: std::ops::RangeInclusive<usize>) -> Option<(f64, f64)> {
-    let l = crate::line::fit_line(&t[rows.clone()], &y[rows])?;
+    let l = crate::stats::fit_line(&t[rows.clone()], &y[rows])?;
     Some((l.intercept, l.slope))
 }
 
@@ -744,5 +744,5 @@ fn reversals_outside_holds(
 }
 
 #[cfg(test)]
-#[path = "events_tests.rs"]
+#[path = "imposed_tests.rs"]
 mod tests;
