@@ -343,7 +343,7 @@ pub fn run_sets(
 /// program killed by SIGINT).
 #[derive(Debug)]
 pub struct Interrupted {
-    /// Sets done, this run and before.
+    /// Sets this run finished or found done (skipped) before the interrupt.
     pub done: usize,
     /// Sets of the campaign.
     pub total: usize,
@@ -385,19 +385,20 @@ mod interrupt {
         }
     }
 
-    /// The handler, installed while a campaign runs its sets; the default disposition comes
-    /// back when it is dropped.
-    pub(super) struct Watch;
+    /// The handler, installed while a campaign runs its sets; the disposition it replaced
+    /// comes back when it is dropped (in the Python package, Python's own handler, which turns
+    /// Ctrl-C into `KeyboardInterrupt`).
+    pub(super) struct Watch {
+        previous: libc::sighandler_t,
+    }
 
     impl Watch {
         pub(super) fn install() -> Watch {
             HEARD.store(false, Ordering::SeqCst);
             let handler = on_sigint as extern "C" fn(libc::c_int);
             // SAFETY: the handler only stores to an atomic and calls `signal`.
-            unsafe {
-                libc::signal(libc::SIGINT, handler as libc::sighandler_t);
-            }
-            Watch
+            let previous = unsafe { libc::signal(libc::SIGINT, handler as libc::sighandler_t) };
+            Watch { previous }
         }
 
         /// Whether a Ctrl-C came since [`Watch::install`].
@@ -408,9 +409,46 @@ mod interrupt {
 
     impl Drop for Watch {
         fn drop(&mut self) {
-            // SAFETY: restoring the default disposition.
+            // `signal` answers SIG_ERR when it could not install the handler: then nothing was
+            // replaced, and the default is what there was.
+            let previous = if self.previous == libc::SIG_ERR {
+                libc::SIG_DFL
+            } else {
+                self.previous
+            };
+            // SAFETY: restoring the disposition `install` replaced.
             unsafe {
-                libc::signal(libc::SIGINT, libc::SIG_DFL);
+                libc::signal(libc::SIGINT, previous);
+            }
+        }
+    }
+
+    #[cfg(test)]
+    mod tests {
+        use super::*;
+
+        #[test]
+        fn a_ctrl_c_is_heard_and_the_handler_it_replaced_comes_back_after_the_campaign() {
+            // SAFETY: dispositions of SIGINT in a test process; the raised signal goes to the
+            // handler installed just before.
+            unsafe {
+                // Stands for Python's handler, or a shell's choice.
+                let before = libc::signal(libc::SIGINT, libc::SIG_IGN);
+                {
+                    let watch = Watch::install();
+                    assert!(!watch.heard());
+                    assert_eq!(libc::raise(libc::SIGINT), 0);
+                    assert!(watch.heard(), "the Ctrl-C was not heard");
+                    // The second Ctrl-C would stop the program: the default is in place.
+                    let now = libc::signal(libc::SIGINT, libc::SIG_DFL);
+                    assert_eq!(now, libc::SIG_DFL);
+                }
+                let after = libc::signal(libc::SIGINT, before);
+                assert_eq!(
+                    after,
+                    libc::SIG_IGN,
+                    "the replaced handler did not come back"
+                );
             }
         }
     }
