@@ -17,6 +17,8 @@
 //! must be larger than what a second specimen could show.
 
 use crate::estimate::Estimate;
+mod two_scales;
+
 use crate::fit_test::FitTest;
 use crate::prepare::PreparedTest;
 use crate::stats::{median, Z95};
@@ -249,6 +251,14 @@ fn test_levels(t: &FitTest, step: Option<usize>) -> Option<TestLevels> {
                 .map(|k| (u[ip + k] - u[ip]).max(1e-9))
         })
         .flatten();
+    // A decay read so long that the slide ends before it has run its course may be two scales,
+    // the peak's decay and a trend with slip (see `two_scales`).
+    let decay_mm = match decay_mm {
+        Some(l) if u[ip] + RESIDUAL_DECAYS * l >= travel => {
+            two_scales::short_decay(&u, &f, ip, RESIDUAL_DECAYS, rise_mm).or(Some(l))
+        }
+        other => other,
+    };
     let after_peak = travel - u[ip];
     let peak = (after_peak >= rise_mm
         && after_peak > 0.0

@@ -221,3 +221,19 @@ fn the_change_with_slip_is_read_as_a_share_of_the_residual_over_the_slide() {
     let flat = read_change(0.0);
     assert!(flat.lo > -0.02 && flat.hi < 0.02, "{flat:?}");
 }
+
+#[test]
+fn a_quick_decay_then_a_softening_to_the_end_of_the_slide_reads_its_residual_and_slope() {
+    // The peak's excess gone within 1 mm, then 0.05 per mm lost over the 7 mm left: the tail
+    // sits 0.33 below the decayed peak, so the excess read against it decays "over" 2.7 mm and
+    // three such lengths pass the end; read on two scales, the quick decay leaves a residual
+    // and its slope.
+    let t = loading("a", 100.0, (0.8, 0.6, 1.0, 0.3, -0.05), 0.004, 3);
+    let l = test_levels(&t, None).unwrap();
+    let slope = l.slope_per_mm.expect("a slope past the decay");
+    assert!(
+        slope.excludes_zero() && (slope.value + 0.05).abs() < 0.005,
+        "{slope:?}"
+    );
+    assert!(l.residual.is_some(), "{l:?}");
+}
