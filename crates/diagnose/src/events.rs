@@ -6,7 +6,7 @@
 pub use subfric_reading::events::*;
 
 /// Whether the events read one by one speak against a family outright, as its module says
-/// ([`subfric_model::terms::TermFamily::contradicted`]: velocity steps read of which none shows a
+/// ([`subfric_model::terms::TermEvidence::contradicted`]: velocity steps read of which none shows a
 /// direct effect for rate, friction falling with hold time for healing).
 pub fn contradicts(e: &EventAnalysis, effect: crate::Effect) -> bool {
     match effect {
@@ -16,7 +16,7 @@ pub fn contradicts(e: &EventAnalysis, effect: crate::Effect) -> bool {
 }
 
 /// Whether the events read one by one show a family's effect outright, as its module says
-/// ([`subfric_model::terms::TermFamily::shown`]: the tests' stress ratios changing with the
+/// ([`subfric_model::terms::TermEvidence::shown`]: the tests' stress ratios changing with the
 /// normal stress beyond their intervals, for pressure).
 pub fn shows(e: &EventAnalysis, effect: crate::Effect) -> bool {
     match effect {
@@ -26,7 +26,7 @@ pub fn shows(e: &EventAnalysis, effect: crate::Effect) -> bool {
 }
 
 /// Whether `model`'s term of family `effect` follows what the events read one by one show, as
-/// its module says ([`subfric_model::terms::TermFamily::follows_readings`]); true for a model
+/// its module says ([`subfric_model::terms::TermEvidence::follows_readings`]); true for a model
 /// without such a term and for anything but a registered family.
 pub fn followed_by(e: &EventAnalysis, effect: crate::Effect, model: &subfric_model::Model) -> bool {
     match effect {
@@ -38,7 +38,7 @@ pub fn followed_by(e: &EventAnalysis, effect: crate::Effect, model: &subfric_mod
 }
 
 /// Whether the events read one by one leave room for a family, as its module says
-/// ([`subfric_model::terms::TermFamily::corroborated`]: velocity steps that mostly show a direct
+/// ([`subfric_model::terms::TermEvidence::corroborated`]: velocity steps that mostly show a direct
 /// effect for rate, a positive healing rate over the holds for healing, an asymmetry of the
 /// reversals clear of zero for direction). Where no such event was read, nothing speaks against
 /// the family.

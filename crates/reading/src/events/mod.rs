@@ -200,7 +200,7 @@ impl EventAnalysis {
 
 impl EventAnalysis {
     /// What the events read say, for the registered families
-    /// ([`subfric_model::terms::TermFamily::corroborated`]).
+    /// ([`subfric_model::terms::TermEvidence::corroborated`]).
     pub fn readings(&self) -> subfric_model::terms::EventReadings {
         let reading = |e: &Estimate| subfric_model::terms::Reading {
             value: e.value,

@@ -9,9 +9,9 @@
 //!
 //! Every form starts at H(0) = 0 with slope h, so μ_s and μ_k keep their meaning on a fresh
 //! contact, and is monotone in s: a record that starts mid-run is placed at the slip whose H
-//! gives the friction it shows ([`TermFamily::monotone_in_slip`]).
+//! gives the friction it shows ([`TermLaw::monotone_in_slip`]).
 
-use super::{DataScales, FormGuess, Shows, TermFamily, TermForm, TermParam, ANY, MAX_TERM_PARAMS};
+use super::{DataScales, FormGuess, Shows, TermEvidence, TermFile, TermGuess, TermLaw, TermForm, TermParam, ANY, MAX_TERM_PARAMS};
 
 /// The slip-hardening family (see the module documentation).
 #[derive(Clone, Copy, Debug)]
@@ -72,13 +72,9 @@ const FORMS: [TermForm; 3] = [
     },
 ];
 
-impl TermFamily for SlipHardening {
+impl TermLaw for SlipHardening {
     fn name(&self) -> &'static str {
         "slip-hardening"
-    }
-
-    fn aliases(&self) -> &'static [&'static str] {
-        &["slip", "slip-softening"]
     }
 
     fn describe(&self) -> &'static str {
@@ -93,37 +89,39 @@ impl TermFamily for SlipHardening {
         &FORMS
     }
 
-    fn shows(&self) -> &'static [Shows] {
-        &[Shows::AfterFirstLoading]
-    }
-
-    fn tried_by_default(&self) -> bool {
-        true
-    }
-
-    fn applies(&self, _data: &DataScales) -> bool {
-        // Every test slides.
-        true
-    }
-
     fn monotone_in_slip(&self) -> bool {
         true
     }
 
-    fn shown(&self, events: &super::EventReadings) -> bool {
-        // The tests' stress ratio keeps changing with slip once the peak's excess has decayed
-        // (the model's own decay from μ_s to μ_k is taken out of the reading), by more than a
-        // second specimen could differ, its interval clear of that band.
-        events
-            .slip_change_relative
-            .is_some_and(|r| r.lo > SHOWN_CHANGE || r.hi < -SHOWN_CHANGE)
+    fn term(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], s: f64, _t: f64) -> (f64, f64) {
+        let (h, s_h) = (p[0], p[1]);
+        match form {
+            EXPONENTIAL => {
+                let x = (-s / s_h).exp();
+                (h * s_h * (1.0 - x), h * x)
+            }
+            CAPPED => {
+                if s < s_h {
+                    (h * s, h)
+                } else {
+                    (h * s_h, 0.0)
+                }
+            }
+            _ => {
+                let q = 1.0 / (1.0 + s / s_h);
+                (h * s * q, h * q * q)
+            }
+        }
     }
+}
 
-    fn shown_in(&self) -> &'static [Shows] {
-        // Where the slope is read: each test's first loading, past its peak.
-        &[Shows::FirstLoadings]
+impl TermFile for SlipHardening {
+    fn aliases(&self) -> &'static [&'static str] {
+        &["slip", "slip-softening"]
     }
+}
 
+impl TermGuess for SlipHardening {
     fn guess(&self, _form: usize, data: &DataScales) -> FormGuess {
         // A change of friction of a few hundredths over the slip of a test, saturating within
         // it or well beyond it, hardening or softening.
@@ -149,26 +147,34 @@ impl TermFamily for SlipHardening {
             references: vec![],
         }
     }
+}
 
-    fn term(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], s: f64, _t: f64) -> (f64, f64) {
-        let (h, s_h) = (p[0], p[1]);
-        match form {
-            EXPONENTIAL => {
-                let x = (-s / s_h).exp();
-                (h * s_h * (1.0 - x), h * x)
-            }
-            CAPPED => {
-                if s < s_h {
-                    (h * s, h)
-                } else {
-                    (h * s_h, 0.0)
-                }
-            }
-            _ => {
-                let q = 1.0 / (1.0 + s / s_h);
-                (h * s * q, h * q * q)
-            }
-        }
+impl TermEvidence for SlipHardening {
+    fn shows(&self) -> &'static [Shows] {
+        &[Shows::AfterFirstLoading]
+    }
+
+    fn tried_by_default(&self) -> bool {
+        true
+    }
+
+    fn applies(&self, _data: &DataScales) -> bool {
+        // Every test slides.
+        true
+    }
+
+    fn shown(&self, events: &super::EventReadings) -> bool {
+        // The tests' stress ratio keeps changing with slip once the peak's excess has decayed
+        // (the model's own decay from μ_s to μ_k is taken out of the reading), by more than a
+        // second specimen could differ, its interval clear of that band.
+        events
+            .slip_change_relative
+            .is_some_and(|r| r.lo > SHOWN_CHANGE || r.hi < -SHOWN_CHANGE)
+    }
+
+    fn shown_in(&self) -> &'static [Shows] {
+        // Where the slope is read: each test's first loading, past its peak.
+        &[Shows::FirstLoadings]
     }
 }
 
