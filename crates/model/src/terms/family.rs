@@ -21,7 +21,8 @@ impl<T: TermLaw + TermFile + TermGuess + TermEvidence> TermFamily for T {}
 /// of it — its name, parameters and forms, the term T(s, t) it adds and its slope in s, the
 /// factor it puts on μ, μ_s, μ_k, κ or ũ and its range, what it reads of the contact (normal
 /// stress, sliding direction, slip rate), whether it gains friction at rest, and which
-/// parameter values are valid. A family with a state also implements [`StateFamily`](super::StateFamily).
+/// parameter values are valid. A family with a state also implements
+/// [`StateFamily`](super::StateFamily).
 pub trait TermLaw: Sync + std::fmt::Debug {
     /// Name in verdicts (kebab-case, e.g. `time-trend`); in snake_case it is the family's key
     /// in parameter files ([`TermFile::key`]).

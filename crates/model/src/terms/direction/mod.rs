@@ -9,7 +9,8 @@
 //! "mu-k"}`), as it has always been written.
 
 use super::{
-    DataScales, EventReadings, FormGuess, Shows, TermEvidence, TermFile, TermGuess, TermLaw, TermForm, TermParam, MAX_TERM_PARAMS,
+    DataScales, EventReadings, FormGuess, Shows, TermEvidence, TermFile, TermForm, TermGuess,
+    TermLaw, TermParam, MAX_TERM_PARAMS,
 };
 use crate::Target;
 

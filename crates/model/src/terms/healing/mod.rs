@@ -26,8 +26,8 @@
 //! for none).
 
 use super::{
-    DataScales, EventReadings, FormGuess, Shows, TermEvidence, TermFile, TermGuess, TermLaw, TermForm, TermParam, ANY,
-    MAX_TERM_PARAMS,
+    DataScales, EventReadings, FormGuess, Shows, TermEvidence, TermFile, TermForm, TermGuess,
+    TermLaw, TermParam, ANY, MAX_TERM_PARAMS,
 };
 use serde_json::{Map, Value};
 

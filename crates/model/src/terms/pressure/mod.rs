@@ -12,7 +12,10 @@
 //! `form` and what it scales the field `target` (`"pressure": {"beta": 0.1, "form": "power",
 //! "target": "mu-s", "p_ref": 100}`), as they have always been written.
 
-use super::{DataScales, FormGuess, Shows, TermEvidence, TermFile, TermGuess, TermLaw, TermForm, TermParam, MAX_TERM_PARAMS};
+use super::{
+    DataScales, FormGuess, Shows, TermEvidence, TermFile, TermForm, TermGuess, TermLaw, TermParam,
+    MAX_TERM_PARAMS,
+};
 use crate::Target;
 
 /// The pressure family (see the module documentation).

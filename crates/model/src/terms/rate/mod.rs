@@ -22,8 +22,8 @@
 //! "b": 0.012, "d_c": 0.05, "v_c": 1e-6, "v_ref": 0.01}` (older files wrote every field).
 
 use super::{
-    DataScales, EventReadings, FormGuess, Shows, TermEvidence, TermFile, TermGuess, TermLaw, TermForm, TermParam, ANY,
-    MAX_TERM_PARAMS,
+    DataScales, EventReadings, FormGuess, Shows, TermEvidence, TermFile, TermForm, TermGuess,
+    TermLaw, TermParam, ANY, MAX_TERM_PARAMS,
 };
 use serde_json::{Map, Value};
 

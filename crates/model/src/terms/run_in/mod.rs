@@ -14,8 +14,8 @@
 //! so a slide followed by a hold has a closed form the tests check.
 
 use super::{
-    DataScales, FormGuess, Shows, StateFamily, StateLaw, StateTerms, StateVar, TermEvidence, TermFile, TermGuess, TermLaw,
-    TermForm, TermParam, ANY, MAX_TERM_PARAMS,
+    DataScales, FormGuess, Shows, StateFamily, StateLaw, StateTerms, StateVar, TermEvidence,
+    TermFile, TermForm, TermGuess, TermLaw, TermParam, ANY, MAX_TERM_PARAMS,
 };
 
 /// The run-in family (see the module documentation).

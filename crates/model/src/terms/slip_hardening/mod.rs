@@ -11,7 +11,10 @@
 //! contact, and is monotone in s: a record that starts mid-run is placed at the slip whose H
 //! gives the friction it shows ([`TermLaw::monotone_in_slip`]).
 
-use super::{DataScales, FormGuess, Shows, TermEvidence, TermFile, TermGuess, TermLaw, TermForm, TermParam, ANY, MAX_TERM_PARAMS};
+use super::{
+    DataScales, FormGuess, Shows, TermEvidence, TermFile, TermForm, TermGuess, TermLaw, TermParam,
+    ANY, MAX_TERM_PARAMS,
+};
 
 /// The slip-hardening family (see the module documentation).
 #[derive(Clone, Copy, Debug)]

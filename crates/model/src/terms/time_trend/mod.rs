@@ -9,7 +9,10 @@
 //! scales with the normal stress and acts only on the cone, a drift of the measurement does
 //! neither.
 
-use super::{DataScales, FormGuess, Shows, TermEvidence, TermFile, TermGuess, TermLaw, TermForm, TermParam, ANY, MAX_TERM_PARAMS};
+use super::{
+    DataScales, FormGuess, Shows, TermEvidence, TermFile, TermForm, TermGuess, TermLaw, TermParam,
+    ANY, MAX_TERM_PARAMS,
+};
 
 /// The time-trend family (see the module documentation).
 #[derive(Clone, Copy, Debug)]
