@@ -1,9 +1,9 @@
-//! The per-event reading of velocity steps (`subfric_diagnose::events`: a spring-slider fitted
-//! to each step on its own, as friction labs do with xlook or RSFit3000) on steps made by the
-//! independent generator of `subfric-harness` (its own forward model of the subloading model
-//! with a rate-and-state effect; no code shared with the slider). Every step of a velocity-step
-//! ladder must give back a, b and D_c within 10 %, and the sign of a − b that the record's
-//! steady-state change shows.
+//! The per-event reading of velocity steps (`subfric_reading::events`, at
+//! `subfric_diagnose::events`: a spring-slider fitted to each step on its own, as friction labs
+//! do with xlook or RSFit3000) on steps made by the independent generator of `subfric-harness`
+//! (its own forward model of the subloading model with a rate-and-state effect; no code shared
+//! with the slider). Every step of a velocity-step ladder must give back a, b and D_c within
+//! 10 %, and the sign of a − b that the record's steady-state change shows.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

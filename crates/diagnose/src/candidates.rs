@@ -27,7 +27,7 @@ pub enum Effect {
 
 impl Effect {
     /// Whether the variable this effect acts through varies in data with features `f`, so
-    /// that it can be named there ([`subfric_model::terms::TermFamily::varies`]); effects that
+    /// that it can be named there ([`subfric_model::terms::TermEvidence::varies`]); effects that
     /// are not families always can.
     pub fn varies_in(self, f: &DataFeatures) -> bool {
         match self {
@@ -119,7 +119,7 @@ impl Effect {
     }
 
     /// The kinds of held-out piece where the events that show this family outright were read
-    /// ([`subfric_model::terms::TermFamily::shown_in`]).
+    /// ([`subfric_model::terms::TermEvidence::shown_in`]).
     pub fn shown_kinds(self) -> Vec<OwnKind> {
         self.kinds(|f| f.shown_in())
     }

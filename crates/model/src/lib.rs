@@ -36,8 +36,8 @@ pub use simulate::{
     Trajectory, SLIP_RESOLUTION_SHARE,
 };
 pub use terms::{
-    AtRest, RateEffect, RateForm, StateLaw, StateSlots, TermEffect, TermFamily, Terms,
-    MAX_STATE_SLOTS,
+    AtRest, RateEffect, RateForm, StateLaw, StateSlots, TermEffect, TermEvidence, TermFamily,
+    TermFile, TermGuess, TermLaw, Terms, MAX_STATE_SLOTS,
 };
 
 /// A validated model: the paper's parameters plus optional extensions.

@@ -56,8 +56,8 @@ pub struct DataFeatures {
     pub unseen_noise: f64,
     /// Velocity-step signature.
     pub steps: StepSignature,
-    /// First guesses from the per-event reading (`subfric_diagnose::events`,
-    /// `EventAnalysis::seeds`), when it found them.
+    /// First guesses from the per-event reading ([`crate::events`],
+    /// [`crate::events::EventAnalysis::seeds`]), when it found them.
     pub seeds: EventSeeds,
 }
 

@@ -17,6 +17,10 @@
 //!   guesses of the parameters read off the curves;
 //! - [`stiffness`]: what the record says of the elastic stiffness α_t, and the one decision
 //!   among those readings and a trial (`decide_stiffness`) that `fit` and the diagnosis share;
+//! - [`events`]: the events read one by one, as friction labs read a record before any global
+//!   model (every velocity step fitted on its own with a spring-slider and rate-and-state
+//!   friction by `subfric-solve`'s Levenberg–Marquardt, every hold, every reversal), their
+//!   consensus, the springs the steps resolve and the first guesses they give;
 //! - [`features`]: what the record shows the diagnosis's candidates (rates, normal stresses,
 //!   holds, reversals, steps, noise seen and unseen);
 //! - [`stats`]: the small statistics every reading shares (medians, quantiles, the
@@ -30,6 +34,7 @@
 pub mod artifacts;
 pub mod condition;
 pub mod estimate;
+pub mod events;
 pub mod features;
 pub mod fit_test;
 pub mod guess;

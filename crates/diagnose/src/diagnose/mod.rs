@@ -343,7 +343,7 @@ pub fn diagnose_reporting(
 /// Forms of each family that later selection stages refit on top of the model they reach:
 /// the best [`SHORTLIST_PER_FAMILY`] of each family by their in-sample score on the base, and
 /// the forms the events read one by one single out
-/// ([`subfric_model::terms::TermFamily::singled_out`]: every rate-and-state form when the
+/// ([`subfric_model::terms::TermEvidence::singled_out`]: every rate-and-state form when the
 /// velocity steps agree on rate and state, healing erased by slip when the holds show peaks).
 fn shortlist(
     forms: &[FormReport],
@@ -380,7 +380,7 @@ fn shortlist(
 }
 
 /// The forms of `lib` (indices) that the events read one by one single out
-/// ([`subfric_model::terms::TermFamily::singled_out`]).
+/// ([`subfric_model::terms::TermEvidence::singled_out`]).
 pub(super) fn singled_out(
     lib: &[crate::Form],
     events: &crate::events::EventAnalysis,

@@ -219,7 +219,7 @@ pub struct NamedEffect {
     /// without it).
     pub leave_one_test_out_shrink: Option<f64>,
     /// The events read one by one show the effect outright
-    /// ([`subfric_model::terms::TermFamily::shown`]: for pressure, the tests' stress ratios
+    /// ([`subfric_model::terms::TermEvidence::shown`]: for pressure, the tests' stress ratios
     /// changing with the normal stress beyond their intervals).
     pub shown_by_events: bool,
 }

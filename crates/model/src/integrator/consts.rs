@@ -228,7 +228,7 @@ impl Consts {
     }
 
     /// With a family whose term grows monotonically with slip alone (slip hardening,
-    /// [`crate::TermFamily::monotone_in_slip`]): the steady μ at rate `v` and the accumulated
+    /// [`crate::TermLaw::monotone_in_slip`]): the steady μ at rate `v` and the accumulated
     /// slip s₀ ≥ 0 whose terms make the steady surface carry friction `mu_eff`; `None` without
     /// such a family, with one that depends on time too, or when no slip reaches it.
     pub fn steady_history(&self, l: &Local, mu_eff: f64, v: f64) -> Option<(f64, f64)> {

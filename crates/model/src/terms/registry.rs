@@ -42,7 +42,7 @@ macro_rules! registry {
                 let name = e.family().name();
                 $($(#[$sattr])* {
                     let family = &$smodule::$sfamily;
-                    if name == TermFamily::name(family) {
+                    if name == TermLaw::name(family) {
                         let law = StateFamily::law(family, e.form as usize, &e.p);
                         return Some(FamilyLaw::$sfamily(law));
                     }

@@ -142,7 +142,7 @@ impl Terms {
     }
 
     /// The product of every family's factor on `target` at normal stress `normal_kpa` and
-    /// sliding direction `cos_forward` ([`TermFamily::factor_on`]).
+    /// sliding direction `cos_forward` ([`TermLaw::factor_on`]).
     #[inline]
     pub fn factor_on(&self, target: Target, normal_kpa: f64, cos_forward: f64) -> f64 {
         self.iter().fold(1.0, |f, e| {

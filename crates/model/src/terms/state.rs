@@ -15,7 +15,7 @@
 //! registry generates from its lines marked `with state`: the step calls a law by its own type,
 //! inlined, with no call through a trait object and nothing rebuilt from the parameters.
 
-use super::{FamilyLaw, TermFamily, Terms, MAX_TERM_PARAMS};
+use super::{FamilyLaw, TermLaw, Terms, MAX_TERM_PARAMS};
 
 /// Most state variables the families switched on in one model may integrate together (rate
 /// takes three, time healing two); the C interface carries this many doubles.
@@ -121,11 +121,11 @@ impl StateTerms {
 /// form and parameters ([`StateFamily::law`]), once per model, and the integrator keeps that
 /// law by its own type (one arm of [`FamilyLaw`], which the registry generates from the lines
 /// marked `with state`), so that the return mapping calls it directly at each iterate.
-pub trait StateFamily: TermFamily {
+pub trait StateFamily: TermLaw {
     /// The family's state law with a form and parameters fixed.
     type Law: StateLaw;
 
-    /// The law of form `form` with parameters `p` (indexed as [`TermFamily::params`]).
+    /// The law of form `form` with parameters `p` (indexed as [`TermLaw::params`]).
     fn law(&self, form: usize, p: &[f64; MAX_TERM_PARAMS]) -> Self::Law;
 }
 

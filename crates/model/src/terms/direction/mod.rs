@@ -9,7 +9,8 @@
 //! "mu-k"}`), as it has always been written.
 
 use super::{
-    DataScales, EventReadings, FormGuess, Shows, TermFamily, TermForm, TermParam, MAX_TERM_PARAMS,
+    DataScales, EventReadings, FormGuess, Shows, TermEvidence, TermFile, TermForm, TermGuess,
+    TermLaw, TermParam, MAX_TERM_PARAMS,
 };
 use crate::Target;
 
@@ -92,7 +93,7 @@ fn scaled(d: f64, cos_forward: f64) -> f64 {
     1.0 - d * 0.5 * (1.0 - cos_forward)
 }
 
-impl TermFamily for Direction {
+impl TermLaw for Direction {
     fn name(&self) -> &'static str {
         "direction"
     }
@@ -109,43 +110,8 @@ impl TermFamily for Direction {
         &FORMS
     }
 
-    fn shows(&self) -> &'static [Shows] {
-        &[Shows::Reversals]
-    }
-
-    fn tried_by_default(&self) -> bool {
-        true
-    }
-
-    fn applies(&self, data: &DataScales) -> bool {
-        // Only a test that slides both ways can tell backward from forward.
-        data.reversals > 0
-    }
-
-    fn guess(&self, form: usize, _data: &DataScales) -> FormGuess {
-        if form == BOUNDS {
-            FormGuess {
-                starts: vec![vec![0.15, 0.15], vec![-0.15, -0.15], vec![0.15, -0.15]],
-                neutral: vec![0.0, 0.0],
-                bounds: vec![],
-                references: vec![],
-            }
-        } else {
-            FormGuess {
-                starts: vec![vec![0.15], vec![-0.15]],
-                neutral: vec![0.0],
-                bounds: vec![],
-                references: vec![],
-            }
-        }
-    }
-
     fn adds_term(&self) -> bool {
         false
-    }
-
-    fn form_field(&self) -> &'static str {
-        "target"
     }
 
     fn targets(&self, form: usize) -> &'static [Target] {
@@ -175,6 +141,47 @@ impl TermFamily for Direction {
 
     fn reads_direction(&self) -> bool {
         true
+    }
+}
+
+impl TermFile for Direction {
+    fn form_field(&self) -> &'static str {
+        "target"
+    }
+}
+
+impl TermGuess for Direction {
+    fn guess(&self, form: usize, _data: &DataScales) -> FormGuess {
+        if form == BOUNDS {
+            FormGuess {
+                starts: vec![vec![0.15, 0.15], vec![-0.15, -0.15], vec![0.15, -0.15]],
+                neutral: vec![0.0, 0.0],
+                bounds: vec![],
+                references: vec![],
+            }
+        } else {
+            FormGuess {
+                starts: vec![vec![0.15], vec![-0.15]],
+                neutral: vec![0.0],
+                bounds: vec![],
+                references: vec![],
+            }
+        }
+    }
+}
+
+impl TermEvidence for Direction {
+    fn shows(&self) -> &'static [Shows] {
+        &[Shows::Reversals]
+    }
+
+    fn tried_by_default(&self) -> bool {
+        true
+    }
+
+    fn applies(&self, data: &DataScales) -> bool {
+        // Only a test that slides both ways can tell backward from forward.
+        data.reversals > 0
     }
 
     fn corroborated(&self, events: &EventReadings) -> bool {

@@ -26,8 +26,8 @@
 //! for none).
 
 use super::{
-    DataScales, EventReadings, FormGuess, Shows, TermFamily, TermForm, TermParam, ANY,
-    MAX_TERM_PARAMS,
+    DataScales, EventReadings, FormGuess, Shows, TermEvidence, TermFile, TermForm, TermGuess,
+    TermLaw, TermParam, ANY, MAX_TERM_PARAMS,
 };
 use serde_json::{Map, Value};
 
@@ -200,17 +200,9 @@ fn general(b: f64, t_c: f64, n: f64, theta: f64) -> f64 {
     }
 }
 
-impl TermFamily for TimeHealing {
+impl TermLaw for TimeHealing {
     fn name(&self) -> &'static str {
         "log-healing"
-    }
-
-    fn aliases(&self) -> &'static [&'static str] {
-        &["healing", "time-healing"]
-    }
-
-    fn key(&self) -> String {
-        "healing".into()
     }
 
     fn describe(&self) -> &'static str {
@@ -225,26 +217,107 @@ impl TermFamily for TimeHealing {
         &FORMS
     }
 
-    fn shows(&self) -> &'static [Shows] {
-        &[Shows::Holds]
-    }
-
-    fn tried_by_default(&self) -> bool {
-        true
-    }
-
-    fn applies(&self, data: &DataScales) -> bool {
-        data.holds > 0
-    }
-
-    fn tries(&self, form: usize) -> bool {
-        form < TRIED
-    }
-
     fn adds_term(&self) -> bool {
         false
     }
 
+    fn issues(
+        &self,
+        form: usize,
+        p: &[f64; MAX_TERM_PARAMS],
+    ) -> Vec<(&'static str, f64, &'static str)> {
+        let mut out = Vec::new();
+        let (law, role) = SHAPES[form];
+        if !(p[B] >= 0.0 && p[B].is_finite()) {
+            out.push((PARAMS[B].key, p[B], PARAMS[B].expected));
+        }
+        if law != Law::Power && !PARAMS[T_C].valid(p[T_C]) {
+            out.push((PARAMS[T_C].key, p[T_C], PARAMS[T_C].expected));
+        }
+        match law {
+            Law::General if !(GENERAL_N.0..=GENERAL_N.1).contains(&p[N]) => {
+                out.push((PARAMS[N].key, p[N], "an exponent in [-1, 1]"));
+            }
+            Law::Power if !(p[N] > 0.0 && p[N] <= 1.0) => {
+                out.push((PARAMS[N].key, p[N], PARAMS[N].expected));
+            }
+            _ => {}
+        }
+        if role == Role::Erased && !PARAMS[D_H].valid(p[D_H]) {
+            out.push((PARAMS[D_H].key, p[D_H], PARAMS[D_H].expected));
+        }
+        out
+    }
+
+    fn gains_at_rest(&self) -> bool {
+        true
+    }
+
+    fn replaces_recovery(&self, form: usize) -> bool {
+        SHAPES[form].1 == Role::Replaces
+    }
+}
+
+impl TermFile for TimeHealing {
+    fn aliases(&self) -> &'static [&'static str] {
+        &["healing", "time-healing"]
+    }
+
+    fn key(&self) -> String {
+        "healing".into()
+    }
+
+    fn read_form(&self, obj: &Map<String, Value>) -> Result<usize, String> {
+        let law = match obj.get("form") {
+            None => Law::Log,
+            Some(v) => match v.as_str() {
+                Some("log") => Law::Log,
+                Some("power") => Law::Power,
+                Some("general") => Law::General,
+                _ => {
+                    return Err(format!(
+                        "unknown form {v} of `log-healing` (expected one of: log, power, general)"
+                    ))
+                }
+            },
+        };
+        let recovery = match obj.get("recovery") {
+            None => false,
+            Some(v) => v
+                .as_bool()
+                .ok_or_else(|| format!("`healing.recovery` is {v} (expected true or false)"))?,
+        };
+        let erased = obj
+            .get("d_h")
+            .and_then(Value::as_f64)
+            .is_some_and(|d| d != 0.0);
+        let role = if erased {
+            Role::Erased
+        } else if recovery {
+            Role::Added
+        } else {
+            Role::Replaces
+        };
+        Ok(SHAPES
+            .iter()
+            .position(|&s| s == (law, role))
+            .expect("every law in every role"))
+    }
+
+    fn form_fields(&self, form: usize) -> Vec<(&'static str, Value)> {
+        let (law, role) = SHAPES[form];
+        vec![
+            ("form", law.key().into()),
+            ("recovery", (role != Role::Replaces).into()),
+        ]
+    }
+
+    fn older_files_wrote_every_param(&self) -> bool {
+        true
+    }
+}
+
+impl TermGuess for TimeHealing {
     fn guess(&self, form: usize, data: &DataScales) -> FormGuess {
         // b of b ln(1 + t/t_c) from the gain per decade the holds show (ln 10 per decade).
         let b0 = data
@@ -320,82 +393,23 @@ impl TermFamily for TimeHealing {
             ),
         }
     }
+}
 
-    fn read_form(&self, obj: &Map<String, Value>) -> Result<usize, String> {
-        let law = match obj.get("form") {
-            None => Law::Log,
-            Some(v) => match v.as_str() {
-                Some("log") => Law::Log,
-                Some("power") => Law::Power,
-                Some("general") => Law::General,
-                _ => {
-                    return Err(format!(
-                        "unknown form {v} of `log-healing` (expected one of: log, power, general)"
-                    ))
-                }
-            },
-        };
-        let recovery = match obj.get("recovery") {
-            None => false,
-            Some(v) => v
-                .as_bool()
-                .ok_or_else(|| format!("`healing.recovery` is {v} (expected true or false)"))?,
-        };
-        let erased = obj
-            .get("d_h")
-            .and_then(Value::as_f64)
-            .is_some_and(|d| d != 0.0);
-        let role = if erased {
-            Role::Erased
-        } else if recovery {
-            Role::Added
-        } else {
-            Role::Replaces
-        };
-        Ok(SHAPES
-            .iter()
-            .position(|&s| s == (law, role))
-            .expect("every law in every role"))
+impl TermEvidence for TimeHealing {
+    fn shows(&self) -> &'static [Shows] {
+        &[Shows::Holds]
     }
 
-    fn form_fields(&self, form: usize) -> Vec<(&'static str, Value)> {
-        let (law, role) = SHAPES[form];
-        vec![
-            ("form", law.key().into()),
-            ("recovery", (role != Role::Replaces).into()),
-        ]
-    }
-
-    fn older_files_wrote_every_param(&self) -> bool {
+    fn tried_by_default(&self) -> bool {
         true
     }
 
-    fn issues(
-        &self,
-        form: usize,
-        p: &[f64; MAX_TERM_PARAMS],
-    ) -> Vec<(&'static str, f64, &'static str)> {
-        let mut out = Vec::new();
-        let (law, role) = SHAPES[form];
-        if !(p[B] >= 0.0 && p[B].is_finite()) {
-            out.push((PARAMS[B].key, p[B], PARAMS[B].expected));
-        }
-        if law != Law::Power && !PARAMS[T_C].valid(p[T_C]) {
-            out.push((PARAMS[T_C].key, p[T_C], PARAMS[T_C].expected));
-        }
-        match law {
-            Law::General if !(GENERAL_N.0..=GENERAL_N.1).contains(&p[N]) => {
-                out.push((PARAMS[N].key, p[N], "an exponent in [-1, 1]"));
-            }
-            Law::Power if !(p[N] > 0.0 && p[N] <= 1.0) => {
-                out.push((PARAMS[N].key, p[N], PARAMS[N].expected));
-            }
-            _ => {}
-        }
-        if role == Role::Erased && !PARAMS[D_H].valid(p[D_H]) {
-            out.push((PARAMS[D_H].key, p[D_H], PARAMS[D_H].expected));
-        }
-        out
+    fn applies(&self, data: &DataScales) -> bool {
+        data.holds > 0
+    }
+
+    fn tries(&self, form: usize) -> bool {
+        form < TRIED
     }
 
     fn corroborated(&self, events: &EventReadings) -> bool {
@@ -430,14 +444,6 @@ impl TermFamily for TimeHealing {
         } else {
             Vec::new()
         }
-    }
-
-    fn gains_at_rest(&self) -> bool {
-        true
-    }
-
-    fn replaces_recovery(&self, form: usize) -> bool {
-        SHAPES[form].1 == Role::Replaces
     }
 }
 

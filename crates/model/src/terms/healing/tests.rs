@@ -107,7 +107,7 @@ fn the_general_forms_are_tried_saturating_as_well() {
         stress_trend: Default::default(),
         slip_slope_per_mm: None,
     };
-    let fam: &dyn TermFamily = &TimeHealing;
+    let fam: &dyn crate::terms::TermFamily = &TimeHealing;
     for (k, &(law, _)) in SHAPES.iter().enumerate().take(TRIED) {
         if law != Law::General {
             continue;

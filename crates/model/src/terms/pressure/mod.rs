@@ -12,7 +12,10 @@
 //! `form` and what it scales the field `target` (`"pressure": {"beta": 0.1, "form": "power",
 //! "target": "mu-s", "p_ref": 100}`), as they have always been written.
 
-use super::{DataScales, FormGuess, Shows, TermFamily, TermForm, TermParam, MAX_TERM_PARAMS};
+use super::{
+    DataScales, FormGuess, Shows, TermEvidence, TermFile, TermForm, TermGuess, TermLaw, TermParam,
+    MAX_TERM_PARAMS,
+};
 use crate::Target;
 
 /// The pressure family (see the module documentation).
@@ -231,7 +234,7 @@ fn target_key(t: Target) -> &'static str {
     }
 }
 
-impl TermFamily for Pressure {
+impl TermLaw for Pressure {
     fn name(&self) -> &'static str {
         "pressure"
     }
@@ -248,72 +251,8 @@ impl TermFamily for Pressure {
         &FORMS
     }
 
-    fn shows(&self) -> &'static [Shows] {
-        &[Shows::AwayFromReferenceStress]
-    }
-
-    fn tried_by_default(&self) -> bool {
-        true
-    }
-
-    fn applies(&self, data: &DataScales) -> bool {
-        // One normal stress says nothing of a change with it.
-        data.pressure_levels > 1
-    }
-
-    fn tries(&self, form: usize) -> bool {
-        form < TRIED
-    }
-
-    fn guess(&self, form: usize, data: &DataScales) -> FormGuess {
-        let mut starts = if SHAPES[form].1 == Target::Bounds {
-            vec![vec![0.1, 0.1], vec![-0.1, -0.1], vec![0.1, -0.1]]
-        } else {
-            vec![vec![0.1], vec![-0.1]]
-        };
-        if let Some(read) = read_off_tests(SHAPES[form].1, &data.stress_trend) {
-            starts.insert(0, read);
-        }
-        FormGuess {
-            neutral: vec![0.0; starts[0].len()],
-            starts,
-            bounds: vec![],
-            references: vec![(P_REF, data.p_ref)],
-        }
-    }
-
     fn adds_term(&self) -> bool {
         false
-    }
-
-    fn read_form(&self, obj: &serde_json::Map<String, serde_json::Value>) -> Result<usize, String> {
-        let field = |name: &str, default: &'static str| match obj.get(name) {
-            None => Ok(default.to_string()),
-            Some(serde_json::Value::String(s)) => Ok(s.clone()),
-            Some(v) => Err(format!("`pressure.{name}` is {v} (expected a string)")),
-        };
-        let (shape, target) = (field("form", "power")?, field("target", "friction")?);
-        if !SHAPES.iter().any(|(s, _)| s.key() == shape) {
-            return Err(format!(
-                "`pressure.form` is \"{shape}\" (expected one of: power, linear, exponential)"
-            ));
-        }
-        SHAPES
-            .iter()
-            .position(|&(s, t)| s.key() == shape && target_key(t) == target)
-            .ok_or_else(|| {
-                format!(
-                    "`pressure.target` is \"{target}\" (expected one of: friction, mu-s, mu-k, bounds)"
-                )
-            })
-    }
-
-    fn form_fields(&self, form: usize) -> Vec<(&'static str, serde_json::Value)> {
-        let (shape, target) = SHAPES[form];
-        vec![
-            ("form", shape.key().into()),
-            ("target", target_key(target).into()),
-        ]
     }
 
     fn targets(&self, form: usize) -> &'static [Target] {
@@ -346,6 +285,76 @@ impl TermFamily for Pressure {
 
     fn reads_normal_stress(&self) -> bool {
         true
+    }
+}
+
+impl TermFile for Pressure {
+    fn read_form(&self, obj: &serde_json::Map<String, serde_json::Value>) -> Result<usize, String> {
+        let field = |name: &str, default: &'static str| match obj.get(name) {
+            None => Ok(default.to_string()),
+            Some(serde_json::Value::String(s)) => Ok(s.clone()),
+            Some(v) => Err(format!("`pressure.{name}` is {v} (expected a string)")),
+        };
+        let (shape, target) = (field("form", "power")?, field("target", "friction")?);
+        if !SHAPES.iter().any(|(s, _)| s.key() == shape) {
+            return Err(format!(
+                "`pressure.form` is \"{shape}\" (expected one of: power, linear, exponential)"
+            ));
+        }
+        SHAPES
+            .iter()
+            .position(|&(s, t)| s.key() == shape && target_key(t) == target)
+            .ok_or_else(|| {
+                format!(
+                    "`pressure.target` is \"{target}\" (expected one of: friction, mu-s, mu-k, bounds)"
+                )
+            })
+    }
+
+    fn form_fields(&self, form: usize) -> Vec<(&'static str, serde_json::Value)> {
+        let (shape, target) = SHAPES[form];
+        vec![
+            ("form", shape.key().into()),
+            ("target", target_key(target).into()),
+        ]
+    }
+}
+
+impl TermGuess for Pressure {
+    fn guess(&self, form: usize, data: &DataScales) -> FormGuess {
+        let mut starts = if SHAPES[form].1 == Target::Bounds {
+            vec![vec![0.1, 0.1], vec![-0.1, -0.1], vec![0.1, -0.1]]
+        } else {
+            vec![vec![0.1], vec![-0.1]]
+        };
+        if let Some(read) = read_off_tests(SHAPES[form].1, &data.stress_trend) {
+            starts.insert(0, read);
+        }
+        FormGuess {
+            neutral: vec![0.0; starts[0].len()],
+            starts,
+            bounds: vec![],
+            references: vec![(P_REF, data.p_ref)],
+        }
+    }
+}
+
+impl TermEvidence for Pressure {
+    fn shows(&self) -> &'static [Shows] {
+        &[Shows::AwayFromReferenceStress]
+    }
+
+    fn tried_by_default(&self) -> bool {
+        true
+    }
+
+    fn applies(&self, data: &DataScales) -> bool {
+        // One normal stress says nothing of a change with it.
+        data.pressure_levels > 1
+    }
+
+    fn tries(&self, form: usize) -> bool {
+        form < TRIED
     }
 
     fn shown(&self, events: &super::EventReadings) -> bool {

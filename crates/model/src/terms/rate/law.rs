@@ -1,7 +1,7 @@
 //! The rate law as the return mapping solves it ([`RateEffect`]): its terms at a plastic
 //! increment, and what they are while the contact slides steadily or rests.
 
-use super::{Rate, TermFamily, A, B, D_C, N, SHAPES, V_C, V_REF};
+use super::{Rate, TermLaw, A, B, D_C, N, SHAPES, V_C, V_REF};
 use crate::integrator::{exp_neg, relax_weight};
 use crate::terms::{StateTerms, TermEffect};
 

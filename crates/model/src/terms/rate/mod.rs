@@ -15,15 +15,15 @@
 //! meaning at the set's typical rate.
 //!
 //! The family gives the return mapping its law as a [`RateEffect`]
-//! ([`TermFamily::slip_rate_law`]): R, V and the μ_k shift enter the consistency condition,
+//! ([`TermLaw::slip_rate_law`]): R, V and the μ_k shift enter the consistency condition,
 //! which is solved for the plastic slip of the step with θ integrated in closed form over it.
 //!
 //! In a parameter file: `"rate": {"form": "state-ageing", "at_rest": "creep", "a": 0.01,
 //! "b": 0.012, "d_c": 0.05, "v_c": 1e-6, "v_ref": 0.01}` (older files wrote every field).
 
 use super::{
-    DataScales, EventReadings, FormGuess, Shows, TermFamily, TermForm, TermParam, ANY,
-    MAX_TERM_PARAMS,
+    DataScales, EventReadings, FormGuess, Shows, TermEvidence, TermFile, TermForm, TermGuess,
+    TermLaw, TermParam, ANY, MAX_TERM_PARAMS,
 };
 use serde_json::{Map, Value};
 
@@ -175,7 +175,7 @@ const FORMS: [TermForm; 9] = [
     },
 ];
 
-impl TermFamily for Rate {
+impl TermLaw for Rate {
     fn name(&self) -> &'static str {
         "rate"
     }
@@ -192,29 +192,109 @@ impl TermFamily for Rate {
         &FORMS
     }
 
-    fn shows(&self) -> &'static [Shows] {
-        &[Shows::VelocitySteps, Shows::Holds]
-    }
-
-    fn tried_by_default(&self) -> bool {
-        true
-    }
-
-    fn applies(&self, data: &DataScales) -> bool {
-        data.sliding_rates > 1 || data.holds > 0
-    }
-
-    fn varies(&self, data: &DataScales) -> bool {
-        // Holds alone at one sliding rate: a rate-and-state state that ages at rest and a
-        // healing law both raise the peak on reloading, and nothing in the record tells them
-        // apart (a velocity step would).
-        data.sliding_rates > 1 || data.traction_tests > 0
-    }
-
     fn adds_term(&self) -> bool {
         false
     }
 
+    fn issues(
+        &self,
+        _form: usize,
+        p: &[f64; MAX_TERM_PARAMS],
+    ) -> Vec<(&'static str, f64, &'static str)> {
+        // Every parameter, whatever the form, as files have always been checked.
+        let mut out: Vec<_> = [A, B, N]
+            .into_iter()
+            .filter(|&i| !p[i].is_finite())
+            .map(|i| (PARAMS[i].key, p[i], "a finite number"))
+            .collect();
+        for i in [V_C, D_C] {
+            if !(p[i] > 0.0 && p[i].is_finite()) {
+                out.push((PARAMS[i].key, p[i], PARAMS[i].expected));
+            }
+        }
+        if !(p[V_REF] >= 0.0 && p[V_REF].is_finite()) {
+            out.push((PARAMS[V_REF].key, p[V_REF], PARAMS[V_REF].expected));
+        }
+        if p[N].abs() >= 2.0 {
+            out.push((PARAMS[N].key, p[N], PARAMS[N].expected));
+        }
+        out
+    }
+
+    fn reads_slip_rate(&self) -> bool {
+        true
+    }
+
+    fn slip_rate_law(&self, form: usize, p: &[f64; MAX_TERM_PARAMS]) -> Option<RateEffect> {
+        let (rate_form, locked) = SHAPES[form];
+        Some(RateEffect {
+            form: rate_form,
+            a: p[A],
+            v_c: p[V_C],
+            b: p[B],
+            d_c: p[D_C],
+            n: p[N],
+            v_ref: p[V_REF],
+            at_rest: if locked {
+                AtRest::Locked
+            } else {
+                AtRest::Creep
+            },
+        })
+    }
+}
+
+impl TermFile for Rate {
+    fn read_form(&self, obj: &Map<String, Value>) -> Result<usize, String> {
+        let form = match obj.get("form") {
+            None => RateForm::LogDirect,
+            Some(v) => {
+                let forms = [
+                    RateForm::LogDirect,
+                    RateForm::StateAgeing,
+                    RateForm::StateSlip,
+                    RateForm::Power,
+                    RateForm::SteadyState,
+                ];
+                let key = v.as_str().unwrap_or_default();
+                *forms.iter().find(|f| f.key() == key).ok_or_else(|| {
+                    format!(
+                        "unknown form {v} of `rate` (expected one of: log-direct, state-ageing, state-slip, power, steady-state)"
+                    )
+                })?
+            }
+        };
+        let locked = match obj.get("at_rest").map(|v| (v, v.as_str())) {
+            None | Some((_, Some("creep"))) => false,
+            Some((_, Some("locked"))) => true,
+            Some((v, _)) => {
+                return Err(format!(
+                    "`rate.at_rest` is {v} (expected \"creep\" or \"locked\")"
+                ))
+            }
+        };
+        // The steady-state form has no term that could creep or lock.
+        let locked = locked && form != RateForm::SteadyState;
+        Ok(SHAPES
+            .iter()
+            .position(|&s| s == (form, locked))
+            .expect("every form in both readings"))
+    }
+
+    fn form_fields(&self, form: usize) -> Vec<(&'static str, Value)> {
+        let (rate_form, locked) = SHAPES[form];
+        vec![
+            ("form", rate_form.key().into()),
+            ("at_rest", if locked { "locked" } else { "creep" }.into()),
+        ]
+    }
+
+    fn older_files_wrote_every_param(&self) -> bool {
+        true
+    }
+}
+
+impl TermGuess for Rate {
     fn guess(&self, form: usize, data: &DataScales) -> FormGuess {
         // The velocity steps' signature: their jump gives a, their decay length D_c, the
         // steady change a − b.
@@ -276,78 +356,26 @@ impl TermFamily for Rate {
             references: vec![(V_REF, v)],
         }
     }
+}
 
-    fn read_form(&self, obj: &Map<String, Value>) -> Result<usize, String> {
-        let form = match obj.get("form") {
-            None => RateForm::LogDirect,
-            Some(v) => {
-                let forms = [
-                    RateForm::LogDirect,
-                    RateForm::StateAgeing,
-                    RateForm::StateSlip,
-                    RateForm::Power,
-                    RateForm::SteadyState,
-                ];
-                let key = v.as_str().unwrap_or_default();
-                *forms.iter().find(|f| f.key() == key).ok_or_else(|| {
-                    format!(
-                        "unknown form {v} of `rate` (expected one of: log-direct, state-ageing, state-slip, power, steady-state)"
-                    )
-                })?
-            }
-        };
-        let locked = match obj.get("at_rest").map(|v| (v, v.as_str())) {
-            None | Some((_, Some("creep"))) => false,
-            Some((_, Some("locked"))) => true,
-            Some((v, _)) => {
-                return Err(format!(
-                    "`rate.at_rest` is {v} (expected \"creep\" or \"locked\")"
-                ))
-            }
-        };
-        // The steady-state form has no term that could creep or lock.
-        let locked = locked && form != RateForm::SteadyState;
-        Ok(SHAPES
-            .iter()
-            .position(|&s| s == (form, locked))
-            .expect("every form in both readings"))
+impl TermEvidence for Rate {
+    fn shows(&self) -> &'static [Shows] {
+        &[Shows::VelocitySteps, Shows::Holds]
     }
 
-    fn form_fields(&self, form: usize) -> Vec<(&'static str, Value)> {
-        let (rate_form, locked) = SHAPES[form];
-        vec![
-            ("form", rate_form.key().into()),
-            ("at_rest", if locked { "locked" } else { "creep" }.into()),
-        ]
-    }
-
-    fn older_files_wrote_every_param(&self) -> bool {
+    fn tried_by_default(&self) -> bool {
         true
     }
 
-    fn issues(
-        &self,
-        _form: usize,
-        p: &[f64; MAX_TERM_PARAMS],
-    ) -> Vec<(&'static str, f64, &'static str)> {
-        // Every parameter, whatever the form, as files have always been checked.
-        let mut out: Vec<_> = [A, B, N]
-            .into_iter()
-            .filter(|&i| !p[i].is_finite())
-            .map(|i| (PARAMS[i].key, p[i], "a finite number"))
-            .collect();
-        for i in [V_C, D_C] {
-            if !(p[i] > 0.0 && p[i].is_finite()) {
-                out.push((PARAMS[i].key, p[i], PARAMS[i].expected));
-            }
-        }
-        if !(p[V_REF] >= 0.0 && p[V_REF].is_finite()) {
-            out.push((PARAMS[V_REF].key, p[V_REF], PARAMS[V_REF].expected));
-        }
-        if p[N].abs() >= 2.0 {
-            out.push((PARAMS[N].key, p[N], PARAMS[N].expected));
-        }
-        out
+    fn applies(&self, data: &DataScales) -> bool {
+        data.sliding_rates > 1 || data.holds > 0
+    }
+
+    fn varies(&self, data: &DataScales) -> bool {
+        // Holds alone at one sliding rate: a rate-and-state state that ages at rest and a
+        // healing law both raise the peak on reloading, and nothing in the record tells them
+        // apart (a velocity step would).
+        data.sliding_rates > 1 || data.traction_tests > 0
     }
 
     fn corroborated(&self, events: &EventReadings) -> bool {
@@ -387,28 +415,6 @@ impl TermFamily for Rate {
         } else {
             Vec::new()
         }
-    }
-
-    fn reads_slip_rate(&self) -> bool {
-        true
-    }
-
-    fn slip_rate_law(&self, form: usize, p: &[f64; MAX_TERM_PARAMS]) -> Option<RateEffect> {
-        let (rate_form, locked) = SHAPES[form];
-        Some(RateEffect {
-            form: rate_form,
-            a: p[A],
-            v_c: p[V_C],
-            b: p[B],
-            d_c: p[D_C],
-            n: p[N],
-            v_ref: p[V_REF],
-            at_rest: if locked {
-                AtRest::Locked
-            } else {
-                AtRest::Creep
-            },
-        })
     }
 }
 

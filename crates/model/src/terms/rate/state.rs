@@ -2,7 +2,7 @@
 //! the last plastic step, which a locked form keeps while the contact rests.
 
 use super::{Rate, RateEffect, RateForm};
-use crate::terms::{StateFamily, StateLaw, StateTerms, StateVar, TermFamily, MAX_TERM_PARAMS};
+use crate::terms::{StateFamily, StateLaw, StateTerms, StateVar, TermLaw, MAX_TERM_PARAMS};
 
 const THETA: usize = 0;
 const HELD_ADD: usize = 1;

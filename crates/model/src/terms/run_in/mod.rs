@@ -14,8 +14,8 @@
 //! so a slide followed by a hold has a closed form the tests check.
 
 use super::{
-    DataScales, FormGuess, Shows, StateFamily, StateLaw, StateTerms, StateVar, TermFamily,
-    TermForm, TermParam, ANY, MAX_TERM_PARAMS,
+    DataScales, FormGuess, Shows, StateFamily, StateLaw, StateTerms, StateVar, TermEvidence,
+    TermFile, TermForm, TermGuess, TermLaw, TermParam, ANY, MAX_TERM_PARAMS,
 };
 
 /// The run-in family (see the module documentation).
@@ -76,7 +76,7 @@ const VARS: [StateVar; 1] = [StateVar {
     describe: "share of the run-in friction left, in [0, 1]",
 }];
 
-impl TermFamily for RunIn {
+impl TermLaw for RunIn {
     fn name(&self) -> &'static str {
         "run-in"
     }
@@ -93,6 +93,26 @@ impl TermFamily for RunIn {
         &FORMS
     }
 
+    fn adds_term(&self) -> bool {
+        // Its friction comes through its state, not as a term T(s, t).
+        false
+    }
+}
+
+impl TermFile for RunIn {}
+
+impl TermGuess for RunIn {
+    fn guess(&self, _form: usize, _data: &DataScales) -> FormGuess {
+        FormGuess {
+            starts: vec![vec![0.05, 1.0, 100.0]],
+            neutral: vec![0.0, 1.0, 100.0],
+            bounds: Vec::new(),
+            references: Vec::new(),
+        }
+    }
+}
+
+impl TermEvidence for RunIn {
     fn shows(&self) -> &'static [Shows] {
         &[Shows::FirstLoadings, Shows::Holds]
     }
@@ -103,20 +123,6 @@ impl TermFamily for RunIn {
 
     fn applies(&self, _data: &DataScales) -> bool {
         // A demonstration: the diagnosis never tries it.
-        false
-    }
-
-    fn guess(&self, _form: usize, _data: &DataScales) -> FormGuess {
-        FormGuess {
-            starts: vec![vec![0.05, 1.0, 100.0]],
-            neutral: vec![0.0, 1.0, 100.0],
-            bounds: Vec::new(),
-            references: Vec::new(),
-        }
-    }
-
-    fn adds_term(&self) -> bool {
-        // Its friction comes through its state, not as a term T(s, t).
         false
     }
 }

@@ -11,10 +11,14 @@
 //!   at s = s_h/√2 with slope 0.86 h and the exponential's plateau h s_h.
 //!
 //! Every form starts at H(0) = 0 — the first three with slope h, the delayed one with slope 0 —
-//! so μ_s and μ_k keep their meaning on a fresh contact, and is monotone in s: a record that starts mid-run is placed at the slip whose H
-//! gives the friction it shows ([`TermFamily::monotone_in_slip`]).
+//! so μ_s and μ_k keep their meaning on a fresh contact, and is monotone in s: a record that
+//! starts mid-run is placed at the slip whose H gives the friction it shows
+//! ([`TermLaw::monotone_in_slip`]).
 
-use super::{DataScales, FormGuess, Shows, TermFamily, TermForm, TermParam, ANY, MAX_TERM_PARAMS};
+use super::{
+    DataScales, FormGuess, Shows, TermEvidence, TermFile, TermForm, TermGuess, TermLaw, TermParam,
+    ANY, MAX_TERM_PARAMS,
+};
 
 /// The slip-hardening family (see the module documentation).
 #[derive(Clone, Copy, Debug)]
@@ -81,13 +85,9 @@ const FORMS: [TermForm; 4] = [
     },
 ];
 
-impl TermFamily for SlipHardening {
+impl TermLaw for SlipHardening {
     fn name(&self) -> &'static str {
         "slip-hardening"
-    }
-
-    fn aliases(&self) -> &'static [&'static str] {
-        &["slip", "slip-softening"]
     }
 
     fn describe(&self) -> &'static str {
@@ -102,61 +102,8 @@ impl TermFamily for SlipHardening {
         &FORMS
     }
 
-    fn shows(&self) -> &'static [Shows] {
-        &[Shows::AfterFirstLoading]
-    }
-
-    fn tried_by_default(&self) -> bool {
-        true
-    }
-
-    fn applies(&self, _data: &DataScales) -> bool {
-        // Every test slides.
-        true
-    }
-
     fn monotone_in_slip(&self) -> bool {
         true
-    }
-
-    fn shown(&self, events: &super::EventReadings) -> bool {
-        // The tests' stress ratio keeps changing with slip once the peak's excess has decayed
-        // (the model's own decay from μ_s to μ_k is taken out of the reading), by more than a
-        // second specimen could differ, its interval clear of that band.
-        events
-            .slip_change_relative
-            .is_some_and(|r| r.lo > SHOWN_CHANGE || r.hi < -SHOWN_CHANGE)
-    }
-
-    fn shown_in(&self) -> &'static [Shows] {
-        // Where the slope is read: each test's first loading, past its peak.
-        &[Shows::FirstLoadings]
-    }
-
-    fn guess(&self, _form: usize, data: &DataScales) -> FormGuess {
-        // A change of friction of a few hundredths over the slip of a test, saturating within
-        // it or well beyond it, hardening or softening.
-        let s = data.slip_span_mm.max(0.1);
-        let mut starts = vec![
-            vec![0.05 / s, 0.3 * s],
-            vec![-0.05 / s, 0.3 * s],
-            vec![0.02 / s, 3.0 * s],
-            vec![-0.02 / s, 3.0 * s],
-        ];
-        // First, the slope the tests' residual stress ratio shows past its peak, kept over the
-        // slip of a test and beyond (it did not saturate where it was read).
-        if let Some(g) = data
-            .slip_slope_per_mm
-            .filter(|g| g.is_finite() && *g != 0.0)
-        {
-            starts.insert(0, vec![g.clamp(-READ_SLOPE, READ_SLOPE), 2.0 * s]);
-        }
-        FormGuess {
-            starts,
-            neutral: vec![0.0, s],
-            bounds: vec![],
-            references: vec![],
-        }
     }
 
     fn term(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], s: f64, _t: f64) -> (f64, f64) {
@@ -183,6 +130,69 @@ impl TermFamily for SlipHardening {
                 (h * s_h * (1.0 - x), 2.0 * h * z * x)
             }
         }
+    }
+}
+
+impl TermFile for SlipHardening {
+    fn aliases(&self) -> &'static [&'static str] {
+        &["slip", "slip-softening"]
+    }
+}
+
+impl TermGuess for SlipHardening {
+    fn guess(&self, _form: usize, data: &DataScales) -> FormGuess {
+        // A change of friction of a few hundredths over the slip of a test, saturating within
+        // it or well beyond it, hardening or softening.
+        let s = data.slip_span_mm.max(0.1);
+        let mut starts = vec![
+            vec![0.05 / s, 0.3 * s],
+            vec![-0.05 / s, 0.3 * s],
+            vec![0.02 / s, 3.0 * s],
+            vec![-0.02 / s, 3.0 * s],
+        ];
+        // First, the slope the tests' residual stress ratio shows past its peak, kept over the
+        // slip of a test and beyond (it did not saturate where it was read).
+        if let Some(g) = data
+            .slip_slope_per_mm
+            .filter(|g| g.is_finite() && *g != 0.0)
+        {
+            starts.insert(0, vec![g.clamp(-READ_SLOPE, READ_SLOPE), 2.0 * s]);
+        }
+        FormGuess {
+            starts,
+            neutral: vec![0.0, s],
+            bounds: vec![],
+            references: vec![],
+        }
+    }
+}
+
+impl TermEvidence for SlipHardening {
+    fn shows(&self) -> &'static [Shows] {
+        &[Shows::AfterFirstLoading]
+    }
+
+    fn tried_by_default(&self) -> bool {
+        true
+    }
+
+    fn applies(&self, _data: &DataScales) -> bool {
+        // Every test slides.
+        true
+    }
+
+    fn shown(&self, events: &super::EventReadings) -> bool {
+        // The tests' stress ratio keeps changing with slip once the peak's excess has decayed
+        // (the model's own decay from μ_s to μ_k is taken out of the reading), by more than a
+        // second specimen could differ, its interval clear of that band.
+        events
+            .slip_change_relative
+            .is_some_and(|r| r.lo > SHOWN_CHANGE || r.hi < -SHOWN_CHANGE)
+    }
+
+    fn shown_in(&self) -> &'static [Shows] {
+        // Where the slope is read: each test's first loading, past its peak.
+        &[Shows::FirstLoadings]
     }
 }
 

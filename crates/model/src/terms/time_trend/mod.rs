@@ -9,7 +9,10 @@
 //! scales with the normal stress and acts only on the cone, a drift of the measurement does
 //! neither.
 
-use super::{DataScales, FormGuess, Shows, TermFamily, TermForm, TermParam, ANY, MAX_TERM_PARAMS};
+use super::{
+    DataScales, FormGuess, Shows, TermEvidence, TermFile, TermForm, TermGuess, TermLaw, TermParam,
+    ANY, MAX_TERM_PARAMS,
+};
 
 /// The time-trend family (see the module documentation).
 #[derive(Clone, Copy, Debug)]
@@ -66,7 +69,7 @@ const FORMS: [TermForm; 2] = [
     },
 ];
 
-impl TermFamily for TimeTrend {
+impl TermLaw for TimeTrend {
     fn name(&self) -> &'static str {
         "time-trend"
     }
@@ -83,18 +86,19 @@ impl TermFamily for TimeTrend {
         &FORMS
     }
 
-    fn shows(&self) -> &'static [Shows] {
-        &[Shows::AfterFirstLoading]
+    fn term(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], _s: f64, t: f64) -> (f64, f64) {
+        // Neither form depends on slip: the slope in s is zero.
+        if form == LINEAR {
+            (p[0] * t, 0.0)
+        } else {
+            (p[1] * -(-t / p[2]).exp_m1(), 0.0)
+        }
     }
+}
 
-    fn tried_by_default(&self) -> bool {
-        false
-    }
+impl TermFile for TimeTrend {}
 
-    fn applies(&self, data: &DataScales) -> bool {
-        data.duration_s > 0.0
-    }
-
+impl TermGuess for TimeTrend {
     fn guess(&self, form: usize, data: &DataScales) -> FormGuess {
         // A trend worth naming changes friction by a few hundredths over the longest test.
         let t = data.duration_s.max(1.0);
@@ -118,14 +122,19 @@ impl TermFamily for TimeTrend {
             }
         }
     }
+}
 
-    fn term(&self, form: usize, p: &[f64; MAX_TERM_PARAMS], _s: f64, t: f64) -> (f64, f64) {
-        // Neither form depends on slip: the slope in s is zero.
-        if form == LINEAR {
-            (p[0] * t, 0.0)
-        } else {
-            (p[1] * -(-t / p[2]).exp_m1(), 0.0)
-        }
+impl TermEvidence for TimeTrend {
+    fn shows(&self) -> &'static [Shows] {
+        &[Shows::AfterFirstLoading]
+    }
+
+    fn tried_by_default(&self) -> bool {
+        false
+    }
+
+    fn applies(&self, data: &DataScales) -> bool {
+        data.duration_s > 0.0
     }
 }
 

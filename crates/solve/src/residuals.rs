@@ -49,9 +49,9 @@ pub trait Residuals: Sync {
     }
 }
 
-/// The problem argmin's `Executor` hands a solver of this crate: an error, never a panic,
-/// should it hold none.
-pub(crate) fn given<O>(problem: &argmin::core::Problem<O>) -> Result<&O, argmin::core::Error> {
+/// The problem argmin's `Executor` hands a solver (this crate's, and `subfric-fit`'s
+/// Nelder–Mead and differential evolution): an error, never a panic, should it hold none.
+pub fn given<O>(problem: &argmin::core::Problem<O>) -> Result<&O, argmin::core::Error> {
     problem.problem.as_ref().ok_or_else(|| {
         argmin::core::ArgminError::NotInitialized {
             text: "the problem".into(),

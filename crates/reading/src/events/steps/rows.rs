@@ -3,7 +3,7 @@
 
 use super::Window;
 use crate::events::TestView;
-use subfric_reading::stats::upper_median;
+use crate::stats::upper_median;
 
 /// The window of the step at row `c` of `t` (from the last half of the level before, at most
 /// as long as the level after, to the end of the level after); `None` when the step is not a

@@ -10,12 +10,12 @@ pub mod reversals;
 pub mod slider;
 pub mod steps;
 
+use crate::features::EventSeeds;
+use crate::stats::upper_median;
+use crate::{PreparedTest, Stiffness};
 use rayon::prelude::*;
 use serde::Serialize;
 use subfric_model::Control;
-use subfric_reading::features::EventSeeds;
-use subfric_reading::stats::upper_median;
-use subfric_reading::{PreparedTest, Stiffness};
 
 pub use holds::{HealingTrend, HoldHealing};
 pub use reversals::{DirectionAsymmetry, ReversalChange};
@@ -28,7 +28,7 @@ pub const STEP_EVIDENCE: f64 = 20.0;
 /// Largest ratio between the springs of the velocity steps that still counts as one machine.
 pub const SPRING_AGREEMENT: f64 = 3.0;
 
-pub use subfric_reading::Estimate;
+pub use crate::Estimate;
 
 /// What the per-event reading found, and what it says about each family.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -47,7 +47,7 @@ pub struct EventAnalysis {
     pub rate: Option<RateConsensus>,
     /// Every test's peak and residual stress ratio, and their change with the normal stress
     /// and with slip.
-    pub levels: subfric_reading::LevelReadings,
+    pub levels: crate::LevelReadings,
 }
 
 /// What the velocity steps say together.
@@ -90,7 +90,7 @@ pub(crate) struct TestView<'a> {
     pub slip: &'a [f64],
     pub shear: &'a [f64],
     pub normal: &'a [f64],
-    pub segmentation: &'a subfric_reading::Segmentation,
+    pub segmentation: &'a crate::Segmentation,
     /// Noise SD in friction units.
     pub noise_friction: f64,
 }
@@ -150,7 +150,7 @@ pub fn analyse(prepared: &[PreparedTest], stiffness: Option<&Stiffness>) -> Even
     let reversal_changes: Vec<ReversalChange> =
         views.iter().flat_map(reversals::reversals).collect();
     EventAnalysis {
-        levels: subfric_reading::read_levels(prepared),
+        levels: crate::read_levels(prepared),
         rate: consensus(&step_fits),
         healing: holds::healing_trend(&holds),
         direction: reversals::asymmetry(&reversal_changes),
@@ -198,54 +198,9 @@ impl EventAnalysis {
     }
 }
 
-/// Whether the events read one by one speak against a family outright, as its module says
-/// ([`subfric_model::terms::TermFamily::contradicted`]: velocity steps read of which none shows a
-/// direct effect for rate, friction falling with hold time for healing).
-pub fn contradicts(e: &EventAnalysis, effect: crate::Effect) -> bool {
-    match effect {
-        crate::Effect::Term(i) => subfric_model::terms::family(i).contradicted(&e.readings()),
-        _ => false,
-    }
-}
-
-/// Whether the events read one by one show a family's effect outright, as its module says
-/// ([`subfric_model::terms::TermFamily::shown`]: the tests' stress ratios changing with the
-/// normal stress beyond their intervals, for pressure).
-pub fn shows(e: &EventAnalysis, effect: crate::Effect) -> bool {
-    match effect {
-        crate::Effect::Term(i) => subfric_model::terms::family(i).shown(&e.readings()),
-        _ => false,
-    }
-}
-
-/// Whether `model`'s term of family `effect` follows what the events read one by one show, as
-/// its module says ([`subfric_model::terms::TermFamily::follows_readings`]); true for a model
-/// without such a term and for anything but a registered family.
-pub fn followed_by(e: &EventAnalysis, effect: crate::Effect, model: &subfric_model::Model) -> bool {
-    match effect {
-        crate::Effect::Term(i) => model.ext.terms.of(i).is_none_or(|t| {
-            subfric_model::terms::family(i).follows_readings(t.form as usize, &t.p, &e.readings())
-        }),
-        _ => true,
-    }
-}
-
-/// Whether the events read one by one leave room for a family, as its module says
-/// ([`subfric_model::terms::TermFamily::corroborated`]: velocity steps that mostly show a direct
-/// effect for rate, a positive healing rate over the holds for healing, an asymmetry of the
-/// reversals clear of zero for direction). Where no such event was read, nothing speaks against
-/// the family.
-pub fn corroborates(e: &EventAnalysis, effect: crate::Effect) -> bool {
-    use crate::Effect;
-    match effect {
-        Effect::Term(i) => subfric_model::terms::family(i).corroborated(&e.readings()),
-        _ => true,
-    }
-}
-
 impl EventAnalysis {
     /// What the events read say, for the registered families
-    /// ([`subfric_model::terms::TermFamily::corroborated`]).
+    /// ([`subfric_model::terms::TermEvidence::corroborated`]).
     pub fn readings(&self) -> subfric_model::terms::EventReadings {
         let reading = |e: &Estimate| subfric_model::terms::Reading {
             value: e.value,
@@ -319,7 +274,7 @@ fn consensus(steps: &[StepFit]) -> Option<RateConsensus> {
 
 impl EventAnalysis {
     /// The first guesses this analysis gives the global fits of the forms
-    /// ([`subfric_reading::features::EventSeeds`]).
+    /// ([`crate::features::EventSeeds`]).
     pub fn seeds(&self) -> EventSeeds {
         let e = self;
         let finite = |v: f64| v.is_finite().then_some(v);

@@ -8,8 +8,8 @@ use super::rows::{resolved_dc_floor, row_travel, thin};
 use super::{StepFit, Window};
 use crate::events::slider::{Slider, StateLaw};
 use crate::events::Estimate;
-use subfric_fit::lm::{jacobian, levenberg_marquardt, LmOptions};
-use subfric_fit::Residuals;
+use subfric_solve::lm::{jacobian, levenberg_marquardt, LmOptions};
+use subfric_solve::Residuals;
 
 /// Coordinates of the rate-and-state fit: ln a, b, ln D_c, μ₀, the trend when it is fitted,
 /// and ln k when the spring is fitted.
@@ -381,7 +381,7 @@ fn residuals_and_scale<R: Residuals>(p: &R, x: &[f64]) -> (Vec<f64>, f64, f64) {
     let mut r = Vec::new();
     p.residuals_at(x, &mut r);
     let ssr: f64 = r.iter().map(|v| v * v).sum();
-    let tau = subfric_reading::stats::correlation_time(&r);
+    let tau = crate::stats::correlation_time(&r);
     let s2 = (ssr / (r.len().saturating_sub(x.len())).max(1) as f64).max(1.0) * tau;
     (r, ssr, s2)
 }

@@ -3,8 +3,8 @@
 //! hold time (the slide-hold-slide reading of Dieterich and of Marone's lab).
 
 use super::{Estimate, TestView};
+use crate::stats::student_t95;
 use serde::Serialize;
-use subfric_reading::stats::student_t95;
 
 /// One hold and its reload.
 #[derive(Clone, Debug, Serialize)]
@@ -157,7 +157,7 @@ pub(super) fn healing_trend(holds: &[HoldHealing]) -> Option<HealingTrend> {
         return None;
     }
     let (x, y): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
-    let line = subfric_reading::stats::fit_line(&x, &y)?;
+    let line = crate::stats::fit_line(&x, &y)?;
     // Holds too close in duration (a spread of log10 hold time, Σ(x − x̄)², under 0.1) say
     // nothing of a trend per decade.
     if line.sxx < 0.1 {

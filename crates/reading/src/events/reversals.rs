@@ -2,8 +2,8 @@
 //! across reversals how much weaker backward sliding is than forward sliding.
 
 use super::{Estimate, TestView};
+use crate::stats::mean_var;
 use serde::Serialize;
-use subfric_reading::stats::mean_var;
 
 /// The change of steady friction at one reversal.
 #[derive(Clone, Debug, Serialize)]

@@ -3,8 +3,8 @@
 
 use super::Window;
 use crate::events::Estimate;
-use subfric_fit::lm::{levenberg_marquardt, LmOptions};
-use subfric_fit::Residuals;
+use subfric_solve::lm::{levenberg_marquardt, LmOptions};
+use subfric_solve::Residuals;
 
 /// The null model: μ₀ + trend·s before the step, plus Δ(1 − e^(−s/L)) after it; coordinates
 /// μ₀, Δ, ln L (the trend is the rate-and-state fit's).

@@ -3,12 +3,12 @@
 
 use super::Window;
 use crate::events::Estimate;
-use subfric_reading::stats::LineFit;
+use crate::stats::LineFit;
 
 /// The least-squares line of `y` on `x`; a level (slope 0 through the mean) when x does not
 /// vary.
 fn line(x: &[f64], y: &[f64]) -> LineFit {
-    subfric_reading::stats::fit_line(x, y).unwrap_or_else(|| {
+    crate::stats::fit_line(x, y).unwrap_or_else(|| {
         let n = y.len().max(1) as f64;
         let mean = y.iter().sum::<f64>() / n;
         LineFit {
@@ -57,8 +57,8 @@ pub(super) fn measured_change(w: &Window) -> Estimate {
         (v / (tail as f64 - 1.0).max(1.0)).sqrt()
     };
     let sd = sd.max(tail_sd).max(w.sigma);
-    let tau = subfric_reading::stats::correlation_time(&pre_residuals)
-        .max(subfric_reading::stats::correlation_time(&tail_residuals));
+    let tau = crate::stats::correlation_time(&pre_residuals)
+        .max(crate::stats::correlation_time(&tail_residuals));
     // A mean over fewer rows than τ varies as a single row does.
     let se_mean = sd * (tau / tail as f64).min(1.0).sqrt();
     let n_pre = pre_t.len() as f64;
@@ -76,7 +76,7 @@ pub(super) fn pre_step_trend(w: &Window) -> (f64, f64, f64) {
     let pre_mu = &w.mu[..=w.step];
     let pre = line(pre_s, pre_mu);
     let (p, q, sd, sxx) = (pre.intercept, pre.slope, pre.residual_sd(), pre.sxx);
-    let tau = subfric_reading::stats::correlation_time(&pre.residuals(pre_s, pre_mu));
+    let tau = crate::stats::correlation_time(&pre.residuals(pre_s, pre_mu));
     let se = sd.max(w.sigma) * (tau / sxx.max(1e-300)).sqrt();
     (p, q, se)
 }
