@@ -49,13 +49,13 @@ pub(super) fn short_decay(
         .map(|i| (u[i] - u[ip], f[i]))
         .unzip();
     let after = *x.last()?;
-    if x.len() < 4 * super::MIN_ROWS || !(after > 0.0) {
+    if x.len() < 4 * super::MIN_ROWS || after.is_nan() || after <= 0.0 {
         return None;
     }
     let shortest = (after / 500.0).max(1e-6);
     let one = best_over(shortest, 4.0 * after, |l| ssr(&fitted(&x, &y, l, None)))?;
     let short_most = DECAYED_WITHIN * after / decays;
-    if !(short_most > shortest) {
+    if short_most.is_nan() || short_most <= shortest {
         return None;
     }
     // The long scale on a grid from three short ones to far beyond the slide; for each, the
