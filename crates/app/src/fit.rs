@@ -65,6 +65,15 @@ impl FitRequest {
             start: None,
         }
     }
+
+    /// The parameters the request frees, less those it fixes.
+    pub(crate) fn free_not_fixed(&self) -> Vec<Param> {
+        self.free
+            .iter()
+            .copied()
+            .filter(|p| !self.fix.iter().any(|(q, _)| q == p))
+            .collect()
+    }
 }
 
 /// Sets loaded, checked and charted, ready for the long work.

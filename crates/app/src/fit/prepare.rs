@@ -72,15 +72,6 @@ fn read_sets(dirs: &[PathBuf], progress: &dyn Progress) -> Result<ReadSets> {
     Ok(read)
 }
 
-/// The parameters the request frees, less those it fixes.
-pub(super) fn free_not_fixed(req: &FitRequest) -> Vec<Param> {
-    req.free
-        .iter()
-        .copied()
-        .filter(|p| !req.fix.iter().any(|(q, _)| q == p))
-        .collect()
-}
-
 /// Loads the sets, selects and weights the tests, and checks fixed values and bounds: every
 /// mistake in the request is found here, before any output is prepared or any fitting done.
 /// The sets' plausibility warnings go to `progress` (and into the setup), and so does the
@@ -115,7 +106,7 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
         p.set(&mut template, *v);
     }
     Model::new(template.params, template.ext).map_err(|e| anyhow!("--fix: {e}"))?;
-    let mut free = free_not_fixed(req);
+    let mut free = req.free_not_fixed();
     if resolved.is_some() {
         free.push(Param::AlphaT);
     }

@@ -1,7 +1,6 @@
 //! The α_t decision: the stiffness a fit starts from, fitted where the record resolves it and
 //! the request leaves α_t open, else held at what the sets publish.
 
-use super::prepare::free_not_fixed;
 use super::FitRequest;
 use crate::progress::Progress;
 use subfric_fit::{FitOptions, Param};
@@ -43,7 +42,7 @@ pub(super) fn starting_stiffness(
                 for (p, v) in &req.fix {
                     p.set(&mut held, *v);
                 }
-                subfric_fit::stiffness_by_trial(tests, &held, &free_not_fixed(req), options)
+                subfric_fit::stiffness_by_trial(tests, &held, &req.free_not_fixed(), options)
             })
         })
         .flatten();
