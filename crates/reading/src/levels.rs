@@ -445,6 +445,18 @@ fn slope_past_peak(
     let grid: Vec<f64> = (0..=24)
         .map(|k| l0 * 16f64.powf(k as f64 / 24.0) / 4.0)
         .collect();
+    let (c, diag, r) = fit(least_over_grid(&grid, ssr)?)?;
+    // Four parameters: level, excess, decay length and slope.
+    let (sd, inflation) = spread(&r, 4);
+    Some(Estimate::symmetric(
+        c[2],
+        Z95 * sd * inflation * diag[2].sqrt(),
+    ))
+}
+
+/// The decay length with the least `ssr` near the best point of `grid` (increasing lengths):
+/// golden sections in ln l between its neighbours.
+fn least_over_grid(grid: &[f64], ssr: impl Fn(f64) -> f64) -> Option<f64> {
     let best = (0..grid.len()).min_by(|&i, &j| ssr(grid[i]).total_cmp(&ssr(grid[j])))?;
     let (mut a, mut b) = (
         grid[best.saturating_sub(1)].ln(),
@@ -459,13 +471,7 @@ fn slope_past_peak(
             a = c;
         }
     }
-    let (c, diag, r) = fit((0.5 * (a + b)).exp())?;
-    // Four parameters: level, excess, decay length and slope.
-    let (sd, inflation) = spread(&r, 4);
-    Some(Estimate::symmetric(
-        c[2],
-        Z95 * sd * inflation * diag[2].sqrt(),
-    ))
+    Some((0.5 * (a + b)).exp())
 }
 
 /// A straight line through a stretch: its level at the stretch's middle and its slope, each

@@ -158,21 +158,7 @@ fn best_over(lo: f64, hi: f64, ssr_of: impl Fn(f64) -> f64) -> Option<(f64, f64)
     let grid: Vec<f64> = (0..=steps)
         .map(|k| lo * (hi / lo).powf(k as f64 / steps as f64))
         .collect();
-    let best = (0..grid.len()).min_by(|&i, &j| ssr_of(grid[i]).total_cmp(&ssr_of(grid[j])))?;
-    let (mut a, mut b) = (
-        grid[best.saturating_sub(1)].ln(),
-        grid[(best + 1).min(grid.len() - 1)].ln(),
-    );
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..30 {
-        let (c, d) = (b - g * (b - a), a + g * (b - a));
-        if ssr_of(c.exp()) < ssr_of(d.exp()) {
-            b = d;
-        } else {
-            a = c;
-        }
-    }
-    let l = (0.5 * (a + b)).exp();
+    let l = super::least_over_grid(&grid, &ssr_of)?;
     let s = ssr_of(l);
     s.is_finite().then_some((l, s))
 }
