@@ -101,7 +101,10 @@ fn a_record_through_simulate_shows_the_run_in_friction_at_a_known_slip() {
         let s = slip[i];
         let want = RUN_IN[0] * (-s / RUN_IN[1]).exp();
         let got = (with.shear[i] - base.shear[i]) / normal[i];
-        assert!((got - want).abs() < 1e-3 * RUN_IN[0], "at {s} mm: {got} vs {want}");
+        assert!(
+            (got - want).abs() < 1e-3 * RUN_IN[0],
+            "at {s} mm: {got} vs {want}"
+        );
     }
 }
 
@@ -113,7 +116,10 @@ fn a_state_it_cannot_have_is_refused_by_its_name_and_too_many_states_by_the_fami
     c.check_state(&st).unwrap();
     st.slots.0[0] = 1.5;
     let e = c.check_state(&st).unwrap_err();
-    assert_eq!((e.field, e.expected.as_str()), ("run_in", "a share in [0, 1]"));
+    assert_eq!(
+        (e.field, e.expected.as_str()),
+        ("run_in", "a share in [0, 1]")
+    );
     // Rate (three variables) and time healing (two) fill the contact's slots: a third family
     // with a state is refused, named.
     let rate = TermEffect::named("rate", "state-slip", &[0.01, 0.012, 0.05, 1e-6, 0.01]).unwrap();
@@ -121,7 +127,9 @@ fn a_state_it_cannot_have_is_refused_by_its_name_and_too_many_states_by_the_fami
     let full = Terms::one(rate).with(healing);
     let issues = full.with(run_in(RUN_IN[0])).issues();
     assert!(
-        issues.iter().any(|(key, _, why)| *key == "run_in.g" && why.contains("slots")),
+        issues
+            .iter()
+            .any(|(key, _, why)| *key == "run_in.g" && why.contains("slots")),
         "{issues:?}"
     );
 }
