@@ -5,11 +5,15 @@
 //!
 //! - exponential, H = h s_h (1 − exp(−s/s_h));
 //! - capped linear, H = h min(s, s_h);
-//! - hyperbolic, H = h s / (1 + s/s_h).
+//! - hyperbolic, H = h s / (1 + s/s_h);
+//! - delayed, H = h s_h (1 − exp(−(s/s_h)²)): a change that sets in only after some slip (a
+//!   shear band that must form, wear that must accumulate before the surface changes), steepest
+//!   at s = s_h/√2 with slope 0.86 h and the exponential's plateau h s_h.
 //!
-//! Every form starts at H(0) = 0 with slope h, so μ_s and μ_k keep their meaning on a fresh
-//! contact, and is monotone in s: a record that starts mid-run is placed at the slip whose H
-//! gives the friction it shows ([`TermLaw::monotone_in_slip`]).
+//! Every form starts at H(0) = 0 — the first three with slope h, the delayed one with slope 0 —
+//! so μ_s and μ_k keep their meaning on a fresh contact, and is monotone in s: a record that
+//! starts mid-run is placed at the slip whose H gives the friction it shows
+//! ([`TermLaw::monotone_in_slip`]).
 
 use super::{
     DataScales, FormGuess, Shows, TermEvidence, TermFile, TermForm, TermGuess, TermLaw, TermParam,
@@ -56,8 +60,9 @@ const SHOWN_CHANGE: f64 = 0.02;
 
 const EXPONENTIAL: usize = 0;
 const CAPPED: usize = 1;
+const HYPERBOLIC: usize = 2;
 
-const FORMS: [TermForm; 3] = [
+const FORMS: [TermForm; 4] = [
     TermForm {
         key: "exponential",
         describe: "exponential, h s_h (1 - exp(-s/s_h))",
@@ -71,6 +76,11 @@ const FORMS: [TermForm; 3] = [
     TermForm {
         key: "hyperbolic",
         describe: "hyperbolic, h s / (1 + s/s_h)",
+        params: &[0, 1],
+    },
+    TermForm {
+        key: "delayed",
+        describe: "delayed, h s_h (1 - exp(-(s/s_h)^2))",
         params: &[0, 1],
     },
 ];
@@ -110,9 +120,14 @@ impl TermLaw for SlipHardening {
                     (h * s_h, 0.0)
                 }
             }
-            _ => {
+            HYPERBOLIC => {
                 let q = 1.0 / (1.0 + s / s_h);
                 (h * s * q, h * q * q)
+            }
+            _ => {
+                let z = s / s_h;
+                let x = (-z * z).exp();
+                (h * s_h * (1.0 - x), 2.0 * h * z * x)
             }
         }
     }

@@ -25,7 +25,7 @@ fn a_change_with_slip_beyond_what_specimens_differ_by_shows_it_outright() {
 }
 
 #[test]
-fn every_form_starts_with_slope_h_and_saturates() {
+fn every_form_starts_at_zero_with_slope_h_or_delayed_and_saturates() {
     let mut p = [0.0; MAX_TERM_PARAMS];
     p[0] = 0.02;
     p[1] = 2.0;
@@ -33,7 +33,9 @@ fn every_form_starts_with_slope_h_and_saturates() {
         let f = SlipHardening;
         let (h0, d0) = f.term(form, &p, 0.0, 0.0);
         assert_eq!(h0, 0.0);
-        assert!((d0 - 0.02).abs() < 1e-12, "{}", shape.key);
+        // The delayed form sets in with no slope; the others with slope h.
+        let slope0 = if shape.key == "delayed" { 0.0 } else { 0.02 };
+        assert!((d0 - slope0).abs() < 1e-12, "{}", shape.key);
         let (h_far, d_far) = f.term(form, &p, 1e4, 0.0);
         assert!(
             h_far > 0.0 && h_far <= 0.04 + 1e-9,
@@ -64,6 +66,11 @@ fn each_form_has_its_closed_form() {
     assert!((f.term(1, &p, 0.2, 0.0).0 - -0.03 * 0.2).abs() < 1e-15);
     let hyp = -0.03 * s / (1.0 + s / 0.5);
     assert!((f.term(2, &p, s, 0.0).0 - hyp).abs() < 1e-15);
+    let delayed = -0.03 * 0.5 * (1.0 - (-(s / 0.5).powi(2)).exp());
+    assert!((f.term(3, &p, s, 0.0).0 - delayed).abs() < 1e-15);
+    // Steepest at s_h/√2, with 0.86 h there.
+    let (_, steepest) = f.term(3, &p, 0.5 / 2f64.sqrt(), 0.0);
+    assert!((steepest / -0.03 - (2.0f64).sqrt() * (-0.5f64).exp()).abs() < 1e-12);
 }
 
 #[test]
