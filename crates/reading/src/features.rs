@@ -76,6 +76,9 @@ pub struct EventSeeds {
     /// The residual stress ratio's slope with slip past the peak [1/mm], where it is clear of
     /// zero.
     pub slip_slope_per_mm: Option<f64>,
+    /// The slip from the start of a first loading to its peak, the median over the tests
+    /// whose peak was read [mm].
+    pub slip_to_peak_mm: Option<f64>,
 }
 
 // The features read values of the record itself: the upper median, as they always have.
@@ -354,6 +357,7 @@ impl DataFeatures {
                 residual: self.seeds.stress_trend.1,
             },
             slip_slope_per_mm: self.seeds.slip_slope_per_mm,
+            slip_to_peak_mm: self.seeds.slip_to_peak_mm,
         }
     }
 }

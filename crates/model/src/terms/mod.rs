@@ -182,6 +182,9 @@ pub struct DataScales {
     /// The residual stress ratio's change with slip past the peak, pooled over the tests
     /// [1/mm], when it was read.
     pub slip_slope_per_mm: Option<f64>,
+    /// The slip from the start of a first loading to its peak, the median over the tests
+    /// whose peak was read [mm]: where the model's own rise to the peak ends.
+    pub slip_to_peak_mm: Option<f64>,
 }
 
 /// The relative change of the tests' stress ratios per e-fold of normal stress,

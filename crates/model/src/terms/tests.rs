@@ -30,6 +30,7 @@ fn every_family_is_consistent() {
             rate_and_state: None,
             stress_trend: Default::default(),
             slip_slope_per_mm: None,
+            slip_to_peak_mm: None,
         };
         for (k, form) in fam.forms().iter().enumerate() {
             let g = fam.guess(k, &scales);

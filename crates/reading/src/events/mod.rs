@@ -309,6 +309,15 @@ impl EventAnalysis {
                 .slip_slope_per_mm
                 .filter(|s| s.excludes_zero())
                 .and_then(|s| finite(s.value)),
+            slip_to_peak_mm: upper_median(
+                &mut e
+                    .levels
+                    .tests
+                    .iter()
+                    .filter_map(|t| t.slip_to_peak_mm)
+                    .filter(|s| s.is_finite() && *s > 0.0)
+                    .collect::<Vec<_>>(),
+            ),
         }
     }
 }

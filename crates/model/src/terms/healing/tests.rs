@@ -106,6 +106,7 @@ fn the_general_forms_are_tried_saturating_as_well() {
         rate_and_state: None,
         stress_trend: Default::default(),
         slip_slope_per_mm: None,
+        slip_to_peak_mm: None,
     };
     let fam: &dyn crate::terms::TermFamily = &TimeHealing;
     for (k, &(law, _)) in SHAPES.iter().enumerate().take(TRIED) {

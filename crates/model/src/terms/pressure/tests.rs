@@ -93,6 +93,7 @@ fn three_stresses(p_ref: f64) -> DataScales {
         rate_and_state: None,
         stress_trend: Default::default(),
         slip_slope_per_mm: None,
+        slip_to_peak_mm: None,
     }
 }
 

@@ -1,7 +1,7 @@
 //! Slip hardening (h > 0) or softening (h < 0): friction changes with the accumulated plastic
 //! slip s, at an initial slope h per mm that saturates after a slip of the order of s_h —
 //! dilation or contraction of the sand next to the metal, wear and smoothing of the surface,
-//! grain crushing in the shear band. Three forms of the literature:
+//! grain crushing in the shear band. Four forms of the literature:
 //!
 //! - exponential, H = h s_h (1 − exp(−s/s_h));
 //! - capped linear, H = h min(s, s_h);
@@ -58,9 +58,17 @@ const READ_SLOPE: f64 = 0.5;
 /// differ by (a drift of the load cell over a test moves the level by about that much too).
 const SHOWN_CHANGE: f64 = 0.02;
 
+/// The share of its plateau the delayed form may have reached at the tests' peak: a change
+/// that sets in after the peak. Sooner, it competes with the model's own rise to the peak
+/// (r and ũ of Eq. (26)) instead of describing what comes after it — on dense sand, a rise
+/// slower than the model's at one stress is fitted by it — so s_h is kept at or above
+/// slip to peak / √(−ln(1 − share)), about 3.1 times the slip to peak.
+const DELAYED_SHARE_AT_PEAK: f64 = 0.1;
+
 const EXPONENTIAL: usize = 0;
 const CAPPED: usize = 1;
 const HYPERBOLIC: usize = 2;
+const DELAYED: usize = 3;
 
 const FORMS: [TermForm; 4] = [
     TermForm {
@@ -140,7 +148,7 @@ impl TermFile for SlipHardening {
 }
 
 impl TermGuess for SlipHardening {
-    fn guess(&self, _form: usize, data: &DataScales) -> FormGuess {
+    fn guess(&self, form: usize, data: &DataScales) -> FormGuess {
         // A change of friction of a few hundredths over the slip of a test, saturating within
         // it or well beyond it, hardening or softening.
         let s = data.slip_span_mm.max(0.1);
@@ -158,10 +166,25 @@ impl TermGuess for SlipHardening {
         {
             starts.insert(0, vec![g.clamp(-READ_SLOPE, READ_SLOPE), 2.0 * s]);
         }
+        // The delayed form sets in after the tests' peak (DELAYED_SHARE_AT_PEAK).
+        let onset = (form == DELAYED)
+            .then_some(data.slip_to_peak_mm)
+            .flatten()
+            .filter(|s| s.is_finite() && *s > 0.0)
+            .map(|peak| peak / (-(1.0 - DELAYED_SHARE_AT_PEAK).ln()).sqrt());
+        let mut bounds = vec![];
+        if let Some(lo) = onset {
+            let (_, hi) = PARAMS[1].bounds;
+            let lo = lo.min(hi);
+            bounds.push((1, lo, hi));
+            for start in &mut starts {
+                start[1] = start[1].max(lo);
+            }
+        }
         FormGuess {
             starts,
-            neutral: vec![0.0, s],
-            bounds: vec![],
+            neutral: vec![0.0, s.max(onset.unwrap_or(0.0))],
+            bounds,
             references: vec![],
         }
     }

@@ -90,6 +90,7 @@ fn first_guesses_scale_with_the_slip_of_a_test() {
         rate_and_state: None,
         stress_trend: Default::default(),
         slip_slope_per_mm: None,
+        slip_to_peak_mm: None,
     };
     let short = SlipHardening.guess(0, &data(1.0));
     let long = SlipHardening.guess(0, &data(10.0));
@@ -106,4 +107,44 @@ fn first_guesses_scale_with_the_slip_of_a_test() {
     let g = SlipHardening.guess(1, &read);
     assert_eq!(g.starts[0], vec![-0.004, 10.0]);
     assert_eq!(g.starts.len(), 5);
+}
+
+#[test]
+fn the_delayed_form_sets_in_after_the_tests_peak() {
+    let data = |slip_to_peak_mm| DataScales {
+        v_ref: 0.01,
+        p_ref: 100.0,
+        slip_span_mm: 4.0,
+        duration_s: 400.0,
+        holds: 0,
+        reversals: 0,
+        pressure_levels: 1,
+        sliding_rates: 1,
+        traction_tests: 0,
+        healing_per_decade: None,
+        steps: crate::terms::StepReading::default(),
+        rate_and_state: None,
+        stress_trend: Default::default(),
+        slip_slope_per_mm: None,
+        slip_to_peak_mm,
+    };
+    let delayed = FORMS.iter().position(|f| f.key == "delayed").unwrap();
+    let g = SlipHardening.guess(delayed, &data(Some(1.0)));
+    // s_h (fitted index 1) at least where a tenth of the plateau is reached at the peak.
+    let lo = 1.0 / (-(0.9f64).ln()).sqrt();
+    assert_eq!(g.bounds.len(), 1);
+    let (i, b_lo, b_hi) = g.bounds[0];
+    assert_eq!(i, 1);
+    assert!((b_lo - lo).abs() < 1e-12 && b_hi == 1000.0);
+    let mut p = [0.0; MAX_TERM_PARAMS];
+    p[0] = 0.02;
+    p[1] = b_lo;
+    let (at_peak, _) = SlipHardening.term(delayed, &p, 1.0, 0.0);
+    assert!((at_peak / (0.02 * b_lo) - 0.1).abs() < 1e-12);
+    // Every start and the neutral lie within it.
+    assert!(g.starts.iter().all(|s| s[1] >= b_lo));
+    assert!(g.neutral[1] >= b_lo);
+    // No peak read, or another form: the default bounds.
+    assert!(SlipHardening.guess(delayed, &data(None)).bounds.is_empty());
+    assert!(SlipHardening.guess(0, &data(Some(1.0))).bounds.is_empty());
 }

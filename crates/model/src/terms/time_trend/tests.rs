@@ -71,6 +71,7 @@ fn first_guesses_scale_with_the_duration() {
         rate_and_state: None,
         stress_trend: Default::default(),
         slip_slope_per_mm: None,
+        slip_to_peak_mm: None,
     };
     let short = TimeTrend.guess(0, &data(100.0));
     let long = TimeTrend.guess(0, &data(10_000.0));
