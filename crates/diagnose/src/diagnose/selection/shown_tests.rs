@@ -341,3 +341,44 @@ fn an_effect_the_events_show_is_confirmed_between_its_readings_not_beyond_them()
         &th
     ));
 }
+
+#[test]
+fn a_candidate_the_events_speak_against_is_not_named_unless_it_explains_most_of_its_excess() {
+    let th = crate::verdict::Thresholds::default();
+    let flat = |lo: f64, hi: f64| subfric_reading::Estimate {
+        value: 0.5 * (lo + hi),
+        lo,
+        hi,
+    };
+    // Peak and residual stress ratios read at four stresses, both within ±1 % per e-fold:
+    // no pressure effect of a size that matters.
+    let trend = subfric_reading::StressTrend {
+        tests: 4,
+        stresses: 4,
+        per_efold: flat(-0.004, 0.006),
+        relative_per_efold: flat(-0.007, 0.011),
+        cohesion_kpa: flat(-0.4, 0.3),
+        friction_angle_deg: flat(30.1, 30.7),
+    };
+    let mut events = crate::events::EventAnalysis::default();
+    events.levels.peak = Some(trend.clone());
+    events.levels.residual = Some(trend);
+    let pressure = |excess_shrink: f64| {
+        let mut all = comparison(28.0, 300.0, vec![]);
+        all.excess_shrink = excess_shrink;
+        let mut c = shown_rate(all, comparison(0.0, 1.0, vec![]));
+        c.effect = Effect::from_name("pressure").unwrap();
+        c
+    };
+    // A pressure law that takes 6 % of the excess: against the readings, not named.
+    assert!(!events_leave_room(&events, &pressure(0.06), &th));
+    // One that takes most of it: the readings of the levels alone do not overrule it.
+    assert!(events_leave_room(&events, &pressure(0.9), &th));
+    // Readings that say nothing of pressure leave room for it.
+    let silent = crate::events::EventAnalysis::default();
+    assert!(events_leave_room(&silent, &pressure(0.06), &th));
+    // Nor do they speak against another family.
+    let mut healing_candidate = pressure(0.06);
+    healing_candidate.effect = healing();
+    assert!(events_leave_room(&events, &healing_candidate, &th));
+}

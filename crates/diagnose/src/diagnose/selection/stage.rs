@@ -279,11 +279,11 @@ pub(super) fn stage_decision(
     // varies in the data (a rate law fitted to the holds of a record slid at one rate stands
     // for healing as well as for rate, and stays an alternative, weighed, never named).
     let namable: Vec<bool> = candidates.iter().map(|c| namable(cx, c)).collect();
-    // ... and, after the first, the events read one by one do not speak against it.
+    // ... and the events read one by one leave room for it.
     let corroborated: Vec<bool> = candidates
         .iter()
         .zip(&namable)
-        .map(|(c, &namable)| namable && crate::events::corroborates(&cx.events, c.effect))
+        .map(|(c, &namable)| namable && events_leave_room(&cx.events, c, th))
         .collect();
     let own: Vec<Comparison> = candidates
         .iter()
@@ -308,6 +308,23 @@ pub(super) fn stage_decision(
     } else {
         decision
     }
+}
+
+/// Whether the events read one by one leave room for naming candidate `c` on the route of
+/// [`decide_further`] (every stage after the first, and the first when nothing is named on its
+/// evidence alone): they corroborate its family, and they do not speak against it outright
+/// unless it explains most of its held-out excess — the standard [`first_effect`] holds a first
+/// effect named on its evidence to. On a dense-sand programme whose peak and residual ratios
+/// stayed within 2 % per e-fold of normal stress, a pressure law with β = −0.001 was added
+/// second at D 28: the refit had moved the first effect's parameters, not the pressure.
+pub(super) fn events_leave_room(
+    events: &crate::events::EventAnalysis,
+    c: &CandidateScore,
+    th: &crate::verdict::Thresholds,
+) -> bool {
+    crate::events::corroborates(events, c.effect)
+        && !(c.held_out.excess_shrink < th.min_excess_shrink
+            && crate::events::contradicts(events, c.effect))
 }
 
 /// The comparison candidate `c` is judged on besides all pieces.
