@@ -238,9 +238,6 @@ pub struct EventReadings {
     pub steps_read: usize,
     /// Of [`EventReadings::steps_read`], the steps that show a direct effect.
     pub steps_with_direct_effect: usize,
-    /// Of [`EventReadings::steps_read`], the steps whose fit determines a direct effect (its
-    /// interval closed and clear of zero), shown or not.
-    pub steps_determining_direct_effect: usize,
     /// The relative change of the tests' peak stress ratio per e-fold of normal stress,
     /// d ln R / d ln p, with its interval; `None` when fewer than two stresses were read.
     pub peak_change_per_efold: Option<Reading>,

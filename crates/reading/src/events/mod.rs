@@ -217,7 +217,6 @@ impl EventAnalysis {
             steps_agree_on_rate_and_state: self.rate.as_ref().map(|r| r.consistent),
             steps_read: self.rate.as_ref().map_or(0, |r| r.steps),
             steps_with_direct_effect: self.rate.as_ref().map_or(0, |r| r.significant),
-            steps_determining_direct_effect: self.steps.iter().filter(|s| s.determines_a()).count(),
             peak_change_per_efold: self
                 .levels
                 .peak

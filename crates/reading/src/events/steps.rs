@@ -86,16 +86,12 @@ impl StepFit {
     }
 
     /// A direct effect the record shows: strong evidence over the null model, and an a the
-    /// step determines.
+    /// step determines (its interval closed and within a factor of ten).
     pub fn significant(&self) -> bool {
-        self.evidence >= super::STEP_EVIDENCE && self.determines_a()
-    }
-
-    /// Whether the step determines its direct effect a: its interval closed, clear of zero and
-    /// within a factor of ten, whatever the evidence over the null model. Such a step leans
-    /// towards a direct effect without showing it; it never speaks against one.
-    pub fn determines_a(&self) -> bool {
-        self.a.lo > 0.0 && self.a.hi.is_finite() && self.a.hi < 10.0 * self.a.lo
+        self.evidence >= super::STEP_EVIDENCE
+            && self.a.lo > 0.0
+            && self.a.hi.is_finite()
+            && self.a.hi < 10.0 * self.a.lo
     }
 
     /// Whether the step can show a direct effect or its absence. Where either fit moves

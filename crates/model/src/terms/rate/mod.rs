@@ -386,15 +386,8 @@ impl TermEvidence for Rate {
     }
 
     fn contradicted(&self, events: &EventReadings) -> bool {
-        // Two or more steps read, not one shows a direct effect, and not one even determines
-        // one below the evidence a step must show: a step whose a is clear of zero with a
-        // closed interval leans towards the law (two of five steps read a ≈ 0.004–0.008 at
-        // D 2–6 where the record was made with a = 0.008, and a rate-and-state law removing
-        // 67 % of the held-out excess at D 166 was held to the 70 % of an effect the steps
-        // speak against; fresh seed 44004).
-        events.steps_read >= 2
-            && events.steps_with_direct_effect == 0
-            && events.steps_determining_direct_effect == 0
+        // Two or more steps read, and not one shows a direct effect.
+        events.steps_read >= 2 && events.steps_with_direct_effect == 0
     }
 
     fn shown(&self, events: &EventReadings) -> bool {

@@ -135,11 +135,6 @@ fn the_steps_single_out_the_state_forms_and_must_show_a_direct_effect() {
     // Contradicted: steps read, and none shows one.
     events.steps_with_direct_effect = 0;
     assert!(Rate.contradicted(&events));
-    // Nor when a step determines a direct effect below the evidence that shows one: it leans
-    // towards the law.
-    events.steps_determining_direct_effect = 1;
-    assert!(!Rate.contradicted(&events));
-    events.steps_determining_direct_effect = 0;
     events.steps_read = 1;
     assert!(
         !Rate.contradicted(&events),
