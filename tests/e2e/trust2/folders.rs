@@ -131,11 +131,26 @@ fn a_diagnosis_stopped_while_writing_is_finished_by_the_same_command() {
     let s = subfric!();
     let tmp = tempfile::tempdir().unwrap();
     let set = copy_set("table1-medium", tmp.path());
+    // A limit just above the size diagnosis.json takes on this set: it is written, a larger
+    // file after it (the HTML report, about 60 kB) is not. Read off an uninterrupted run, as
+    // the file grows with the candidate forms the diagnosis lists.
+    let reference = tmp.path().join("reference");
+    s.ok(args!["diagnose", &set, "--out", &reference]);
+    let json_bytes = std::fs::metadata(reference.join("diagnosis.json"))
+        .unwrap()
+        .len();
+    let blocks = json_bytes / 512 + 2;
+    let largest = std::fs::metadata(reference.join("report.html"))
+        .unwrap()
+        .len();
+    assert!(
+        largest > 2 * blocks * 512,
+        "the report ({largest} bytes) must outgrow the limit ({blocks} blocks)"
+    );
     for (k, ignore_signal) in [(0, false), (1, true)] {
         let out = tmp.path().join(format!("diag{k}"));
         let a = args!["diagnose", &set, "--out", &out];
-        // 20 kB: diagnosis.json (about 12 kB) is written, the figures (60 kB and more) are not.
-        let o = run_with_file_limit(s.exe(), a, 40, ignore_signal);
+        let o = run_with_file_limit(s.exe(), a, blocks as u32, ignore_signal);
         assert_no_panic(&text(&o.stderr), a);
         assert!(!o.status.success(), "the limit did not stop the write");
         assert!(out.join("diagnosis.json").is_file(), "{}", text(&o.stderr));

@@ -60,7 +60,7 @@ const SHOWN_CHANGE: f64 = 0.02;
 
 /// The share of its plateau the delayed form may have reached at the tests' peak: a change
 /// that sets in after the peak. Sooner, it competes with the model's own rise to the peak
-/// (r and ũ of Eq. (26)) instead of describing what comes after it — on dense sand, a rise
+/// (r and ũ of Eq. (29)) instead of describing what comes after it — on dense sand, a rise
 /// slower than the model's at one stress is fitted by it — so s_h is kept at or above
 /// slip to peak / √(−ln(1 − share)), about 3.1 times the slip to peak.
 const DELAYED_SHARE_AT_PEAK: f64 = 0.1;
