@@ -1,5 +1,29 @@
-//! Tests of the registry, over every registered family.
+//! Tests of the registry, over every registered family, and the data scales the families'
+//! tests start from.
 use super::*;
+
+/// A data set slid at one rate (0.01 mm/s) and one normal stress (100 kPa), its tests sliding
+/// 5 mm over 100 s, no hold, reversal or step, nothing read test by test: what the families'
+/// tests override field by field.
+pub(crate) fn one_rate_one_stress() -> DataScales {
+    DataScales {
+        v_ref: 0.01,
+        p_ref: 100.0,
+        slip_span_mm: 5.0,
+        duration_s: 100.0,
+        holds: 0,
+        reversals: 0,
+        pressure_levels: 1,
+        sliding_rates: 1,
+        traction_tests: 0,
+        healing_per_decade: None,
+        steps: StepReading::default(),
+        rate_and_state: None,
+        stress_trend: Default::default(),
+        slip_slope_per_mm: None,
+        slip_to_peak_mm: None,
+    }
+}
 
 #[test]
 fn every_family_is_consistent() {
@@ -16,21 +40,12 @@ fn every_family_is_consistent() {
             assert!(q.key.ends_with(q.name), "{}", q.key);
         }
         let scales = DataScales {
-            v_ref: 0.01,
-            p_ref: 100.0,
-            slip_span_mm: 5.0,
             duration_s: 600.0,
             holds: 1,
             reversals: 1,
             pressure_levels: 2,
             sliding_rates: 2,
-            traction_tests: 0,
-            healing_per_decade: None,
-            steps: StepReading::default(),
-            rate_and_state: None,
-            stress_trend: Default::default(),
-            slip_slope_per_mm: None,
-            slip_to_peak_mm: None,
+            ..one_rate_one_stress()
         };
         for (k, form) in fam.forms().iter().enumerate() {
             let g = fam.guess(k, &scales);

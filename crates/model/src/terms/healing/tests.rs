@@ -92,21 +92,10 @@ fn the_general_law_below_zero_levels_off_as_saturating_healing_does() {
 #[test]
 fn the_general_forms_are_tried_saturating_as_well() {
     let scales = super::super::DataScales {
-        v_ref: 0.01,
-        p_ref: 100.0,
-        slip_span_mm: 5.0,
         duration_s: 2000.0,
         holds: 3,
-        reversals: 0,
-        pressure_levels: 1,
-        sliding_rates: 1,
-        traction_tests: 0,
         healing_per_decade: Some(0.02),
-        steps: Default::default(),
-        rate_and_state: None,
-        stress_trend: Default::default(),
-        slip_slope_per_mm: None,
-        slip_to_peak_mm: None,
+        ..crate::terms::tests::one_rate_one_stress()
     };
     let fam: &dyn crate::terms::TermFamily = &TimeHealing;
     for (k, &(law, _)) in SHAPES.iter().enumerate().take(TRIED) {

@@ -79,21 +79,9 @@ fn a_file_names_the_form_by_its_shape_and_target() {
 /// A data set of three normal stresses about `p_ref`, nothing read test by test.
 fn three_stresses(p_ref: f64) -> DataScales {
     DataScales {
-        v_ref: 0.01,
         p_ref,
-        slip_span_mm: 5.0,
-        duration_s: 100.0,
-        holds: 0,
-        reversals: 0,
         pressure_levels: 3,
-        sliding_rates: 1,
-        traction_tests: 0,
-        healing_per_decade: None,
-        steps: crate::terms::StepReading::default(),
-        rate_and_state: None,
-        stress_trend: Default::default(),
-        slip_slope_per_mm: None,
-        slip_to_peak_mm: None,
+        ..crate::terms::tests::one_rate_one_stress()
     }
 }
 

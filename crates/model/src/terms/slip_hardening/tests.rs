@@ -75,7 +75,10 @@ fn each_form_has_its_closed_form() {
 
 #[test]
 fn first_guesses_scale_with_the_slip_of_a_test() {
-    let data = |slip_span_mm| one_rate_one_stress(slip_span_mm, None);
+    let data = |slip_span_mm| DataScales {
+        slip_span_mm,
+        ..crate::terms::tests::one_rate_one_stress()
+    };
     let short = SlipHardening.guess(0, &data(1.0));
     let long = SlipHardening.guess(0, &data(10.0));
     // Each start changes friction by the same amount over the slip of its test.
@@ -95,7 +98,11 @@ fn first_guesses_scale_with_the_slip_of_a_test() {
 
 #[test]
 fn the_delayed_form_sets_in_after_the_tests_peak() {
-    let data = |slip_to_peak_mm| one_rate_one_stress(4.0, slip_to_peak_mm);
+    let data = |slip_to_peak_mm| DataScales {
+        slip_span_mm: 4.0,
+        slip_to_peak_mm,
+        ..crate::terms::tests::one_rate_one_stress()
+    };
     let delayed = FORMS.iter().position(|f| f.key == "delayed").unwrap();
     let g = SlipHardening.guess(delayed, &data(Some(1.0)));
     // s_h (fitted index 1) at least where a tenth of the plateau is reached at the peak.
@@ -115,26 +122,4 @@ fn the_delayed_form_sets_in_after_the_tests_peak() {
     // No peak read, or another form: the default bounds.
     assert!(SlipHardening.guess(delayed, &data(None)).bounds.is_empty());
     assert!(SlipHardening.guess(0, &data(Some(1.0))).bounds.is_empty());
-}
-
-/// A set slid at one rate and one normal stress, its tests sliding `slip_span_mm`, their peak
-/// read at `slip_to_peak_mm` when given; nothing else read.
-fn one_rate_one_stress(slip_span_mm: f64, slip_to_peak_mm: Option<f64>) -> DataScales {
-    DataScales {
-        v_ref: 0.01,
-        p_ref: 100.0,
-        slip_span_mm,
-        duration_s: 100.0,
-        holds: 0,
-        reversals: 0,
-        pressure_levels: 1,
-        sliding_rates: 1,
-        traction_tests: 0,
-        healing_per_decade: None,
-        steps: crate::terms::StepReading::default(),
-        rate_and_state: None,
-        stress_trend: Default::default(),
-        slip_slope_per_mm: None,
-        slip_to_peak_mm,
-    }
 }

@@ -57,21 +57,8 @@ fn steady_sliding_carries_the_trend_times_the_normal_stress() {
 #[test]
 fn first_guesses_scale_with_the_duration() {
     let data = |duration_s| DataScales {
-        v_ref: 0.01,
-        p_ref: 100.0,
-        slip_span_mm: 5.0,
         duration_s,
-        holds: 0,
-        reversals: 0,
-        pressure_levels: 1,
-        sliding_rates: 1,
-        traction_tests: 0,
-        healing_per_decade: None,
-        steps: crate::terms::StepReading::default(),
-        rate_and_state: None,
-        stress_trend: Default::default(),
-        slip_slope_per_mm: None,
-        slip_to_peak_mm: None,
+        ..crate::terms::tests::one_rate_one_stress()
     };
     let short = TimeTrend.guess(0, &data(100.0));
     let long = TimeTrend.guess(0, &data(10_000.0));
