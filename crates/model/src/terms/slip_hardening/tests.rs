@@ -119,7 +119,50 @@ fn the_delayed_form_sets_in_after_the_tests_peak() {
     // Every start and the neutral lie within it.
     assert!(g.starts.iter().all(|s| s[1] >= b_lo));
     assert!(g.neutral[1] >= b_lo);
-    // No peak read, or another form: the default bounds.
+    // No peak read: the default bounds.
     assert!(SlipHardening.guess(delayed, &data(None)).bounds.is_empty());
-    assert!(SlipHardening.guess(0, &data(Some(1.0))).bounds.is_empty());
+}
+
+#[test]
+fn every_form_has_most_of_its_change_past_the_tests_peak() {
+    let data = DataScales {
+        slip_span_mm: 4.0,
+        slip_to_peak_mm: Some(0.2),
+        ..crate::terms::tests::one_rate_one_stress()
+    };
+    for (form, f) in FORMS.iter().enumerate() {
+        let g = SlipHardening.guess(form, &data);
+        assert_eq!(g.bounds.len(), 1, "{}", f.key);
+        let (i, lo, hi) = g.bounds[0];
+        assert_eq!((i, hi), (1, 1000.0), "{}", f.key);
+        let share_at_peak = |s_h: f64| {
+            let mut p = [0.0; MAX_TERM_PARAMS];
+            p[0] = 0.05;
+            p[1] = s_h;
+            let (at_peak, _) = SlipHardening.term(form, &p, 0.2, 0.0);
+            let (plateau, _) = SlipHardening.term(form, &p, 1e9, 0.0);
+            at_peak / plateau
+        };
+        // At the bound the term has reached at most half of its change at the peak (a tenth
+        // for the delayed form); any smaller scale would reach more.
+        let most = if f.key == "delayed" { 0.1 } else { 0.5 };
+        assert!(
+            (share_at_peak(lo) - most).abs() < 1e-6,
+            "{}: {}",
+            f.key,
+            share_at_peak(lo)
+        );
+        assert!(share_at_peak(0.5 * lo) > most + 0.05, "{}", f.key);
+        assert!(
+            g.starts.iter().all(|s| s[1] >= lo) && g.neutral[1] >= lo,
+            "{}",
+            f.key
+        );
+    }
+    // No peak read: the default bounds for every form.
+    let unread = DataScales {
+        slip_to_peak_mm: None,
+        ..data
+    };
+    assert!((0..FORMS.len()).all(|k| SlipHardening.guess(k, &unread).bounds.is_empty()));
 }
