@@ -317,15 +317,27 @@ impl Consts {
         slip_path: f64,
         time: f64,
     ) -> f64 {
-        let mut mu_eff = mu * l.mult;
-        let mut own = 0.0;
-        if STATE && self.has_state() {
-            let t = self.states.with(AtRestWith { slots });
-            mu_eff = mu_eff * t.factor + t.add;
-            own = t.own;
+        // μ of the last step runs through here to the next step's plastic excess, on the
+        // step's critical path: a multiplier of 1 and terms of 0 are skipped, not applied
+        // (the same value: μ·1 = μ, and the floor below absorbs the sign of a zero).
+        let mut mu_eff = if self.scaled { mu * l.mult } else { mu };
+        let with_state = STATE && self.has_state();
+        if with_state || self.path_terms {
+            let mut own = 0.0;
+            if with_state {
+                let t = self.states.with(AtRestWith { slots });
+                mu_eff = mu_eff * t.factor + t.add;
+                own = t.own;
+            }
+            mu_eff += self.path_terms(slip_path, time).0 + own;
         }
-        mu_eff += self.path_terms(slip_path, time).0 + own;
-        mu_eff.max(MIN_MU_EFF_FRACTION * l.mu_s)
+        let floor = MIN_MU_EFF_FRACTION * l.mu_s;
+        // f64::max (a NaN gives the floor), as one comparison.
+        if mu_eff > floor {
+            mu_eff
+        } else {
+            floor
+        }
     }
 }
 

@@ -349,7 +349,8 @@ fn solve_slip<S: StateStep>(
     let tol = RETURN_TOLERANCE * s.p + 8.0 * f64::EPSILON * trial;
     let mut lo = 0.0;
     let mut hi = trial / alpha;
-    if !(hi > 0.0 && hi.is_finite() && excess.is_finite()) {
+    // As `hi.is_finite() && excess.is_finite()`, in comparisons the compiler keeps as such.
+    if !(hi > 0.0 && hi < f64::INFINITY && excess.abs() < f64::INFINITY) {
         // A trial traction beyond floating point (absurd input): no return to speak of.
         return Err(StepError::NoConvergence {
             iterations: 0,
