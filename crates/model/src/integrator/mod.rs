@@ -105,9 +105,9 @@ pub(crate) struct Eval {
 pub(crate) fn exp_neg(x: f64) -> f64 {
     if x.abs() < 0.01 {
         let x = -x;
-        let x2 = x * x;
-        let tail = (1.0 / 6.0 + x * (1.0 / 24.0))
-            + x2 * ((1.0 / 120.0 + x * (1.0 / 720.0)) + x2 * (1.0 / 5040.0 + x * (1.0 / 40320.0)));
+        let (x2, x4) = (x * x, (x * x) * (x * x));
+        let tail = ((1.0 / 6.0 + x * (1.0 / 24.0)) + x2 * (1.0 / 120.0 + x * (1.0 / 720.0)))
+            + x4 * (1.0 / 5040.0 + x * (1.0 / 40320.0));
         1.0 + x * (1.0 + x * (0.5 + x * tail))
     } else {
         (-x).exp()
@@ -120,8 +120,7 @@ pub(crate) fn exp_neg(x: f64) -> f64 {
 #[inline]
 fn asin_small(x: f64) -> f64 {
     if x.abs() < 0.01 {
-        let x2 = x * x;
-        let x4 = x2 * x2;
+        let (x2, x4) = (x * x, (x * x) * (x * x));
         let tail = (1.0 / 6.0 + x2 * (3.0 / 40.0)) + x4 * (5.0 / 112.0 + x2 * (35.0 / 1152.0));
         x * (1.0 + x2 * tail)
     } else {
