@@ -1,7 +1,8 @@
 //! One-dimensional contact: the paper's tests (direct shear, ring torsion, cyclic shear).
 
 use crate::integrator::{
-    return_shear_as, return_slip_as, Consts, Local, Plastic, StepError, StepInput,
+    clamp_likely_within, return_shear_as, return_slip_as, Consts, Local, Plastic, StepError,
+    StepInput,
 };
 use crate::terms::StateSlots;
 use crate::Model;
@@ -252,7 +253,7 @@ impl Contact1 {
         State1 {
             slip,
             shear,
-            mu: pl.mu.clamp(self.k.mu_floor(local), local.mu_s),
+            mu: clamp_likely_within(pl.mu, self.k.mu_floor(local), local.mu_s),
             r: pl.r,
             cos_r: pl.c,
             sin_r: pl.s,

@@ -3,7 +3,7 @@
 //! slip and time, and the surfaces of elastic steps and of steady sliding.
 
 use super::states::{StateStep, States, WithStates};
-use super::RETURN_TOLERANCE;
+use super::{max_likely_above, RETURN_TOLERANCE};
 use crate::extensions::{Extensions, Target, MIN_MU_EFF_FRACTION};
 use crate::params::Params;
 use crate::terms::{RateEffect, StateSlots, StateTerms};
@@ -331,13 +331,7 @@ impl Consts {
             }
             mu_eff += self.path_terms(slip_path, time).0 + own;
         }
-        let floor = MIN_MU_EFF_FRACTION * l.mu_s;
-        // f64::max (a NaN gives the floor), as one comparison.
-        if mu_eff > floor {
-            mu_eff
-        } else {
-            floor
-        }
+        max_likely_above(mu_eff, MIN_MU_EFF_FRACTION * l.mu_s)
     }
 }
 

@@ -136,6 +136,42 @@ fn finite(x: f64) -> bool {
     x * 0.0 == 0.0
 }
 
+/// `x.clamp(lo, hi)` for an `x` that is almost always within the bounds. `clamp` compiles to a
+/// max and a min, two operations on the step's chain of dependent ones (λ → the next λ, which
+/// bounds the step's speed); a test instead is a branch the processor predicts, and the value
+/// flows on without waiting for it. Same value, NaN and panics included. (`black_box` keeps
+/// the compiler from turning the test back into the max and min: it cannot hoist it.)
+#[inline(always)]
+pub(crate) fn clamp_likely_within(x: f64, lo: f64, hi: f64) -> f64 {
+    if x >= lo && x <= hi {
+        x
+    } else {
+        std::hint::black_box(x.clamp(lo, hi))
+    }
+}
+
+/// `x.min(hi)` as [`clamp_likely_within`], for an `x` almost always at most `hi`.
+#[inline(always)]
+pub(crate) fn min_likely_below(x: f64, hi: f64) -> f64 {
+    // Strictly: min(−0, 0) and min(0, −0) are the library's to choose.
+    if x < hi {
+        x
+    } else {
+        std::hint::black_box(x.min(hi))
+    }
+}
+
+/// `x.max(lo)` as [`clamp_likely_within`], for an `x` almost always at least `lo`.
+#[inline(always)]
+pub(crate) fn max_likely_above(x: f64, lo: f64) -> f64 {
+    // Strictly, as `min_likely_below`.
+    if x > lo {
+        x
+    } else {
+        std::hint::black_box(x.max(lo))
+    }
+}
+
 /// (1 − e^(−x))/x and its derivative, with series near 0.
 #[inline]
 pub(crate) fn relax_weight(x: f64, e: f64) -> (f64, f64) {
@@ -155,9 +191,9 @@ fn eval<S: StateStep>(k: &Consts, states: &S, s: &StepInput, start: &StateSlots,
     // cos θ = cos θ₀ · exp(−kr λ) with θ = πr/2; dr/dλ = ũ cot θ = ũ c / sin θ.
     // θ − θ₀ = asin(sin θ cos θ₀ − cos θ sin θ₀): small within a step, so no inverse cosine.
     let c = s.c_start * exp_neg(l.kr * lam);
-    let sin = ((1.0 - c) * (1.0 + c)).max(0.0).sqrt();
+    let sin = max_likely_above((1.0 - c) * (1.0 + c), 0.0).sqrt();
     let dtheta = asin_small(sin * s.c_start - c * s.s_start);
-    let r = (s.r_start + dtheta * (1.0 / FRAC_PI_2)).min(1.0);
+    let r = min_likely_below(s.r_start + dtheta * (1.0 / FRAC_PI_2), 1.0);
     let dr = if sin > 0.0 {
         l.u_tilde * c / sin
     } else {
@@ -368,7 +404,7 @@ fn solve_slip<S: StateStep>(
     let mut lam = if s.lam_guess > 0.0 && s.lam_guess < hi {
         s.lam_guess
     } else {
-        (excess / alpha).clamp(0.0, hi)
+        clamp_likely_within(excess / alpha, 0.0, hi)
     };
     if lam <= 0.0 {
         lam = 0.5 * hi;
@@ -393,7 +429,7 @@ fn solve_slip<S: StateStep>(
         if hard.is_finite() && (delta * hard).abs() <= tol && delta.abs() <= 1e-3 * lam {
             return Ok(Plastic {
                 lam: lam + delta,
-                r: (e.r + e.dr * delta).clamp(0.0, 1.0),
+                r: clamp_likely_within(e.r + e.dr * delta, 0.0, 1.0),
                 c: e.c * (1.0 - s.local.kr * delta),
                 s: e.sin + e.c * FRAC_PI_2 * e.dr * delta,
                 mu: e.mu + e.dmu * delta,
@@ -587,7 +623,32 @@ pub(crate) struct Surface {
 
 #[cfg(test)]
 mod tests {
-    use super::{asin_small, exp_neg};
+    use super::{asin_small, clamp_likely_within, exp_neg, max_likely_above, min_likely_below};
+
+    /// The branches give what `clamp`, `min` and `max` give, bit for bit, NaN and zeros included.
+    #[test]
+    fn likely_bounds_are_the_library_bounds() {
+        let xs = [
+            -2.0,
+            -0.0,
+            0.0,
+            0.3,
+            1.0,
+            1.5,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+        for x in xs {
+            assert!(
+                same(clamp_likely_within(x, 0.0, 1.0), x.clamp(0.0, 1.0)),
+                "{x}"
+            );
+            assert!(same(min_likely_below(x, 1.0), x.min(1.0)), "{x}");
+            assert!(same(max_likely_above(x, 0.0), x.max(0.0)), "{x}");
+        }
+    }
 
     /// The series summed in pairs are the library's functions to round-off, and the value the
     /// same series summed one term after another (Horner) gave, bit for bit over a dense sweep.
