@@ -116,10 +116,13 @@ impl Contact1 {
     }
 
     /// Surface the step starts from: a traction passing through zero restarts loading at r = 0.
+    /// A reversal is rare; as a predicted branch (`black_box` keeps the compiler from making it
+    /// a select) r₀ reaches the excess without waiting for the test (see
+    /// [`crate::integrator::clamp_likely_within`]).
     #[inline]
     fn start_surface(st: &State1, new_shear_sign: f64) -> (f64, f64, f64) {
         if st.shear * new_shear_sign < 0.0 {
-            (0.0, 1.0, 0.0)
+            std::hint::black_box((0.0, 1.0, 0.0))
         } else {
             (st.r, st.cos_r, st.sin_r)
         }
