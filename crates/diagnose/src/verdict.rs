@@ -161,14 +161,13 @@ pub fn drift_outweighs(drift: &Comparison, candidate: &Comparison) -> bool {
 /// the drift's 373, where the drift left half the misfit at the holds and the velocity steps
 /// (development seed 41004). False where the record has no such piece.
 pub fn better_where_time_and_slip_part(drift: &Comparison, candidate: &Comparison) -> bool {
+    // The candidate's SSR over those pieces; None where the record has none.
     let parted = |c: &Comparison| -> Option<f64> {
-        let ssr: Vec<f64> = c
-            .pieces
+        c.pieces
             .iter()
             .filter(|p| matches!(p.kind, PieceKind::Hold | PieceKind::VelocityStep))
             .map(|p| p.candidate_ssr)
-            .collect();
-        (!ssr.is_empty()).then(|| ssr.iter().sum())
+            .reduce(|a, b| a + b)
     };
     match (parted(drift), parted(candidate)) {
         (Some(d), Some(c)) => d < c,
