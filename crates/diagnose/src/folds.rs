@@ -60,8 +60,8 @@ pub struct Piece {
     /// The situation it holds.
     pub kind: PieceKind,
     /// Where along the variable its kind is read at the piece lies ([`read_at`]), as a natural
-    /// log: a hold's duration in s, the slip rate a velocity step goes to in mm/s; `None` for
-    /// kinds read at no variable.
+    /// log: a hold's duration in s, the slip rate a velocity step goes to in mm/s, the normal
+    /// stress of a first loading in kPa; `None` for kinds read at no variable.
     pub at: Option<f64>,
     /// Held out in a fold whose training pieces of its kind all lie on one side of it
     /// ([`mark_beyond_training`]): its prediction carries the fitted law beyond every reading
@@ -86,8 +86,10 @@ impl Piece {
 /// Where piece `kind` (rows `rows` of `p`'s fitted rows) lies along the variable its kind is
 /// read at, as the segmentation read it: the natural log of a hold's duration in s (the hold's
 /// rows of the full record), the natural log of the slip rate after a velocity step (the rate
-/// level the piece starts, slip control only). Other kinds, and pieces the segmentation holds no
-/// such reading for, give `None`.
+/// level the piece starts, slip control only), the natural log of the normal stress in kPa a
+/// first loading is run at (the median over its rows: a first loading held out is predicted at
+/// its own stress from the tests at the others). Other kinds, and pieces the segmentation holds
+/// no such reading for, give `None`.
 fn read_at(p: &PreparedTest, kind: PieceKind, rows: std::ops::Range<usize>) -> Option<f64> {
     let seg = &p.segmentation;
     let time = &p.full.time;
@@ -108,6 +110,10 @@ fn read_at(p: &PreparedTest, kind: PieceKind, rows: std::ops::Range<usize>) -> O
             let r = first(SegmentKind::AfterVelocityStep)?;
             let level = seg.levels.iter().find(|l| l.start <= r && r < l.end)?;
             positive_ln(level.rate.abs())
+        }
+        PieceKind::InitialLoading => {
+            let mut normal: Vec<f64> = p.fit.normal.get(rows)?.to_vec();
+            positive_ln(subfric_reading::stats::median(&mut normal)?)
         }
         _ => None,
     }

@@ -79,16 +79,20 @@ fn set_of(time: Vec<f64>, slip: Vec<f64>) -> ExperimentSet {
 fn quiet(_: Step) {}
 
 #[test]
-fn a_hold_is_read_at_its_duration_and_a_velocity_step_at_the_rate_it_goes_to() {
+fn a_hold_is_read_at_its_duration_a_velocity_step_at_its_rate_and_a_first_loading_at_its_stress() {
     // The hold of `shs_set`: 50 rows 4 s apart after the first slide.
     let pieces = crate::folds::pieces(&crate::prepare_for_diagnosis(&shs_set(200)));
     let hold = pieces.iter().find(|p| p.kind == PieceKind::Hold).unwrap();
     let at = hold.at.expect("a hold is read at its duration").exp();
     assert!((150.0..=200.0).contains(&at), "{at}");
-    assert!(pieces
+    // The first loading at the test's normal stress, 100 kPa.
+    let first: Vec<f64> = pieces
         .iter()
         .filter(|p| p.kind == PieceKind::InitialLoading)
-        .all(|p| p.at.is_none()));
+        .map(|p| p.at.expect("a first loading is read at its stress").exp())
+        .collect();
+    assert_eq!(first.len(), 1, "{pieces:?}");
+    assert!((first[0] - 100.0).abs() < 1e-9, "{first:?}");
     // Slides at 0.01, 0.1 and 0.01 mm/s, 300 rows each, 1 s apart.
     let (mut time, mut slip) = (vec![0.0], vec![0.0]);
     for rate in [0.01, 0.1, 0.01] {

@@ -287,6 +287,52 @@ fn an_effect_the_events_show_needs_most_of_their_pieces_predicted_better_not_eve
 }
 
 #[test]
+fn first_loadings_beyond_every_trained_stress_are_left_out_only_for_effects_within_tests() {
+    use crate::folds::Piece;
+    let beyond = |kind, test| Piece {
+        beyond_training: true,
+        ..Piece::new(test, 0, 10, kind)
+    };
+    let within = |kind, test| Piece::new(test, 0, 10, kind);
+    // Monotonic tests at 50 and 400 kPa held out beyond the trained stresses, the one at
+    // 100 kPa between them; holds of 10 and 1000 s beyond, 100 s between.
+    let pieces = vec![
+        beyond(PieceKind::InitialLoading, 0),
+        beyond(PieceKind::InitialLoading, 1),
+        within(PieceKind::InitialLoading, 2),
+        beyond(PieceKind::Hold, 2),
+        within(PieceKind::Hold, 2),
+        beyond(PieceKind::Hold, 2),
+    ];
+    let kinds = |w: Option<Vec<Piece>>| -> Vec<(PieceKind, usize)> {
+        w.expect("some left out, some kept")
+            .iter()
+            .map(|p| (p.kind, p.test))
+            .collect()
+    };
+    // Healing is judged where it lives, between readings: the middle hold and the first
+    // loading at the middle stress.
+    assert_eq!(
+        kinds(within_readings(&pieces, false)),
+        [(PieceKind::InitialLoading, 2), (PieceKind::Hold, 2)]
+    );
+    // A pressure law is read across the stresses: every first loading stays, the holds
+    // beyond their like do not.
+    assert_eq!(
+        kinds(within_readings(&pieces, true)),
+        [
+            (PieceKind::InitialLoading, 0),
+            (PieceKind::InitialLoading, 1),
+            (PieceKind::InitialLoading, 2),
+            (PieceKind::Hold, 2)
+        ]
+    );
+    // Nothing beyond: nothing to judge apart.
+    let plain: Vec<Piece> = pieces.iter().map(|p| within(p.kind, p.test)).collect();
+    assert!(within_readings(&plain, false).is_none());
+}
+
+#[test]
 fn a_form_whose_parameters_all_sit_at_their_neutral_values_is_switched_off() {
     let lib = crate::candidates::every_form();
     let healing = lib
