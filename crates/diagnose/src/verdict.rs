@@ -336,9 +336,10 @@ pub fn decide_further(
     // the imprecision of the noise estimate), corroborated by the events read one by one, and
     // not worse elsewhere: no significant loss of evidence over all pieces, or a material share
     // of the whole gap removed (many small pieces slightly worse can outweigh a few large ones
-    // much better in D), and the misfit over all held-out pieces not raised (a few pieces much
-    // worse can hide behind many slightly better ones in D: healing that fits the holds and
-    // doubles the excess elsewhere).
+    // much better in D), and the misfit of a typical held-out piece not raised, each piece one
+    // vote (a few pieces much worse can hide behind many slightly better ones in D: healing
+    // that fits the holds and doubles the excess elsewhere; the summed excess instead hangs on
+    // the largest piece, see [`Comparison::typical_piece_not_worse`]).
     // A candidate that passes on all pieces (as a first effect must) qualifies too when its own
     // kind shows significant improvement as well (slip hardening shows on the long first
     // loadings as much as after them); one that improves only other kinds is standing in for
@@ -349,7 +350,7 @@ pub fn decide_further(
         let on_own = own[i].reference_chi2 > th.gap_chi2
             && passes(&own[i], th)
             && (all.score > -th.min_score || material(all, th))
-            && all.excess_shrink >= 0.0;
+            && all.typical_piece_not_worse();
         let on_all = all.reference_chi2 > th.gap_chi2
             && passes(all, th)
             && own[i].score >= th.min_score
