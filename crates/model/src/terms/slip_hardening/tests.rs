@@ -1,7 +1,7 @@
 use super::*;
 
 #[test]
-fn a_change_with_slip_beyond_what_specimens_differ_by_shows_it_outright() {
+fn a_change_with_slip_beyond_what_specimens_differ_by_shows_it_and_one_read_flat_rules_it_out() {
     let with = |lo: f64, hi: f64| super::super::EventReadings {
         slip_change_relative: Some(super::super::Reading {
             value: 0.5 * (lo + hi),
@@ -22,6 +22,13 @@ fn a_change_with_slip_beyond_what_specimens_differ_by_shows_it_outright() {
     assert!(!f.shown(&super::super::EventReadings::default()));
     // The reading lives on the first loadings.
     assert_eq!(f.shown_in(), &[Shows::FirstLoadings]);
+    // Read flat within what specimens differ by, the whole interval: ruled out. An interval
+    // reaching past the band leaves room; a change shown is no contradiction; nothing read
+    // rules nothing out.
+    assert!(f.contradicted(&with(-0.007, 0.007)));
+    assert!(!f.contradicted(&with(-0.01, 0.03)));
+    assert!(!f.contradicted(&with(-0.112, -0.107)));
+    assert!(!f.contradicted(&super::super::EventReadings::default()));
 }
 
 #[test]
