@@ -23,10 +23,12 @@ fn a_change_with_slip_beyond_what_specimens_differ_by_shows_it_and_one_read_flat
     // The reading lives on the first loadings.
     assert_eq!(f.shown_in(), &[Shows::FirstLoadings]);
     // Read flat within what specimens differ by, the whole interval: ruled out. An interval
-    // reaching past the band leaves room; a change shown is no contradiction; nothing read
-    // rules nothing out.
+    // reaching past the band leaves room; a change clear of zero, however small over a short
+    // slide, is none; a change shown is none; nothing read rules nothing out.
     assert!(f.contradicted(&with(-0.007, 0.007)));
     assert!(!f.contradicted(&with(-0.01, 0.03)));
+    assert!(!f.contradicted(&with(0.011, 0.015)));
+    assert!(!f.contradicted(&with(-0.015, -0.002)));
     assert!(!f.contradicted(&with(-0.112, -0.107)));
     assert!(!f.contradicted(&super::super::EventReadings::default()));
 }
