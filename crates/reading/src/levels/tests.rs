@@ -237,3 +237,35 @@ fn a_quick_decay_then_a_softening_to_the_end_of_the_slide_reads_its_residual_and
     );
     assert!(l.residual.is_some(), "{l:?}");
 }
+
+#[test]
+fn a_slide_cut_short_of_its_peak_distance_does_not_outweigh_the_long_ones() {
+    // Three monotonic tests harden by 17 % over 4.8 mm past a peak reached at 0.25 mm; a
+    // fourth is cut 0.006 mm past its peak by a velocity step: its change over that slide is
+    // a tenth of a per cent with the narrowest interval of all. Pooled by inverse variance it
+    // took the reading to zero; only slides at least as long as the way to the peak count.
+    let levels = |span: f64, slope: f64, half: f64, to_peak: Option<f64>| TestLevels {
+        test: "t".into(),
+        normal_kpa: 100.0,
+        rate_mm_s: 0.01,
+        peak: None,
+        slip_to_peak_mm: to_peak,
+        residual: Some(Estimate::symmetric(0.36, 0.007)),
+        slope_per_mm: Some(Estimate::symmetric(slope, half)),
+        slope_span_mm: Some(span),
+    };
+    let mut read: Vec<TestLevels> = (0..3)
+        .map(|_| levels(4.8, 0.0126, 0.0005, Some(0.25)))
+        .collect();
+    read.push(levels(0.006, 0.092, 0.013, Some(0.22)));
+    // A midrun test read without a peak: its slide is weighed against the tests' median
+    // way to the peak, and 0.18 mm falls short of it.
+    read.push(levels(0.18, -0.015, 0.0065, None));
+    let change = levels_of(read.clone()).slip_change_relative.unwrap();
+    assert!(change.lo > 0.15 && change.hi < 0.19, "{change:?}");
+    // The long slides alone give the same reading: the short ones count for nothing.
+    assert_eq!(
+        levels_of(read[..3].to_vec()).slip_change_relative,
+        Some(change)
+    );
+}
