@@ -122,7 +122,13 @@ impl Residuals for Problem<'_> {
     }
 
     fn residuals_at(&self, x: &[f64], out: &mut Vec<f64>) {
-        SCRATCH.with(|s| self.residuals(x, out, &mut s.borrow_mut()));
+        // A worker waiting inside a parallel model run (a set of many tests) may be handed
+        // another model run, a Jacobian's column say, while it holds its buffer: that run
+        // then simulates into a buffer of its own (the values do not depend on the buffer).
+        SCRATCH.with(|s| match s.try_borrow_mut() {
+            Ok(mut scratch) => self.residuals(x, out, &mut scratch),
+            Err(_) => self.residuals(x, out, &mut Vec::new()),
+        });
     }
 
     fn observations(&self) -> usize {

@@ -128,32 +128,41 @@ pub struct LmResult {
 
 /// Forward-difference Jacobian of the residuals at `x` (N × m), stepping inward at the upper
 /// wall. Columns with `only[k]` false are left zero (not evaluated).
+///
+/// The columns are independent model runs and are evaluated in parallel: a least-squares run
+/// is a chain of Jacobians, and where one run is all that is left (the last polish of a
+/// diagnosis, the slowest velocity step) its columns are the only work the other cores can
+/// take. Each column is computed exactly as in a serial loop, so the matrix is the same.
 pub fn jacobian<R: Residuals + ?Sized>(
     p: &R,
     x: &[f64],
     r0: &[f64],
     only: Option<&[bool]>,
 ) -> DMatrix<f64> {
+    use rayon::prelude::*;
     let n = r0.len();
     let m = x.len();
     let hi = p.bounds().1;
+    let columns: Vec<(usize, f64, Vec<f64>)> = (0..m)
+        .into_par_iter()
+        .filter(|&k| only.is_none_or(|mask| mask[k]))
+        .map(|k| {
+            let mut h = JACOBIAN_STEP * (1.0 + x[k].abs());
+            if x[k] + h > hi[k] {
+                h = -h;
+            }
+            let mut xp = x.to_vec();
+            xp[k] = x[k] + h;
+            let mut r = Vec::with_capacity(n);
+            p.residuals_at(&xp, &mut r);
+            (k, h, r)
+        })
+        .collect();
     let mut j = DMatrix::zeros(n, m);
-    let mut r = Vec::with_capacity(n);
-    let mut xp = x.to_vec();
-    for k in 0..m {
-        if only.is_some_and(|mask| !mask[k]) {
-            continue;
-        }
-        let mut h = JACOBIAN_STEP * (1.0 + x[k].abs());
-        if x[k] + h > hi[k] {
-            h = -h;
-        }
-        xp[k] = x[k] + h;
-        p.residuals_at(&xp, &mut r);
+    for (k, h, r) in columns {
         for i in 0..n {
             j[(i, k)] = (r[i] - r0[i]) / h;
         }
-        xp[k] = x[k];
     }
     j
 }
