@@ -209,25 +209,6 @@ fn elastic_stiffness(
     })
 }
 
-/// The events read one by one, the elastic stiffness the diagnosis holds, and whether that
-/// stiffness is the velocity steps' springs (`fit` reads α_t off unloads and reloads or tries it
-/// on the first loadings; the springs are the diagnosis's own reading).
-fn events_and_stiffness(
-    prepared: &[PreparedTest],
-    opts: &DiagnoseOptions,
-    run_counter: &RunCounter,
-) -> (
-    crate::events::EventAnalysis,
-    Option<subfric_reading::Stiffness>,
-    bool,
-) {
-    let resolved = resolved_stiffness(prepared);
-    let events = crate::events::analyse(prepared, resolved.as_ref());
-    let alpha_from_steps = resolved.is_none() && events.stiffness().is_some();
-    let stiffness = elastic_stiffness(prepared, resolved, &events, opts, run_counter);
-    (events, stiffness, alpha_from_steps)
-}
-
 /// `prepared` with the bedding of each first loading taken out of its travel where the rise is
 /// a closure of the rig ([`subfric_fit::fit_bedding`], each refit of the base a polish from
 /// `calibrated`), and the bedding found.
@@ -251,6 +232,96 @@ fn bedding_taken_out(
     subfric_fit::fit_bedding(prepared, calibrated, &refit)
 }
 
+/// The base calibrated, and the tests it was calibrated on where a bedding was taken out.
+struct Calibrated<'a> {
+    cx: Context<'a>,
+    calibrated: Model,
+    /// The tests with the bedding taken out (`None`: none was).
+    seated: Option<Vec<PreparedTest>>,
+    bedding: Vec<subfric_fit::Bedding>,
+}
+
+/// The base calibrated on `prepared` with the elastic stiffness `stiffness`, then, where a first
+/// loading's rise is a closure of the rig rather than the interface's, on the tests with that
+/// bedding taken out of the travel (see subfric_fit::bedding), from the first calibration.
+fn calibrated_on_seated<'a>(
+    prepared: &[PreparedTest],
+    stiffness: Option<&subfric_reading::Stiffness>,
+    opts: &'a DiagnoseOptions,
+    report: &'a (dyn Fn(Step) + Sync),
+    run_counter: &RunCounter,
+) -> Result<Calibrated<'a>, DiagnoseError> {
+    let (cx, template) = Context::new(prepared, stiffness, opts, report, run_counter);
+    cx.step(1, 0, 0);
+    let calibrated = calibrated_base(&cx, &template, &[])?;
+    cx.trace("base fit");
+    let (seated, bedding) = bedding_taken_out(&cx, &template, prepared, &calibrated);
+    if bedding.is_empty() {
+        return Ok(Calibrated {
+            cx,
+            calibrated,
+            seated: None,
+            bedding,
+        });
+    }
+    let (cx, _) = Context::new(&seated, stiffness, opts, report, run_counter);
+    let start = calibrated_base(&cx, &template, &[calibrated])?;
+    cx.trace("base fit on the travel with the bedding taken out");
+    Ok(Calibrated {
+        cx,
+        calibrated: start,
+        seated: Some(seated),
+        bedding,
+    })
+}
+
+/// What a diagnosis begins with: the events read one by one, the elastic stiffness it holds,
+/// whether that stiffness is the velocity steps' springs (`fit` reads α_t off unloads and
+/// reloads or tries it on the first loadings; the springs are the diagnosis's own reading), and
+/// the base calibrated with it ([`calibrated_on_seated`]).
+struct Begun<'a> {
+    events: crate::events::EventAnalysis,
+    stiffness: Option<subfric_reading::Stiffness>,
+    alpha_from_steps: bool,
+    base: Calibrated<'a>,
+}
+
+/// Reads the events and calibrates the base ([`Begun`]). Where the record resolves α_t
+/// (unloads, reloads) the events decide nothing the calibration needs (they seed the candidate
+/// forms, later): the two run side by side, so a velocity step slow to fit no longer holds up
+/// the base fit while the other cores wait. Each is computed as it would be alone.
+fn events_and_calibrated<'a>(
+    prepared: &[PreparedTest],
+    opts: &'a DiagnoseOptions,
+    report: &'a (dyn Fn(Step) + Sync),
+    run_counter: &RunCounter,
+) -> Result<Begun<'a>, DiagnoseError> {
+    let resolved = resolved_stiffness(prepared);
+    if resolved.is_some() {
+        let (events, base) = rayon::join(
+            || crate::events::analyse(prepared, resolved.as_ref()),
+            || calibrated_on_seated(prepared, resolved.as_ref(), opts, report, run_counter),
+        );
+        // What `elastic_stiffness` decides when the record resolves α_t.
+        return Ok(Begun {
+            events,
+            stiffness: resolved,
+            alpha_from_steps: false,
+            base: base?,
+        });
+    }
+    let events = crate::events::analyse(prepared, None);
+    let alpha_from_steps = events.stiffness().is_some();
+    let stiffness = elastic_stiffness(prepared, None, &events, opts, run_counter);
+    let base = calibrated_on_seated(prepared, stiffness.as_ref(), opts, report, run_counter)?;
+    Ok(Begun {
+        events,
+        stiffness,
+        alpha_from_steps,
+        base,
+    })
+}
+
 /// [`diagnose`](fn@diagnose), telling `report` where it is ([`Step`]) as it goes and counting
 /// its model runs into `run_counter` (the caller's progress display reads them there).
 pub fn diagnose_reporting(
@@ -262,23 +333,20 @@ pub fn diagnose_reporting(
     if prepared.iter().all(|p| p.full.len() < MIN_ROWS) {
         return Err(DiagnoseError::TooLittleData);
     }
-    let (events, stiffness, alpha_from_steps) = events_and_stiffness(prepared, opts, run_counter);
-    let (cx, template) = Context::new(prepared, stiffness.as_ref(), opts, report, run_counter);
-    cx.step(1, 0, 0);
-    let calibrated = calibrated_base(&cx, &template, &[])?;
-    cx.trace("base fit");
-    // Bedding: where a first loading's rise is a closure of the rig rather than the
-    // interface's, it is taken out of the travel, and the diagnosis runs on the corrected tests
-    // (see subfric_fit::bedding); the base is calibrated again on them.
-    let (seated, bedding) = bedding_taken_out(&cx, &template, prepared, &calibrated);
-    let (prepared, mut cx, calibrated) = if bedding.is_empty() {
-        (prepared, cx, calibrated)
-    } else {
-        let (cx, _) = Context::new(&seated, stiffness.as_ref(), opts, report, run_counter);
-        let start = calibrated_base(&cx, &template, &[calibrated])?;
-        cx.trace("base fit on the travel with the bedding taken out");
-        (&seated[..], cx, start)
-    };
+    let Begun {
+        events,
+        stiffness,
+        alpha_from_steps,
+        base:
+            Calibrated {
+                mut cx,
+                calibrated,
+                seated,
+                bedding,
+            },
+    } = events_and_calibrated(prepared, opts, report, run_counter)?;
+    // The diagnosis runs on the tests with any bedding taken out.
+    let prepared = seated.as_deref().unwrap_or(prepared);
     cx.features.seeds = events.seeds();
     cx.events = events.clone();
     let base = fit_base(&mut cx, calibrated)?;
