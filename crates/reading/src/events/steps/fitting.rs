@@ -250,6 +250,41 @@ fn readings_with_free_trend(
     Some(intervals(&xj, cov_j.as_deref()))
 }
 
+/// The 95 % intervals of a, b, D_c and a − b at the optimum `x` of `prob` (every row of the
+/// window; `r` its residuals there, `s2` their variance scale): from the covariance with the
+/// trend's own uncertainty `trend_se` added, widened to cover the reading with the trend fitted
+/// over the whole window instead (from this optimum) — a wander after the step can pass for a
+/// trend there, and one before it here; the record does not say which. The two are independent
+/// refits on the `thinned` window and run side by side.
+fn intervals_at_optimum(
+    prob: &RsfProblem,
+    thinned: &Window,
+    f: &StepFitting,
+    (x, law, compliant): (&[f64], StateLaw, bool),
+    r: &[f64],
+    s2: f64,
+    trend_se: f64,
+) -> (Estimate, Estimate, Estimate, Estimate) {
+    let (cov, free_trend) = rayon::join(
+        || {
+            let mut cov = covariance(prob, x, r, s2);
+            if let Some(c) = cov.as_mut() {
+                add_trend_uncertainty(c, thinned, f, (x, law, compliant), trend_se);
+            }
+            cov
+        },
+        || readings_with_free_trend(prob.w, thinned, f, (x, law, compliant)),
+    );
+    let (mut a_est, mut b_est, mut dc_est, mut a_minus_b) = intervals(x, cov.as_deref());
+    if let Some((a_j, b_j, dc_j, amb_j)) = free_trend {
+        a_est = a_est.covering(&a_j);
+        b_est = b_est.covering(&b_j);
+        dc_est = dc_est.covering(&dc_j);
+        a_minus_b = a_minus_b.covering(&amb_j);
+    }
+    (a_est, b_est, dc_est, a_minus_b)
+}
+
 /// Fits the rate-and-state slider to the window (both laws; rigid, and with a fitted spring
 /// when `compliant_start` is given) and compares with the null model.
 pub(in crate::events) fn fit_step(
@@ -295,23 +330,22 @@ pub(in crate::events) fn fit_step(
     };
     let (r, ssr, s2) = residuals_and_scale(&prob, &x);
     let n = r.len();
-    let mut cov = covariance(&prob, &x, &r, s2);
-    if let Some(c) = cov.as_mut() {
-        add_trend_uncertainty(c, &thinned, &fitting, (&x, law, compliant), trend_se);
-    }
-    let (mut a_est, mut b_est, mut dc_est, mut a_minus_b) = intervals(&x, cov.as_deref());
-    // The reading with the trend fitted over the whole window instead (from this optimum): a
-    // wander after the step can pass for a trend there, and one before it here; the record
-    // does not say which, so each interval covers both readings.
-    if let Some((a_j, b_j, dc_j, amb_j)) =
-        readings_with_free_trend(full, &thinned, &fitting, (&x, law, compliant))
-    {
-        a_est = a_est.covering(&a_j);
-        b_est = b_est.covering(&b_j);
-        dc_est = dc_est.covering(&dc_j);
-        a_minus_b = a_minus_b.covering(&amb_j);
-    }
-    let (null, null_length_mm) = fit_null(w, mu0, trend, &change, span);
+    // The intervals and the null model are independent fits from the optimum: they run side
+    // by side (with a compliant slider and a short D_c each takes seconds on one core).
+    let ((a_est, b_est, dc_est, a_minus_b), (null, null_length_mm)) = rayon::join(
+        || {
+            intervals_at_optimum(
+                &prob,
+                &thinned,
+                &fitting,
+                (&x, law, compliant),
+                &r,
+                s2,
+                trend_se,
+            )
+        },
+        || fit_null(w, mu0, trend, &change, span),
+    );
     let evidence = (null - ssr) / s2;
     let change_measured = change.excludes_zero();
     let mut fit = StepFit {
