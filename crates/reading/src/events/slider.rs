@@ -64,6 +64,8 @@ impl Slider {
         let mut out = Vec::with_capacity(time.len());
         let mut mu = self.mu0;
         let mut psi = (self.d_c / self.v0).ln();
+        // ln(v₀/D_c), once per run rather than once per row and substep (the same value).
+        let ln_v0_dc = (self.v0 / self.d_c).ln();
         out.push(mu);
         for i in 1..time.len() {
             let dt = time[i] - time[i - 1];
@@ -74,12 +76,9 @@ impl Slider {
             }
             if self.k.is_infinite() {
                 psi = self.rigid_state(psi, v, dt);
-                mu = self.mu0
-                    + self.a * (v / self.v0).ln()
-                    + self.b * (self.v0 / self.d_c).ln()
-                    + self.b * psi;
+                mu = self.mu0 + self.a * (v / self.v0).ln() + self.b * ln_v0_dc + self.b * psi;
             } else {
-                (mu, psi) = self.compliant_interval(mu, psi, v, dt)?;
+                (mu, psi) = self.compliant_interval(mu, psi, v, dt, ln_v0_dc)?;
             }
             if !mu.is_finite() {
                 return None;
@@ -105,11 +104,6 @@ impl Slider {
         }
     }
 
-    /// Slip rate of the block at friction `mu` and state `psi` = ln θ.
-    fn rate(&self, mu: f64, psi: f64) -> f64 {
-        self.rate_and_log(mu, psi, (self.v0 / self.d_c).ln()).0
-    }
-
     /// The slip rate v and ln(v/D_c), given `ln_v0_dc` = ln(v₀/D_c): the logarithm comes from
     /// the exponent, not from v (the integration's inner loop would take one per iteration).
     #[inline]
@@ -118,9 +112,17 @@ impl Slider {
         (self.v0 * x.exp(), ln_v0_dc + x)
     }
 
-    /// One interval of constant load-point rate `v_lp` under a finite spring.
-    fn compliant_interval(&self, mu: f64, psi: f64, v_lp: f64, dt: f64) -> Option<(f64, f64)> {
-        let v_now = self.rate(mu, psi);
+    /// One interval of constant load-point rate `v_lp` under a finite spring (`ln_v0_dc` is
+    /// ln(v₀/D_c)).
+    fn compliant_interval(
+        &self,
+        mu: f64,
+        psi: f64,
+        v_lp: f64,
+        dt: f64,
+        ln_v0_dc: f64,
+    ) -> Option<(f64, f64)> {
+        let v_now = self.rate_and_log(mu, psi, ln_v0_dc).0;
         let travel = v_lp.max(v_now) * dt;
         let n = ((travel / (SUBSTEP_SHARE_OF_DC * self.d_c)).ceil() as usize).max(1);
         if n > MAX_SUBSTEPS {
@@ -129,15 +131,22 @@ impl Slider {
         let h = dt / n as f64;
         let (mut m, mut p) = (mu, psi);
         for _ in 0..n {
-            (m, p) = self.backward_euler(m, p, v_lp, h)?;
+            (m, p) = self.backward_euler(m, p, v_lp, h, ln_v0_dc)?;
         }
         Some((m, p))
     }
 
-    /// One backward-Euler substep of length `h` in (μ, ln θ), solved by Newton's method.
-    fn backward_euler(&self, mu_n: f64, psi_n: f64, v_lp: f64, h: f64) -> Option<(f64, f64)> {
+    /// One backward-Euler substep of length `h` in (μ, ln θ), solved by Newton's method
+    /// (`ln_v0_dc` is ln(v₀/D_c)).
+    fn backward_euler(
+        &self,
+        mu_n: f64,
+        psi_n: f64,
+        v_lp: f64,
+        h: f64,
+        ln_v0_dc: f64,
+    ) -> Option<(f64, f64)> {
         let (a, b, dc, k) = (self.a, self.b, self.d_c, self.k);
-        let ln_v0_dc = (self.v0 / dc).ln();
         let (mut mu, mut psi) = (mu_n, psi_n);
         for _ in 0..NEWTON_ITERATIONS {
             let (v, ln_v_dc) = self.rate_and_log(mu, psi, ln_v0_dc);
