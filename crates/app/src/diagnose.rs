@@ -214,24 +214,30 @@ fn write_diagnosis(
     write_json(&json_file, &diagnosed.json)?;
     write_text(&out.join("diagnosis.txt"), &format!("{report}\n"))?;
     let label = effects_label(d);
-    let mut plots = crate::render::figures::diagnosis_figures(
-        name,
-        &diagnosed.prepared,
-        &d.base.model,
-        (!d.verdict.effects.is_empty()).then_some((&d.final_model, label.as_str())),
-        &out.join("figures"),
-    )?;
-    plots.extend(crate::render::events_figures::event_figures(
-        name,
-        &d.events,
-        &out.join("figures"),
-    )?);
-    let f = out.join("residual-by-segment.png");
-    write_figure(&residual_by_segment(name, d), &f)?;
-    plots.push(f);
-    let f = out.join("residual-by-test.png");
-    write_figure(&residual_by_test(name, d, &diagnosed.prepared), &f)?;
-    plots.push(f);
+    let figures = out.join("figures");
+    // The figures of the tests and of the events render in parallel as one batch; the two bar
+    // figures, outside `figures/`, beside them rather than after them.
+    let (plots, bars) = rayon::join(
+        || {
+            crate::render::figures::diagnosis_figures(
+                name,
+                &diagnosed.prepared,
+                &d.base.model,
+                (!d.verdict.effects.is_empty()).then_some((&d.final_model, label.as_str())),
+                crate::render::events_figures::event_figures(name, &d.events, &figures),
+                &figures,
+            )
+        },
+        || -> Result<Vec<PathBuf>> {
+            let by_segment = out.join("residual-by-segment.png");
+            write_figure(&residual_by_segment(name, d), &by_segment)?;
+            let by_test = out.join("residual-by-test.png");
+            write_figure(&residual_by_test(name, d, &diagnosed.prepared), &by_test)?;
+            Ok(vec![by_segment, by_test])
+        },
+    );
+    let mut plots = plots?;
+    plots.extend(bars?);
     Ok((json_file, plots))
 }
 

@@ -3,10 +3,9 @@
 //! friction measured on the record, per e-fold of rate), and the peak gain after each hold
 //! against the hold time with the healing line.
 
-use anyhow::Result;
 use std::path::{Path, PathBuf};
 use subfric_diagnose::events::{Estimate, EventAnalysis};
-use subfric_plot::{write_figure, Figure, Panel, Series, Style};
+use subfric_plot::{Figure, Panel, Series, Style};
 
 /// A series of values and one two-point series per interval (no legend entry): the plot crate
 /// draws intervals as short vertical lines. An interval's ends are clipped to twice the
@@ -29,8 +28,9 @@ fn with_intervals(label: &str, x: &[f64], e: &[Estimate], style: Style) -> Vec<S
     out
 }
 
-/// Writes the figures into `out` (created by the caller); returns the files written.
-pub(crate) fn event_figures(name: &str, e: &EventAnalysis, out: &Path) -> Result<Vec<PathBuf>> {
+/// The figures, each with the file in `out` it is to be written to (the caller renders them
+/// with the other figures of the diagnosis, in parallel).
+pub(crate) fn event_figures(name: &str, e: &EventAnalysis, out: &Path) -> Vec<(Figure, PathBuf)> {
     let mut files = Vec::new();
     if !e.steps.is_empty() {
         let x: Vec<f64> = (1..=e.steps.len()).map(|k| k as f64).collect();
@@ -69,9 +69,7 @@ pub(crate) fn event_figures(name: &str, e: &EventAnalysis, out: &Path) -> Result
         )
         .with_residual(Panel::new("a − b [-]", lower).with_zero_line())
         .with_whole_x();
-        let file = out.join("velocity-steps-one-by-one.png");
-        write_figure(&fig, &file)?;
-        files.push(file);
+        files.push((fig, out.join("velocity-steps-one-by-one.png")));
     }
     if e.holds.len() >= 2 {
         let x: Vec<f64> = e
@@ -100,9 +98,7 @@ pub(crate) fn event_figures(name: &str, e: &EventAnalysis, out: &Path) -> Result
             "log₁₀ hold time [s]",
             Panel::new("Δμ peak after the hold [-]", series).with_zero_line(),
         );
-        let file = out.join("holds-one-by-one.png");
-        write_figure(&fig, &file)?;
-        files.push(file);
+        files.push((fig, out.join("holds-one-by-one.png")));
     }
-    Ok(files)
+    files
 }

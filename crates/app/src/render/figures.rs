@@ -340,23 +340,33 @@ fn test_axis(p: &PreparedTest) -> (Vec<f64>, &'static str) {
 /// The figures of a diagnosis: per test the measured curve, the base model and the model with
 /// the named effects (against the test's axis, [`test_axis`]), and one zoom
 /// per velocity step and per hold, against slip from the event, so that a specialist can read
-/// the transients.
+/// the transients; then the figures `more` (drawn by the caller, written into `out` too).
 pub fn diagnosis_figures(
     set_name: &str,
     tests: &[PreparedTest],
     base: &Model,
     with_effects: Option<(&Model, &str)>,
+    more: Vec<(Figure, PathBuf)>,
     out: &Path,
 ) -> Result<Vec<PathBuf>> {
+    use rayon::prelude::*;
     claim_folder(out)?;
+    // Each test's curves are simulated on all its rows, two models per test: in parallel, one
+    // test per core (a long record spends a second on them serially).
+    let curves: Vec<Option<FrictionCurves>> = tests
+        .par_iter()
+        .map(|p| {
+            (p.full.control == Control::Slip)
+                .then(|| FrictionCurves::of(&p.full, base, with_effects))
+        })
+        .collect();
     // The figures are drawn first and rendered in parallel (a long record has dozens).
     let mut jobs: Vec<(Figure, PathBuf)> = Vec::new();
-    for (p, stem) in tests.iter().zip(stems_of(tests)) {
+    for ((p, stem), curves) in tests.iter().zip(stems_of(tests)).zip(curves) {
         let t = &p.full;
-        if t.control != Control::Slip {
+        let Some(curves) = curves else {
             continue;
-        }
-        let curves = FrictionCurves::of(t, base, with_effects);
+        };
         let all = 0..t.len();
         let (x, x_label) = test_axis(p);
         let fig = Figure::new(
@@ -391,7 +401,7 @@ pub fn diagnosis_figures(
             jobs.push((fig, out.join(format!("{stem}-event-{:02}.png", k + 1))));
         }
     }
-    use rayon::prelude::*;
+    jobs.extend(more);
     jobs.par_iter()
         .map(|(fig, file)| Ok(write_figure(fig, file).map(|_| file.clone())?))
         .collect()
@@ -418,10 +428,14 @@ impl FrictionCurves {
     fn of(t: &FitTest, base: &Model, with_effects: Option<(&Model, &str)>) -> Self {
         let friction =
             |v: &[f64]| -> Vec<f64> { v.iter().zip(&t.normal).map(|(a, n)| a / n).collect() };
+        let (base, effects) = rayon::join(
+            || t.predict(base).ok().map(|v| friction(&v)),
+            || with_effects.and_then(|(m, _)| t.predict(m).ok().map(|v| friction(&v))),
+        );
         FrictionCurves {
             measured: friction(&t.measured),
-            base: t.predict(base).ok().map(|v| friction(&v)),
-            effects: with_effects.and_then(|(m, _)| t.predict(m).ok().map(|v| friction(&v))),
+            base,
+            effects,
             label: with_effects.map_or("", |(_, l)| l).to_string(),
         }
     }
