@@ -275,22 +275,65 @@ fn calibrated_on_seated<'a>(
     })
 }
 
+/// Step 1 done: the base fitted ([`fit_base`]) on the tests it was calibrated on, its residual
+/// on all rows of the record localised.
+struct Based<'a> {
+    cx: Context<'a>,
+    base: Current,
+    /// The tests with the bedding taken out (`None`: none was).
+    seated: Option<Vec<PreparedTest>>,
+    bedding: Vec<subfric_fit::Bedding>,
+    /// Every row of each test.
+    fulls: Vec<FitTest>,
+    localisation: subfric_fit::localise::Localisation,
+}
+
+/// The base calibrated ([`calibrated_on_seated`]) and fitted, and where it misses on all rows.
+fn based_on_seated<'a>(
+    prepared: &[PreparedTest],
+    stiffness: Option<&subfric_reading::Stiffness>,
+    opts: &'a DiagnoseOptions,
+    report: &'a (dyn Fn(Step) + Sync),
+    run_counter: &RunCounter,
+) -> Result<Based<'a>, DiagnoseError> {
+    let Calibrated {
+        mut cx,
+        calibrated,
+        seated,
+        bedding,
+    } = calibrated_on_seated(prepared, stiffness, opts, report, run_counter)?;
+    let prepared = seated.as_deref().unwrap_or(prepared);
+    let base = fit_base(&mut cx, calibrated)?;
+    let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();
+    let base_on_all_rows = residuals(&fulls, &base.model, None);
+    cx.features.unseen_noise = crate::features::unseen_noise_about(prepared, &base_on_all_rows);
+    let localisation = localise(prepared, &base_on_all_rows);
+    Ok(Based {
+        cx,
+        base,
+        seated,
+        bedding,
+        fulls,
+        localisation,
+    })
+}
+
 /// What a diagnosis begins with: the events read one by one, the elastic stiffness it holds,
 /// whether that stiffness is the velocity steps' springs (`fit` reads α_t off unloads and
 /// reloads or tries it on the first loadings; the springs are the diagnosis's own reading), and
-/// the base calibrated with it ([`calibrated_on_seated`]).
+/// the base fitted with it ([`based_on_seated`]).
 struct Begun<'a> {
     events: crate::events::EventAnalysis,
     stiffness: Option<subfric_reading::Stiffness>,
     alpha_from_steps: bool,
-    base: Calibrated<'a>,
+    based: Based<'a>,
 }
 
-/// Reads the events and calibrates the base ([`Begun`]). Where the record resolves α_t
-/// (unloads, reloads) the events decide nothing the calibration needs (they seed the candidate
-/// forms, later): the two run side by side, so a velocity step slow to fit no longer holds up
-/// the base fit while the other cores wait. Each is computed as it would be alone.
-fn events_and_calibrated<'a>(
+/// Reads the events and fits the base ([`Begun`]). Where the record resolves α_t (unloads,
+/// reloads) the events decide nothing the base's fits need (they seed the candidate forms,
+/// next): the two run side by side, so a velocity step slow to fit no longer holds up the base
+/// fit while the other cores wait. Each is computed as it would be alone.
+fn events_and_based<'a>(
     prepared: &[PreparedTest],
     opts: &'a DiagnoseOptions,
     report: &'a (dyn Fn(Step) + Sync),
@@ -298,27 +341,27 @@ fn events_and_calibrated<'a>(
 ) -> Result<Begun<'a>, DiagnoseError> {
     let resolved = resolved_stiffness(prepared);
     if resolved.is_some() {
-        let (events, base) = rayon::join(
+        let (events, based) = rayon::join(
             || crate::events::analyse(prepared, resolved.as_ref()),
-            || calibrated_on_seated(prepared, resolved.as_ref(), opts, report, run_counter),
+            || based_on_seated(prepared, resolved.as_ref(), opts, report, run_counter),
         );
         // What `elastic_stiffness` decides when the record resolves α_t.
         return Ok(Begun {
             events,
             stiffness: resolved,
             alpha_from_steps: false,
-            base: base?,
+            based: based?,
         });
     }
     let events = crate::events::analyse(prepared, None);
     let alpha_from_steps = events.stiffness().is_some();
     let stiffness = elastic_stiffness(prepared, None, &events, opts, run_counter);
-    let base = calibrated_on_seated(prepared, stiffness.as_ref(), opts, report, run_counter)?;
+    let based = based_on_seated(prepared, stiffness.as_ref(), opts, report, run_counter)?;
     Ok(Begun {
         events,
         stiffness,
         alpha_from_steps,
-        base,
+        based,
     })
 }
 
@@ -337,23 +380,20 @@ pub fn diagnose_reporting(
         events,
         stiffness,
         alpha_from_steps,
-        base:
-            Calibrated {
+        based:
+            Based {
                 mut cx,
-                calibrated,
+                base,
                 seated,
                 bedding,
+                fulls,
+                localisation,
             },
-    } = events_and_calibrated(prepared, opts, report, run_counter)?;
+    } = events_and_based(prepared, opts, report, run_counter)?;
     // The diagnosis runs on the tests with any bedding taken out.
     let prepared = seated.as_deref().unwrap_or(prepared);
     cx.features.seeds = events.seeds();
     cx.events = events.clone();
-    let base = fit_base(&mut cx, calibrated)?;
-    let fulls: Vec<FitTest> = prepared.iter().map(|p| p.full.clone()).collect();
-    let base_on_all_rows = residuals(&fulls, &base.model, None);
-    cx.features.unseen_noise = crate::features::unseen_noise_about(prepared, &base_on_all_rows);
-    let localisation = localise(prepared, &base_on_all_rows);
 
     let mut lib = library_with(&cx.features, &opts.with_families);
     lib.retain(|f| !opts.excluded_forms.iter().any(|x| x == f.name));
