@@ -589,6 +589,33 @@ mod tests {
     }
 
     #[test]
+    fn the_parallel_jacobian_is_the_serial_loops_bit_for_bit() {
+        // Each column as a serial loop computes it, stepping inward at the upper wall and
+        // leaving the masked columns zero: the parallel evaluation must not change a bit.
+        let p = kowalik_osborne().with_box(vec![-1.0; 4], vec![0.25, 1.0, 1.0, 1.0]);
+        let x = [0.25, 0.39, 0.415, 0.39];
+        let mut r0 = Vec::new();
+        p.residuals_at(&x, &mut r0);
+        let only = [true, true, false, true];
+        let got = jacobian(&p, &x, &r0, Some(&only));
+        let mut r = Vec::new();
+        for k in 0..4 {
+            let mut h = JACOBIAN_STEP * (1.0 + x[k].abs());
+            if x[k] + h > p.bounds().1[k] {
+                h = -h;
+            }
+            let mut xp = x.to_vec();
+            xp[k] += h;
+            p.residuals_at(&xp, &mut r);
+            for i in 0..r0.len() {
+                let want = if only[k] { (r[i] - r0[i]) / h } else { 0.0 };
+                assert_eq!(got[(i, k)].to_bits(), want.to_bits(), "row {i}, column {k}");
+            }
+        }
+        assert!(got[(0, 0)] != 0.0 && got[(0, 2)] == 0.0);
+    }
+
+    #[test]
     fn powell_singular_converges_despite_a_singular_jacobian() {
         let r = run(&powell_singular(), &[3.0, -1.0, 0.0, 1.0], None);
         assert!(r.ssr < 1e-14, "{r:?}");
