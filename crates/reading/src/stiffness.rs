@@ -164,16 +164,16 @@ fn unload_slope(u: &[f64], tau: &[f64], r: usize, j: usize, band: f64) -> Option
 
 /// The loading slope of a test that starts at rest, when the record resolves it as elastic:
 /// the shear rises to two fifths of the first peak over many resolution units, and as a
-/// straight line (the second fifth needs no more than 1.5 times the travel of the first). The
+/// straight line (neither fifth needs more than 1.5 times the travel of the other). The
 /// rise of the subloading model itself is curved from the start (r grows from zero with
 /// cot(πr/2): as the square root of the plastic slip, so its second fifth needs about three
 /// times the travel of its first), so a straight rise is a spring in series: the machine's
 /// compliance in the slip column, or a shear box's specimen (whose rise to 20 % of the peak
 /// may take only six rows of 5 µm: two fifths over ten resolution bands is read where one fifth
-/// was not).
+/// was not). A rise that stiffens is neither (see [`Rise::stiffens`]).
 fn first_loading_slope(p: &PreparedTest) -> Option<f64> {
     let r = first_rise(p)?;
-    let straight = r.second <= LINEAR_RISE * r.first;
+    let straight = r.second <= LINEAR_RISE * r.first && !r.stiffens();
     let resolved = r.first + r.second >= RESOLVED_BANDS * r.band && r.rows >= 6;
     (straight && resolved).then(|| r.secant())
 }
@@ -196,6 +196,19 @@ impl Rise {
     /// The secant slope to two fifths of the peak [kPa/mm].
     fn secant(&self) -> f64 {
         0.4 * self.peak / (self.first + self.second)
+    }
+
+    /// Whether the rise stiffens: its first fifth needs more than [`LINEAR_RISE`] times the
+    /// travel of its second. Neither a spring (straight) nor the model's plastic slip (which
+    /// only adds travel as the shear rises) stiffens; a closure of the rig does: gaps between
+    /// the specimen, the box and the plate take up travel at low shear and stop once closed,
+    /// the toe of a seating (ASTM D3080 corrects it before reading a stiffness). Its secant
+    /// reads the closure, not the elastic stiffness, so it neither resolves α_t nor starts
+    /// the trial of a free α_t: a toe read as a spring made α_t 3–30 times too soft, and the
+    /// closure, left in the travel, was then not taken out as a bedding (generated sets with
+    /// a seating and no unload to read the stiffness from).
+    fn stiffens(&self) -> bool {
+        self.first > LINEAR_RISE * self.second
     }
 }
 
@@ -246,7 +259,7 @@ pub fn rise_secants(tests: &[PreparedTest]) -> Vec<f64> {
         .iter()
         .filter(|t| t.full.control == Control::Slip)
         .filter_map(first_rise)
-        .filter(|r| r.rows >= TRIAL_ROWS)
+        .filter(|r| r.rows >= TRIAL_ROWS && !r.stiffens())
         .map(|r| r.secant() / KN_PER_MM3_IN_KPA_PER_MM)
         .filter(|a| a.is_finite() && *a > 0.0)
         .collect()
@@ -255,7 +268,7 @@ pub fn rise_secants(tests: &[PreparedTest]) -> Vec<f64> {
 /// Travel [mm] within which the elastic change after an event is looked for on a soft rig.
 const SOFT_TRANSIENT_MM: f64 = 3.0;
 
-/// The second fifth of a straight rise needs at most this many times the travel of the first.
+/// Either fifth of a straight rise needs at most this many times the travel of the other.
 const LINEAR_RISE: f64 = 1.5;
 
 /// What a record says of the elastic stiffness α_t before any trial, best first (see
@@ -513,6 +526,43 @@ mod tests {
             &SegmentOptions::default(),
         );
         assert!(resolved_stiffness(&[prepared]).is_none());
+    }
+
+    #[test]
+    fn a_rise_that_stiffens_is_a_closure_and_reads_no_stiffness() {
+        // The same shear box seated on a closing gap: the travel at a shear τ counts a closure
+        // of the hyperbola of a closing joint (Bandis et al. 1983), 0.08 mm at most, half of
+        // it closed at 15 kPa, on top of the interface's slip. The first fifth of the peak
+        // then needs more travel than the second: read as a spring, it would make α_t about
+        // five times too soft, and neither the reading nor the trial may take it.
+        let sand = |u: f64| 200.0 * (0.9 * (u / 0.15).tanh() - 0.2 * (1.0 - (-u / 1.5).exp()));
+        let closure = |tau: f64| 0.08 * tau.max(0.0) / (tau.max(0.0) + 15.0);
+        let straight = prepare_test(&monotonic(sand), "box".into(), &SegmentOptions::default());
+        let rise = first_rise(&straight).expect("a rise from rest");
+        assert!(!rise.stiffens(), "{} then {} mm", rise.first, rise.second);
+        let seated = prepare_test(
+            &monotonic_through(sand, closure),
+            "box".into(),
+            &SegmentOptions::default(),
+        );
+        let rise = first_rise(&seated).expect("a rise from rest");
+        assert!(rise.stiffens(), "{} then {} mm", rise.first, rise.second);
+        assert!(resolved_stiffness(std::slice::from_ref(&seated)).is_none());
+        assert!(rise_secants(&[seated]).is_empty());
+        // The straight rise still starts the trial.
+        assert_eq!(rise_secants(&[straight]).len(), 1);
+    }
+
+    /// [`monotonic`] with the recorded travel at interface slip u counting `closure(shear)`
+    /// of the running peak of the shear as well.
+    fn monotonic_through(shear: impl Fn(f64) -> f64, closure: impl Fn(f64) -> f64) -> TestData {
+        let mut test = monotonic(&shear);
+        let mut peak = f64::MIN;
+        for (i, slip) in test.slip_mm.iter_mut().enumerate() {
+            peak = peak.max(shear(0.005 * i as f64));
+            *slip = ((*slip + closure(peak)) / 1e-3).round() * 1e-3;
+        }
+        test
     }
 
     /// A monotonic slide to 6 mm at 200 kPa of the model with `params`, logged every 5 µm as
