@@ -19,8 +19,10 @@
 //! the model's response to the corrected travel. A rise the model already follows leaves a
 //! closure near zero and a misfit that barely moves; a toe, a gap or a soft seating leaves one
 //! that takes the rise's misfit away. Fitted per test (each specimen seats its own way) with
-//! the base model refitted on the corrected travel, and kept only where it halves the first
-//! loading's misfit (the share [`crate::stiffness::TRIAL_SHARE`] a freed stiffness must earn).
+//! the base model refitted on the corrected travel, read against and judged under that model at
+//! the test's own level (its friction scaled to the test's peak: a closure is a matter of the
+//! rise's shape, see `level_matched`), and kept only where it halves the first loading's misfit
+//! (the share [`crate::stiffness::TRIAL_SHARE`] a freed stiffness must earn).
 //!
 //! Reading the running peak off the measurement, not the model, keeps the correction a fixed
 //! transformation of the imposed column once fitted: every later fit (candidates, folds) sees
@@ -207,6 +209,45 @@ fn ssr_until(t: &FitTest, model: &Model, end: usize, scratch: &mut Vec<f64>) -> 
             k * t.weight_of(i) * r * r
         })
         .sum()
+}
+
+/// `model` with its friction scaled to the level test `t` shows on its first loading (rows
+/// `..end`, loaded in direction `sign`): μ_s, μ_k (and μ_0) times the ratio of the measured
+/// peak to the model's. A closure is a matter of the rise's shape; a model fitted to every test
+/// together can miss one test's level (a pressure effect not yet modelled puts the tests at 50
+/// and 400 kPa 10 % off their peaks), and against a rise of the wrong height the closure is
+/// misread and the first loading's misfit is the level's, which no closure halves: the toe was
+/// left in, and the first loadings held out at those stresses then outweighed the pressure law
+/// the tests' levels showed (generated sets with a seating). The shape stays the jointly
+/// fitted model's: a base refitted on one test alone bends its rise to the toe instead.
+fn level_matched(
+    t: &FitTest,
+    model: &Model,
+    end: usize,
+    sign: f64,
+    scratch: &mut Vec<f64>,
+) -> Model {
+    if simulate_predicted_into(model, &t.protocol_until(end), scratch).is_err() {
+        return *model;
+    }
+    // The peaks compared. The maximum of a noisy record reads its level high, by about
+    // √(2 ln n) noise SDs over n rows: within that, and one SD more, the level is the model's.
+    let end = end.min(scratch.len()).min(t.len());
+    let peak = |v: &[f64]| v.iter().map(|x| sign * x).fold(f64::MIN, f64::max);
+    let (measured, predicted) = (peak(&t.measured[..end]), peak(&scratch[..end]));
+    let within_noise = (2.0 * (end.max(2) as f64).ln()).sqrt() + 1.0;
+    if (measured - predicted).abs() <= within_noise * t.noise_sd {
+        return *model;
+    }
+    let ratio = measured / predicted;
+    if !(ratio.is_finite() && ratio > 0.0) {
+        return *model;
+    }
+    let mut m = *model;
+    m.params.mu_s *= ratio;
+    m.params.mu_k *= ratio;
+    m.params.mu_0 = m.params.mu_0.map(|v| v * ratio);
+    m
 }
 
 /// Pool-adjacent-violators: the non-decreasing sequence closest to `y` in weighted least
@@ -417,11 +458,21 @@ pub fn fit_bedding(
         return (tests.to_vec(), Vec::new());
     }
     let mut scratch = Vec::new();
+    // Each test's closure is read against, and judged under, the model at that test's own
+    // level ([`level_matched`]).
+    let matched = |t: &FitTest, c: &Candidate, model: &Model, scratch: &mut Vec<f64>| {
+        level_matched(t, model, c.fit_end, c.loading.sign, scratch)
+    };
     let without: Vec<f64> = found
         .iter()
-        .map(|c| ssr_until(&tests[c.index].fit, base, c.fit_end, &mut scratch))
+        .map(|c| {
+            let t = &tests[c.index].fit;
+            let m = matched(t, c, base, &mut scratch);
+            ssr_until(t, &m, c.fit_end, &mut scratch)
+        })
         .collect();
     let curves_against = |model: &Model| -> Vec<Vec<(f64, f64)>> {
+        let mut scratch = Vec::new();
         found
             .iter()
             .map(|c| {
@@ -430,7 +481,7 @@ pub fn fit_bedding(
                     &p.fit,
                     &p.kept,
                     &c.loading,
-                    model,
+                    &matched(&p.fit, c, model, &mut scratch),
                     MAX_SHARE_OF_TRAVEL * c.travel_to_peak,
                 )
             })
@@ -466,7 +517,8 @@ pub fn fit_bedding(
     let mut out = tests.to_vec();
     for ((c, curve), &before) in found.iter().zip(&curves).zip(&without) {
         let t = &trial[c.index].fit;
-        let after = ssr_until(t, &refitted, c.fit_end, &mut scratch);
+        let m = matched(t, c, &refitted, &mut scratch);
+        let after = ssr_until(t, &m, c.fit_end, &mut scratch);
         let closure_mm = curve.last().map_or(0.0, |p| p.1);
         if closure_mm > 0.0 && after.is_finite() && after <= TRIAL_SHARE * before {
             out[c.index] = reprepared(&tests[c.index], &c.loading, curve);
@@ -703,6 +755,21 @@ mod tests {
         let last = p.full.len() - 1;
         let shift = p.full.imposed[last] - out[0].full.imposed[last];
         assert!((shift - toe).abs() < 0.15 * toe, "shift {shift}");
+    }
+
+    #[test]
+    fn a_toe_is_seated_on_a_test_whose_level_the_base_misses() {
+        // A pressure effect the base lacks puts this test's friction 10 % below the base's.
+        let mut base = Model::base(Params::sample()).unwrap();
+        base.params.mu_s *= 1.1;
+        base.params.mu_k *= 1.1;
+        let p = seated(0.08, 400);
+        let refit = |_: &[FitTest], m: &Model| *m;
+        let (out, kept) = fit_bedding(std::slice::from_ref(&p), &base, &refit);
+        assert_eq!(kept.len(), 1, "{kept:?}");
+        let last = p.full.len() - 1;
+        let shift = p.full.imposed[last] - out[0].full.imposed[last];
+        assert!((shift - 0.08).abs() < 0.01, "shift {shift}");
     }
 
     #[test]
