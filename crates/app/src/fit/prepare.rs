@@ -1,7 +1,7 @@
 //! The setup of a fit: the sets read and segmented, the request checked against them (tests,
 //! repeats, weights, fixed values, bounds), the rig's artifacts noted and the space charted.
 
-use super::stiffness::starting_stiffness;
+use super::stiffness::{seated_stiffness, starting_stiffness};
 use super::{artifacts_of, Artifact, FitRequest, FitSetup};
 use crate::progress::Progress;
 use anyhow::{anyhow, bail, Result};
@@ -112,7 +112,22 @@ pub fn setup(req: &FitRequest, progress: &dyn Progress) -> Result<FitSetup> {
     }
     // Bedding: a closure of the rig on first loading is taken out of the travel, as the
     // diagnosis does (subfric_fit::bedding).
-    let seated = subfric_fit::seat(&tests, &template, &free, &options);
+    let mut seated = subfric_fit::seat(&tests, &template, &free, &options);
+    // A rise that stiffens is a closure of the rig and reads no stiffness: the closure first,
+    // then the spring, tried again on the seated travel where nothing decided it before; where
+    // that decides it, the bedding is read again against a base with that spring (as the
+    // diagnosis does).
+    let resolved = match resolved {
+        None if !seated.bedding.is_empty() => {
+            let again = seated_stiffness(req, &options, &seated.tests, &mut template);
+            if again.is_some() {
+                free.push(Param::AlphaT);
+                seated = subfric_fit::seat(&tests, &template, &free, &options);
+            }
+            again
+        }
+        decided => decided,
+    };
     let tests = seated.tests;
     let mut artifacts = artifacts_of(&tests, resolved.as_ref());
     artifacts.extend(seated.bedding.iter().map(|b| Artifact {

@@ -27,24 +27,9 @@ pub(super) fn starting_stiffness(
         template.params.alpha_t = p.alpha_t;
         template.params.alpha_n = p.alpha_n;
     }
-    let alpha_given = req.start.is_some()
-        || req.free.contains(&Param::AlphaT)
-        || req.fix.iter().any(|(p, _)| *p == Param::AlphaT);
+    let alpha_given = alpha_given(req);
     let resolved = (!alpha_given)
-        .then(|| {
-            // `fit` reads no velocity step one by one: no springs.
-            let readings = subfric_reading::StiffnessReadings {
-                resolved: subfric_reading::resolved_stiffness(tests),
-                springs: None,
-            };
-            subfric_reading::decide_stiffness(readings, || {
-                let mut held = *template;
-                for (p, v) in &req.fix {
-                    p.set(&mut held, *v);
-                }
-                subfric_fit::stiffness_by_trial(tests, &held, &req.free_not_fixed(), options)
-            })
-        })
+        .then(|| decided(req, options, tests, template))
         .flatten();
     match (&resolved, why) {
         (Some(s), _) => s.set_in(template),
@@ -52,6 +37,53 @@ pub(super) fn starting_stiffness(
         _ => {}
     }
     resolved
+}
+
+/// Whether the request says what to do with α_t (a start, α_t freed or fixed).
+fn alpha_given(req: &FitRequest) -> bool {
+    req.start.is_some()
+        || req.free.contains(&Param::AlphaT)
+        || req.fix.iter().any(|(p, _)| *p == Param::AlphaT)
+}
+
+/// The α_t decision on `tests` (`subfric_reading::decide_stiffness`): what the unloads and
+/// reloads resolve, else the trial with the request's other parameters.
+fn decided(
+    req: &FitRequest,
+    options: &FitOptions,
+    tests: &[PreparedTest],
+    template: &Model,
+) -> Option<subfric_reading::Stiffness> {
+    // `fit` reads no velocity step one by one: no springs.
+    let readings = subfric_reading::StiffnessReadings {
+        resolved: subfric_reading::resolved_stiffness(tests),
+        springs: None,
+    };
+    subfric_reading::decide_stiffness(readings, || {
+        let mut held = *template;
+        for (p, v) in &req.fix {
+            p.set(&mut held, *v);
+        }
+        subfric_fit::stiffness_by_trial(tests, &held, &req.free_not_fixed(), options)
+    })
+}
+
+/// The α_t decision again on the tests with their bedding taken out (`seated`), into
+/// `template`, where [`starting_stiffness`] decided nothing on the travel as recorded and the
+/// request leaves α_t open: a rise that stiffens is a closure and reads no stiffness, and once
+/// the closure is out of the travel the rise may show the spring behind it.
+pub(super) fn seated_stiffness(
+    req: &FitRequest,
+    options: &FitOptions,
+    seated: &[PreparedTest],
+    template: &mut Model,
+) -> Option<subfric_reading::Stiffness> {
+    if alpha_given(req) {
+        return None;
+    }
+    let found = decided(req, options, seated, template)?;
+    found.set_in(template);
+    Some(found)
 }
 
 /// The contact stiffness a fit holds (α_t and α_n, which lab data rarely determine), from the

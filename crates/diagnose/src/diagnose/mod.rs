@@ -355,8 +355,29 @@ fn events_and_based<'a>(
     }
     let events = crate::events::analyse(prepared, None);
     let alpha_from_steps = events.stiffness().is_some();
-    let stiffness = elastic_stiffness(prepared, None, &events, opts, run_counter);
-    let based = based_on_seated(prepared, stiffness.as_ref(), opts, report, run_counter)?;
+    let mut stiffness = elastic_stiffness(prepared, None, &events, opts, run_counter);
+    let mut based = based_on_seated(prepared, stiffness.as_ref(), opts, report, run_counter)?;
+    // A rise that stiffens is a closure of the rig and reads no stiffness
+    // (`subfric_reading::stiffness`): the closure first, then the spring. Where nothing decided
+    // α_t and a bedding was taken out, α_t is tried again on the seated travel; where that
+    // decides it, the bedding is read again from the travel as recorded against a base with
+    // that spring (read against a rigid one, the closure had taken the spring's travel too,
+    // and the spring then counted it twice).
+    if stiffness.is_none() {
+        if let Some(seated) = based.seated.clone() {
+            let again = elastic_stiffness(
+                &seated,
+                resolved_stiffness(&seated),
+                &events,
+                opts,
+                run_counter,
+            );
+            if let Some(found) = again {
+                based = based_on_seated(prepared, Some(&found), opts, report, run_counter)?;
+                stiffness = Some(found);
+            }
+        }
+    }
     Ok(Begun {
         events,
         stiffness,
