@@ -553,3 +553,63 @@ fn a_further_effect_with_no_pieces_of_its_own_is_not_credited_however_much_it_ga
         Decision::Named(_) | Decision::Tentative(_)
     ));
 }
+
+#[test]
+fn a_first_effect_must_predict_its_own_kind_of_piece_better() {
+    // A log-healing whose refits bettered the first loadings held out while the middle hold,
+    // its own piece, came out no better: standing in for something else, not namable first.
+    let kind = |score: f64, excess: f64, within: Option<(f64, f64)>| OwnKindScore {
+        kind: crate::candidates::OwnKind::Piece(PieceKind::Hold),
+        held_out: Comparison {
+            excess_shrink: excess,
+            ..comparison(score, 30.0, vec![])
+        },
+        within: within.map(|(score, excess)| Comparison {
+            excess_shrink: excess,
+            ..comparison(score, 10.0, vec![])
+        }),
+    };
+    let candidate = |own_kinds: Vec<OwnKindScore>| CandidateScore {
+        effect: healing(),
+        spec: "base + log-healing".into(),
+        extra_parameters: BTreeMap::new(),
+        model: Model::base(Params::sample()).unwrap(),
+        held_out: comparison(122.0, 800.0, vec![]),
+        held_out_within: None,
+        held_out_shrink: 0.39,
+        by_kind: vec![],
+        own_kinds,
+        shown_in: vec![],
+        between_tests: 0.0,
+        between_tests_shrink: 0.0,
+        without_first_loadings: 0.0,
+    };
+    // No piece of its own kind in the record: nothing to ask.
+    assert!(own_kinds_improve(&candidate(vec![])));
+    // Its holds predicted better: it may be named.
+    assert!(own_kinds_improve(&candidate(vec![kind(6.0, 0.4, None)])));
+    // Worse, or no better: not.
+    assert!(!own_kinds_improve(&candidate(vec![kind(
+        -0.3, -0.04, None
+    )])));
+    assert!(!own_kinds_improve(&candidate(vec![kind(0.0, 0.0, None)])));
+    // Less misfit summed but less evidence (many rows a hair worse): not.
+    assert!(!own_kinds_improve(&candidate(vec![kind(-4.0, 0.2, None)])));
+    // Judged between readings where some holds are predicted beyond them: the middle hold
+    // decides, not the longest extrapolated from the two shorter.
+    assert!(own_kinds_improve(&candidate(vec![kind(
+        -9.0,
+        -0.5,
+        Some((3.0, 0.6))
+    )])));
+    assert!(!own_kinds_improve(&candidate(vec![kind(
+        9.0,
+        0.5,
+        Some((-1.0, -0.1))
+    )])));
+    // One kind of its own predicted better suffices (a rate law's steps, not its hold).
+    assert!(own_kinds_improve(&candidate(vec![
+        kind(-1.0, -0.1, None),
+        kind(30.0, 0.9, None)
+    ])));
+}
