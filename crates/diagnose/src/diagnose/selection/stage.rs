@@ -317,7 +317,10 @@ pub(super) fn stage_decision(
 
 /// Whether candidate `c`, where the record holds held-out pieces of its own kinds, predicts
 /// one of those kinds better (as judged: between readings of its like where some are predicted
-/// beyond them): positive evidence there and less misfit. An effect that improves only pieces
+/// beyond them): positive evidence there, and a typical piece of the kind not worse
+/// ([`crate::score::Comparison::typical_piece_not_worse`]; the summed misfit hangs on the
+/// largest piece: a rate law that bettered a typical one of 44 velocity steps of a real gouge
+/// record by 23 %, at D 242, raised their summed misfit by 7 %). An effect that improves only pieces
 /// of other kinds is standing in for something else, the first effect as much as a later one:
 /// a log-healing was named first at D 122 on a set without any effect — the first loadings
 /// held out came out 32 % better, the middle hold, its own piece, 3 % worse — and first at
@@ -328,7 +331,7 @@ pub(super) fn own_kinds_improve(c: &CandidateScore) -> bool {
     c.own_kinds.is_empty()
         || c.own_kinds.iter().any(|k| {
             let judged = k.judged();
-            judged.score > 0.0 && judged.excess_shrink > 0.0
+            judged.score > 0.0 && judged.typical_piece_not_worse()
         })
 }
 

@@ -595,6 +595,21 @@ fn a_first_effect_must_predict_its_own_kind_of_piece_better() {
     assert!(!own_kinds_improve(&candidate(vec![kind(0.0, 0.0, None)])));
     // Less misfit summed but less evidence (many rows a hair worse): not.
     assert!(!own_kinds_improve(&candidate(vec![kind(-4.0, 0.2, None)])));
+    // More misfit summed, all of it one large step, the typical step 4× better: it may.
+    let step = |reference_ssr: f64, candidate_ssr: f64| PieceScore {
+        kind: PieceKind::VelocityStep,
+        test: 0,
+        rows: 40,
+        n_eff: 20.0,
+        reference_ssr,
+        candidate_ssr,
+        beyond_training: false,
+    };
+    let mut steps = kind(240.0, -0.07, None);
+    steps.held_out.pieces = vec![step(400.0, 100.0), step(400.0, 100.0), step(9e4, 9.7e4)];
+    assert!(own_kinds_improve(&candidate(vec![steps.clone()])));
+    steps.held_out.pieces = vec![step(400.0, 1600.0), step(400.0, 1600.0), step(9e4, 6e4)];
+    assert!(!own_kinds_improve(&candidate(vec![steps])));
     // Judged between readings where some holds are predicted beyond them: the middle hold
     // decides, not the longest extrapolated from the two shorter.
     assert!(own_kinds_improve(&candidate(vec![kind(
