@@ -628,3 +628,49 @@ fn a_first_effect_must_predict_its_own_kind_of_piece_better() {
         kind(30.0, 0.9, None)
     ])));
 }
+
+#[test]
+fn a_first_effect_the_events_contradict_gives_way_to_the_next_that_passes() {
+    // A rate-and-state set (development seed 48004): a slip softening with the most evidence
+    // (D 375) but 1 % of the held-out excess, the residual read flat with slip; a rate law
+    // with D 132 and 88 % of the excess. The softening is set aside and the rate law named.
+    let th = crate::verdict::Thresholds::default();
+    let with = |score: f64, excess: f64, typical: f64| Comparison {
+        excess_shrink: excess,
+        relative_shrink: excess,
+        typical_shrink: typical,
+        reference_chi2: 37.3,
+        candidate_chi2: 37.3 * (1.0 - excess),
+        ..comparison(score, 1000.0, vec![])
+    };
+    let rate = Effect::from_name("rate").unwrap();
+    let softening = Effect::from_name("slip-hardening").unwrap();
+    let pairs = [
+        (rate, with(132.0, 0.88, 0.26)),
+        (softening, with(375.0, -0.01, 0.58)),
+    ];
+    let decide =
+        |admissible: &[bool]| crate::verdict::decide_among(37.3, &pairs, admissible, None, &th);
+    // Alone the stage names the softening, on its evidence.
+    assert_eq!(decide(&[true, true]), Decision::Named(1));
+    let softening_contradicted = |i: usize| i == 1;
+    assert_eq!(
+        named_past_contradicted(decide, softening_contradicted, &[true, true]),
+        Decision::Named(0)
+    );
+    // The rate law not namable: nothing else would be named, the gap stays unexplained.
+    assert_eq!(
+        named_past_contradicted(decide, softening_contradicted, &[false, true]),
+        Decision::Unexplained
+    );
+    // Both contradicted: unexplained.
+    assert_eq!(
+        named_past_contradicted(decide, |_| true, &[true, true]),
+        Decision::Unexplained
+    );
+    // Nothing contradicted: the stage's own decision.
+    assert_eq!(
+        named_past_contradicted(decide, |_| false, &[true, true]),
+        Decision::Named(1)
+    );
+}
