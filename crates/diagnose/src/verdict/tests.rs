@@ -44,6 +44,27 @@ fn an_effect_that_fits_its_own_kind_but_raises_the_misfit_elsewhere_is_not_credi
 }
 
 #[test]
+fn a_further_effect_whose_own_pieces_sit_at_the_noise_is_not_credited_on_them() {
+    // A slip hardening behind a rate law (fresh seed 49002, a set with rate alone): 75 % of
+    // the held-out excess at 1.63× the noise, all of it at the holds, its own pieces at 1.08×
+    // the noise bettered by 8 % of their excess at D 31. Its own kind cannot vouch for it.
+    let th = Thresholds::default();
+    let hardening = || Effect::from_name("slip-hardening").unwrap();
+    let all = [(hardening(), cmp(121.6, 0.75, 0.05, 1.63))];
+    let at_the_noise = [cmp(31.0, 0.08, 0.07, 1.08)];
+    assert_ne!(
+        decide_further(1.63, &all, &at_the_noise, &[true], &th),
+        Decision::Named(0)
+    );
+    // The same gains, its own pieces twice the noise: they vouch for it.
+    let with_a_gap = [cmp(31.0, 0.08, 0.07, 2.0)];
+    assert_eq!(
+        decide_further(1.63, &all, &with_a_gap, &[true], &th),
+        Decision::Named(0)
+    );
+}
+
+#[test]
 fn a_partial_explanation_that_leaves_a_typical_piece_almost_as_it_was_is_tentative() {
     let th = Thresholds::default();
     // 60 % of the summed excess, but a typical piece loses 10 % of its misfit at 4× the

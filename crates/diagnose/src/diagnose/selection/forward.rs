@@ -180,18 +180,11 @@ impl Path {
         self.selected.push(Selected {
             form,
             credited_on_events: credited,
-            // A further effect is judged on all pieces when it passes there, else on the
-            // pieces of its own kind (see `decide_further`).
-            own: {
-                let c = &stage.candidates[i];
-                if crate::verdict::passes(&c.held_out, &cx.opts.thresholds) {
-                    c.held_out.clone()
-                } else {
-                    c.best_own_kind(&cx.opts.thresholds)
-                        .unwrap_or(&c.held_out)
-                        .clone()
-                }
-            },
+            own: judged_on(
+                &stage.candidates[i],
+                matches!(stage.decision, Decision::Named(_)),
+                &cx.opts.thresholds,
+            ),
             at: next,
             tentative: matches!(stage.decision, Decision::Tentative(_)),
         });
@@ -232,6 +225,24 @@ impl Path {
             0 => f64::NEG_INFINITY,
             n => self.joint[n - 1].score,
         }
+    }
+}
+
+/// The comparison an effect the selection took is counted on ([`named_count`]): all pieces when
+/// it passes there and the stage `named` it, else the pieces of its own kind where it has one
+/// (see `decide_further`). One the stage kept tentatively although it passed on all pieces
+/// failed the stage's other standards (its own pieces at the noise, the events speaking against
+/// it); counted on all pieces it would be named past them (a slip hardening behind a rate law,
+/// its own pieces at 1.08× the noise, fresh seed 49002).
+pub(super) fn judged_on(
+    c: &CandidateScore,
+    named: bool,
+    th: &crate::verdict::Thresholds,
+) -> Comparison {
+    if named && crate::verdict::passes(&c.held_out, th) {
+        c.held_out.clone()
+    } else {
+        c.best_own_kind(th).unwrap_or(&c.held_out).clone()
     }
 }
 

@@ -674,3 +674,66 @@ fn a_first_effect_the_events_contradict_gives_way_to_the_next_that_passes() {
         Decision::Named(1)
     );
 }
+
+#[test]
+fn an_effect_kept_tentatively_is_counted_on_its_own_kind_even_where_it_passes_on_all_pieces() {
+    // A slip hardening behind a rate law (fresh seed 49002, rate alone): 75 % of the held-out
+    // excess, all of it at the holds; its own pieces at 1.08× the noise. Kept tentatively, it
+    // is counted on its own pieces, where it passes nothing, and is not named.
+    let th = crate::verdict::Thresholds::default();
+    let all = Comparison {
+        excess_shrink: 0.75,
+        relative_shrink: 0.75,
+        reference_chi2: 1.63,
+        candidate_chi2: 1.16,
+        ..comparison(121.6, 900.0, vec![])
+    };
+    let own_pieces = Comparison {
+        excess_shrink: 0.08,
+        relative_shrink: 0.08,
+        reference_chi2: 1.08,
+        candidate_chi2: 1.07,
+        ..comparison(31.0, 400.0, vec![])
+    };
+    let hardening = CandidateScore {
+        effect: Effect::from_name("slip-hardening").unwrap(),
+        spec: "rate + slip-hardening".into(),
+        extra_parameters: BTreeMap::new(),
+        model: Model::base(Params::sample()).unwrap(),
+        held_out: all.clone(),
+        held_out_within: None,
+        held_out_shrink: 0.75,
+        by_kind: vec![],
+        own_kinds: vec![OwnKindScore {
+            kind: OwnKind::AfterFirstLoading,
+            held_out: own_pieces.clone(),
+            within: None,
+        }],
+        shown_in: vec![],
+        between_tests: 0.0,
+        between_tests_shrink: 0.0,
+        without_first_loadings: 0.0,
+    };
+    assert!(crate::verdict::passes(&all, &th));
+    use super::forward::judged_on;
+    assert_eq!(judged_on(&hardening, true, &th).score, all.score);
+    let tentative = judged_on(&hardening, false, &th);
+    assert_eq!(tentative.score, own_pieces.score);
+    // The rate law first, named on its own; the hardening counted where it was judged.
+    let rate = Comparison {
+        excess_shrink: 0.77,
+        relative_shrink: 0.77,
+        reference_chi2: 3.8,
+        candidate_chi2: 1.63,
+        ..comparison(90.6, 900.0, vec![])
+    };
+    let joint = [rate.clone(), all.clone()];
+    assert_eq!(
+        crate::verdict::named_count(&joint, &[rate.clone(), tentative], &[true, false], &th),
+        1
+    );
+    assert_eq!(
+        crate::verdict::named_count(&joint, &[rate, all], &[true, false], &th),
+        2
+    );
+}
