@@ -681,20 +681,16 @@ fn an_effect_kept_tentatively_is_counted_on_its_own_kind_even_where_it_passes_on
     // excess, all of it at the holds; its own pieces at 1.08× the noise. Kept tentatively, it
     // is counted on its own pieces, where it passes nothing, and is not named.
     let th = crate::verdict::Thresholds::default();
-    let all = Comparison {
-        excess_shrink: 0.75,
-        relative_shrink: 0.75,
-        reference_chi2: 1.63,
-        candidate_chi2: 1.16,
-        ..comparison(121.6, 900.0, vec![])
+    // A comparison removing `excess` of a held-out misfit of `chi2` × the noise, at D `score`.
+    let removing = |score: f64, excess: f64, chi2: f64| Comparison {
+        excess_shrink: excess,
+        relative_shrink: excess,
+        reference_chi2: chi2,
+        candidate_chi2: 1.0 + (chi2 - 1.0) * (1.0 - excess),
+        ..comparison(score, 900.0, vec![])
     };
-    let own_pieces = Comparison {
-        excess_shrink: 0.08,
-        relative_shrink: 0.08,
-        reference_chi2: 1.08,
-        candidate_chi2: 1.07,
-        ..comparison(31.0, 400.0, vec![])
-    };
+    let all = removing(121.6, 0.75, 1.63);
+    let own_pieces = removing(31.0, 0.08, 1.08);
     let hardening = CandidateScore {
         effect: Effect::from_name("slip-hardening").unwrap(),
         spec: "rate + slip-hardening".into(),
@@ -720,13 +716,7 @@ fn an_effect_kept_tentatively_is_counted_on_its_own_kind_even_where_it_passes_on
     let tentative = judged_on(&hardening, false, &th);
     assert_eq!(tentative.score, own_pieces.score);
     // The rate law first, named on its own; the hardening counted where it was judged.
-    let rate = Comparison {
-        excess_shrink: 0.77,
-        relative_shrink: 0.77,
-        reference_chi2: 3.8,
-        candidate_chi2: 1.63,
-        ..comparison(90.6, 900.0, vec![])
-    };
+    let rate = removing(90.6, 0.77, 3.8);
     let joint = [rate.clone(), all.clone()];
     assert_eq!(
         crate::verdict::named_count(&joint, &[rate.clone(), tentative], &[true, false], &th),
