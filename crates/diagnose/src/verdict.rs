@@ -146,19 +146,9 @@ fn by_penalised(a: &Comparison, b: &Comparison) -> std::cmp::Ordering {
 /// Where the record holds pieces in which time and slip part, they settle it: a drift that
 /// leaves no more misfit than the candidate and predicts those pieces better outweighs it
 /// whatever the evidence over all pieces ([`better_where_time_and_slip_part`]).
-///
-/// "Leaves more of the misfit" is read on a typical piece as well as on the sum: the summed
-/// misfit hangs on the largest piece (see [`Comparison::typical_piece_not_worse`]), and a drift
-/// with more evidence that also predicts a typical piece better explains the gap at least as
-/// well however one piece weighs in the sum. A load-cell creep was named a rate effect whose
-/// law removed 77 % of the held-out excess against the drift's 71 %, while the drift, at three
-/// times its evidence (D 365 against 122), bettered a typical piece by 51 % against 23 % (fresh
-/// seed 49003, a set of tests slid at one rate with holds and reversals).
 pub fn drift_outweighs(drift: &Comparison, candidate: &Comparison) -> bool {
-    let leaves_no_more = drift.candidate_chi2 <= candidate.candidate_chi2;
-    let typical_better = drift.typical_shrink > candidate.typical_shrink;
-    (drift.score > candidate.score && (leaves_no_more || typical_better))
-        || (leaves_no_more && better_where_time_and_slip_part(drift, candidate))
+    drift.candidate_chi2 <= candidate.candidate_chi2
+        && (drift.score > candidate.score || better_where_time_and_slip_part(drift, candidate))
 }
 
 /// Whether `drift` predicts the held-out pieces in which time and slip part with less misfit
