@@ -87,6 +87,15 @@ pub(crate) struct RateTerms {
     pub theta: f64,
 }
 
+/// The constants of a rate law's terms, functions of its parameters alone.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RateConstants {
+    /// ln(1 + v_ref/v_c) ([`RateEffect::direct_at_ref`]).
+    direct_at_ref: f64,
+    /// ln(v_ref/D_c), the state's reference (v_c when not centred).
+    ln_state_ref_over_dc: f64,
+}
+
 impl RateEffect {
     /// A log-rate direct effect a ln(1 + v/v_c), not centred.
     pub fn log_direct(a: f64, v_c: f64) -> Self {
@@ -183,9 +192,33 @@ impl RateEffect {
         self.d_c / self.state_ref()
     }
 
-    /// The rate terms at plastic increment `lam` over a step of `dt` from state `theta`.
+    /// The constants of the rate terms (logarithms of the parameters alone), worked out once.
     #[inline]
+    pub(crate) fn constants(&self) -> RateConstants {
+        RateConstants {
+            direct_at_ref: self.direct_at_ref(),
+            ln_state_ref_over_dc: (self.state_ref() / self.d_c).ln(),
+        }
+    }
+
+    /// The rate terms at plastic increment `lam` over a step of `dt` from state `theta` (the
+    /// integrator calls [`RateEffect::plastic_terms_with`] with constants built once).
+    #[cfg(test)]
     pub(crate) fn plastic_terms(&self, theta: f64, dt: f64, lam: f64) -> RateTerms {
+        self.plastic_terms_with(&self.constants(), theta, dt, lam)
+    }
+
+    /// [`RateEffect::plastic_terms`] with the law's constants `c` given: the integrator builds
+    /// them once per model, where each step would otherwise take two logarithms of the
+    /// parameters alone (a fifth of a rate-and-state step's time).
+    #[inline]
+    pub(crate) fn plastic_terms_with(
+        &self,
+        c: &RateConstants,
+        theta: f64,
+        dt: f64,
+        lam: f64,
+    ) -> RateTerms {
         let vdt = self.v_c * dt;
         let mut t = RateTerms {
             add: 0.0,
@@ -198,7 +231,7 @@ impl RateEffect {
         };
         match self.form {
             RateForm::LogDirect | RateForm::StateAgeing | RateForm::StateSlip => {
-                t.add = self.a * ((lam / vdt).ln_1p() - self.direct_at_ref());
+                t.add = self.a * ((lam / vdt).ln_1p() - c.direct_at_ref);
                 t.dadd = self.a / (vdt + lam);
                 if self.has_state() {
                     // Constant v = λ/Δt over the step: both laws integrate in closed form.
@@ -218,7 +251,7 @@ impl RateEffect {
                         )
                     };
                     t.theta = ln_theta.exp();
-                    t.add += self.b * (ln_theta + (self.state_ref() / self.d_c).ln());
+                    t.add += self.b * (ln_theta + c.ln_state_ref_over_dc);
                     t.dadd += self.b * dln_theta;
                 }
             }

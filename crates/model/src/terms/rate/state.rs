@@ -1,6 +1,7 @@
 //! The state the rate family integrates: θ of the rate-and-state forms, and the rate terms of
 //! the last plastic step, which a locked form keeps while the contact rests.
 
+use super::law::RateConstants;
 use super::{Rate, RateEffect, RateForm};
 use crate::terms::{StateFamily, StateLaw, StateTerms, StateVar, TermLaw, MAX_TERM_PARAMS};
 
@@ -24,16 +25,38 @@ const VARS: [StateVar; 3] = [
 ];
 
 impl StateFamily for Rate {
-    type Law = RateEffect;
+    type Law = RateLaw;
 
-    fn law(&self, form: usize, p: &[f64; MAX_TERM_PARAMS]) -> RateEffect {
-        self.slip_rate_law(form, p)
-            .expect("every form of the rate family is a slip-rate law")
+    fn law(&self, form: usize, p: &[f64; MAX_TERM_PARAMS]) -> RateLaw {
+        let effect = self
+            .slip_rate_law(form, p)
+            .expect("every form of the rate family is a slip-rate law");
+        RateLaw {
+            effect,
+            constants: effect.constants(),
+        }
+    }
+}
+
+/// The rate law as the return mapping integrates it: the effect with its constants worked out
+/// once per model.
+#[derive(Clone, Copy, Debug)]
+pub struct RateLaw {
+    effect: RateEffect,
+    constants: RateConstants,
+}
+
+impl std::ops::Deref for RateLaw {
+    type Target = RateEffect;
+
+    #[inline(always)]
+    fn deref(&self) -> &RateEffect {
+        &self.effect
     }
 }
 
 /// The rate law as the return mapping solves it keeps its state.
-impl StateLaw for RateEffect {
+impl StateLaw for RateLaw {
     #[inline]
     fn vars(&self) -> &'static [StateVar] {
         &VARS
@@ -94,7 +117,9 @@ impl StateLaw for RateEffect {
 
     #[inline(always)]
     fn slide(&self, start: &[f64], dt: f64, lam: f64, end: &mut [f64]) -> StateTerms {
-        let t = self.plastic_terms(start[THETA], dt, lam);
+        let t = self
+            .effect
+            .plastic_terms_with(&self.constants, start[THETA], dt, lam);
         end[THETA] = t.theta;
         end[HELD_ADD] = t.add;
         end[HELD_FACTOR] = t.factor;
