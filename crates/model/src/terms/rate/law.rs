@@ -209,8 +209,8 @@ impl RateEffect {
     }
 
     /// [`RateEffect::plastic_terms`] with the law's constants `c` given: the integrator builds
-    /// them once per model, where each step would otherwise take two logarithms of the
-    /// parameters alone (a fifth of a rate-and-state step's time).
+    /// them once per model, where each step would otherwise take two of its five logarithms
+    /// and exponentials of the parameters alone.
     #[inline]
     pub(crate) fn plastic_terms_with(
         &self,
