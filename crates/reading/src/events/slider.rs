@@ -164,8 +164,8 @@ impl Slider {
         ln_v0_dc: f64,
         pace: &mut Pace,
     ) -> Option<(f64, f64)> {
-        let v_now = self.rate_and_log(mu, psi, ln_v0_dc).0;
-        let travel = v_lp.max(v_now) * dt;
+        let mut start_rates = self.rates(mu, psi, ln_v0_dc);
+        let travel = v_lp.max(start_rates.0) * dt;
         let n = ((travel / (SUBSTEP_SHARE_OF_DC * self.d_c)).ceil() as usize).max(1);
         if n > MAX_SUBSTEPS {
             return None;
@@ -178,13 +178,15 @@ impl Slider {
             let hk = units as f64 * h;
             let (m1, p1, converged) = self.backward_euler(m, p, v_lp, hk, ln_v0_dc)?;
             pace.substeps += 1;
-            let error = self.local_error((m, p), (m1, p1), v_lp, hk, ln_v0_dc);
+            let error = self.local_error((m, p), start_rates, (m1, p1), v_lp, hk);
             if units > 1 && !(converged && error <= pace.tolerance) {
-                // Too long a substep for what moves: halve it and try again.
+                // Too long a substep for what moves: halve it and try again (from the same
+                // start, its rates kept).
                 pace.doublings -= 1;
                 continue;
             }
             (m, p) = (m1, p1);
+            start_rates = self.rates(m, p, ln_v0_dc);
             done += units;
             if error <= 0.25 * pace.tolerance && pace.doublings < MAX_DOUBLINGS {
                 pace.doublings += 1;
@@ -193,22 +195,27 @@ impl Slider {
         Some((m, p))
     }
 
-    /// The local error of a backward-Euler substep of length `h` from `start` to `end`: half the
-    /// gap between it and the forward-Euler step from `start`, the larger of ln θ's and μ's
-    /// (μ's per a).
+    /// The slip rate v and the state's rate dψ/dt at (`mu`, `psi`) (`ln_v0_dc` is ln(v₀/D_c)).
+    fn rates(&self, mu: f64, psi: f64, ln_v0_dc: f64) -> (f64, f64) {
+        let (v, ln_v_dc) = self.rate_and_log(mu, psi, ln_v0_dc);
+        let g = match self.law {
+            StateLaw::Ageing => (-psi).exp() - v / self.d_c,
+            StateLaw::Slip => -(v / self.d_c) * (ln_v_dc + psi),
+        };
+        (v, g)
+    }
+
+    /// The local error of a backward-Euler substep of length `h` from `start` (where the slip
+    /// rate and the state's rate are `(v, g)`) to `end`: half the gap between it and the
+    /// forward-Euler step from `start`, the larger of ln θ's and μ's (μ's per a).
     fn local_error(
         &self,
         (mu_n, psi_n): (f64, f64),
+        (v, g): (f64, f64),
         (mu, psi): (f64, f64),
         v_lp: f64,
         h: f64,
-        ln_v0_dc: f64,
     ) -> f64 {
-        let (v, ln_v_dc) = self.rate_and_log(mu_n, psi_n, ln_v0_dc);
-        let g = match self.law {
-            StateLaw::Ageing => (-psi_n).exp() - v / self.d_c,
-            StateLaw::Slip => -(v / self.d_c) * (ln_v_dc + psi_n),
-        };
         let mu_gap = (mu - mu_n - h * self.k * (v_lp - v)).abs() / self.a;
         let psi_gap = (psi - psi_n - h * g).abs();
         0.5 * mu_gap.max(psi_gap)
