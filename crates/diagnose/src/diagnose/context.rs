@@ -545,4 +545,4 @@ pub(super) fn fold_index(cx: &Context) -> Vec<usize> {
 
 #[cfg(test)]
 #[path = "context_tests.rs"]
-mod tests;
+pub(super) mod tests;

@@ -6,7 +6,7 @@ use subfric_model::{simulate, Control, Params, Protocol};
 
 /// One slide–hold–slide of the paper's sample parameters at 100 kPa, `rows_per_slide`
 /// rows each slide, with a small deterministic wiggle for noise.
-fn shs_set(rows_per_slide: usize) -> ExperimentSet {
+pub(in crate::diagnose) fn shs_set(rows_per_slide: usize) -> ExperimentSet {
     let (mut time, mut slip) = (Vec::new(), Vec::new());
     let du = 2.0 / rows_per_slide as f64;
     for i in 0..=rows_per_slide {
@@ -76,7 +76,7 @@ fn set_of(time: Vec<f64>, slip: Vec<f64>) -> ExperimentSet {
     }
 }
 
-fn quiet(_: Step) {}
+pub(in crate::diagnose) fn quiet(_: Step) {}
 
 #[test]
 fn a_hold_is_read_at_its_duration_a_velocity_step_at_its_rate_and_a_first_loading_at_its_stress() {

@@ -8,6 +8,7 @@ use crate::confidence;
 use crate::evidence::ResidualEvidence;
 use crate::fits::{cross_validate, Spec};
 use crate::folds::{extra_folds, Fold, Piece, PieceKind};
+use crate::score::HeldOut;
 use crate::verdict::Decision;
 use subfric_model::Model;
 use subfric_reading::FitTest;
@@ -18,42 +19,78 @@ const REMAINING_GAP_CHI2: f64 = 2.0;
 /// Share of the residual a feature must carry to count as support for the named effect.
 const SUPPORTING_SHARE: f64 = 0.1;
 
-/// Shrink of `spec` against the base on extra folds (tail of each test, each test left out).
-fn extra_shrinks(
+/// The extra folds (the tail of each test, each test left out) and the base's held-out
+/// residuals on them: the same for every named effect, so refitted once.
+struct ExtraFolds {
+    tail: Vec<Fold>,
+    loto: Vec<Fold>,
+    base_tail: Option<HeldOut>,
+    base_loto: Option<HeldOut>,
+}
+
+impl ExtraFolds {
+    fn new(cx: &Context, base: &Current) -> ExtraFolds {
+        let (tail, loto) = extra_folds(&cx.tests, cx.opts.tail_fraction);
+        let base_on = |folds: &[Fold]| {
+            (!folds.is_empty())
+                .then(|| extra_cv(cx, base, folds, &Spec::base(), &base.fit_tests, base.model))
+        };
+        let (base_tail, base_loto) = (base_on(&tail), base_on(&loto));
+        ExtraFolds {
+            tail,
+            loto,
+            base_tail,
+            base_loto,
+        }
+    }
+
+    /// Shrink of `spec` against the base on the tail folds and on the leave-one-test-out
+    /// folds (`None` where there are none).
+    fn shrinks(
+        &self,
+        cx: &Context,
+        base: &Current,
+        spec: &Spec,
+        model: &Model,
+        fit_tests: &[FitTest],
+    ) -> (Option<f64>, Option<f64>) {
+        let shrink = |folds: &[Fold], b: &Option<HeldOut>| -> Option<f64> {
+            let b = b.as_ref()?;
+            let c = extra_cv(cx, base, folds, spec, fit_tests, *model);
+            let whole: Vec<Piece> = cx
+                .tests
+                .iter()
+                .enumerate()
+                .map(|(i, t)| Piece::new(i, 0, t.len(), PieceKind::InitialLoading))
+                .collect();
+            Some(cx.compare(&whole, b, &c).excess_shrink)
+        };
+        (
+            shrink(&self.tail, &self.base_tail),
+            shrink(&self.loto, &self.base_loto),
+        )
+    }
+}
+
+/// Held-out residuals of `spec` on `folds`, refitted from `start` on the base's space.
+fn extra_cv(
     cx: &Context,
     base: &Current,
+    folds: &[Fold],
     spec: &Spec,
-    model: &Model,
     fit_tests: &[FitTest],
-) -> (Option<f64>, Option<f64>) {
-    let (tail, loto) = extra_folds(&cx.tests, cx.opts.tail_fraction);
-    let shrink = |folds: &[Fold]| -> Option<f64> {
-        if folds.is_empty() {
-            return None;
-        }
-        let cv = |s: &Spec, ft: &[FitTest], starts: &[Model]| {
-            cross_validate(
-                ft,
-                &cx.tests,
-                folds,
-                &cx.space(&base.model, s),
-                starts,
-                cx.opts.fold_iterations,
-                false,
-                &cx.run_counter,
-            )
-        };
-        let b = cv(&Spec::base(), &base.fit_tests, &[base.model]);
-        let c = cv(spec, fit_tests, &[*model]);
-        let whole: Vec<Piece> = cx
-            .tests
-            .iter()
-            .enumerate()
-            .map(|(i, t)| Piece::new(i, 0, t.len(), PieceKind::InitialLoading))
-            .collect();
-        Some(cx.compare(&whole, &b, &c).excess_shrink)
-    };
-    (shrink(&tail), shrink(&loto))
+    start: Model,
+) -> HeldOut {
+    cross_validate(
+        fit_tests,
+        &cx.tests,
+        folds,
+        &cx.space(&base.model, spec),
+        &[start],
+        cx.opts.fold_iterations,
+        false,
+        &cx.run_counter,
+    )
 }
 
 /// Step 5: the verdict on the selection, each named effect checked on the extra folds (the
@@ -117,12 +154,16 @@ pub(super) fn make_verdict(
 /// out).
 fn named_effects(cx: &Context, base: &Current, selection: &Selection) -> Vec<NamedEffect> {
     let current = &selection.current;
+    if selection.named.is_empty() {
+        return Vec::new();
+    }
+    let extra = ExtraFolds::new(cx, base);
     selection
         .named
         .iter()
         .map(|s| {
             let (form, c, at) = (&s.form, &s.own, &s.at);
-            let (tail, loto) = extra_shrinks(cx, base, &Spec::with(form), &at.model, &at.fit_tests);
+            let (tail, loto) = extra.shrinks(cx, base, &Spec::with(form), &at.model, &at.fit_tests);
             NamedEffect {
                 effect: form.effect,
                 form: form.name.to_string(),
@@ -336,4 +377,39 @@ fn explain_unexplained(
         "the base model misses the held-out pieces by {base_chi2:.2}× the noise variance and none of the candidates explains it: {best_text}; {}",
         evidence.summary
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::context::tests::{quiet, shs_set};
+    use super::*;
+    use subfric_fit::RunCounter;
+    use subfric_model::Params;
+
+    /// The base's held-out residuals on the extra folds are refitted once and shared by every
+    /// named effect: the base checked against itself shrinks nothing on either kind of fold (a
+    /// tail fold's base set against a leave-one-test-out refit, or the other way, would not).
+    #[test]
+    fn the_base_against_itself_shrinks_nothing_on_either_kind_of_extra_fold() {
+        let mut set = shs_set(120);
+        let mut second = set.tests[0].clone();
+        second.spec.name = "shs-2".into();
+        set.meta.tests.push(second.spec.clone());
+        set.tests.push(second);
+        let prepared = crate::prepare_for_diagnosis(&set);
+        let opts = crate::DiagnoseOptions::default();
+        let (cx, _) = Context::new(&prepared, None, &opts, &quiet, &RunCounter::new());
+        let model = Model::base(Params::sample()).unwrap();
+        let base = Current {
+            spec: Spec::base(),
+            model,
+            fit_tests: cx.tests.clone(),
+            held: Vec::new(),
+        };
+        let extra = ExtraFolds::new(&cx, &base);
+        assert_eq!((extra.tail.len(), extra.loto.len()), (2, 2));
+        let (tail, loto) = extra.shrinks(&cx, &base, &Spec::base(), &model, &base.fit_tests);
+        assert_eq!(tail, Some(0.0));
+        assert_eq!(loto, Some(0.0));
+    }
 }
