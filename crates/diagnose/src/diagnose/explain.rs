@@ -26,6 +26,8 @@ struct ExtraFolds {
     loto: Vec<Fold>,
     base_tail: Option<HeldOut>,
     base_loto: Option<HeldOut>,
+    /// Each test as one piece: the shrinks are compared over whole tests.
+    whole: Vec<Piece>,
 }
 
 impl ExtraFolds {
@@ -36,11 +38,18 @@ impl ExtraFolds {
                 .then(|| extra_cv(cx, base, folds, &Spec::base(), &base.fit_tests, base.model))
         };
         let (base_tail, base_loto) = (base_on(&tail), base_on(&loto));
+        let whole = cx
+            .tests
+            .iter()
+            .enumerate()
+            .map(|(i, t)| Piece::new(i, 0, t.len(), PieceKind::InitialLoading))
+            .collect();
         ExtraFolds {
             tail,
             loto,
             base_tail,
             base_loto,
+            whole,
         }
     }
 
@@ -57,13 +66,7 @@ impl ExtraFolds {
         let shrink = |folds: &[Fold], b: &Option<HeldOut>| -> Option<f64> {
             let b = b.as_ref()?;
             let c = extra_cv(cx, base, folds, spec, fit_tests, *model);
-            let whole: Vec<Piece> = cx
-                .tests
-                .iter()
-                .enumerate()
-                .map(|(i, t)| Piece::new(i, 0, t.len(), PieceKind::InitialLoading))
-                .collect();
-            Some(cx.compare(&whole, b, &c).excess_shrink)
+            Some(cx.compare(&self.whole, b, &c).excess_shrink)
         };
         (
             shrink(&self.tail, &self.base_tail),
