@@ -776,3 +776,25 @@ fn healing(form: &str, values: &[f64]) -> Extensions {
         terms: Terms::one(TermEffect::named("healing", form, values).expect("a healing form")),
     }
 }
+
+#[test]
+fn sliding_steadily_brings_theta_to_d_c_over_v_under_both_laws() {
+    // θ as the state slots carry it from step to step (what the next step and a hold start
+    // from): after fifty D_c at a constant rate v, both laws' steady state D_c/v.
+    let (v, du, p) = (0.004, 0.0005, 100.0);
+    for form in [RateForm::StateAgeing, RateForm::StateSlip] {
+        let rate = rate_state(form);
+        let m = model(flat_base(), Extensions::default().with_rate(rate));
+        let mut c = Contact1::new(&m);
+        let mut st = State1::virgin(&m, 0.0);
+        for i in 1..=2000 {
+            st = c.step_slip(&st, i as f64 * du, p, du / v).unwrap();
+        }
+        let theta = m.ext.terms.state_value(&st.slots, "theta").unwrap();
+        let steady = rate.d_c / v;
+        assert!(
+            (theta / steady - 1.0).abs() < 1e-3,
+            "{form:?}: θ = {theta} after sliding steadily, expected D_c/v = {steady}"
+        );
+    }
+}

@@ -74,8 +74,10 @@ pub struct RateEffect {
 }
 
 /// The rate terms at a plastic increment: the additive R and its derivative in λ, the factor V
-/// on μ and its derivative, the shift of μ_k (steady-state form) and its derivative, and θ at
-/// the end of the step.
+/// on μ and its derivative, the shift of μ_k (steady-state form) and its derivative, and the
+/// state at the end of the step: θ itself for a form without a state (unchanged), ln θ for a
+/// rate-and-state form. The return evaluates the terms at each of its iterates and keeps only
+/// the last, so the exponential is taken once, when it settles ([`RateEffect::theta_from`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct RateTerms {
     pub add: f64,
@@ -85,6 +87,8 @@ pub(crate) struct RateTerms {
     pub mu_k_shift: f64,
     pub dmu_k: f64,
     pub theta: f64,
+    /// ln θ at the end of the step (rate-and-state forms; NaN for the others).
+    pub ln_theta: f64,
 }
 
 /// The constants of a rate law's terms, functions of its parameters alone.
@@ -203,9 +207,23 @@ impl RateEffect {
 
     /// The rate terms at plastic increment `lam` over a step of `dt` from state `theta` (the
     /// integrator calls [`RateEffect::plastic_terms_with`] with constants built once).
+    /// Its θ is the state at the end of the step, whatever the form.
     #[cfg(test)]
     pub(crate) fn plastic_terms(&self, theta: f64, dt: f64, lam: f64) -> RateTerms {
-        self.plastic_terms_with(&self.constants(), theta, dt, lam)
+        let mut t = self.plastic_terms_with(&self.constants(), theta, dt, lam);
+        t.theta = self.theta_from(t.theta, t.ln_theta);
+        t
+    }
+
+    /// θ at the end of a plastic step from what [`RateEffect::plastic_terms_with`] gave: `theta`
+    /// for a form without a state, e^`ln_theta` for a rate-and-state form.
+    #[inline]
+    pub(crate) fn theta_from(&self, theta: f64, ln_theta: f64) -> f64 {
+        if self.has_state() {
+            ln_theta.exp()
+        } else {
+            theta
+        }
     }
 
     /// [`RateEffect::plastic_terms`] with the law's constants `c` given: the integrator builds
@@ -228,6 +246,7 @@ impl RateEffect {
             mu_k_shift: 0.0,
             dmu_k: 0.0,
             theta,
+            ln_theta: f64::NAN,
         };
         match self.form {
             RateForm::LogDirect | RateForm::StateAgeing | RateForm::StateSlip => {
@@ -250,7 +269,7 @@ impl RateEffect {
                             (e * (ln_ss - ln0) - g) / self.d_c,
                         )
                     };
-                    t.theta = ln_theta.exp();
+                    t.ln_theta = ln_theta;
                     t.add += self.b * (ln_theta + c.ln_state_ref_over_dc);
                     t.dadd += self.b * dln_theta;
                 }

@@ -115,12 +115,19 @@ impl StateLaw for RateLaw {
         }
     }
 
+    /// θ from the ln θ the last iterate left ([`StateLaw::slide`] above).
+    #[inline(always)]
+    fn settle(&self, _start: &[f64], _lam: f64, end: &mut [f64]) {
+        end[THETA] = self.theta_from(end[THETA], end[THETA]);
+    }
+
     #[inline(always)]
     fn slide(&self, start: &[f64], dt: f64, lam: f64, end: &mut [f64]) -> StateTerms {
         let t = self
             .effect
             .plastic_terms_with(&self.constants, start[THETA], dt, lam);
-        end[THETA] = t.theta;
+        // ln θ until the return settles (the exponential once, not at every iterate).
+        end[THETA] = if self.has_state() { t.ln_theta } else { t.theta };
         end[HELD_ADD] = t.add;
         end[HELD_FACTOR] = t.factor;
         StateTerms {
