@@ -75,9 +75,9 @@ pub struct RateEffect {
 
 /// The rate terms at a plastic increment: the additive R and its derivative in λ, the factor V
 /// on μ and its derivative, the shift of μ_k (steady-state form) and its derivative, and the
-/// state at the end of the step: θ itself for a form without a state (unchanged), ln θ for a
-/// rate-and-state form. The return evaluates the terms at each of its iterates and keeps only
-/// the last, so the exponential is taken once, when it settles ([`RateEffect::theta_from`]).
+/// state at the end of the step. A rate-and-state form gives that state as ln θ: the return
+/// evaluates the terms at each of its iterates and keeps only the last, so the exponential is
+/// taken once, when it settles ([`RateEffect::theta_from`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct RateTerms {
     pub add: f64,
@@ -86,6 +86,8 @@ pub(crate) struct RateTerms {
     pub dfactor: f64,
     pub mu_k_shift: f64,
     pub dmu_k: f64,
+    /// θ at the end of the step of a form without a state (the θ it started from); not
+    /// updated by a rate-and-state form, whose end state is `ln_theta`.
     pub theta: f64,
     /// ln θ at the end of the step (rate-and-state forms; NaN for the others).
     pub ln_theta: f64,

@@ -115,7 +115,7 @@ impl StateLaw for RateLaw {
         }
     }
 
-    /// θ from the ln θ the last iterate left ([`StateLaw::slide`] above).
+    /// θ from the ln θ the return's last iterate left ([`StateLaw::slide`] below).
     #[inline(always)]
     fn settle(&self, _start: &[f64], _lam: f64, end: &mut [f64]) {
         end[THETA] = self.theta_from(end[THETA], end[THETA]);
