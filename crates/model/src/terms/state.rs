@@ -165,7 +165,9 @@ pub trait StateLaw: Copy + std::fmt::Debug {
     /// The variables a plastic step ends with once the return has settled on `lam`: by default
     /// those of its last iterate (`end`, already written by [`StateLaw::slide`] at a λ within
     /// one first-order correction of `lam`, which moves them by far less than their scale); a
-    /// family may evaluate them at `lam` itself.
+    /// family may evaluate them at `lam` itself, or finish a variable that `slide` leaves in a
+    /// working form (the rate family's θ, as ln θ until here: one exponential a step). The
+    /// return always settles what it ends with, so no one else reads `end` before this.
     fn settle(&self, _start: &[f64], _lam: f64, _end: &mut [f64]) {}
 }
 
