@@ -6,8 +6,10 @@
 //! (J = QR once per iteration, then a small QR of [R; √λ D] per damping trial), as MINPACK does,
 //! rather than by Cholesky on JᵀJ + λD²: forming JᵀJ squares the condition number, and the
 //! friction problems have nearly flat directions (κ against ξ at one rate) where that loses
-//! every digit of the step.
+//! every digit of the step. The damping moves by how well each step was predicted (the gain
+//! ratio, [`crate::damping`]), so fewer trials fail: each failed trial is a whole model run.
 
+use crate::damping::{gain_ratio, Damping};
 use crate::residuals::Residuals;
 use argmin::core::{
     Error as ArgminError, Executor, IterState, Problem, Solver, State, TerminationReason, KV,
@@ -84,12 +86,9 @@ pub struct LmOptions {
     /// below this (MINPACK's `gtol`: the cosine between the residual and each column; 0
     /// disables the test).
     pub gradient_tolerance: f64,
-    /// Damping λ of the first iteration (relative to D² = diag JᵀJ).
+    /// Damping λ of the first iteration (relative to D² = diag JᵀJ); later trials move it by
+    /// the gain ratio ([`crate::damping`]).
     pub initial_damping: f64,
-    /// λ is multiplied by this after a step that did not decrease the cost.
-    pub damping_increase: f64,
-    /// λ is divided by this after an accepted step.
-    pub damping_decrease: f64,
     /// Smallest λ.
     pub min_damping: f64,
     /// Largest λ: beyond it the run stops with [`Termination::DampingLimit`].
@@ -105,8 +104,6 @@ impl Default for LmOptions {
             step_tolerance: 1e-8,
             gradient_tolerance: 1e-10,
             initial_damping: 1e-3,
-            damping_increase: 4.0,
-            damping_decrease: 3.0,
             min_damping: 1e-12,
             max_damping: 1e12,
         }
@@ -343,7 +340,7 @@ pub struct LevenbergMarquardt {
     free_mask: Vec<bool>,
     free: Vec<usize>,
     /// Damping of the next trial.
-    lambda: f64,
+    damping: Damping,
     /// Accepted steps in a row with a tiny relative decrease.
     stalls: usize,
     /// Residuals at the current point, and scratch for a trial's.
@@ -361,7 +358,7 @@ impl LevenbergMarquardt {
             opts,
             free_mask,
             free,
-            lambda: opts.initial_damping,
+            damping: Damping::new(opts.initial_damping),
             stalls: 0,
             r: Vec::new(),
             rt: Vec::new(),
@@ -417,9 +414,9 @@ impl<R: Residuals + ?Sized> Solver<&R, LmState> for LevenbergMarquardt {
         let lin = Linearisation::new(&j, &self.r, active);
         // Damping trials until a step lowers the cost.
         loop {
-            let Some(delta) = lin.step(self.lambda, m) else {
-                self.lambda *= opts.damping_increase;
-                if self.lambda > opts.max_damping {
+            let Some(delta) = lin.step(self.damping.lambda, m) else {
+                self.damping.rejected();
+                if self.damping.lambda > opts.max_damping {
                     return Ok((self.stop(state, x, ssr, Termination::DampingLimit), None));
                 }
                 continue;
@@ -431,10 +428,11 @@ impl<R: Residuals + ?Sized> Solver<&R, LmState> for LevenbergMarquardt {
             let ssr_t: f64 = self.rt.iter().map(|v| v * v).sum();
             if ssr_t.is_finite() && ssr_t < ssr {
                 let rel = (ssr - ssr_t) / ssr.max(f64::MIN_POSITIVE);
+                let rho = gain_ratio(ssr, ssr_t, linear_ssr(&j, &self.r, &x, &xt));
+                self.damping.accepted(rho, opts.min_damping);
                 x = xt;
                 std::mem::swap(&mut self.r, &mut self.rt);
                 ssr = ssr_t;
-                self.lambda = (self.lambda / opts.damping_decrease).max(opts.min_damping);
                 self.stalls = if rel < opts.cost_tolerance {
                     self.stalls + 1
                 } else {
@@ -451,12 +449,23 @@ impl<R: Residuals + ?Sized> Solver<&R, LmState> for LevenbergMarquardt {
             if step < opts.step_tolerance {
                 return Ok((self.stop(state, x, ssr, Termination::StepConverged), None));
             }
-            self.lambda *= opts.damping_increase;
-            if self.lambda > opts.max_damping {
+            self.damping.rejected();
+            if self.damping.lambda > opts.max_damping {
                 return Ok((self.stop(state, x, ssr, Termination::DampingLimit), None));
             }
         }
     }
+}
+
+/// ‖r + J (xt − x)‖²: the SSR the linearisation at `x` predicts at the trial point `xt` (the
+/// step as the box cut it).
+fn linear_ssr(j: &DMatrix<f64>, r: &[f64], x: &[f64], xt: &[f64]) -> f64 {
+    let step = DVector::from_iterator(x.len(), xt.iter().zip(x).map(|(a, b)| a - b));
+    let predicted = j * step;
+    r.iter()
+        .zip(predicted.iter())
+        .map(|(a, b)| (a + b) * (a + b))
+        .sum()
 }
 
 #[cfg(test)]
