@@ -692,6 +692,28 @@ mod tests {
     }
 
     #[test]
+    fn a_step_the_linearisation_predicts_exactly_divides_the_damping_by_three() {
+        // A linear problem: the forward-difference Jacobian is exact, so the accepted step's
+        // gain ratio is 1 and λ falls from 1e-3 to 1e-3/3. A ratio computed against the wrong
+        // residuals or with the step's sign flipped would raise it instead.
+        let a = vec![
+            vec![1.0, 0.0],
+            vec![1.0, 1.0],
+            vec![1.0, 2.0],
+            vec![1.0, 3.0],
+        ];
+        let p = linear(a, vec![0.1, 0.9, 2.2, 2.8], vec![-10.0; 2], vec![10.0; 2]);
+        let solver = LevenbergMarquardt::new(LmOptions::default(), vec![true, true]);
+        let res = Executor::new(&p, solver)
+            .configure(|s| s.param(vec![5.0, -5.0]).max_iters(1))
+            .run()
+            .unwrap();
+        let lambda = res.solver().damping.lambda;
+        assert!((lambda - 1e-3 / 3.0).abs() < 1e-9, "λ = {lambda}");
+        assert!(res.state().get_cost() < 1.0, "the step was accepted");
+    }
+
+    #[test]
     fn a_bound_blocking_the_gradient_does_not_prevent_the_gradient_stop() {
         // The sphere's centre lies outside the box: at the wall the gradient points out of
         // the box, which the projected gradient test ignores.
