@@ -6,14 +6,12 @@
 //! - [`residuals`]: what a solver needs from a problem ([`Residuals`]: its box and its
 //!   residual vector), and nothing more;
 //! - [`lm`]: Levenberg–Marquardt in a box, with a forward-difference Jacobian
-//!   ([`lm::levenberg_marquardt`], [`lm::jacobian`]), written as an argmin `Solver`;
-//! - `damping`: how its damping moves between trials (Nielsen's gain-ratio rule).
+//!   ([`lm::levenberg_marquardt`], [`lm::jacobian`]), written as an argmin `Solver`.
 //!
 //! It sits below both so that reading a record needs no calibration. Its unit tests run the
 //! solver on the MINPACK problems with known answers (`test_problems`, public for the other
 //! crates' tests: `subfric-fit`'s global stage and intervals run on the same trait).
 
-mod damping;
 pub mod lm;
 pub mod residuals;
 
