@@ -7,7 +7,7 @@ use crate::score::HeldOut;
 use rayon::prelude::*;
 use serde::Serialize;
 use subfric_fit::lm::{LmOptions, Termination};
-use subfric_fit::{calibrate_from, FitOptions, Param, RunCounter, Space};
+use subfric_fit::{calibrate_from, FitOptions, LocalMemo, Param, RunCounter, Space};
 use subfric_model::{Extensions, Model};
 use subfric_reading::FitTest;
 
@@ -169,6 +169,9 @@ pub fn fit(
             ..LmOptions::default()
         },
         run_counter: Some(run_counter.clone()),
+        // The rerun from the best start below may rank the first run's start among its own:
+        // that local run is then not done twice.
+        local_memo: Some(LocalMemo::new()),
         ..FitOptions::default()
     };
     let failed = |why: String| FitResult {

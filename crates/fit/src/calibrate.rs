@@ -16,14 +16,16 @@ use argmin::core::{Executor, State, TerminationReason, TerminationStatus};
 use argmin::solver::neldermead::NelderMead;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 use subfric_model::Model;
 use subfric_reading::guess::first_guesses;
 use subfric_reading::FitTest;
 
 /// Local method used from each start.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
     /// Levenberg–Marquardt least squares.
@@ -59,6 +61,47 @@ pub struct FitOptions {
     /// model runs there too, for the job's progress display. `None`: counted only in the
     /// report's `evaluations`.
     pub run_counter: Option<RunCounter>,
+    /// Local runs done by earlier calibrations of the same tests and space with these same
+    /// options, reused instead of run again (`None`: every run is done).
+    pub local_memo: Option<LocalMemo>,
+}
+
+/// Local runs already done, by their start bit for bit: a local run is deterministic, so a
+/// calibration that would run one again from the same start (a refit that ranks the same start
+/// first) takes its result instead. Share it only between calibrations of the same tests, the
+/// same space and the same method and least-squares options — the memo checks the tests (by
+/// address), the method and the iteration limit, not the space.
+#[derive(Clone, Debug, Default)]
+pub struct LocalMemo(Arc<Mutex<HashMap<MemoKey, LocalRun>>>);
+
+/// The tests' address and length, the method, the iteration limit and the start's bits.
+type MemoKey = (usize, usize, Method, usize, Vec<u64>);
+
+impl LocalMemo {
+    /// An empty memo.
+    pub fn new() -> LocalMemo {
+        LocalMemo::default()
+    }
+
+    fn key(p: &Problem, x0: &[f64], opts: &FitOptions) -> MemoKey {
+        (
+            p.tests.as_ptr() as usize,
+            p.tests.len(),
+            opts.method,
+            opts.lm.max_iterations,
+            x0.iter().map(|v| v.to_bits()).collect(),
+        )
+    }
+
+    fn get(&self, key: &MemoKey) -> Option<LocalRun> {
+        self.0.lock().ok()?.get(key).cloned()
+    }
+
+    fn put(&self, key: MemoKey, run: &LocalRun) {
+        if let Ok(mut memo) = self.0.lock() {
+            memo.insert(key, run.clone());
+        }
+    }
 }
 
 impl Default for FitOptions {
@@ -74,6 +117,7 @@ impl Default for FitOptions {
             statistics: true,
             lm: LmOptions::default(),
             run_counter: None,
+            local_memo: None,
         }
     }
 }
@@ -377,7 +421,21 @@ fn local_runs(
     starts
         .par_iter()
         .map(|x0| {
-            let r = local(p, x0, opts);
+            let key = opts
+                .local_memo
+                .as_ref()
+                .map(|_| LocalMemo::key(p, x0, opts));
+            let known = opts.local_memo.as_ref().zip(key.as_ref());
+            let r = match known.and_then(|(memo, key)| memo.get(key)) {
+                Some(r) => r,
+                None => {
+                    let r = local(p, x0, opts);
+                    if let Some((memo, key)) = known {
+                        memo.put(key.clone(), &r);
+                    }
+                    r
+                }
+            };
             let k = done.fetch_add(1, Ordering::Relaxed) + 1;
             progress(CalibrationStage::Local(k, total));
             r

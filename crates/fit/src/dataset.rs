@@ -1,8 +1,9 @@
 //! The residual vector of tests as the objective sees them ([`FitTest`], read by
 //! `subfric-reading`).
 
+use crate::residuals::Bounded;
 use serde::Serialize;
-use subfric_model::{simulate_predicted_into, Control, Model};
+use subfric_model::{simulate_predicted_into, simulate_predicted_while, Control, Model};
 use subfric_reading::FitTest;
 
 /// Residual assigned to every row of a test the model cannot simulate (e.g. runaway under
@@ -66,6 +67,116 @@ pub fn residuals_into(
     }
     let failed = simulated.iter().filter(|ok| !**ok).count();
     failed
+}
+
+/// [`residuals_into`], unless the sum of squares of the residuals, added in order, is sure to
+/// end above `ceiling` (or to be NaN): then [`Bounded::Above`], the model run stopped at the row
+/// where that became sure, and `out` holds nothing meaningful. A set whose drift is removed
+/// (every residual moves with the drift learned from all of them) or whose tests run in
+/// parallel is computed whole.
+pub fn residuals_into_unless_above(
+    tests: &[FitTest],
+    m: &Model,
+    out: &mut Vec<f64>,
+    scratch: &mut Vec<f64>,
+    ceiling: f64,
+) -> Bounded {
+    let total: usize = tests.iter().map(FitTest::len).sum();
+    if tests.iter().any(|t| t.detrend) || (tests.len() >= PARALLEL_TESTS && total >= PARALLEL_ROWS)
+    {
+        residuals_into(tests, m, out, scratch);
+        return Bounded::Computed;
+    }
+    out.clear();
+    out.resize(total, 0.0);
+    let mut sum = 0.0;
+    let mut start = 0;
+    for t in tests {
+        let here = &mut out[start..start + t.len()];
+        if test_residuals_unless_above(t, m, here, scratch, &mut sum, ceiling) == Bounded::Above {
+            return Bounded::Above;
+        }
+        start += t.len();
+    }
+    Bounded::Computed
+}
+
+/// `sum` with `rows` residuals of [`FAILED_RESIDUAL`] added one by one: what a test that fails
+/// to simulate adds to the sum of squares.
+fn plus_failed_rows(sum: f64, rows: usize) -> f64 {
+    (0..rows).fold(sum, |acc, _| acc + FAILED_RESIDUAL * FAILED_RESIDUAL)
+}
+
+/// The residuals of one test into `out` (its rows, zeroed) with their squares added to `sum`,
+/// as [`test_residuals`] writes them, unless the sum is sure to end above `ceiling`.
+///
+/// A row's square only raises the sum, so once the sum so far is above the ceiling the whole
+/// is — unless the test fails to simulate further on, when every one of its rows weighs
+/// [`FAILED_RESIDUAL`] instead: the run stops only where that sum is above the ceiling too.
+fn test_residuals_unless_above(
+    t: &FitTest,
+    m: &Model,
+    out: &mut [f64],
+    scratch: &mut Vec<f64>,
+    sum: &mut f64,
+    ceiling: f64,
+) -> Bounded {
+    let rows = t.counted_rows();
+    if rows.is_empty() {
+        return Bounded::Computed;
+    }
+    let k = t.weight.sqrt() / t.noise_sd;
+    let residual = |i: usize, predicted: f64| {
+        if t.row_weight.is_empty() {
+            k * (predicted - t.measured[i])
+        } else {
+            k * t.row_weight[i].sqrt() * (predicted - t.measured[i])
+        }
+    };
+    let before = *sum;
+    let mut acc = before;
+    let mut may_stop = true;
+    let run = simulate_predicted_while(m, &t.protocol_until(rows.end), scratch, |i, v| {
+        if i < rows.start {
+            return true;
+        }
+        let r = residual(i, v);
+        acc += r * r;
+        if may_stop && above(acc, ceiling) {
+            if above(plus_failed_rows(before, rows.len()), ceiling) {
+                return false;
+            }
+            may_stop = false;
+        }
+        true
+    });
+    match run {
+        Ok(false) => return Bounded::Above,
+        Ok(true) => {
+            for i in rows {
+                out[i] = residual(i, scratch[i]);
+            }
+            *sum = acc;
+        }
+        Err(_) => {
+            out[rows.clone()].fill(FAILED_RESIDUAL);
+            *sum = plus_failed_rows(before, rows.len());
+        }
+    }
+    // The tests after this one only add to the sum.
+    if above(*sum, ceiling) {
+        Bounded::Above
+    } else {
+        Bounded::Computed
+    }
+}
+
+/// Whether a sum of squares is above `ceiling` or NaN (a NaN sum is never kept).
+fn above(sum: f64, ceiling: f64) -> bool {
+    !matches!(
+        sum.partial_cmp(&ceiling),
+        Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
+    )
 }
 
 /// The residuals of one test into `out` (its rows, zeroed); false when it failed to simulate.

@@ -45,6 +45,26 @@ pub fn evaluate_all<R: Residuals + ?Sized>(p: &R, pts: &[Vec<f64>]) -> Vec<f64> 
         .collect()
 }
 
+/// The SSRs of differential evolution's trials, each against the cost of the member it
+/// challenges (`ceilings`, order preserved): a trial sure to end above that cost is stopped
+/// there and counts as `f64::MAX`, like a trial that cannot be simulated. A trial replaces its
+/// member when its cost is not above the member's, so the population evolves exactly as with
+/// every trial run to its end.
+fn evaluate_trials<R: Residuals + ?Sized>(
+    p: &R,
+    trials: &[Vec<f64>],
+    ceilings: &[f64],
+) -> Vec<f64> {
+    trials
+        .par_iter()
+        .zip(ceilings)
+        .map(|(x, &ceiling)| {
+            p.sum_of_squares_unless_above(x, ceiling)
+                .map_or(f64::MAX, sanitize)
+        })
+        .collect()
+}
+
 fn sanitize(v: f64) -> f64 {
     if v.is_finite() {
         v
@@ -302,7 +322,7 @@ impl<R: Residuals + ?Sized> Solver<&R, DeState> for DifferentialEvolution {
             })
             .collect();
         self.rng = Some(generator);
-        let tc = evaluate_all(p, &trials);
+        let tc = evaluate_trials(p, &trials, &self.cost);
         self.evaluations += np;
         for (i, (t, c)) in trials.into_iter().zip(tc).enumerate() {
             if c <= self.cost[i] {

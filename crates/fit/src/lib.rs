@@ -34,14 +34,14 @@ use subfric_solve::test_problems;
 pub use bedding::{fit_bedding, seat, Bedding, Seated};
 pub use calibrate::{
     best_informed_guesses, calibrate, calibrate_from, compare_with_published, with_base_of,
-    CalibrationStage, Combination, FitError, FitOptions, FitReport, LocalRun, Method, ParamReport,
-    Status,
+    CalibrationStage, Combination, FitError, FitOptions, FitReport, LocalMemo, LocalRun, Method,
+    ParamReport, Status,
 };
 pub use dataset::{misfits, residuals_in_noise_units, TestMisfit};
 pub use drift::{drift_coefficients, remove_drift, FittedDrift};
 pub use interval::Interval;
 pub use lm::Termination;
 pub use problem::{Problem, RunCounter};
-pub use residuals::Residuals;
+pub use residuals::{Bounded, Residuals};
 pub use space::{AtBound, Coord, Param, Space};
 pub use stiffness::stiffness_by_trial;

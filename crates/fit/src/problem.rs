@@ -1,7 +1,7 @@
 //! The calibration problem: tests, the parameter space, and evaluation counting.
 
-use crate::dataset::residuals_into;
-use crate::residuals::Residuals;
+use crate::dataset::{residuals_into, residuals_into_unless_above};
+use crate::residuals::{Bounded, Residuals};
 use crate::space::Space;
 use argmin::core::{CostFunction, Error as ArgminError};
 use std::cell::RefCell;
@@ -83,12 +83,30 @@ impl<'a> Problem<'a> {
 
     /// Residual vector at `x` (transformed coordinates).
     pub fn residuals(&self, x: &[f64], out: &mut Vec<f64>, scratch: &mut Vec<f64>) {
+        self.count_run();
+        let m = self.space.model_at(x);
+        residuals_into(self.tests, &m, out, scratch);
+    }
+
+    /// [`Problem::residuals`] unless their sum of squares is sure to end above `ceiling`
+    /// ([`residuals_into_unless_above`]). A run stopped early counts as a run.
+    fn bounded_residuals(
+        &self,
+        x: &[f64],
+        out: &mut Vec<f64>,
+        scratch: &mut Vec<f64>,
+        ceiling: f64,
+    ) -> Bounded {
+        self.count_run();
+        let m = self.space.model_at(x);
+        residuals_into_unless_above(self.tests, &m, out, scratch, ceiling)
+    }
+
+    fn count_run(&self) {
         self.evaluations.fetch_add(1, Ordering::Relaxed);
         if let Some(job) = &self.job_runs {
             job.add_one();
         }
-        let m = self.space.model_at(x);
-        residuals_into(self.tests, &m, out, scratch);
     }
 
     /// Sum of squared residuals at `x`.
@@ -129,6 +147,13 @@ impl Residuals for Problem<'_> {
             Ok(mut scratch) => self.residuals(x, out, &mut scratch),
             Err(_) => self.residuals(x, out, &mut Vec::new()),
         });
+    }
+
+    fn residuals_unless_above(&self, x: &[f64], out: &mut Vec<f64>, ceiling: f64) -> Bounded {
+        SCRATCH.with(|s| match s.try_borrow_mut() {
+            Ok(mut scratch) => self.bounded_residuals(x, out, &mut scratch, ceiling),
+            Err(_) => self.bounded_residuals(x, out, &mut Vec::new(), ceiling),
+        })
     }
 
     fn observations(&self) -> usize {

@@ -32,8 +32,8 @@ pub use json::{model_from_json, model_from_value, ModelJsonError};
 pub use params::{ParamError, ParamIssue, Params, MAX_ALPHA};
 pub use scenario::{Scenario, ScenarioError, Stage, MAX_SCENARIO_ROWS};
 pub use simulate::{
-    check_start, simulate, simulate_predicted_into, Control, Initial, Protocol, SimError,
-    Trajectory, SLIP_RESOLUTION_SHARE,
+    check_start, simulate, simulate_predicted_into, simulate_predicted_while, Control, Initial,
+    Protocol, SimError, Trajectory, SLIP_RESOLUTION_SHARE,
 };
 pub use terms::{
     AtRest, RateEffect, RateForm, StateLaw, StateSlots, TermEffect, TermEvidence, TermFamily,

@@ -491,19 +491,23 @@ pub fn check_start(model: &Model, proto: &Protocol) -> Result<(), SimError> {
     })
 }
 
-fn run<F: FnMut(usize, &State1)>(
+/// Runs `proto` row by row, handing each row's state to `sink`; stops where `sink` answers
+/// false (`Ok(false)`), else `Ok(true)` after the last row.
+fn run<F: FnMut(usize, &State1) -> bool>(
     model: &Model,
     proto: &Protocol,
     mut sink: F,
-) -> Result<(), SimError> {
+) -> Result<bool, SimError> {
     check_protocol(model, proto)?;
     if proto.time.is_empty() {
-        return Ok(());
+        return Ok(true);
     }
     let resolution = SlipResolution::new(model);
     let mut c = Contact1::new(model);
     let mut st = initial_state(model, proto)?;
-    sink(0, &st);
+    if !sink(0, &st) {
+        return Ok(false);
+    }
     for i in 1..proto.time.len() {
         let dt = proto.time[i] - proto.time[i - 1];
         st = advance(
@@ -536,9 +540,11 @@ fn run<F: FnMut(usize, &State1)>(
         if proto.control == Control::Shear {
             resolution.check(st.slip, proto.normal[i], i, "slip")?;
         }
-        sink(i, &st);
+        if !sink(i, &st) {
+            return Ok(false);
+        }
     }
-    Ok(())
+    Ok(true)
 }
 
 /// Simulates a whole protocol and returns every state variable per row.
@@ -569,6 +575,7 @@ pub fn simulate(model: &Model, proto: &Protocol) -> Result<Trajectory, SimError>
         out.mu.push(st.mu);
         out.r.push(st.r);
         out.plastic_increment.push(st.last_plastic);
+        true
     })?;
     Ok(out)
 }
@@ -580,13 +587,29 @@ pub fn simulate_predicted_into(
     proto: &Protocol,
     out: &mut Vec<f64>,
 ) -> Result<(), SimError> {
+    simulate_predicted_while(model, proto, out, |_, _| true).map(|_| ())
+}
+
+/// [`simulate_predicted_into`] that asks `go_on(row, predicted)` after each row and stops the
+/// run where it answers false: `Ok(true)` when every row was simulated, `Ok(false)` when the
+/// caller stopped it (rows after the stop are left at zero). An optimiser that only needs to
+/// know whether a trial point is worse than its current one stops the trial where it already
+/// is; the rows it does simulate are those of the whole run, bit for bit.
+pub fn simulate_predicted_while(
+    model: &Model,
+    proto: &Protocol,
+    out: &mut Vec<f64>,
+    mut go_on: impl FnMut(usize, f64) -> bool,
+) -> Result<bool, SimError> {
     out.clear();
     out.resize(proto.time.len(), 0.0);
     let control = proto.control;
     run(model, proto, |i, st| {
-        out[i] = match control {
+        let v = match control {
             Control::Slip => st.shear,
             Control::Shear => st.slip,
-        }
+        };
+        out[i] = v;
+        go_on(i, v)
     })
 }

@@ -22,4 +22,4 @@ pub mod residuals;
 pub mod test_problems;
 
 pub use lm::{jacobian, levenberg_marquardt, LmOptions, LmResult, Termination};
-pub use residuals::Residuals;
+pub use residuals::{Bounded, Residuals};

@@ -8,7 +8,7 @@
 //! friction problems have nearly flat directions (κ against ξ at one rate) where that loses
 //! every digit of the step.
 
-use crate::residuals::Residuals;
+use crate::residuals::{Bounded, Residuals};
 use argmin::core::{
     Error as ArgminError, Executor, IterState, Problem, Solver, State, TerminationReason, KV,
 };
@@ -427,8 +427,11 @@ impl<R: Residuals + ?Sized> Solver<&R, LmState> for LevenbergMarquardt {
             let mut xt: Vec<f64> = x.iter().zip(&delta).map(|(a, b)| a + b).collect();
             p.clamp_into_box(&mut xt);
             let step = distance(&xt, &x);
-            p.residuals_at(&xt, &mut self.rt);
-            let ssr_t: f64 = self.rt.iter().map(|v| v * v).sum();
+            // A trial is kept only below the current SSR: one sure to end above it stops there.
+            let ssr_t: f64 = match p.residuals_unless_above(&xt, &mut self.rt, ssr) {
+                Bounded::Computed => self.rt.iter().map(|v| v * v).sum(),
+                Bounded::Above => f64::INFINITY,
+            };
             if ssr_t.is_finite() && ssr_t < ssr {
                 let rel = (ssr - ssr_t) / ssr.max(f64::MIN_POSITIVE);
                 x = xt;

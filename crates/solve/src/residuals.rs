@@ -2,6 +2,16 @@
 //! capability-trait style): the solvers can then be tested on small problems with known
 //! answers (the MINPACK set) instead of only through slow end-to-end calibrations.
 
+/// How an evaluation given a ceiling ended ([`Residuals::residuals_unless_above`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Bounded {
+    /// Every residual was computed.
+    Computed,
+    /// The evaluation stopped once its sum of squares was sure to end above the ceiling (or to
+    /// be NaN); the residuals it wrote mean nothing.
+    Above,
+}
+
 /// A bounded nonlinear least-squares problem: minimise Σ rᵢ(x)² over lo ≤ x ≤ hi.
 ///
 /// `Sync` because the global stage and the profiles evaluate points in parallel.
@@ -15,6 +25,28 @@ pub trait Residuals: Sync {
     /// Writes the residual vector at `x` into `out` (cleared first). Its length must not
     /// depend on `x`.
     fn residuals_at(&self, x: &[f64], out: &mut Vec<f64>);
+
+    /// The residuals at `x` as [`Residuals::residuals_at`] writes them, unless their sum of
+    /// squares (added in order, as the solvers add it) is sure to end above `ceiling` or to
+    /// be NaN: then [`Bounded::Above`], possibly before the whole model has run. An optimiser
+    /// that only asks whether a trial point beats its current one stops a trial that already
+    /// does not; the answer, and every point it accepts, are those of the full evaluation.
+    /// The default computes everything.
+    fn residuals_unless_above(&self, x: &[f64], out: &mut Vec<f64>, ceiling: f64) -> Bounded {
+        let _ = ceiling;
+        self.residuals_at(x, out);
+        Bounded::Computed
+    }
+
+    /// The sum of squared residuals at `x`, or `None` where
+    /// [`Residuals::residuals_unless_above`] stops above `ceiling`.
+    fn sum_of_squares_unless_above(&self, x: &[f64], ceiling: f64) -> Option<f64> {
+        let mut r = Vec::new();
+        match self.residuals_unless_above(x, &mut r, ceiling) {
+            Bounded::Computed => Some(r.iter().map(|v| v * v).sum()),
+            Bounded::Above => None,
+        }
+    }
 
     /// Residuals that carry information, for degrees of freedom (residuals that are zero by
     /// construction, such as held-out rows, excluded). All of them unless overridden.
