@@ -126,13 +126,7 @@ fn test_residuals_unless_above(
         return Bounded::Computed;
     }
     let k = t.weight.sqrt() / t.noise_sd;
-    let residual = |i: usize, predicted: f64| {
-        if t.row_weight.is_empty() {
-            k * (predicted - t.measured[i])
-        } else {
-            k * t.row_weight[i].sqrt() * (predicted - t.measured[i])
-        }
-    };
+    let residual = |i: usize, predicted: f64| row_residual(t, k, i, predicted);
     let before = *sum;
     let mut acc = before;
     let mut may_stop = true;
@@ -179,6 +173,17 @@ fn above(sum: f64, ceiling: f64) -> bool {
     )
 }
 
+/// The residual of row `i` of `t` where the model predicts `predicted`: k √w (predicted −
+/// measured), k the test's weight over its noise SD and w the row's weight (1 unless thinned).
+#[inline(always)]
+fn row_residual(t: &FitTest, k: f64, i: usize, predicted: f64) -> f64 {
+    if t.row_weight.is_empty() {
+        k * (predicted - t.measured[i])
+    } else {
+        k * t.row_weight[i].sqrt() * (predicted - t.measured[i])
+    }
+}
+
 /// The residuals of one test into `out` (its rows, zeroed); false when it failed to simulate.
 fn test_residuals(t: &FitTest, m: &Model, out: &mut [f64], scratch: &mut Vec<f64>) -> bool {
     let k = t.weight.sqrt() / t.noise_sd;
@@ -189,14 +194,8 @@ fn test_residuals(t: &FitTest, m: &Model, out: &mut [f64], scratch: &mut Vec<f64
     // The state at a row depends on the whole history: simulate from the start.
     match simulate_predicted_into(m, &t.protocol_until(rows.end), scratch) {
         Ok(()) => {
-            if t.row_weight.is_empty() {
-                for i in rows.clone() {
-                    out[i] = k * (scratch[i] - t.measured[i]);
-                }
-            } else {
-                for i in rows.clone() {
-                    out[i] = k * t.row_weight[i].sqrt() * (scratch[i] - t.measured[i]);
-                }
+            for i in rows.clone() {
+                out[i] = row_residual(t, k, i, scratch[i]);
             }
             true
         }
