@@ -93,14 +93,17 @@ impl LocalMemo {
         )
     }
 
-    fn get(&self, key: &MemoKey) -> Option<LocalRun> {
-        self.0.lock().ok()?.get(key).cloned()
-    }
-
-    fn put(&self, key: MemoKey, run: &LocalRun) {
+    /// The local run from `x0`: the memo's if it holds one, else run now and kept.
+    fn run_or_recall(&self, p: &Problem, x0: &[f64], opts: &FitOptions) -> LocalRun {
+        let key = Self::key(p, x0, opts);
+        if let Some(known) = self.0.lock().ok().and_then(|m| m.get(&key).cloned()) {
+            return known;
+        }
+        let run = local(p, x0, opts);
         if let Ok(mut memo) = self.0.lock() {
             memo.insert(key, run.clone());
         }
+        run
     }
 }
 
@@ -421,20 +424,9 @@ fn local_runs(
     starts
         .par_iter()
         .map(|x0| {
-            let key = opts
-                .local_memo
-                .as_ref()
-                .map(|_| LocalMemo::key(p, x0, opts));
-            let known = opts.local_memo.as_ref().zip(key.as_ref());
-            let r = match known.and_then(|(memo, key)| memo.get(key)) {
-                Some(r) => r,
-                None => {
-                    let r = local(p, x0, opts);
-                    if let Some((memo, key)) = known {
-                        memo.put(key.clone(), &r);
-                    }
-                    r
-                }
+            let r = match &opts.local_memo {
+                Some(memo) => memo.run_or_recall(p, x0, opts),
+                None => local(p, x0, opts),
             };
             let k = done.fetch_add(1, Ordering::Relaxed) + 1;
             progress(CalibrationStage::Local(k, total));

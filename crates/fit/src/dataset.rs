@@ -17,6 +17,11 @@ const PARALLEL_TESTS: usize = 64;
 /// (a small problem would only pay for the threads). The residuals are the same either way.
 const PARALLEL_ROWS: usize = 20_000;
 
+/// Whether a model run simulates `tests` (`rows` in all) in parallel.
+fn in_parallel(tests: &[FitTest], rows: usize) -> bool {
+    tests.len() >= PARALLEL_TESTS && rows >= PARALLEL_ROWS
+}
+
 /// Writes the weighted, noise-normalised residuals (prediction − measurement)·√w/σ of all
 /// tests into `out`; returns how many tests failed to simulate.
 pub fn residuals_into(
@@ -36,7 +41,7 @@ pub fn residuals_into(
         slices.push(here);
         rest = after;
     }
-    let simulated: Vec<bool> = if tests.len() >= PARALLEL_TESTS && total >= PARALLEL_ROWS {
+    let simulated: Vec<bool> = if in_parallel(tests, total) {
         tests
             .par_iter()
             .zip(slices.par_iter_mut())
@@ -82,8 +87,7 @@ pub fn residuals_into_unless_above(
     ceiling: f64,
 ) -> Bounded {
     let total: usize = tests.iter().map(FitTest::len).sum();
-    if tests.iter().any(|t| t.detrend) || (tests.len() >= PARALLEL_TESTS && total >= PARALLEL_ROWS)
-    {
+    if tests.iter().any(|t| t.detrend) || in_parallel(tests, total) {
         residuals_into(tests, m, out, scratch);
         return Bounded::Computed;
     }
