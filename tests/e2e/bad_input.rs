@@ -501,6 +501,14 @@ fn unknown_candidate_forms_and_unlisted_with_sets_are_usage_errors() {
         &err,
         &["--with-family", "unknown family `wear`", "time-trend"],
     );
+    // No diagnosis at all, or more than the cap: the range the flag takes.
+    for n in ["0", "65", "two"] {
+        let err = subfric!().usage_err(args!["diagnose", &set, "--replicates", n, "--out", &out]);
+        assert_mentions(
+            &err,
+            &["--replicates", "from 1", "to 64", &format!("`{n}`")],
+        );
+    }
     assert!(!out.exists(), "a rejected diagnosis wrote output");
 }
 

@@ -9,6 +9,7 @@ use crate::folders::output::{default_results_dir, Destination, ResultsDir};
 use crate::located;
 use crate::progress::Progress;
 use crate::render::diagnose_report::{effects_label, report_text};
+use crate::replicates::{replicate, Replicates, SeedVerdict};
 use anyhow::{bail, Result};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -45,6 +46,9 @@ pub struct Diagnosed {
     pub json: Value,
     /// Plausibility warnings of the set (also given to the progress).
     pub warnings: Vec<Warning>,
+    /// The verdict at further seeds of the fits' random start, when asked for
+    /// (`diagnose --replicates`).
+    pub replicates: Option<Replicates>,
 }
 
 /// `subfric diagnose` without output files: the diagnosis of the set in `dir`, refused (with
@@ -52,7 +56,7 @@ pub struct Diagnosed {
 pub fn diagnose(dir: &Path, opts: &DiagnoseOptions, progress: &dyn Progress) -> Result<Diagnosed> {
     let set = load_set(dir).map_err(|e| located(e.into(), dir))?;
     let warnings = warn(&set, progress);
-    diagnose_set(dir, set, warnings, opts, progress)
+    diagnose_set(dir, set, warnings, opts, 1, progress)
 }
 
 /// The set's plausibility warnings, given to `progress` as well, after what was made of the
@@ -70,12 +74,14 @@ fn warn(set: &ExperimentSet, progress: &dyn Progress) -> Vec<Warning> {
     warnings
 }
 
-/// Diagnoses the loaded `set` (read from `dir`, which errors name).
+/// Diagnoses the loaded `set` (read from `dir`, which errors name), and again at the seeds
+/// after its own up to `replicates` runs in all (1: the diagnosis alone).
 fn diagnose_set(
     dir: &Path,
     set: ExperimentSet,
     warnings: Vec<Warning>,
     opts: &DiagnoseOptions,
+    replicates: usize,
     progress: &dyn Progress,
 ) -> Result<Diagnosed> {
     progress.stage("diagnosis: preparing the tests", None);
@@ -86,7 +92,19 @@ fn diagnose_set(
     let d = diagnose_reporting(&prepared, opts, &report, &run_counter)
         .map_err(|e| located(e.into(), dir))?;
     check_diagnosis_finite(dir, &d)?;
-    let json = diagnosis_json(&set.meta.name, &d);
+    let replicates = if replicates > 1 {
+        let own = SeedVerdict::of(opts.seed, &d);
+        let finite = |r: &Diagnosis| check_diagnosis_finite(dir, r);
+        let r = replicate(&prepared, opts, own, replicates, &finite, progress)
+            .map_err(|e| located(e, dir))?;
+        Some(r)
+    } else {
+        None
+    };
+    let mut json = diagnosis_json(&set.meta.name, &d);
+    if let Some(r) = &replicates {
+        json["verdict"]["replicates"] = serde_json::to_value(r)?;
+    }
     // The figures draw the tests as diagnosed (any bedding taken out of the travel).
     let prepared = d.prepared.clone();
     Ok(Diagnosed {
@@ -95,6 +113,7 @@ fn diagnose_set(
         prepared,
         json,
         warnings,
+        replicates,
     })
 }
 
@@ -168,6 +187,7 @@ pub struct DiagnosisWritten {
 pub fn diagnose_to_folder(
     dir: &Path,
     opts: &DiagnoseOptions,
+    replicates: usize,
     to: &Destination,
     progress: &dyn Progress,
 ) -> Result<DiagnosisWritten> {
@@ -179,8 +199,13 @@ pub fn diagnose_to_folder(
         .unwrap_or_else(|| default_results_dir(&set.meta.name).join("diagnosis"));
     let files = DIAGNOSIS_FILES.map(String::from).to_vec();
     let claim = ResultsDir::claim(&out, &[dir.to_path_buf()], &files, to.force)?;
-    let diagnosed = diagnose_set(dir, set, warnings, opts, progress)?;
-    let report = report_text(&diagnosed.name, dir, &diagnosed.diagnosis);
+    let diagnosed = diagnose_set(dir, set, warnings, opts, replicates, progress)?;
+    let report = report_text(
+        &diagnosed.name,
+        dir,
+        &diagnosed.diagnosis,
+        diagnosed.replicates.as_ref(),
+    );
     let (json_file, mut figures) = write_diagnosis(&out, &diagnosed, &report)?;
     let page = crate::render::diagnosis_page::diagnosis_page(
         &diagnosed.name,

@@ -12,7 +12,8 @@
 //! - [`fit`](mod@fit): load and check sets, calibrate, `fit.json` ([`fit()`] returns values,
 //!   [`fit::fit_to_folder`] writes them).
 //! - [`diagnose`](mod@diagnose): the diagnosis of a set and `diagnosis.json`, `diagnosis.txt`
-//!   and its figures; [`selfcheck`] the diagnosis scored on sets with a known truth.
+//!   and its figures; [`replicates`] its verdict again at further seeds of the fits' random
+//!   start; [`selfcheck`] the diagnosis scored on sets with a known truth.
 //! - [`plan`]: the next test to run (`plan.json`, `plan.txt`, scenarios, figure), on the model
 //!   the set's diagnosis chose ([`outcome::plan_basis`]), never a test the set holds
 //!   ([`repeat`]).
@@ -49,6 +50,7 @@ pub mod posterior;
 pub mod progress;
 pub mod render;
 pub mod repeat;
+pub mod replicates;
 pub mod reproduce;
 pub mod selfcheck;
 pub mod sets;

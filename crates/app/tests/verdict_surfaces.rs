@@ -44,7 +44,7 @@ fn a_two_effect_verdict_reads_the_same_on_every_surface() {
     let next = lines.iter().find(|l| l.starts_with("next: ")).unwrap();
     assert!(next.contains(&format!("the model with {label}")), "{next}");
 
-    let text = report_text("pair-01", &set, &two);
+    let text = report_text("pair-01", &set, &two, None);
     for l in &lines {
         assert!(text.contains(l.as_str()), "report text lacks: {l}");
     }

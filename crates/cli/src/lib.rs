@@ -271,7 +271,7 @@ fn run_diagnose(a: DiagnoseArgs) -> Result<()> {
         force: a.force,
     };
     let progress = Progress::new(a.progress);
-    let w = diagnose::diagnose_to_folder(&a.set, &opts, &to, &progress)?;
+    let w = diagnose::diagnose_to_folder(&a.set, &opts, a.replicates, &to, &progress)?;
     progress.finish();
     out(w.report);
     print_written([&w.json_file]);

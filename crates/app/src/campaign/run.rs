@@ -228,7 +228,7 @@ fn run_set_inner(
             dir: Some(dir.join("diagnosis")),
             force,
         };
-        let r = diagnose_to_folder(&job.dir, &job.options.diagnose_options(), &to, progress)
+        let r = diagnose_to_folder(&job.dir, &job.options.diagnose_options(), 1, &to, progress)
             .map(|_| ());
         record.diagnosis = Some(part(diagnosis_key, diagnosis_options, &r));
         failure = r.err();

@@ -17,10 +17,22 @@ const WORST_GROUPS_SHOWN: usize = 8;
 /// Width of the candidate column of section 3.
 const CANDIDATE_WIDTH: usize = 58;
 
-/// The terminal report of the diagnosis `d` of the set `name` read from `dir`.
-pub fn report_text(name: &str, dir: &Path, d: &Diagnosis) -> String {
+/// The terminal report of the diagnosis `d` of the set `name` read from `dir`, with its
+/// verdict at further seeds (`replicates`) beside the verdict when they were run.
+pub fn report_text(
+    name: &str,
+    dir: &Path,
+    d: &Diagnosis,
+    replicates: Option<&crate::replicates::Replicates>,
+) -> String {
     let mut s = String::new();
-    for l in verdict_lines(dir, d) {
+    let mut lines = verdict_lines(dir, d);
+    if let Some(r) = replicates {
+        // Before the last line, "next: …": what the seeds say belongs to how sure the verdict is.
+        let at = lines.len().saturating_sub(1);
+        lines.insert(at, format!("replicates: {}", r.sentence));
+    }
+    for l in lines {
         let _ = writeln!(s, "{l}");
     }
     let _ = writeln!(s);
