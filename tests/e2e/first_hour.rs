@@ -828,4 +828,28 @@ fn replicates_say_whether_the_verdict_moves_with_the_seed_and_each_is_the_diagno
         "{line}"
     );
     assert_eq!(line.contains("uncertain between"), !same, "{line}");
+
+    // `selfcheck --sets DIR --seed 2` diagnoses at that seed too, so a folder of sets with a
+    // truth can be scored at two seeds and its moving verdicts counted.
+    let scored = tmp.path().join("scored");
+    copy_set("table4-two-way", &scored);
+    std::fs::write(
+        scored.join("truth.json"),
+        r#"{"table4-two-way": {"effect": "none"}}"#,
+    )
+    .unwrap();
+    run.ok(args![
+        "selfcheck",
+        "--sets",
+        &scored,
+        "--seed",
+        "2",
+        "--json",
+        "scores.json"
+    ]);
+    let scores = read_json(&tmp.path().join("scores.json"));
+    assert_eq!(
+        scores["cases"][0]["confidence"],
+        seed_2["verdict"]["confidence"]
+    );
 }

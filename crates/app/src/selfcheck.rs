@@ -49,7 +49,13 @@ pub enum SelfcheckSource {
         unlisted: bool,
     },
     /// The sets of a folder, scored against its `truth.json`.
-    Folder(PathBuf),
+    Folder {
+        /// The folder.
+        root: PathBuf,
+        /// The diagnoses' seed (as `diagnose --seed`): scored at two seeds, a folder tells
+        /// which verdicts move with the fits' random start.
+        seed: u64,
+    },
 }
 
 /// A self-check: what to score, and where to write the scores as JSON.
@@ -140,8 +146,12 @@ pub fn run(
         }
     }
     let (cases, scores) = match &req.source {
-        SelfcheckSource::Folder(root) => {
-            score_folder(root, &DiagnoseOptions::default(), on_case, progress)?
+        SelfcheckSource::Folder { root, seed } => {
+            let opts = DiagnoseOptions {
+                seed: *seed,
+                ..DiagnoseOptions::default()
+            };
+            score_folder(root, &opts, on_case, progress)?
         }
         SelfcheckSource::Generated { campaign, unlisted } => {
             score_generated(campaign, *unlisted, on_case)?

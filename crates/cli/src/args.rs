@@ -621,9 +621,10 @@ pub struct SelfcheckArgs {
     /// logger, rig).
     #[arg(long, default_value_t = 2, value_parser = parse_count)]
     pub per_class: usize,
-    /// Seed.
-    #[arg(long, default_value_t = 7)]
-    pub seed: u64,
+    /// Seed: of the generated sets [default: 7]; with --sets, of the diagnoses, as
+    /// `diagnose --seed` takes it [default: 1]
+    #[arg(long)]
+    pub seed: Option<u64>,
     /// Score the sets of this folder against its truth.json [default: generate sets].
     #[arg(long)]
     pub sets: Option<PathBuf>,

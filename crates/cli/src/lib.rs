@@ -323,6 +323,9 @@ fn run_reproduce(a: ReproduceArgs) -> Result<()> {
     Ok(())
 }
 
+/// The seed of the sets `selfcheck` generates when none is given.
+const GENERATED_SEED: u64 = 7;
+
 /// `subfric selfcheck`.
 fn selfcheck(a: SelfcheckArgs) -> Result<()> {
     if a.list_classes {
@@ -334,7 +337,7 @@ fn selfcheck(a: SelfcheckArgs) -> Result<()> {
     let campaign = Campaign {
         classes: a.classes,
         per_class: a.per_class,
-        seed: a.seed,
+        seed: a.seed.unwrap_or(GENERATED_SEED),
         layout: a.layout.into(),
     };
     if let Some(dir) = a.write {
@@ -356,7 +359,10 @@ fn selfcheck(a: SelfcheckArgs) -> Result<()> {
         return Ok(());
     }
     let source = match a.sets {
-        Some(root) => SelfcheckSource::Folder(root),
+        Some(root) => SelfcheckSource::Folder {
+            root,
+            seed: a.seed.unwrap_or(DiagnoseOptions::default().seed),
+        },
         None => SelfcheckSource::Generated {
             campaign,
             unlisted: a.unlisted,
