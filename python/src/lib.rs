@@ -518,11 +518,12 @@ fn fit<'py>(
 /// Diagnoses a set as `subfric diagnose` does. Returns the text of the diagnosis.json it would
 /// write and the plausibility warnings.
 #[pyfunction]
-#[pyo3(signature = (dir, *, seed, progress=None))]
+#[pyo3(signature = (dir, *, seed, replicates, progress=None))]
 fn diagnose(
     py: Python<'_>,
     dir: PathBuf,
     seed: u64,
+    replicates: usize,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<(String, Vec<String>)> {
     let progress = progress::Callback::of(py, progress)?;
@@ -531,7 +532,7 @@ fn diagnose(
         ..DiagnoseOptions::default()
     };
     let run = py.detach(|| -> anyhow::Result<_> {
-        let d = api::diagnose(&dir, &opts, shown(&progress))?;
+        let d = api::diagnose::diagnose_replicated(&dir, &opts, replicates, shown(&progress))?;
         let text = serde_json::to_string(&d.json)?;
         Ok((text, d.warnings.iter().map(|w| w.to_string()).collect()))
     });

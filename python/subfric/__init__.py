@@ -227,6 +227,10 @@ def simulate(params, time, imposed, normal, control="slip", *, initial=None, ini
 # refuses a flag's value: never coerced (``starts=1.5`` is not 1), never an internal error.
 
 
+# Most diagnoses `diagnose(replicates=...)` runs, as the command's --replicates.
+_MAX_REPLICATES = 64
+
+
 def _count(name, v, least):
     """A whole number of at least ``least`` (a bool or a float is refused, not coerced)."""
     if isinstance(v, bool) or isinstance(v, float):
@@ -514,7 +518,7 @@ def to_inference_data(result, *, arviz=None):
     return data
 
 
-def diagnose(set, *, seed=1, progress=None):
+def diagnose(set, *, seed=1, replicates=1, progress=None):
     """Diagnoses the gap between the calibrated model and the data of one set, exactly as
     ``subfric diagnose``: where the base model misses, which unmodelled effect explains it, and
     how far it shrinks on held-out data. Takes several seconds for a few thousand rows.
@@ -527,8 +531,17 @@ def diagnose(set, *, seed=1, progress=None):
     ``progress``: None, or a function ``progress(stage, done, total)`` called as each step of
     the diagnosis begins, with the command's words ("diagnosis 2/5: screening every candidate
     form (12/25 forms fitted)"; ``done`` and ``total`` None), as :func:`fit` describes.
+    ``replicates``: diagnoses in all, at ``seed`` and the seeds after it, as ``subfric diagnose
+    --replicates``: above 1, ``verdict`` also holds ``replicates`` (each seed's verdict, the
+    readings with their seeds, ``stable``, and the report's sentence), whether the verdict moves
+    with the fits' random start. At most 64; each is a whole diagnosis.
     """
-    text, warns = _native.diagnose(_set_dir(set), seed=_count("seed", seed, 0), progress=progress)
+    n = _count("replicates", replicates, 1)
+    if n > _MAX_REPLICATES:
+        raise SubfricError(f"replicates: {n} is above {_MAX_REPLICATES} (expected an int from 1 to {_MAX_REPLICATES})")
+    text, warns = _native.diagnose(
+        _set_dir(set), seed=_count("seed", seed, 0), replicates=n, progress=progress
+    )
     _warn(warns)
     return json.loads(text)
 

@@ -4,7 +4,7 @@ seconds, so there are few of them here."""
 import pytest
 
 import subfric
-from conftest import GOLDEN, set_cell
+from conftest import EXPERIMENTS, GOLDEN, set_cell
 
 
 def without_wall_times(v):
@@ -68,3 +68,19 @@ def test_a_bad_set_is_refused_with_the_command_s_message(copy_set, cli):
     assert "velocity-steps.csv:30" in msg and "time_s" in msg, msg
     err = cli.run("diagnose", d, "--out", d.parent / "out", ok=False).stderr
     assert msg in err, f"python: {msg}\ncommand: {err}"
+
+
+def test_replicates_hold_each_seeds_verdict_and_the_second_is_the_diagnosis_at_its_seed():
+    # Table 4's set: a second a diagnosis, and the confidence it states moves from seed 1 to 2.
+    s = EXPERIMENTS / "table4-two-way"
+    got = subfric.diagnose(s, seed=1, replicates=2)
+    r = got["verdict"]["replicates"]
+    assert [x["seed"] for x in r["runs"]] == [1, 2]
+    assert r["runs"][0]["confidence"] == got["verdict"]["confidence"]
+    at_2 = subfric.diagnose(s, seed=2)
+    assert "replicates" not in at_2["verdict"]
+    assert r["runs"][1]["confidence"] == at_2["verdict"]["confidence"]
+    assert r["stable"] == (r["runs"][0]["effects"] == r["runs"][1]["effects"])
+    for bad in (0, 65, 1.0, True):
+        with pytest.raises(subfric.SubfricError, match="replicates"):
+            subfric.diagnose(s, replicates=bad)

@@ -54,9 +54,21 @@ pub struct Diagnosed {
 /// `subfric diagnose` without output files: the diagnosis of the set in `dir`, refused (with
 /// the set named) when it ends with a number that is not finite.
 pub fn diagnose(dir: &Path, opts: &DiagnoseOptions, progress: &dyn Progress) -> Result<Diagnosed> {
+    diagnose_replicated(dir, opts, 1, progress)
+}
+
+/// [`diagnose()`], and again at the seeds after `opts.seed` up to `replicates` diagnoses in all
+/// (`diagnose --replicates`; 1: the diagnosis alone): whether the verdict moves with the fits'
+/// random start ([`crate::replicates`]).
+pub fn diagnose_replicated(
+    dir: &Path,
+    opts: &DiagnoseOptions,
+    replicates: usize,
+    progress: &dyn Progress,
+) -> Result<Diagnosed> {
     let set = load_set(dir).map_err(|e| located(e.into(), dir))?;
     let warnings = warn(&set, progress);
-    diagnose_set(dir, set, warnings, opts, 1, progress)
+    diagnose_set(dir, set, warnings, opts, replicates, progress)
 }
 
 /// The set's plausibility warnings, given to `progress` as well, after what was made of the
