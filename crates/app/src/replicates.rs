@@ -20,6 +20,17 @@ use subfric_reading::PreparedTest;
 /// Most replicates `diagnose --replicates` runs: each is a whole diagnosis.
 pub const MAX_REPLICATES: usize = 64;
 
+/// A count of diagnoses as `--replicates` takes it: 1 (the diagnosis alone) up to
+/// [`MAX_REPLICATES`]; the error says the range.
+pub fn parse_count(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if (1..=MAX_REPLICATES).contains(&n) => Ok(n),
+        _ => Err(format!(
+            "expected a whole number of diagnoses from 1 (the diagnosis alone) to {MAX_REPLICATES}, got `{s}`"
+        )),
+    }
+}
+
 /// The verdict one seed reached.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SeedVerdict {

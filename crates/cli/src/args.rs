@@ -514,20 +514,8 @@ pub struct DiagnoseArgs {
     pub with_family: Vec<String>,
     /// Diagnose N times in all, at the seed and the N - 1 after it, and say whether the verdict
     /// moves with the fits' random start (each replicate is a whole diagnosis, without figures)
-    #[arg(long, default_value_t = 1, value_parser = replicate_count)]
+    #[arg(long, default_value_t = 1, value_parser = subfric_app::replicates::parse_count)]
     pub replicates: usize,
-}
-
-/// A count of replicates, as `--replicates` takes it: 1 (the diagnosis alone) up to
-/// [`subfric_app::replicates::MAX_REPLICATES`].
-fn replicate_count(s: &str) -> Result<usize, String> {
-    let max = subfric_app::replicates::MAX_REPLICATES;
-    match s.parse::<usize>() {
-        Ok(n) if (1..=max).contains(&n) => Ok(n),
-        _ => Err(format!(
-            "expected a whole number of diagnoses from 1 (the diagnosis alone) to {max}, got `{s}`"
-        )),
-    }
 }
 
 /// A registered family's name, as `--with-family` takes it.
