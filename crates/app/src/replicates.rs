@@ -48,14 +48,12 @@ impl SeedVerdict {
     /// The verdict of diagnosis `d`, run at `seed`.
     pub fn of(seed: u64, d: &Diagnosis) -> SeedVerdict {
         let named = d.verdict.named();
+        // As "how sure" words its alternatives; a verdict that names nothing by its own word
+        // (none, or cannot judge, which the alternatives never are).
         let label = if named.is_empty() {
             d.verdict.effect.to_string()
         } else {
-            named
-                .iter()
-                .map(|e| e.to_string())
-                .collect::<Vec<_>>()
-                .join(" + ")
+            subfric_diagnose::confidence::label(&named)
         };
         SeedVerdict {
             seed,
