@@ -4,8 +4,9 @@
 //! nothing else; every later fit starts from that base. Two seeds give bases alike to four or
 //! five digits, yet on a record where a stage of the selection is decided by a margin the
 //! fits' numerical path can move, they can end at different verdicts: the real till-gouge
-//! record p446 (`../shared/real-dev/`) is named "rate + pressure" at seeds 1 and 3 and "rate"
-//! at 2, 4, 5, 6, 7 and 8, each run stating its own confidence (38–55 %). A verdict that moves
+//! record p446 (`../shared/real-dev/`) is named "rate + pressure" at seeds 1 and 3, "rate" at
+//! 2, 4, 5, 6 and 8 and "pressure + slip hardening" at 7, each run stating its own confidence
+//! (38–55 %). A verdict that moves
 //! with the seed is one the data do not carry, whatever a single run says of itself; the
 //! replicates say so, next to the verdict, with the seeds that reached each reading.
 
